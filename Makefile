@@ -1,0 +1,29 @@
+# cityshade: `make demo` renders the default city, `make test` runs the suite.
+PYTHON ?= python3
+VENV   ?= .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
+
+.PHONY: setup demo test bench clean
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml
+	@bash scripts/ensure-egl.sh $(EGL_PKGS)
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install -q --upgrade pip
+	$(BIN)/pip install -q -e '.[test]'
+	@touch $(STAMP)
+
+demo: setup
+	$(BIN)/cityshade render --out out/city.png
+
+test: setup
+	$(BIN)/python -m pytest -n 2 -q
+
+bench: setup
+	$(BIN)/cityshade bench interior --json bench-results/interior.json
+
+clean:
+	rm -rf $(VENV) out bench-results

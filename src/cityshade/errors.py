@@ -1,0 +1,26 @@
+"""Errors a user can act on. The CLI prints them as one line and exits with their code."""
+
+
+class CityshadeError(Exception):
+    """An error with a message meant for the user and a process exit code."""
+
+    exit_code = 1
+
+    def __init__(self, message: str, exit_code: int | None = None):
+        super().__init__(message)
+        if exit_code is not None:
+            self.exit_code = exit_code
+
+
+class UsageError(CityshadeError):
+    """A bad command-line value (exit code 2, like argparse)."""
+
+    exit_code = 2
+
+
+class GLUnavailableError(CityshadeError):
+    """No OpenGL 4.3 context could be created."""
+
+
+class ShaderError(CityshadeError):
+    """A GLSL file failed to compile or link; the message names file and line."""

@@ -1,0 +1,8 @@
+"""Everything that talks to OpenGL: context creation, shader programs, render targets, timing."""
+
+from ._context import create_context, describe_context
+from ._programs import ProgramCache, shader_source
+from ._targets import RenderTarget
+from ._timing import FrameTimer
+
+__all__ = ["create_context", "describe_context", "ProgramCache", "shader_source", "RenderTarget", "FrameTimer"]

@@ -1,0 +1,122 @@
+"""GLSL programs from .glsl files in cityshade/shaders, with #include, #define variants and caching.
+
+A program is one file whose stages are selected with `#if defined VERTEX_SHADER` /
+`GEOMETRY_SHADER` / `FRAGMENT_SHADER` / `COMPUTE_SHADER`. `#include "common/x.glsl"` pastes
+a file (once per stage) and `#line` directives keep every line traceable to its file, so a
+compile error names the file and line it came from.
+"""
+
+from __future__ import annotations
+
+import re
+from importlib import resources
+
+import moderngl
+
+from ..errors import ShaderError
+
+GLSL_VERSION = "#version 430 core"
+STAGES = {
+    "vertex_shader": "VERTEX_SHADER",
+    "geometry_shader": "GEOMETRY_SHADER",
+    "fragment_shader": "FRAGMENT_SHADER",
+}
+_INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
+# Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error ..."
+_MESA_LOC = re.compile(r"(\d+):(\d+)\((\d+)\)")
+_NV_LOC = re.compile(r"(\d+)\((\d+)\)")
+
+
+def shader_source(path: str) -> str:
+    """The text of a shader file, path relative to cityshade/shaders."""
+    try:
+        return resources.files("cityshade").joinpath("shaders", path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ShaderError(f"shader file not found: shaders/{path}") from None
+
+
+class _Assembler:
+    """Expands includes into one source string, numbering each file for #line."""
+
+    def __init__(self):
+        self.files: list[str] = []
+
+    def file_index(self, path: str) -> int:
+        if path not in self.files:
+            self.files.append(path)
+        return self.files.index(path)
+
+    def expand(self, path: str, seen: set[str]) -> str:
+        if path in seen:
+            return ""
+        seen.add(path)
+        index = self.file_index(path)
+        out = [f"#line 1 {index}"]
+        for number, line in enumerate(shader_source(path).splitlines(), start=1):
+            match = _INCLUDE.match(line)
+            if match:
+                out.append(self.expand(match.group(1), seen))
+                out.append(f"#line {number + 1} {index}")
+            else:
+                out.append(line)
+        return "\n".join(out)
+
+    def locate(self, message: str) -> str:
+        """Rewrites 'file-index:line(col)' locations in a driver log into 'shaders/file:line:col'."""
+
+        def mesa(m: re.Match) -> str:
+            idx, line, col = (int(g) for g in m.groups())
+            name = self.files[idx] if idx < len(self.files) else f"<source {idx}>"
+            return f"shaders/{name}:{line}:{col}"
+
+        text, count = _MESA_LOC.subn(mesa, message)
+        if count:
+            return text
+
+        def nv(m: re.Match) -> str:
+            idx, line = (int(g) for g in m.groups())
+            name = self.files[idx] if idx < len(self.files) else f"<source {idx}>"
+            return f"shaders/{name}:{line}"
+
+        return _NV_LOC.sub(nv, message)
+
+
+def _define_block(stage: str, defines: dict[str, object]) -> str:
+    lines = [GLSL_VERSION, f"#define {stage}"]
+    for name, value in sorted(defines.items()):
+        if value is False or value is None:
+            continue
+        lines.append(f"#define {name}" if value is True else f"#define {name} {value}")
+    return "\n".join(lines) + "\n"
+
+
+class ProgramCache:
+    """Compiled programs keyed by (file, defines); feature variants are defines, never copies."""
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self._programs: dict[tuple, moderngl.Program | moderngl.ComputeShader] = {}
+
+    def get(self, path: str, defines: dict[str, object] | None = None, varyings: tuple[str, ...] = ()):
+        defines = dict(defines or {})
+        key = (path, tuple(sorted((k, str(v)) for k, v in defines.items())), varyings)
+        program = self._programs.get(key)
+        if program is None:
+            program = self._build(path, defines, varyings)
+            self._programs[key] = program
+        return program
+
+    def _build(self, path: str, defines: dict[str, object], varyings: tuple[str, ...]):
+        assembler = _Assembler()
+        body = assembler.expand(path, set())
+        try:
+            if "COMPUTE_SHADER" in body:
+                return self.ctx.compute_shader(_define_block("COMPUTE_SHADER", defines) + body)
+            stages = {
+                arg: _define_block(token, defines) + body
+                for arg, token in STAGES.items()
+                if f"defined {token}" in body or f"defined({token})" in body
+            }
+            return self.ctx.program(**stages, varyings=varyings)
+        except moderngl.Error as exc:
+            raise ShaderError(f"{path}: {assembler.locate(str(exc)).strip()}") from None
