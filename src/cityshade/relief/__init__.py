@@ -1,0 +1,22 @@
+"""Facade relief from compressed facade displacement maps (Ali, Ye, Razdan, Wonka 2009).
+
+Detail maps D (depth) and M (material) per facade, the free-box acceleration A, exact SVD and
+binary factorisations, bit packing, the .cfdm file format and a numpy reference ray tracer.
+"""
+
+from ._boxes import free_boxes
+from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
+from ._factor import METHODS, Factors, factorize, greedy_biclique
+from ._format import VERSION, from_bytes, read_compressed, to_bytes, write_compressed
+from ._layout import PAPER_FACADES, FacadeLayout, generate_facade, paper_facade
+from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
+from ._pack import pack_bits, unpack_bits
+
+__all__ = [
+    "free_boxes", "MAP_NAMES", "CompressedFacade", "compress", "detail_matrices", "digest",
+    "METHODS", "Factors", "factorize", "greedy_biclique",
+    "VERSION", "from_bytes", "read_compressed", "to_bytes", "write_compressed",
+    "PAPER_FACADES", "FacadeLayout", "generate_facade", "paper_facade",
+    "GLASS", "MATERIALS", "DetailMaps", "load_png_maps", "save_png_maps",
+    "pack_bits", "unpack_bits",
+]
