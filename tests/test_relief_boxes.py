@@ -2,9 +2,9 @@
 
 import numpy as np
 from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from cityshade.relief import free_boxes, paper_facade
+from relief_strategies import piecewise_constant
 
 
 def grow_one_texel_at_a_time(depth, r, c):
@@ -39,18 +39,8 @@ def check_boxes(depth):
     return index, boxes
 
 
-@st.composite
-def relief(draw):
-    rows, cols = draw(st.integers(1, 24)), draw(st.integers(1, 24))
-    depth = np.full((rows, cols), draw(st.integers(0, 9)), np.uint16)
-    for _ in range(draw(st.integers(0, 8))):
-        r0, c0 = draw(st.integers(0, rows - 1)), draw(st.integers(0, cols - 1))
-        depth[r0:draw(st.integers(r0 + 1, rows)), c0:draw(st.integers(c0 + 1, cols))] = draw(st.integers(0, 9))
-    return depth
-
-
 @settings(max_examples=80, deadline=None)
-@given(relief())
+@given(piecewise_constant(max_side=24, max_value=9))
 def test_boxes_match_texel_by_texel_growth(depth):
     index, boxes = check_boxes(depth)
     # The first texel (scan order) of each box grew it.

@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 from cityshade.errors import CityshadeError
 from cityshade.relief import (METHODS, PAPER_FACADES, detail_matrices, factorize, greedy_biclique, pack_bits,
                               paper_facade, unpack_bits)
+from relief_strategies import piecewise_constant
 
 
 @pytest.fixture(scope="module", params=sorted(PAPER_FACADES))
@@ -24,18 +25,6 @@ def test_paper_facades_round_trip_exactly(facade_matrices, method):
         if method == "bmf":
             assert factors.x.dtype == bool and factors.y.dtype == bool
             assert np.all(factors.s == np.rint(factors.s))
-
-
-@st.composite
-def piecewise_constant(draw):
-    """A facade-like matrix: rectangles of equal values painted over a background."""
-    rows, cols = draw(st.integers(1, 40)), draw(st.integers(1, 40))
-    matrix = np.full((rows, cols), draw(st.integers(0, 50)), np.uint16)
-    for _ in range(draw(st.integers(0, 8))):
-        r0, c0 = draw(st.integers(0, rows - 1)), draw(st.integers(0, cols - 1))
-        r1, c1 = draw(st.integers(r0 + 1, rows)), draw(st.integers(c0 + 1, cols))
-        matrix[r0:r1, c0:c1] = draw(st.integers(0, 1000))
-    return matrix
 
 
 @settings(max_examples=60, deadline=None)
