@@ -1,0 +1,36 @@
+"""Procedural facade grammars (Krecklau & Kobbelt 2011): parse, check, compile to one texture,
+evaluate per pixel (GPU shader and numpy reference)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..assets._tiles import TILE_INDEX
+from ._checks import Grammar, Rule, TexRef, check, costs
+from ._compiler import CompiledGrammars, compile_grammars
+from ._diagnostics import Diagnostic, GrammarError, Location
+from ._loader import SourceGrammar, library_path, load_source, parse_string
+
+LIBRARY_STYLES = ("fig12", "brick", "classical", "office", "shops", "dusk")
+
+
+def load(path: str | Path) -> Grammar:
+    """Parses and checks a grammar file (and the files it uses)."""
+    return check(load_source(path), TILE_INDEX)
+
+
+def loads(text: str, name: str = "<string>") -> Grammar:
+    """Parses and checks grammar text."""
+    return check(parse_string(text, name), TILE_INDEX)
+
+
+def load_library() -> dict[str, Grammar]:
+    """The bundled facade styles, by name."""
+    return {style: load(library_path(f"{style}.grammar")) for style in LIBRARY_STYLES}
+
+
+__all__ = [
+    "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
+    "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
+    "load_source", "parse_string",
+]

@@ -1,0 +1,259 @@
+"""Semantic checks: every rule's operator, arguments, references and limits, each error located.
+
+The result is a `Grammar`: rules with typed argument values, ready for the compiler and the
+reference evaluator.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..errors import CityshadeError
+from . import _limits as limits
+from ._diagnostics import Diagnostic, GrammarError, suggest
+from ._loader import SourceGrammar, SourceRule
+from ._operators import OPERATORS, POLICIES, USAGES, Kind
+from ._syntax import Arg
+
+
+@dataclass(frozen=True)
+class TexRef:
+    """A texture argument: tile index and mode (fit to the scope, or tiled). tile -1 = constant."""
+
+    tile: int
+    fit: bool
+
+    @property
+    def code(self) -> int:
+        """The paper's m1: 0 constant, > 0 fit, < 0 tiled; tile index + 1."""
+        if self.tile < 0:
+            return 0
+        return self.tile + 1 if self.fit else -(self.tile + 1)
+
+
+@dataclass(frozen=True)
+class Rule:
+    name: str
+    operator: str
+    values: tuple  # per argument: rule name (str), float, int or TexRef
+    source: SourceRule
+
+    @property
+    def children(self) -> tuple[str, ...]:
+        kinds = _kinds(self.operator, len(self.values))
+        return tuple(v for v, k in zip(self.values, kinds) if k is Kind.RULE)
+
+
+@dataclass
+class Grammar:
+    """A checked grammar: rules by full name, in definition order; `start` is the default rule."""
+
+    rules: dict[str, Rule]
+    start: str
+    sources: dict[str, str] = field(default_factory=dict)
+
+    def rule(self, name: str | None) -> Rule:
+        name = name or self.start
+        if name not in self.rules:
+            hint = suggest(name, self.rules, "rule")
+            raise CityshadeError(f"no rule named '{name}'" + (f"; {hint}" if hint else ""))
+        return self.rules[name]
+
+
+def _kinds(operator: str, count: int) -> list[Kind]:
+    sig = OPERATORS[operator]
+    kinds = list(sig.head)
+    while len(kinds) < count and sig.group:
+        kinds.extend(sig.group)
+    return kinds[:count]
+
+
+def check(source: SourceGrammar, tile_names: dict[str, int]) -> Grammar:
+    """Checks every rule; raises GrammarError listing all problems, or returns the typed Grammar."""
+    errors: list[Diagnostic] = []
+    rules: dict[str, Rule] = {}
+    for name, src in source.rules.items():
+        rule = _check_rule(src, source.rules, tile_names, errors)
+        if rule is not None:
+            rules[name] = rule
+    if not errors:
+        errors += _cycles(rules)
+    if not errors:
+        errors += _limit_errors(rules)
+    if errors:
+        errors.sort(key=lambda e: (e.location.path, e.location.line, e.location.column))
+        raise GrammarError(errors, source.sources)
+    return Grammar(rules, source.start, source.sources)
+
+
+def _check_rule(src: SourceRule, names: dict[str, SourceRule], tiles: dict[str, int], errors: list) -> Rule | None:
+    definition = src.definition
+    op = definition.operator
+    if op not in OPERATORS:
+        errors.append(Diagnostic(definition.operator_location, f"unknown operator '{op}'",
+                                 suggest(op, OPERATORS, "operator") or f"operators: {', '.join(OPERATORS)}"))
+        return None
+    sig = OPERATORS[op]
+    args = definition.args
+    if not sig.arity_ok(len(args)):
+        errors.append(Diagnostic(definition.operator_location,
+                                 f"{op} takes ({sig.describe()}) but got {len(args)} argument{'s' * (len(args) != 1)}"))
+        return None
+    count_before = len(errors)
+    values = tuple(_value(arg, kind, src, names, tiles, errors, op) for arg, kind in zip(args, _kinds(op, len(args))))
+    if len(errors) > count_before:
+        return None
+    rule = Rule(src.name, op, values, src)
+    _operator_checks(rule, errors)
+    return rule
+
+
+def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
+    def fail(message: str, hint: str = ""):
+        errors.append(Diagnostic(arg.location, message, hint))
+
+    if kind is Kind.RULE:
+        if arg.kind != "name":
+            return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
+        full = src.resolve(arg.text)
+        if full not in names:
+            local = [n[len(src.namespace) + 1:] if src.namespace else n for n in names
+                     if not src.namespace or n.startswith(src.namespace + ".")]
+            return fail(f"undefined rule '{arg.text}'", suggest(arg.text, local, "rule") or "define it as "
+                        f"{arg.text}->Operator(...)")
+        return full
+    if kind in (Kind.POLICY, Kind.USAGE):
+        table = POLICIES if kind is Kind.POLICY else USAGES
+        if arg.kind != "name" or arg.text not in table:
+            return fail(f"{op} expects {kind.value} here, not {arg.text!r}", suggest(arg.text, table, "constant"))
+        return table[arg.text]
+    if kind in (Kind.TEXTURE, Kind.MASK):
+        if arg.kind == "number" and kind is Kind.TEXTURE and arg.value == 0:
+            return TexRef(-1, True)
+        if arg.kind != "texref":
+            return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
+        name = arg.text[4:]
+        if name not in tiles:
+            return fail(f"unknown texture '{name}'", suggest(name, tiles, "texture"))
+        return TexRef(tiles[name], arg.text.startswith("Fit>"))
+    if arg.kind != "number":
+        return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
+    value = arg.value
+    if kind is Kind.SIZE and not value > 0:
+        return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number")
+    if kind is Kind.WEIGHT and not 0 < value <= 1:
+        return fail(f"weight must be in (0, 1], got {arg.text}")
+    if kind is Kind.COUNT:
+        if value < 0 or value != int(value):
+            return fail(f"{op} expects {kind.value} here, got {arg.text}")
+        return int(value)
+    if kind is Kind.UNIT and not 0 <= value <= 1:
+        return fail(f"value must be in [0, 1], got {arg.text}")
+    return value
+
+
+def _operator_checks(rule: Rule, errors: list):
+    definition = rule.source.definition
+    if rule.operator == "Rand":
+        total = sum(rule.values[1::2])
+        if abs(total - 1.0) > 1e-3:
+            errors.append(Diagnostic(definition.operator_location, f"Rand weights sum to {total:g}, not 1",
+                                     "make the weights add up to 1.0, or use RandUni for equal chances"))
+    if rule.operator in ("SplitX", "SplitY", "Rand") and len(rule.children) > limits.MAX_PARTS:
+        errors.append(Diagnostic(definition.operator_location,
+                                 f"{rule.operator} has {len(rule.children)} parts; the GPU limit is {limits.MAX_PARTS}",
+                                 "nest two operators instead"))
+    if rule.operator in ("Mat", "MatAlpha"):
+        for start in range(1, len(rule.values), 5):
+            tex, params = rule.values[start], rule.values[start + 1:start + 5]
+            outside = [i for i, p in enumerate(params) if not 0 <= p <= 1]
+            if tex.fit and outside:
+                arg = definition.args[start + 1 + outside[0]]
+                what = "a constant colour" if tex.tile < 0 else "a fitted texture's rectangle"
+                errors.append(Diagnostic(arg.location, f"{what} needs four values in [0, 1]"))
+
+
+def _cycles(rules: dict[str, Rule]) -> list[Diagnostic]:
+    """Every cycle of rule references, named; a cycle would never reach a terminal."""
+    state: dict[str, int] = {}  # 1 = on the current path, 2 = done
+    path: list[str] = []
+    found: list[Diagnostic] = []
+
+    def visit(name: str):
+        state[name] = 1
+        path.append(name)
+        for child in rules[name].children:
+            if state.get(child) == 1:
+                cycle = path[path.index(child):] + [child]
+                first = rules[child].source.definition
+                found.append(Diagnostic(first.location, "rules form a cycle: " + " -> ".join(cycle),
+                                        "every chain of rules must end in Mat, MatAlpha, Skip or SkipMask"))
+            elif child not in state:
+                visit(child)
+        path.pop()
+        state[name] = 2
+
+    for name in rules:
+        if name not in state:
+            visit(name)
+    return found
+
+
+@dataclass(frozen=True)
+class Cost:
+    """Worst cases of one rule's evaluation, for the GPU's bounded loops."""
+
+    steps: int
+    layers: int
+    stack: int
+    intrusions: int
+
+    def exceeded(self) -> list[str]:
+        out = []
+        if self.steps > limits.MAX_STEPS:
+            out.append(f"up to {self.steps} operators per pixel (limit {limits.MAX_STEPS})")
+        if self.layers > limits.MAX_LAYER_DEPTH:
+            out.append(f"{self.layers} nested Layers (limit {limits.MAX_LAYER_DEPTH})")
+        if self.stack > limits.MAX_STACK - 1:
+            out.append(f"{self.stack} nested RandStacks (limit {limits.MAX_STACK - 1})")
+        if self.intrusions > limits.MAX_INTRUSIONS:
+            out.append(f"{self.intrusions} nested Intrusions (limit {limits.MAX_INTRUSIONS})")
+        return out
+
+
+def costs(rules: dict[str, Rule]) -> dict[str, Cost]:
+    """Cost of every rule (the grammar must be acyclic)."""
+    memo: dict[str, Cost] = {}
+
+    def cost(name: str) -> Cost:
+        if name in memo:
+            return memo[name]
+        rule = rules[name]
+        kids = [cost(c) for c in rule.children]
+        if not kids:
+            result = Cost(1, 0, 0, 0)
+        else:
+            steps = sum(k.steps for k in kids) if rule.operator == "Layer" else max(k.steps for k in kids)
+            result = Cost(1 + steps,
+                          max(k.layers for k in kids) + (rule.operator == "Layer"),
+                          max(k.stack for k in kids) + (rule.operator == "RandStack"),
+                          max(k.intrusions for k in kids) + (rule.operator == "Intrusion"))
+        memo[name] = result
+        return result
+
+    for name in rules:
+        cost(name)
+    return memo
+
+
+def _limit_errors(rules: dict[str, Rule]) -> list[Diagnostic]:
+    table = costs(rules)
+    found = []
+    for name, rule in rules.items():
+        over = table[name].exceeded()
+        # Report where a limit is first crossed, not at every rule above it.
+        if over and not any(table[c].exceeded() for c in rule.children):
+            found.append(Diagnostic(rule.source.definition.location,
+                                    f"rule '{name}' nests deeper than the GPU evaluator allows: " + "; ".join(over),
+                                    "flatten the grammar (fewer nested operators on one path)"))
+    return found

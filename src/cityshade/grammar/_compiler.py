@@ -1,0 +1,135 @@
+"""Lays checked grammars out in one RGBA 16-bit float texture, as in §4 and fig. 3.
+
+Each rule occupies consecutive texels from its address; the first channel is the operator code.
+Rule references are texel addresses (one channel each; exact integers in half floats below
+2048). Split stores the precomputed sums of its relative and absolute sizes, Rand the
+accumulated weights, and every variable-length operator its part count n, which bounds its
+loop. Rules that compile to the same texels share one address, so styles that vary a few
+rules of another (namespaces) cost only the rules they change.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _limits as limits
+from ._checks import Grammar, Rule, TexRef
+from ._diagnostics import Diagnostic, GrammarError
+from ._operators import OPERATORS
+
+_UNIT_RECT = (0.0, 0.0, 1.0, 1.0)
+
+
+@dataclass(frozen=True)
+class CompiledGrammars:
+    """The grammar texture and where each rule of each grammar starts."""
+
+    texels: np.ndarray  # (rows, TEXTURE_WIDTH, 4) float16
+    used: int  # texels holding rules
+    addresses: dict[tuple[str, str], int]  # (grammar name, rule name) -> address
+    starts: dict[str, str]  # grammar name -> its start rule
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes the rules occupy (the paper's §6 measure: used texels x 8 bytes)."""
+        return self.used * self.texels.itemsize * 4
+
+    def address(self, grammar: str, rule: str | None = None) -> int:
+        return self.addresses[(grammar, rule or self.starts[grammar])]
+
+    def rule_names(self, address: int) -> list[str]:
+        """Every 'grammar:rule' compiled to this address (identical rules share one)."""
+        return sorted(f"{g}:{r}" for (g, r), a in self.addresses.items() if a == address)
+
+    def flat(self) -> np.ndarray:
+        """Texels as (rows * width, 4) float32, indexed by address."""
+        return self.texels.reshape(-1, 4).astype(np.float32)
+
+
+def _encode(rule: Rule, address_of) -> list[list[float]]:
+    op = OPERATORS[rule.operator].opcode
+    v = rule.values
+    name = rule.operator
+    if name in ("RepeatX", "RepeatY"):
+        return [[op, v[0], address_of(v[1]), 0]]
+    if name in ("SplitX", "SplitY"):
+        parts = [(policy * size, address_of(child)) for policy, size, child in zip(v[0::3], v[1::3], v[2::3])]
+        rel = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy > 0)
+        absolute = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy < 0)
+        return [[op, len(parts), rel, absolute]] + _pairs(parts)
+    if name == "Rand":
+        weights = np.cumsum(v[1::2])
+        weights[-1] = 1.0
+        parts = [(float(a), address_of(child)) for a, child in zip(weights, v[2::2])]
+        return [[op, len(parts), v[0], 0]] + _pairs(parts)
+    if name == "RandUni":
+        refs = [address_of(c) for c in v[1:]]
+        return _packed([op, len(refs), v[0]], refs)
+    if name == "RandStack":
+        return [[op, address_of(v[0]), 0, 0]]
+    if name == "Layer":
+        refs = [address_of(c) for c in v]
+        return _packed([op, len(refs)], refs)
+    if name == "Skip":
+        return [[op, v[0], 0, 0]]
+    if name == "SkipMask":
+        return [[op, v[0].code, v[1], v[2]]]
+    if name == "Intrusion":
+        refs = [address_of(c) for c in v[1:]]
+        return [[op, v[0], refs[0], refs[1]], [refs[2], refs[3], refs[4], 0]]
+    usage, tex, params = v[0], v[1], tuple(v[2:6])
+    if name == "Mat":
+        if tex.tile >= 0 and params == _UNIT_RECT:
+            return [[op, usage, tex.code, 0]]  # the common case: one texel
+        return [[op, usage, tex.code, 1], list(params)]
+    alpha_tex: TexRef = v[6]
+    return [[op, usage, tex.code, alpha_tex.code], list(params), list(v[7:11])]
+
+
+def _pairs(parts: list[tuple[float, int]]) -> list[list[float]]:
+    flat = [x for part in parts for x in part]
+    flat += [0.0] * (-len(flat) % 4)
+    return [flat[i:i + 4] for i in range(0, len(flat), 4)]
+
+
+def _packed(head: list[float], refs: list[int]) -> list[list[float]]:
+    flat = head + refs
+    flat += [0.0] * (-len(flat) % 4)
+    return [flat[i:i + 4] for i in range(0, len(flat), 4)]
+
+
+def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
+    """All rules of all grammars into one texture; raises GrammarError when they do not fit."""
+    texels: list[list[float]] = []
+    by_content: dict[tuple, int] = {}
+    addresses: dict[tuple[str, str], int] = {}
+
+    for gname, grammar in grammars.items():
+        def address_of(rule_name: str, grammar=grammar, gname=gname) -> int:
+            key = (gname, rule_name)
+            if key not in addresses:
+                rule = grammar.rules[rule_name]
+                code = _encode(rule, address_of)
+                content = tuple(np.float16(x).item() for texel in code for x in texel)
+                if content not in by_content:
+                    by_content[content] = len(texels)
+                    texels.extend(code)
+                addresses[key] = by_content[content]
+            return addresses[key]
+
+        for rule_name in grammar.rules:
+            address_of(rule_name)
+    if len(texels) > limits.MAX_TEXELS:
+        first = next(iter(grammars.values()))
+        where = first.rules[first.start].source.definition.location
+        raise GrammarError([Diagnostic(where, f"the rules need {len(texels)} texels; the grammar texture holds "
+                                              f"{limits.MAX_TEXELS}", "split the styles over fewer rules")],
+                           first.sources)
+    rows = max(1, -(-len(texels) // limits.TEXTURE_WIDTH))
+    data = np.zeros((rows * limits.TEXTURE_WIDTH, 4), np.float32)
+    if texels:
+        data[: len(texels)] = np.asarray(texels, np.float32)
+    return CompiledGrammars(data.astype(np.float16).reshape(rows, limits.TEXTURE_WIDTH, 4), len(texels),
+                            addresses, {g: gr.start for g, gr in grammars.items()})

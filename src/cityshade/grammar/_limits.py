@@ -1,0 +1,18 @@
+"""Compile-time limits of the GPU evaluator. They bound every loop in the shader (so no grammar can
+hang the GPU), are passed to it as #defines, and the checks refuse grammars that exceed them."""
+
+MAX_STEPS = 128  # operators visited per pixel, over all layers
+MAX_LAYER_DEPTH = 4  # nested Layer operators
+MAX_STACK = 8  # random-seed stack entries (entry 0 is the facade's seed)
+MAX_PARTS = 16  # parts of one Split or Rand
+MAX_INTRUSIONS = 3  # nested Intrusion operators
+MAX_TEXELS = 2048  # rule addresses are exact integers in a 16-bit float channel up to 2048
+TEXTURE_WIDTH = 256
+
+DEFINES = {
+    "GRAMMAR_MAX_STEPS": MAX_STEPS,
+    "GRAMMAR_MAX_LAYERS": MAX_LAYER_DEPTH,
+    "GRAMMAR_MAX_STACK": MAX_STACK,
+    "GRAMMAR_MAX_PARTS": MAX_PARTS,
+    "GRAMMAR_WIDTH": TEXTURE_WIDTH,
+}

@@ -1,0 +1,136 @@
+"""Reads grammar files: text checks (empty, binary), `use` includes and their namespaces.
+
+`use "brick.grammar" as Brick` copies every rule of brick.grammar into the namespace `Brick`
+(§6 "Usability"): inside it names resolve to `Brick.Name`, and the including file may redefine
+`Brick.Name` to vary one part of the style without copying the rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+from ._diagnostics import Diagnostic, GrammarError, Location
+from ._syntax import RuleDef, parse_text
+
+
+@dataclass(frozen=True)
+class SourceRule:
+    """A rule with its full (namespaced) name and the namespace its own references resolve in."""
+
+    name: str
+    namespace: str
+    definition: RuleDef
+
+    def resolve(self, reference: str) -> str:
+        return f"{self.namespace}.{reference}" if self.namespace else reference
+
+
+@dataclass
+class SourceGrammar:
+    """Every rule of a file and its includes, in order; `start` is the file's first rule."""
+
+    path: str
+    rules: dict[str, SourceRule]
+    start: str
+    sources: dict[str, str] = field(default_factory=dict)
+
+
+def library_path(name: str) -> Path:
+    """A file of the bundled style library, e.g. 'fig12.grammar'."""
+    return Path(str(resources.files("cityshade.grammar").joinpath("library", name)))
+
+
+def read_source(path: Path) -> str:
+    """The file's text, refusing binary and empty files with a located message."""
+    where = Location(str(path), 1, 1)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise GrammarError([Diagnostic(where, "no such grammar file", "check the path")]) from None
+    except OSError as exc:
+        raise GrammarError([Diagnostic(where, f"cannot read the file ({exc.strerror})")]) from None
+    if b"\0" in data:
+        raise GrammarError([Diagnostic(where, "this is a binary file, not a grammar",
+                                       "grammar files are UTF-8 text with rules Name->Operator(args)")])
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise GrammarError([Diagnostic(Location(str(path), line, column), "the file is not UTF-8 text",
+                                       "save the grammar as UTF-8")]) from None
+    return text
+
+
+def load_source(path: str | Path) -> SourceGrammar:
+    """Parses a file and everything it uses into one namespaced rule table."""
+    path = Path(path)
+    sources: dict[str, str] = {}
+    rules, start = _load(path, "", sources, [])
+    return SourceGrammar(str(path), rules, start, sources)
+
+
+def parse_string(text: str, name: str = "<string>") -> SourceGrammar:
+    """A grammar from text (no `use` relative to a folder other than the library)."""
+    sources = {name: text}
+    rules, start = _collect(text, Path(name), "", sources, [])
+    return SourceGrammar(name, rules, start, sources)
+
+
+def _load(path: Path, namespace: str, sources: dict[str, str], chain: list[Path]) -> tuple[dict[str, SourceRule], str]:
+    text = read_source(path)
+    sources[str(path)] = text
+    return _collect(text, path, namespace, sources, chain)
+
+
+def _collect(text: str, path: Path, namespace: str, sources: dict[str, str], chain: list[Path]):
+    where = Location(str(path), 1, 1)
+    parsed = parse_text(text, str(path))
+    if not parsed.rules and not parsed.uses:
+        raise GrammarError([Diagnostic(where, "the grammar is empty: it defines no rules",
+                                       "add rules like Facade->SplitY(Abs, 3.0, Ground, Rel, 1.0, Upper)")], sources)
+    errors: list[Diagnostic] = []
+    included: dict[str, SourceRule] = {}
+    seen_namespaces: dict[str, Location] = {}
+    for use in parsed.uses:
+        if use.namespace in seen_namespaces:
+            errors.append(Diagnostic(use.location, f"namespace '{use.namespace}' is used twice",
+                                     "give each included file its own namespace"))
+            continue
+        seen_namespaces[use.namespace] = use.location
+        target = _find_include(path, use.file)
+        if target is None:
+            errors.append(Diagnostic(use.location, f"included file '{use.file}' not found",
+                                     f"paths are relative to {path.parent or '.'} or name a library style"))
+            continue
+        if target.resolve() in [p.resolve() for p in chain + [path]]:
+            cycle = " -> ".join(p.name for p in chain + [path, target])
+            errors.append(Diagnostic(use.location, f"files include each other: {cycle}"))
+            continue
+        full_ns = f"{namespace}.{use.namespace}" if namespace else use.namespace
+        sub_rules, _ = _load(target, full_ns, sources, chain + [path])
+        included.update(sub_rules)
+    own: dict[str, SourceRule] = {}
+    for rule in parsed.rules:
+        full = f"{namespace}.{rule.name}" if namespace else rule.name
+        if full in own:
+            first = own[full].definition.location
+            errors.append(Diagnostic(rule.location, f"rule '{rule.name}' is defined twice",
+                                     f"the first definition is at line {first.line}; rename one of them"))
+            continue
+        own[full] = SourceRule(full, namespace, rule)
+    if errors:
+        raise GrammarError(errors, sources)
+    merged = dict(included)
+    merged.update(own)  # the including file's definitions override the included ones
+    start = next(iter(own)) if own else next(iter(included))
+    return merged, start
+
+
+def _find_include(path: Path, name: str) -> Path | None:
+    for candidate in (path.parent / name, library_path(name)):
+        if candidate.is_file():
+            return candidate
+    return None

@@ -1,0 +1,70 @@
+"""The operators of fig. 3: their argument signatures, opcodes and the grammar's named constants."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+
+class Kind(Enum):
+    """What an argument position accepts."""
+
+    RULE = "a rule name"
+    SIZE = "a size in metres > 0"
+    WEIGHT = "a weight in (0, 1]"
+    COUNT = "a whole number >= 0"
+    POLICY = "Abs or Rel"
+    USAGE = "Color, Normal or Specular"
+    TEXTURE = "0 or a texture Rep:name / Fit>name"
+    MASK = "a mask Fit>name / Rep:name"
+    UNIT = "a number in [0, 1]"
+    NUMBER = "a number"
+
+
+POLICIES = {"Abs": -1.0, "Rel": 1.0}
+USAGES = {"Color": 1, "Normal": 2, "Specular": 3}
+
+
+@dataclass(frozen=True)
+class Signature:
+    """`head` arguments, then `group` repeated at least `min_groups` times (no group: fixed arity)."""
+
+    opcode: int
+    head: tuple[Kind, ...]
+    group: tuple[Kind, ...] = ()
+    min_groups: int = 0
+
+    def describe(self) -> str:
+        parts = [k.name.lower() for k in self.head]
+        if self.group:
+            parts.append("(" + ", ".join(k.name.lower() for k in self.group) + ")...")
+        return ", ".join(parts)
+
+    def arity_ok(self, count: int) -> bool:
+        rest = count - len(self.head)
+        if not self.group:
+            return rest == 0
+        return rest >= len(self.group) * self.min_groups and rest % len(self.group) == 0
+
+
+_MAT = (Kind.USAGE, Kind.TEXTURE, Kind.NUMBER, Kind.NUMBER, Kind.NUMBER, Kind.NUMBER)
+
+# Opcodes are the paper's (fig. 3): the first channel of a rule's first texel.
+OPERATORS: dict[str, Signature] = {
+    "RepeatX": Signature(1, (Kind.SIZE, Kind.RULE)),
+    "RepeatY": Signature(2, (Kind.SIZE, Kind.RULE)),
+    "SplitX": Signature(3, (), (Kind.POLICY, Kind.SIZE, Kind.RULE), 1),
+    "SplitY": Signature(4, (), (Kind.POLICY, Kind.SIZE, Kind.RULE), 1),
+    "Rand": Signature(5, (Kind.COUNT,), (Kind.WEIGHT, Kind.RULE), 1),
+    "RandUni": Signature(6, (Kind.COUNT,), (Kind.RULE,), 1),
+    "RandStack": Signature(7, (Kind.RULE,)),
+    "Layer": Signature(8, (), (Kind.RULE,), 1),
+    "Skip": Signature(9, (Kind.COUNT,)),
+    "SkipMask": Signature(10, (Kind.MASK, Kind.COUNT, Kind.COUNT)),
+    "Intrusion": Signature(11, (Kind.SIZE,) + (Kind.RULE,) * 5),
+    "Mat": Signature(12, _MAT),
+    "MatAlpha": Signature(13, _MAT + _MAT[1:]),
+}
+
+# Operators that end a layer's evaluation (a terminal: a texture is sampled or layers are skipped).
+TERMINALS = frozenset({"Skip", "SkipMask", "Mat", "MatAlpha"})
