@@ -1,0 +1,27 @@
+"""Procedural, deterministic textures: rooms, facade bay, sky, furniture sprites, curtains.
+
+Arrays are indexed [..., row, col, channel] with row 0 at the bottom (v = 0), so
+they upload to OpenGL as they are. Colours are sRGB-encoded uint8 unless stated
+(the environment map is linear HDR float32). Results are cached and read-only.
+"""
+
+from ._atlas import room_atlas
+from ._curtain import curtain_texture
+from ._facade import facade_texture
+from ._rooms import FACES, ROOM_STYLES, room_textures
+from ._sky import cube_directions, environment_cubemap, sky_colour
+from ._sprites import SPRITE_KINDS, furniture_sprites
+
+__all__ = [
+    "FACES",
+    "ROOM_STYLES",
+    "SPRITE_KINDS",
+    "cube_directions",
+    "curtain_texture",
+    "environment_cubemap",
+    "facade_texture",
+    "furniture_sprites",
+    "room_atlas",
+    "room_textures",
+    "sky_colour",
+]

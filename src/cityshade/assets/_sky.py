@@ -1,0 +1,133 @@
+"""Environment radiance for window reflections (paper §2.3): a dusk sky over a city.
+
+Radiance is linear HDR (the sun disc is far above 1). The cube map uses the
+OpenGL face order +X, -X, +Y, -Y, +Z, -Z and the standard GL face orientation
+(OpenGL 4.5 spec, table 8.19): for texel (row t, column s) with sc = 2(s+0.5)/N-1
+and tc = 2(t+0.5)/N-1 the direction is
+
+    +X: ( 1, -tc, -sc)   -X: (-1, -tc,  sc)
+    +Y: (sc,   1,  tc)   -Y: (sc,  -1, -tc)
+    +Z: (sc, -tc,   1)   -Z: (-sc, -tc, -1)
+
+Row 0 is t = 0, so each face uploads to glTexImage2D as it is.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from ._draw import hash01, value_noise
+
+DEFAULT_SUN = (-0.55, 0.2, -0.81)
+SUN_RADIUS = 0.02  # radians, a little larger than the real sun so it covers texels
+SUN_RADIANCE = 20.0
+
+
+def _mix(a, b, t):
+    a = np.asarray(a, np.float32)
+    b = np.asarray(b, np.float32)
+    return a + (b - a) * np.asarray(t, np.float32)[..., None]
+
+
+def _normalise(x):
+    x = np.asarray(x, np.float32)
+    return x / np.maximum(np.linalg.norm(x, axis=-1, keepdims=True), 1e-12)
+
+
+def _skyline(azimuth, elevation, dusk):
+    """Silhouette of a distant city: building tops by azimuth, lit windows at dusk."""
+    lots = azimuth / (2 * np.pi) * 220
+    lot = np.floor(lots).astype(np.int64) % 220
+    tall = hash01(lot, np.zeros_like(lot), 7)
+    top = 0.012 + 0.1 * tall**3 + 0.015 * hash01(lot // 5, np.ones_like(lot), 7)
+    inside = (elevation > -0.04) & (elevation < top)
+    wx, wy = lots * 4, elevation * 260
+    cell = hash01(np.floor(wx).astype(np.int64), np.floor(wy).astype(np.int64), 11)
+    lit = (cell < 0.08 + 0.3 * dusk) & ((wx % 1) < 0.5) & ((wy % 1) < 0.5) & (elevation < top - 0.004)
+    return inside, lit
+
+
+def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.ndarray:
+    """Linear HDR radiance (..., 3) float32 seen along unit-ish `direction` (..., 3).
+
+    y is up. dusk = 0 is day, 1 late dusk. The sun disc (SUN_RADIANCE) is hidden by the
+    skyline when it is that low. Below the horizon is dark ground.
+    """
+    dirs = _normalise(direction)
+    sun = _normalise(sun_direction)
+    dusk = float(np.clip(dusk, 0.0, 1.0))
+    x, y, z = dirs[..., 0], dirs[..., 1], dirs[..., 2]
+    cos_sun = dirs @ sun
+    flat = np.hypot(x, z) + 1e-6
+    sun_flat = np.hypot(sun[0], sun[2]) + 1e-6
+    towards = np.clip(((x * sun[0] + z * sun[2]) / (flat * sun_flat) + 1) * 0.5, 0, 1)
+
+    zenith = _mix((0.10, 0.24, 0.62), (0.012, 0.02, 0.07), dusk)
+    glow_side = _mix((0.14, 0.09, 0.2), (1.5, 0.5, 0.14), towards**3)
+    horizon = _mix(np.broadcast_to(np.float32([0.55, 0.68, 0.85]), glow_side.shape), glow_side, dusk)
+    up = np.clip(y, 0, 1)
+    sky = _mix(horizon, zenith, up**0.45)
+
+    sun_colour = _mix((1.0, 0.95, 0.88), (1.0, 0.45, 0.16), dusk)
+    near = np.clip(cos_sun, 0, 1)
+    sky += sun_colour * (1.5 * near**200 + 0.35 * near**12)[..., None]
+
+    # Soft clouds on a plane above the viewer, fading out toward the horizon.
+    lift = np.maximum(y, 0) + 0.12
+    px, pz = x / lift * 2.5, z / lift * 2.5
+    cloud = 0.55 * value_noise(px, pz, 21) + 0.3 * value_noise(px * 2.3, pz * 2.3, 22) + 0.15 * value_noise(px * 5, pz * 5, 23)
+    cover = np.clip((cloud - 0.5) / 0.2, 0, 1) * np.clip(y / 0.15, 0, 1) * 0.75
+    cloud_colour = _mix(
+        np.broadcast_to(np.float32([0.95, 0.95, 0.98]), sky.shape),
+        _mix((0.12, 0.1, 0.16), (1.1, 0.5, 0.35), towards**2),
+        dusk,
+    )
+    sky = _mix(sky, cloud_colour, cover)
+
+    disc = cos_sun > np.cos(SUN_RADIUS)
+    sky[disc] = sun_colour * SUN_RADIANCE
+
+    ground = _mix(horizon * 0.25, np.broadcast_to(np.float32([0.02, 0.02, 0.025]), horizon.shape), np.clip(-y * 6, 0, 1))
+    sky = np.where((y < 0)[..., None], ground, sky)
+
+    building, lit = _skyline(np.arctan2(z, x) + np.pi, y, dusk)
+    silhouette = _mix((0.18, 0.2, 0.24), (0.012, 0.012, 0.018), dusk)
+    sky = np.where(building[..., None], silhouette, sky)
+    sky = np.where((building & lit)[..., None], np.float32([1.0, 0.62, 0.3]) * (0.3 + 0.9 * dusk), sky)
+    return sky.astype(np.float32)
+
+
+def cube_directions(size: int) -> np.ndarray:
+    """(6, size, size, 3) unnormalised directions of texel centres, GL face order and orientation."""
+    c = (np.arange(size, dtype=np.float32) + 0.5) / size * 2 - 1
+    sc = np.broadcast_to(c[None, :], (size, size))
+    tc = np.broadcast_to(c[:, None], (size, size))
+    one = np.ones((size, size), np.float32)
+    faces = [
+        (one, -tc, -sc),
+        (-one, -tc, sc),
+        (sc, one, tc),
+        (sc, -one, -tc),
+        (sc, -tc, one),
+        (-sc, -tc, -one),
+    ]
+    return np.stack([np.stack(f, -1) for f in faces])
+
+
+@lru_cache(maxsize=8)
+def _cubemap(size: int, sun: tuple[float, float, float], dusk: float) -> np.ndarray:
+    radiance = sky_colour(cube_directions(size), sun, dusk)
+    radiance.flags.writeable = False
+    return radiance
+
+
+def environment_cubemap(size: int = 128, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.ndarray:
+    """(6, size, size, 3) float32 linear HDR radiance of sky_colour on a GL cube map.
+
+    Faces in GL order +X, -X, +Y, -Y, +Z, -Z with the orientation in this module's
+    docstring; row 0 of each face is t = 0. Read-only (cached).
+    """
+    sun = tuple(float(c) for c in np.asarray(sun_direction, np.float64).reshape(3))
+    return _cubemap(int(size), sun, float(dusk))
