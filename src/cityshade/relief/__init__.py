@@ -10,7 +10,10 @@ from ._factor import METHODS, Factors, factorize, greedy_biclique
 from ._format import VERSION, from_bytes, read_compressed, to_bytes, write_compressed
 from ._layout import PAPER_FACADES, FacadeLayout, generate_facade, paper_facade
 from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
+from ._gpu import RENDERERS, GpuFacade, decode_on_gpu, renderer_defines
 from ._pack import pack_bits, unpack_bits
+from ._reference import Hits, trace_reference
+from ._view import FacadeImages, FacadeView, facade_camera, trace_view
 
 __all__ = [
     "free_boxes", "MAP_NAMES", "CompressedFacade", "compress", "detail_matrices", "digest",
@@ -18,5 +21,6 @@ __all__ = [
     "VERSION", "from_bytes", "read_compressed", "to_bytes", "write_compressed",
     "PAPER_FACADES", "FacadeLayout", "generate_facade", "paper_facade",
     "GLASS", "MATERIALS", "DetailMaps", "load_png_maps", "save_png_maps",
-    "pack_bits", "unpack_bits",
+    "pack_bits", "unpack_bits", "RENDERERS", "GpuFacade", "decode_on_gpu", "renderer_defines",
+    "Hits", "trace_reference", "FacadeImages", "FacadeView", "facade_camera", "trace_view",
 ]

@@ -1,0 +1,126 @@
+"""A facade's detail maps on the GPU in all three codecs, so the renderer can switch per facade.
+
+RENDERERS names the six renderers of the paper's Table 2 by (tracer, codec).
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..gl import ProgramCache, RenderTarget
+from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices
+from ._maps import DetailMaps
+from ._pack import pack_bits
+
+RENDERERS = {
+    "rm": ("rm", "raw"),
+    "fdm": ("fdm", "raw"),
+    "crm": ("rm", "svd"),
+    "bcrm": ("rm", "bmf"),
+    "cfdm": ("fdm", "svd"),
+    "bcfdm": ("fdm", "bmf"),
+}
+BOXES_BINDING = 5  # matches trace.glsl
+
+
+def renderer_defines(renderer: str, lsb_mod37: bool = False) -> dict[str, object]:
+    tracer, codec = RENDERERS[renderer]
+    return {f"TRACER_{tracer.upper()}": True, f"CODEC_{codec.upper()}": True, "BMF_LSB_MOD37": lsb_mod37}
+
+
+def _texture(ctx: moderngl.Context, array: np.ndarray, dtype: str) -> moderngl.Texture:
+    """A one-channel texture of a (rows, columns) array; empty arrays become one zero texel."""
+    if array.size == 0:
+        array = np.zeros((1, 1), array.dtype)
+    data = np.ascontiguousarray(array.astype({"u2": np.uint16, "u4": np.uint32, "f4": np.float32}[dtype]))
+    tex = ctx.texture((array.shape[1], array.shape[0]), 1, data.tobytes(), dtype=dtype)
+    tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    return tex
+
+
+def _set_array(program: moderngl.Program, name: str, values: list[int]):
+    """Sets a uniform array; the driver drops trailing elements a variant never reads."""
+    if name in program:
+        uniform = program[name]
+        uniform.value = values[:uniform.array_length] if uniform.array_length > 1 else values[0]
+
+
+class GpuFacade:
+    """Textures of D, M, A uncompressed and factorised both ways, plus the box list."""
+
+    def __init__(self, ctx: moderngl.Context, maps: DetailMaps,
+                 compressed: dict[str, CompressedFacade] | None = None):
+        self.maps = maps
+        matrices, boxes = detail_matrices(maps)
+        self.compressed = compressed or {m: compress(maps, m) for m in ("svd", "bmf")}
+        self.raw = [_texture(ctx, matrices["depth"], "u2"), _texture(ctx, matrices["material"], "u2"),
+                    _texture(ctx, matrices["boxes"], "u4")]
+        packed_boxes = boxes.astype(np.uint32)
+        words = np.column_stack([packed_boxes[:, 0] | packed_boxes[:, 1] << 16,
+                                 packed_boxes[:, 2] | packed_boxes[:, 3] << 16]).astype(np.uint32)
+        self.boxes = ctx.buffer(words.tobytes() if len(words) else bytes(8))
+        self.codec_textures = {"raw": {"uRaw": self.raw}}
+        for method, facade in self.compressed.items():
+            fs = [facade.factors[name] for name in MAP_NAMES]
+            if method == "svd":
+                self.codec_textures["svd"] = {
+                    "uSvdX": [_texture(ctx, f.x, "f4") for f in fs],
+                    "uSvdY": [_texture(ctx, f.y, "f4") for f in fs],
+                    "uSvdS": [_texture(ctx, f.s[None, :], "f4") for f in fs],
+                }
+            else:
+                self.codec_textures["bmf"] = {
+                    "uBmfX": [_texture(ctx, pack_bits(f.x), "u4") for f in fs],
+                    "uBmfY": [_texture(ctx, pack_bits(f.y), "u4") for f in fs],
+                    "uBmfS": [_texture(ctx, f.s[None, :], "f4") for f in fs],
+                }
+        self.counts = {"svd": [f.terms for f in self.compressed["svd"].factors.values()],
+                       "bmf": [-(-f.terms // 32) for f in self.compressed["bmf"].factors.values()]}
+
+    @property
+    def slab_depth(self) -> float:
+        return float(self.maps.max_depth) + 1.0
+
+    def bind(self, program: moderngl.Program, codec: str, first_unit: int = 0) -> int:
+        """Binds the codec's textures and the box list, sets the map uniforms; returns the next free unit."""
+        unit = first_unit
+        for name, textures in self.codec_textures[codec].items():
+            units = []
+            for tex in textures:
+                tex.use(unit)
+                units.append(unit)
+                unit += 1
+            _set_array(program, name, units)
+        count_name = {"svd": "uTerms", "bmf": "uWords"}.get(codec)
+        if count_name:
+            _set_array(program, count_name, self.counts[codec])
+        rows, cols = self.maps.shape
+        for name, value in (("uMapSize", (cols, rows)), ("uSlabDepth", self.slab_depth)):
+            if name in program:
+                program[name].value = value
+        self.boxes.bind_to_storage_buffer(BOXES_BINDING)
+        return unit
+
+    def release(self):
+        for textures in self.codec_textures.values():
+            for group in textures.values():
+                for tex in group:
+                    tex.release()
+        self.boxes.release()
+
+
+def decode_on_gpu(ctx: moderngl.Context, facade: GpuFacade, codec: str, programs: ProgramCache,
+                  lsb_mod37: bool = False) -> dict[str, np.ndarray]:
+    """Every texel of D, M, A as the shaders decode it with one codec (for exactness checks)."""
+    program = programs.get("relief/decode.glsl", {f"CODEC_{codec.upper()}": True, "BMF_LSB_MOD37": lsb_mod37})
+    rows, cols = facade.maps.shape
+    target = RenderTarget(ctx, (cols, rows), colors=(("u4", 4),))
+    facade.bind(program, codec)
+    target.use()
+    vao = ctx.vertex_array(program, [])
+    vao.render(moderngl.TRIANGLES, vertices=3)
+    decoded = target.read(0)[::-1]  # read() is top row first; maps have row 0 at the bottom
+    vao.release()
+    target.release()
+    return {name: decoded[..., k] for k, name in enumerate(MAP_NAMES)}

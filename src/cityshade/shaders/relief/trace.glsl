@@ -1,0 +1,110 @@
+// Ray casting a facade's relief in map space: x, y in texels, z in depth steps into the wall.
+// TRACER_FDM: facade displacement mapping (paper §4.2), box to box through the free boxes of A.
+// TRACER_RM:  Policarpo relief mapping, RM_LINEAR linear then RM_BINARY binary steps (§4.1).
+// Needs relief/maps.glsl. Face ids match cityshade.relief._reference.
+
+#define FACE_FRONT 0
+#define FACE_NEG_X 1
+#define FACE_POS_X 2
+#define FACE_NEG_Y 3
+#define FACE_POS_Y 4
+
+#ifndef FDM_MAX_STEPS
+#define FDM_MAX_STEPS 256
+#endif
+#ifndef RM_LINEAR
+#define RM_LINEAR 20
+#endif
+#ifndef RM_BINARY
+#define RM_BINARY 6
+#endif
+
+// Free boxes, x0 | y0 << 16 and x1 | y1 << 16 in texels (half-open).
+layout(std430, binding = 5) readonly buffer ReliefBoxes { uvec2 uBoxes[]; };
+
+uniform ivec2 uMapSize;     // columns, rows
+uniform float uSlabDepth;   // deepest texel + 1: the bottom of the traced volume
+
+struct ReliefHit {
+    bool hit;
+    vec3 point;     // map space
+    int face;
+    uint material;
+    int steps;
+};
+
+ivec2 relief_cell(vec3 p) { return ivec2(floor(p.xy)); }
+
+bool relief_inside(ivec2 cell) { return all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, uMapSize)); }
+
+ReliefHit relief_result(bool hit, vec3 p, int face, ivec2 cell, int steps) {
+    return ReliefHit(hit, p, face, hit ? relief_fetch(MAP_MATERIAL, cell) : 0u, steps);
+}
+
+#if defined TRACER_FDM
+// p lies on the traced volume's boundary face entry_face; each step leaves the current free box
+// through the nearest of its six planes (the bottom is the current texel's depth, the top z = 0).
+// The cell is tracked, not recomputed from p, where p lies on a cell boundary (after crossing a
+// box side, or entering through the far side faces), so rounding cannot put it on the wrong side.
+ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
+    int face = entry_face;
+    const float inf = 1e30;
+    ivec2 cell = relief_cell(p);
+    if (entry_face == FACE_POS_X) cell.x = uMapSize.x - 1;
+    if (entry_face == FACE_POS_Y) cell.y = uMapSize.y - 1;
+    for (int i = 0; i < FDM_MAX_STEPS; i++) {
+        if (!relief_inside(cell)) return relief_result(false, p, face, cell, i);
+        float depth = float(relief_fetch(MAP_DEPTH, cell));
+        if (p.z >= depth - 1e-3) return relief_result(true, p, face, cell, i);
+        uvec2 corners = uBoxes[relief_fetch(MAP_BOXES, cell)];
+        vec4 box = vec4(corners.x & 0xffffu, corners.x >> 16, corners.y & 0xffffu, corners.y >> 16);
+        float tx = d.x > 0.0 ? (box.z - p.x) / d.x : d.x < 0.0 ? (box.x - p.x) / d.x : inf;
+        float ty = d.y > 0.0 ? (box.w - p.y) / d.y : d.y < 0.0 ? (box.y - p.y) / d.y : inf;
+        float tz = d.z > 0.0 ? (depth - p.z) / d.z : d.z < 0.0 ? -p.z / d.z : inf;
+        float t = min(tx, min(ty, tz));
+        if (t == tz) {
+            if (d.z <= 0.0) return relief_result(false, p, face, cell, i);  // out through the top
+            p += d * t;
+            p.z = depth;  // land exactly on the plane so the depth test above is exact
+            face = FACE_FRONT;
+            cell = relief_cell(p);
+        } else if (t == tx) {
+            p += d * t;
+            p.x = d.x > 0.0 ? box.z : box.x;
+            face = d.x > 0.0 ? FACE_NEG_X : FACE_POS_X;
+            cell = ivec2(d.x > 0.0 ? int(box.z) : int(box.x) - 1, floor(p.y));
+        } else {
+            p += d * t;
+            p.y = d.y > 0.0 ? box.w : box.y;
+            face = d.y > 0.0 ? FACE_NEG_Y : FACE_POS_Y;
+            cell = ivec2(floor(p.x), d.y > 0.0 ? int(box.w) : int(box.y) - 1);
+        }
+    }
+    return relief_result(false, p, face, cell, FDM_MAX_STEPS);
+}
+
+#elif defined TRACER_RM
+bool relief_below_surface(vec3 p) {
+    ivec2 cell = clamp(relief_cell(p), ivec2(0), uMapSize - 1);
+    return p.z >= float(relief_fetch(MAP_DEPTH, cell));
+}
+
+// Linear search along the segment from p to the volume's bottom, then binary search between the
+// last point above and the first point below the surface; the normal is always the front one.
+ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
+    vec3 segment = d * ((uSlabDepth - p.z) / d.z);
+    vec3 step = segment / float(RM_LINEAR);
+    vec3 above = p, below = p + segment;
+    for (int i = 0; i < RM_LINEAR; i++) {
+        vec3 q = p + step * float(i + 1);
+        if (relief_below_surface(q)) { below = q; break; }
+        above = q;
+    }
+    for (int i = 0; i < RM_BINARY; i++) {
+        vec3 mid = 0.5 * (above + below);
+        if (relief_below_surface(mid)) below = mid; else above = mid;
+    }
+    ivec2 cell = relief_cell(below);
+    return relief_result(relief_inside(cell), below, FACE_FRONT, cell, RM_LINEAR + RM_BINARY);
+}
+#endif
