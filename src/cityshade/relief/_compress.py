@@ -41,6 +41,11 @@ class CompressedFacade:
         out = self.decompress()
         return DetailMaps(out["depth"].astype(np.uint16), out["material"].astype(np.uint16), self.texel, self.depth_unit)
 
+    def raw_nbytes(self) -> dict[str, int]:
+        """GPU bytes of the uncompressed maps: R16UI D and M, R32UI A plus the box list."""
+        rows, cols = self.shape
+        return {"depth": 2 * rows * cols, "material": 2 * rows * cols, "boxes": 4 * rows * cols + self.boxes.nbytes}
+
     def nbytes(self) -> dict[str, int]:
         """GPU bytes per map; the box list is counted with A."""
         sizes = {name: f.nbytes() for name, f in self.factors.items()}
@@ -55,15 +60,16 @@ def detail_matrices(maps: DetailMaps) -> tuple[dict[str, np.ndarray], np.ndarray
 
 
 def compress(maps: DetailMaps, method: str, max_terms: int | None = None,
-             on_map: Callable[[str], None] | None = None) -> CompressedFacade:
-    """Builds A and factorises D, M and A; on_map(name) is called after each map (progress)."""
+             on_map: Callable[[str], None] | None = None, source: str = "facade") -> CompressedFacade:
+    """Builds A and factorises D, M and A; on_map(name) is called after each map (progress);
+    source names the facade in errors."""
     matrices, boxes = detail_matrices(maps)
     if on_map:
         on_map("acceleration")
     factors = {}
     for name in MAP_NAMES:
         limit = {} if max_terms is None else {"max_terms": max_terms}
-        factors[name] = factorize(matrices[name], method, name=name, **limit)
+        factors[name] = factorize(matrices[name], method, name=f"{source}: {name} map", **limit)
         if on_map:
             on_map(name)
     digests = {name: digest(matrices[name]) for name in MAP_NAMES}

@@ -1,0 +1,134 @@
+"""`cityshade compress`: factorise a facade's detail maps into a .cfdm file, inspect or verify one."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.progress import Progress
+
+from ..errors import CityshadeError, UsageError
+from ._compress import MAP_NAMES, compress, detail_matrices, digest
+from ._factor import MAX_TERMS, METHODS
+from ._format import read_compressed, write_compressed
+from ._layout import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, generate_facade
+from ._maps import DetailMaps, load_png_maps
+
+
+def register(subparsers):
+    parser = subparsers.add_parser(
+        "compress", help="compress a facade's relief maps (SVD or binary factorisation) into a .cfdm file",
+        description="Compress facade detail maps (depth D, material M, free-box acceleration A) losslessly, "
+                    "or inspect (--stats) or check (--verify) a compressed file.")
+    source = parser.add_argument_group("source (one of)")
+    source.add_argument("--layout", choices=sorted(PAPER_FACADES),
+                        help="one of the four test facades of the paper, from the built-in layout generator")
+    source.add_argument("--height", type=Path, metavar="PNG",
+                        help="16- or 8-bit greyscale PNG of depth steps behind the outermost surface")
+    source.add_argument("--material", type=Path, metavar="PNG", help="8- or 16-bit greyscale PNG of material indices")
+    parser.add_argument("--facade", metavar="WxH", help="with --layout: another size in texels, e.g. 800x1200")
+    parser.add_argument("--texel", type=float, default=PAPER_TEXEL, metavar="METRES", help="texel size (default 0.02)")
+    parser.add_argument("--depth-unit", type=float, default=DEPTH_UNIT, metavar="METRES",
+                        help="metres per depth step of the height image (default 0.01)")
+    parser.add_argument("--method", choices=METHODS, default="bmf", help="factorisation (default bmf)")
+    parser.add_argument("--max-terms", type=int, default=MAX_TERMS,
+                        help=f"refuse maps needing more terms than this (default {MAX_TERMS})")
+    parser.add_argument("--out", type=Path, metavar="FILE", help="the .cfdm file to write")
+    parser.add_argument("--stats", type=Path, metavar="FILE", help="print sizes, terms and bytes of a .cfdm file")
+    parser.add_argument("--verify", type=Path, metavar="FILE",
+                        help="decompress on the CPU and compare with the maps it was made from "
+                             "(or with --height/--material); exit 1 on any mismatch or damage")
+    parser.set_defaults(run=_run)
+
+
+def _run(args) -> int:
+    if args.stats:
+        return _stats(args.stats)
+    if args.verify:
+        return _verify(args)
+    if args.out is None:
+        raise UsageError("compress needs --out FILE (or --stats FILE / --verify FILE)")
+    maps = _source_maps(args, required=True)
+    console = Console(stderr=True)
+    started = time.perf_counter()
+    with Progress(console=console, transient=True) as progress:
+        task = progress.add_task(f"{args.method.upper()} {maps.shape[1]}x{maps.shape[0]}", total=1 + len(MAP_NAMES))
+        facade = compress(maps, args.method, args.max_terms, on_map=lambda _: progress.advance(task),
+                          source=_source_name(args))
+    write_compressed(args.out, facade)
+    sizes = facade.nbytes()
+    print(f"wrote {args.out}: {sum(sizes.values()) / 1024:.1f} KB ({args.method}, terms "
+                  + ", ".join(f"{n} {facade.factors[n].terms}" for n in MAP_NAMES)
+                  + f") in {time.perf_counter() - started:.2f} s")
+    return 0
+
+
+def _source_maps(args, required: bool) -> DetailMaps | None:
+    if args.texel <= 0 or args.depth_unit <= 0:
+        raise UsageError("--texel and --depth-unit must be positive")
+    images = args.height is not None or args.material is not None
+    if args.layout and images:
+        raise UsageError("give either --layout or --height and --material, not both")
+    if images:
+        if args.height is None or args.material is None:
+            raise UsageError("--height and --material go together")
+        return load_png_maps(args.height, args.material, args.texel, args.depth_unit)
+    if args.layout:
+        cols, rows, layout = PAPER_FACADES[args.layout]
+        if args.facade:
+            cols, rows = _parse_size(args.facade)
+        return generate_facade(cols, rows, layout, args.texel)
+    if required:
+        raise UsageError("give a source: --layout NAME, or --height PNG --material PNG")
+    return None
+
+
+def _source_name(args) -> str:
+    return f"layout {args.layout}" if args.layout else f"{args.height} + {args.material}"
+
+
+def _parse_size(text: str) -> tuple[int, int]:
+    try:
+        cols, rows = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise UsageError(f"--facade {text!r}: expected WIDTHxHEIGHT in texels, e.g. 800x1200") from None
+    if not (0 < cols <= 0xFFFF and 0 < rows <= 0xFFFF):
+        raise UsageError(f"--facade {text!r}: sizes must be 1..65535 texels")
+    return cols, rows
+
+
+def _stats(path: Path) -> int:
+    facade = read_compressed(path)
+    rows, cols = facade.shape
+    raw = facade.raw_nbytes()
+    sizes = facade.nbytes()
+    print(f"{path}: {cols}x{rows} texels of {facade.texel} m, depth unit {facade.depth_unit} m, "
+          f"method {facade.method}, {len(facade.boxes)} free boxes, file {path.stat().st_size} bytes")
+    print(f"{'map':<10}{'terms':>7}{'bytes':>12}{'raw bytes':>12}{'ratio':>8}")
+    for name in MAP_NAMES:
+        print(f"{name:<10}{facade.factors[name].terms:>7}{sizes[name]:>12}{raw[name]:>12}{raw[name] / sizes[name]:>8.1f}")
+    total, total_raw = sum(sizes.values()), sum(raw.values())
+    print(f"{'total':<10}{'':>7}{total:>12}{total_raw:>12}{total_raw / total:>8.1f}")
+    return 0
+
+
+def _verify(args) -> int:
+    facade = read_compressed(args.verify)
+    decoded = facade.decompress()
+    maps = _source_maps(args, required=False)
+    if maps is not None:
+        if maps.shape != facade.shape:
+            raise CityshadeError(f"{args.verify} is {facade.shape[1]}x{facade.shape[0]} texels but the images are "
+                                 f"{maps.shape[1]}x{maps.shape[0]}")
+        expected, _ = detail_matrices(maps)
+        bad = [n for n in MAP_NAMES if not np.array_equal(decoded[n], expected[n])]
+        against = "the given images"
+    else:
+        bad = [n for n in MAP_NAMES if digest(decoded[n]) != facade.digests[n]]
+        against = "the maps it was made from"
+    if bad:
+        raise CityshadeError(f"{args.verify}: decompressed {', '.join(bad)} differ from {against}")
+    print(f"{args.verify}: ok, D, M and A decompress exactly to {against}")
+    return 0

@@ -1,0 +1,62 @@
+"""`cityshade compress`: compress, --stats, --verify, and clear errors with nothing half-written."""
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from cityshade.cli import main
+from cityshade.relief import generate_facade, save_png_maps
+
+
+@pytest.fixture()
+def pngs(tmp_path):
+    save_png_maps(generate_facade(150, 200, texel=0.05), tmp_path / "h.png", tmp_path / "m.png")
+    return tmp_path / "h.png", tmp_path / "m.png"
+
+
+@pytest.mark.parametrize("method", ["svd", "bmf"])
+def test_compress_stats_verify(tmp_path, pngs, capsys, method):
+    out = tmp_path / "f.cfdm"
+    assert main(["compress", "--height", str(pngs[0]), "--material", str(pngs[1]), "--texel", "0.05",
+                 "--method", method, "--out", str(out)]) == 0
+    assert main(["compress", "--stats", str(out)]) == 0
+    stats = capsys.readouterr().out
+    assert "150x200 texels" in stats and f"method {method}" in stats and "boxes" in stats
+    assert main(["compress", "--verify", str(out)]) == 0
+    assert main(["compress", "--verify", str(out), "--height", str(pngs[0]), "--material", str(pngs[1])]) == 0
+
+
+def test_verify_reports_a_different_image(tmp_path, pngs, capsys):
+    out = tmp_path / "f.cfdm"
+    assert main(["compress", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)]) == 0
+    material = np.array(Image.open(pngs[1]))
+    material[5, 5] += 1
+    Image.fromarray(material).save(tmp_path / "other.png")
+    assert main(["compress", "--verify", str(out), "--height", str(pngs[0]), "--material", str(tmp_path / "other.png")]) == 1
+    assert "material differ from the given images" in capsys.readouterr().err
+
+
+def test_damaged_files_exit_1(tmp_path, pngs, capsys):
+    out = tmp_path / "f.cfdm"
+    main(["compress", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)])
+    data = out.read_bytes()
+    (tmp_path / "cut.cfdm").write_bytes(data[: len(data) // 2])
+    assert main(["compress", "--verify", str(tmp_path / "cut.cfdm")]) == 1
+    assert "cut.cfdm: damaged or truncated" in capsys.readouterr().err
+    (tmp_path / "v9.cfdm").write_bytes(data[:8] + (9).to_bytes(4, "little") + data[12:])
+    assert main(["compress", "--stats", str(tmp_path / "v9.cfdm")]) == 1
+    assert "v9.cfdm: compressed facade format version 9" in capsys.readouterr().err
+
+
+def test_bad_inputs_write_nothing(tmp_path, pngs, capsys):
+    Image.fromarray(np.zeros((20, 20), np.uint16)).save(tmp_path / "small.png")
+    out = tmp_path / "never.cfdm"
+    assert main(["compress", "--height", str(pngs[0]), "--material", str(tmp_path / "small.png"), "--out", str(out)]) == 1
+    assert "must have the same size" in capsys.readouterr().err
+    noise = np.random.default_rng(0).integers(0, 60000, (64, 64)).astype(np.uint16)
+    Image.fromarray(noise).save(tmp_path / "noise.png")
+    assert main(["compress", "--height", str(tmp_path / "noise.png"), "--material", str(tmp_path / "noise.png"),
+                 "--max-terms", "100", "--out", str(out)]) == 1
+    assert "noise.png: depth map: the BMF factorisation needs more than 100 terms" in capsys.readouterr().err
+    assert main(["compress", "--layout", "F1", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)]) == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["h.png", "m.png", "noise.png", "small.png"]
