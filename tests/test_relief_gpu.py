@@ -8,7 +8,7 @@ from cityshade.gl import ProgramCache, create_context
 from cityshade.relief import detail_matrices, generate_facade, paper_facade
 from cityshade.relief._gpu import RENDERERS, GpuFacade, decode_on_gpu
 from cityshade.relief._reference import MISS
-from cityshade.relief._view import FacadeView, facade_camera, trace_view
+from cityshade.relief._view import SINGLE_FACADE, FacadeView, MeshFacade, facade_camera, trace_view
 
 SIZE = (96, 96)
 VIEWS = {  # azimuth, elevation, distance, target
@@ -103,3 +103,21 @@ def test_all_six_renderers_draw(gl, facade):
         renderer.draw(facade, camera, name)
         assert (renderer.read().material != MISS).mean() > 0.3, name
     renderer.release()
+
+
+def test_triangulated_relief_matches_reference(gl, facade):
+    ctx, programs = gl
+    camera = facade_camera(facade.maps, *VIEWS["oblique"])
+    ref = trace_view(facade.maps, camera, SIZE)
+    view = FacadeView(ctx, SIZE, programs)
+    mesh = MeshFacade(ctx, facade.maps)
+    view.target.use()
+    ctx.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+    mesh.draw(ctx, programs, camera, SINGLE_FACADE, 1.0)
+    gpu = view.read()
+    save("mesh_oblique", gpu)
+    differ = (gpu.material != ref.material) | (gpu.face != ref.face)
+    print(f"mesh: {differ.sum()} of {differ.size} pixels differ ({mesh.triangles} triangles)")
+    assert differ.mean() < 0.01, "the geometry baseline shows the same relief"
+    mesh.release()
+    view.release()

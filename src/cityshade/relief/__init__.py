@@ -13,7 +13,8 @@ from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
 from ._gpu import RENDERERS, GpuFacade, decode_on_gpu, renderer_defines
 from ._pack import pack_bits, unpack_bits
 from ._reference import Hits, trace_reference
-from ._view import FacadeImages, FacadeView, facade_camera, trace_view
+from ._mesh import relief_mesh
+from ._view import FRAME_DTYPE, FacadeImages, FacadeView, MeshFacade, draw_facades, facade_camera, slab_faces, trace_view
 
 __all__ = [
     "free_boxes", "MAP_NAMES", "CompressedFacade", "compress", "detail_matrices", "digest",
@@ -22,5 +23,6 @@ __all__ = [
     "PAPER_FACADES", "FacadeLayout", "generate_facade", "paper_facade",
     "GLASS", "MATERIALS", "DetailMaps", "load_png_maps", "save_png_maps",
     "pack_bits", "unpack_bits", "RENDERERS", "GpuFacade", "decode_on_gpu", "renderer_defines",
-    "Hits", "trace_reference", "FacadeImages", "FacadeView", "facade_camera", "trace_view",
+    "Hits", "trace_reference", "relief_mesh", "FRAME_DTYPE", "FacadeImages", "FacadeView", "MeshFacade", "draw_facades",
+    "facade_camera", "slab_faces", "trace_view",
 ]

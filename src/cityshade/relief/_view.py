@@ -1,8 +1,9 @@
-"""One relief facade on its own, on the GPU and through the numpy reference, from the same camera.
+"""Relief facades on the GPU, one instance per facade, and the numpy reference from the same camera.
 
-The facade lies in the world plane z = 0 with its lower-left corner at the origin, facing +z;
-relief goes to -z. Map space (texels, texels, depth steps) is world space scaled by
-(1 / texel, 1 / texel, -1 / depth_unit).
+Each instance is a facade frame (shaders/relief/frame.glsl): the world position of its lower-left
+corner, the unit direction along it and its outward normal. The single test facade lies in the
+world plane z = 0 with its lower-left corner at the origin, facing +z, relief going to -z, so its
+map space (texels, texels, depth steps) is world space scaled by (1 / texel, 1 / texel, -1 / depth_unit).
 """
 
 from __future__ import annotations
@@ -16,9 +17,13 @@ from ..gl import ProgramCache, RenderTarget
 from ..scene import Camera
 from ._gpu import RENDERERS, GpuFacade, renderer_defines
 from ._maps import DetailMaps
+from ._mesh import relief_mesh
 from ._reference import FACE_FRONT, FACE_NEG_X, FACE_NEG_Y, FACE_POS_X, FACE_POS_Y, MISS, Hits, trace_reference
 
-SUN = (0.45, 0.6, 0.65)  # facade space, towards the sun
+SUN = (0.45, 0.6, 0.65)  # world, towards the sun
+FRAME_DTYPE = np.dtype([("origin", "<f4", 3), ("along", "<f4", 3), ("out", "<f4", 3)])
+SINGLE_FACADE = np.array([((0, 0, 0), (1, 0, 0), (0, 0, 1))], FRAME_DTYPE)
+VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("face", "<i4")])
 
 
 def map_scale(maps: DetailMaps) -> np.ndarray:
@@ -37,21 +42,20 @@ def facade_camera(maps: DetailMaps, azimuth: float, elevation: float, distance: 
     return Camera(tuple(eye), tuple(aim), fov_y=fov_y, near=0.05, far=10 * distance + 100)
 
 
-def _slab_faces(cols: int, rows: int, depth: float, eye: np.ndarray) -> np.ndarray:
-    """Triangles of the traced volume's faces that face the eye, with their face ids."""
+def slab_faces(cols: int, rows: int, depth: float, sides: bool = True) -> np.ndarray:
+    """Triangles of the traced volume's boundary faces with their face ids: the front quad and,
+    with sides, the four side quads (the vertex shader drops those facing away from the eye).
+    Facades on building walls need only the front: the building closes the sides."""
     x, y, z = (0.0, float(cols)), (0.0, float(rows)), (0.0, depth)
-    quads = []
-    if eye[2] < 0:
-        quads.append((FACE_FRONT, [(x[0], y[0], 0), (x[1], y[0], 0), (x[1], y[1], 0), (x[0], y[1], 0)]))
-    if eye[0] < 0:
-        quads.append((FACE_NEG_X, [(0, y[0], z[0]), (0, y[1], z[0]), (0, y[1], z[1]), (0, y[0], z[1])]))
-    if eye[0] > cols:
-        quads.append((FACE_POS_X, [(cols, y[0], z[0]), (cols, y[1], z[0]), (cols, y[1], z[1]), (cols, y[0], z[1])]))
-    if eye[1] < 0:
-        quads.append((FACE_NEG_Y, [(x[0], 0, z[0]), (x[1], 0, z[0]), (x[1], 0, z[1]), (x[0], 0, z[1])]))
-    if eye[1] > rows:
-        quads.append((FACE_POS_Y, [(x[0], rows, z[0]), (x[1], rows, z[0]), (x[1], rows, z[1]), (x[0], rows, z[1])]))
-    vertices = np.zeros(len(quads) * 6, dtype=[("pos", "f4", 3), ("face", "i4")])
+    quads = [(FACE_FRONT, [(x[0], y[0], 0), (x[1], y[0], 0), (x[1], y[1], 0), (x[0], y[1], 0)])]
+    if sides:
+        quads += [
+            (FACE_NEG_X, [(0, y[0], z[0]), (0, y[1], z[0]), (0, y[1], z[1]), (0, y[0], z[1])]),
+            (FACE_POS_X, [(cols, y[0], z[0]), (cols, y[1], z[0]), (cols, y[1], z[1]), (cols, y[0], z[1])]),
+            (FACE_NEG_Y, [(x[0], 0, z[0]), (x[1], 0, z[0]), (x[1], 0, z[1]), (x[0], 0, z[1])]),
+            (FACE_POS_Y, [(x[0], rows, z[0]), (x[1], rows, z[0]), (x[1], rows, z[1]), (x[0], rows, z[1])]),
+        ]
+    vertices = np.zeros(len(quads) * 6, VERTEX_DTYPE)
     for q, (face, corners) in enumerate(quads):
         for v, corner in enumerate((0, 1, 2, 0, 2, 3)):
             vertices[q * 6 + v] = (corners[corner], face)
@@ -77,27 +81,12 @@ class FacadeView:
         self.target = RenderTarget(ctx, size, colors=(("f2", 4), ("u4", 4), ("f4", 4)))
 
     def draw(self, facade: GpuFacade, camera: Camera, renderer: str, lsb_mod37: bool = False):
-        program = self.programs.get("relief/facade.glsl", renderer_defines(renderer, lsb_mod37))
-        scale = map_scale(facade.maps)
-        map_to_clip = camera.view_projection(self.size[0] / self.size[1]) @ np.diag([*scale, 1.0])
-        eye = camera.eye / scale
+        """The single test facade with its side quads."""
         rows, cols = facade.maps.shape
-        vertices = _slab_faces(cols, rows, facade.slab_depth, eye)
-        vbo = self.ctx.buffer(vertices.tobytes())
-        # RM ignores the entry face, so its programs have no in_face.
-        layout = (vbo, "3f4 i4", "in_position", "in_face") if "in_face" in program else (vbo, "3f4 4x", "in_position")
-        vao = self.ctx.vertex_array(program, [layout])
-        facade.bind(program, RENDERERS[renderer][1])
-        program["uMapToClip"].write(map_to_clip.T.astype("f4").tobytes())
-        for name, value in (("uEye", tuple(eye)), ("uMapScale", tuple(np.abs(scale))), ("uSunDir", SUN)):
-            if name in program:
-                program[name].value = value
         self.target.use()
-        self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        vao.render(moderngl.TRIANGLES)
-        vao.release()
-        vbo.release()
+        draw_facades(self.ctx, self.programs, facade, camera, renderer, slab_faces(cols, rows, facade.slab_depth),
+                     SINGLE_FACADE, self.size[0] / self.size[1], lsb_mod37)
 
     def read(self) -> FacadeImages:
         color = self.target.read(0)[..., :3].astype(np.float32)
@@ -118,3 +107,51 @@ def trace_view(maps: DetailMaps, camera: Camera, size: tuple[int, int]) -> Hits:
     directions = camera.pixel_rays(size) / scale
     origins = np.broadcast_to(camera.eye / scale, directions.shape)
     return trace_reference(maps, origins, directions)
+
+
+def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacade, camera: Camera, renderer: str,
+                 vertices: np.ndarray, frames: np.ndarray, aspect: float, lsb_mod37: bool = False):
+    """Draws every frame (FRAME_DTYPE) as an instance of the facade into the bound framebuffer."""
+    program = programs.get("relief/facade.glsl", renderer_defines(renderer, lsb_mod37))
+    vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(np.ascontiguousarray(frames, FRAME_DTYPE).tobytes())
+    vao = ctx.vertex_array(program, [(vbo, "3f4 i4", "in_position", "in_face"), (ibo, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")])
+    facade.bind(program, RENDERERS[renderer][1])
+    program["uViewProj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
+    for name, value in (("uCamera", tuple(camera.eye)), ("uMapScale", tuple(np.abs(map_scale(facade.maps)))),
+                        ("uSunDir", SUN)):
+        if name in program:
+            program[name].value = value
+    ctx.enable(moderngl.DEPTH_TEST)
+    vao.render(moderngl.TRIANGLES, instances=len(frames))
+    vao.release()
+    vbo.release()
+    ibo.release()
+
+
+class MeshFacade:
+    """The triangulated relief of a facade (the geometry baseline) in GPU buffers."""
+
+    def __init__(self, ctx: moderngl.Context, maps: DetailMaps):
+        self.maps = maps
+        vertices, indices = relief_mesh(maps)
+        self.triangles = len(indices) // 3
+        self.vbo, self.ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(indices.tobytes())
+        self.nbytes = vertices.nbytes + indices.nbytes
+
+    def draw(self, ctx: moderngl.Context, programs: ProgramCache, camera: Camera, frames: np.ndarray, aspect: float):
+        program = programs.get("relief/mesh.glsl")
+        instances = ctx.buffer(np.ascontiguousarray(frames, FRAME_DTYPE).tobytes())
+        vao = ctx.vertex_array(program, [(self.vbo, "3f4 i4 i4", "in_position", "in_face", "in_material"),
+                                         (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")],
+                               index_buffer=self.ibo)
+        program["uViewProj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
+        program["uMapScale"].value = tuple(np.abs(map_scale(self.maps)))
+        program["uSunDir"].value = SUN
+        ctx.enable(moderngl.DEPTH_TEST)
+        vao.render(moderngl.TRIANGLES, instances=len(frames))
+        vao.release()
+        instances.release()
+
+    def release(self):
+        self.vbo.release()
+        self.ibo.release()

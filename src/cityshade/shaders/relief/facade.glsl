@@ -1,18 +1,44 @@
-// One relief facade on its own: the traced volume's faces facing the eye are rasterised (the front
-// quad and the side quads), each fragment casts its ray with the tracer and codec picked by the
-// defines (see trace.glsl and maps.glsl) and writes colour, ids and the hit point.
+// Relief facades drawn one instance per facade: the traced volume's faces facing the eye are
+// rasterised (the front quad and the side quads), each fragment casts its ray with the tracer
+// and codec picked by the defines (trace.glsl, maps.glsl) and writes colour, ids and hit point.
 // Outputs: 0 colour, 1 (material + 1 or 0 on a miss, face, steps, 0), 2 hit point in map space.
+
+#include "relief/frame.glsl"
+#include "relief/faces.glsl"
 
 #if defined VERTEX_SHADER
 in vec3 in_position;  // map space
 in int in_face;
-uniform mat4 uMapToClip;
+in vec3 in_origin;    // per instance: the facade's frame
+in vec3 in_along;
+in vec3 in_out;
+uniform mat4 uViewProj;
+uniform vec3 uCamera;  // world
 out vec3 vPosition;
 flat out int vFace;
+flat out vec3 vEye;    // map space
+flat out vec3 vOrigin;
+flat out vec3 vAlong;
+flat out vec3 vOut;
+// A boundary face of the traced volume that faces away from the eye is never where a ray enters.
+bool faces_eye(int face, vec3 eye, vec3 p) {
+    if (face == FACE_NEG_X) return eye.x < p.x;
+    if (face == FACE_POS_X) return eye.x > p.x;
+    if (face == FACE_NEG_Y) return eye.y < p.y;
+    if (face == FACE_POS_Y) return eye.y > p.y;
+    return eye.z < p.z;
+}
+
 void main() {
+    FacadeFrame f = FacadeFrame(in_origin, in_along, in_out);
     vPosition = in_position;
     vFace = in_face;
-    gl_Position = uMapToClip * vec4(in_position, 1.0);
+    vEye = world_to_map(f, uCamera);
+    vOrigin = in_origin;
+    vAlong = in_along;
+    vOut = in_out;
+    gl_Position = uViewProj * vec4(facade_to_world(f, in_position), 1.0);
+    if (!faces_eye(in_face, vEye, in_position)) gl_Position = vec4(0.0, 0.0, 2.0, 1.0);  // all corners alike: culled
 }
 #endif
 
@@ -23,24 +49,26 @@ void main() {
 
 in vec3 vPosition;
 flat in int vFace;
-uniform mat4 uMapToClip;
-uniform vec3 uEye;          // map space
-uniform vec3 uMapScale;     // metres per map unit (texel, texel, depth unit)
-uniform vec3 uSunDir;       // facade space (x right, y up, z out of the wall), towards the sun
+flat in vec3 vEye;
+flat in vec3 vOrigin;
+flat in vec3 vAlong;
+flat in vec3 vOut;
+uniform mat4 uViewProj;
+uniform vec3 uSunDir;  // world, towards the sun
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out uvec4 outIds;
 layout(location = 2) out vec4 outPoint;
 
 void main() {
-    ReliefHit h = relief_trace(vPosition, vPosition - uEye, vFace);
+    FacadeFrame f = FacadeFrame(vOrigin, vAlong, vOut);
+    ReliefHit h = relief_trace(vPosition, vPosition - vEye, vFace);
     if (!h.hit) discard;
-    vec3 n = relief_normal(h.face);
     vec3 albedo = relief_albedo(h.material, h.point.xy * uMapScale.xy, h.face);
-    float light = 0.35 + 0.65 * max(dot(n, normalize(uSunDir)), 0.0);
+    float light = 0.35 + 0.65 * max(dot(relief_normal(h.face), world_to_facade_dir(f, normalize(uSunDir))), 0.0);
     outColor = vec4(albedo * light, 1.0);
     outIds = uvec4(h.material + 1u, uint(h.face), uint(h.steps), 0u);
     outPoint = vec4(h.point, 1.0);
-    vec4 clip = uMapToClip * vec4(h.point, 1.0);
+    vec4 clip = uViewProj * vec4(facade_to_world(f, h.point), 1.0);
     gl_FragDepth = 0.5 + 0.5 * clip.z / clip.w;
 }
 #endif

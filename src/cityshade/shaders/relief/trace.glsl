@@ -1,13 +1,9 @@
 // Ray casting a facade's relief in map space: x, y in texels, z in depth steps into the wall.
 // TRACER_FDM: facade displacement mapping (paper §4.2), box to box through the free boxes of A.
 // TRACER_RM:  Policarpo relief mapping, RM_LINEAR linear then RM_BINARY binary steps (§4.1).
-// Needs relief/maps.glsl. Face ids match cityshade.relief._reference.
+// Needs relief/maps.glsl.
 
-#define FACE_FRONT 0
-#define FACE_NEG_X 1
-#define FACE_POS_X 2
-#define FACE_NEG_Y 3
-#define FACE_POS_Y 4
+#include "relief/faces.glsl"
 
 #ifndef FDM_MAX_STEPS
 #define FDM_MAX_STEPS 256
