@@ -11,11 +11,16 @@ from ._facade import facade_texture
 from ._rooms import FACES, ROOM_STYLES, room_textures
 from ._sky import cube_directions, environment_cubemap, sky_colour
 from ._sprites import SPRITE_KINDS, furniture_sprites
+from ._tiles import LABELS, TILE_INDEX, TILES, TileArray, tile_array
 
 __all__ = [
     "FACES",
+    "LABELS",
     "ROOM_STYLES",
     "SPRITE_KINDS",
+    "TILES",
+    "TILE_INDEX",
+    "TileArray",
     "cube_directions",
     "curtain_texture",
     "environment_cubemap",
@@ -24,4 +29,5 @@ __all__ = [
     "room_atlas",
     "room_textures",
     "sky_colour",
+    "tile_array",
 ]

@@ -1,0 +1,88 @@
+"""The grammar's GPU resources (rule texture, noise, tile array) and the standalone facade render."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..assets._tiles import TileArray
+from ..gl import ProgramCache, RenderTarget
+from . import _limits as limits
+from ._compiler import CompiledGrammars
+from ._random import noise_texture
+
+MAX_TILES = 64  # size of grammar_tile_labels[] in eval.glsl
+
+
+def shader_defines(nearest: bool = False) -> dict[str, object]:
+    """The #defines every program that includes grammar/eval.glsl needs."""
+    return dict(limits.DEFINES, GRAMMAR_NEAREST=nearest)
+
+
+class GrammarTextures:
+    """Uploads a compiled grammar, the noise texture and the tile array; binds them to a program."""
+
+    def __init__(self, ctx: moderngl.Context, compiled: CompiledGrammars, tiles: TileArray):
+        self.compiled = compiled
+        self.tiles = tiles
+        rows, width, _ = compiled.texels.shape
+        self.rules = ctx.texture((width, rows), 4, compiled.texels.tobytes(), dtype="f2")
+        self.rules.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        noise = noise_texture()
+        self.noise = ctx.texture(noise.shape[::-1], 1, noise.tobytes(), dtype="f4")
+        self.noise.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        layers = tiles.layers
+        self.tile_array = ctx.texture_array((tiles.size, tiles.size, len(layers)), 4, layers.tobytes())
+        self.tile_array.build_mipmaps()
+        self.tile_array.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        if len(tiles.labels) > MAX_TILES:
+            raise ValueError(f"{len(tiles.labels)} tiles; eval.glsl holds labels for {MAX_TILES}")
+        self.labels = np.zeros(MAX_TILES, np.int32)
+        self.labels[: len(tiles.labels)] = tiles.labels
+
+    def bind(self, program, first_unit: int = 0) -> int:
+        """Binds the three textures from `first_unit` on; returns the next free unit."""
+        for offset, (name, texture) in enumerate(
+            (("grammar_rules", self.rules), ("grammar_noise", self.noise), ("grammar_tiles", self.tile_array))
+        ):
+            texture.use(first_unit + offset)
+            if name in program:
+                program[name] = first_unit + offset
+        if "grammar_tile_size" in program:
+            program["grammar_tile_size"] = self.tiles.size
+        if "grammar_tile_labels" in program:
+            program["grammar_tile_labels"].write(self.labels.tobytes())
+        return first_unit + 3
+
+    def release(self):
+        for texture in (self.rules, self.noise, self.tile_array):
+            texture.release()
+
+
+class FacadeRenderer:
+    """Renders one facade head-on: colour (lit) and ids (terminal + 1, label, tile + 1, glass)."""
+
+    def __init__(self, ctx: moderngl.Context, textures: GrammarTextures, nearest: bool = False):
+        self.ctx = ctx
+        self.textures = textures
+        self.program = ProgramCache(ctx).get("grammar/facade.glsl", shader_defines(nearest))
+        self.vao = ctx.vertex_array(self.program, [])
+
+    def render(self, start: int, facade, size, seed) -> tuple[np.ndarray, np.ndarray]:
+        """(colour HxWx4 float, ids HxWx4 uint32), top row first."""
+        target = RenderTarget(self.ctx, tuple(size), colors=(("f2", 4), ("u4", 4)))
+        try:
+            target.use()
+            self.ctx.viewport = (0, 0, *size)
+            self.textures.bind(self.program)
+            self.program["facade_size"] = tuple(float(x) for x in facade)
+            self.program["viewport_size"] = tuple(float(x) for x in size)
+            self.program["facade_seed"] = tuple(float(x) for x in seed)
+            self.program["start_rule"] = int(start)
+            light = np.array([-0.4, 0.5, -0.75])
+            self.program["light_dir"] = tuple(-light / np.linalg.norm(light))
+            self.ctx.disable(moderngl.DEPTH_TEST)
+            self.vao.render(moderngl.TRIANGLES, vertices=3)
+            return target.read(0).astype(np.float32), target.read(1)
+        finally:
+            target.release()

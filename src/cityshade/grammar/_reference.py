@@ -1,0 +1,371 @@
+"""The numpy twin of shaders/grammar/eval.glsl: the same per-pixel grammar evaluation, vectorised.
+
+It reads the compiled texture (so it also checks the compiler) and follows the shader step for
+step in float32: every pixel walks the grammar from its start rule, updating its scope, texture
+coordinates, random-seed stack and layer stack, until a terminal makes it opaque (§3.1, §4).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..assets._tiles import LABELS, TileArray
+from . import _limits as limits
+from ._compiler import CompiledGrammars
+from ._random import noise_at
+
+F = np.float32
+BIG = F(1e30)
+OPAQUE = F(0.999)
+BACKGROUND = F(0.5)
+DEFAULT_SPECULAR = (0.08, 0.25)
+WALL_LABEL = LABELS.index("wall")
+REPEAT_SLACK = F(1e-4)  # ceil(S_w / v) must not jump when S_w / v is an integer up to rounding
+
+
+@dataclass
+class Evaluation:
+    """Per-pixel results; terminal is the winning Mat's texel address (-1: none)."""
+
+    color: np.ndarray  # (..., 3)
+    alpha: np.ndarray
+    normal: np.ndarray  # (..., 3) tangent space
+    specular: np.ndarray  # (..., 2) intensity, shininess / 128
+    terminal: np.ndarray
+    tile: np.ndarray  # tile index of the terminal (-1: constant or none)
+    label: np.ndarray  # index into LABELS
+    glass: np.ndarray  # bool: the terminal's texel is glass (a window to see a room through)
+
+
+class _Pixels:
+    """The evaluation state of n pixels (one row each)."""
+
+    def __init__(self, n: int, start: int, facade, seed, uv, directions):
+        s = np.asarray(seed, F)
+        self.s = s
+        self.addr = np.full(n, start, np.int32)
+        self.lb = np.broadcast_to(s, (n, 2)).astype(F)
+        self.size = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
+        self.t = uv.astype(F) + s
+        self.d = directions.astype(F)
+        self.stack = np.zeros((n, limits.MAX_STACK, 2), F)
+        self.stack[:, 0] = s
+        self.sp = np.ones(n, np.int32)
+        L = limits.MAX_LAYER_DEPTH
+        self.depth = np.zeros(n, np.int32)
+        self.f_addr = np.zeros((n, L), np.int32)
+        self.f_index = np.zeros((n, L), np.int32)
+        self.f_lb = np.zeros((n, L, 2), F)
+        self.f_size = np.zeros((n, L, 2), F)
+        self.f_t = np.zeros((n, L, 2), F)
+        self.f_d = np.zeros((n, L, 3), F)
+        self.f_sp = np.zeros((n, L), np.int32)
+        self.C = np.zeros((n, 3), F)
+        self.A = np.zeros(n, F)
+        self.N = np.zeros((n, 3), F)
+        self.AN = np.zeros(n, F)
+        self.S = np.zeros((n, 2), F)
+        self.AS = np.zeros(n, F)
+        self.best_w = np.zeros(n, F)
+        self.best_addr = np.full(n, -1, np.int32)
+        self.best_tile = np.full(n, -1, np.int32)
+        self.best_texel = np.zeros((n, 2), np.int32)
+        self.active = np.ones(n, bool)
+
+
+class _Evaluator:
+    def __init__(self, compiled: CompiledGrammars, tiles: TileArray):
+        self.tex = compiled.flat()
+        self.tiles = tiles
+
+    def channel(self, addr, index):
+        index = np.asarray(index)
+        return self.tex[addr + index // 4, index % 4]
+
+    # ------------------------------------------------------------------ texture sampling
+
+    def sample(self, code, usage, params, lb, size, t):
+        """rgba of Mat's sampling: constant (code 0), fitted (> 0) or tiled (< 0); nearest texel."""
+        n = len(code)
+        rgba = params.copy()
+        texel = np.zeros((n, 2), np.int32)
+        tile = np.abs(code) - 1
+        textured = code != 0
+        if np.any(textured):
+            r = self.tiles.size
+            fit = code > 0
+            rect0, rect1 = params[:, 0:2], params[:, 2:4]
+            uv_fit = rect0 + (t - lb) / size * (rect1 - rect0)
+            uv_rep = t * rect1 + rect0
+            uv = np.where(fit[:, None], uv_fit, uv_rep)
+            ix = np.floor(uv * F(r)).astype(np.int32)
+            ix = np.where(fit[:, None], np.clip(ix, 0, r - 1), ix & (r - 1))
+            texel = ix
+            layer = 3 * np.maximum(tile, 0) + usage - 1
+            fetched = self.tiles.layers[layer, ix[:, 1], ix[:, 0]].astype(F) / F(255)
+            rgba = np.where(textured[:, None], fetched, rgba)
+        return rgba, texel, np.where(textured, tile, -1)
+
+    def mat_params(self, addr, extra):
+        """Mat's m2..m5: the next texel, or the unit rectangle when the rule is one texel."""
+        unit = np.broadcast_to(np.array([0, 0, 1, 1], F), (len(addr), 4))
+        return np.where(extra[:, None], self.tex[addr + 1], unit)
+
+    # ------------------------------------------------------------------ the evaluation
+
+    def run(self, p: _Pixels):
+        for _ in range(limits.MAX_STEPS):
+            live = np.nonzero(p.active)[0]
+            if live.size == 0:
+                break
+            ops = self.tex[p.addr[live], 0].astype(np.int32)
+            for op in np.unique(ops):
+                idx = live[ops == op]
+                getattr(self, _HANDLERS[op])(p, idx, op)
+
+    def op_repeat(self, p, idx, op):
+        a = op - 1
+        head = self.tex[p.addr[idx]]
+        v = head[:, 1]
+        size, lb, t = p.size[idx, a], p.lb[idx, a], p.t[idx, a]
+        count = np.maximum(np.ceil(size / v - REPEAT_SLACK), F(1))
+        w = size / count
+        i = np.clip(np.floor((t - lb) / w), F(0), count - F(1))
+        p.lb[idx, a] = lb + i * w
+        p.size[idx, a] = w
+        p.addr[idx] = head[:, 2].astype(np.int32)
+
+    def op_split(self, p, idx, op):
+        a = op - 3
+        addr = p.addr[idx]
+        head = self.tex[addr]
+        n = head[:, 1].astype(np.int32)
+        size = p.size[idx, a]
+        scale = np.where(head[:, 2] > 0, np.maximum(size - head[:, 3], F(0)) / np.maximum(head[:, 2], F(1e-20)), F(0))
+        pos = p.lb[idx, a].copy()
+        t = p.t[idx, a]
+        chosen_pos, chosen_w = pos.copy(), np.zeros_like(pos)
+        target = np.zeros(len(idx), np.int32)
+        searching = np.ones(len(idx), bool)
+        for i in range(limits.MAX_PARTS):
+            part = self.tex[addr + 1 + i // 2]
+            sv, ref = part[:, 2 * (i % 2)], part[:, 2 * (i % 2) + 1]
+            w = np.where(sv < 0, -sv, sv * scale)
+            hit = searching & (i < n) & ((t < pos + w) | (i == n - 1))
+            chosen_pos = np.where(hit, pos, chosen_pos)
+            chosen_w = np.where(hit, w, chosen_w)
+            target = np.where(hit, ref.astype(np.int32), target)
+            searching &= ~hit
+            pos = pos + w
+        p.lb[idx, a] = chosen_pos
+        p.size[idx, a] = chosen_w
+        p.addr[idx] = target
+
+    def random(self, p, idx, level):
+        slot = np.maximum(p.sp[idx] - level, 0)
+        corner = np.where((level == 0)[:, None], p.lb[idx], p.stack[idx, slot])
+        return noise_at(corner)
+
+    def op_rand(self, p, idx, op):
+        addr = p.addr[idx]
+        head = self.tex[addr]
+        n = head[:, 1].astype(np.int32)
+        r = self.random(p, idx, head[:, 2].astype(np.int32))
+        target = np.zeros(len(idx), np.int32)
+        searching = np.ones(len(idx), bool)
+        for i in range(limits.MAX_PARTS):
+            part = self.tex[addr + 1 + i // 2]
+            hit = searching & (i < n) & ((r < part[:, 2 * (i % 2)]) | (i == n - 1))
+            target = np.where(hit, part[:, 2 * (i % 2) + 1].astype(np.int32), target)
+            searching &= ~hit
+        p.addr[idx] = target
+
+    def op_rand_uni(self, p, idx, op):
+        addr = p.addr[idx]
+        head = self.tex[addr]
+        n = head[:, 1].astype(np.int32)
+        r = self.random(p, idx, head[:, 2].astype(np.int32))
+        k = np.minimum(np.floor(r * n.astype(F)).astype(np.int32), n - 1)
+        p.addr[idx] = self.channel(addr, 3 + k).astype(np.int32)
+
+    def op_rand_stack(self, p, idx, op):
+        slot = np.minimum(p.sp[idx], limits.MAX_STACK - 1)
+        p.stack[idx, slot] = p.lb[idx]
+        p.sp[idx] = slot + 1
+        p.addr[idx] = self.tex[p.addr[idx], 1].astype(np.int32)
+
+    def op_layer(self, p, idx, op):
+        addr = p.addr[idx]
+        n = self.tex[addr, 1].astype(np.int32)
+        top = np.minimum(p.depth[idx], p.f_addr.shape[1] - 1)
+        p.f_addr[idx, top] = addr
+        p.f_index[idx, top] = n
+        p.f_lb[idx, top] = p.lb[idx]
+        p.f_size[idx, top] = p.size[idx]
+        p.f_t[idx, top] = p.t[idx]
+        p.f_d[idx, top] = p.d[idx]
+        p.f_sp[idx, top] = p.sp[idx]
+        p.depth[idx] = top + 1
+        self.end_layer(p, idx, np.zeros(len(idx), np.int32))
+
+    def end_layer(self, p, idx, skip):
+        """The current layer is done (skipping `skip` more): enter the next one below, or finish."""
+        rows, k = idx, skip
+        for _ in range(p.f_addr.shape[1] + 1):
+            if rows.size == 0:
+                break
+            top = p.depth[rows] - 1
+            finished = top < 0
+            p.active[rows[finished]] = False
+            rows, top, k = rows[~finished], top[~finished], k[~finished]
+            index = p.f_index[rows, top] - 1 - k
+            p.f_index[rows, top] = index
+            enter = index >= 0
+            er, et, ei = rows[enter], top[enter], index[enter]
+            offset = (ei + 1).astype(F)[:, None] * p.s  # layer i is translated by i * s
+            p.lb[er] = p.f_lb[er, et] + offset
+            p.t[er] = p.f_t[er, et] + offset
+            p.size[er] = p.f_size[er, et]
+            p.d[er] = p.f_d[er, et]
+            p.sp[er] = p.f_sp[er, et]
+            p.addr[er] = self.channel(p.f_addr[er, et], 2 + ei).astype(np.int32)
+            rows = rows[~enter]  # this Layer is exhausted: continue below it in the enclosing one
+            p.depth[rows] -= 1
+            k = np.zeros(len(rows), np.int32)
+
+    def op_skip(self, p, idx, op):
+        self.end_layer(p, idx, self.tex[p.addr[idx], 1].astype(np.int32))
+
+    def op_skip_mask(self, p, idx, op):
+        head = self.tex[p.addr[idx]]
+        code = head[:, 1].astype(np.int32)
+        unit = np.broadcast_to(np.array([0, 0, 1, 1], F), (len(idx), 4))
+        rgba, _, _ = self.sample(code, 1, unit.copy(), p.lb[idx], p.size[idx], p.t[idx])
+        skip = np.where(rgba[:, 3] > F(0.5), head[:, 3], head[:, 2]).astype(np.int32)
+        self.end_layer(p, idx, skip)
+
+    def op_intrusion(self, p, idx, op):
+        addr = p.addr[idx]
+        depth = self.tex[addr, 1]
+        lb, size, d = p.lb[idx], p.size[idx], p.d[idx]
+        local = p.t[idx] - lb
+        dx, dy, dz = d[:, 0], d[:, 1], d[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tx = np.where(dx > 0, (size[:, 0] - local[:, 0]) / dx, np.where(dx < 0, -local[:, 0] / dx, BIG))
+            ty = np.where(dy > 0, (size[:, 1] - local[:, 1]) / dy, np.where(dy < 0, -local[:, 1] / dy, BIG))
+            tz = np.where(dz > 0, depth / dz, BIG)
+        back = (tz <= tx) & (tz <= ty)
+        side = ~back & (tx <= ty)
+        face = np.where(back, 2, np.where(side, np.where(dx < 0, 1, 3), np.where(dy < 0, 4, 5)))
+        h = np.minimum(np.minimum(tx, ty), tz)
+        px, py, pz = local[:, 0] + dx * h, local[:, 1] + dy * h, dz * h
+        # Each face seen from inside the box: (u, v) on it, its size, and the ray in its frame.
+        f = face[:, None]
+        new_local = np.select(
+            [f == 1, f == 2, f == 3, f == 4],
+            [np.stack([pz, py], 1), np.stack([px, py], 1), np.stack([depth - pz, py], 1), np.stack([px, pz], 1)],
+            np.stack([px, depth - pz], 1))
+        new_size = np.select(
+            [(f == 1) | (f == 3), f == 2],
+            [np.stack([depth, size[:, 1]], 1), size], np.stack([size[:, 0], depth], 1))
+        new_d = np.select(
+            [f == 1, f == 2, f == 3, f == 4],
+            [np.stack([dz, dy, -dx], 1), d, np.stack([-dz, dy, dx], 1), np.stack([dx, dz, -dy], 1)],
+            np.stack([dx, -dz, dy], 1))
+        new_lb = lb + face.astype(F)[:, None] * p.s
+        p.lb[idx] = new_lb
+        p.size[idx] = new_size
+        p.t[idx] = new_lb + np.clip(new_local, F(0), new_size)
+        p.d[idx] = new_d
+        p.addr[idx] = self.channel(addr, 1 + face).astype(np.int32)
+
+    def op_mat(self, p, idx, op):
+        addr = p.addr[idx]
+        head = self.tex[addr]
+        usage = head[:, 1].astype(np.int32)
+        code = head[:, 2].astype(np.int32)
+        if op == 12:
+            params = self.mat_params(addr, head[:, 3] > 0)
+        else:
+            params = self.tex[addr + 1]
+        lb, size, t = p.lb[idx], p.size[idx], p.t[idx]
+        rgba, texel, tile = self.sample(code, usage, params, lb, size, t)
+        if op == 13:
+            factor, _, _ = self.sample(head[:, 3].astype(np.int32), 1, self.tex[addr + 2].copy(), lb, size, t)
+            rgba[:, 3] *= factor[:, 3]
+        a = rgba[:, 3]
+        colour, normal, spec = usage == 1, usage == 2, usage == 3
+        w = (F(1) - p.A[idx]) * a
+        p.C[idx] += np.where(colour[:, None], w[:, None] * rgba[:, :3], F(0))
+        p.A[idx] += np.where(colour, w, F(0))
+        better = colour & (w > p.best_w[idx])
+        rows = idx[better]
+        p.best_w[rows] = w[better]
+        p.best_addr[rows] = addr[better]
+        p.best_tile[rows] = tile[better]
+        p.best_texel[rows] = texel[better]
+        wn = (F(1) - p.AN[idx]) * a
+        p.N[idx] += np.where(normal[:, None], wn[:, None] * (rgba[:, :3] * F(2) - F(1)), F(0))
+        p.AN[idx] += np.where(normal, wn, F(0))
+        ws = (F(1) - p.AS[idx]) * a
+        p.S[idx] += np.where(spec[:, None], ws[:, None] * rgba[:, :2], F(0))
+        p.AS[idx] += np.where(spec, ws, F(0))
+        done = p.A[idx] >= OPAQUE
+        p.active[idx[done]] = False
+        rest = idx[~done]
+        self.end_layer(p, rest, np.zeros(len(rest), np.int32))
+
+    def finish(self, p: _Pixels) -> Evaluation:
+        remaining = (F(1) - p.A)[:, None]
+        normal = p.N + (F(1) - p.AN)[:, None] * np.array([0, 0, 1], F)
+        normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), F(1e-6))
+        spec = p.S + (F(1) - p.AS)[:, None] * np.array(DEFAULT_SPECULAR, F)
+        tile = p.best_tile
+        has_tile = tile >= 0
+        glass_plane = 3 * np.maximum(tile, 0) + 2
+        glass = has_tile & (self.tiles.layers[glass_plane, p.best_texel[:, 1], p.best_texel[:, 0], 2] > 127)
+        label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)],
+                         np.where(p.best_addr >= 0, WALL_LABEL, 0))
+        return Evaluation(p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass)
+
+
+_HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",
+             7: "op_rand_stack", 8: "op_layer", 9: "op_skip", 10: "op_skip_mask", 11: "op_intrusion",
+             12: "op_mat", 13: "op_mat"}
+
+
+def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,
+             directions: np.ndarray | None = None) -> Evaluation:
+    """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres."""
+    n = len(uv)
+    if directions is None:
+        directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
+    pixels = _Pixels(n, start, facade, seed, uv, directions)
+    evaluator = _Evaluator(compiled, tiles)
+    evaluator.run(pixels)
+    return evaluator.finish(pixels)
+
+
+def facade_view(facade, size) -> tuple[np.ndarray, np.ndarray]:
+    """Pixel centres (uv in metres, bottom row first) and view rays of the standalone facade render:
+    a camera at distance max(w, h) in front of the facade's centre (as shaders/grammar/facade.glsl)."""
+    w, h = (F(x) for x in facade)
+    cols, rows = size
+    x = (np.arange(cols, dtype=F) + F(0.5)) / F(cols) * w
+    y = (np.arange(rows, dtype=F) + F(0.5)) / F(rows) * h
+    uv = np.stack(np.meshgrid(x, y), axis=-1).reshape(-1, 2)
+    rays = np.concatenate([uv - np.array([w, h], F) * F(0.5), np.full((len(uv), 1), max(w, h), F)], axis=1)
+    rays /= np.sqrt(np.sum(rays * rays, axis=1, keepdims=True))
+    return uv, rays
+
+
+def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray) -> Evaluation:
+    """The standalone facade render on the CPU; arrays are (rows, cols, ...) with the top row first."""
+    uv, rays = facade_view(facade, size)
+    result = evaluate(compiled, start, uv, facade, seed, tiles, rays)
+    cols, rows = size
+    for name, value in vars(result).items():
+        setattr(result, name, value.reshape((rows, cols) + value.shape[1:])[::-1])
+    return result

@@ -1,0 +1,309 @@
+// Per-pixel evaluation of a compiled facade grammar (Krecklau & Kobbelt 2011, §3.1 and §4).
+// The numpy twin is cityshade/grammar/_reference.py: keep the two in step.
+//
+// Inputs per pixel: start rule address, facade point uv (metres), facade size, seed vector s and
+// the view ray in facade tangent space (x right, y up, z into the wall). Every loop is bounded
+// by the GRAMMAR_MAX_* defines, so no grammar can hang the GPU.
+
+#ifndef GRAMMAR_MAX_STEPS
+#error "GRAMMAR_MAX_* defines come from cityshade.grammar._limits.DEFINES"
+#endif
+
+#define GRAMMAR_NOISE_SIZE 256
+#define GRAMMAR_NOISE_DENSITY 8.0
+#define GRAMMAR_OPAQUE 0.999
+#define GRAMMAR_BIG 1e30
+#define GRAMMAR_REPEAT_SLACK 1e-4
+#define GRAMMAR_WALL_LABEL 1
+
+uniform sampler2D grammar_rules;      // RGBA16F, GRAMMAR_WIDTH texels per row
+uniform sampler2D grammar_noise;      // R32F uniform noise
+uniform sampler2DArray grammar_tiles; // RGBA8, layer = 3 * tile + usage - 1
+uniform int grammar_tile_size;        // texels per tile side (a power of two)
+uniform int grammar_tile_labels[64];
+
+struct GrammarResult {
+    vec3 color;
+    float alpha;
+    vec3 normal;    // tangent space
+    vec2 specular;  // intensity, shininess / 128
+    int terminal;   // address of the winning Mat, -1 for none
+    int tile;       // its tile, -1 for a constant colour
+    int label;
+    bool glass;
+};
+
+// ---- evaluation state (private to the invocation) -------------------------------------------
+int g_addr;
+vec2 g_lb, g_size, g_t, g_s;
+vec3 g_d;
+vec2 g_dtdx, g_dtdy;
+vec2 g_stack[GRAMMAR_MAX_STACK];
+int g_sp;
+int g_depth;
+int f_addr[GRAMMAR_MAX_LAYERS], f_index[GRAMMAR_MAX_LAYERS], f_sp[GRAMMAR_MAX_LAYERS];
+vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS];
+vec3 f_d[GRAMMAR_MAX_LAYERS];
+bool g_active;
+vec3 g_C, g_N;
+float g_A, g_AN, g_AS, g_best_w;
+vec2 g_S;
+int g_best_addr, g_best_tile;
+ivec2 g_best_texel;
+
+vec4 grammar_texel(int address) {
+    return texelFetch(grammar_rules, ivec2(address % GRAMMAR_WIDTH, address / GRAMMAR_WIDTH), 0);
+}
+
+float grammar_channel(int address, int index) {
+    return grammar_texel(address + index / 4)[index % 4];
+}
+
+float grammar_random(vec2 corner) {
+    ivec2 c = ivec2(floor(corner * GRAMMAR_NOISE_DENSITY + 0.5));
+    ivec2 p = ivec2((c.x + c.y * 37) & (GRAMMAR_NOISE_SIZE - 1), c.y & (GRAMMAR_NOISE_SIZE - 1));
+    return texelFetch(grammar_noise, p, 0).r;
+}
+
+// Mat's sampling: a constant (code 0), a tile fitted to the scope (> 0) or tiled (< 0).
+vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int tile) {
+    texel = ivec2(0);
+    tile = -1;
+    if (code == 0) return params;
+    tile = abs(code) - 1;
+    int r = grammar_tile_size;
+    bool fit = code > 0;
+    vec2 uv = fit ? params.xy + (g_t - g_lb) / g_size * (params.zw - params.xy) : g_t * params.zw + params.xy;
+    ivec2 ix = ivec2(floor(uv * float(r)));
+    texel = fit ? clamp(ix, ivec2(0), ivec2(r - 1)) : (ix & ivec2(r - 1));
+    int layer = 3 * tile + usage - 1;
+#ifdef GRAMMAR_NEAREST
+    return texelFetch(grammar_tiles, ivec3(texel, layer), 0);
+#else
+    // Derivatives come from the facade uv (taken before any branching) scaled to this mapping.
+    vec2 k = fit ? (params.zw - params.xy) / g_size : params.zw;
+    float half_texel = 0.5 / float(r);
+    vec2 st = fit ? clamp(uv, vec2(half_texel), vec2(1.0 - half_texel)) : uv;
+    return textureGrad(grammar_tiles, vec3(st, float(layer)), g_dtdx * k, g_dtdy * k);
+#endif
+}
+
+// The current layer is done, skipping `skip` more: enter the next layer below, or finish.
+void grammar_end_layer(int skip) {
+    for (int i = 0; i <= GRAMMAR_MAX_LAYERS; ++i) {
+        int top = g_depth - 1;
+        if (top < 0) {
+            g_active = false;
+            return;
+        }
+        int index = f_index[top] - 1 - skip;
+        f_index[top] = index;
+        if (index >= 0) {
+            vec2 offset = float(index + 1) * g_s;  // layer i is translated by i * s
+            g_lb = f_lb[top] + offset;
+            g_t = f_t[top] + offset;
+            g_size = f_size[top];
+            g_d = f_d[top];
+            g_sp = f_sp[top];
+            g_addr = int(grammar_channel(f_addr[top], 2 + index));
+            return;
+        }
+        g_depth -= 1;  // this Layer is exhausted: continue below it in the enclosing one
+        skip = 0;
+    }
+}
+
+void grammar_repeat(vec4 head, int a) {
+    float size = g_size[a];
+    float count = max(ceil(size / head.y - GRAMMAR_REPEAT_SLACK), 1.0);
+    float w = size / count;
+    float i = clamp(floor((g_t[a] - g_lb[a]) / w), 0.0, count - 1.0);
+    g_lb[a] = g_lb[a] + i * w;
+    g_size[a] = w;
+    g_addr = int(head.z);
+}
+
+void grammar_split(vec4 head, int a) {
+    int n = int(head.y);
+    float size = g_size[a];
+    float scale = head.z > 0.0 ? max(size - head.w, 0.0) / max(head.z, 1e-20) : 0.0;
+    float pos = g_lb[a];
+    float t = g_t[a];
+    for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
+        vec4 part = grammar_texel(g_addr + 1 + i / 2);
+        float sv = (i % 2 == 0) ? part.x : part.z;
+        float ref = (i % 2 == 0) ? part.y : part.w;
+        float w = sv < 0.0 ? -sv : sv * scale;
+        if (t < pos + w || i == n - 1) {
+            g_lb[a] = pos;
+            g_size[a] = w;
+            g_addr = int(ref);
+            return;
+        }
+        pos = pos + w;
+    }
+}
+
+float grammar_rand_value(int level) {
+    int slot = max(g_sp - level, 0);
+    return grammar_random(level == 0 ? g_lb : g_stack[slot]);
+}
+
+void grammar_rand(vec4 head) {
+    int n = int(head.y);
+    float r = grammar_rand_value(int(head.z));
+    for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
+        vec4 part = grammar_texel(g_addr + 1 + i / 2);
+        float accumulated = (i % 2 == 0) ? part.x : part.z;
+        if (r < accumulated || i == n - 1) {
+            g_addr = int((i % 2 == 0) ? part.y : part.w);
+            return;
+        }
+    }
+}
+
+void grammar_intrusion(vec4 head) {
+    float depth = head.y;
+    vec2 local = g_t - g_lb;
+    vec3 d = g_d;
+    float tx = d.x > 0.0 ? (g_size.x - local.x) / d.x : (d.x < 0.0 ? -local.x / d.x : GRAMMAR_BIG);
+    float ty = d.y > 0.0 ? (g_size.y - local.y) / d.y : (d.y < 0.0 ? -local.y / d.y : GRAMMAR_BIG);
+    float tz = d.z > 0.0 ? depth / d.z : GRAMMAR_BIG;
+    int face = (tz <= tx && tz <= ty) ? 2 : (tx <= ty ? (d.x < 0.0 ? 1 : 3) : (d.y < 0.0 ? 4 : 5));
+    float h = min(min(tx, ty), tz);
+    vec3 p = vec3(local + d.xy * h, d.z * h);
+    // Each face seen from inside the box: (u, v) on it, its size, and the ray in its frame.
+    vec2 new_local, new_size;
+    vec3 new_d;
+    if (face == 1) {
+        new_local = vec2(p.z, p.y); new_size = vec2(depth, g_size.y); new_d = vec3(d.z, d.y, -d.x);
+    } else if (face == 2) {
+        new_local = p.xy; new_size = g_size; new_d = d;
+    } else if (face == 3) {
+        new_local = vec2(depth - p.z, p.y); new_size = vec2(depth, g_size.y); new_d = vec3(-d.z, d.y, d.x);
+    } else if (face == 4) {
+        new_local = vec2(p.x, p.z); new_size = vec2(g_size.x, depth); new_d = vec3(d.x, d.z, -d.y);
+    } else {
+        new_local = vec2(p.x, depth - p.z); new_size = vec2(g_size.x, depth); new_d = vec3(d.x, -d.z, d.y);
+    }
+    vec2 new_lb = g_lb + float(face) * g_s;
+    int next = int(grammar_channel(g_addr, 1 + face));
+    g_lb = new_lb;
+    g_size = new_size;
+    g_t = new_lb + clamp(new_local, vec2(0.0), new_size);
+    g_d = new_d;
+    g_addr = next;
+}
+
+void grammar_mat(vec4 head, int op) {
+    int usage = int(head.y);
+    int code = int(head.z);
+    vec4 params = (op == 12 && head.w == 0.0) ? vec4(0.0, 0.0, 1.0, 1.0) : grammar_texel(g_addr + 1);
+    ivec2 texel;
+    int tile;
+    vec4 rgba = grammar_sample(code, usage, params, texel, tile);
+    if (op == 13) {
+        ivec2 unused_texel;
+        int unused_tile;
+        rgba.a *= grammar_sample(int(head.w), 1, grammar_texel(g_addr + 2), unused_texel, unused_tile).a;
+    }
+    float a = rgba.a;
+    if (usage == 1) {
+        float w = (1.0 - g_A) * a;
+        g_C += w * rgba.rgb;
+        g_A += w;
+        if (w > g_best_w) {
+            g_best_w = w;
+            g_best_addr = g_addr;
+            g_best_tile = tile;
+            g_best_texel = texel;
+        }
+    } else if (usage == 2) {
+        float w = (1.0 - g_AN) * a;
+        g_N += w * (rgba.rgb * 2.0 - 1.0);
+        g_AN += w;
+    } else {
+        float w = (1.0 - g_AS) * a;
+        g_S += w * rgba.rg;
+        g_AS += w;
+    }
+    if (g_A >= GRAMMAR_OPAQUE) {
+        g_active = false;
+    } else {
+        grammar_end_layer(0);
+    }
+}
+
+GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 dir, vec2 duv_dx, vec2 duv_dy) {
+    g_addr = start;
+    g_s = seed;
+    g_lb = seed;
+    g_size = facade;
+    g_t = uv + seed;
+    g_d = dir;
+    g_dtdx = duv_dx;
+    g_dtdy = duv_dy;
+    g_stack[0] = seed;
+    g_sp = 1;
+    g_depth = 0;
+    g_active = true;
+    g_C = vec3(0.0); g_N = vec3(0.0); g_S = vec2(0.0);
+    g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0;
+    g_best_addr = -1; g_best_tile = -1; g_best_texel = ivec2(0);
+
+    for (int step = 0; step < GRAMMAR_MAX_STEPS && g_active; ++step) {
+        vec4 head = grammar_texel(g_addr);
+        int op = int(head.x);
+        if (op == 1 || op == 2) {
+            grammar_repeat(head, op - 1);
+        } else if (op == 3 || op == 4) {
+            grammar_split(head, op - 3);
+        } else if (op == 5) {
+            grammar_rand(head);
+        } else if (op == 6) {
+            int n = int(head.y);
+            int k = min(int(floor(grammar_rand_value(int(head.z)) * float(n))), n - 1);
+            g_addr = int(grammar_channel(g_addr, 3 + k));
+        } else if (op == 7) {
+            int slot = min(g_sp, GRAMMAR_MAX_STACK - 1);
+            g_stack[slot] = g_lb;
+            g_sp = slot + 1;
+            g_addr = int(head.y);
+        } else if (op == 8) {
+            int top = min(g_depth, GRAMMAR_MAX_LAYERS - 1);
+            f_addr[top] = g_addr;
+            f_index[top] = int(head.y);
+            f_lb[top] = g_lb;
+            f_size[top] = g_size;
+            f_t[top] = g_t;
+            f_d[top] = g_d;
+            f_sp[top] = g_sp;
+            g_depth = top + 1;
+            grammar_end_layer(0);
+        } else if (op == 9) {
+            grammar_end_layer(int(head.y));
+        } else if (op == 10) {
+            ivec2 texel;
+            int tile;
+            float bit = grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile).a;
+            grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
+        } else if (op == 11) {
+            grammar_intrusion(head);
+        } else {
+            grammar_mat(head, op);
+        }
+    }
+
+    GrammarResult result;
+    result.color = g_C + (1.0 - g_A) * 0.5;
+    result.alpha = g_A;
+    vec3 n = g_N + (1.0 - g_AN) * vec3(0.0, 0.0, 1.0);
+    result.normal = n / max(length(n), 1e-6);
+    result.specular = g_S + (1.0 - g_AS) * vec2(0.08, 0.25);
+    result.terminal = g_best_addr;
+    result.tile = g_best_tile;
+    bool has_tile = g_best_tile >= 0;
+    result.glass = has_tile && texelFetch(grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
+    result.label = has_tile ? grammar_tile_labels[g_best_tile] : (g_best_addr >= 0 ? GRAMMAR_WALL_LABEL : 0);
+    return result;
+}
