@@ -1,0 +1,1 @@
+"""Benchmarks that reproduce the papers' experiments; `cityshade bench NAME`."""

@@ -1,0 +1,30 @@
+"""`cityshade bench NAME [--quick] [--json PATH]`: each benchmark module exposes `run(args) -> BenchResult`."""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+
+from ._harness import write
+
+# benchmark name -> module with run(quick: bool) -> BenchResult
+BENCHMARKS = {
+    "interior": "cityshade.bench.interior",
+    "relief": "cityshade.bench.relief",
+}
+
+
+def register(subparsers):
+    parser = subparsers.add_parser("bench", help="reproduce a paper's experiment and compare with its figures")
+    parser.add_argument("name", choices=sorted(BENCHMARKS), help="which experiment")
+    parser.add_argument("--quick", action="store_true", help="smaller scenes and fewer frames (under a minute)")
+    parser.add_argument("--json", type=Path, default=None, metavar="PATH", help="also write the JSON here")
+    parser.add_argument("--out-dir", type=Path, default=Path("bench-results"), help="folder for JSON, Markdown, plots")
+    parser.set_defaults(run=_run)
+
+
+def _run(args):
+    module = importlib.import_module(BENCHMARKS[args.name])
+    result = module.run(quick=args.quick, out_dir=args.out_dir)
+    write(result, args.out_dir, args.json)
+    return 0

@@ -1,0 +1,18 @@
+"""Face codes of the id AOV; mirrors shaders/interior/faces.glsl."""
+
+FACE_NONE = 0
+FACE_EXTERIOR = 1
+FACE_CEILING = 2
+FACE_FLOOR = 3
+FACE_WALL_X = 4
+FACE_WALL_Z = 5
+FACE_FURNITURE = 6
+FACE_CURTAIN = 7
+FACE_ROOF = 8
+FACE_GROUND = 9
+
+FACE_NAMES = {
+    FACE_NONE: "none", FACE_EXTERIOR: "exterior", FACE_CEILING: "ceiling", FACE_FLOOR: "floor",
+    FACE_WALL_X: "wall x", FACE_WALL_Z: "wall z", FACE_FURNITURE: "furniture", FACE_CURTAIN: "curtain",
+    FACE_ROOF: "roof", FACE_GROUND: "ground",
+}

@@ -1,0 +1,125 @@
+"""numpy twin of interior mapping (shaders/interior/interior.glsl): the same rooms, faces and room
+ids per pixel, vectorised over pixels, in float64. Used by tests to check the GPU pixel by pixel."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
+from ._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
+from ._hash import hash3, unit_float
+
+SALT_LIGHT, SALT_VARIANT, SALT_FURNITURE, SALT_PHASE, SALT_CURTAIN, SALT_WALL_X, SALT_WALL_Z = (
+    0x1000, 0x2000, 0x3000, 0x4000, 0x5000, 0x6000, 0x7000)
+FURNITURE_DEPTH = 0.45
+CURTAIN_DEPTH = 0.08
+SPRITE_WIDTH = 0.55
+SPRITE_HEIGHT = 0.8
+EMPTY_ROOM_SHARE = 0.3
+CURTAIN_SHARE = 0.55
+
+
+@dataclass(frozen=True)
+class InteriorParams:
+    """The frame-wide inputs of the interior shader (its uniforms)."""
+
+    lights: float
+    time: float
+    variants: int
+    glass_rect: tuple[float, float, float, float]
+    sprite_alpha: np.ndarray      # (kinds, frames, H, W) alpha, row 0 at the bottom
+    feature_mask: int = FLAG_FURNITURE | FLAG_CURTAINS | FLAG_ROOM_VARIATION
+
+
+def room_id(cx, cy, cz) -> np.ndarray:
+    u = lambda v: np.asarray(v).astype(np.int64) & 0xFFFFFFFF
+    return (u(cx) & 0x7FF) | ((u(cz) & 0x7FF) << 11) | ((u(cy) & 0x3FF) << 22)
+
+
+def _wall_offset(k, floor_index, lines, salt, jitter):
+    off = (unit_float(hash3(k, floor_index, np.zeros_like(k), salt)) - 0.5) * 2.0 * jitter
+    return np.where((k <= 0) | (k >= lines), 0.0, off)
+
+
+def _room_interval(x, size, lines, floor_index, salt, jitter):
+    k0 = np.floor(x / size).astype(np.int64)
+    w0 = (k0 + _wall_offset(k0, floor_index, lines, salt, jitter)) * size
+    w1 = (k0 + 1 + _wall_offset(k0 + 1, floor_index, lines, salt, jitter)) * size
+    below, above = x < w0, x >= w1
+    k = np.where(below, k0 - 1, np.where(above, k0 + 1, k0))
+    lo = np.where(below, (k0 - 1 + _wall_offset(k0 - 1, floor_index, lines, salt, jitter)) * size,
+                  np.where(above, w1, w0))
+    hi = np.where(below, w0, np.where(above, (k0 + 2 + _wall_offset(k0 + 2, floor_index, lines, salt, jitter)) * size, w1))
+    return k, lo, hi
+
+
+def find_room(p: np.ndarray, n: np.ndarray, record, params: InteriorParams) -> dict:
+    """The room entered at facade points p (N, 3) with normals n: cell, box, id, lit, variant."""
+    size = record["room"][:3].astype(np.float64)
+    seed = int(record["ids"][0])
+    flags = int(record["ids"][2]) & params.feature_mask
+    jitter = float(record["room"][3]) if flags & FLAG_ROOM_VARIATION else 0.0
+    lines = np.round(record["extent"][:3].astype(np.float64) / size).astype(np.int64)
+    q = p - n * (1e-3 * size.min())
+    cy = np.floor(q[:, 1] / size[1]).astype(np.int64)
+    cx, x0, x1 = _room_interval(q[:, 0], size[0], lines[0], cy, seed ^ SALT_WALL_X, jitter)
+    cz, z0, z1 = _room_interval(q[:, 2], size[2], lines[2], cy, seed ^ SALT_WALL_Z, jitter)
+    lo = np.stack([x0, cy * size[1], z0], axis=1)
+    hi = np.stack([x1, (cy + 1) * size[1], z1], axis=1)
+    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < params.lights * float(record["extent"][3])
+    variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
+    return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
+
+
+def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per ray (facade point p, unit direction d, normal n; object space): face code, room id and
+    distance t from the facade, exactly as the interior shader decides them."""
+    room = find_room(p, n, record, params)
+    lo, hi = room["lo"], room["hi"]
+    size = hi - lo
+    with np.errstate(divide="ignore", invalid="ignore"):
+        far = np.where(d >= 0, hi, lo)
+        tt = (far - p) / d
+    ty_wins = (tt[:, 1] <= tt[:, 0]) & (tt[:, 1] <= tt[:, 2])
+    tx_wins = ~ty_wins & (tt[:, 0] <= tt[:, 2])
+    face = np.where(ty_wins, np.where(d[:, 1] > 0, FACE_CEILING, FACE_FLOOR), np.where(tx_wins, FACE_WALL_X, FACE_WALL_Z))
+    t = np.where(ty_wins, tt[:, 1], np.where(tx_wins, tt[:, 0], tt[:, 2]))
+
+    seed = int(record["ids"][0])
+    flags = int(record["ids"][2]) & params.feature_mask
+    cx, cy, cz = room["cell"]
+    facing = np.maximum(-np.sum(n * d, axis=1), 1e-4)
+    if flags & FLAG_FURNITURE:
+        kind_pick = unit_float(hash3(cx, cy, cz, seed ^ SALT_FURNITURE))
+        depth = FURNITURE_DEPTH * np.sum(np.abs(n) * size, axis=1)
+        tf = depth / facing
+        hf = p + d * tf[:, None]
+        rf = (hf - lo) / size
+        tangent = np.cross(np.array([0.0, 1.0, 0.0]), n)
+        tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+        u = 0.5 + np.sum((rf - 0.5) * tangent, axis=1)
+        centre = 0.3 + 0.4 * unit_float(hash3(cx, cy, cz, seed ^ SALT_PHASE))
+        su = np.stack([(u - centre) / SPRITE_WIDTH + 0.5, rf[:, 1] / SPRITE_HEIGHT], axis=1)
+        inside = np.all((su >= 0) & (su < 1), axis=1) & (kind_pick >= EMPTY_ROOM_SHARE) & (tf < t)
+        kinds, frames, sh, sw = params.sprite_alpha.shape
+        kind = np.minimum(((kind_pick - EMPTY_ROOM_SHARE) / (1 - EMPTY_ROOM_SHARE) * kinds).astype(np.int64), kinds - 1)
+        phase = unit_float(hash3(cx, cy, cz, (seed ^ SALT_PHASE) ^ 1))
+        frame = np.floor(params.time * 2.0 + 7.0 * phase).astype(np.int64) % frames
+        col = np.clip((su[:, 0] * sw).astype(np.int64), 0, sw - 1)
+        row = np.clip((su[:, 1] * sh).astype(np.int64), 0, sh - 1)
+        opaque = params.sprite_alpha[kind, frame, row, col] >= 0.5
+        hit = inside & opaque
+        face = np.where(hit, FACE_FURNITURE, face)
+        t = np.where(hit, tf, t)
+    if flags & FLAG_CURTAINS:
+        pick = unit_float(hash3(cx, cy, cz, seed ^ SALT_CURTAIN))
+        closed = 0.15 + 0.8 * pick / CURTAIN_SHARE
+        tc = CURTAIN_DEPTH / facing
+        v = (p[:, 1] + d[:, 1] * tc - lo[:, 1]) / size[:, 1]
+        g = params.glass_rect
+        hit = (pick < CURTAIN_SHARE) & (v >= g[3] - closed * (g[3] - g[1]))
+        face = np.where(hit, FACE_CURTAIN, face)
+        t = np.where(hit, tc, t)
+    return face, room["id"], t

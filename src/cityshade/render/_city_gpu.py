@@ -1,0 +1,74 @@
+"""A city uploaded to the GPU: one vertex buffer for all buildings, one SSBO of building records,
+and the ground quads. Vertex arrays are cached per program."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+
+GROUND_FORMAT = "3f 1f"
+GROUND_ATTRIBUTES = ("in_position", "in_material")
+GROUND_MARGIN = 400.0
+
+
+def ground_vertices(city: City) -> np.ndarray:
+    """Two triangles per ground rectangle, drawn in order (later ones on top, lifted slightly)."""
+    x0, z0, x1, z1 = city.bounds
+    rects = [(x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN, 0)] + list(city.ground)
+    out = []
+    for layer, (a, b, c, d, material) in enumerate(rects):
+        y = 0.02 * min(layer, 1) + 0.01 * (material == 2)  # pavements and parks sit on the asphalt
+        corners = [(a, y, b), (a, y, d), (c, y, d), (c, y, b)]
+        for i in (0, 1, 2, 0, 2, 3):
+            out.append((*corners[i], float(material)))
+    return np.asarray(out, dtype=np.float32)
+
+
+class CityGPU:
+    def __init__(self, ctx: moderngl.Context, city: City):
+        self.ctx = ctx
+        self.city = city
+        vertices, records = batch(city.masses)
+        self.building_count = len(city.masses)
+        self.building_vertex_count = len(vertices)
+        self.building_vbo = ctx.buffer(vertices.tobytes()) if len(vertices) else None
+        self.records = ctx.buffer(records.tobytes() if len(records) else b"\0" * 64)
+        ground = ground_vertices(city)
+        self.ground_vbo = ctx.buffer(ground.tobytes())
+        self.ground_vertex_count = len(ground)
+        self._vaos: dict[int, moderngl.VertexArray] = {}
+
+    def _vao(self, program, vbo, fmt, attributes):
+        key = (id(program), id(vbo))
+        vao = self._vaos.get(key)
+        if vao is None:
+            names = [a for a in attributes if a in program]
+            if len(names) < len(attributes):  # the depth-only variant reads just the position
+                fmt = " ".join(f if a in program else _skip(f) for f, a in zip(fmt.split(), attributes))
+            vao = self.ctx.vertex_array(program, [(vbo, fmt, *names)])
+            self._vaos[key] = vao
+        return vao
+
+    def draw_buildings(self, program):
+        if self.building_vbo is None:
+            return
+        self.records.bind_to_storage_buffer(0)
+        self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES).render(moderngl.TRIANGLES)
+
+    def draw_ground(self, program):
+        self._vao(program, self.ground_vbo, GROUND_FORMAT, GROUND_ATTRIBUTES).render(moderngl.TRIANGLES)
+
+    def release(self):
+        for vao in self._vaos.values():
+            vao.release()
+        for buf in (self.building_vbo, self.records, self.ground_vbo):
+            if buf is not None:
+                buf.release()
+
+
+def _skip(fmt: str) -> str:
+    """A moderngl format that skips an attribute's bytes, e.g. '3f' -> '12x'."""
+    count = int(fmt[:-1] or 1)
+    return f"{count * 4}x"

@@ -1,0 +1,92 @@
+"""`cityshade render`: the default city (or another) to a PNG."""
+
+from __future__ import annotations
+
+import os
+import re
+import tempfile
+from pathlib import Path
+
+from ..errors import UsageError
+from ..scene import CITIES
+
+SCENES = {}  # extra scenes registered by technique packages: name -> callable(args) -> exit code
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"(\d+)x(\d+)", text.strip())
+    if not match or not (1 <= int(match.group(1)) <= 16384 and 1 <= int(match.group(2)) <= 16384):
+        raise UsageError(f"invalid size {text!r}; use WIDTHxHEIGHT with each from 1 to 16384, e.g. 1280x720")
+    return int(match.group(1)), int(match.group(2))
+
+
+def parse_lights(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 <= value <= 1.0:
+        raise UsageError(f"invalid --lights {text!r}; the share of lit rooms is a number from 0 to 1")
+    return value
+
+
+def check_writable(path: Path) -> Path:
+    """Fails early, with one line, if the output cannot be written (nothing is created)."""
+    folder = path.parent if str(path.parent) else Path(".")
+    if path.is_dir():
+        raise UsageError(f"output path {str(path)!r} is a directory; give a file name such as out/city.png")
+    probe = folder
+    while not probe.exists():
+        probe = probe.parent
+    if not os.access(probe, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise UsageError(f"cannot write {str(path)!r}: permission denied; choose another --out")
+    if not probe.is_dir():
+        raise UsageError(f"cannot write {str(path)!r}: {str(probe)!r} is not a directory")
+    return path
+
+
+def save_png(image, path: Path):
+    """Writes atomically: a finished PNG or nothing."""
+    from PIL import Image
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".png", dir=path.parent)
+    os.close(fd)
+    try:
+        Image.fromarray(image).save(tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def register(subparsers):
+    parser = subparsers.add_parser("render", help="render a city to a PNG")
+    parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
+    parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
+    parser.add_argument("--seed", type=int, default=None, help="layout seed")
+    parser.add_argument("--camera", default="street", help="named viewpoint of the city")
+    parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
+    parser.add_argument("--lights", default=None, help="share of lit rooms, 0..1 (default: from --time)")
+    parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
+    parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
+    parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
+    parser.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..api import render_city
+
+    size = parse_size(args.size)
+    lights = None if args.lights is None else parse_lights(args.lights)
+    check_writable(args.out)
+    if args.scene is not None:
+        if args.scene not in SCENES:
+            raise UsageError(f"unknown scene {args.scene!r}; allowed: {', '.join(SCENES) or 'none'}")
+        return SCENES[args.scene](args)
+    image, info = render_city(city=args.city, seed=args.seed, camera=args.camera, size=size, lights=lights,
+                              time=args.time, interior_mapping=not args.no_interiors)
+    save_png(image, args.out)
+    print(f"wrote {args.out} ({size[0]}x{size[1]}): {info['buildings']} buildings, "
+          f"frame {info['frame_ms']:.1f} ms on {info['device']}")
+    return 0

@@ -1,0 +1,63 @@
+"""Time of day -> sun, sky and the share of lit rooms (interior-mapping §4.1 animates c at dusk)."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import UsageError
+
+SUNRISE, SUNSET = 6.0, 19.0
+MAX_ELEVATION = 62.0
+
+
+def parse_time(text: str) -> float:
+    """'HH:MM' -> hours as a float."""
+    match = re.fullmatch(r"(\d{1,2}):(\d{2})", text.strip())
+    if not match or int(match.group(1)) > 23 or int(match.group(2)) > 59:
+        raise UsageError(f"invalid time {text!r}; use HH:MM from 00:00 to 23:59, e.g. 18:50")
+    return int(match.group(1)) + int(match.group(2)) / 60.0
+
+
+def _smoothstep(a: float, b: float, x: float) -> float:
+    t = float(np.clip((x - a) / (b - a), 0.0, 1.0))
+    return t * t * (3 - 2 * t)
+
+
+@dataclass(frozen=True)
+class Daylight:
+    hours: float
+    sun_direction: np.ndarray   # unit vector toward the sun
+    sun_color: np.ndarray
+    sky_ambient: np.ndarray
+    ground_ambient: np.ndarray
+    dusk: float                 # 0 = day, 1 = night
+    lights: float               # probability c that a room is lit
+    exposure: float
+
+    @classmethod
+    def at(cls, hours: float) -> "Daylight":
+        day_phase = (hours - SUNRISE) / (SUNSET - SUNRISE)
+        if 0 <= day_phase <= 1:
+            elevation = MAX_ELEVATION * np.sin(np.pi * day_phase)
+        else:  # the sun sinks about 6 degrees an hour below the horizon
+            hours_dark = min((hours - SUNSET) % 24, (SUNRISE - hours) % 24)
+            elevation = max(-6.0 * hours_dark, -30.0)
+        azimuth = np.pi * np.clip(day_phase, -0.1, 1.1)  # east (+x) through south (+z) to west (-x)
+        el = np.radians(elevation)
+        sun = np.array([np.cos(azimuth) * np.cos(el), np.sin(el), np.sin(azimuth) * np.cos(el)])
+        sun /= np.linalg.norm(sun)
+        high = _smoothstep(0.0, 30.0, elevation)
+        above = _smoothstep(-3.0, 1.0, elevation)
+        sun_color = above * ((1 - high) * np.array([1.0, 0.5, 0.22]) * 2.2 + high * np.array([1.0, 0.95, 0.86]) * 3.2)
+        dusk = 1.0 - _smoothstep(-8.0, 25.0, elevation)
+        sky = (1 - dusk) * np.array([0.35, 0.45, 0.6]) + dusk * np.array([0.05, 0.06, 0.11])
+        ground = sky * np.array([0.45, 0.4, 0.35])
+        # offices stay lit in the evening, homes light up at dusk, most go dark after midnight
+        evening = _smoothstep(16.0, 21.0, hours)
+        late = _smoothstep(23.0, 26.0, hours if hours >= 12 else hours + 24)
+        lights = 0.12 + 0.66 * evening * (1 - 0.6 * late)
+        exposure = 0.5 + 0.8 * dusk
+        return cls(hours, sun, sun_color, sky, ground, float(dusk), float(np.clip(lights, 0, 1)), float(exposure))

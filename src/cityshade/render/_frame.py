@@ -1,0 +1,153 @@
+"""The frame: its passes, listed in the order they run.
+
+    1. depth prepass     all opaque geometry into the z-buffer (interior-mapping §3.1 "z-cull")
+    2. buildings         facades; behind the glass, interior-mapped rooms
+    3. ground            streets, pavements, parks
+    4. sky               environment map where nothing was drawn
+    5. resolve           multisampled HDR -> single-sample HDR
+    6. tone map          HDR -> sRGB 8-bit
+
+`draw_ids` renders the id AOV (face, room, building) used by tests and datasets.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from ..gl import ProgramCache, RenderTarget
+from ..scene import Camera
+from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
+from ._city_gpu import CityGPU
+from ._daylight import Daylight
+from ._settings import RenderSettings
+from ._textures import CityTextures
+from ._uniforms import (
+    UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
+    UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
+)
+
+ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
+ROOM_DARK = np.array([0.018, 0.02, 0.03])
+
+
+@dataclass
+class FrameInputs:
+    """What one frame needs, gathered once and handed to every pass."""
+
+    ctx: moderngl.Context
+    programs: ProgramCache
+    city: CityGPU
+    textures: CityTextures
+    env: moderngl.TextureCube
+    camera: Camera
+    settings: RenderSettings
+    daylight: Daylight
+    size: tuple[int, int]
+
+    @property
+    def view_projection(self) -> np.ndarray:
+        return self.camera.view_projection(self.size[0] / self.size[1])
+
+    def building_defines(self, **extra) -> dict:
+        s = self.settings
+        return {"INTERIOR_MAPPING": s.interior_mapping, "IM_SINGLE_ATLAS": s.single_atlas, "INTERIOR_LOD": s.lod,
+                **extra}
+
+    def common_uniforms(self) -> dict:
+        s, d, t = self.settings, self.daylight, self.textures
+        mask = (FLAG_FURNITURE * s.furniture) | (FLAG_CURTAINS * s.curtains) | (FLAG_ROOM_VARIATION * s.room_variation)
+        layout = t.atlas_layout
+        atlas_size = (t.atlas.width, t.atlas.height)
+        return dict(
+            u_view_proj=self.view_projection, u_camera=self.camera.eye, u_sun_dir=d.sun_direction,
+            u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient,
+            u_lights=float(d.lights if s.lights is None else s.lights), u_time=float(s.animation_time),
+            u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
+            u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
+            u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
+            u_atlas_layout=np.array([layout["tile"], layout["padding"], *atlas_size], dtype=float),
+            u_env=UNIT_ENV, u_facade=UNIT_FACADE, u_ceiling=UNIT_CEILING, u_floor=UNIT_FLOOR, u_wall_x=UNIT_WALL_X,
+            u_wall_z=UNIT_WALL_Z, u_room_atlas=UNIT_ATLAS, u_sprites=UNIT_SPRITES, u_curtain=UNIT_CURTAIN,
+        )
+
+    def bind_textures(self):
+        t = self.textures
+        self.env.use(UNIT_ENV)
+        t.facade.use(UNIT_FACADE)
+        for unit, face in ((UNIT_CEILING, "ceiling"), (UNIT_FLOOR, "floor"), (UNIT_WALL_X, "wall_x"), (UNIT_WALL_Z, "wall_z")):
+            t.rooms[face].use(unit)
+        t.atlas.use(UNIT_ATLAS)
+        t.sprites.use(UNIT_SPRITES)
+        t.curtain.use(UNIT_CURTAIN)
+
+
+def depth_prepass(f: FrameInputs):
+    f.ctx.depth_func = "<"
+    f.ctx.color_mask = (False, False, False, False)
+    for path, draw in (("city/building.glsl", f.city.draw_buildings), ("city/ground.glsl", f.city.draw_ground)):
+        program = f.programs.get(path, {"DEPTH_ONLY": True})
+        set_uniforms(program, u_view_proj=f.view_projection)
+        draw(program)
+    f.ctx.color_mask = (True, True, True, True)
+    f.ctx.depth_func = "<="  # shading passes now touch only the visible surface
+
+
+def draw_buildings(f: FrameInputs, defines: dict | None = None):
+    program = f.programs.get("city/building.glsl", f.building_defines(**(defines or {})))
+    set_uniforms(program, **f.common_uniforms())
+    f.city.draw_buildings(program)
+
+
+def draw_ground(f: FrameInputs, defines: dict | None = None):
+    program = f.programs.get("city/ground.glsl", defines or {})
+    set_uniforms(program, **f.common_uniforms())
+    f.city.draw_ground(program)
+
+
+def draw_sky(f: FrameInputs):
+    program = f.programs.get("frame/sky.glsl")
+    set_uniforms(program, u_inv_view_proj=np.linalg.inv(f.view_projection), u_camera=f.camera.eye, u_env=UNIT_ENV)
+    f.ctx.depth_func = "<="
+    f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+
+
+def tone_map(f: FrameInputs, hdr: moderngl.Texture, target: RenderTarget):
+    target.use()
+    f.ctx.disable(moderngl.DEPTH_TEST)
+    program = f.programs.get("frame/tonemap.glsl")
+    hdr.use(UNIT_HDR)
+    set_uniforms(program, u_hdr=UNIT_HDR, u_exposure=f.daylight.exposure)
+    f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+
+
+def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, display: RenderTarget):
+    """Runs the passes in order; the tone-mapped image ends in `display`."""
+    ctx = f.ctx
+    hdr.use()
+    ctx.enable(moderngl.DEPTH_TEST)
+    ctx.disable(moderngl.CULL_FACE)
+    ctx.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
+    f.bind_textures()
+    ctx.depth_func = "<"
+    if f.settings.depth_prepass:
+        depth_prepass(f)
+    draw_buildings(f)
+    draw_ground(f)
+    draw_sky(f)
+    ctx.copy_framebuffer(resolved.fbo, hdr.fbo)
+    tone_map(f, resolved.colors[0], display)
+
+
+def draw_ids(f: FrameInputs, target: RenderTarget):
+    """The id AOV: per pixel (face, room id, building index + 1, 0) as uint32."""
+    ctx = f.ctx
+    target.use()
+    ctx.enable(moderngl.DEPTH_TEST)
+    ctx.depth_func = "<"
+    target.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+    f.bind_textures()
+    draw_buildings(f, {"ID_PASS": True, "INTERIOR_LOD": False})
+    draw_ground(f, {"ID_PASS": True})

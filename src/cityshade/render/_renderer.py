@@ -1,0 +1,119 @@
+"""The Renderer: owns the GL context, programs, textures, targets and the uploaded city."""
+
+from __future__ import annotations
+
+import time
+
+import moderngl
+import numpy as np
+
+from .. import assets
+from ..gl import ProgramCache, RenderTarget, create_context, describe_context
+from ..scene import Camera, City
+from ._city_gpu import CityGPU
+from ._daylight import Daylight
+from ._frame import FrameInputs, draw_frame, draw_ids
+from ._settings import RenderSettings
+from ._textures import CityTextures, cubemap
+
+ENV_SIZE = 128
+
+
+class Renderer:
+    """Renders a City from a Camera. Headless by default; pass a window's context to draw on screen."""
+
+    def __init__(self, size: tuple[int, int] = (1280, 720), settings: RenderSettings | None = None,
+                 ctx: moderngl.Context | None = None):
+        self.ctx = ctx or create_context(headless=True)
+        self.size = tuple(size)
+        self.settings = settings or RenderSettings()
+        self.programs = ProgramCache(self.ctx)
+        self.textures = CityTextures.create(self.ctx, self.settings.room_texture_size, self.settings.room_variants)
+        self.city: CityGPU | None = None
+        self._env_key = None
+        self.env = None
+        self._targets = None
+        self._ids = None
+        self.last_frame_seconds = float("nan")
+
+    @property
+    def device(self) -> str:
+        return describe_context(self.ctx)
+
+    def set_city(self, city: City):
+        if self.city is not None:
+            self.city.release()
+        self.city = CityGPU(self.ctx, city)
+
+    def set_settings(self, settings: RenderSettings):
+        if settings.room_texture_size != self.settings.room_texture_size or settings.room_variants != self.settings.room_variants:
+            self.textures.release()
+            self.textures = CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants)
+        if settings.samples != self.settings.samples:
+            self._release_targets()
+        self.settings = settings
+
+    def resize(self, size: tuple[int, int]):
+        if tuple(size) != self.size:
+            self.size = tuple(size)
+            self._release_targets()
+
+    def _release_targets(self):
+        for group in (self._targets or ()), ((self._ids,) if self._ids else ()):
+            for target in group:
+                target.release()
+        self._targets = self._ids = None
+
+    def _daylight(self) -> Daylight:
+        daylight = Daylight.at(self.settings.time_of_day)
+        key = (round(daylight.hours, 3),)
+        if key != self._env_key:
+            if self.env is not None:
+                self.env.release()
+            self.env = cubemap(self.ctx, assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sun_direction),
+                                                                     dusk=daylight.dusk))
+            self._env_key = key
+        return daylight
+
+    def _inputs(self, camera: Camera) -> FrameInputs:
+        if self.city is None:
+            raise RuntimeError("no city: call set_city() first")
+        daylight = self._daylight()
+        return FrameInputs(self.ctx, self.programs, self.city, self.textures, self.env, camera, self.settings,
+                           daylight, self.size)
+
+    def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None) -> RenderTarget:
+        """Draws one frame; returns the display target (also blitted to `framebuffer` if given)."""
+        if self._targets is None:
+            self._targets = (
+                RenderTarget(self.ctx, self.size, (("f2", 4),), samples=self.settings.samples),
+                RenderTarget(self.ctx, self.size, (("f2", 4),)),
+                RenderTarget(self.ctx, self.size, (("f1", 4),)),
+            )
+        inputs = self._inputs(camera)
+        start = time.perf_counter()
+        draw_frame(inputs, *self._targets)
+        if framebuffer is not None:
+            self.ctx.copy_framebuffer(framebuffer, self._targets[2].fbo)
+        self.ctx.finish()
+        self.last_frame_seconds = time.perf_counter() - start
+        return self._targets[2]
+
+    def render(self, camera: Camera) -> np.ndarray:
+        """One frame as an HxWx3 uint8 sRGB array."""
+        return self.draw(camera).read()[..., :3].copy()
+
+    def render_ids(self, camera: Camera) -> np.ndarray:
+        """The id AOV as HxWx4 uint32: face code, room id, building index + 1, 0."""
+        if self._ids is None:
+            self._ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
+        draw_ids(self._inputs(camera), self._ids)
+        return self._ids.read().copy()
+
+    def release(self):
+        self._release_targets()
+        if self.city is not None:
+            self.city.release()
+        self.textures.release()
+        if self.env is not None:
+            self.env.release()

@@ -1,0 +1,26 @@
+"""Everything a frame can be asked to do differently; every flag changes what is drawn."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    interior_mapping: bool = True     # off: the reflective-only windows baseline (paper §3.2)
+    depth_prepass: bool = True        # paper §3.1 "z-cull"
+    single_atlas: bool = False        # paper §3.2: one atlas texture instead of four
+    furniture: bool = True            # paper §2.4 furniture planes
+    curtains: bool = True
+    room_variation: bool = True       # paper §4.3 displaced walls
+    lod: bool = True                  # interiors fade to lit-window colours far away
+    lod_range: tuple[float, float] = (220.0, 320.0)
+    room_texture_size: int = 256
+    room_variants: int = 8
+    samples: int = 4                  # MSAA of the HDR target
+    lights: float | None = None       # probability c; None: from the time of day
+    time_of_day: float = 19.17        # hours (19:10, dusk)
+    animation_time: float = 0.0       # seconds, drives furniture sprites
+
+    def with_(self, **changes) -> "RenderSettings":
+        return replace(self, **changes)

@@ -1,0 +1,99 @@
+"""The shadow pass: three cascaded shadow maps redrawn at their own rates (§4.3.2).
+
+Which cascade is redrawn on which frame, and with which casters, comes from
+`trees.cascades_due`; each cascade keeps the light matrix it was last drawn with, so a cascade
+that is not redrawn this frame is still looked up consistently. Receivers sample all three
+(shaders/shadow/csm.glsl).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import moderngl
+import numpy as np
+
+from ..scene import Camera
+from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
+from ._uniforms import UNIT_SHADOW, set_uniforms
+
+# Until a cascade is first drawn, its matrix sends every point outside [0, 1]: no shadow from it.
+_OUTSIDE = np.array([[0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, 1.0]])
+
+# draw_casters(light view-projection, sun direction, casters) -> number of draw calls
+DrawCasters = Callable[[np.ndarray, np.ndarray, frozenset], int]
+
+
+@dataclass
+class ShadowStats:
+    """What the last update drew: (cascade, caster names, draw calls) per redrawn cascade."""
+
+    redrawn: list[tuple[int, tuple[str, ...], int]] = field(default_factory=list)
+
+    @property
+    def draw_calls(self) -> int:
+        return sum(calls for _, _, calls in self.redrawn)
+
+
+class CascadedShadows:
+    def __init__(self, ctx: moderngl.Context, resolution: int = 1024, shadow_far: float = 160.0,
+                 rates=PAPER_RATES, caster_reach: float = 120.0):
+        self.ctx = ctx
+        self.resolution = resolution
+        self.shadow_far = shadow_far
+        self.rates = rates
+        self.caster_reach = caster_reach
+        self.maps = []
+        self.fbos = []
+        for _ in range(len(rates)):
+            depth = ctx.depth_texture((resolution, resolution))
+            depth.compare_func = "<="
+            depth.filter = (moderngl.LINEAR, moderngl.LINEAR)  # hardware 2x2 PCF per tap
+            depth.repeat_x = depth.repeat_y = False
+            self.maps.append(depth)
+            self.fbos.append(ctx.framebuffer(depth_attachment=depth))
+        self.matrices = [_OUTSIDE.copy() for _ in rates]
+        self.stats = ShadowStats()
+
+    def splits(self, camera: Camera) -> np.ndarray:
+        return split_distances(camera.near, min(self.shadow_far, camera.far), len(self.rates))
+
+    def update(self, frame: int, camera: Camera, aspect: float, sun_dir, draw_casters: DrawCasters) -> ShadowStats:
+        """Redraws the cascades due on this frame. Leaves a shadow framebuffer bound: run it before
+        the frame's target is bound."""
+        ctx = self.ctx
+        sun = np.asarray(sun_dir, float)
+        inv = np.linalg.inv(camera.view_projection(aspect))
+        splits = self.splits(camera)
+        stats = ShadowStats()
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE)
+        ctx.depth_func = "<"
+        ctx.polygon_offset = (1.5, 4.0)
+        for index, casters in cascades_due(frame, self.rates):
+            view_proj = cascade_view_projection(inv, camera.near, camera.far, splits[index], splits[index + 1],
+                                                sun, self.resolution, self.caster_reach)
+            self.fbos[index].use()
+            self.fbos[index].clear(depth=1.0)
+            calls = draw_casters(view_proj, sun, casters)
+            self.matrices[index] = texture_matrix(view_proj)
+            stats.redrawn.append((index, tuple(sorted(casters)), calls))
+        ctx.polygon_offset = (0.0, 0.0)
+        self.stats = stats
+        return stats
+
+    def bind(self, program):
+        """Binds the maps to their units and sets the receiver uniforms of shadow/csm.glsl."""
+        if "u_shadow_matrix" not in program:
+            return
+        for i, (unit, depth) in enumerate(zip(UNIT_SHADOW, self.maps)):
+            depth.use(unit)
+            set_uniforms(program, **{f"u_shadow_map{i}": unit})
+        program["u_shadow_matrix"].write(np.stack([m.T for m in self.matrices]).astype("f4").tobytes())
+        set_uniforms(program, u_shadow_bias=np.full(len(self.maps), 0.0008))
+
+    def release(self):
+        for fbo, depth in zip(self.fbos, self.maps):
+            fbo.release()
+            depth.release()

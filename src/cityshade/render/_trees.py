@@ -1,0 +1,238 @@
+"""The tree pass: trunks (relief-mapped), silhouette fins, leaf cards and fronds, instanced per
+species and LOD; and the same trees as shadow casters for the cascades (§4.2-4.6).
+
+Each tree's LOD alphas come from its distance (`trees.lod_alphas`); a tree in the cross-fade
+band is drawn in both LODs with offset alphas that alpha to coverage turns into sample masks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import moderngl
+import numpy as np
+
+from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
+                     SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
+from ._textures import linear
+from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL, set_uniforms
+
+GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
+INSTANCE_LAYOUT = "4f 4f/i"
+INSTANCE_ATTRIBUTES = ("in_place", "in_params")
+PARTS = {  # part -> (program, layout, attributes, extra defines)
+    "trunks": ("trees/trunk.glsl", BRANCH_LAYOUT, BRANCH_ATTRIBUTES, {}),
+    "fins": ("trees/fins.glsl", BRANCH_LAYOUT, BRANCH_ATTRIBUTES, {}),
+    "leaves": ("trees/leaves.glsl", CARD_LAYOUT, CARD_ATTRIBUTES, {}),
+    "fronds": ("trees/leaves.glsl", FROND_LAYOUT, FROND_ATTRIBUTES, {"FRONDS": True}),
+}
+
+
+@dataclass(frozen=True)
+class TreeSettings:
+    """Each technique of the chapter, switchable, and its tuning."""
+
+    relief: bool = True  # §4.2 relief-mapped bark
+    fins: bool = True  # §4.2.1 silhouette fins
+    alpha_to_coverage: bool = True  # §4.6 (off: alpha test)
+    self_shadow: bool = True  # §4.3.1 per-leaf depth offsets in the shadow look-up
+    two_sided: bool = True  # §4.4.1
+    shadows: bool = True  # receive the cascaded shadows
+    wind: tuple[float, float, float] = (0.35, 0.0, 0.15)  # metres of sway at weight 1
+    lod_band: tuple[float, float] = (45.0, 75.0)  # metres: near LOD -> far LOD cross-fade
+    fin_fade: tuple[float, float] = (14.0, 28.0)  # metres: fin width -> 0 (fig. 4-8)
+    fin_reach: float = 0.6  # metres: clamp of the fin's height trace (§4.2.2)
+    specular_fade: tuple[float, float] = (15.0, 60.0)
+    leaf_depth: float = 1.6  # self-shadow shift at depth offset 1, in card half-sizes
+    normal_bias: float = 1.5  # mip bias of the leaf normal fetch (§4.4.2)
+    card_shift: float = 1.0  # shadow cards move this many half-sizes toward the light (fig. 4-10)
+
+    def with_(self, **changes) -> "TreeSettings":
+        return replace(self, **changes)
+
+
+def _upload(ctx, data: np.ndarray, colour: bool):
+    """A mipmapped 2D texture (HxWxC) or texture array (NxHxWxC). Colour is sRGB, filtered in
+    linear space (alpha stays linear); anything else (heights, normals, offsets) goes as stored."""
+    data = np.ascontiguousarray(linear(data) if colour else data)
+    dtype = "f2" if colour else "f1"
+    if data.ndim == 4:
+        n, h, w, c = data.shape
+        tex = ctx.texture_array((w, h, n), c, data.tobytes(), dtype=dtype)
+    else:
+        h, w, c = data.shape
+        tex = ctx.texture((w, h), c, data.tobytes(), dtype=dtype)
+    tex.build_mipmaps()
+    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    tex.anisotropy = 8.0
+    return tex
+
+
+class _Part:
+    """One part (trunks, leaves, fronds) of one species at one LOD, on the GPU."""
+
+    def __init__(self, ctx, vertices: np.ndarray, indices: np.ndarray):
+        self.count = len(indices)
+        self.vbo = ctx.buffer(vertices.astype("f4").tobytes()) if self.count else None
+        self.ibo = ctx.buffer(indices.astype("u4").tobytes()) if self.count else None
+
+    def release(self):
+        for buf in (self.vbo, self.ibo):
+            if buf is not None:
+                buf.release()
+
+
+class TreePass:
+    """All trees of a scene: one model per species, instanced by the records in `trees`."""
+
+    def __init__(self, ctx: moderngl.Context, programs, trees: np.ndarray, settings: TreeSettings | None = None,
+                 seed: int = 0):
+        self.ctx = ctx
+        self.programs = programs
+        self.settings = settings or TreeSettings()
+        self.trees = trees
+        self.models = {}
+        self.parts = {}  # (species index, lod, part) -> _Part
+        for index in sorted(set(int(s) for s in trees["species"])):
+            model = generate_tree(SPECIES[SPECIES_ORDER[index]], seed + index)
+            self.models[index] = model
+            for lod, mesh in enumerate(model.lods):
+                self.parts[index, lod, "trunks"] = _Part(ctx, mesh.branches, mesh.branch_indices)
+                self.parts[index, lod, "leaves"] = _Part(ctx, mesh.cards, mesh.card_indices)
+                self.parts[index, lod, "fronds"] = _Part(ctx, mesh.fronds, mesh.frond_indices)
+        bark, leaves = bark_textures(), leaf_textures()
+        self.textures = {
+            UNIT_BARK_COLOR: _upload(ctx, bark.color_height, colour=True),
+            UNIT_BARK_NORMAL: _upload(ctx, bark.normal, colour=False),
+            UNIT_LEAF_COLOR: _upload(ctx, leaves.color, colour=True),
+            UNIT_LEAF_DETAIL: _upload(ctx, leaves.detail, colour=False),
+        }
+        for tex in (self.textures[UNIT_LEAF_COLOR], self.textures[UNIT_LEAF_DETAIL]):
+            tex.repeat_x = tex.repeat_y = False
+        # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
+        self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
+                          for index in self.models for lod in (0, 1)}
+        self._vaos = {}
+
+    # -- per frame -------------------------------------------------------------------------------
+    def prepare(self, eye):
+        """Splits the trees into the two LODs by distance and writes their instance buffers."""
+        distance = np.linalg.norm(self.trees["position"] - np.asarray(eye, float), axis=1)
+        alphas = lod_alphas(distance, *self.settings.lod_band)
+        for index in self.models:
+            mine = self.trees["species"] == index
+            for lod in (0, 1):
+                keep = mine & (alphas[lod] > 0.0)
+                t = self.trees[keep]
+                data = np.zeros((len(t), 8), np.float32)
+                data[:, 0:3] = t["position"]
+                data[:, 3] = t["yaw"]
+                data[:, 4] = t["scale"]
+                data[:, 5] = alphas[lod][keep]
+                data[:, 6] = t["phase"]
+                buffer = self.instances[index, lod][0]
+                buffer.write(data.tobytes())
+                self.instances[index, lod] = (buffer, len(t))
+
+    def _vao(self, program, species: int, lod: int, part: str):
+        key = (program.glo, species, lod, part)
+        vao = self._vaos.get(key)
+        if vao is None:
+            _, layout, attributes, _ = PARTS[part]
+            gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
+            fmt = " ".join(f if a in program else f"{int(f[:-1]) * 4}x" for f, a in zip(layout.split(), attributes))
+            names = [a for a in attributes if a in program]
+            instances = self.instances[species, lod][0]
+            vao = self.ctx.vertex_array(program, [(gpu.vbo, fmt, *names),
+                                                  (instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
+                                        index_buffer=gpu.ibo, index_element_size=4)
+            self._vaos[key] = vao
+        return vao
+
+    def _draw_part(self, program, part: str, mode=moderngl.TRIANGLES) -> int:
+        calls = 0
+        for (species, lod), (buffer, count) in self.instances.items():
+            gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
+            if count == 0 or gpu.count == 0:
+                continue
+            model = self.models[species]
+            set_uniforms(program, u_bark_layer=float(model.species.bark_layer),
+                         u_relief_depth=model.species.relief_depth, u_bark_tile=model.species.bark_tile)
+            self._vao(program, species, lod, part).render(mode, vertices=gpu.count, instances=count)
+            calls += 1
+        return calls
+
+    def _program(self, part: str, **defines):
+        path, _, _, extra = PARTS[part]
+        return self.programs.get(path, {**extra, **{k: v for k, v in defines.items() if v}})
+
+    def _common(self, time: float) -> dict:
+        return dict(u_time=float(time), u_wind=np.array(self.settings.wind, float),
+                    u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL,
+                    u_leaf_color=UNIT_LEAF_COLOR, u_leaf_detail=UNIT_LEAF_DETAIL)
+
+    def bind_textures(self):
+        for unit, tex in self.textures.items():
+            tex.use(unit)
+
+    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, time: float = 0.0,
+             parts=("trunks", "fins", "leaves", "fronds")) -> int:
+        """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj,
+        u_camera and the sun/sky uniforms of common/lighting.glsl; `view` is the camera's view
+        matrix (its rows give the axes the leaf cards span). Returns the number of draw calls."""
+        s, ctx = self.settings, self.ctx
+        self.bind_textures()
+        base = dict(ALPHA_TO_COVERAGE=s.alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None))
+        values = {**uniforms, **self._common(time), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
+                  "u_card_shift": np.zeros(3), "u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach,
+                  "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
+                  "u_normal_bias": s.normal_bias}
+        programs = {
+            "trunks": self._program("trunks", RELIEF=s.relief, **base),
+            "fins": self._program("fins", **base),
+            "leaves": self._program("leaves", LEAF_SELF_SHADOW=s.self_shadow, TWO_SIDED=s.two_sided, **base),
+            "fronds": self._program("fronds", TWO_SIDED=s.two_sided, **base),
+        }
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.depth_func = "<="
+        if s.alpha_to_coverage:
+            ctx.enable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
+        calls = 0
+        for part in parts:
+            if part == "fins" and not s.fins:
+                continue
+            program = programs[part]
+            set_uniforms(program, **values)
+            if shadows is not None:
+                shadows.bind(program)
+            if part == "trunks":
+                ctx.enable(moderngl.CULL_FACE)
+            calls += self._draw_part(program, part)
+            ctx.disable(moderngl.CULL_FACE)
+        ctx.disable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
+        return calls
+
+    def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters, time: float = 0.0) -> int:
+        """The trees' casters of one cascade; leaf cards face the light and move toward it."""
+        right, up = light_basis(sun_dir)
+        values = {**self._common(time), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
+                  "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
+        self.bind_textures()
+        calls = 0
+        for part in ("trunks", "fronds", "leaves"):
+            if part not in casters:
+                continue
+            program = self._program(part, SHADOW_PASS=True)
+            set_uniforms(program, **values)
+            calls += self._draw_part(program, part)
+        return calls
+
+    def release(self):
+        for vao in self._vaos.values():
+            vao.release()
+        for part in self.parts.values():
+            part.release()
+        for buffer, _ in self.instances.values():
+            buffer.release()
+        for tex in self.textures.values():
+            tex.release()

@@ -1,0 +1,13 @@
+"""What is drawn: cameras, building masses, city layouts and their meshes. No GL here."""
+
+from ._buildings import BuildingMass, box, cylinder, dome
+from ._camera import Camera, look_at, perspective
+from ._city import CITIES, City, default_city, grid_city, make_city
+from ._meshes import VERTEX_ATTRIBUTES, VERTEX_DTYPE, VERTEX_FORMAT, batch, building_record, building_vertices
+from ._records import BUILDING_DTYPE, rotation_y
+
+__all__ = [
+    "BuildingMass", "box", "cylinder", "dome", "Camera", "look_at", "perspective", "CITIES", "City",
+    "default_city", "grid_city", "make_city", "VERTEX_ATTRIBUTES", "VERTEX_DTYPE", "VERTEX_FORMAT",
+    "batch", "building_record", "building_vertices", "BUILDING_DTYPE", "rotation_y",
+]

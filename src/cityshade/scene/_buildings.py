@@ -1,0 +1,76 @@
+"""Building masses: what a building is before it becomes triangles."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, SHAPES
+
+
+@dataclass(frozen=True)
+class BuildingMass:
+    """A low-poly building. `footprint` is a counter-clockwise polygon (seen from above, x right,
+    z toward the viewer) in building-local metres with its bounding box starting at (0, 0);
+    the mass stands at `position` (world x, z of the local origin) rotated by `yaw` about +y.
+    Cylinders and domes use the footprint's bounding box as their diameter."""
+
+    shape: str
+    position: tuple[float, float]
+    footprint: tuple[tuple[float, float], ...]
+    height: float
+    yaw: float = 0.0
+    floor_height: float = 3.2
+    room_width: float = 4.5
+    seed: int = 0
+    style: int = 0
+    lights: float = 1.0
+    wall_jitter: float = 0.25
+    furniture: bool = True
+    curtains: bool = True
+
+    def __post_init__(self):
+        if self.shape not in SHAPES:
+            raise ValueError(f"unknown building shape {self.shape!r}; allowed: {', '.join(SHAPES)}")
+        if self.height <= 0:
+            raise ValueError(f"building height must be positive, got {self.height}")
+
+    @property
+    def extent(self) -> np.ndarray:
+        pts = np.asarray(self.footprint, dtype=np.float64)
+        width, depth = pts.max(axis=0)
+        height = min(self.height, width / 2) if self.shape == "dome" else self.height
+        return np.array([width, height, depth])
+
+    @property
+    def room_size(self) -> np.ndarray:
+        """Room size chosen so that whole rooms fill the mass: walls meet the facades' corners."""
+        width, height, depth = self.extent
+        nx = max(1, round(width / self.room_width))
+        nz = max(1, round(depth / self.room_width))
+        ny = max(1, round(height / self.floor_height))
+        return np.array([width / nx, height / ny, depth / nz])
+
+    @property
+    def flags(self) -> int:
+        return (
+            (FLAG_FURNITURE if self.furniture and self.shape != "dome" else 0)
+            | (FLAG_CURTAINS if self.curtains else 0)
+            | (FLAG_ROOM_VARIATION if self.wall_jitter > 0 else 0)
+        )
+
+
+def box(position, width, depth, height, **kwargs) -> BuildingMass:
+    footprint = ((0.0, 0.0), (width, 0.0), (width, depth), (0.0, depth))
+    return BuildingMass("prism", tuple(position), footprint, height, **kwargs)
+
+
+def cylinder(position, diameter, height, **kwargs) -> BuildingMass:
+    footprint = ((0.0, 0.0), (diameter, 0.0), (diameter, diameter), (0.0, diameter))
+    return BuildingMass("cylinder", tuple(position), footprint, height, **kwargs)
+
+
+def dome(position, diameter, **kwargs) -> BuildingMass:
+    footprint = ((0.0, 0.0), (diameter, 0.0), (diameter, diameter), (0.0, diameter))
+    return BuildingMass("dome", tuple(position), footprint, diameter / 2, **kwargs)

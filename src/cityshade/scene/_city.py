@@ -1,0 +1,143 @@
+"""Procedural city layouts: streets, blocks, lots, building masses and named viewpoints."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import UsageError
+from ._buildings import BuildingMass, box, cylinder, dome
+from ._camera import Camera
+
+GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
+
+
+@dataclass
+class City:
+    name: str
+    seed: int
+    masses: list[BuildingMass]
+    # ground rectangles (x0, z0, x1, z1, material) drawn over an asphalt plane
+    ground: list[tuple[float, float, float, float, int]]
+    bounds: tuple[float, float, float, float]
+    viewpoints: dict[str, Camera] = field(default_factory=dict)
+    parks: list[tuple[float, float, float, float]] = field(default_factory=list)
+    streets: list[tuple[float, float, float, float]] = field(default_factory=list)
+
+    def camera(self, name: str) -> Camera:
+        if name not in self.viewpoints:
+            raise UsageError(f"unknown camera {name!r}; allowed: {', '.join(self.viewpoints)}")
+        return self.viewpoints[name]
+
+
+def _subdivide_block(rng, x0, z0, x1, z1, min_lot=12.0, max_lot=28.0):
+    """Lots around a block's perimeter: each side cut into frontages, depth into the block."""
+    lots = []
+    width, depth = x1 - x0, z1 - z0
+    lot_depth = min(depth / 2, rng.uniform(14, 22))
+    # front (z0) and back (z1) rows span the full width; sides fill the middle
+    for row, (za, zb, yaw_front) in enumerate(((z0, z0 + lot_depth, 0), (z1 - lot_depth, z1, 1))):
+        x = x0
+        while x < x1 - 1e-6:
+            w = min(rng.uniform(min_lot, max_lot), x1 - x)
+            if x1 - (x + w) < min_lot:
+                w = x1 - x
+            lots.append((x, za, x + w, zb))
+            x += w
+    middle = (z0 + lot_depth, z1 - lot_depth)
+    if middle[1] - middle[0] > min_lot:
+        side_w = min(width / 2, rng.uniform(14, 20))
+        for xa, xb in ((x0, x0 + side_w), (x1 - side_w, x1)):
+            z = middle[0]
+            while z < middle[1] - 1e-6:
+                d = min(rng.uniform(min_lot, max_lot), middle[1] - z)
+                if middle[1] - (z + d) < min_lot:
+                    d = middle[1] - z
+                lots.append((xa, z, xb, z + d))
+                z += d
+    return lots
+
+
+def _massing(rng, lot, seed, centre_distance, setback=1.0) -> BuildingMass:
+    x0, z0, x1, z1 = lot
+    w, d = x1 - x0 - 2 * setback, z1 - z0 - 2 * setback
+    # taller toward the centre of the district
+    tall = np.clip(1.0 - centre_distance / 260.0, 0.15, 1.0)
+    floors = int(np.clip(rng.gamma(2.0, 3.0 + 8.0 * tall), 2, 45))
+    floor_height = rng.choice([3.0, 3.2, 3.5])
+    return box(
+        (x0 + setback, z0 + setback), w, d, floors * floor_height,
+        floor_height=floor_height, room_width=float(rng.uniform(3.6, 5.5)), seed=seed,
+        style=int(rng.integers(0, 8)), lights=float(rng.uniform(0.6, 1.3)),
+    )
+
+
+def default_city(seed: int = 7, blocks: int = 6) -> City:
+    """A downtown district: a grid of blocks with perimeter lots, a park, a cylinder tower and a
+    domed hall beside the main street, seen at street level."""
+    rng = np.random.default_rng(seed)
+    pitch, street = 84.0, 16.0
+    half = blocks * pitch / 2
+    masses: list[BuildingMass] = []
+    ground, parks = [], []
+    park_block = (blocks // 2, blocks // 2 - 2)
+    special_block = (blocks // 2 - 1, blocks // 2)
+    for bi in range(blocks):
+        for bj in range(blocks):
+            x0 = -half + bi * pitch + street / 2
+            z0 = -half + bj * pitch + street / 2
+            x1, z1 = x0 + pitch - street, z0 + pitch - street
+            ground.append((x0 - 2.5, z0 - 2.5, x1 + 2.5, z1 + 2.5, GROUND_PAVEMENT))
+            if (bi, bj) == park_block:
+                ground.append((x0, z0, x1, z1, GROUND_GRASS))
+                parks.append((x0, z0, x1, z1))
+                continue
+            cx, cz = (x0 + x1) / 2, (z0 + z1) / 2
+            if (bi, bj) == special_block:
+                masses.append(cylinder((x0 + 4, z0 + 4), 26.0, 96.0, floor_height=3.4, room_width=4.5,
+                                       seed=int(rng.integers(1 << 30)), style=1))
+                masses.append(dome((x0 + 6, z1 - 36), 34.0, floor_height=3.6, room_width=4.0,
+                                   seed=int(rng.integers(1 << 30)), style=2))
+                masses.append(box((x1 - 28, z0 + 2), 26.0, 20.0, 24.0, seed=int(rng.integers(1 << 30)), style=3))
+                continue
+            for lot in _subdivide_block(rng, x0, z0, x1, z1):
+                masses.append(_massing(rng, lot, int(rng.integers(1 << 30)), np.hypot(cx, cz)))
+    streets = [(-half, -half + k * pitch - street / 2, half, -half + k * pitch + street / 2) for k in range(blocks + 1)]
+    streets += [(-half + k * pitch - street / 2, -half, -half + k * pitch + street / 2, half) for k in range(blocks + 1)]
+    main_x = -half + (blocks // 2 - 1) * pitch  # the street west of the tower and dome block
+    viewpoints = {
+        "street": Camera((main_x - 5.0, 1.7, 96.0), (main_x + 40.0, 24.0, 30.0), fov_y=66.0),
+        "corner": Camera((main_x - 14.0, 12.0, 12.0), (main_x + 40.0, 30.0, -30.0), fov_y=60.0),
+        "aerial": Camera((-half * 1.1, half * 0.8, half * 1.1), (0.0, 0.0, 0.0), fov_y=55.0),
+        "closeup": Camera((main_x + 5.0, 8.0, 14.0), (main_x + 12.0, 12.0, 0.0), fov_y=60.0),
+    }
+    return City("default", seed, masses, ground, (-half, -half, half, half), viewpoints, parks, streets)
+
+
+def grid_city(count: int = 100, seed: int = 1, spacing: float = 40.0, floors: int = 31, windows: int = 6) -> City:
+    """A regular grid of identical apartment blocks (paper §3: 31 floors, 6x6 windows)."""
+    side = int(np.ceil(np.sqrt(count)))
+    rng = np.random.default_rng(seed)
+    width = windows * 4.0
+    masses = []
+    for k in range(count):
+        i, j = divmod(k, side)
+        masses.append(box((i * spacing - side * spacing / 2, j * spacing - side * spacing / 2), width, width,
+                          floors * 3.2, floor_height=3.2, room_width=4.0, seed=int(rng.integers(1 << 30)),
+                          wall_jitter=0.0))
+    half = side * spacing / 2
+    viewpoints = {
+        "orbit": Camera((half * 1.2, half * 0.6 + 40, half * 1.2), (0.0, 30.0, 0.0), fov_y=55.0),
+        "street": Camera((-half - 10, 1.7, -half - 10), (0.0, 20.0, 0.0), fov_y=60.0),
+    }
+    return City("grid", seed, masses, [], (-half, -half, half, half), viewpoints)
+
+
+CITIES = {"default": default_city, "grid": grid_city}
+
+
+def make_city(name: str = "default", seed: int | None = None) -> City:
+    if name not in CITIES:
+        raise UsageError(f"unknown city {name!r}; allowed: {', '.join(CITIES)}")
+    return CITIES[name]() if seed is None else CITIES[name](seed=seed)

@@ -1,0 +1,28 @@
+"""The per-building record uploaded as a std430 SSBO; mirrors shaders/common/buildings.glsl."""
+
+from __future__ import annotations
+
+import numpy as np
+
+SHAPE_PRISM, SHAPE_CYLINDER, SHAPE_DOME = 0, 1, 2
+SHAPES = {"prism": SHAPE_PRISM, "cylinder": SHAPE_CYLINDER, "dome": SHAPE_DOME}
+
+FLAG_FURNITURE = 1
+FLAG_CURTAINS = 2
+FLAG_ROOM_VARIATION = 4
+
+BUILDING_DTYPE = np.dtype(
+    [
+        ("origin_yaw", "<f4", 4),
+        ("room", "<f4", 4),
+        ("extent", "<f4", 4),
+        ("ids", "<i4", 4),
+    ]
+)
+assert BUILDING_DTYPE.itemsize % 16 == 0
+
+
+def rotation_y(yaw: float) -> np.ndarray:
+    """Object-to-world rotation about +y; the same matrix as building_rotation() in GLSL."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])

@@ -1,0 +1,130 @@
+// Buildings: one draw call for the whole city. Exterior bay texture whose alpha marks the glass
+// (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
+// Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids), INTERIOR_MAPPING (off: the
+// reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD.
+
+#if defined VERTEX_SHADER
+uniform mat4 u_view_proj;
+in vec3 in_position;
+in vec3 in_local;
+in vec3 in_normal;
+in vec3 in_facade;
+in ivec2 in_ids;
+out vec3 v_local;
+out vec3 v_normal;
+out vec3 v_facade;
+flat out ivec2 v_ids;
+invariant gl_Position;  // the z prepass and the shading pass must produce identical depths
+void main() {
+    gl_Position = u_view_proj * vec4(in_position, 1.0);
+    v_local = in_local;
+    v_normal = in_normal;
+    v_facade = in_facade;
+    v_ids = in_ids;
+}
+#endif
+
+#if defined FRAGMENT_SHADER
+#if defined DEPTH_ONLY
+void main() {}
+#else
+#include "common/hash.glsl"
+#include "common/buildings.glsl"
+#include "common/lighting.glsl"
+#include "interior/faces.glsl"
+#if defined INTERIOR_MAPPING
+#include "interior/interior.glsl"
+#endif
+
+uniform vec3 u_camera;          // world
+uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
+uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
+uniform vec3 u_window_tint;
+
+in vec3 v_local;
+in vec3 v_normal;
+in vec3 v_facade;
+flat in ivec2 v_ids;
+
+#if defined ID_PASS
+layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, 0
+#else
+layout(location = 0) out vec4 out_color;
+#endif
+
+#define SURFACE_ROOF 1
+
+vec3 building_tint(Building b) {
+    uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);
+    return vec3(0.8) + 0.35 * vec3(float(h & 255u), float((h >> 8u) & 255u), float((h >> 16u) & 255u)) / 255.0 - 0.17;
+}
+
+void main() {
+    Building b = buildings[v_ids.x];
+    mat3 rot = building_rotation(b);
+    vec3 n = normalize(v_normal);
+    vec3 n_world = rot * n;
+    vec3 camera = transpose(rot) * (u_camera - b.origin_yaw.xyz);
+    vec3 to_surface = v_local - camera;
+    float s = length(to_surface);
+    vec3 d = to_surface / s;
+
+    int face = FACE_EXTERIOR;
+    uint room = 0u;
+    vec3 color;
+    if (v_ids.y == SURFACE_ROOF) {
+        face = FACE_ROOF;
+        color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, 1.0);
+    } else {
+        vec2 bay_uv = vec2(v_facade.x / v_facade.z, v_facade.y / b.room.y);
+#if defined ID_PASS
+        // the exact texel decides glass, as in the numpy twin
+        ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
+        float glass = texelFetch(u_facade, texel, 0).a < 0.5 ? 1.0 : 0.0;
+#else
+        vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
+        float glass = 1.0 - exterior.a;
+        color = lit_surface(exterior.rgb * building_tint(b), n_world, 1.0);
+#endif
+        if (glass > 0.0) {
+            float cos_view = max(-dot(n, d), 0.0);
+            vec3 window;
+#if defined INTERIOR_MAPPING
+            float interior_weight = 1.0;
+#if defined INTERIOR_LOD
+            interior_weight = 1.0 - smoothstep(u_lod_range.x, u_lod_range.y, s);
+#endif
+            vec3 inside = vec3(0.0);
+            if (interior_weight > 0.0) {
+                InteriorHit hit = interior_trace(v_local, d, n, b, dFdx(v_local), dFdy(v_local), s);
+                face = hit.face;
+                room = hit.room;
+                inside = hit.color;
+            }
+#if defined INTERIOR_LOD
+            if (interior_weight < 1.0) {
+                // far away: each window glows with its room's mean colour (no ray cast)
+                Room r = find_room(v_local, n, b);
+                inside = mix(room_mean_color(r) * room_radiance(r), inside, interior_weight);
+                if (interior_weight <= 0.0) room = r.id;
+            }
+#endif
+            float reflectance = fresnel(cos_view, 0.06);
+#else
+            vec3 inside = u_window_tint;
+            float reflectance = fresnel(cos_view, 0.5);
+#endif
+#if !defined ID_PASS
+            window = mix(inside, environment(reflect(rot * d, n_world)), reflectance);
+            color = mix(color, window, glass);
+#endif
+        }
+    }
+#if defined ID_PASS
+    out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), 0u);
+#else
+    out_color = vec4(color, 1.0);
+#endif
+}
+#endif
+#endif

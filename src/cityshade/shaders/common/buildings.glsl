@@ -1,0 +1,30 @@
+// Per-building records, mirrored by cityshade/scene/_records.py (BUILDING_DTYPE, std430).
+#ifndef COMMON_BUILDINGS_GLSL
+#define COMMON_BUILDINGS_GLSL
+
+#define SHAPE_PRISM 0     // extruded footprint (boxes included)
+#define SHAPE_CYLINDER 1
+#define SHAPE_DOME 2
+
+#define FLAG_FURNITURE 1
+#define FLAG_CURTAINS 2
+#define FLAG_ROOM_VARIATION 4
+
+struct Building {
+    vec4 origin_yaw;   // xyz: world position of the object-space origin; w: yaw (radians)
+    vec4 room;         // xyz: room size in metres; w: maximum wall displacement (fraction of a room)
+    vec4 extent;       // xyz: object-space size of the mass; w: light probability multiplier
+    ivec4 ids;         // x: seed, y: facade style, z: flags, w: shape
+};
+
+layout(std430, binding = 0) readonly buffer Buildings {
+    Building buildings[];
+};
+
+mat3 building_rotation(Building b) {
+    // object -> world rotation about +y
+    float c = cos(b.origin_yaw.w), s = sin(b.origin_yaw.w);
+    return mat3(c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c);
+}
+
+#endif
