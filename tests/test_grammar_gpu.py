@@ -4,18 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from PIL import Image
+from grammar_compare import FACADE, SIZE, compare, ctx  # noqa: F401  (ctx is a fixture)
 
 from cityshade.assets import tile_array
-from cityshade.gl import create_context
 from cityshade.grammar import compile_grammars, library_path, load, loads
-from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._reference import evaluate_facade
-
-SIZE = (128, 96)
-FACADE = (16.0, 12.0)
-OUTPUT = "tests/output"
 
 
 def colours(*names: str) -> str:
@@ -54,32 +48,6 @@ CASES = {
            "Alpha->Layer(Under, Over)\nUnder->Mat(Color, Rep:wall2, 0, 0, 1, 1)\n"
            "Over->MatAlpha(Color, Rep:brick_dark, 0, 0, 1, 1, Fit>mask_arch, 0, 0, 1, 1)\n",
 }
-
-
-@pytest.fixture(scope="module")
-def ctx():
-    context = create_context()
-    yield context
-    context.release()
-
-
-def compare(ctx, compiled, name, seed=3, facade=FACADE, size=SIZE, min_terminals=2):
-    tiles = tile_array(32)
-    textures = GrammarTextures(ctx, compiled, tiles)
-    start = compiled.address(name)
-    colour, ids = FacadeRenderer(ctx, textures, nearest=True).render(start, facade, size, seed_vector(seed))
-    textures.release()
-    cpu = evaluate_facade(compiled, start, facade, size, seed_vector(seed), tiles)
-    Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(f"{OUTPUT}/grammar_{name}.png")
-    terminal_diff = ids[..., 0].astype(np.int64) - 1 != cpu.terminal
-    label_diff = ids[..., 1] != cpu.label
-    glass_diff = ids[..., 3].astype(bool) != cpu.glass
-    differing = int(np.count_nonzero(terminal_diff | label_diff | glass_diff))
-    total = size[0] * size[1]
-    print(f"{name}: {differing} of {total} pixels differ ({100 * differing / total:.3f}%)")
-    assert differing <= 0.001 * total, f"{name}: {differing} pixels differ"
-    assert len(np.unique(cpu.terminal)) >= min_terminals, "the operator was not exercised"
-    return cpu, ids
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

@@ -19,6 +19,9 @@ from . import _draw as d
 
 # Semantic labels of the label AOV (index = value written per pixel; 0 = nothing).
 LABELS = ("none", "wall", "window", "door", "balcony", "shop", "roof", "room", "cornice")
+# A colour per label for label images (uint8 RGB).
+LABEL_COLOURS = ((0, 0, 0), (200, 170, 130), (60, 120, 220), (150, 60, 30), (230, 200, 40),
+                 (220, 60, 160), (170, 40, 40), (90, 200, 120), (240, 240, 240))
 PLANES = ("color", "normal", "specular")
 
 
@@ -98,8 +101,9 @@ def _glass(p: Paint, mask, tint=(0.22, 0.3, 0.38)):
     p.glass |= mask
 
 
-def _window(p: Paint, frame, panes=(2, 2), shape="rect", border=0.08, bar=0.035, shutters=None):
-    """A framed window; glass between the muntins; outside the shape the tile is transparent."""
+def _window(p: Paint, frame, panes=(2, 2), shape="rect", border=0.08, bar=0.035, shutters=None, open_glass=False):
+    """A framed window; glass between the muntins; outside the shape the tile is transparent.
+    With open_glass the panes are transparent too: a frame to lay over a hole into a room."""
     if shape == "arch":
         outer = _arch_shape(p.u, p.v)
         inner = _arch_shape((p.u - border) / (1 - 2 * border), (p.v - border) / (1 - 2 * border))
@@ -125,6 +129,9 @@ def _window(p: Paint, frame, panes=(2, 2), shape="rect", border=0.08, bar=0.035,
         slats = 0.8 + 0.2 * ((p.v * 24) % 1)
         p.fill(leaf & outer, shutters, height=0.9, spec=0.1, tone=slats)
         p.glass &= ~leaf
+    if open_glass:
+        p.alpha = p.alpha & ~p.glass
+        p.glass[:] = False
 
 
 def _door(p: Paint, wood, glass_panel=False, arch=False):
@@ -257,6 +264,8 @@ TILES: tuple[TileSpec, ...] = (
     _spec("window_round", "window", lambda p: _window(p, WHITE_FRAME, (2, 2), "round", border=0.1)),
     _spec("window_arch_dark", "window", lambda p: _window(p, DARK_FRAME, (1, 3), "arch", border=0.06)),
     _spec("window_office", "window", lambda p: _window(p, (0.55, 0.58, 0.6), (1, 1), border=0.03)),
+    _spec("frame1", "window", lambda p: _window(p, WHITE_FRAME, (2, 2), open_glass=True)),
+    _spec("frame_arch", "window", lambda p: _window(p, (0.3, 0.22, 0.16), (2, 3), "arch", open_glass=True)),
     _spec("glass", "window", lambda p: _glass(p, np.ones_like(p.alpha), tint=(0.2, 0.3, 0.36))),
     _spec("door1", "door", lambda p: _door(p, (0.42, 0.22, 0.12))),
     _spec("door2", "door", lambda p: _door(p, (0.2, 0.22, 0.25), glass_panel=True)),

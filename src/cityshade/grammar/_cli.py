@@ -14,6 +14,18 @@ def register(subparsers):
     check = commands.add_parser("check", help="check grammar files; errors as FILE:LINE:COL: error: ...")
     check.add_argument("files", nargs="+", type=Path, metavar="FILE")
     check.set_defaults(run=_check)
+    from ..render._cli import parse_size
+
+    render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
+    render.add_argument("file", type=Path, metavar="FILE")
+    render.add_argument("--rule", default=None, help="start rule (default: the file's first rule)")
+    render.add_argument("--facade", type=_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres")
+    render.add_argument("--seed", type=int, default=0, help="the facade's random seed")
+    render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
+    render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
+    render.add_argument("--out", type=Path, default=Path("out/facade.png"), metavar="PNG")
+    render.add_argument("--labels", type=Path, default=None, metavar="PNG", help="also write the label image")
+    render.set_defaults(run=_render)
 
 
 def _check(args) -> int:
@@ -31,3 +43,54 @@ def _check(args) -> int:
         print(f"{path}: ok, {len(grammar.rules)} rules, {compiled.used} texels ({compiled.nbytes} bytes), "
               f"start rule {grammar.start}")
     return 1 if failed else 0
+
+
+def _render(args) -> int:
+    import numpy as np
+
+    from ..assets._tiles import LABEL_COLOURS, tile_array
+    from ..render._cli import check_writable, save_png
+    from . import compile_grammars, load
+    from ._random import seed_vector
+    from ._reference import evaluate_facade
+
+    for path in (args.out, args.labels):
+        if path is not None:
+            check_writable(path)
+    try:
+        grammar = load(args.file)
+        grammar.rule(args.rule)
+        compiled = compile_grammars({"g": grammar})
+    except GrammarError as exc:
+        print(str(exc), file=sys.stderr)
+        return 1
+    start = compiled.address("g", args.rule)
+    seed = seed_vector(args.seed)
+    tiles = tile_array(128)
+    if args.cpu:
+        result = evaluate_facade(compiled, start, args.facade, args.size, seed, tiles)
+        colour, labels = result.color, result.label
+    else:
+        from ..gl import create_context
+        from ._gpu import FacadeRenderer, GrammarTextures
+
+        ctx = create_context()
+        colour, ids = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles)).render(start, args.facade, args.size, seed)
+        colour, labels = colour[..., :3], ids[..., 1]
+    save_png((np.clip(colour, 0, 1) * 255 + 0.5).astype(np.uint8), args.out)
+    if args.labels is not None:
+        save_png(np.asarray(LABEL_COLOURS, np.uint8)[labels.astype(np.int64)], args.labels)
+    print(f"wrote {args.out}" + (f" and {args.labels}" if args.labels else ""))
+    return 0
+
+
+def _metres(text: str) -> tuple[float, float]:
+    from ..errors import UsageError
+
+    try:
+        w, h = (float(x) for x in text.lower().split("x"))
+    except ValueError:
+        raise UsageError(f"invalid --facade {text!r}; use WIDTHxHEIGHT in metres, e.g. 20x16") from None
+    if not (0 < w <= 4096 and 0 < h <= 4096):
+        raise UsageError(f"invalid --facade {text!r}; each side must be in (0, 4096] metres")
+    return w, h

@@ -10,6 +10,7 @@ from ..gl import ProgramCache, RenderTarget
 from . import _limits as limits
 from ._compiler import CompiledGrammars
 from ._random import noise_texture
+from ._reference import FACADE_LIGHT
 
 MAX_TILES = 64  # size of grammar_tile_labels[] in eval.glsl
 
@@ -79,8 +80,8 @@ class FacadeRenderer:
             self.program["viewport_size"] = tuple(float(x) for x in size)
             self.program["facade_seed"] = tuple(float(x) for x in seed)
             self.program["start_rule"] = int(start)
-            light = np.array([-0.4, 0.5, -0.75])
-            self.program["light_dir"] = tuple(-light / np.linalg.norm(light))
+            light = np.array(FACADE_LIGHT)
+            self.program["light_dir"] = tuple(light / np.linalg.norm(light))
             self.ctx.disable(moderngl.DEPTH_TEST)
             self.vao.render(moderngl.TRIANGLES, vertices=3)
             return target.read(0).astype(np.float32), target.read(1)

@@ -361,10 +361,27 @@ def facade_view(facade, size) -> tuple[np.ndarray, np.ndarray]:
     return uv, rays
 
 
+FACADE_LIGHT = (-0.4, 0.5, 0.75)  # towards the light, tangent space with z out of the wall
+
+
+def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarray:
+    """Lit colour of the standalone render: Phong in tangent space, as shaders/grammar/facade.glsl.
+    Normals have z out of the wall; rays have z into it, so the eye lies along (-x, -y, +z)."""
+    to_light = np.asarray(light, F) / np.linalg.norm(light)
+    diffuse = np.maximum(np.sum(result.normal * to_light, axis=-1), F(0))
+    to_eye = rays * np.array([-1, -1, 1], F)
+    half = to_light + to_eye
+    half /= np.linalg.norm(half, axis=-1, keepdims=True)
+    spec = result.specular[..., 0] * np.maximum(np.sum(result.normal * half, axis=-1), F(0)) ** (
+        F(1) + F(128) * result.specular[..., 1])
+    return result.color * (F(0.35) + F(0.65) * diffuse)[..., None] + spec[..., None]
+
+
 def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray) -> Evaluation:
-    """The standalone facade render on the CPU; arrays are (rows, cols, ...) with the top row first."""
+    """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
     result = evaluate(compiled, start, uv, facade, seed, tiles, rays)
+    result.color = shade(result, rays)
     cols, rows = size
     for name, value in vars(result).items():
         setattr(result, name, value.reshape((rows, cols) + value.shape[1:])[::-1])

@@ -1,0 +1,42 @@
+"""`cityshade grammar check|render`: exit codes, messages, files written only on success."""
+
+from __future__ import annotations
+
+from PIL import Image
+
+from cityshade.cli import main
+from cityshade.grammar import library_path
+
+FIG12 = str(library_path("fig12.grammar"))
+
+
+def test_check_valid_file(capsys):
+    assert main(["grammar", "check", FIG12]) == 0
+    assert "ok, 22 rules" in capsys.readouterr().out
+
+
+def test_check_reports_location_caret_and_suggestion(tmp_path, capsys):
+    bad = tmp_path / "bad.grammar"
+    bad.write_text("S->SplitX(Rel, 1, Windw)\nWindow->RepeatX(2, Skip)\nSkip->Skp(0)\n")
+    assert main(["grammar", "check", FIG12, str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert f"{bad}:1:19: error: undefined rule 'Windw'" in err
+    assert "did you mean the rule 'Window'?" in err
+    assert f"{bad}:3:7: error: unknown operator 'Skp'" in err and "'Skip'" in err
+    assert "^~~~~" in err
+
+
+def test_render_cpu_writes_colour_and_labels(tmp_path):
+    out, labels = tmp_path / "f.png", tmp_path / "l.png"
+    assert main(["grammar", "render", FIG12, "--cpu", "--size", "80x64", "--seed", "2",
+                 "--out", str(out), "--labels", str(labels)]) == 0
+    assert Image.open(out).size == (80, 64) and Image.open(labels).size == (80, 64)
+
+
+def test_render_bad_grammar_writes_nothing(tmp_path, capsys):
+    bad = tmp_path / "bad.grammar"
+    bad.write_bytes(b"\0\1\2")
+    out = tmp_path / "f.png"
+    assert main(["grammar", "render", str(bad), "--cpu", "--out", str(out)]) == 1
+    assert "this is a binary file" in capsys.readouterr().err
+    assert not out.exists()
