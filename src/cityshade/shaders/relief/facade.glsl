@@ -2,6 +2,8 @@
 // rasterised (the front quad and the side quads), each fragment casts its ray with the tracer
 // and codec picked by the defines (trace.glsl, maps.glsl) and writes colour, ids and hit point.
 // Outputs: 0 colour, 1 (material + 1 or 0 on a miss, face, steps, 0), 2 hit point in map space.
+// The depth stays that of the rasterised face (no gl_FragDepth), so a DEPTH_ONLY prepass of the
+// same quads lets early depth testing skip the rays of hidden facades (paper §7).
 
 #include "relief/frame.glsl"
 #include "relief/faces.glsl"
@@ -42,7 +44,9 @@ void main() {
 }
 #endif
 
-#if defined FRAGMENT_SHADER
+#if defined FRAGMENT_SHADER && defined DEPTH_ONLY
+void main() {}
+#elif defined FRAGMENT_SHADER
 #include "relief/maps.glsl"
 #include "relief/trace.glsl"
 #include "relief/materials.glsl"
@@ -53,7 +57,6 @@ flat in vec3 vEye;
 flat in vec3 vOrigin;
 flat in vec3 vAlong;
 flat in vec3 vOut;
-uniform mat4 uViewProj;
 uniform vec3 uSunDir;  // world, towards the sun
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out uvec4 outIds;
@@ -68,7 +71,5 @@ void main() {
     outColor = vec4(albedo * light, 1.0);
     outIds = uvec4(h.material + 1u, uint(h.face), uint(h.steps), 0u);
     outPoint = vec4(h.point, 1.0);
-    vec4 clip = uViewProj * vec4(facade_to_world(f, h.point), 1.0);
-    gl_FragDepth = 0.5 + 0.5 * clip.z / clip.w;
 }
 #endif
