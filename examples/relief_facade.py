@@ -1,0 +1,45 @@
+"""Pictures of a relief facade for docs/relief.md: close up, at a grazing angle, and relief
+mapping against facade displacement mapping at the same view (the paper's fig. 3).
+
+    .venv/bin/python examples/relief_facade.py [--out docs/images]
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from cityshade.gl import ProgramCache, create_context
+from cityshade.relief import FacadeView, GpuFacade, facade_camera, paper_facade
+
+VIEWS = {  # name: renderer, azimuth, elevation, distance (m), target (fractions of the facade)
+    "relief_closeup": ("bcfdm", 28, 12, 6.0, (0.30, 0.30)),
+    "relief_grazing": ("bcfdm", 84, 4, 8.0, (0.35, 0.40)),
+    "relief_grazing_rm": ("bcrm", 84, 4, 8.0, (0.35, 0.40)),
+    "relief_facade": ("bcfdm", 20, 8, 26.0, (0.5, 0.5)),
+}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("docs/images"))
+    parser.add_argument("--size", type=int, nargs=2, default=(640, 480))
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    ctx = create_context()
+    maps = paper_facade("F1")
+    facade = GpuFacade(ctx, maps)
+    view = FacadeView(ctx, tuple(args.size), ProgramCache(ctx))
+    for name, (renderer, azimuth, elevation, distance, target) in VIEWS.items():
+        view.draw(facade, facade_camera(maps, azimuth, elevation, distance, target, fov_y=50.0), renderer)
+        image = view.read()
+        rgb = np.where(np.isnan(image.point[..., :1]), np.array([0.55, 0.65, 0.78]), image.color)  # sky behind
+        Image.fromarray((np.clip(rgb, 0, 1) ** (1 / 2.2) * 255).astype(np.uint8)).save(args.out / f"{name}.png")
+        print(args.out / f"{name}.png")
+
+
+if __name__ == "__main__":
+    main()
