@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
+from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, rotation_y
 from ._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from ._hash import hash3, unit_float
 
@@ -123,3 +123,61 @@ def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorP
         face = np.where(hit, FACE_CURTAIN, face)
         t = np.where(hit, tc, t)
     return face, room["id"], t
+
+
+def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams, facade_alpha: np.ndarray,
+                  ground_bounds: tuple[float, float, float, float]) -> np.ndarray:
+    """The id AOV (face, room, building + 1, 0) of the building and ground passes, per pixel centre:
+    triangles ray-cast, attributes interpolated as the rasteriser does, glass decided by the facade
+    texel, rooms by `trace`. The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1)."""
+    from ..scene._meshes import SURFACE_ROOF, batch
+    from ..scene._raycast import intersect
+    from ._faces import FACE_EXTERIOR, FACE_GROUND, FACE_ROOF
+
+    vertices, records = batch(masses)
+    width, height = size
+    dirs = camera.pixel_rays(size).reshape(-1, 3)
+    eye = camera.eye
+    tris = vertices["position"].astype(np.float64).reshape(-1, 3, 3)
+    t, tri, bary = intersect(eye, dirs, tris)
+    out = np.zeros((len(dirs), 4), dtype=np.uint32)
+    # ground plane y = 0 where no building is nearer
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tg = -eye[1] / dirs[:, 1]
+    gp = eye + dirs * tg[:, None]
+    x0, z0, x1, z1 = ground_bounds
+    ground = (tg > 0) & (gp[:, 0] > x0) & (gp[:, 0] < x1) & (gp[:, 2] > z0) & (gp[:, 2] < z1) & (tg < t)
+    ground &= tg * np.abs(dirs @ camera.forward) < camera.far  # the far clipping plane
+    out[ground, 0] = FACE_GROUND
+    hit = (tri >= 0) & ~ground
+    corners = vertices.reshape(-1, 3)
+    for b, record in enumerate(records):
+        sel = hit & (corners[np.maximum(tri, 0), 0]["ids"][:, 0] == b)
+        if not sel.any():
+            continue
+        verts = corners[tri[sel]]
+        w = bary[sel][:, :, None]
+        local = np.sum(verts["local"].astype(np.float64) * w, axis=1)
+        normal = np.sum(verts["normal"].astype(np.float64) * w, axis=1)
+        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+        facade = np.sum(verts["facade"].astype(np.float64) * w, axis=1)
+        roof = verts["ids"][:, 0, 1] == SURFACE_ROOF
+        rot = rotation_y(float(record["origin_yaw"][3]))
+        cam_local = rot.T @ (eye - record["origin_yaw"][:3].astype(np.float64))
+        d = local - cam_local
+        d /= np.linalg.norm(d, axis=1, keepdims=True)
+        bay = np.stack([facade[:, 0] / facade[:, 2], facade[:, 1] / float(record["room"][1])], axis=1)
+        th, tw = facade_alpha.shape
+        col = (np.mod(bay[:, 0], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
+        row = (np.mod(bay[:, 1], 1.0) * th).astype(np.int64).clip(0, th - 1)
+        glass = ~roof & (facade_alpha[row, col] < 0.5)
+        face = np.where(roof, FACE_ROOF, FACE_EXTERIOR).astype(np.int64)
+        room = np.zeros(len(face), dtype=np.int64)
+        if glass.any():
+            gface, groom, _ = trace(local[glass], d[glass], normal[glass], record, params)
+            face[glass], room[glass] = gface, groom
+        idx = np.nonzero(sel)[0]
+        out[idx, 0] = face
+        out[idx, 1] = room
+        out[idx, 2] = b + 1
+    return out.reshape(height, width, 4)

@@ -44,6 +44,11 @@ class Camera:
     def eye(self) -> np.ndarray:
         return np.asarray(self.position, dtype=np.float64)
 
+    @property
+    def forward(self) -> np.ndarray:
+        f = np.asarray(self.target, float) - self.eye
+        return f / np.linalg.norm(f)
+
     def view(self) -> np.ndarray:
         return look_at(self.eye, np.asarray(self.target, float), np.asarray(self.up, float))
 

@@ -200,7 +200,13 @@ InteriorHit interior_trace(vec3 p, vec3 d, vec3 n, Building b, vec3 dpdx, vec3 d
                 float grow_f = (s + tf) / s;
                 vec2 sgx = vec2(dot(dpdx, tangent), dpdx.y) / sprite_size * grow_f;
                 vec2 sgy = vec2(dot(dpdy, tangent), dpdy.y) / sprite_size * grow_f;
-                vec4 sprite = textureGrad(u_sprites, vec3(su, float(kind * u_sprite_frames + frame)), sgx, sgy);
+                int layer = kind * u_sprite_frames + frame;
+#if defined ID_PASS
+                // the exact texel decides, as in the numpy twin
+                vec4 sprite = texelFetch(u_sprites, ivec3(ivec2(su * vec2(textureSize(u_sprites, 0).xy)), layer), 0);
+#else
+                vec4 sprite = textureGrad(u_sprites, vec3(su, float(layer)), sgx, sgy);
+#endif
                 if (sprite.a >= 0.5) {
                     hit.t = tf;
                     hit.face = FACE_FURNITURE;

@@ -1,0 +1,24 @@
+"""Shared fixtures: one headless GL context per test session, and a folder for images to look at."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+OUTPUT = Path(__file__).parent / "output"
+
+
+@pytest.fixture(scope="session")
+def gl_context():
+    from cityshade.gl import create_context
+
+    ctx = create_context(headless=True)
+    yield ctx
+    ctx.release()
+
+
+@pytest.fixture(scope="session")
+def output_dir() -> Path:
+    OUTPUT.mkdir(parents=True, exist_ok=True)
+    return OUTPUT
