@@ -73,8 +73,13 @@ def test_intrusion_shows_all_five_faces():
 def test_rand_stack_groups_a_floor():
     """RandUni(1, ...) after RandStack picks one window per floor (fig. 6 random groups)."""
     compiled = compile_grammars({"g": loads(CASES["rand_stack"])})
-    cpu = evaluate_facade(compiled, compiled.address("g"), FACADE, SIZE, seed_vector(5), tile_array(32))
     rows_per_floor = SIZE[1] // 4
-    floors = [np.unique(cpu.terminal[i * rows_per_floor + 2:(i + 1) * rows_per_floor - 2]) for i in range(4)]
-    assert all(len(f) == 1 for f in floors)
-    assert len({int(f[0]) for f in floors}) > 1  # but floors differ
+    kinds = set()
+    for seed in range(3):
+        cpu = evaluate_facade(compiled, compiled.address("g"), FACADE, SIZE, seed_vector(seed), tile_array(32))
+        # -1: outside a round window, where no layer lies below
+        floors = [np.setdiff1d(cpu.terminal[i * rows_per_floor + 2:(i + 1) * rows_per_floor - 2], [-1])
+                  for i in range(4)]
+        assert all(len(f) == 1 for f in floors)
+        kinds.add(tuple(int(f[0]) for f in floors))
+    assert any(len(set(k)) > 1 for k in kinds)  # but floors differ

@@ -28,8 +28,16 @@ def noise_at(corner: np.ndarray) -> np.ndarray:
     return noise_texture()[y, x]
 
 
+def seed_cells(seeds) -> np.ndarray:
+    """Integer seed vectors in noise cells (1/8 m), (n, 2) int32, for integer seeds (a hash)."""
+    h = np.asarray(seeds, dtype=np.uint64) * np.uint64(0x9E3779B97F4A7C15)
+    h ^= h >> np.uint64(31)
+    x = (h & np.uint64(2047)).astype(np.int32)
+    y = ((h >> np.uint64(11)) & np.uint64(2047)).astype(np.int32)
+    return np.stack([x, y], axis=-1)
+
+
 def seed_vector(seed: int) -> tuple[float, float]:
     """The facade's seed vector s (metres, on the noise grid so every facade rounds alike)."""
-    rng = np.random.default_rng(seed)
-    x, y = rng.integers(0, 2048, size=2)
+    x, y = seed_cells([seed])[0]
     return float(x) / NOISE_DENSITY, float(y) / NOISE_DENSITY

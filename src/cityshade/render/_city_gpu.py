@@ -6,6 +6,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from ..grammar._city import assign_facades
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 
 GROUND_FORMAT = "3f 1f"
@@ -31,6 +32,7 @@ class CityGPU:
         self.ctx = ctx
         self.city = city
         vertices, records = batch(city.masses)
+        self.grammar_buildings = assign_facades(records, city.masses)
         self.building_count = len(city.masses)
         self.building_vertex_count = len(vertices)
         self.building_vbo = ctx.buffer(vertices.tobytes()) if len(vertices) else None

@@ -18,6 +18,7 @@ import moderngl
 import numpy as np
 
 from ..gl import ProgramCache, RenderTarget
+from ..grammar._gpu import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
@@ -26,7 +27,7 @@ from ._settings import RenderSettings
 from ._textures import CityTextures
 from ._uniforms import (
     UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
-    UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
+    UNIT_GRAMMAR, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
 )
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
@@ -96,8 +97,9 @@ def depth_prepass(f: FrameInputs):
 
 
 def draw_buildings(f: FrameInputs, defines: dict | None = None):
-    program = f.programs.get("city/building.glsl", f.building_defines(**(defines or {})))
+    program = f.programs.get("city/building.glsl", f.building_defines(**grammar_defines(), **(defines or {})))
     set_uniforms(program, **f.common_uniforms())
+    f.textures.grammar.bind(program, UNIT_GRAMMAR)
     f.city.draw_buildings(program)
 
 

@@ -8,6 +8,8 @@ import moderngl
 import numpy as np
 
 from .. import assets
+from ..grammar._city import library_texture
+from ..grammar._gpu import GrammarTextures
 
 ROOM_FACES = ("ceiling", "floor", "wall_x", "wall_z")
 
@@ -64,6 +66,7 @@ class CityTextures:
     sprite_frames: int
     curtain: moderngl.Texture
     room_variants: int
+    grammar: GrammarTextures  # facade grammar library: rules, noise, tile array
 
     @classmethod
     def create(cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8) -> "CityTextures":
@@ -76,9 +79,11 @@ class CityTextures:
         kinds, frames = sprites_np.shape[:2]
         sprites = texture_array(ctx, sprites_np.reshape(kinds * frames, *sprites_np.shape[2:]))
         curtain = texture_2d(ctx, assets.curtain_texture())
+        grammar = GrammarTextures(ctx, library_texture(), assets.tile_array())
         return cls(rooms, atlas, layout, texture_2d(ctx, facade_np), tuple(float(g) for g in glass), sprites,
-                   kinds, frames, curtain, variants)
+                   kinds, frames, curtain, variants, grammar)
 
     def release(self):
         for tex in (*self.rooms.values(), self.atlas, self.facade, self.sprites, self.curtain):
             tex.release()
+        self.grammar.release()

@@ -35,6 +35,7 @@ void main() {}
 #if defined INTERIOR_MAPPING
 #include "interior/interior.glsl"
 #endif
+#include "grammar/building.glsl"
 
 uniform vec3 u_camera;          // world
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
@@ -47,7 +48,7 @@ in vec3 v_facade;
 flat in ivec2 v_ids;
 
 #if defined ID_PASS
-layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, 0
+layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar label (0: none)
 #else
 layout(location = 0) out vec4 out_color;
 #endif
@@ -71,21 +72,32 @@ void main() {
 
     int face = FACE_EXTERIOR;
     uint room = 0u;
+    uint label = 0u;
     vec3 color;
     if (v_ids.y == SURFACE_ROOF) {
         face = FACE_ROOF;
         color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, 1.0);
     } else {
+        float glass;
+        if (has_grammar_facade(b)) {
+            GrammarResult g = grammar_facade(b, n, v_facade.xy, d, dFdx(v_facade.xy), dFdy(v_facade.xy));
+            glass = g.glass ? 1.0 : 0.0;  // the winning terminal's texel is glass: the room shows
+            label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
+#if !defined ID_PASS
+            color = grammar_lit(g, n, rot, d);
+#endif
+        } else {
         vec2 bay_uv = vec2(v_facade.x / v_facade.z, v_facade.y / b.room.y);
 #if defined ID_PASS
         // the exact texel decides glass, as in the numpy twin
         ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
-        float glass = texelFetch(u_facade, texel, 0).a < 0.5 ? 1.0 : 0.0;
+        glass = texelFetch(u_facade, texel, 0).a < 0.5 ? 1.0 : 0.0;
 #else
         vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
-        float glass = 1.0 - exterior.a;
+        glass = 1.0 - exterior.a;
         color = lit_surface(exterior.rgb * building_tint(b), n_world, 1.0);
 #endif
+        }
         if (glass > 0.0) {
             float cos_view = max(-dot(n, d), 0.0);
             vec3 window;
@@ -121,7 +133,7 @@ void main() {
         }
     }
 #if defined ID_PASS
-    out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), 0u);
+    out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), label);
 #else
     out_color = vec4(color, 1.0);
 #endif

@@ -1,0 +1,56 @@
+// Grammar facades on the city's buildings (included by city/building.glsl and the deferred pass).
+// The record's facade field: x = 1 for a grammar facade, y = start rule, zw = seed in 1/8 m.
+#ifndef GRAMMAR_BUILDING_GLSL
+#define GRAMMAR_BUILDING_GLSL
+
+#include "common/buildings.glsl"
+#include "common/lighting.glsl"
+#include "grammar/eval.glsl"
+
+#define FACADE_GRAMMAR 1
+
+bool has_grammar_facade(Building b) {
+    return b.facade.x == FACADE_GRAMMAR;
+}
+
+// The facade frame seen from outside: right, up (+y) and out (n), object space.
+vec3 grammar_right(vec3 n) {
+    return normalize(cross(vec3(0.0, 1.0, 0.0), n));
+}
+
+// Scope and texture coordinates of a wall point. Mesh u runs right to left seen from outside,
+// so it is mirrored. All sides share the building's seed, so they agree on its random choices.
+void grammar_scope(Building b, vec3 n, vec2 facade_uv, out vec2 uv, out vec2 size, out vec2 seed) {
+    bool round_mass = b.ids.w == SHAPE_CYLINDER;
+    float width = round_mass ? 3.14159265 * b.extent.x : (abs(n.z) > abs(n.x) ? b.extent.x : b.extent.z);
+    size = vec2(width, b.extent.y);
+    uv = vec2(width - facade_uv.x, facade_uv.y);
+    seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
+}
+
+// Evaluates the building's grammar; d is the unit view ray and n the wall normal (object space),
+// duv_dx/duv_dy the screen derivatives of the mesh's facade coordinates.
+GrammarResult grammar_facade(Building b, vec3 n, vec2 facade_uv, vec3 d, vec2 duv_dx, vec2 duv_dy) {
+    vec2 uv, size, seed;
+    grammar_scope(b, n, facade_uv, uv, size, seed);
+    vec3 right = grammar_right(n);
+    vec3 ray = vec3(dot(d, right), d.y, -dot(d, n));  // tangent space, z into the wall
+    return grammar_evaluate(b.facade.y, uv, size, seed, ray, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
+}
+
+// The grammar's tangent-space normal in object space.
+vec3 grammar_normal(vec3 tangent_normal, vec3 n) {
+    return normalize(grammar_right(n) * tangent_normal.x + vec3(0.0, tangent_normal.y, 0.0) + n * tangent_normal.z);
+}
+
+// Sun and sky on the grammar's material: diffuse from its colour (tiles are sRGB), Phong specular.
+vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d) {
+    vec3 n_world = rot * grammar_normal(g.normal, n);
+    vec3 albedo = pow(max(g.color, vec3(0.0)), vec3(2.2));
+    vec3 half_vector = normalize(u_sun_dir - rot * d);
+    float shininess = 1.0 + 128.0 * g.specular.y;
+    float highlight = g.specular.x * pow(max(dot(n_world, half_vector), 0.0), shininess) * max(dot(n_world, u_sun_dir), 0.0);
+    return lit_surface(albedo, n_world, 1.0) + highlight * u_sun_color;
+}
+
+#endif
