@@ -8,7 +8,7 @@ from ._boxes import free_boxes
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
 from ._factor import METHODS, Factors, factorize, greedy_biclique
 from ._format import VERSION, from_bytes, read_compressed, to_bytes, write_compressed
-from ._layout import PAPER_FACADES, FacadeLayout, generate_facade, paper_facade
+from ._layout import PAPER_FACADES, FacadeLayout, generate_bay, generate_facade, paper_facade
 from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
 from ._gpu import RENDERERS, GpuFacade, decode_on_gpu, renderer_defines
 from ._pack import pack_bits, unpack_bits
@@ -20,7 +20,7 @@ __all__ = [
     "free_boxes", "MAP_NAMES", "CompressedFacade", "compress", "detail_matrices", "digest",
     "METHODS", "Factors", "factorize", "greedy_biclique",
     "VERSION", "from_bytes", "read_compressed", "to_bytes", "write_compressed",
-    "PAPER_FACADES", "FacadeLayout", "generate_facade", "paper_facade",
+    "PAPER_FACADES", "FacadeLayout", "generate_bay", "generate_facade", "paper_facade",
     "GLASS", "MATERIALS", "DetailMaps", "load_png_maps", "save_png_maps",
     "pack_bits", "unpack_bits", "RENDERERS", "GpuFacade", "decode_on_gpu", "renderer_defines",
     "Hits", "trace_reference", "relief_mesh", "FRAME_DTYPE", "FacadeImages", "FacadeView", "MeshFacade", "draw_facades",

@@ -24,9 +24,10 @@ RENDERERS = {
 BOXES_BINDING = 5  # matches trace.glsl
 
 
-def renderer_defines(renderer: str, lsb_mod37: bool = False) -> dict[str, object]:
+def renderer_defines(renderer: str, lsb_mod37: bool = False, tiled: bool = False) -> dict[str, object]:
     tracer, codec = RENDERERS[renderer]
-    return {f"TRACER_{tracer.upper()}": True, f"CODEC_{codec.upper()}": True, "BMF_LSB_MOD37": lsb_mod37}
+    return {f"TRACER_{tracer.upper()}": True, f"CODEC_{codec.upper()}": True, "BMF_LSB_MOD37": lsb_mod37,
+            "RELIEF_TILED": tiled}
 
 
 def _texture(ctx: moderngl.Context, array: np.ndarray, dtype: str) -> moderngl.Texture:
@@ -47,7 +48,8 @@ def _set_array(program: moderngl.Program, name: str, values: list[int]):
 
 
 class GpuFacade:
-    """Textures of D, M, A uncompressed and factorised both ways, plus the box list."""
+    """Textures of D, M, A uncompressed and factorised (both ways unless `compressed` gives the
+    factorisations to use), plus the box list."""
 
     def __init__(self, ctx: moderngl.Context, maps: DetailMaps,
                  compressed: dict[str, CompressedFacade] | None = None):
@@ -75,8 +77,9 @@ class GpuFacade:
                     "uBmfY": [_texture(ctx, pack_bits(f.y), "u4") for f in fs],
                     "uBmfS": [_texture(ctx, f.s[None, :], "f4") for f in fs],
                 }
-        self.counts = {"svd": [f.terms for f in self.compressed["svd"].factors.values()],
-                       "bmf": [-(-f.terms // 32) for f in self.compressed["bmf"].factors.values()]}
+        # Per map: SVD terms, or BMF words of 32 terms.
+        self.counts = {method: [f.terms if method == "svd" else -(-f.terms // 32) for f in facade.factors.values()]
+                       for method, facade in self.compressed.items()}
 
     @property
     def slab_depth(self) -> float:

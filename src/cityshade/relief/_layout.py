@@ -105,6 +105,15 @@ def _door(canvas: _Canvas, centre: float, layout: FacadeLayout):
     canvas.fill(centre - half + 0.15, 1.4, centre + half - 0.15, 2.5, DOOR_D + 4, GLASS)
 
 
+def generate_bay(layout: FacadeLayout = FacadeLayout(), texel: float = 0.05) -> DetailMaps:
+    """One window bay of one floor, made to repeat across a building's walls: a recessed window with
+    its sill, and the ledge along the floor line at the bottom."""
+    canvas = _Canvas(int(round(layout.bay_width / texel)), int(round(layout.floor_height / texel)), texel)
+    _window(canvas, layout.bay_width / 2, layout.sill_height, layout)
+    canvas.fill(0, 0, layout.bay_width, layout.ledge_height, LEDGE, STONE)
+    return DetailMaps(canvas.depth, canvas.material, texel, DEPTH_UNIT)
+
+
 def paper_facade(name: str) -> DetailMaps:
     """One of the four test facades F1..F4 at the paper's sizes."""
     cols, rows, layout = PAPER_FACADES[name]

@@ -1,6 +1,8 @@
 // Ray casting a facade's relief in map space: x, y in texels, z in depth steps into the wall.
 // TRACER_FDM: facade displacement mapping (paper §4.2), box to box through the free boxes of A.
 // TRACER_RM:  Policarpo relief mapping, RM_LINEAR linear then RM_BINARY binary steps (§4.1).
+// RELIEF_TILED: the map repeats without end in x and y (a window bay on a building's walls); the
+// free boxes, which never leave the map, are shifted to the repeat the ray is in.
 // Needs relief/maps.glsl.
 
 #include "relief/faces.glsl"
@@ -31,10 +33,16 @@ struct ReliefHit {
 
 ivec2 relief_cell(vec3 p) { return ivec2(floor(p.xy)); }
 
+#if defined RELIEF_TILED
+ivec2 relief_texel(ivec2 cell) { return ivec2(mod(vec2(cell), vec2(uMapSize))); }  // exact: small integers
+bool relief_inside(ivec2 cell) { return true; }
+#else
+ivec2 relief_texel(ivec2 cell) { return cell; }
 bool relief_inside(ivec2 cell) { return all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, uMapSize)); }
+#endif
 
 ReliefHit relief_result(bool hit, vec3 p, int face, ivec2 cell, int steps) {
-    return ReliefHit(hit, p, face, hit ? relief_fetch(MAP_MATERIAL, cell) : 0u, steps);
+    return ReliefHit(hit, p, face, hit ? relief_fetch(MAP_MATERIAL, relief_texel(cell)) : 0u, steps);
 }
 
 #if defined TRACER_FDM
@@ -50,10 +58,12 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
     if (entry_face == FACE_POS_Y) cell.y = uMapSize.y - 1;
     for (int i = 0; i < FDM_MAX_STEPS; i++) {
         if (!relief_inside(cell)) return relief_result(false, p, face, cell, i);
-        float depth = float(relief_fetch(MAP_DEPTH, cell));
+        ivec2 texel = relief_texel(cell);
+        float depth = float(relief_fetch(MAP_DEPTH, texel));
         if (p.z >= depth - 1e-3) return relief_result(true, p, face, cell, i);
-        uvec2 corners = uBoxes[relief_fetch(MAP_BOXES, cell)];
-        vec4 box = vec4(corners.x & 0xffffu, corners.x >> 16, corners.y & 0xffffu, corners.y >> 16);
+        uvec2 corners = uBoxes[relief_fetch(MAP_BOXES, texel)];
+        vec4 box = vec4(corners.x & 0xffffu, corners.x >> 16, corners.y & 0xffffu, corners.y >> 16)
+                 + vec4(cell - texel, cell - texel);  // the repeat the ray is in (0 unless tiled)
         float tx = d.x > 0.0 ? (box.z - p.x) / d.x : d.x < 0.0 ? (box.x - p.x) / d.x : inf;
         float ty = d.y > 0.0 ? (box.w - p.y) / d.y : d.y < 0.0 ? (box.y - p.y) / d.y : inf;
         float tz = d.z > 0.0 ? (depth - p.z) / d.z : d.z < 0.0 ? -p.z / d.z : inf;
@@ -81,8 +91,12 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
 
 #elif defined TRACER_RM
 bool relief_below_surface(vec3 p) {
-    ivec2 cell = clamp(relief_cell(p), ivec2(0), uMapSize - 1);
-    return p.z >= float(relief_fetch(MAP_DEPTH, cell));
+#if defined RELIEF_TILED
+    ivec2 texel = relief_texel(relief_cell(p));
+#else
+    ivec2 texel = clamp(relief_cell(p), ivec2(0), uMapSize - 1);
+#endif
+    return p.z >= float(relief_fetch(MAP_DEPTH, texel));
 }
 
 // Linear search along the segment from p to the volume's bottom, then binary search between the
