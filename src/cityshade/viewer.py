@@ -1,0 +1,172 @@
+"""`cityshade view`: the city in a window, WASD + mouse look. The same Renderer draws every frame
+as in headless rendering; only the context comes from the window."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import moderngl_window as mglw
+import numpy as np
+
+from .errors import CityshadeError
+from .render import Renderer, RenderSettings, parse_time
+from .scene import Camera, make_city
+
+MOVE_SPEED = 25.0       # metres per second
+LOOK_SPEED = 0.15       # degrees per pixel of mouse motion
+TIME_STEP = 0.25        # hours per key press
+
+TOGGLES = {"I": "interior_mapping", "P": "depth_prepass", "F": "furniture", "L": "lod", "C": "curtains"}
+KEY_NAMES = ("W", "A", "S", "D", "Q", "E", "I", "P", "F", "L", "C", "T", "G", "LEFT_BRACKET", "RIGHT_BRACKET", "ESCAPE")
+HELP = ("WASD move, Q/E down/up, drag mouse to look, I interiors, P prepass, F furniture, L LOD, "
+        "C curtains, [ ] fewer/more lit rooms, T/G later/earlier, Esc quit")
+
+
+class FlyCamera:
+    """Position + yaw/pitch, turned into a look-at Camera each frame."""
+
+    def __init__(self, start: Camera):
+        self.position = start.eye.copy()
+        forward = start.forward
+        self.yaw = math.degrees(math.atan2(forward[0], -forward[2]))
+        self.pitch = math.degrees(math.asin(np.clip(forward[1], -1, 1)))
+        self.fov = start.fov_y
+
+    @property
+    def forward(self) -> np.ndarray:
+        y, p = math.radians(self.yaw), math.radians(self.pitch)
+        return np.array([math.sin(y) * math.cos(p), math.sin(p), -math.cos(y) * math.cos(p)])
+
+    def move(self, forward: float, right: float, up: float, seconds: float):
+        f = self.forward
+        side = np.cross(f, [0.0, 1.0, 0.0])
+        side /= np.linalg.norm(side)
+        self.position = self.position + (f * forward + side * right + np.array([0, up, 0])) * MOVE_SPEED * seconds
+        self.position[1] = max(self.position[1], 0.5)
+
+    def look(self, dx: float, dy: float):
+        self.yaw += dx * LOOK_SPEED
+        self.pitch = float(np.clip(self.pitch - dy * LOOK_SPEED, -89.0, 89.0))
+
+    def camera(self) -> Camera:
+        return Camera(tuple(self.position), tuple(self.position + self.forward), fov_y=self.fov)
+
+
+class CityViewer(mglw.WindowConfig):
+    gl_version = (4, 3)
+    title = "cityshade"
+    window_size = (1280, 720)
+    aspect_ratio = None
+    resizable = True
+    vsync = False
+    city_name = "default"
+    camera_name = "street"
+    start_settings = RenderSettings()
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        city = make_city(self.city_name)
+        self.renderer = Renderer(self.wnd.buffer_size, self.start_settings, ctx=self.ctx)
+        self.renderer.set_city(city)
+        self.fly = FlyCamera(city.camera(self.camera_name))
+        self.held: set = set()
+        self.frame_times: list[float] = []
+        self.lights = self.renderer.settings.lights
+        self.last_image = None
+
+    # --- per frame -----------------------------------------------------------------------
+    def on_render(self, time: float, frametime: float):
+        forward = ("W" in self.held) - ("S" in self.held)
+        right = ("D" in self.held) - ("A" in self.held)
+        up = ("E" in self.held) - ("Q" in self.held)
+        self.fly.move(forward, right, up, min(frametime, 0.1))
+        self.renderer.set_settings(replace(self.renderer.settings, animation_time=time))
+        self.renderer.resize(self.wnd.buffer_size)
+        self.renderer.draw(self.fly.camera(), framebuffer=self.wnd.fbo)
+        self.frame_times = (self.frame_times + [self.renderer.last_frame_seconds])[-30:]
+        self.wnd.title = self.status()
+
+    def status(self) -> str:
+        s = self.renderer.settings
+        ms = 1000 * float(np.median(self.frame_times)) if self.frame_times else float("nan")
+        lights = "auto" if s.lights is None else f"{s.lights:.2f}"
+        hours = s.time_of_day % 24
+        return (f"cityshade  {1000 / ms if ms else 0:.1f} fps ({ms:.1f} ms)  interiors {'on' if s.interior_mapping else 'off'}"
+                f"  prepass {'on' if s.depth_prepass else 'off'}  furniture {'on' if s.furniture else 'off'}"
+                f"  LOD {'on' if s.lod else 'off'}  c={lights}  {int(hours):02d}:{int(hours % 1 * 60):02d}")
+
+    # --- input: keys by name, so the same actions run whatever the window backend ----------
+    def press(self, name: str):
+        self.held.add(name)
+        if name == "ESCAPE":
+            self.wnd.close()
+        changed = self._setting_for_key(name)
+        if changed is not None:
+            self.renderer.set_settings(changed)
+
+    def release(self, name: str):
+        self.held.discard(name)
+
+    def _setting_for_key(self, name: str) -> RenderSettings | None:
+        s = self.renderer.settings
+        if name in TOGGLES:
+            return replace(s, **{TOGGLES[name]: not getattr(s, TOGGLES[name])})
+        if name in ("LEFT_BRACKET", "RIGHT_BRACKET"):
+            current = s.lights if s.lights is not None else 0.5
+            step = 0.1 if name == "RIGHT_BRACKET" else -0.1
+            return replace(s, lights=round(float(np.clip(current + step, 0.0, 1.0)), 2))
+        if name in ("T", "G"):
+            return replace(s, time_of_day=(s.time_of_day + (TIME_STEP if name == "T" else -TIME_STEP)) % 24)
+        return None
+
+    def on_key_event(self, key, action, modifiers):
+        keys = self.wnd.keys
+        names = {getattr(keys, n, None): n for n in KEY_NAMES}
+        name = names.get(key)
+        if name is None:
+            return
+        if action == keys.ACTION_PRESS:
+            self.press(name)
+        elif action == keys.ACTION_RELEASE:
+            self.release(name)
+
+    def on_mouse_drag_event(self, x, y, dx, dy):
+        self.fly.look(dx, dy)
+
+    def on_resize(self, width: int, height: int):
+        self.renderer.resize((width, height))
+
+
+def open_viewer(city: str = "default", camera: str = "street", settings: RenderSettings | None = None,
+                window: str = "pyglet", size: tuple[int, int] = (1280, 720)) -> CityViewer:
+    """Creates the viewer (window + renderer) without entering the main loop."""
+    make_city(city).camera(camera)  # fail early with a clear message on bad names
+    CityViewer.city_name, CityViewer.camera_name = city, camera
+    CityViewer.start_settings = settings or RenderSettings()
+    args = ["--window", window, "--size", f"{size[0]}x{size[1]}"]
+    if window == "headless":
+        args += ["--backend", "egl"]
+    try:
+        return mglw.create_window_config_instance(CityViewer, args=args)
+    except CityshadeError:
+        raise
+    except Exception as exc:  # no display, no GL 4.3: one line, no traceback
+        raise CityshadeError(f"could not open a {window} window ({exc}); "
+                             "on a machine without a display use `cityshade render` instead") from None
+
+
+def register(subparsers):
+    parser = subparsers.add_parser("view", help="interactive viewer: " + HELP)
+    parser.add_argument("--city", default="default")
+    parser.add_argument("--camera", default="street")
+    parser.add_argument("--time", default="19:10", help="time of day HH:MM")
+    parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
+    parser.set_defaults(run=_run)
+
+
+def _run(args) -> int:
+    viewer = open_viewer(args.city, args.camera, RenderSettings(time_of_day=parse_time(args.time)), args.window)
+    print(HELP)
+    mglw.run_window_config_instance(viewer)
+    return 0
