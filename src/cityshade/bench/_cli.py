@@ -11,6 +11,7 @@ from ._harness import write
 BENCHMARKS = {
     "interior": "cityshade.bench.interior",
     "relief": "cityshade.bench.relief",
+    "facades": "cityshade.bench.facades",
 }
 
 

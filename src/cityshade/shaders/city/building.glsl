@@ -3,26 +3,7 @@
 // Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids), INTERIOR_MAPPING (off: the
 // reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD.
 
-#if defined VERTEX_SHADER
-uniform mat4 u_view_proj;
-in vec3 in_position;
-in vec3 in_local;
-in vec3 in_normal;
-in vec3 in_facade;
-in ivec2 in_ids;
-out vec3 v_local;
-out vec3 v_normal;
-out vec3 v_facade;
-flat out ivec2 v_ids;
-invariant gl_Position;  // the z prepass and the shading pass must produce identical depths
-void main() {
-    gl_Position = u_view_proj * vec4(in_position, 1.0);
-    v_local = in_local;
-    v_normal = in_normal;
-    v_facade = in_facade;
-    v_ids = in_ids;
-}
-#endif
+#include "common/building_vertex.glsl"
 
 #if defined FRAGMENT_SHADER
 #if defined DEPTH_ONLY

@@ -28,14 +28,19 @@ void grammar_scope(Building b, vec3 n, vec2 facade_uv, out vec2 uv, out vec2 siz
     seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
 }
 
-// Evaluates the building's grammar; d is the unit view ray and n the wall normal (object space),
-// duv_dx/duv_dy the screen derivatives of the mesh's facade coordinates.
+// Evaluates a grammar at facade point uv; d is the unit view ray and n the wall normal (in one
+// frame whose up is +y: object or world space), duv_dx/duv_dy the screen derivatives of uv.
+GrammarResult grammar_facade_at(int start, vec2 uv, vec2 size, vec2 seed, vec3 n, vec3 d, vec2 duv_dx, vec2 duv_dy) {
+    vec3 right = grammar_right(n);
+    vec3 ray = vec3(dot(d, right), d.y, -dot(d, n));  // tangent space, z into the wall
+    return grammar_evaluate(start, uv, size, seed, ray, duv_dx, duv_dy);
+}
+
+// The building's grammar at a wall point (object space; facade_uv and its derivatives from the mesh).
 GrammarResult grammar_facade(Building b, vec3 n, vec2 facade_uv, vec3 d, vec2 duv_dx, vec2 duv_dy) {
     vec2 uv, size, seed;
     grammar_scope(b, n, facade_uv, uv, size, seed);
-    vec3 right = grammar_right(n);
-    vec3 ray = vec3(dot(d, right), d.y, -dot(d, n));  // tangent space, z into the wall
-    return grammar_evaluate(b.facade.y, uv, size, seed, ray, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
+    return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 
 // The grammar's tangent-space normal in object space.

@@ -3,12 +3,7 @@
 // cityshade.grammar._reference.facade_view computes it.
 #include "grammar/eval.glsl"
 
-#if defined VERTEX_SHADER
-void main() {
-    vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
-}
-#endif
+#include "common/fullscreen.glsl"
 
 #if defined FRAGMENT_SHADER
 uniform vec2 facade_size;     // metres

@@ -1,0 +1,149 @@
+"""Grammar facades over a whole city, by either path of §4, for the facade benchmark:
+
+forward   depth prepass, then the buildings again with the grammar evaluated where the depth
+          test passes (once per visible pixel);
+deferred  the paper's pipeline: a cheap pass writes facade uv, scope size, seed, start rule and
+          normal; one full-screen pass evaluates the grammar.
+
+Both end with Phong lighting and the same screen-space ambient occlusion pass.
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..assets._tiles import TileArray
+from ..gl import ProgramCache, RenderTarget
+from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, Camera, batch
+from ._city import FACADE_GRAMMAR
+from ._compiler import CompiledGrammars
+from ._gpu import GrammarTextures, shader_defines
+from ._random import seed_cells
+
+PATHS = ("forward", "deferred")
+UNITS = {"grammar": 0, "scope": 3, "rule": 4, "normal": 5, "depth": 6, "color": 7}
+SUN = np.array([0.45, 0.75, 0.35])
+SKY = (0.3, 0.42, 0.62)  # linear
+
+
+class FacadeCityRenderer:
+    """Every building of `masses` gets the grammar at rule address `start` (seeded per building)."""
+
+    def __init__(self, ctx: moderngl.Context, masses, compiled: CompiledGrammars, tiles: TileArray,
+                 size: tuple[int, int]):
+        self.ctx = ctx
+        self.size = tuple(size)
+        vertices, records = batch(masses)
+        records["facade"][:, 0] = FACADE_GRAMMAR
+        records["facade"][:, 2:] = seed_cells([m.seed for m in masses])
+        self.records = records
+        self.vbo = ctx.buffer(vertices.tobytes())
+        self.ssbo = ctx.buffer(records.tobytes())
+        self.textures = GrammarTextures(ctx, compiled, tiles)
+        programs = ProgramCache(ctx)
+        defines = shader_defines()
+        self.programs = {
+            "depth": programs.get("grammar/city.glsl", {**defines, "DEPTH_ONLY": True}),
+            "forward": programs.get("grammar/city.glsl", {**defines, "FORWARD": True}),
+            "gbuffer": programs.get("grammar/city.glsl", {**defines, "GBUFFER": True}),
+            "deferred": programs.get("grammar/deferred.glsl", defines),
+            "ssao": programs.get("grammar/ssao.glsl"),
+        }
+        self.vaos = {name: self._vao(self.programs[name]) for name in ("depth", "forward", "gbuffer")}
+        self.screen = {name: ctx.vertex_array(self.programs[name], []) for name in ("deferred", "ssao")}
+        self.lit = RenderTarget(ctx, self.size, (("f2", 4),))
+        self.gbuffer = RenderTarget(ctx, self.size, (("f4", 4), ("f4", 4), ("f2", 4)))
+        self.output = RenderTarget(ctx, self.size, (("f1", 4),))
+        self.start = -1
+
+    def _vao(self, program):
+        names = [a for a in VERTEX_ATTRIBUTES if a in program]
+        fmt = " ".join(f if a in program else f"{int(f[:-1] or 1) * 4}x"
+                       for f, a in zip(VERTEX_FORMAT.split(), VERTEX_ATTRIBUTES))
+        return self.ctx.vertex_array(program, [(self.vbo, fmt, *names)])
+
+    def set_grammar(self, start: int):
+        if start != self.start:
+            self.records["facade"][:, 1] = start
+            self.ssbo.write(self.records.tobytes())
+            self.start = start
+
+    def _uniforms(self, program, camera: Camera):
+        values = {"u_view_proj": camera.view_projection(self.size[0] / self.size[1]), "u_camera": camera.eye,
+                  "u_sun_dir": SUN / np.linalg.norm(SUN), "u_sun_color": np.array([2.6, 2.4, 2.1]),
+                  "u_sky_ambient": np.array([0.45, 0.5, 0.6]), "u_ground_ambient": np.array([0.2, 0.18, 0.16])}
+        for name, value in values.items():
+            if name not in program:
+                continue
+            value = np.asarray(value, dtype="f4")
+            program[name].write(value.T.tobytes() if value.shape == (4, 4) else value.tobytes())
+        self.textures.bind(program, UNITS["grammar"])
+
+    def _buildings(self, name: str, camera: Camera):
+        program = self.programs[name]
+        self._uniforms(program, camera)
+        self.ssbo.bind_to_storage_buffer(0)
+        self.vaos[name].render(moderngl.TRIANGLES)
+
+    def draw(self, camera: Camera, path: str):
+        """One frame by `path`; the tone-mapped result is in self.output."""
+        ctx = self.ctx
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE)
+        if path == "forward":
+            self.lit.use()
+            self.lit.fbo.clear(*SKY, 1.0, depth=1.0)
+            ctx.depth_func = "<"
+            ctx.color_mask = (False, False, False, False)
+            self._buildings("depth", camera)
+            ctx.color_mask = (True, True, True, True)
+            ctx.depth_func = "<="
+            self._buildings("forward", camera)
+            depth = self.lit.depth
+        else:
+            self.gbuffer.use()
+            self.gbuffer.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+            ctx.depth_func = "<"
+            self._buildings("gbuffer", camera)
+            self.lit.use()
+            self.lit.fbo.clear(*SKY, 1.0, depth=1.0)
+            ctx.disable(moderngl.DEPTH_TEST)
+            program = self.programs["deferred"]
+            self._uniforms(program, camera)
+            for (name, texture) in zip(("scope", "rule", "normal"), self.gbuffer.colors):
+                texture.use(UNITS[name])
+                program[f"u_{name}"] = UNITS[name]
+            self.gbuffer.depth.use(UNITS["depth"])
+            program["u_depth"] = UNITS["depth"]
+            program["u_inv_view_proj"].write(np.linalg.inv(camera.view_projection(self.size[0] / self.size[1]))
+                                             .T.astype("f4").tobytes())
+            program["u_viewport"] = tuple(float(x) for x in self.size)
+            self.screen["deferred"].render(moderngl.TRIANGLES, vertices=3)
+            depth = self.gbuffer.depth
+        self._ssao(camera, depth)
+
+    def _ssao(self, camera: Camera, depth):
+        ctx = self.ctx
+        self.output.use()
+        ctx.disable(moderngl.DEPTH_TEST)
+        program = self.programs["ssao"]
+        self.lit.colors[0].use(UNITS["color"])
+        depth.use(UNITS["depth"])
+        program["u_color"] = UNITS["color"]
+        program["u_depth"] = UNITS["depth"]
+        program["u_near_far"] = (camera.near, camera.far)
+        program["u_pixels_per_metre"] = self.size[1] / (2 * np.tan(np.radians(camera.fov_y) / 2))
+        self.screen["ssao"].render(moderngl.TRIANGLES, vertices=3)
+
+    def read(self) -> np.ndarray:
+        return self.output.read(0)[..., :3].copy()
+
+    def release(self):
+        for target in (self.lit, self.gbuffer, self.output):
+            target.release()
+        for vao in (*self.vaos.values(), *self.screen.values()):
+            vao.release()
+        self.vbo.release()
+        self.ssbo.release()
+        self.textures.release()

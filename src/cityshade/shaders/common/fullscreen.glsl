@@ -1,0 +1,7 @@
+// Vertex stage of a full-screen pass: one triangle covering the viewport (draw 3 vertices).
+#if defined VERTEX_SHADER
+void main() {
+    vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}
+#endif

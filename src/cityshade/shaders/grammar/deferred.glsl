@@ -1,0 +1,40 @@
+// The deferred grammar pass (§4): one full-screen evaluation per pixel from the G-buffer that
+// grammar/city.glsl (GBUFFER) wrote, with the same lighting as the forward path.
+#include "grammar/building.glsl"
+
+#include "common/fullscreen.glsl"
+
+#if defined FRAGMENT_SHADER
+uniform sampler2D u_scope;
+uniform sampler2D u_rule;
+uniform sampler2D u_normal;
+uniform sampler2D u_depth;
+uniform mat4 u_inv_view_proj;
+uniform vec3 u_camera;
+uniform vec2 u_viewport;
+
+layout(location = 0) out vec4 out_color;
+
+const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    float depth = texelFetch(u_depth, pixel, 0).r;
+    if (depth >= 1.0) discard;  // sky: nothing was drawn
+    vec4 scope = texelFetch(u_scope, pixel, 0);
+    vec4 rule = texelFetch(u_rule, pixel, 0);
+    vec3 n = normalize(texelFetch(u_normal, pixel, 0).xyz);
+    if (rule.w == 0.0) {
+        out_color = vec4(lit_surface(ROOF_COLOR, n, 1.0), 1.0);
+        return;
+    }
+    vec4 clip = vec4(gl_FragCoord.xy / u_viewport * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+    vec4 world = u_inv_view_proj * clip;
+    vec3 d = normalize(world.xyz / world.w - u_camera);
+    // texture footprints from the neighbouring pixels' facade coordinates
+    vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
+    vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
+    GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
+    out_color = vec4(grammar_lit(g, n, mat3(1.0), d), 1.0);
+}
+#endif
