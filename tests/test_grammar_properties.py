@@ -1,0 +1,64 @@
+"""Properties of the reference evaluator: Split follows eq. 1, Repeat's element size, RandUni's spread."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cityshade.assets import tile_array
+from cityshade.grammar import compile_grammars, loads
+from cityshade.grammar._reference import evaluate
+
+SAMPLES = 4000
+
+
+def colours(count: int) -> str:
+    return "".join(f"P{i}->Mat(Color, 0, {i / count:.4f}, 0.5, 0.5, 1)\n" for i in range(count))
+
+
+def run_along_x(text: str, width: float):
+    compiled = compile_grammars({"g": loads(text)})
+    u = (np.arange(SAMPLES, dtype=np.float32) + 0.5) / SAMPLES * width
+    uv = np.stack([u, np.full_like(u, 0.5)], axis=1)
+    result = evaluate(compiled, compiled.address("g"), uv, (width, 1.0), (0.0, 0.0), tile_array(16))
+    return compiled, result.terminal
+
+
+parts = st.lists(st.tuples(st.sampled_from(["Abs", "Rel"]), st.floats(0.5, 4.0)), min_size=1, max_size=6)
+
+
+@settings(max_examples=25, deadline=None)
+@given(parts=parts, slack=st.floats(1.0, 20.0))
+def test_split_widths_follow_equation_1(parts, slack):
+    absolute = sum(v for p, v in parts if p == "Abs")
+    relative = sum(v for p, v in parts if p == "Rel")
+    width = absolute + slack
+    text = "S->SplitX(" + ", ".join(f"{p}, {v:.3f}, P{i}" for i, (p, v) in enumerate(parts)) + ")\n"
+    compiled, terminal = run_along_x(text + colours(len(parts)), width)
+    scale = (width - absolute) / relative if relative else 0.0
+    step = width / SAMPLES
+    for i, (policy, value) in enumerate(parts):
+        expected = round(value, 3) if policy == "Abs" else round(value, 3) * scale
+        if i == len(parts) - 1 and not relative:
+            expected = width - sum(round(v, 3) for _, v in parts[:-1])  # the last part takes what is left
+        measured = np.count_nonzero(terminal == compiled.address("g", f"P{i}")) * step
+        assert abs(measured - expected) <= 2 * step + 0.002 * expected
+
+
+@settings(max_examples=25, deadline=None)
+@given(size=st.floats(0.5, 5.0), width=st.floats(1.0, 40.0))
+def test_repeat_element_size(size, width):
+    text = "S->RepeatX(%.3f, Cell)\nCell->SplitX(Rel, 1, P0, Rel, 1, P1)\n" % size + colours(2)
+    compiled, terminal = run_along_x(text, width)
+    count = max(np.ceil(width / round(size, 3) - 1e-4), 1)
+    changes = np.count_nonzero(np.diff(terminal) != 0) + 1
+    assert changes == 2 * count  # every element split in two halves: S_w / ceil(S_w / v) each
+
+
+def test_rand_uni_spreads_evenly():
+    text = "S->RepeatX(0.5, R)\nR->RandUni(0, P0, P1, P2, P3)\n" + colours(4)
+    compiled, terminal = run_along_x(text, 400.0)
+    cells = terminal[:: SAMPLES // 800]  # one sample per element
+    counts = np.array([np.count_nonzero(cells == compiled.address("g", f"P{i}")) for i in range(4)])
+    assert counts.min() > 0.15 * len(cells)
