@@ -147,8 +147,6 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
         if value < 0 or value != int(value):
             return fail(f"{op} expects {kind.value} here, got {arg.text}")
         return int(value)
-    if kind is Kind.UNIT and not 0 <= value <= 1:
-        return fail(f"value must be in [0, 1], got {arg.text}")
     return value
 
 

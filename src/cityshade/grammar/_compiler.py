@@ -39,10 +39,6 @@ class CompiledGrammars:
     def address(self, grammar: str, rule: str | None = None) -> int:
         return self.addresses[(grammar, rule or self.starts[grammar])]
 
-    def rule_names(self, address: int) -> list[str]:
-        """Every 'grammar:rule' compiled to this address (identical rules share one)."""
-        return sorted(f"{g}:{r}" for (g, r), a in self.addresses.items() if a == address)
-
     def flat(self) -> np.ndarray:
         """Texels as (rows * width, 4) float32, indexed by address."""
         return self.texels.reshape(-1, 4).astype(np.float32)

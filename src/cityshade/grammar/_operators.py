@@ -17,7 +17,6 @@ class Kind(Enum):
     USAGE = "Color, Normal or Specular"
     TEXTURE = "0 or a texture Rep:name / Fit>name"
     MASK = "a mask Fit>name / Rep:name"
-    UNIT = "a number in [0, 1]"
     NUMBER = "a number"
 
 
@@ -65,6 +64,3 @@ OPERATORS: dict[str, Signature] = {
     "Mat": Signature(12, _MAT),
     "MatAlpha": Signature(13, _MAT + _MAT[1:]),
 }
-
-# Operators that end a layer's evaluation (a terminal: a texture is sampled or layers are skipped).
-TERMINALS = frozenset({"Skip", "SkipMask", "Mat", "MatAlpha"})
