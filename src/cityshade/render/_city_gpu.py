@@ -7,6 +7,7 @@ import moderngl
 import numpy as np
 
 from ..grammar._city import assign_facades
+from ..relief._city import CityRelief, assign_relief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 
 GROUND_FORMAT = "3f 1f"
@@ -33,6 +34,8 @@ class CityGPU:
         self.city = city
         vertices, records = batch(city.masses)
         self.grammar_buildings = assign_facades(records, city.masses)
+        self.relief_buildings = assign_relief(records, city.masses)
+        self.relief = CityRelief(ctx)
         self.building_count = len(city.masses)
         self.building_vertex_count = len(vertices)
         self.building_vbo = ctx.buffer(vertices.tobytes()) if len(vertices) else None
@@ -68,6 +71,7 @@ class CityGPU:
         for buf in (self.building_vbo, self.records, self.ground_vbo):
             if buf is not None:
                 buf.release()
+        self.relief.release()
 
 
 def _skip(fmt: str) -> str:

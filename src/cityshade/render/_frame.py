@@ -27,7 +27,7 @@ from ._settings import RenderSettings
 from ._textures import CityTextures
 from ._uniforms import (
     UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
-    UNIT_GRAMMAR, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
+    UNIT_GRAMMAR, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
 )
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
@@ -100,6 +100,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     program = f.programs.get("city/building.glsl", f.building_defines(**grammar_defines(), **(defines or {})))
     set_uniforms(program, **f.common_uniforms())
     f.textures.grammar.bind(program, UNIT_GRAMMAR)
+    f.city.relief.bind(program, UNIT_RELIEF)
     f.city.draw_buildings(program)
 
 

@@ -17,7 +17,7 @@ BUILDING_DTYPE = np.dtype(
         ("room", "<f4", 4),
         ("extent", "<f4", 4),
         ("ids", "<i4", 4),
-        ("facade", "<i4", 4),  # x: technique (0 window bay, 1 grammar), y: grammar start rule, zw: grammar seed
+        ("facade", "<i4", 4),  # x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed
     ]
 )
 assert BUILDING_DTYPE.itemsize % 16 == 0

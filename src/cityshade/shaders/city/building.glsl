@@ -17,6 +17,7 @@ void main() {}
 #include "interior/interior.glsl"
 #endif
 #include "grammar/building.glsl"
+#include "relief/building.glsl"
 
 uniform vec3 u_camera;          // world
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
@@ -55,6 +56,7 @@ void main() {
     uint room = 0u;
     uint label = 0u;
     vec3 color;
+    vec3 surface = v_local;  // where a ray through the glass enters the building
     if (v_ids.y == SURFACE_ROOF) {
         face = FACE_ROOF;
         color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, 1.0);
@@ -66,6 +68,13 @@ void main() {
             label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
 #if !defined ID_PASS
             color = grammar_lit(g, n, rot, d);
+#endif
+        } else if (has_relief_facade(b)) {
+            ReliefSurface r = relief_building(b, n, v_local, v_facade, d);
+            glass = r.glass ? 1.0 : 0.0;  // recessed glass: the room shows from the hit point
+            surface = r.point;
+#if !defined ID_PASS
+            color = lit_surface(r.albedo * building_tint(b), rot * r.normal, 1.0);
 #endif
         } else {
         vec2 bay_uv = vec2(v_facade.x / v_facade.z, v_facade.y / b.room.y);
@@ -89,7 +98,7 @@ void main() {
 #endif
             vec3 inside = vec3(0.0);
             if (interior_weight > 0.0) {
-                InteriorHit hit = interior_trace(v_local, d, n, b, dFdx(v_local), dFdy(v_local), s);
+                InteriorHit hit = interior_trace(surface, d, n, b, dFdx(v_local), dFdy(v_local), s);
                 face = hit.face;
                 room = hit.room;
                 inside = hit.color;
@@ -97,7 +106,7 @@ void main() {
 #if defined INTERIOR_LOD
             if (interior_weight < 1.0) {
                 // far away: each window glows with its room's mean colour (no ray cast)
-                Room r = find_room(v_local, n, b);
+                Room r = find_room(surface, n, b);
                 inside = mix(room_mean_color(r) * room_radiance(r), inside, interior_weight);
                 if (interior_weight <= 0.0) room = r.id;
             }

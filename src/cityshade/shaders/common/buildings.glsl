@@ -15,7 +15,7 @@ struct Building {
     vec4 room;         // xyz: room size in metres; w: maximum wall displacement (fraction of a room)
     vec4 extent;       // xyz: object-space size of the mass; w: light probability multiplier
     ivec4 ids;         // x: seed, y: facade style, z: flags, w: shape
-    ivec4 facade;      // x: technique (0 window bay, 1 grammar), y: grammar start rule, zw: grammar seed (1/8 m)
+    ivec4 facade;      // x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed (1/8 m)
 };
 
 layout(std430, binding = 0) readonly buffer Buildings {
