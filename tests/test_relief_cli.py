@@ -60,3 +60,19 @@ def test_bad_inputs_write_nothing(tmp_path, pngs, capsys):
     assert "noise.png: depth map: the BMF factorisation needs more than 100 terms" in capsys.readouterr().err
     assert main(["compress", "--layout", "F1", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)]) == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["h.png", "m.png", "noise.png", "small.png"]
+
+
+def test_compress_a_grammar_file(tmp_path, capsys):
+    from cityshade.grammar import library_path
+
+    out = tmp_path / "brick.cfdm"
+    assert main(["compress", str(library_path("brick.grammar")), "--facade", "6x8", "--texel", "0.1",
+                 "--out", str(out)]) == 0
+    assert main(["compress", "--stats", str(out)]) == 0
+    assert "60x80 texels" in capsys.readouterr().out
+    assert main(["compress", "--verify", str(out)]) == 0
+    bad = tmp_path / "bad.grammar"
+    bad.write_text("Facade -> Nonexistent()\n")
+    assert main(["compress", str(bad), "--out", str(tmp_path / "x.cfdm")]) == 1
+    assert "bad.grammar" in capsys.readouterr().err
+    assert not (tmp_path / "x.cfdm").exists()

@@ -13,6 +13,7 @@ from ..errors import CityshadeError, UsageError
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS
 from ._format import read_compressed, write_compressed
+from ._grammar_source import grammar_maps
 from ._layout import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, generate_facade
 from ._maps import DetailMaps, load_png_maps
 
@@ -23,12 +24,17 @@ def register(subparsers):
         description="Compress facade detail maps (depth D, material M, free-box acceleration A) losslessly, "
                     "or inspect (--stats) or check (--verify) a compressed file.")
     source = parser.add_argument_group("source (one of)")
+    source.add_argument("grammar", nargs="?", type=Path, metavar="GRAMMAR_FILE",
+                        help="a facade grammar, rasterised with a depth and material per terminal label")
     source.add_argument("--layout", choices=sorted(PAPER_FACADES),
                         help="one of the four test facades of the paper, from the built-in layout generator")
     source.add_argument("--height", type=Path, metavar="PNG",
                         help="16- or 8-bit greyscale PNG of depth steps behind the outermost surface")
     source.add_argument("--material", type=Path, metavar="PNG", help="8- or 16-bit greyscale PNG of material indices")
-    parser.add_argument("--facade", metavar="WxH", help="with --layout: another size in texels, e.g. 800x1200")
+    parser.add_argument("--rule", help="with GRAMMAR_FILE: the start rule (default: the file's first)")
+    parser.add_argument("--seed", type=int, default=1, help="with GRAMMAR_FILE: the facade's random seed")
+    parser.add_argument("--facade", metavar="WxH",
+                        help="facade size in metres (GRAMMAR_FILE: default 12x16; --layout: default the paper's)")
     parser.add_argument("--texel", type=float, default=PAPER_TEXEL, metavar="METRES", help="texel size (default 0.02)")
     parser.add_argument("--depth-unit", type=float, default=DEPTH_UNIT, metavar="METRES",
                         help="metres per depth step of the height image (default 0.01)")
@@ -69,8 +75,10 @@ def _source_maps(args, required: bool) -> DetailMaps | None:
     if args.texel <= 0 or args.depth_unit <= 0:
         raise UsageError("--texel and --depth-unit must be positive")
     images = args.height is not None or args.material is not None
-    if args.layout and images:
-        raise UsageError("give either --layout or --height and --material, not both")
+    if sum((args.grammar is not None, args.layout is not None, images)) > 1:
+        raise UsageError("give one source: GRAMMAR_FILE, --layout NAME, or --height and --material")
+    if args.grammar is not None:
+        return _grammar(args)
     if images:
         if args.height is None or args.material is None:
             raise UsageError("--height and --material go together")
@@ -78,25 +86,37 @@ def _source_maps(args, required: bool) -> DetailMaps | None:
     if args.layout:
         cols, rows, layout = PAPER_FACADES[args.layout]
         if args.facade:
-            cols, rows = _parse_size(args.facade)
+            width, height = _parse_size(args.facade)
+            cols, rows = max(1, round(width / args.texel)), max(1, round(height / args.texel))
         return generate_facade(cols, rows, layout, args.texel)
     if required:
-        raise UsageError("give a source: --layout NAME, or --height PNG --material PNG")
+        raise UsageError("give a source: GRAMMAR_FILE, --layout NAME, or --height PNG --material PNG")
     return None
 
 
+def _grammar(args) -> DetailMaps:
+    facade = _parse_size(args.facade or "12x16")
+    rows = max(1, round(facade[1] / args.texel))
+    with Progress(console=Console(stderr=True), transient=True) as progress:
+        task = progress.add_task(f"rasterising {args.grammar.name}", total=rows)
+        return grammar_maps(args.grammar, args.rule, facade, args.texel, args.seed,
+                            on_rows=lambda n: progress.advance(task, n))
+
+
 def _source_name(args) -> str:
+    if args.grammar is not None:
+        return str(args.grammar)
     return f"layout {args.layout}" if args.layout else f"{args.height} + {args.material}"
 
 
-def _parse_size(text: str) -> tuple[int, int]:
+def _parse_size(text: str) -> tuple[float, float]:
     try:
-        cols, rows = (int(v) for v in text.lower().split("x"))
+        width, height = (float(v) for v in text.lower().split("x"))
     except ValueError:
-        raise UsageError(f"--facade {text!r}: expected WIDTHxHEIGHT in texels, e.g. 800x1200") from None
-    if not (0 < cols <= 0xFFFF and 0 < rows <= 0xFFFF):
-        raise UsageError(f"--facade {text!r}: sizes must be 1..65535 texels")
-    return cols, rows
+        raise UsageError(f"--facade {text!r}: expected WIDTHxHEIGHT in metres, e.g. 12x16") from None
+    if not (0 < width <= 1000 and 0 < height <= 1000):
+        raise UsageError(f"--facade {text!r}: each side must be in (0, 1000] metres")
+    return width, height
 
 
 def _stats(path: Path) -> int:
