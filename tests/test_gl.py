@@ -1,0 +1,67 @@
+"""The GL layer: programs from .glsl files with includes and defines, errors that name file and line."""
+
+from __future__ import annotations
+
+import moderngl
+import pytest
+
+from cityshade.errors import GLUnavailableError, ShaderError
+from cityshade.gl import ProgramCache, _programs, create_context
+
+SOURCES = {
+    "test/lib.glsl": "float twice(float x) { return 2.0 * x; }\n",
+    "test/ok.glsl": (
+        '#include "test/lib.glsl"\n'
+        "#if defined VERTEX_SHADER\nvoid main() { gl_Position = vec4(twice(0.5)); }\n#endif\n"
+        "#if defined FRAGMENT_SHADER\nout vec4 c;\nvoid main() { c = vec4(SCALE); }\n#endif\n"
+    ),
+    "test/broken.glsl": (
+        '#include "test/lib.glsl"\n'
+        "#if defined VERTEX_SHADER\nvoid main() { gl_Position = vec4(1.0); }\n#endif\n"
+        "#if defined FRAGMENT_SHADER\nout vec4 c;\nvoid main() { c = undefined_thing; }\n#endif\n"
+    ),
+}
+
+
+@pytest.fixture
+def fake_sources(monkeypatch):
+    real = _programs.shader_source
+    monkeypatch.setattr(_programs, "shader_source", lambda path: SOURCES[path] if path in SOURCES else real(path))
+
+
+def test_programs_are_cached_by_file_and_defines(gl_context, fake_sources):
+    cache = ProgramCache(gl_context)
+    a = cache.get("test/ok.glsl", {"SCALE": 1.0})
+    assert cache.get("test/ok.glsl", {"SCALE": 1.0}) is a
+    assert cache.get("test/ok.glsl", {"SCALE": 2.0}) is not a
+
+
+def test_compile_error_names_the_file_and_line(gl_context, fake_sources):
+    with pytest.raises(ShaderError) as info:
+        ProgramCache(gl_context).get("test/broken.glsl")
+    assert "shaders/test/broken.glsl:7:19" in str(info.value)  # line and column of the bad name
+    assert "undefined_thing" in str(info.value)
+
+
+def test_every_city_program_variant_compiles(gl_context):
+    from cityshade.grammar._gpu import shader_defines
+
+    cache = ProgramCache(gl_context)
+    grammar = shader_defines()
+    for path, defines in [("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "INTERIOR_LOD": True}),
+                          ("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "IM_SINGLE_ATLAS": True,
+                                                  "ID_PASS": True}),
+                          ("city/building.glsl", grammar),
+                          ("city/building.glsl", {"DEPTH_ONLY": True}), ("city/ground.glsl", {}),
+                          ("frame/sky.glsl", {}), ("frame/tonemap.glsl", {})]:
+        assert cache.get(path, defines) is not None
+
+
+def test_missing_gl_gives_one_clear_error(monkeypatch):
+    def fail(**kwargs):
+        raise Exception("eglGetDisplay failed")
+
+    monkeypatch.setattr(moderngl, "create_standalone_context", fail)
+    with pytest.raises(GLUnavailableError) as info:
+        create_context()
+    assert "apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri" in str(info.value)
