@@ -13,6 +13,11 @@ from cityshade.grammar._reference import evaluate
 SAMPLES = 4000
 
 
+def stored(value: float) -> float:
+    """A size as the grammar texture stores it (16-bit float)."""
+    return float(np.float16(value))
+
+
 def colours(count: int) -> str:
     return "".join(f"P{i}->Mat(Color, 0, {i / count:.4f}, 0.5, 0.5, 1)\n" for i in range(count))
 
@@ -31,17 +36,18 @@ parts = st.lists(st.tuples(st.sampled_from(["Abs", "Rel"]), st.floats(0.5, 4.0))
 @settings(max_examples=25, deadline=None)
 @given(parts=parts, slack=st.floats(1.0, 20.0))
 def test_split_widths_follow_equation_1(parts, slack):
+    parts = [(p, stored(v)) for p, v in parts]
     absolute = sum(v for p, v in parts if p == "Abs")
     relative = sum(v for p, v in parts if p == "Rel")
     width = absolute + slack
-    text = "S->SplitX(" + ", ".join(f"{p}, {v:.3f}, P{i}" for i, (p, v) in enumerate(parts)) + ")\n"
+    text = "S->SplitX(" + ", ".join(f"{p}, {v!r}, P{i}" for i, (p, v) in enumerate(parts)) + ")\n"
     compiled, terminal = run_along_x(text + colours(len(parts)), width)
     scale = (width - absolute) / relative if relative else 0.0
     step = width / SAMPLES
     for i, (policy, value) in enumerate(parts):
-        expected = round(value, 3) if policy == "Abs" else round(value, 3) * scale
+        expected = value if policy == "Abs" else value * scale
         if i == len(parts) - 1 and not relative:
-            expected = width - sum(round(v, 3) for _, v in parts[:-1])  # the last part takes what is left
+            expected = width - sum(v for _, v in parts[:-1])  # the last part takes what is left
         measured = np.count_nonzero(terminal == compiled.address("g", f"P{i}")) * step
         assert abs(measured - expected) <= 2 * step + 0.002 * expected
 
@@ -51,8 +57,7 @@ def test_split_widths_follow_equation_1(parts, slack):
 def test_repeat_element_size(size, width):
     text = "S->RepeatX(%.3f, Cell)\nCell->SplitX(Rel, 1, P0, Rel, 1, P1)\n" % size + colours(2)
     compiled, terminal = run_along_x(text, width)
-    stored = np.float32(np.float16(round(size, 3)))  # sizes are stored as 16-bit floats
-    count = max(np.ceil(np.float32(width) / stored - np.float32(1e-4)), 1)
+    count = max(np.ceil(np.float32(width) / np.float32(stored(round(size, 3))) - np.float32(1e-4)), 1)
     changes = np.count_nonzero(np.diff(terminal) != 0) + 1
     assert changes == 2 * count  # every element split in two halves: S_w / ceil(S_w / v) each
 
