@@ -1,5 +1,6 @@
-"""Pictures of a relief facade for docs/relief.md: close up, at a grazing angle, and relief
-mapping against facade displacement mapping at the same view (the paper's fig. 3).
+"""Pictures of a relief facade for docs/relief.md: close up, at a grazing angle, relief mapping
+against facade displacement mapping at the same view (the paper's fig. 3), and a relief building
+of the default city at street level.
 
     .venv/bin/python examples/relief_facade.py [--out docs/images]
 """
@@ -14,6 +15,8 @@ from PIL import Image
 
 from cityshade.gl import ProgramCache, create_context
 from cityshade.relief import FacadeView, GpuFacade, facade_camera, paper_facade
+from cityshade.render._renderer import Renderer
+from cityshade.scene import default_city
 
 VIEWS = {  # name: renderer, azimuth, elevation, distance (m), target (fractions of the facade)
     "relief_closeup": ("bcfdm", 28, 12, 6.0, (0.30, 0.30)),
@@ -39,6 +42,22 @@ def main():
         rgb = np.where(np.isnan(image.point[..., :1]), np.array([0.55, 0.65, 0.78]), image.color)  # sky behind
         Image.fromarray((np.clip(rgb, 0, 1) ** (1 / 2.2) * 255).astype(np.uint8)).save(args.out / f"{name}.png")
         print(args.out / f"{name}.png")
+    city_street(args.out / "relief_city_street.png", tuple(args.size))
+
+
+def city_street(path: Path, size: tuple[int, int]):
+    """The default city's street viewpoint turned towards the relief building on its left."""
+    city = default_city()
+    street = city.camera("street")
+    eye, target = np.array(street.position), np.array(street.target)
+    ahead = target - eye
+    c, s = np.cos(np.radians(100)), np.sin(np.radians(100))
+    look = np.array([c * ahead[0] + s * ahead[2], 0.2 * np.linalg.norm(ahead), -s * ahead[0] + c * ahead[2]])
+    eye = eye - 3.0 * look / np.linalg.norm(look)
+    renderer = Renderer(size)
+    renderer.set_city(city)
+    Image.fromarray(renderer.render(street.moved(position=tuple(eye), target=tuple(eye + look)))).save(path)
+    print(path)
 
 
 if __name__ == "__main__":

@@ -94,8 +94,8 @@ def _orbit_camera(maps, frame: int, frames: int) -> Camera:
 
 
 def _table2(result: BenchResult, ctx, programs, facades: dict, quick: bool) -> dict:
-    size = (400, 300) if quick else (1600, 1200)
-    frames = 4 if quick else 10
+    size = (320, 240) if quick else (1600, 1200)
+    frames = 3 if quick else 10
     view = FacadeView(ctx, size, programs)
     times: dict[str, dict[str, float]] = {r: {} for r in [*RENDERERS, "bcfdm (mod 37)"]}
     for name, (maps, compressed) in facades.items():
@@ -128,9 +128,9 @@ def _table2(result: BenchResult, ctx, programs, facades: dict, quick: bool) -> d
     return times
 
 
-def _mismatch(result: BenchResult, ctx, programs, facades: dict):
+def _mismatch(result: BenchResult, ctx, programs, facades: dict, quick: bool):
     """FDM against the reference tracer on each facade, oblique and grazing, every pixel counted."""
-    size, differing, total, rows = (128, 96), 0, 0, []
+    size, differing, total, rows = (64, 48) if quick else (128, 96), 0, 0, []
     view = FacadeView(ctx, size, programs)
     for name, (maps, compressed) in facades.items():
         gpu = GpuFacade(ctx, maps, compressed)
@@ -180,8 +180,8 @@ def _flyover_camera(extent: float, frame: int) -> Camera:
 
 def _table3(result: BenchResult, ctx, programs, facades: dict, quick: bool):
     maps, compressed = facades["F1"]
-    buildings = 2000 if quick else 30000
-    size = (400, 300) if quick else (800, 600)
+    buildings = 500 if quick else 30000
+    size = (320, 240) if quick else (800, 600)
     width, height = maps.size_m
     frames = city_frames(buildings, width, width + 8.0)
     extent = math.ceil(math.sqrt(buildings)) * (width + 8.0)
@@ -244,7 +244,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     facades = {name: paper_facade(name) for name in PAPER_FACADES}
     _table1(result, facades)
     _table2(result, ctx, programs, facades, quick)
-    _mismatch(result, ctx, programs, facades)
+    _mismatch(result, ctx, programs, facades, quick)
     _table3(result, ctx, programs, facades, quick)
     _plot(result, out_dir)
     return result
