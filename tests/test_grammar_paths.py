@@ -9,6 +9,7 @@ from cityshade.assets import tile_array
 from cityshade.bench.facades import city_masses, views
 from cityshade.grammar import compile_grammars, library_path, load
 from cityshade.grammar._city_render import PATHS, FacadeCityRenderer
+from cityshade.scene import Camera
 
 
 def test_forward_and_deferred_agree(gl_context, output_dir):
@@ -26,3 +27,21 @@ def test_forward_and_deferred_agree(gl_context, output_dir):
     # texture filtering footprints differ slightly (screen derivatives vs neighbouring texels)
     assert differ.mean() < 0.02, f"{differ.sum()} pixels differ"
     assert images["forward"].std() > 10  # not an empty picture
+
+
+def test_city_frame_paths_agree(gl_context, output_dir):
+    """The city's frame with grammar facades deferred (the default) or forward looks the same."""
+    from cityshade.render import Renderer, RenderSettings
+    from cityshade.scene import City, box
+
+    masses = [box((0.0, 0.0), 20.0, 14.0, 19.0, seed=5, style=6), box((26.0, 0.0), 14.0, 14.0, 25.0, seed=6, style=3)]
+    camera = Camera((14.0, 5.0, -22.0), (18.0, 9.0, 7.0), fov_y=60.0)
+    images = {}
+    for deferred in (False, True):
+        renderer = Renderer((128, 96), RenderSettings(lights=0.7, grammar_deferred=deferred), ctx=gl_context)
+        renderer.set_city(City("paths", 0, masses, [], (-40.0, -40.0, 60.0, 60.0)))
+        images[deferred] = renderer.render(camera).astype(np.int16)
+        Image.fromarray(images[deferred].astype(np.uint8)).save(output_dir / f"grammar_city_deferred_{deferred}.png")
+        renderer.release()
+    differ = np.abs(images[True] - images[False]).max(axis=-1) > 24
+    assert differ.mean() < 0.02, f"{differ.sum()} pixels differ"

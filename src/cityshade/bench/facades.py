@@ -18,7 +18,8 @@ from ..assets import tile_array
 from ..gl import FrameTimer, create_context, describe_context
 from ..grammar import compile_grammars, library_path, load, load_library
 from ..grammar._city_render import PATHS, FacadeCityRenderer
-from ..scene import Camera, box
+from ..render import Renderer, RenderSettings
+from ..scene import Camera, box, make_city
 from ._harness import BenchResult
 
 GRAMMARS = {"simple": "simple", "random": "fig12", "full": "dusk"}
@@ -30,7 +31,8 @@ PAPER_FIG11 = {
 }
 PAPER_RULES, PAPER_BYTES = 330, 5928  # §6: the grammar of fig. 10
 TARGETS = {"random_over_simple": "<= 1.1 (paper ~1.2)", "full_over_simple": "<= 2.0 (paper ~4.4)",
-           "bytes_per_rule": "<= 16 (paper 18)", "deferred_over_forward": "report (< 1: deferred is faster)"}
+           "bytes_per_rule": "<= 16 (paper 18)", "deferred_over_forward": "report (< 1: deferred is faster)",
+           "city_deferred_over_forward": "report (the city's default follows the faster)"}
 PITCH = 32.0
 
 
@@ -56,6 +58,19 @@ def views(side: int) -> dict[str, Camera]:
         "street": Camera((street_x, 1.7, mid - 60.0), (street_x - 6.0, 14.0, mid + 80.0), fov_y=66.0, far=4000.0),
         "closeup": Camera((mid + 6.0, 4.0, mid - 7.0), (mid + 12.0, 6.5, mid), fov_y=60.0, far=4000.0),
     }
+
+
+def city_frame_ms(ctx, size, frames: int) -> dict[str, float]:
+    """The whole frame of the default city with the grammar facades forward or deferred."""
+    city = make_city("default")
+    camera = city.camera("street")
+    out = {}
+    for path in PATHS:
+        renderer = Renderer(size, RenderSettings(grammar_deferred=path == "deferred"), ctx=ctx)
+        renderer.set_city(city)
+        out[path] = 1000.0 * FrameTimer(ctx, warmup=1, frames=frames).run(lambda _i: renderer.draw(camera))
+        renderer.release()
+    return out
 
 
 def library_bytes_per_rule() -> tuple[int, int, float]:
@@ -90,6 +105,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     finally:
         renderer.release()
 
+    city_ms = city_frame_ms(ctx, (640, 360), frames)
     result = BenchResult("facades", describe_context(ctx))
     rows = []
     for view in cameras:
@@ -105,6 +121,8 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     def over_simple(grammar):
         return _geomean([best[(v, grammar)] / best[(v, "simple")] for v in cameras])
 
+    result.add_table("The city's frame (default city, street camera, 640x360, interiors on): grammar facades "
+                     "by path", ["path", "ms per frame"], [[p, round(v, 1)] for p, v in city_ms.items()])
     rules, nbytes, per_rule = library_bytes_per_rule()
     result.add_table("§6: grammar texture of the whole library", ["", "rules", "bytes", "bytes per rule"],
                      [["ours", rules, nbytes, round(per_rule, 2)],
@@ -115,6 +133,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         "bytes_per_rule": round(per_rule, 2),
         "deferred_over_forward": round(_geomean([ms[(v, g, "deferred")] / ms[(v, g, "forward")]
                                                  for v in cameras for g in GRAMMARS]), 3),
+        "city_deferred_over_forward": round(city_ms["deferred"] / city_ms["forward"], 3),
     }
     result.targets = dict(TARGETS)
     faster = "deferred" if result.ratios["deferred_over_forward"] < 1 else "forward"

@@ -1,5 +1,7 @@
 """The frame: its passes, listed in the order they run.
 
+    0. facade grammar    only with settings.grammar_deferred: G-buffer + one full-screen grammar
+                         evaluation per pixel (Krecklau §4), read back by the buildings pass
     1. depth prepass     all opaque geometry into the z-buffer (interior-mapping §3.1 "z-cull")
     2. buildings         facades; behind the glass, interior-mapped rooms
     3. ground            streets, pavements, parks
@@ -27,7 +29,7 @@ from ._settings import RenderSettings
 from ._textures import CityTextures
 from ._uniforms import (
     UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
-    UNIT_GRAMMAR, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
+    UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
 )
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
@@ -96,10 +98,18 @@ def depth_prepass(f: FrameInputs):
     f.ctx.depth_func = "<="  # shading passes now touch only the visible surface
 
 
+def grammar_deferred_pass(f: FrameInputs):
+    """Facade grammars evaluated once per pixel from a G-buffer (Krecklau §4); see grammar._frame_pass."""
+    f.textures.grammar_pass.run(f, f.textures.grammar, set_uniforms, UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED)
+
+
 def draw_buildings(f: FrameInputs, defines: dict | None = None):
-    program = f.programs.get("city/building.glsl", f.building_defines(**grammar_defines(), **(defines or {})))
+    defines = {**grammar_defines(), "GRAMMAR_DEFERRED": f.settings.grammar_deferred, **(defines or {})}
+    program = f.programs.get("city/building.glsl", f.building_defines(**defines))
     set_uniforms(program, **f.common_uniforms())
     f.textures.grammar.bind(program, UNIT_GRAMMAR)
+    if f.settings.grammar_deferred:
+        f.textures.grammar_pass.bind_results(program, UNIT_GRAMMAR_DEFERRED + 4)
     f.city.relief.bind(program, UNIT_RELIEF)
     f.city.draw_buildings(program)
 
@@ -129,6 +139,8 @@ def tone_map(f: FrameInputs, hdr: moderngl.Texture, target: RenderTarget):
 def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, display: RenderTarget):
     """Runs the passes in order; the tone-mapped image ends in `display`."""
     ctx = f.ctx
+    if f.settings.grammar_deferred:
+        grammar_deferred_pass(f)
     hdr.use()
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.disable(moderngl.CULL_FACE)

@@ -9,6 +9,7 @@ import numpy as np
 
 from .. import assets
 from ..grammar._city import library_texture
+from ..grammar._frame_pass import DeferredGrammarPass
 from ..grammar._gpu import GrammarTextures
 
 ROOM_FACES = ("ceiling", "floor", "wall_x", "wall_z")
@@ -67,6 +68,7 @@ class CityTextures:
     curtain: moderngl.Texture
     room_variants: int
     grammar: GrammarTextures  # facade grammar library: rules, noise, tile array
+    grammar_pass: DeferredGrammarPass  # targets of the deferred grammar evaluation
 
     @classmethod
     def create(cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8) -> "CityTextures":
@@ -81,9 +83,10 @@ class CityTextures:
         curtain = texture_2d(ctx, assets.curtain_texture())
         grammar = GrammarTextures(ctx, library_texture(), assets.tile_array())
         return cls(rooms, atlas, layout, texture_2d(ctx, facade_np), tuple(float(g) for g in glass), sprites,
-                   kinds, frames, curtain, variants, grammar)
+                   kinds, frames, curtain, variants, grammar, DeferredGrammarPass(ctx))
 
     def release(self):
         for tex in (*self.rooms.values(), self.atlas, self.facade, self.sprites, self.curtain):
             tex.release()
         self.grammar.release()
+        self.grammar_pass.release()

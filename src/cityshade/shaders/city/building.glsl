@@ -63,11 +63,9 @@ void main() {
     } else {
         float glass;
         if (has_grammar_facade(b)) {
-            GrammarResult g = grammar_facade(b, n, v_facade.xy, d, dFdx(v_facade.xy), dFdy(v_facade.xy));
-            glass = g.glass ? 1.0 : 0.0;  // the winning terminal's texel is glass: the room shows
-            label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
+            vec3 grammar_color = grammar_building_color(b, n, v_facade.xy, d, rot, glass, label);
 #if !defined ID_PASS
-            color = grammar_lit(g, n, rot, d);
+            color = grammar_color;  // where it is glass, the room shows instead (below)
 #endif
         } else if (has_relief_facade(b)) {
             ReliefSurface r = relief_building(b, n, v_local, v_facade, d);

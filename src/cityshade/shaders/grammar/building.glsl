@@ -58,4 +58,28 @@ vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d) {
     return lit_surface(albedo, n_world, 1.0) + highlight * u_sun_color;
 }
 
+// The grammar facade at a building fragment: lit colour, glass (rooms show through it) and label.
+// Evaluated here (forward), or, with GRAMMAR_DEFERRED, fetched from the deferred pass's
+// full-screen evaluation of this pixel (cityshade/grammar/_frame_pass.py). The id pass always
+// evaluates, so ids stay exact.
+#if defined GRAMMAR_DEFERRED && !defined ID_PASS
+uniform sampler2D grammar_deferred_color;
+uniform usampler2D grammar_deferred_ids;
+#endif
+
+vec3 grammar_building_color(Building b, vec3 n, vec2 facade_uv, vec3 d, mat3 rot, out float glass, out uint label) {
+#if defined GRAMMAR_DEFERRED && !defined ID_PASS
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    uvec4 ids = texelFetch(grammar_deferred_ids, pixel, 0);
+    glass = float(ids.x);
+    label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
+    return texelFetch(grammar_deferred_color, pixel, 0).rgb;
+#else
+    GrammarResult g = grammar_facade(b, n, facade_uv, d, dFdx(facade_uv), dFdy(facade_uv));
+    glass = g.glass ? 1.0 : 0.0;
+    label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
+    return grammar_lit(g, n, rot, d);
+#endif
+}
+
 #endif

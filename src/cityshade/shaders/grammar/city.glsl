@@ -35,7 +35,7 @@ void main() {
 #if defined GBUFFER
     vec2 uv = vec2(0.0), size = vec2(1.0), seed = vec2(0.0);
     float facade = 0.0;
-    if (v_ids.y != SURFACE_ROOF) {
+    if (v_ids.y != SURFACE_ROOF && has_grammar_facade(b)) {
         grammar_scope(b, normalize(v_normal), v_facade.xy, uv, size, seed);
         facade = 1.0;
     }

@@ -1,10 +1,12 @@
 // The deferred grammar pass (§4): one full-screen evaluation per pixel from the G-buffer that
 // grammar/city.glsl (GBUFFER) wrote, with the same lighting as the forward path.
-#include "grammar/building.glsl"
-
+// CITY_FRAME: inside the city's frame, where the building pass picks the result up (lit colour,
+// and glass + label so rooms still show through the glass); other pixels are left alone.
 #include "common/fullscreen.glsl"
 
 #if defined FRAGMENT_SHADER
+#include "grammar/building.glsl"
+
 uniform sampler2D u_scope;
 uniform sampler2D u_rule;
 uniform sampler2D u_normal;
@@ -14,6 +16,9 @@ uniform vec3 u_camera;
 uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;
+#if defined CITY_FRAME
+layout(location = 1) out uvec4 out_ids;  // glass, label
+#endif
 
 const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
 
@@ -25,8 +30,12 @@ void main() {
     vec4 rule = texelFetch(u_rule, pixel, 0);
     vec3 n = normalize(texelFetch(u_normal, pixel, 0).xyz);
     if (rule.w == 0.0) {
+#if defined CITY_FRAME
+        discard;  // roofs and the other facade techniques are shaded by the building pass
+#else
         out_color = vec4(lit_surface(ROOF_COLOR, n, 1.0), 1.0);
         return;
+#endif
     }
     vec4 clip = vec4(gl_FragCoord.xy / u_viewport * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
     vec4 world = u_inv_view_proj * clip;
@@ -36,5 +45,8 @@ void main() {
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
     out_color = vec4(grammar_lit(g, n, mat3(1.0), d), 1.0);
+#if defined CITY_FRAME
+    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), 0u, 0u);
+#endif
 }
 #endif

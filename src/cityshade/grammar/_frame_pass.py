@@ -1,0 +1,81 @@
+"""The paper's deferred grammar evaluation (§4) as a pass of the city's frame.
+
+A cheap pass draws every building into a G-buffer (facade uv, scope size, seed, start rule,
+normal); one full-screen pass then evaluates the grammar once per grammar-facade pixel and stores
+the lit colour, the glass flag and the label. The building pass reads them back at its own pixel
+(GRAMMAR_DEFERRED in shaders/grammar/building.glsl) and continues into the rooms behind the glass.
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..gl import RenderTarget
+from ._gpu import GrammarTextures, shader_defines
+
+G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, facade flag; normal
+RESULT = (("f2", 4), ("u4", 4))  # lit colour; glass, label
+
+
+class DeferredGrammarPass:
+    """Targets of the pass, remade when the frame size changes."""
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self.size = None
+        self.gbuffer = self.result = None
+
+    def targets(self, size) -> tuple[RenderTarget, RenderTarget]:
+        if size != self.size:
+            self.release()
+            self.gbuffer = RenderTarget(self.ctx, size, G_BUFFER)
+            self.result = RenderTarget(self.ctx, size, RESULT)
+            self.size = size
+        return self.gbuffer, self.result
+
+    def run(self, f, grammar: GrammarTextures, set_uniforms, grammar_unit: int, first_unit: int):
+        """Fills the result targets for frame `f` (render._frame.FrameInputs); the G-buffer's
+        textures go on units first_unit..first_unit + 3."""
+        ctx = self.ctx
+        programs, size, view_projection = f.programs, f.size, f.view_projection
+        gbuffer, result = self.targets(tuple(size))
+        gbuffer.use()
+        gbuffer.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.depth_func = "<"
+        program = programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
+        set_uniforms(program, u_view_proj=view_projection)
+        grammar.bind(program, grammar_unit)
+        f.city.draw_buildings(program)
+
+        result.use()
+        result.fbo.clear(0.0, 0.0, 0.0, 0.0)
+        ctx.disable(moderngl.DEPTH_TEST)
+        program = programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True})
+        set_uniforms(program, **f.common_uniforms(), u_inv_view_proj=np.linalg.inv(view_projection),
+                     u_viewport=np.array(size, dtype=float))
+        grammar.bind(program, grammar_unit)
+        for offset, (name, texture) in enumerate(zip(("u_scope", "u_rule", "u_normal", "u_depth"),
+                                                     (*gbuffer.colors, gbuffer.depth))):
+            texture.use(first_unit + offset)
+            program[name] = first_unit + offset
+        ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+        ctx.enable(moderngl.DEPTH_TEST)
+
+    def bind_results(self, program, first_unit: int):
+        """The building pass's inputs: lit colour and (glass, label) on first_unit, first_unit + 1.
+        Nothing before the pass first ran (the id pass evaluates the grammar itself)."""
+        if self.result is None:
+            return
+        for offset, (name, texture) in enumerate(zip(("grammar_deferred_color", "grammar_deferred_ids"),
+                                                     self.result.colors)):
+            texture.use(first_unit + offset)
+            if name in program:
+                program[name] = first_unit + offset
+
+    def release(self):
+        for target in (self.gbuffer, self.result):
+            if target is not None:
+                target.release()
+        self.gbuffer = self.result = None
