@@ -1,5 +1,5 @@
-"""A city uploaded to the GPU: one vertex buffer for all buildings, one SSBO of building records,
-and the ground quads. Vertex arrays are cached per program."""
+"""A city uploaded to the GPU: one vertex buffer for all buildings (ordered in frustum-culled
+chunks), one SSBO of building records, and the ground quads. Vertex arrays are cached per program."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import numpy as np
 from ..grammar._city import assign_facades
 from ..relief._city import CityRelief, assign_relief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+from ._culling import BuildingChunks
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -36,6 +37,8 @@ class CityGPU:
         self.grammar_buildings = assign_facades(records, city.masses)
         self.relief_buildings = assign_relief(records, city.masses)
         self.relief = CityRelief(ctx)
+        self.chunks = BuildingChunks(vertices)
+        vertices = self.chunks.vertices
         self.building_count = len(city.masses)
         self.building_vertex_count = len(vertices)
         self.building_vbo = ctx.buffer(vertices.tobytes()) if len(vertices) else None
@@ -44,6 +47,7 @@ class CityGPU:
         self.ground_vbo = ctx.buffer(ground.tobytes())
         self.ground_vertex_count = len(ground)
         self._vaos: dict[int, moderngl.VertexArray] = {}
+        self.chunks_drawn = len(self.chunks)
 
     def _vao(self, program, vbo, fmt, attributes):
         key = (id(program), id(vbo))
@@ -56,11 +60,20 @@ class CityGPU:
             self._vaos[key] = vao
         return vao
 
-    def draw_buildings(self, program):
+    def draw_buildings(self, program, view_projection: np.ndarray | None = None):
+        """All buildings in one call; with a view-projection, only the chunks inside its frustum
+        (one call per run of neighbouring visible chunks)."""
         if self.building_vbo is None:
             return
         self.records.bind_to_storage_buffer(0)
-        self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES).render(moderngl.TRIANGLES)
+        vao = self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES)
+        if view_projection is None:
+            vao.render(moderngl.TRIANGLES)
+            return
+        runs = self.chunks.visible_runs(view_projection)
+        self.chunks_drawn = int(self.chunks.visible(view_projection).sum())
+        for first, count in runs:
+            vao.render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def draw_ground(self, program):
         self._vao(program, self.ground_vbo, GROUND_FORMAT, GROUND_ATTRIBUTES).render(moderngl.TRIANGLES)

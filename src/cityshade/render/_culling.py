@@ -1,0 +1,66 @@
+"""Frustum culling of the batched city: buildings are grouped into square chunks, each a
+contiguous vertex range with a bounding box; the visible ranges go to one multi-draw call."""
+
+from __future__ import annotations
+
+import numpy as np
+
+CHUNK_SIZE = 96.0  # metres: a city block or so
+
+
+def frustum_planes(view_projection: np.ndarray) -> np.ndarray:
+    """The six clip planes (a, b, c, d), inside where a*x + b*y + c*z + d >= 0 (Gribb & Hartmann)."""
+    m = view_projection
+    planes = np.array([m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]])
+    return planes / np.linalg.norm(planes[:, :3], axis=1, keepdims=True)
+
+
+def boxes_visible(planes: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Conservative test of boxes (N, 3) against the planes: False only when a box is entirely
+    outside one plane."""
+    # the box corner farthest along each plane's normal
+    corner = np.where(planes[None, :, :3] >= 0, hi[:, None, :], lo[:, None, :])
+    distance = np.sum(corner * planes[None, :, :3], axis=-1) + planes[None, :, 3]
+    return np.all(distance >= 0, axis=1)
+
+
+class BuildingChunks:
+    """Reorders a building vertex array chunk by chunk and remembers each chunk's range and box."""
+
+    def __init__(self, vertices: np.ndarray, chunk_size: float = CHUNK_SIZE):
+        building = vertices["ids"][:, 0]
+        positions = vertices["position"].astype(np.float64)
+        count = int(building.max()) + 1 if len(building) else 0
+        centre = np.zeros((count, 2))
+        np.add.at(centre, building, positions[:, [0, 2]])
+        centre /= np.maximum(np.bincount(building, minlength=count), 1)[:, None]
+        cell = np.floor(centre / chunk_size).astype(np.int64)
+        keys = np.unique(cell, axis=0, return_inverse=True)[1].ravel() if count else np.zeros(0, np.int64)
+        order = np.argsort(keys[building], kind="stable")  # triangles stay whole: a building's vertices stay in order
+        self.vertices = vertices[order]
+        vertex_chunk = keys[building][order]
+        chunks = int(vertex_chunk.max()) + 1 if len(vertex_chunk) else 0
+        self.first = np.searchsorted(vertex_chunk, np.arange(chunks)).astype(np.uint32)
+        self.count = np.bincount(vertex_chunk, minlength=chunks).astype(np.uint32)
+        sorted_pos = positions[order]
+        self.lo = np.full((chunks, 3), np.inf)
+        self.hi = np.full((chunks, 3), -np.inf)
+        np.minimum.at(self.lo, vertex_chunk, sorted_pos)
+        np.maximum.at(self.hi, vertex_chunk, sorted_pos)
+
+    def __len__(self) -> int:
+        return len(self.first)
+
+    def visible(self, view_projection: np.ndarray) -> np.ndarray:
+        return boxes_visible(frustum_planes(view_projection), self.lo, self.hi)
+
+    def visible_runs(self, view_projection: np.ndarray) -> list[tuple[int, int]]:
+        """(first vertex, vertex count) of the visible chunks, neighbouring chunks merged into one run."""
+        keep = self.visible(view_projection)
+        runs: list[tuple[int, int]] = []
+        for first, count in zip(self.first[keep].tolist(), self.count[keep].tolist()):
+            if runs and runs[-1][0] + runs[-1][1] == first:
+                runs[-1] = (runs[-1][0], runs[-1][1] + count)
+            else:
+                runs.append((first, count))
+        return runs
