@@ -90,10 +90,12 @@ class FrameInputs:
 def depth_prepass(f: FrameInputs):
     f.ctx.depth_func = "<"
     f.ctx.color_mask = (False, False, False, False)
-    for path, draw in (("city/building.glsl", f.city.draw_buildings), ("city/ground.glsl", f.city.draw_ground)):
-        program = f.programs.get(path, {"DEPTH_ONLY": True})
-        set_uniforms(program, u_view_proj=f.view_projection)
-        draw(program)
+    buildings = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(buildings, u_view_proj=f.view_projection)
+    f.city.draw_buildings(buildings, f.view_projection)
+    ground = f.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(ground, u_view_proj=f.view_projection)
+    f.city.draw_ground(ground)
     f.ctx.color_mask = (True, True, True, True)
     f.ctx.depth_func = "<="  # shading passes now touch only the visible surface
 
@@ -111,7 +113,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     if f.settings.grammar_deferred:
         f.textures.grammar_pass.bind_results(program, UNIT_GRAMMAR_DEFERRED + 4)
     f.city.relief.bind(program, UNIT_RELIEF)
-    f.city.draw_buildings(program)
+    f.city.draw_buildings(program, f.view_projection)
 
 
 def draw_ground(f: FrameInputs, defines: dict | None = None):
