@@ -199,7 +199,7 @@ def _table3(result: BenchResult, ctx, programs, facades: dict, quick: bool):
         draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, frames, aspect, depth_only=True)
         ctx.depth_func = "<="  # the prepass leaves only the visible facade's fragments to trace
         target.fbo.depth_mask = False
-        draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, frames, aspect)
+        draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, frames, aspect, after_prepass=True)
         target.fbo.depth_mask = True
         ctx.depth_func = "<"
 

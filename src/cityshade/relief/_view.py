@@ -111,11 +111,12 @@ def trace_view(maps: DetailMaps, camera: Camera, size: tuple[int, int]) -> Hits:
 
 def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacade, camera: Camera, renderer: str,
                  vertices: np.ndarray, frames: np.ndarray, aspect: float, lsb_mod37: bool = False,
-                 depth_only: bool = False, tiled: bool = False):
+                 depth_only: bool = False, tiled: bool = False, after_prepass: bool = False):
     """Draws every frame (FRAME_DTYPE) as an instance of the facade into the bound framebuffer;
-    depth_only draws just the quads' depth, for a prepass; tiled repeats the maps across quads
-    larger than them."""
-    defines = {**renderer_defines(renderer, lsb_mod37, tiled), "DEPTH_ONLY": depth_only}
+    depth_only draws just the quads' depth, for a prepass, and after_prepass then traces only the
+    pixels that passed it (depth writes must be off); tiled repeats the maps across quads larger
+    than them."""
+    defines = {**renderer_defines(renderer, lsb_mod37, tiled), "DEPTH_ONLY": depth_only, "EARLY_DEPTH": after_prepass}
     program = programs.get("relief/facade.glsl", defines)
     vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(np.ascontiguousarray(frames, FRAME_DTYPE).tobytes())
     vao = ctx.vertex_array(program, [(vbo, "3f4 i4", "in_position", "in_face"), (ibo, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")])

@@ -51,6 +51,12 @@ void main() {}
 #include "relief/trace.glsl"
 #include "relief/materials.glsl"
 
+#if defined EARLY_DEPTH
+// After a DEPTH_ONLY prepass: test depth before the ray is cast even though misses discard
+// (llvmpipe otherwise tests after the shader). Depth writes must be off in this pass.
+layout(early_fragment_tests) in;
+#endif
+
 in vec3 vPosition;
 flat in int vFace;
 flat in vec3 vEye;

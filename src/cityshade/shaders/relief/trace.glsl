@@ -56,11 +56,13 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
     ivec2 cell = relief_cell(p);
     if (entry_face == FACE_POS_X) cell.x = uMapSize.x - 1;
     if (entry_face == FACE_POS_Y) cell.y = uMapSize.y - 1;
-    for (int i = 0; i < FDM_MAX_STEPS; i++) {
-        if (!relief_inside(cell)) return relief_result(false, p, face, cell, i);
+    bool hit = false;
+    int steps = 0;
+    for (; steps < FDM_MAX_STEPS; steps++) {
+        if (!relief_inside(cell)) break;
         ivec2 texel = relief_texel(cell);
         float depth = float(relief_fetch(MAP_DEPTH, texel));
-        if (p.z >= depth - 1e-3) return relief_result(true, p, face, cell, i);
+        if (p.z >= depth - 1e-3) { hit = true; break; }
         uvec2 corners = uBoxes[relief_fetch(MAP_BOXES, texel)];
         vec4 box = vec4(corners.x & 0xffffu, corners.x >> 16, corners.y & 0xffffu, corners.y >> 16)
                  + vec4(cell - texel, cell - texel);  // the repeat the ray is in (0 unless tiled)
@@ -68,8 +70,11 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
         float ty = d.y > 0.0 ? (box.w - p.y) / d.y : d.y < 0.0 ? (box.y - p.y) / d.y : inf;
         float tz = d.z > 0.0 ? (depth - p.z) / d.z : d.z < 0.0 ? -p.z / d.z : inf;
         float t = min(tx, min(ty, tz));
+        // Lanes llvmpipe runs for pixels outside the triangle can carry NaN rays: they must not
+        // keep the loop going to its bound.
+        if (!(t >= 0.0 && t < inf)) break;
         if (t == tz) {
-            if (d.z <= 0.0) return relief_result(false, p, face, cell, i);  // out through the top
+            if (d.z <= 0.0) break;  // out through the top
             p += d * t;
             p.z = depth;  // land exactly on the plane so the depth test above is exact
             face = FACE_FRONT;
@@ -86,7 +91,7 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
             cell = ivec2(floor(p.x), d.y > 0.0 ? int(box.w) : int(box.y) - 1);
         }
     }
-    return relief_result(false, p, face, cell, FDM_MAX_STEPS);
+    return relief_result(hit, p, face, cell, steps);
 }
 
 #elif defined TRACER_RM
