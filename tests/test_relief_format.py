@@ -2,12 +2,15 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from PIL import Image
 
 from cityshade.errors import CityshadeError
-from cityshade.relief import (MAP_NAMES, VERSION, compress, detail_matrices, from_bytes, generate_facade,
+from cityshade.relief import (MAP_NAMES, VERSION, DetailMaps, compress, detail_matrices, from_bytes, generate_facade,
                               load_png_maps, read_compressed, save_png_maps, to_bytes, write_compressed)
 from cityshade.relief._format import MAGIC
+from relief_strategies import piecewise_constant
 
 
 @pytest.fixture(scope="module")
@@ -69,3 +72,15 @@ def test_png_errors_name_the_file(tmp_path, maps):
         load_png_maps(tmp_path / "h.png", tmp_path / "float.tiff", 0.05, 0.01)
     with pytest.raises(CityshadeError, match="missing.png: no such file"):
         load_png_maps(tmp_path / "missing.png", tmp_path / "m.png", 0.05, 0.01)
+
+
+@settings(max_examples=25, deadline=None)
+@given(piecewise_constant(max_side=24, max_value=60), st.sampled_from(["svd", "bmf"]))
+def test_random_maps_survive_the_file(depth, method):
+    maps = DetailMaps(depth, (depth % 5).astype(np.uint16), 0.1, 0.01)
+    facade = compress(maps, method)
+    back = from_bytes(to_bytes(facade))
+    matrices, boxes = detail_matrices(maps)
+    for name, matrix in back.decompress().items():
+        assert np.array_equal(matrix, matrices[name]), name
+    assert np.array_equal(back.boxes, boxes)
