@@ -11,32 +11,21 @@ from cityshade.interior import FACE_NAMES, InteriorParams, reference_ids
 from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN
-from cityshade.scene import Camera, City, box, cylinder, dome
+from cityshade.scene import make_city
 
 SIZE = (160, 120)
 MAX_MISMATCH = 0.001  # only rasterisation-edge pixels may differ
-BOUNDS = (-60.0, -60.0, 60.0, 60.0)
-GROUND = (BOUNDS[0] - GROUND_MARGIN, BOUNDS[1] - GROUND_MARGIN, BOUNDS[2] + GROUND_MARGIN, BOUNDS[3] + GROUND_MARGIN)
 
-MASSES = [
-    box((0.0, 0.0), 18.0, 13.0, 22.0, yaw=0.0, seed=11, room_width=4.5, floor_height=3.3, wall_jitter=0.3),
-    box((26.0, -4.0), 12.0, 12.0, 30.0, yaw=0.35, seed=12, room_width=4.0, floor_height=3.0),
-    cylinder((-22.0, 4.0), 14.0, 26.0, seed=13, room_width=4.0),
-    dome((-8.0, 26.0), 16.0, seed=14, room_width=4.0),
-]
-CAMERAS = {
-    "front": Camera((9.0, 6.0, -16.0), (9.0, 8.0, 6.0), fov_y=60.0),
-    "corner": Camera((-7.0, 9.0, -9.0), (6.0, 9.0, 5.0), fov_y=70.0),
-    "cylinder": Camera((-14.0, 4.0, -10.0), (-15.0, 6.0, 11.0), fov_y=60.0),
-    "yawed": Camera((36.0, 5.0, -18.0), (30.0, 10.0, 2.0), fov_y=60.0),
-    "dome": Camera((2.0, 3.0, 12.0), (0.0, 4.0, 34.0), fov_y=60.0),
-}
+
+SCENE = make_city("interior")
+MASSES = SCENE.masses
+CAMERAS = SCENE.viewpoints
 
 
 @pytest.fixture(scope="module")
 def renderer(gl_context):
     r = Renderer(SIZE, RenderSettings(lights=0.6, animation_time=1.3), ctx=gl_context)
-    r.set_city(City("ids", 0, MASSES, [], BOUNDS))
+    r.set_city(SCENE)
     yield r
     r.release()
 
@@ -55,12 +44,17 @@ def _colorise(ids: np.ndarray) -> np.ndarray:
     return np.clip(palette[ids[..., 0] % 10].astype(int) + room_tint, 0, 255).astype(np.uint8)
 
 
+def _ground() -> tuple[float, float, float, float]:
+    x0, z0, x1, z1 = SCENE.bounds
+    return x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN
+
+
 @pytest.mark.parametrize("view", sorted(CAMERAS))
 def test_gpu_ids_match_numpy_twin(renderer, view, output_dir):
     camera = CAMERAS[view]
     gpu = renderer.render_ids(camera)
     alpha = assets.facade_texture()[0][..., 3] / 255.0
-    ref = reference_ids(MASSES, camera, SIZE, _params(renderer), alpha, GROUND)
+    ref = reference_ids(MASSES, camera, SIZE, _params(renderer), alpha, _ground())
     Image.fromarray(np.hstack([_colorise(gpu), _colorise(ref)])).save(output_dir / f"interior_ids_{view}.png")
     differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
     share = differ.mean()
@@ -86,10 +80,9 @@ def test_corner_shows_the_same_room_through_both_facades(renderer):
     building0 = ids[..., 2] == 1
     interior = np.isin(ids[..., 0], [FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z, FACE_FURNITURE])
     alpha = assets.facade_texture()[0][..., 3] / 255.0
-    ref = reference_ids(MASSES, CAMERAS["corner"], SIZE, _params(renderer), alpha, GROUND)
+    ref = reference_ids(MASSES, CAMERAS["corner"], SIZE, _params(renderer), alpha, _ground())
     assert (ref[..., 1][building0 & interior] == ids[..., 1][building0 & interior]).all()
     # the corner room's id is reached through windows on both the -z facade and the -x facade
-    from cityshade.scene import Camera as _C  # noqa: F401  (documentation of intent only)
     rooms_by_facade = {}
     dirs = CAMERAS["corner"].pixel_rays(SIZE)
     eye = CAMERAS["corner"].eye

@@ -134,7 +134,27 @@ def grid_city(count: int = 100, seed: int = 1, spacing: float = 40.0, floors: in
     return City("grid", seed, masses, [], (-half, -half, half, half), viewpoints)
 
 
-CITIES = {"default": default_city, "grid": grid_city}
+def interior_city(seed: int = 0) -> City:
+    """Interior mapping's validation scene: boxes (one turned), a cylinder and a dome (paper fig. 4),
+    with viewpoints on a facade, a corner, the curved walls and the dome."""
+    masses = [
+        box((0.0, 0.0), 18.0, 13.0, 22.0, seed=seed + 11, room_width=4.5, floor_height=3.3, wall_jitter=0.3),
+        box((26.0, -4.0), 12.0, 12.0, 30.0, yaw=0.35, seed=seed + 12, room_width=4.0, floor_height=3.0),
+        cylinder((-22.0, 4.0), 14.0, 26.0, seed=seed + 13, room_width=4.0),
+        dome((-8.0, 26.0), 16.0, seed=seed + 14, room_width=4.0),
+    ]
+    viewpoints = {
+        "front": Camera((9.0, 6.0, -16.0), (9.0, 8.0, 6.0), fov_y=60.0),
+        "corner": Camera((-7.0, 9.0, -9.0), (6.0, 9.0, 5.0), fov_y=70.0),
+        "cylinder": Camera((-14.0, 4.0, -10.0), (-15.0, 6.0, 11.0), fov_y=60.0),
+        "yawed": Camera((36.0, 5.0, -18.0), (30.0, 10.0, 2.0), fov_y=60.0),
+        "dome": Camera((2.0, 3.0, 12.0), (0.0, 4.0, 34.0), fov_y=60.0),
+        "overview": Camera((-40.0, 18.0, -40.0), (0.0, 10.0, 10.0), fov_y=60.0),
+    }
+    return City("interior", seed, masses, [], (-60.0, -60.0, 60.0, 60.0), viewpoints)
+
+
+CITIES = {"default": default_city, "grid": grid_city, "interior": interior_city}
 
 
 def make_city(name: str = "default", seed: int | None = None) -> City:
