@@ -148,7 +148,7 @@ def interior_city(seed: int = 0) -> City:
         "corner": Camera((-7.0, 9.0, -9.0), (6.0, 9.0, 5.0), fov_y=70.0),
         "cylinder": Camera((-14.0, 4.0, -10.0), (-15.0, 6.0, 11.0), fov_y=60.0),
         "yawed": Camera((36.0, 5.0, -18.0), (30.0, 10.0, 2.0), fov_y=60.0),
-        "dome": Camera((2.0, 3.0, 12.0), (0.0, 4.0, 34.0), fov_y=60.0),
+        "dome": Camera((-3.0, 3.5, 15.0), (0.0, 4.0, 34.0), fov_y=60.0),
         "overview": Camera((-40.0, 18.0, -40.0), (0.0, 10.0, 10.0), fov_y=60.0),
     }
     return City("interior", seed, masses, [], (-60.0, -60.0, 60.0, 60.0), viewpoints)
