@@ -11,6 +11,7 @@ from .errors import CityshadeError
 # Modules that define `register(subparsers)`; each adds its own subcommands.
 COMMAND_MODULES = (
     "cityshade.render._cli",
+    "cityshade.render._video",
     "cityshade.viewer",
     "cityshade.bench._cli",
     "cityshade.grammar._cli",
