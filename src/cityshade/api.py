@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 
 from .render import Renderer, RenderSettings, parse_time
-from .scene import make_city
+from .scene import City, make_city
 
 
-def render_city(city: str = "default", seed: int | None = None, camera: str = "street",
+def render_city(city: str | City = "default", seed: int | None = None, camera: str = "street",
                 size: tuple[int, int] = (1280, 720), lights: float | None = None, time: str = "19:10",
                 interior_mapping: bool = True, **settings) -> tuple[np.ndarray, dict]:
-    """Renders a named city; returns the HxWx3 uint8 image and facts about the frame."""
-    layout = make_city(city, seed)
+    """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame."""
+    layout = city if isinstance(city, City) else make_city(city, seed)
     view = layout.camera(camera)
     renderer = Renderer(size, RenderSettings(lights=lights, time_of_day=parse_time(time),
                                              interior_mapping=interior_mapping, **settings))
@@ -27,6 +27,6 @@ def render_city(city: str = "default", seed: int | None = None, camera: str = "s
     return image, info
 
 
-def render(city: str = "default", **kwargs) -> np.ndarray:
+def render(city: str | City = "default", **kwargs) -> np.ndarray:
     """The city as an HxWx3 uint8 numpy array. Keywords as `render_city`."""
     return render_city(city, **kwargs)[0]

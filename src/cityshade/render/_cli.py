@@ -63,6 +63,8 @@ def save_png(image, path: Path):
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
+    parser.add_argument("--footprints", type=Path, default=None, metavar="GEOJSON",
+                        help="build the city from GeoJSON footprints (height / building:levels tags)")
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=int, default=None, help="layout seed")
     parser.add_argument("--camera", default="street", help="named viewpoint of the city")
@@ -84,7 +86,14 @@ def run(args) -> int:
         if args.scene not in SCENES:
             raise UsageError(f"unknown scene {args.scene!r}; allowed: {', '.join(SCENES) or 'none'}")
         return SCENES[args.scene](args)
-    image, info = render_city(city=args.city, seed=args.seed, camera=args.camera, size=size, lights=lights,
+    city = args.city
+    if args.footprints is not None:
+        from ..scene import load_geojson
+
+        city = load_geojson(args.footprints)
+        if args.camera == "street" and "street" not in city.viewpoints:
+            args.camera = "aerial"
+    image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,
                               time=args.time, interior_mapping=not args.no_interiors)
     save_png(image, args.out)
     print(f"wrote {args.out} ({size[0]}x{size[1]}): {info['buildings']} buildings, "

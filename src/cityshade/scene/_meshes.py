@@ -8,6 +8,7 @@ the facade, v metres up, and the window bay width), the building's index and the
 from __future__ import annotations
 
 import numpy as np
+import shapely
 
 from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES, rotation_y
@@ -75,19 +76,30 @@ def _prism_triangles(mass: BuildingMass, room: np.ndarray, smooth: bool):
         n = np.stack([d[:, 1], -d[:, 0]], axis=1)
         n /= np.linalg.norm(n, axis=1, keepdims=True)
         normals = (n, n)
-        # bays are whole rooms along axis-aligned facades, so windows sit in rooms
+        # whole bays per facade, a room wide where the facade runs along a room axis: windows sit
+        # in rooms and never touch a corner
         along_x = np.abs(d[:, 0]) >= np.abs(d[:, 1])
-        bay = np.where(along_x, room[0], room[2])
+        nominal = np.where(along_x, room[0], room[2])
+        length = np.linalg.norm(d, axis=1)
+        bay = length / np.maximum(1, np.round(length / nominal))
     edge_len = np.linalg.norm(ring[1:] - ring[:-1], axis=1)
     u0 = np.concatenate([[0.0], np.cumsum(edge_len)[:-1]]) if smooth else np.zeros(len(edge_len))
     walls = _walls(ring, normals, mass.extent[1], bay, u0)
-    # roof: fan triangulation of the (convex) footprint
-    roof = []
-    top = ring[:-1]
-    for i in range(1, len(top) - 1):
-        for p in (top[0], top[i + 1], top[i]):
-            roof.append(((p[0], mass.extent[1], p[1]), (0.0, 1.0, 0.0), (p[0], p[1], 0.0)))
+    roof = [((p[0], mass.extent[1], p[1]), (0.0, 1.0, 0.0), (p[0], p[1], 0.0)) for p in _roof_triangles(ring[:-1])]
     return walls, roof
+
+
+def _roof_triangles(outline: np.ndarray) -> list:
+    """Triangles covering a simple polygon (convex or not): constrained Delaunay triangulation."""
+    polygon = shapely.Polygon(outline)
+    if not polygon.is_valid:
+        polygon = polygon.buffer(0)
+    points = []
+    for tri in shapely.constrained_delaunay_triangles(polygon).geoms:
+        a, b, c = np.asarray(tri.exterior.coords)[:3]
+        # one winding for every roof triangle
+        points += [a, c, b] if (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0 else [a, b, c]
+    return points
 
 
 def _dome_triangles(mass: BuildingMass):

@@ -1,0 +1,74 @@
+"""GeoJSON footprints: projection, heights, turned object spaces, roofs of any shape, clear errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from cityshade.errors import CityshadeError
+from cityshade.scene import building_vertices, load_geojson, rotation_y
+from cityshade.scene._meshes import SURFACE_ROOF
+
+EXAMPLE = Path(__file__).parents[1] / "examples" / "footprints.geojson"
+
+
+def test_example_loads_every_polygon_with_its_height():
+    city = load_geojson(EXAMPLE)
+    assert len(city.masses) == 5  # a MultiPolygon gives two buildings
+    heights = sorted(round(m.height, 1) for m in city.masses)
+    assert heights == [10.0, 18.0, 18.0, 25.6, 32.0]  # default, height 18 (x2), 8 levels x 3.2, '32 m'
+
+
+def test_object_space_follows_the_footprint_and_world_positions_round_trip():
+    city = load_geojson(EXAMPLE)
+    turned = max(city.masses, key=lambda m: m.height)  # the 32 m building is turned ~10 degrees
+    assert abs(np.degrees(turned.yaw)) % 90 > 3
+    local = np.asarray(turned.footprint)
+    assert np.allclose(local.min(axis=0), 0.0)
+    world = local @ rotation_y(turned.yaw)[[0, 2]][:, [0, 2]].T + np.asarray(turned.position)
+    # the longest side of the turned footprint runs along local x
+    edges = np.diff(np.vstack([local, local[:1]]), axis=0)
+    longest = edges[np.argmax(np.linalg.norm(edges, axis=1))]
+    assert abs(longest[1]) < 1e-6 * np.linalg.norm(longest) + 1e-6
+    assert shapely.Polygon(world).area == pytest.approx(shapely.Polygon(local).area)
+
+
+def test_roof_covers_a_non_convex_footprint_exactly():
+    city = load_geojson(EXAMPLE)
+    l_shape = max(city.masses, key=lambda m: len(m.footprint))
+    assert not shapely.Polygon(l_shape.footprint).equals(shapely.Polygon(l_shape.footprint).convex_hull)
+    vertices = building_vertices(l_shape, 0)
+    roof = vertices[vertices["ids"][:, 1] == SURFACE_ROOF]["local"][:, [0, 2]].astype(float).reshape(-1, 3, 2)
+    u, v = roof[:, 1] - roof[:, 0], roof[:, 2] - roof[:, 0]
+    area = 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum()
+    assert area == pytest.approx(shapely.Polygon(l_shape.footprint).area, rel=1e-4)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ('{"type": "FeatureCollection",\n "features": [}', ":2:15: error: invalid JSON"),
+        ('{"type": "FeatureCollection", "features": []}', "at least one feature"),
+        ('{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Point", '
+         '"coordinates": [1, 2]}}]}', "feature 0: geometry type 'Point' is not a footprint"),
+    ],
+)
+def test_bad_files_name_the_problem(tmp_path, text, message):
+    path = tmp_path / "bad.geojson"
+    path.write_text(text)
+    with pytest.raises(CityshadeError, match=message.replace("(", r"\(").replace(")", r"\)")) as info:
+        load_geojson(path)
+    assert str(path) in str(info.value)
+
+
+def test_projected_coordinates_stay_in_metres(tmp_path):
+    square = [[1000.0, 2000.0], [1030.0, 2000.0], [1030.0, 2020.0], [1000.0, 2020.0], [1000.0, 2000.0]]
+    path = tmp_path / "metres.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"height": 12}, "geometry": {"type": "Polygon", "coordinates": [square]}}]}))
+    (mass,) = load_geojson(path).masses
+    assert np.allclose(sorted(mass.extent[[0, 2]]), [20.0, 30.0]) and mass.height == 12.0
