@@ -47,7 +47,7 @@ class DeferredGrammarPass:
         program = programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
         set_uniforms(program, u_view_proj=view_projection)
         grammar.bind(program, grammar_unit)
-        f.city.draw_buildings(program)
+        f.city.draw_buildings(program, view_projection)  # frustum-culled like the buildings pass
 
         result.use()
         result.fbo.clear(0.0, 0.0, 0.0, 0.0)
