@@ -10,7 +10,7 @@ import pytest
 import shapely
 
 from cityshade.errors import CityshadeError
-from cityshade.scene import building_vertices, load_geojson, rotation_y
+from cityshade.scene import building_vertices, load_footprints, load_geojson, rotation_y
 from cityshade.scene._meshes import SURFACE_ROOF
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "footprints.geojson"
@@ -72,3 +72,17 @@ def test_projected_coordinates_stay_in_metres(tmp_path):
         {"type": "Feature", "properties": {"height": 12}, "geometry": {"type": "Polygon", "coordinates": [square]}}]}))
     (mass,) = load_geojson(path).masses
     assert np.allclose(sorted(mass.extent[[0, 2]]), [20.0, 30.0]) and mass.height == 12.0
+
+
+def test_osm_extract_gives_its_closed_building_ways():
+    city = load_footprints(EXAMPLE.with_suffix(".osm"))
+    assert sorted(round(m.height, 1) for m in city.masses) == [19.2, 40.0]  # 6 levels, height 40; footway skipped
+
+
+def test_osm_errors_name_line_and_column(tmp_path):
+    path = tmp_path / "bad.osm"
+    path.write_text('<osm>\n  <node id="1" lat="1" lon="2">\n</osm>\n')
+    with pytest.raises(CityshadeError, match=r"bad.osm:3:3: error: invalid OSM XML"):
+        load_footprints(path)
+    with pytest.raises(CityshadeError, match="unknown footprint format '.shp'"):
+        load_footprints(tmp_path / "city.shp")

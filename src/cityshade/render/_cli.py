@@ -63,8 +63,9 @@ def save_png(image, path: Path):
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
-    parser.add_argument("--footprints", type=Path, default=None, metavar="GEOJSON",
-                        help="build the city from GeoJSON footprints (height / building:levels tags)")
+    parser.add_argument("--footprints", type=Path, default=None, metavar="FILE",
+                        help="build the city from footprints: GeoJSON or OpenStreetMap XML (.osm), "
+                             "extruded by height / building:levels tags")
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=int, default=None, help="layout seed")
     parser.add_argument("--camera", default="street", help="named viewpoint of the city")
@@ -88,9 +89,9 @@ def run(args) -> int:
         return SCENES[args.scene](args)
     city = args.city
     if args.footprints is not None:
-        from ..scene import load_geojson
+        from ..scene import load_footprints
 
-        city = load_geojson(args.footprints)
+        city = load_footprints(args.footprints)
         if args.camera == "street" and "street" not in city.viewpoints:
             args.camera = "aerial"
     image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,

@@ -1,4 +1,4 @@
-"""Real building footprints from GeoJSON, extruded by their height or level tags.
+"""Real building footprints from GeoJSON or OpenStreetMap XML, extruded by their height or level tags.
 
 Polygons in longitude/latitude are projected to local metres (equirectangular about the data's
 centre; north is -z). Each footprint gets its own object space, turned to the footprint's
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import re
+import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
 import numpy as np
@@ -104,6 +105,47 @@ def load_geojson(path: Path | str) -> City:
                 raise CityshadeError(f"{where}: a footprint needs at least 3 corners")
             rings.append(points)
             tags.append(_height(feature.get("properties") or {}))
+    return _city(path, rings, tags)
+
+
+def load_osm(path: Path | str) -> City:
+    """A City of the closed ways tagged `building` in an OpenStreetMap XML extract."""
+    path = Path(path)
+    try:
+        root = ElementTree.parse(path).getroot()
+    except ElementTree.ParseError as exc:
+        line, column = exc.position
+        raise CityshadeError(f"{path}:{line}:{column + 1}: error: invalid OSM XML: {exc}") from None
+    except OSError as exc:
+        raise CityshadeError(f"{path}: cannot read OSM XML ({exc})") from None
+    nodes = {n.get("id"): (float(n.get("lon")), float(n.get("lat"))) for n in root.iter("node")}
+    rings, tags = [], []
+    for way in root.iter("way"):
+        properties = {t.get("k"): t.get("v") for t in way.iter("tag")}
+        refs = [r.get("ref") for r in way.iter("nd")]
+        if "building" not in properties or len(refs) < 4 or refs[0] != refs[-1]:
+            continue
+        missing = [r for r in refs if r not in nodes]
+        if missing:
+            raise CityshadeError(f"{path}: way {way.get('id')} refers to node {missing[0]}, which the extract lacks")
+        rings.append(np.asarray([nodes[r] for r in refs]))
+        tags.append(_height(properties))
+    if not rings:
+        raise CityshadeError(f"{path}: no closed way tagged 'building'")
+    return _city(path, rings, tags)
+
+
+def load_footprints(path: Path | str) -> City:
+    """GeoJSON (.geojson, .json) or OpenStreetMap XML (.osm) by the file's extension."""
+    path = Path(path)
+    if path.suffix.lower() == ".osm":
+        return load_osm(path)
+    if path.suffix.lower() in (".geojson", ".json"):
+        return load_geojson(path)
+    raise CityshadeError(f"{path}: unknown footprint format {path.suffix!r}; use .geojson, .json or .osm")
+
+
+def _city(path: Path, rings: list[np.ndarray], tags: list[tuple[float, float]]) -> City:
     everything = np.vstack(rings)
     geographic = np.all(np.abs(everything[:, 0]) <= 180) and np.all(np.abs(everything[:, 1]) <= 90)
     centre = everything.mean(axis=0)
