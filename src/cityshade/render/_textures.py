@@ -23,10 +23,10 @@ def linear(image: np.ndarray) -> np.ndarray:
     return x.astype(np.float16)
 
 
-def _mipmapped(tex, anisotropy: float = 1.0):
+def _mipmapped(tex):
+    # trilinear, not anisotropic: llvmpipe's anisotropic filtering costs seconds per frame
     tex.build_mipmaps()
     tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-    tex.anisotropy = anisotropy
     return tex
 
 
