@@ -52,7 +52,7 @@ def test_render_writes_png_and_reports_frame(tmp_path):
     out = tmp_path / "sub" / "city.png"
     result = run_cli("render", "--size", "96x54", "--camera", "aerial", "--lights", "0.5", "--out", str(out))
     assert result.returncode == 0, result.stderr
-    assert out.exists() and "frame" in result.stdout and "ms on" in result.stdout
+    assert out.exists() and "ms (median of 3) on " in result.stdout and "4x MSAA" in result.stdout
     from PIL import Image
 
     assert Image.open(out).size == (96, 54)

@@ -52,6 +52,9 @@ def test_keys_toggle_features_and_change_lights(viewer):
     assert viewer.renderer.settings.lights == pytest.approx(0.6)
     viewer.press("P")
     assert viewer.renderer.settings.depth_prepass is False
+    viewer.press("M")
+    _frame(viewer)
+    assert viewer.renderer.samples == 4 and "MSAA 4x" in viewer.wnd.title
 
 
 def test_mouse_drag_turns_the_view(viewer):

@@ -18,9 +18,9 @@ LOOK_SPEED = 0.15       # degrees per pixel of mouse motion
 TIME_STEP = 0.25        # hours per key press
 
 TOGGLES = {"I": "interior_mapping", "P": "depth_prepass", "F": "furniture", "L": "lod", "C": "curtains"}
-KEY_NAMES = ("W", "A", "S", "D", "Q", "E", "I", "P", "F", "L", "C", "T", "G", "LEFT_BRACKET", "RIGHT_BRACKET", "ESCAPE")
+KEY_NAMES = ("W", "A", "S", "D", "Q", "E", "I", "P", "F", "L", "C", "M", "T", "G", "LEFT_BRACKET", "RIGHT_BRACKET", "ESCAPE")
 HELP = ("WASD move, Q/E down/up, drag mouse to look, I interiors, P prepass, F furniture, L LOD, "
-        "C curtains, [ ] fewer/more lit rooms, T/G later/earlier, Esc quit")
+        "C curtains, M MSAA, [ ] fewer/more lit rooms, T/G later/earlier, Esc quit")
 
 
 class FlyCamera:
@@ -94,7 +94,8 @@ class CityViewer(mglw.WindowConfig):
         hours = s.time_of_day % 24
         return (f"cityshade  {1000 / ms if ms else 0:.1f} fps ({ms:.1f} ms)  interiors {'on' if s.interior_mapping else 'off'}"
                 f"  prepass {'on' if s.depth_prepass else 'off'}  furniture {'on' if s.furniture else 'off'}"
-                f"  LOD {'on' if s.lod else 'off'}  c={lights}  {int(hours):02d}:{int(hours % 1 * 60):02d}")
+                f"  LOD {'on' if s.lod else 'off'}  MSAA {self.renderer.samples}x  c={lights}"
+                f"  {int(hours):02d}:{int(hours % 1 * 60):02d}")
 
     # --- input: keys by name, so the same actions run whatever the window backend ----------
     def press(self, name: str):
@@ -116,6 +117,8 @@ class CityViewer(mglw.WindowConfig):
             current = s.lights if s.lights is not None else 0.5
             step = 0.1 if name == "RIGHT_BRACKET" else -0.1
             return replace(s, lights=round(float(np.clip(current + step, 0.0, 1.0)), 2))
+        if name == "M":
+            return replace(s, samples=0 if s.samples else 4)
         if name in ("T", "G"):
             return replace(s, time_of_day=(s.time_of_day + (TIME_STEP if name == "T" else -TIME_STEP)) % 24)
         return None
@@ -162,11 +165,14 @@ def register(subparsers):
     parser.add_argument("--camera", default="street")
     parser.add_argument("--time", default="19:10", help="time of day HH:MM")
     parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
+    parser.add_argument("--samples", type=int, default=0, choices=(0, 2, 4, 8),
+                        help="MSAA samples to start with (M toggles; off by default: llvmpipe shades every sample)")
     parser.set_defaults(run=_run)
 
 
 def _run(args) -> int:
-    viewer = open_viewer(args.city, args.camera, RenderSettings(time_of_day=parse_time(args.time)), args.window)
+    settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples)
+    viewer = open_viewer(args.city, args.camera, settings, args.window)
     print(HELP)
     mglw.run_window_config_instance(viewer)
     return 0

@@ -37,6 +37,11 @@ class Renderer:
         self.last_frame_seconds = float("nan")
 
     @property
+    def samples(self) -> int:
+        """MSAA samples in use: the setting, clamped to the device's maximum."""
+        return min(self.settings.samples, self.ctx.max_samples) if self.settings.samples else 0
+
+    @property
     def device(self) -> str:
         return describe_context(self.ctx)
 
