@@ -15,6 +15,8 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
+from .._files import atomic_output
+
 
 @dataclass
 class BenchResult:
@@ -90,6 +92,5 @@ def write(result: BenchResult, out_dir: Path, json_path: Path | None = None, con
 
 
 def _atomic_write(path: Path, text: str):
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+    with atomic_output(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")

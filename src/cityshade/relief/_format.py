@@ -13,14 +13,13 @@ Layout (little endian):
 from __future__ import annotations
 
 import json
-import os
 import struct
-import tempfile
 import zlib
 from pathlib import Path
 
 import numpy as np
 
+from .._files import atomic_output
 from ..errors import CityshadeError
 from ._compress import MAP_NAMES, CompressedFacade
 from ._factor import Factors
@@ -67,15 +66,8 @@ def to_bytes(facade: CompressedFacade) -> bytes:
 def write_compressed(path: Path, facade: CompressedFacade):
     """Writes to a temporary file beside path, then renames: never a half-written file."""
     data = to_bytes(facade)
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent or Path("."))
-    try:
-        with os.fdopen(fd, "wb") as out:
-            out.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
+    with atomic_output(Path(path)) as tmp:
+        tmp.write_bytes(data)
 
 
 def read_compressed(path: Path) -> CompressedFacade:

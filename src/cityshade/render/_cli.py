@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import os
 import re
-import tempfile
 from pathlib import Path
 
+from .._files import atomic_output
 from ..errors import UsageError
 from ..scene import CITIES
 
@@ -49,15 +49,8 @@ def save_png(image, path: Path):
     """Writes atomically: a finished PNG or nothing."""
     from PIL import Image
 
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".png", dir=path.parent)
-    os.close(fd)
-    try:
-        Image.fromarray(image).save(tmp)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    with atomic_output(path) as tmp:
+        Image.fromarray(image).save(tmp, format="PNG")
 
 
 def register(subparsers):

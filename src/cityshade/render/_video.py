@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import replace
 from pathlib import Path
 
 import imageio.v2 as imageio
 from rich.progress import Progress
 
+from .._files import atomic_output
 from ..errors import UsageError
 from ..scene import make_city
 from ..scene._paths import PATHS, camera_path
@@ -32,12 +31,10 @@ def render_video(out: Path, city: str = "default", path: str = "orbit", frames: 
     finish = parse_time(end_time) if end_time else begin
     renderer = Renderer(size, RenderSettings(time_of_day=begin))
     renderer.set_city(layout)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".mp4", dir=out.parent)
-    os.close(fd)
     try:
-        with imageio.get_writer(tmp, fps=fps, codec="libx264", quality=8, macro_block_size=1,
-                                ffmpeg_log_level="error") as writer, Progress(disable=not progress) as bar:
+        with atomic_output(out) as tmp, imageio.get_writer(tmp, fps=fps, codec="libx264", quality=8,
+                                                          macro_block_size=1, ffmpeg_log_level="error") as writer, \
+                Progress(disable=not progress) as bar:
             task = bar.add_task(f"rendering {out.name}", total=frames)
             for i in range(frames):
                 t = i / max(frames - 1, 1)
@@ -45,11 +42,8 @@ def render_video(out: Path, city: str = "default", path: str = "orbit", frames: 
                                               animation_time=i / fps))
                 writer.append_data(renderer.render(move(layout, t)))
                 bar.advance(task)
-        os.replace(tmp, out)
     finally:
         renderer.release()
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     return out
 
 
