@@ -75,8 +75,9 @@ def _grow(start, direction, length, radius, level, species, rng, wind0) -> Branc
     step = length / segments
     points, d = [np.asarray(start, float)], np.asarray(direction, float)
     for _ in range(segments):
-        d = _rotate(d, _perpendicular(d), rng.normal(0, species.gnarl))
-        d = d + np.array([0.0, species.tropism * step * 4, 0.0])
+        d = _rotate(d, _perpendicular(d), rng.normal(0, species.gnarl * (0.3 if level == 0 else 1.0)))
+        if level > 0:  # the trunk stays upright; branches bend up or droop
+            d = d + np.array([0.0, species.tropism * step * 4, 0.0])
         d /= np.linalg.norm(d)
         points.append(points[-1] + d * step)
     s = np.linspace(0.0, 1.0, segments + 1)
@@ -237,7 +238,7 @@ def generate_tree(species: Species, seed: int = 0) -> TreeModel:
         branch_idx = np.concatenate([q + o for (_, q), o in zip(parts, offsets)]).astype(np.uint32)
         cards, card_idx = _leaf_cards(leaf_branches, species, np.random.default_rng(seed + 1), keep, scale)
         if species.fronds:
-            fronds, frond_idx = _fronds(leaf_branches, species, species.leaf_size * 1.1)
+            fronds, frond_idx = _fronds(leaf_branches, species, species.leaf_size * 1.6)
         else:
             fronds, frond_idx = np.zeros((0, 9), np.float32), np.zeros(0, np.uint32)
         model.lods.append(TreeMesh(branch_verts, branch_idx, cards, card_idx, fronds, frond_idx))

@@ -1,0 +1,24 @@
+// Bark shading shared by the trunk mesh and the silhouette fins: colour, tangent-space normal,
+// sun + sky light and the cascaded shadow.
+#ifndef TREES_BARK_GLSL
+#define TREES_BARK_GLSL
+
+#include "common/lighting.glsl"
+#include "shadow/csm.glsl"
+
+uniform sampler2DArray u_bark_color;   // rgb colour, a height (1 = outermost)
+uniform sampler2DArray u_bark_normal;  // tangent-space normal
+uniform float u_bark_layer;
+
+float bark_height(vec2 uv) {
+    return textureLod(u_bark_color, vec3(uv, u_bark_layer), 0.0).a;
+}
+
+vec3 shade_bark(vec2 uv, vec3 t, vec3 b, vec3 n, vec3 world) {
+    vec3 albedo = texture(u_bark_color, vec3(uv, u_bark_layer)).rgb;
+    vec3 nt = texture(u_bark_normal, vec3(uv, u_bark_layer)).xyz * 2.0 - 1.0;
+    vec3 normal = normalize(t * nt.x + b * nt.y + n * nt.z);
+    return lit_surface(albedo, normal, shadow_factor(world));
+}
+
+#endif

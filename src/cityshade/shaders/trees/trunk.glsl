@@ -1,0 +1,55 @@
+// Tree trunks and branches: generalised cylinders, relief-mapped bark (§4.2).
+// Defines: RELIEF (relief mapping; off = normal-mapped bark), SHADOW_PASS (depth only),
+// NO_SHADOWS. The LOD cross-fade alpha goes to alpha to coverage (§4.6.2).
+
+#if defined VERTEX_SHADER
+#include "trees/instance.glsl"
+uniform mat4 u_view_proj;
+in vec3 in_position;
+in vec3 in_normal;
+in vec3 in_tangent;
+in vec2 in_uv;
+in float in_radius;
+in float in_wind;
+out vec3 v_world;
+out vec3 v_normal;
+out vec3 v_tangent;
+out vec2 v_uv;
+out float v_fade;
+void main() {
+    vec3 world = tree_to_world(in_position);
+    world += wind_offset(world, in_wind);
+    v_world = world;
+    v_normal = tree_dir_to_world(in_normal);
+    v_tangent = tree_dir_to_world(in_tangent);
+    v_uv = in_uv;
+    v_fade = in_params.y;
+    gl_Position = u_view_proj * vec4(world, 1.0);
+}
+#endif
+
+#if defined FRAGMENT_SHADER
+in vec3 v_world;
+in vec3 v_normal;
+in vec3 v_tangent;
+in vec2 v_uv;
+in float v_fade;
+#if defined SHADOW_PASS
+void main() {}
+#else
+#include "trees/relief.glsl"
+uniform vec3 u_camera;
+layout(location = 0) out vec4 out_color;
+void main() {
+    vec3 n = normalize(v_normal);
+    vec3 t = normalize(v_tangent - n * dot(v_tangent, n));
+    vec3 b = cross(n, t);
+    vec2 uv = v_uv;
+#if defined RELIEF
+    vec3 view = normalize(v_world - u_camera);
+    uv = relief_trace(uv, vec3(dot(view, t), dot(view, b), dot(view, n)));
+#endif
+    out_color = vec4(shade_bark(uv, t, b, n, v_world), v_fade);
+}
+#endif
+#endif

@@ -1,0 +1,21 @@
+"""LOD cross-fade with alpha to coverage (§4.6.2).
+
+Two LODs drawn on top of each other with the same alpha would get the same coverage mask, so
+the fade curves are offset: the near LOD stays opaque over the first part of the band while the
+far one fades in, then the near one fades out. Mid-band both are partly transparent (the
+chapter notes the same).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+OVERLAP = 0.35  # share of the band over which both LODs are drawn
+
+
+def lod_alphas(distance, start: float, end: float):
+    """(near LOD alpha, far LOD alpha) at the given distances; the band is [start, end]."""
+    t = np.clip((np.asarray(distance, float) - start) / (end - start), 0.0, 1.0)
+    near = np.clip((1.0 - t) / (0.5 + OVERLAP / 2), 0.0, 1.0)
+    far = np.clip(t / (0.5 + OVERLAP / 2), 0.0, 1.0)
+    return near, far

@@ -1,0 +1,213 @@
+"""The tree pass on the GPU: fins against their numpy twin, alpha to coverage, leaf shadows, LODs.
+
+Images are small; every test that renders writes its picture to tests/output/ to be looked at.
+"""
+
+import moderngl
+import numpy as np
+import pytest
+from PIL import Image
+
+from cityshade.gl import ProgramCache, RenderTarget, create_context
+from cityshade.render._daylight import Daylight
+from cityshade.render._shadows import CascadedShadows
+from cityshade.render._trees import PARTS, TreePass, TreeSettings
+from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, set_uniforms
+from cityshade.scene import Camera
+from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas, tree_instances
+
+SIZE = (128, 128)
+
+
+@pytest.fixture(scope="module")
+def ctx():
+    context = create_context()
+    yield context
+    context.release()
+
+
+@pytest.fixture(scope="module")
+def programs(ctx):
+    return ProgramCache(ctx)
+
+
+def one_tree(ctx, programs, species="oak", **settings):
+    trees = tree_instances([(0, 0, 0)], species, np.random.default_rng(0))
+    trees["yaw"], trees["scale"] = 0.0, 1.0
+    return TreePass(ctx, programs, trees, TreeSettings(**settings))
+
+
+def frame_uniforms(camera, daylight, aspect=1.0):
+    return dict(u_view_proj=camera.view_projection(aspect), u_camera=camera.eye, u_sun_dir=daylight.sun_direction,
+                u_sun_color=daylight.sun_color, u_sky_ambient=daylight.sky_ambient,
+                u_ground_ambient=daylight.ground_ambient)
+
+
+def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
+           background=(0.0, 0.0, 0.0), fade=None):
+    daylight = Daylight.at(16.0)
+    tree_pass.prepare(camera.eye)
+    if fade is not None:  # only the near LOD, at this alpha
+        for (species, lod), (buffer, count) in tree_pass.instances.items():
+            data = np.frombuffer(buffer.read(), np.float32).reshape(-1, 8)[:count].copy()
+            data[:, 5] = fade
+            buffer.write(data.tobytes())
+            tree_pass.instances[species, lod] = (buffer, count if lod == 0 else 0)
+    if shadows is not None:
+        shadows.update(0, camera, 1.0, daylight.sun_direction, tree_pass.draw_shadow)
+    hdr = RenderTarget(ctx, SIZE, (("f2", 4),), samples=samples)
+    out = RenderTarget(ctx, SIZE, (("f2", 4),))
+    hdr.use()
+    ctx.clear(*background, 1.0, depth=1.0)
+    tree_pass.draw(frame_uniforms(camera, daylight), camera.view(), shadows, parts=parts)
+    ctx.copy_framebuffer(out.fbo, hdr.fbo)
+    image = out.read()[..., :3].astype(np.float32)
+    hdr.release()
+    out.release()
+    return image
+
+
+def save(image, name):
+    x = np.clip(image, 0, None)
+    x = np.clip((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0, 1) ** (1 / 2.2)
+    Image.fromarray((x * 255).astype(np.uint8)).save(f"tests/output/{name}.png")
+
+
+def capture_fins(ctx, programs, positions, normals, eye, depth):
+    """Runs the fin geometry shader with transform feedback; returns the emitted world positions."""
+    program = programs.get("trees/fins.glsl", {"NO_SHADOWS": True}, varyings=("g_world", "g_w"))
+    verts = np.zeros((len(positions) * 3, 13), np.float32)
+    verts[:, 0:3] = positions.reshape(-1, 3)
+    verts[:, 3:6] = normals.reshape(-1, 3)
+    verts[:, 6:9] = np.cross(normals.reshape(-1, 3), [0.0, 1.0, 0.0]) + [1e-3, 0, 0]
+    verts[:, 11] = 0.5
+    instance = np.array([0, 0, 0, 0, 1, 1, 0, 0], np.float32)
+    vbo, ibo = ctx.buffer(verts.tobytes()), ctx.buffer(instance.tobytes())
+    layout, attributes = PARTS["fins"][1], PARTS["fins"][2]
+    fmt = " ".join(f if a in program else f"{int(f[:-1]) * 4}x" for f, a in zip(layout.split(), attributes))
+    vao = ctx.vertex_array(program, [(vbo, fmt, *[a for a in attributes if a in program]),
+                                     (ibo, "4f 4f/i", "in_place", "in_params")])
+    set_uniforms(program, u_camera=np.asarray(eye, float), u_view_proj=np.identity(4), u_relief_depth=depth,
+                 u_fin_fade=np.array([1e6, 2e6]), u_time=0.0, u_wind=np.zeros(3),
+                 u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL)  # samplers of two types may not share a unit
+    out = ctx.buffer(np.full(len(positions) * 6 * 4, np.nan, np.float32).tobytes())
+    target = RenderTarget(ctx, (4, 4))  # transform feedback still wants a complete framebuffer bound
+    target.use()
+    vao.transform(out, moderngl.TRIANGLES, vertices=len(verts))
+    target.release()
+    data = np.frombuffer(out.read(), np.float32).reshape(-1, 4)
+    data = data[~np.isnan(data[:, 0])]
+    for obj in (vao, vbo, ibo, out):
+        obj.release()
+    return data
+
+
+def test_fins_match_the_numpy_reference_on_a_trunk(ctx, programs):
+    mesh = generate_tree(OAK, 3).lods[1]
+    tri = mesh.branch_indices.reshape(-1, 3)
+    positions, normals = mesh.branches[tri, 0:3], mesh.branches[tri, 3:6]
+    eye = np.array([3.0, 2.0, 9.0])
+    triangles, quads = extrude_fins(positions, normals, eye, 0.05)
+    captured = capture_fins(ctx, programs, positions, normals, eye, 0.05)
+    assert len(quads) > 50
+    assert len(captured) == len(quads) * 6  # two triangles per fin, none for the other triangles
+    # Strip order V0, V3, V1, V2 as triangles (V0 V3 V1) (V1 V3 V2) -> compare as point sets.
+    for k, quad in enumerate(quads):
+        fin = captured[6 * k: 6 * k + 6]
+        expected = np.array([quad[0], quad[3], quad[1], quad[2]])
+        got = np.unique(np.round(fin[:, :3], 4), axis=0)
+        assert len(got) == 4
+        for point, w in zip(expected, (0, 1, 0, 1)):
+            nearest = np.argmin(np.linalg.norm(fin[:, :3] - point, axis=1))
+            assert np.linalg.norm(fin[nearest, :3] - point) < 1e-4
+            assert fin[nearest, 3] == w
+        # Silhouette points lie where N.V = 0 (the interpolated normal is perpendicular to the view).
+        for point, top in ((quad[0], quad[3]), (quad[1], quad[2])):
+            n = (top - point) / np.linalg.norm(top - point)
+            assert abs(np.dot(n, (eye - point) / np.linalg.norm(eye - point))) < 0.2
+
+
+def test_no_fin_without_a_sign_change_and_none_for_degenerate(ctx, programs):
+    front = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], float)
+    normals = np.array([[[0, 0, 1]] * 3], float)
+    eye = (0.3, 0.3, 5.0)
+    assert len(extrude_fins(front, normals, eye, 0.1)[1]) == 0
+    assert len(capture_fins(ctx, programs, front, normals, eye, 0.1)) == 0
+    # One vertex exactly orthogonal to the view, the others in front: both crossings collapse to it.
+    eye = np.array([0.0, 0.0, 5.0])
+    tri = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], float)
+    n0 = np.cross(eye - tri[0, 0], [0, 1, 0])
+    n0 /= np.linalg.norm(n0)
+    normals = np.array([[n0, [0, 0, 1], [0, 0, 1]]], float)
+    assert len(extrude_fins(tri, normals, eye, 0.1)[1]) == 0
+    assert len(capture_fins(ctx, programs, tri, normals, eye, 0.1)) == 0
+
+
+def test_alpha_to_coverage_turns_alpha_into_coverage(ctx, programs):
+    """A trunk drawn at LOD fade alpha 0.5 covers 2 of 4 samples; without A2C it is opaque."""
+    camera = Camera((0, 1.5, 2.5), (0, 1.5, 0), fov_y=40, near=0.1, far=50)
+    results = {}
+    for a2c in (True, False):
+        tree = one_tree(ctx, programs, alpha_to_coverage=a2c, fins=False, relief=False)
+        faded = render(ctx, tree, camera, parts=("trunks",), fade=0.5)
+        opaque = render(ctx, tree, camera, parts=("trunks",), fade=1.0)
+        inside = opaque.sum(axis=2) > 0.05
+        results[a2c] = np.median(faded[inside].sum(axis=1) / opaque[inside].sum(axis=1))
+        tree.release()
+    assert results[True] == pytest.approx(0.5, abs=0.02)
+    assert results[False] == pytest.approx(1.0, abs=0.02)
+
+
+def test_alpha_test_edges_are_hard_and_coverage_edges_soft(ctx, programs):
+    camera = Camera((0, 5.0, 9.0), (0, 5.0, 0), fov_y=50, near=0.1, far=80)
+    images = {}
+    for a2c, samples in ((False, 4), (False, 0), (True, 4)):
+        tree = one_tree(ctx, programs, alpha_to_coverage=a2c, shadows=False)
+        images[a2c, samples] = render(ctx, tree, camera, samples=samples, parts=("leaves",))
+        tree.release()
+    save(images[True, 4], "trees_leaves_a2c")
+    save(images[False, 4], "trees_leaves_alpha_test")
+    # Alpha test: multisampling adds nothing inside a card, so the 4x image equals the 1x image.
+    hard = np.abs(images[False, 4] - images[False, 0]).max(axis=2) > 1e-3
+    soft = np.abs(images[True, 4] - images[False, 0]).max(axis=2) > 1e-3
+    assert hard.mean() < 0.002
+    assert soft.mean() > 0.01
+
+
+def test_lod_fade_curves_are_offset():
+    """Both LODs are drawn across the band; the near one stays opaque while the far one fades in."""
+    d = np.linspace(40, 80, 81)
+    near, far = lod_alphas(d, 45.0, 75.0)
+    assert near[0] == 1 and far[0] == 0 and near[-1] == 0 and far[-1] == 1
+    assert np.all(np.diff(near) <= 0) and np.all(np.diff(far) >= 0)
+    both = (near > 0) & (far > 0)
+    assert both.any() and np.all(np.maximum(near, far)[both] >= 0.74)  # never both half transparent
+
+
+def test_leaves_shadow_leaves(ctx, programs):
+    camera = Camera((0, 5.0, 9.0), (0, 5.0, 0), fov_y=50, near=0.1, far=80)
+    lit_tree = one_tree(ctx, programs, shadows=False)
+    tree = one_tree(ctx, programs)
+    shadows = CascadedShadows(ctx, 512, shadow_far=40.0)
+    lit = render(ctx, lit_tree, camera, parts=("leaves",))
+    shaded = render(ctx, tree, camera, shadows=shadows, parts=("leaves",))
+    save(shaded, "trees_leaf_self_shadow")
+    leaf = lit.sum(axis=2) > 0.02
+    darker = (shaded.sum(axis=2) < 0.8 * lit.sum(axis=2)) & leaf
+    assert 0.1 < darker.sum() / leaf.sum() < 0.85  # some leaves in the shade of others, not all
+    for obj in (lit_tree, tree, shadows):
+        obj.release()
+
+
+@pytest.mark.parametrize("species", ["oak", "fir", "poplar"])
+def test_single_tree_picture(ctx, programs, species):
+    tree = one_tree(ctx, programs, species)
+    height = tree.models[next(iter(tree.models))].height
+    camera = Camera((0, height * 0.45, height * 1.3), (0, height * 0.45, 0), fov_y=55, near=0.1, far=200)
+    shadows = CascadedShadows(ctx, 512, shadow_far=60.0)
+    image = render(ctx, tree, camera, shadows=shadows, background=(0.45, 0.6, 0.8))
+    save(image, f"trees_single_{species}")
+    sky = np.abs(image - np.array([0.45, 0.6, 0.8])).max(axis=2) < 0.01
+    assert 0.05 < 1 - sky.mean() < 0.8  # the tree is there and fits the frame
+    tree.release()
+    shadows.release()
