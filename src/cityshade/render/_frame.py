@@ -2,12 +2,15 @@
 
     0. facade grammar    only with settings.grammar_deferred: G-buffer + one full-screen grammar
                          evaluation per pixel (Krecklau §4), read back by the buildings pass
-    1. depth prepass     all opaque geometry into the z-buffer (interior-mapping §3.1 "z-cull")
-    2. buildings         facades; behind the glass, interior-mapped rooms
-    3. ground            streets, pavements, parks
-    4. sky               environment map where nothing was drawn
-    5. resolve           multisampled HDR -> single-sample HDR
-    6. tone map          HDR -> sRGB 8-bit
+    1. shadows           cascaded shadow maps of buildings and trees, each cascade at its own
+                         rate (SpeedTree §4.3.2; _shadows.py)
+    2. depth prepass     all opaque geometry into the z-buffer (interior-mapping §3.1 "z-cull")
+    3. buildings         facades; behind the glass, interior-mapped rooms
+    4. ground            streets, pavements, parks; receives the shadows
+    5. trees             trunks, fins, leaf cards, fronds with alpha to coverage (_trees.py)
+    6. sky               environment map where nothing was drawn
+    7. resolve           multisampled HDR -> single-sample HDR
+    8. tone map          HDR -> sRGB 8-bit
 
 `draw_ids` renders the id AOV (face, room, building) used by tests and datasets.
 """
@@ -26,7 +29,9 @@ from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._settings import RenderSettings
+from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
+from ._trees import TreePass, draw_trees
 from ._uniforms import (
     UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
     UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
@@ -49,6 +54,9 @@ class FrameInputs:
     settings: RenderSettings
     daylight: Daylight
     size: tuple[int, int]
+    shadows: CascadedShadows | None = None
+    trees: TreePass | None = None
+    frame_index: int = 0
 
     @property
     def view_projection(self) -> np.ndarray:
@@ -117,8 +125,10 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
 
 
 def draw_ground(f: FrameInputs, defines: dict | None = None):
-    program = f.programs.get("city/ground.glsl", defines or {})
+    program = f.programs.get("city/ground.glsl", {"NO_SHADOWS": f.shadows is None, **(defines or {})})
     set_uniforms(program, **f.common_uniforms())
+    if f.shadows is not None:
+        f.shadows.bind(program)
     f.city.draw_ground(program)
 
 
@@ -143,6 +153,7 @@ def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, displa
     ctx = f.ctx
     if f.settings.grammar_deferred:
         grammar_deferred_pass(f)
+    shadow_pass(f)
     hdr.use()
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.disable(moderngl.CULL_FACE)
@@ -153,6 +164,7 @@ def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, displa
         depth_prepass(f)
     draw_buildings(f)
     draw_ground(f)
+    draw_trees(f)
     draw_sky(f)
     ctx.copy_framebuffer(resolved.fbo, hdr.fbo)
     tone_map(f, resolved.colors[0], display)

@@ -14,7 +14,10 @@ from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._frame import FrameInputs, draw_frame, draw_ids
 from ._settings import RenderSettings
+from ._shadows import CascadedShadows
 from ._textures import CityTextures, cubemap
+from ._trees import TreePass
+from ..trees import city_trees
 
 ENV_SIZE = 128
 
@@ -30,6 +33,9 @@ class Renderer:
         self.programs = ProgramCache(self.ctx)
         self.textures = CityTextures.create(self.ctx, self.settings.room_texture_size, self.settings.room_variants)
         self.city: CityGPU | None = None
+        self.trees: TreePass | None = None
+        self.shadows: CascadedShadows | None = None
+        self.frame_index = 0  # drives the shadow cascades' update rates
         self._env_key = None
         self.env = None
         self._targets = None
@@ -49,6 +55,9 @@ class Renderer:
         if self.city is not None:
             self.city.release()
         self.city = CityGPU(self.ctx, city)
+        if self.trees is not None:
+            self.trees.release()
+        self.trees = TreePass(self.ctx, self.programs, city_trees(city), seed=city.seed)
 
     def set_settings(self, settings: RenderSettings):
         if settings.room_texture_size != self.settings.room_texture_size or settings.room_variants != self.settings.room_variants:
@@ -84,8 +93,12 @@ class Renderer:
         if self.city is None:
             raise RuntimeError("no city: call set_city() first")
         daylight = self._daylight()
+        if self.settings.shadows and self.shadows is None:
+            self.shadows = CascadedShadows(self.ctx)
+        self.frame_index += 1
         return FrameInputs(self.ctx, self.programs, self.city, self.textures, self.env, camera, self.settings,
-                           daylight, self.size)
+                           daylight, self.size, shadows=self.shadows if self.settings.shadows else None,
+                           trees=self.trees if self.settings.trees else None, frame_index=self.frame_index - 1)
 
     def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None) -> RenderTarget:
         """Draws one frame; returns the display target (also blitted to `framebuffer` if given)."""
@@ -122,3 +135,6 @@ class Renderer:
         self.textures.release()
         if self.env is not None:
             self.env.release()
+        for owned in (self.trees, self.shadows):
+            if owned is not None:
+                owned.release()

@@ -236,3 +236,13 @@ class TreePass:
             buffer.release()
         for tex in self.textures.values():
             tex.release()
+
+
+def draw_trees(f) -> int:
+    """The frame's tree pass (after the ground, before the sky); `f` is the frame's FrameInputs."""
+    if f.trees is None:
+        return 0
+    f.trees.prepare(f.camera.eye)
+    calls = f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows, time=f.settings.animation_time)
+    f.bind_textures()  # the tree textures took units of their own; restore the city's for later passes
+    return calls

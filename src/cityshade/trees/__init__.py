@@ -7,7 +7,7 @@ from ._fins import extrude_fins, fin_width
 from ._generator import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES,
                          FROND_LAYOUT, TreeMesh, TreeModel, generate_tree, skeleton)
 from ._lod import lod_alphas
-from ._placement import SPECIES_ORDER, TREE_DTYPE, park_trees, street_trees, tree_instances
+from ._placement import SPECIES_ORDER, TREE_DTYPE, city_trees, park_trees, street_trees, tree_instances
 from ._species import FIR, OAK, POPLAR, SPECIES, Species
 from ._textures import BarkTextures, LeafTextures, bark_textures, leaf_textures
 
@@ -16,7 +16,7 @@ __all__ = [
     "light_basis", "split_distances", "texture_matrix", "extrude_fins", "fin_width",
     "BRANCH_ATTRIBUTES", "BRANCH_LAYOUT", "CARD_ATTRIBUTES", "CARD_LAYOUT", "FROND_ATTRIBUTES", "FROND_LAYOUT",
     "TreeMesh", "TreeModel", "generate_tree", "skeleton", "lod_alphas",
-    "SPECIES_ORDER", "TREE_DTYPE", "park_trees", "street_trees", "tree_instances",
+    "SPECIES_ORDER", "TREE_DTYPE", "city_trees", "park_trees", "street_trees", "tree_instances",
     "FIR", "OAK", "POPLAR", "SPECIES", "Species",
     "BarkTextures", "LeafTextures", "bark_textures", "leaf_textures",
 ]

@@ -40,15 +40,29 @@ def park_trees(rect, seed: int, spacing: float = 9.0) -> np.ndarray:
     return tree_instances(positions, species, rng)
 
 
-def street_trees(streets, seed: int, spacing: float = 14.0, inset: float = 1.2, species: str = "poplar") -> np.ndarray:
-    """A row of trees along both kerbs of each street rectangle (x0, z0, x1, z1), on its long axis."""
+def street_trees(streets, seed: int, spacing: float = 18.0, inset: float = 1.2, species: str = "poplar") -> np.ndarray:
+    """Rows of trees on the pavement strips along both kerbs of each street rectangle (x0, z0, x1,
+    z1), `inset` metres in from its edges, skipping the crossings with the other streets."""
     rng = np.random.default_rng(seed)
+    rects = np.asarray(streets, float).reshape(-1, 4)
     positions = []
-    for x0, z0, x1, z1 in streets:
+    for index, (x0, z0, x1, z1) in enumerate(rects):
         along_x = (x1 - x0) >= (z1 - z0)
-        length = (x1 - x0) if along_x else (z1 - z0)
-        steps = np.arange(spacing / 2, length, spacing)
-        for edge in ((z0 - inset, z1 + inset) if along_x else (x0 - inset, x1 + inset)):
-            for s in steps:
-                positions.append((x0 + s, 0.0, edge) if along_x else (edge, 0.0, z0 + s))
+        start, end = (x0, x1) if along_x else (z0, z1)
+        for s in np.arange(start + spacing / 2, end, spacing):
+            for edge in ((z0 + inset, z1 - inset) if along_x else (x0 + inset, x1 - inset)):
+                x, z = (s, edge) if along_x else (edge, s)
+                others = np.delete(rects, index, axis=0)
+                crossing = (others[:, 0] - 4 < x) & (x < others[:, 2] + 4) & (others[:, 1] - 4 < z) & (z < others[:, 3] + 4)
+                if not crossing.any():
+                    positions.append((x, 0.0, z))
     return tree_instances(positions, species, rng)
+
+
+def city_trees(city, seed: int | None = None) -> np.ndarray:
+    """The trees of a city: groves filling its parks and rows along its streets."""
+    seed = city.seed if seed is None else seed
+    groups = [park_trees(rect, seed + k) for k, rect in enumerate(city.parks)]
+    if city.streets:
+        groups.append(street_trees(city.streets, seed))
+    return np.concatenate(groups) if groups else np.zeros(0, TREE_DTYPE)

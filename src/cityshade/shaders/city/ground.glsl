@@ -21,6 +21,7 @@ void main() {}
 #include "common/lighting.glsl"
 #include "common/hash.glsl"
 #include "interior/faces.glsl"
+#include "shadow/csm.glsl"
 in vec3 v_world;
 flat in int v_material;
 #if defined ID_PASS
@@ -51,7 +52,7 @@ void main() {
     } else {
         albedo = vec3(0.085, 0.085, 0.09) * (0.85 + 0.3 * grain(v_world.xz * 8.0));
     }
-    out_color = vec4(lit_surface(albedo, vec3(0.0, 1.0, 0.0), 1.0), 1.0);
+    out_color = vec4(lit_surface(albedo, vec3(0.0, 1.0, 0.0), shadow_factor(v_world)), 1.0);
 #endif
 }
 #endif
