@@ -27,7 +27,8 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
             image = renderer.render(view)
             times.append(renderer.last_frame_seconds)
         info = {"frame_ms": statistics.median(times) * 1000 if times else float("nan"), "frames": frames,
-                "device": renderer.device, "buildings": len(layout.masses), "samples": renderer.samples}
+                "device": renderer.device, "buildings": len(layout.masses), "samples": renderer.samples,
+                "trees": len(renderer.trees.trees) if renderer.trees is not None else 0}
     finally:
         renderer.release()
     return image, info

@@ -10,7 +10,20 @@ from .._files import atomic_output
 from ..errors import UsageError
 from ..scene import CITIES
 
-SCENES = {}  # extra scenes registered by technique packages: name -> callable(args) -> exit code
+def _trees_scene(args) -> int:
+    """A park at low sun seen toward the sun: back-lit leaves, god rays, cascaded shadows."""
+    from ..api import render_city
+    from ..trees import SCENE_TIME, park_scene
+
+    camera = args.camera if args.camera != "street" else "park"
+    image, info = render_city(city=park_scene(), camera=camera, size=parse_size(args.size), time=SCENE_TIME,
+                              samples=args.samples)
+    save_png(image, args.out)
+    print(f"wrote {args.out}: {info['trees']} trees, frame {info['frame_ms']:.1f} ms on {info['device']}")
+    return 0
+
+
+SCENES = {"trees": _trees_scene}  # a technique's own scene: name -> callable(args) -> exit code
 
 
 def parse_size(text: str) -> tuple[int, int]:

@@ -10,7 +10,7 @@
     5. trees             trunks, fins, leaf cards, fronds with alpha to coverage (_trees.py)
     6. sky               environment map where nothing was drawn
     7. resolve           multisampled HDR -> single-sample HDR
-    8. tone map          HDR -> sRGB 8-bit
+    8. tone map          god rays around the sun (SpeedTree §4.5), then HDR -> sRGB 8-bit
 
 `draw_ids` renders the id AOV (face, room, building) used by tests and datasets.
 """
@@ -28,6 +28,7 @@ from ..scene import Camera
 from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
+from ._godrays import god_ray_uniforms
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
@@ -142,9 +143,10 @@ def draw_sky(f: FrameInputs):
 def tone_map(f: FrameInputs, hdr: moderngl.Texture, target: RenderTarget):
     target.use()
     f.ctx.disable(moderngl.DEPTH_TEST)
-    program = f.programs.get("frame/tonemap.glsl")
+    program = f.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.settings.god_rays})
     hdr.use(UNIT_HDR)
-    set_uniforms(program, u_hdr=UNIT_HDR, u_exposure=f.daylight.exposure)
+    set_uniforms(program, u_hdr=UNIT_HDR, u_exposure=f.daylight.exposure,
+                 **god_ray_uniforms(f.view_projection, f.camera.eye, f.daylight.sun_direction, f.daylight.sun_color))
     f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
 
 

@@ -20,6 +20,7 @@ class RenderSettings:
     samples: int = 4                  # MSAA of the HDR target
     trees: bool = True                # street rows and park groves (SpeedTree ch. 4)
     shadows: bool = True              # cascaded shadow maps (SpeedTree §4.3.2)
+    god_rays: bool = True             # radial blur of bright pixels around the sun (SpeedTree §4.5)
     lights: float | None = None       # probability c; None: from the time of day
     time_of_day: float = 19.17        # hours (19:10, dusk)
     animation_time: float = 0.0       # seconds, drives furniture sprites

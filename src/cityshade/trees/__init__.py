@@ -8,6 +8,7 @@ from ._generator import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD
                          FROND_LAYOUT, TreeMesh, TreeModel, generate_tree, skeleton)
 from ._lod import lod_alphas
 from ._placement import SPECIES_ORDER, TREE_DTYPE, city_trees, park_trees, street_trees, tree_instances
+from ._scene import SCENE_TIME, park_scene
 from ._species import FIR, OAK, POPLAR, SPECIES, Species
 from ._textures import BarkTextures, LeafTextures, bark_textures, leaf_textures
 
@@ -17,6 +18,6 @@ __all__ = [
     "BRANCH_ATTRIBUTES", "BRANCH_LAYOUT", "CARD_ATTRIBUTES", "CARD_LAYOUT", "FROND_ATTRIBUTES", "FROND_LAYOUT",
     "TreeMesh", "TreeModel", "generate_tree", "skeleton", "lod_alphas",
     "SPECIES_ORDER", "TREE_DTYPE", "city_trees", "park_trees", "street_trees", "tree_instances",
-    "FIR", "OAK", "POPLAR", "SPECIES", "Species",
+    "SCENE_TIME", "park_scene", "FIR", "OAK", "POPLAR", "SPECIES", "Species",
     "BarkTextures", "LeafTextures", "bark_textures", "leaf_textures",
 ]

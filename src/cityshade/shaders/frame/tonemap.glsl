@@ -1,4 +1,4 @@
-// HDR -> display: exposure, ACES filmic curve (Narkowicz fit), sRGB encoding.
+// HDR -> display: god rays (define GOD_RAYS), exposure, ACES filmic curve (Narkowicz fit), sRGB encoding.
 #if defined VERTEX_SHADER
 out vec2 v_uv;
 void main() {
@@ -10,6 +10,9 @@ void main() {
 
 #if defined FRAGMENT_SHADER
 uniform sampler2D u_hdr;
+#if defined GOD_RAYS
+#include "post/godrays.glsl"
+#endif
 uniform float u_exposure;
 in vec2 v_uv;
 layout(location = 0) out vec4 out_color;
@@ -23,7 +26,11 @@ vec3 srgb_encode(vec3 c) {
 }
 
 void main() {
-    vec3 hdr = texture(u_hdr, v_uv).rgb * u_exposure;
+    vec3 hdr = texture(u_hdr, v_uv).rgb;
+#if defined GOD_RAYS
+    hdr += god_rays(u_hdr, v_uv);
+#endif
+    hdr *= u_exposure;
     out_color = vec4(srgb_encode(aces(hdr)), 1.0);
 }
 #endif
