@@ -12,6 +12,7 @@ BENCHMARKS = {
     "interior": "cityshade.bench.interior",
     "relief": "cityshade.bench.relief",
     "facades": "cityshade.bench.facades",
+    "trees": "cityshade.bench.trees",
 }
 
 

@@ -112,18 +112,24 @@ class TreePass:
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
         self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
                           for index in self.models for lod in (0, 1)}
+        self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
         self._vaos = {}
 
     # -- per frame -------------------------------------------------------------------------------
     def prepare(self, eye):
-        """Splits the trees into the two LODs by distance and writes their instance buffers."""
+        """Splits the trees into the two LODs by distance and writes their instance buffers, nearest
+        first: the fins are drawn only for the leading trees that are close enough to have any
+        (§4.2.3 removes them from distant trees), and near-to-far order helps the depth test."""
         distance = np.linalg.norm(self.trees["position"] - np.asarray(eye, float), axis=1)
         alphas = lod_alphas(distance, *self.settings.lod_band)
-        for index in self.models:
-            mine = self.trees["species"] == index
+        order = np.argsort(distance)
+        for index, model in self.models.items():
+            mine = self.trees["species"][order] == index
             for lod in (0, 1):
-                keep = mine & (alphas[lod] > 0.0)
+                keep = order[mine & (alphas[lod][order] > 0.0)]
                 t = self.trees[keep]
+                if lod == 0:
+                    self.fin_counts[index] = int(np.sum(distance[keep] < self.settings.fin_fade[1] + model.height))
                 data = np.zeros((len(t), 8), np.float32)
                 data[:, 0:3] = t["position"]
                 data[:, 3] = t["yaw"]
@@ -152,6 +158,8 @@ class TreePass:
     def _draw_part(self, program, part: str, mode=moderngl.TRIANGLES) -> int:
         calls = 0
         for (species, lod), (buffer, count) in self.instances.items():
+            if part == "fins":
+                count = self.fin_counts[species] if lod == 0 else 0
             gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
             if count == 0 or gpu.count == 0:
                 continue
