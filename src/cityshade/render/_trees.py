@@ -41,7 +41,7 @@ class TreeSettings:
     wind: tuple[float, float, float] = (0.35, 0.0, 0.15)  # metres of sway at weight 1
     lod_band: tuple[float, float] = (45.0, 75.0)  # metres: near LOD -> far LOD cross-fade
     fin_fade: tuple[float, float] = (14.0, 28.0)  # metres: fin width -> 0 (fig. 4-8)
-    fin_reach: float = 0.6  # metres: clamp of the fin's height trace (§4.2.2)
+    fin_reach: float = 0.2  # metres: clamp of the fin's height trace (§4.2.2)
     specular_fade: tuple[float, float] = (15.0, 60.0)
     leaf_depth: float = 3.0  # self-shadow shift toward the eye at depth offset 1, in card half-sizes
     normal_bias: float = 1.5  # mip bias of the leaf normal fetch (§4.4.2)

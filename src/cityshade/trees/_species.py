@@ -30,7 +30,7 @@ OAK = Species(
     name="oak", trunk_length=4.2, trunk_radius=0.30, children=(7, 4), spread=(0.95, 0.75),
     length_ratio=(0.62, 0.5), branch_start=0.45, cone=0.2, tropism=0.04, gnarl=0.16,
     leaves_per_branch=9, leaf_size=0.55, leaf_cell=0, fronds=False, bark_layer=0, bark_tile=0.7,
-    relief_depth=0.04,
+    relief_depth=0.06,
 )
 FIR = Species(
     name="fir", trunk_length=10.0, trunk_radius=0.24, children=(30,), spread=(1.75,),

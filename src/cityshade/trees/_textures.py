@@ -69,7 +69,9 @@ def bark_textures() -> BarkTextures:
         fine = periodic_noise((BARK_SIZE, BARK_SIZE), rng, 1.0, (stretch * 0.5, 1.0))
         # Fold the noise about its middle: narrow furrows where it crosses, broad plates between.
         plates = np.clip(np.abs(coarse - 0.5) * 2.6, 0, 1) ** (1.0 / sharp)
-        height = plates * 0.8 + fine * 0.2
+        # Plates break across the grain too, so a silhouette (which looks along the grain) is bumpy.
+        breaks = np.clip(np.abs(periodic_noise((BARK_SIZE, BARK_SIZE), rng, 1.3, (1.0, 4.0)) - 0.5) * 3.0, 0, 1)
+        height = plates * breaks * 0.8 + fine * 0.2
         height = (height - height.min()) / (height.max() - height.min())
         tint = periodic_noise((BARK_SIZE, BARK_SIZE), rng, 2.0)[..., None]
         rgb = np.array(dark) + (np.array(light) - np.array(dark)) * (height[..., None] * 0.8 + tint * 0.2)
