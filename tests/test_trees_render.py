@@ -6,71 +6,23 @@ Images are small; every test that renders writes its picture to tests/output/ to
 import moderngl
 import numpy as np
 import pytest
-from PIL import Image
 
-from cityshade.gl import ProgramCache, RenderTarget, create_context
-from cityshade.render._daylight import Daylight
+from cityshade.gl import ProgramCache, RenderTarget
 from cityshade.render._shadows import CascadedShadows
-from cityshade.render._trees import PARTS, TreePass, TreeSettings
+from cityshade.render._trees import PARTS
 from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, set_uniforms
 from cityshade.scene import Camera
-from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas, tree_instances
-
-SIZE = (128, 128)
-
+from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas
+from trees_scene import one_tree, render, save
 
 @pytest.fixture(scope="module")
-def ctx():
-    context = create_context()
-    yield context
-    context.release()
+def ctx(gl_context):
+    return gl_context
 
 
 @pytest.fixture(scope="module")
 def programs(ctx):
     return ProgramCache(ctx)
-
-
-def one_tree(ctx, programs, species="oak", **settings):
-    trees = tree_instances([(0, 0, 0)], species, np.random.default_rng(0))
-    trees["yaw"], trees["scale"] = 0.0, 1.0
-    return TreePass(ctx, programs, trees, TreeSettings(**settings))
-
-
-def frame_uniforms(camera, daylight, aspect=1.0):
-    return dict(u_view_proj=camera.view_projection(aspect), u_camera=camera.eye, u_sun_dir=daylight.sun_direction,
-                u_sun_color=daylight.sun_color, u_sky_ambient=daylight.sky_ambient,
-                u_ground_ambient=daylight.ground_ambient)
-
-
-def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
-           background=(0.0, 0.0, 0.0), fade=None):
-    daylight = Daylight.at(16.0)
-    tree_pass.prepare(camera.eye)
-    if fade is not None:  # only the near LOD, at this alpha
-        for (species, lod), (buffer, count) in tree_pass.instances.items():
-            data = np.frombuffer(buffer.read(), np.float32).reshape(-1, 8)[:count].copy()
-            data[:, 5] = fade
-            buffer.write(data.tobytes())
-            tree_pass.instances[species, lod] = (buffer, count if lod == 0 else 0)
-    if shadows is not None:
-        shadows.update(0, camera, 1.0, daylight.sun_direction, tree_pass.draw_shadow)
-    hdr = RenderTarget(ctx, SIZE, (("f2", 4),), samples=samples)
-    out = RenderTarget(ctx, SIZE, (("f2", 4),))
-    hdr.use()
-    ctx.clear(*background, 1.0, depth=1.0)
-    tree_pass.draw(frame_uniforms(camera, daylight), camera.view(), shadows, parts=parts)
-    ctx.copy_framebuffer(out.fbo, hdr.fbo)
-    image = out.read()[..., :3].astype(np.float32)
-    hdr.release()
-    out.release()
-    return image
-
-
-def save(image, name):
-    x = np.clip(image, 0, None)
-    x = np.clip((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0, 1) ** (1 / 2.2)
-    Image.fromarray((x * 255).astype(np.uint8)).save(f"tests/output/{name}.png")
 
 
 def capture_fins(ctx, programs, positions, normals, eye, depth):

@@ -1,0 +1,56 @@
+"""The trees in the city frame: cascaded shadows on the ground, the tree scene from the CLI."""
+
+import numpy as np
+from PIL import Image
+
+from cityshade.cli import main
+from cityshade.render import Renderer, RenderSettings
+from cityshade.scene import Camera, City, box
+from cityshade.scene._city import GROUND_PAVEMENT
+from cityshade.trees import city_trees, park_scene
+
+SIZE = (160, 120)
+
+
+def test_a_tower_shades_the_ground_on_its_far_side_from_the_sun(output_dir):
+    tower = box((0.0, 0.0), 10.0, 10.0, 30.0)
+    city = City("tower", 1, [tower], [(-80.0, -80.0, 80.0, 80.0, GROUND_PAVEMENT)], (-80.0, -80.0, 80.0, 80.0),
+                {"top": Camera((5.0, 160.0, 5.1), (5.0, 0.0, 5.0), fov_y=50.0, near=1.0, far=400.0)})
+    shots = {}
+    for shadows in (True, False):
+        renderer = Renderer(SIZE, RenderSettings(time_of_day=15.0, shadows=shadows, samples=0, god_rays=False))
+        renderer.set_city(city)
+        camera = city.camera("top")
+        shots[shadows] = renderer.render(camera).astype(float).sum(axis=2)
+        sun = renderer._daylight().sun_direction
+        view_projection = camera.view_projection(SIZE[0] / SIZE[1])
+        renderer.release()
+    Image.fromarray(np.clip(shots[True] / 3, 0, 255).astype(np.uint8)).save(output_dir / "trees_tower_shadow.png")
+    flat = np.array([sun[0], 0.0, sun[2]]) / np.hypot(sun[0], sun[2])
+
+    def pixel(point):
+        p = view_projection @ np.append(point, 1.0)
+        x, y = (p[:2] / p[3] * 0.5 + 0.5) * SIZE
+        return int(SIZE[1] - 1 - y), int(x)
+
+    centre = np.array([5.0, 0.0, 5.0])
+    behind, ahead = pixel(centre - flat * 14), pixel(centre + flat * 14)
+    assert shots[True][behind] < 0.6 * shots[False][behind]  # in the tower's shadow
+    assert shots[True][ahead] > 0.9 * shots[False][ahead]  # in the sun
+
+
+def test_the_park_has_groves_and_the_city_has_street_rows():
+    park = park_scene()
+    assert len(city_trees(park)) > 40
+    from cityshade.scene import default_city
+
+    trees = city_trees(default_city())
+    assert len(np.unique(trees["species"])) == 3 and len(trees) > 300
+
+
+def test_render_scene_trees_from_the_cli(tmp_path, output_dir):
+    out = tmp_path / "trees.png"
+    assert main(["render", "--scene", "trees", "--size", "160x90", "--samples", "0", "--out", str(out)]) == 0
+    image = np.asarray(Image.open(out))
+    assert image.shape == (90, 160, 3) and image.std() > 10
+    Image.fromarray(image).save(output_dir / "trees_scene_cli.png")

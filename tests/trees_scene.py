@@ -1,0 +1,59 @@
+"""A single tree drawn by the tree pass on a plain background, for the tree tests."""
+
+import numpy as np
+from PIL import Image
+
+from cityshade.gl import RenderTarget
+from cityshade.render._daylight import Daylight
+from cityshade.render._trees import TreePass, TreeSettings
+from cityshade.trees import tree_instances
+
+OUTPUT = "tests/output"
+SIZE = (128, 128)
+
+
+def one_tree(ctx, programs, species="oak", **settings):
+    trees = tree_instances([(0, 0, 0)], species, np.random.default_rng(0))
+    trees["yaw"], trees["scale"] = 0.0, 1.0
+    return TreePass(ctx, programs, trees, TreeSettings(**settings))
+
+
+def frame_uniforms(camera, daylight, aspect=1.0):
+    return dict(u_view_proj=camera.view_projection(aspect), u_camera=camera.eye, u_sun_dir=daylight.sun_direction,
+                u_sun_color=daylight.sun_color, u_sky_ambient=daylight.sky_ambient,
+                u_ground_ambient=daylight.ground_ambient)
+
+
+def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
+           background=(0.0, 0.0, 0.0), fade=None):
+    daylight = Daylight.at(16.0)
+    tree_pass.prepare(camera.eye)
+    if fade is not None:  # only the near LOD, at this alpha
+        for (species, lod), (buffer, count) in tree_pass.instances.items():
+            data = np.frombuffer(buffer.read(), np.float32).reshape(-1, 8)[:count].copy()
+            data[:, 5] = fade
+            buffer.write(data.tobytes())
+            tree_pass.instances[species, lod] = (buffer, count if lod == 0 else 0)
+    if shadows is not None:
+        shadows.update(0, camera, 1.0, daylight.sun_direction, tree_pass.draw_shadow)
+    hdr = RenderTarget(ctx, SIZE, (("f2", 4),), samples=samples)
+    out = RenderTarget(ctx, SIZE, (("f2", 4),))
+    hdr.use()
+    ctx.clear(*background, 1.0, depth=1.0)
+    tree_pass.draw(frame_uniforms(camera, daylight), camera.view(), shadows, parts=parts)
+    ctx.copy_framebuffer(out.fbo, hdr.fbo)
+    image = out.read()[..., :3].astype(np.float32)
+    hdr.release()
+    out.release()
+    return image
+
+
+def display(image):
+    """HDR -> 8-bit with the ACES curve and a 2.2 gamma, for looking at and for golden images."""
+    x = np.clip(image, 0, None)
+    x = np.clip((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0, 1) ** (1 / 2.2)
+    return (x * 255).astype(np.uint8)
+
+
+def save(image, name):
+    Image.fromarray(display(image)).save(f"{OUTPUT}/{name}.png")
