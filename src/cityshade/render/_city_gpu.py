@@ -10,6 +10,7 @@ from ..grammar._city import assign_facades
 from ..relief._city import CityRelief, assign_relief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ._culling import BuildingChunks
+from ._polygonised import PolygonisedGPU
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -47,6 +48,7 @@ class CityGPU:
         self.ground_vbo = ctx.buffer(ground.tobytes())
         self.ground_vertex_count = len(ground)
         self._vaos: dict[int, moderngl.VertexArray] = {}
+        self._polygonised: PolygonisedGPU | None = None
         self.chunks_drawn = len(self.chunks)
 
     def _vao(self, program, vbo, fmt, attributes):
@@ -75,6 +77,12 @@ class CityGPU:
         for first, count in runs:
             vao.render(moderngl.TRIANGLES, vertices=count, first=first)
 
+    def polygonised(self) -> PolygonisedGPU:
+        """Real interior geometry for the polygonised-interiors baseline, built on first use."""
+        if self._polygonised is None:
+            self._polygonised = PolygonisedGPU(self.ctx, self.city)
+        return self._polygonised
+
     def draw_ground(self, program):
         self._vao(program, self.ground_vbo, GROUND_FORMAT, GROUND_ATTRIBUTES).render(moderngl.TRIANGLES)
 
@@ -85,6 +93,8 @@ class CityGPU:
             if buf is not None:
                 buf.release()
         self.relief.release()
+        if self._polygonised is not None:
+            self._polygonised.release()
 
 
 def _skip(fmt: str) -> str:

@@ -5,7 +5,8 @@
     1. shadows           cascaded shadow maps of buildings and trees, each cascade at its own
                          rate (SpeedTree §4.3.2; _shadows.py)
     2. depth prepass     all opaque geometry into the z-buffer (interior-mapping §3.1 "z-cull")
-    3. buildings         facades; behind the glass, interior-mapped rooms
+    3. buildings         facades; behind the glass, interior-mapped rooms (or the polygonised-
+                         rooms baseline: exteriors, floors, ceilings, walls, blended glass)
     4. ground            streets, pavements, parks; receives the shadows
     5. trees             trunks, fins, leaf cards, fronds with alpha to coverage (_trees.py)
     6. sky               environment map where nothing was drawn
@@ -29,6 +30,7 @@ from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
+from ._polygonised import draw_interior_layers
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
@@ -125,6 +127,21 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     f.city.draw_buildings(program, f.view_projection)
 
 
+def draw_polygonised_buildings(f: FrameInputs):
+    """The polygonised-interiors baseline (interior-mapping §3.1): the exterior walls with the glass
+    cut out first (they hide most of the rooms' geometry, so no prepass is needed), then the real
+    floors, ceilings and walls, then the glass's reflection blended over them: five draw calls."""
+    f.ctx.depth_func = "<"
+    draw_buildings(f, {"INTERIOR_MAPPING": False, "POLYGONISED_EXTERIOR": True})
+    draw_interior_layers(f)
+    f.ctx.enable(moderngl.BLEND)
+    f.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+    f.ctx.depth_mask = False
+    draw_buildings(f, {"INTERIOR_MAPPING": False, "POLYGONISED_WINDOWS": True})
+    f.ctx.depth_mask = True
+    f.ctx.disable(moderngl.BLEND)
+
+
 def draw_ground(f: FrameInputs, defines: dict | None = None):
     program = f.programs.get("city/ground.glsl", {"NO_SHADOWS": f.shadows is None, **(defines or {})})
     set_uniforms(program, **f.common_uniforms())
@@ -162,9 +179,12 @@ def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, displa
     ctx.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
     f.bind_textures()
     ctx.depth_func = "<"
-    if f.settings.depth_prepass:
-        depth_prepass(f)
-    draw_buildings(f)
+    if f.settings.polygonised_interiors:
+        draw_polygonised_buildings(f)
+    else:
+        if f.settings.depth_prepass:
+            depth_prepass(f)
+        draw_buildings(f)
     draw_ground(f)
     draw_trees(f)
     draw_sky(f)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 @dataclass(frozen=True)
 class RenderSettings:
     interior_mapping: bool = True     # off: the reflective-only windows baseline (paper §3.2)
+    polygonised_interiors: bool = False  # baseline of paper §3.1: real floors, ceilings, walls instead
     depth_prepass: bool = True        # paper §3.1 "z-cull"
     single_atlas: bool = False        # paper §3.2: one atlas texture instead of four
     furniture: bool = True            # paper §2.4 furniture planes

@@ -1,7 +1,9 @@
 // Buildings: one draw call for the whole city. Exterior bay texture whose alpha marks the glass
 // (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
 // Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids), INTERIOR_MAPPING (off: the
-// reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD.
+// reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD; the polygonised-interiors
+// baseline draws the buildings twice: POLYGONISED_EXTERIOR (glass cut out) before its real rooms,
+// POLYGONISED_WINDOWS (only the glass's reflection, alpha = Fresnel, for blending) after them.
 
 #include "common/building_vertex.glsl"
 
@@ -59,6 +61,9 @@ void main() {
     vec3 surface = v_local;  // where a ray through the glass enters the building
     if (v_ids.y == SURFACE_ROOF) {
         face = FACE_ROOF;
+#if defined POLYGONISED_WINDOWS
+        discard;
+#endif
         color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, 1.0);
     } else {
         float glass;
@@ -86,6 +91,14 @@ void main() {
         color = lit_surface(exterior.rgb * building_tint(b), n_world, 1.0);
 #endif
         }
+#if defined POLYGONISED_EXTERIOR
+        if (glass >= 0.5) discard;  // the real rooms behind show through the hole
+        glass = 0.0;                // and the rest is frame: no reflective-window mix at its edge
+#elif defined POLYGONISED_WINDOWS
+        if (glass < 0.5) discard;
+        out_color = vec4(environment(reflect(rot * d, n_world)), fresnel(max(-dot(n, d), 0.0), 0.06));
+        return;
+#endif
         if (glass > 0.0) {
             float cos_view = max(-dot(n, d), 0.0);
             vec3 window;

@@ -1,0 +1,57 @@
+"""The polygonised-interiors baseline on the GPU (interior-mapping §3.1): one vertex buffer per
+layer (floors, ceilings, walls) for the whole city, culled by the same frustum chunks as the
+interior-mapped buildings, one draw call per layer."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..interior import POLYGONISED_LAYERS, polygonised_vertices
+from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
+from ._culling import BuildingChunks
+from ._uniforms import set_uniforms
+
+
+class PolygonisedGPU:
+    def __init__(self, ctx: moderngl.Context, city: City):
+        self.ctx = ctx
+        self.layers: dict[str, tuple[BuildingChunks, moderngl.Buffer]] = {}
+        for name, vertices in polygonised_vertices(city.masses).items():
+            if len(vertices):
+                chunks = BuildingChunks(vertices)
+                self.layers[name] = (chunks, ctx.buffer(chunks.vertices.tobytes()))
+        self._vaos: dict[tuple[int, str], moderngl.VertexArray] = {}
+
+    @property
+    def triangle_count(self) -> int:
+        return sum(len(chunks.vertices) for chunks, _ in self.layers.values()) // 3
+
+    def draw(self, program: moderngl.Program, layer: str, view_projection: np.ndarray):
+        if layer not in self.layers:
+            return
+        chunks, vbo = self.layers[layer]
+        key = (id(program), layer)
+        if key not in self._vaos:
+            self._vaos[key] = self.ctx.vertex_array(program, [(vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)],
+                                                    skip_errors=True)
+        for first, count in chunks.visible_runs(view_projection):
+            self._vaos[key].render(moderngl.TRIANGLES, vertices=count, first=first)
+
+    def release(self):
+        for vao in self._vaos.values():
+            vao.release()
+        for _, vbo in self.layers.values():
+            vbo.release()
+
+
+def draw_interior_layers(f):
+    """Floors, ceilings, then walls: three draw calls, each layer its own texture kind, back faces
+    culled (a floor and the ceiling below it share a plane)."""
+    program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
+    set_uniforms(program, **f.common_uniforms())
+    f.city.records.bind_to_storage_buffer(0)
+    f.ctx.enable(moderngl.CULL_FACE)
+    for layer in POLYGONISED_LAYERS:
+        f.city.polygonised().draw(program, layer, f.view_projection)
+    f.ctx.disable(moderngl.CULL_FACE)

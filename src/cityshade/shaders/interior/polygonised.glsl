@@ -1,0 +1,43 @@
+// The polygonised-interiors baseline (interior-mapping §3.1, fig. 9): real floors, ceilings and walls
+// behind the windows (cityshade/interior/_polygonised.py). Each fragment finds its room with the
+// interior-mapping code, so rooms, texture variants and lights are the same as in the ray-cast
+// version; only the geometry differs. Defines: IM_SINGLE_ATLAS.
+
+#include "common/building_vertex.glsl"
+
+#if defined FRAGMENT_SHADER
+#include "common/hash.glsl"
+#include "common/buildings.glsl"
+#include "interior/faces.glsl"
+#include "interior/interior.glsl"
+
+in vec3 v_local;
+in vec3 v_normal;    // toward the room the quad belongs to
+in vec3 v_facade;
+flat in ivec2 v_ids; // building, face code
+
+layout(location = 0) out vec4 out_color;
+
+void main() {
+    Building b = buildings[v_ids.x];
+    int face = v_ids.y;
+    // find_room looks just behind a facade whose normal points out of the room
+    Room r = find_room(v_local, -v_normal, b);
+    vec3 size = r.hi - r.lo;
+    vec3 rl = (v_local - r.lo) / size;
+    vec3 dx = dFdx(v_local) / size;
+    vec3 dy = dFdy(v_local) / size;
+    // texture coordinates as interior_trace maps them, seen from inside the room
+    vec2 uv, gx, gy;
+    if (face == FACE_CEILING || face == FACE_FLOOR) {
+        uv = rl.xz; gx = dx.xz; gy = dy.xz;
+    } else if (face == FACE_WALL_X) {
+        float flip = v_normal.x < 0.0 ? 1.0 : -1.0;  // facing -x: the room's +x wall
+        uv = vec2(v_normal.x < 0.0 ? rl.z : 1.0 - rl.z, rl.y); gx = vec2(flip * dx.z, dx.y); gy = vec2(flip * dy.z, dy.y);
+    } else {
+        float flip = v_normal.z < 0.0 ? -1.0 : 1.0;  // facing -z: the room's +z wall
+        uv = vec2(v_normal.z < 0.0 ? 1.0 - rl.x : rl.x, rl.y); gx = vec2(flip * dx.x, dx.y); gy = vec2(flip * dy.x, dy.y);
+    }
+    out_color = vec4(room_texture(face, uv, gx, gy, r.variant).rgb * room_radiance(r), 1.0);
+}
+#endif
