@@ -4,7 +4,7 @@
 #ifndef POST_GODRAYS_GLSL
 #define POST_GODRAYS_GLSL
 
-#define GOD_RAY_SAMPLES 28
+#define GOD_RAY_SAMPLES 16
 
 uniform vec2 u_sun_screen;      // the sun's position in texture coordinates (may be off screen)
 uniform float u_god_rays;       // strength; 0 when the sun is behind the camera
@@ -24,7 +24,7 @@ vec3 god_rays(sampler2D hdr, vec2 uv) {
         p += step;
         if (any(lessThan(p, vec2(0.0))) || any(greaterThan(p, vec2(1.0)))) break;
         sum += bright_part(textureLod(hdr, p, 0.0).rgb) * weight;
-        weight *= 0.95;  // decay along the ray
+        weight *= 0.92;  // decay along the ray
     }
     // Fade with the distance to the sun on screen so the rays stay around it.
     float falloff = 1.0 - smoothstep(0.2, 0.9, length((uv - u_sun_screen) * vec2(1.6, 1.0)));

@@ -1,6 +1,7 @@
-// Cascaded shadow maps (§4.3.2): every cascade is fetched with 3x3 PCF and the results are
-// mixed, finest last, each fading out toward its map's border ("fetch from every cascade and
-// mix them", the option the chapter chose). Define NO_SHADOWS to compile shadows out.
+// Cascaded shadow maps (§4.3.2): the cascades are fetched with 3x3 PCF and mixed, each fading
+// out toward its map's border ("fetch from every cascade and mix them", the option the chapter
+// chose). Going from the finest out, a cascade only contributes the share its finer ones left,
+// so the fetches stop once a cascade covers the point fully. Define NO_SHADOWS to compile out.
 #ifndef SHADOW_CSM_GLSL
 #define SHADOW_CSM_GLSL
 
@@ -31,16 +32,17 @@ float shadow_factor(vec3 world) {
 #if defined NO_SHADOWS
     return 1.0;
 #else
-    float lit = 1.0;
-    for (int i = CASCADES - 1; i >= 0; i--) {
+    float lit = 0.0, remaining = 1.0;  // remaining: share not yet decided by a finer cascade
+    for (int i = 0; i < CASCADES && remaining > 0.0; i++) {
         vec3 coord = (u_shadow_matrix[i] * vec4(world, 1.0)).xyz;
         vec3 edge = min(coord, 1.0 - coord);
         float inside = min(min(edge.x, edge.y), edge.z);
         if (inside <= 0.0) continue;
-        float weight = clamp(inside * 20.0, 0.0, 1.0);  // fade over the outer 5% of the map
-        lit = mix(lit, cascade_pcf(i, coord), weight);
+        float weight = clamp(inside * 20.0, 0.0, 1.0) * remaining;  // fade over the outer 5% of the map
+        lit += weight * cascade_pcf(i, coord);
+        remaining -= weight;
     }
-    return lit;
+    return lit + remaining;  // beyond every cascade: sunlit
 #endif
 }
 
