@@ -4,7 +4,7 @@ import numpy as np
 from PIL import Image
 
 from cityshade.cli import main
-from cityshade.render import Renderer, RenderSettings
+from cityshade.render import Daylight, Renderer, RenderSettings
 from cityshade.scene import Camera, City, box
 from cityshade.scene._city import GROUND_PAVEMENT
 from cityshade.trees import city_trees, park_scene
@@ -12,30 +12,32 @@ from cityshade.trees import city_trees, park_scene
 SIZE = (160, 120)
 
 
-def test_a_tower_shades_the_ground_on_its_far_side_from_the_sun(output_dir):
-    tower = box((0.0, 0.0), 10.0, 10.0, 30.0)
-    city = City("tower", 1, [tower], [(-80.0, -80.0, 80.0, 80.0, GROUND_PAVEMENT)], (-80.0, -80.0, 80.0, 80.0),
+def test_a_tower_shades_the_ground_and_a_roof_on_its_far_side_from_the_sun(output_dir):
+    sun = Daylight.at(15.0).sun_direction
+    flat = np.array([sun[0], 0.0, sun[2]]) / np.hypot(sun[0], sun[2])
+    centre = np.array([5.0, 0.0, 5.0])
+    shed = centre - flat * 16  # a low building in the tower's shadow: buildings receive too
+    masses = [box((0.0, 0.0), 10.0, 10.0, 30.0), box((shed[0] - 3, shed[2] - 3), 6.0, 6.0, 3.0)]
+    city = City("tower", 1, masses, [(-80.0, -80.0, 80.0, 80.0, GROUND_PAVEMENT)], (-80.0, -80.0, 80.0, 80.0),
                 {"top": Camera((5.0, 160.0, 5.1), (5.0, 0.0, 5.0), fov_y=50.0, near=1.0, far=400.0)})
+    camera = city.camera("top")
     shots = {}
     for shadows in (True, False):
         renderer = Renderer(SIZE, RenderSettings(time_of_day=15.0, shadows=shadows, samples=0, god_rays=False))
         renderer.set_city(city)
-        camera = city.camera("top")
         shots[shadows] = renderer.render(camera).astype(float).sum(axis=2)
-        sun = renderer._daylight().sun_direction
-        view_projection = camera.view_projection(SIZE[0] / SIZE[1])
         renderer.release()
     Image.fromarray(np.clip(shots[True] / 3, 0, 255).astype(np.uint8)).save(output_dir / "trees_tower_shadow.png")
-    flat = np.array([sun[0], 0.0, sun[2]]) / np.hypot(sun[0], sun[2])
+    view_projection = camera.view_projection(SIZE[0] / SIZE[1])
 
     def pixel(point):
         p = view_projection @ np.append(point, 1.0)
         x, y = (p[:2] / p[3] * 0.5 + 0.5) * SIZE
         return int(SIZE[1] - 1 - y), int(x)
 
-    centre = np.array([5.0, 0.0, 5.0])
-    behind, ahead = pixel(centre - flat * 14), pixel(centre + flat * 14)
-    assert shots[True][behind] < 0.6 * shots[False][behind]  # in the tower's shadow
+    ground, roof, ahead = pixel(centre - flat * 9), pixel(shed + [0.0, 3.0, 0.0]), pixel(centre + flat * 14)
+    assert shots[True][ground] < 0.6 * shots[False][ground]  # ground in the tower's shadow
+    assert shots[True][roof] < 0.6 * shots[False][roof]  # the low building's roof too
     assert shots[True][ahead] > 0.9 * shots[False][ahead]  # in the sun
 
 

@@ -68,7 +68,7 @@ class FrameInputs:
     def building_defines(self, **extra) -> dict:
         s = self.settings
         return {"INTERIOR_MAPPING": s.interior_mapping, "IM_SINGLE_ATLAS": s.single_atlas, "INTERIOR_LOD": s.lod,
-                **extra}
+                "NO_SHADOWS": self.shadows is None, **extra}
 
     def common_uniforms(self) -> dict:
         s, d, t = self.settings, self.daylight, self.textures
@@ -124,6 +124,8 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     if f.settings.grammar_deferred:
         f.textures.grammar_pass.bind_results(program, UNIT_GRAMMAR_DEFERRED + 4)
     f.city.relief.bind(program, UNIT_RELIEF)
+    if f.shadows is not None:
+        f.shadows.bind(program)
     f.city.draw_buildings(program, f.view_projection)
 
 

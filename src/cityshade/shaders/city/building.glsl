@@ -15,6 +15,7 @@ void main() {}
 #include "common/buildings.glsl"
 #include "common/lighting.glsl"
 #include "interior/faces.glsl"
+#include "shadow/csm.glsl"
 #if defined INTERIOR_MAPPING
 #include "interior/interior.glsl"
 #endif
@@ -26,6 +27,7 @@ uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
 uniform vec3 u_window_tint;
 
+in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
 in vec3 v_facade;
@@ -64,7 +66,7 @@ void main() {
 #if defined POLYGONISED_WINDOWS
         discard;
 #endif
-        color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, 1.0);
+        color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, shadow_factor(v_world));
     } else {
         float glass;
         if (has_grammar_facade(b)) {
@@ -77,7 +79,7 @@ void main() {
             glass = r.glass ? 1.0 : 0.0;  // recessed glass: the room shows from the hit point
             surface = r.point;
 #if !defined ID_PASS
-            color = lit_surface(r.albedo * building_tint(b), rot * r.normal, 1.0);
+            color = lit_surface(r.albedo * building_tint(b), rot * r.normal, shadow_factor(v_world));
 #endif
         } else {
         vec2 bay_uv = vec2(v_facade.x / v_facade.z, v_facade.y / b.room.y);
@@ -88,7 +90,7 @@ void main() {
 #else
         vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
         glass = 1.0 - exterior.a;
-        color = lit_surface(exterior.rgb * building_tint(b), n_world, 1.0);
+        color = lit_surface(exterior.rgb * building_tint(b), n_world, shadow_factor(v_world));
 #endif
         }
 #if defined POLYGONISED_EXTERIOR

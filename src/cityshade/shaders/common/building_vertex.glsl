@@ -7,6 +7,7 @@ in vec3 in_local;
 in vec3 in_normal;
 in vec3 in_facade;
 in ivec2 in_ids;
+out vec3 v_world;  // for the shadow look-up
 out vec3 v_local;
 out vec3 v_normal;
 out vec3 v_facade;
@@ -14,6 +15,7 @@ flat out ivec2 v_ids;
 invariant gl_Position;  // the z prepass and the shading pass must produce identical depths
 void main() {
     gl_Position = u_view_proj * vec4(in_position, 1.0);
+    v_world = in_position;
     v_local = in_local;
     v_normal = in_normal;
     v_facade = in_facade;

@@ -19,7 +19,8 @@ vec3 god_rays(sampler2D hdr, vec2 uv) {
     vec2 step = (u_sun_screen - uv) / float(GOD_RAY_SAMPLES) * 0.9;
     vec3 sum = vec3(0.0);
     float weight = 1.0;
-    vec2 p = uv;
+    // Start each pixel's ray at a jittered fraction of a step, so the few taps blur instead of banding.
+    vec2 p = uv + step * (fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715)))) - 0.5);
     for (int i = 0; i < GOD_RAY_SAMPLES; i++) {
         p += step;
         if (any(lessThan(p, vec2(0.0))) || any(greaterThan(p, vec2(1.0)))) break;
