@@ -13,7 +13,7 @@ from cityshade.render._trees import PARTS
 from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, set_uniforms
 from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas
-from trees_scene import one_tree, render, save
+from trees_scene import SIZE, one_tree, render, save
 
 @pytest.fixture(scope="module")
 def ctx(gl_context):
@@ -96,18 +96,22 @@ def test_no_fin_without_a_sign_change_and_none_for_degenerate(ctx, programs):
 
 
 def test_alpha_to_coverage_turns_alpha_into_coverage(ctx, programs):
-    """A trunk drawn at LOD fade alpha 0.5 covers 2 of 4 samples; without A2C it is opaque."""
+    """A trunk drawn at LOD fade alpha 0.5 covers 2 of 4 samples of every pixel; without A2C the
+    fizzle fade keeps whole pixels, about half of them, each opaque."""
     camera = Camera((0, 1.5, 2.5), (0, 1.5, 0), fov_y=40, near=0.1, far=50)
-    results = {}
+    results, kept = {}, {}
     for a2c in (True, False):
         tree = one_tree(ctx, programs, alpha_to_coverage=a2c, fins=False, relief=False)
         faded = render(ctx, tree, camera, parts=("trunks",), fade=0.5)
         opaque = render(ctx, tree, camera, parts=("trunks",), fade=1.0)
         inside = opaque.sum(axis=2) > 0.05
-        results[a2c] = np.median(faded[inside].sum(axis=1) / opaque[inside].sum(axis=1))
+        ratio = faded[inside].sum(axis=1) / opaque[inside].sum(axis=1)
+        results[a2c] = np.median(ratio[ratio > 0.01])
+        kept[a2c] = np.mean(ratio > 0.01)
         tree.release()
     assert results[True] == pytest.approx(0.5, abs=0.02)
     assert results[False] == pytest.approx(1.0, abs=0.02)
+    assert kept[True] > 0.99 and kept[False] == pytest.approx(0.5, abs=0.1)
 
 
 def test_alpha_test_edges_are_hard_and_coverage_edges_soft(ctx, programs):
@@ -163,3 +167,14 @@ def test_single_tree_picture(ctx, programs, species):
     assert 0.05 < 1 - sky.mean() < 0.8  # the tree is there and fits the frame
     tree.release()
     shadows.release()
+
+
+def test_wind_sways_the_crown_and_not_the_trunk_base(ctx, programs):
+    camera = Camera((0, 3.0, 8.0), (0, 3.0, 0), fov_y=60, near=0.1, far=80)
+    tree = one_tree(ctx, programs, fins=False, shadows=False)
+    calm, gust = (render(ctx, tree, camera, samples=0, time=t) for t in (0.0, 1.7))
+    tree.release()
+    moved = np.abs(calm - gust).max(axis=2) > 0.02
+    rows = SIZE[1]
+    assert moved[: rows // 2].mean() > 0.01  # leaves and upper branches move
+    assert moved[-rows // 8:].mean() < 0.002  # the trunk's foot stays put

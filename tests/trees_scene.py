@@ -25,7 +25,7 @@ def frame_uniforms(camera, daylight, aspect=1.0):
 
 
 def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
-           background=(0.0, 0.0, 0.0), fade=None):
+           background=(0.0, 0.0, 0.0), fade=None, time=0.0):
     daylight = Daylight.at(16.0)
     tree_pass.prepare(camera.eye)
     if fade is not None:  # only the near LOD, at this alpha
@@ -40,7 +40,7 @@ def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fi
     out = RenderTarget(ctx, SIZE, (("f2", 4),))
     hdr.use()
     ctx.clear(*background, 1.0, depth=1.0)
-    tree_pass.draw(frame_uniforms(camera, daylight), camera.view(), shadows, parts=parts)
+    tree_pass.draw(frame_uniforms(camera, daylight), camera.view(), shadows, time=time, parts=parts)
     ctx.copy_framebuffer(out.fbo, hdr.fbo)
     image = out.read()[..., :3].astype(np.float32)
     hdr.release()

@@ -85,6 +85,7 @@ void main() {
 }
 #else
 #include "trees/leaf_lighting.glsl"
+#include "trees/fade.glsl"
 #include "shadow/csm.glsl"
 uniform sampler2D u_leaf_detail;  // rg V-shaped normal, b per-leaf depth offset
 uniform vec3 u_camera;
@@ -101,7 +102,7 @@ void main() {
     // Sharpen the coverage edge to about one pixel so the mask does not blur whole leaves.
     alpha = clamp((albedo.a - 0.5) / max(fwidth(albedo.a), 1e-4) + 0.5, 0.0, 1.0) * v_fade;
 #else
-    if (albedo.a < 0.5) discard;
+    if (albedo.a < 0.5 || fizzled(v_fade)) discard;
     alpha = 1.0;
 #endif
     if (alpha <= 0.0) discard;

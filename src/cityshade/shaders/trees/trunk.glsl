@@ -1,6 +1,6 @@
 // Tree trunks and branches: generalised cylinders, relief-mapped bark (§4.2).
 // Defines: RELIEF (relief mapping; off = normal-mapped bark), SHADOW_PASS (depth only),
-// NO_SHADOWS. The LOD cross-fade alpha goes to alpha to coverage (§4.6.2).
+// NO_SHADOWS, ALPHA_TO_COVERAGE (the LOD cross-fade alpha goes to coverage; off: fizzle, §4.6.2).
 
 #if defined VERTEX_SHADER
 #include "trees/instance.glsl"
@@ -38,12 +38,16 @@ in float v_fade;
 void main() {}
 #else
 #include "trees/relief.glsl"
+#include "trees/fade.glsl"
 uniform vec3 u_camera;
 layout(location = 0) out vec4 out_color;
 void main() {
     vec3 n = normalize(v_normal);
     vec3 t = normalize(v_tangent - n * dot(v_tangent, n));
     vec3 b = cross(n, t);
+#if !defined ALPHA_TO_COVERAGE
+    if (fizzled(v_fade)) discard;
+#endif
     vec2 uv = v_uv;
 #if defined RELIEF
     vec3 view = normalize(v_world - u_camera);
