@@ -5,7 +5,9 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
-.PHONY: setup demo test bench clean
+BENCHES := interior facades relief trees
+
+.PHONY: setup demo test bench bench-quick clean
 
 setup: $(STAMP)
 
@@ -23,7 +25,10 @@ test: setup
 	$(BIN)/python -m pytest -n 2 -q
 
 bench: setup
-	$(BIN)/cityshade bench interior --json bench-results/interior.json
+	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --json bench-results/$$b.json || exit 1; done
+
+bench-quick: setup
+	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --quick --json bench-results/$$b-quick.json || exit 1; done
 
 clean:
 	rm -rf $(VENV) out bench-results
