@@ -14,12 +14,12 @@ def register(subparsers):
     check = commands.add_parser("check", help="check grammar files; errors as FILE:LINE:COL: error: ...")
     check.add_argument("files", nargs="+", type=Path, metavar="FILE")
     check.set_defaults(run=_check)
-    from ..render._cli import parse_size
+    from ..render._cli import parse_metres, parse_size
 
     render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
     render.add_argument("file", type=Path, metavar="FILE")
     render.add_argument("--rule", default=None, help="start rule (default: the file's first rule)")
-    render.add_argument("--facade", type=_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres")
+    render.add_argument("--facade", type=parse_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres")
     render.add_argument("--seed", type=int, default=0, help="the facade's random seed")
     render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
     render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
@@ -82,15 +82,3 @@ def _render(args) -> int:
         save_png(np.asarray(LABEL_COLOURS, np.uint8)[labels.astype(np.int64)], args.labels)
     print(f"wrote {args.out}" + (f" and {args.labels}" if args.labels else ""))
     return 0
-
-
-def _metres(text: str) -> tuple[float, float]:
-    from ..errors import UsageError
-
-    try:
-        w, h = (float(x) for x in text.lower().split("x"))
-    except ValueError:
-        raise UsageError(f"invalid --facade {text!r}; use WIDTHxHEIGHT in metres, e.g. 20x16") from None
-    if not (0 < w <= 4096 and 0 < h <= 4096):
-        raise UsageError(f"invalid --facade {text!r}; each side must be in (0, 4096] metres")
-    return w, h

@@ -10,6 +10,7 @@ from rich.console import Console
 from rich.progress import Progress
 
 from ..errors import CityshadeError, UsageError
+from ..render._cli import parse_metres
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS
 from ._format import read_compressed, write_compressed
@@ -86,7 +87,7 @@ def _source_maps(args, required: bool) -> DetailMaps | None:
     if args.layout:
         cols, rows, layout = PAPER_FACADES[args.layout]
         if args.facade:
-            width, height = _parse_size(args.facade)
+            width, height = parse_metres(args.facade, limit=1000.0)
             cols, rows = max(1, round(width / args.texel)), max(1, round(height / args.texel))
         return generate_facade(cols, rows, layout, args.texel)
     if required:
@@ -95,7 +96,7 @@ def _source_maps(args, required: bool) -> DetailMaps | None:
 
 
 def _grammar(args) -> DetailMaps:
-    facade = _parse_size(args.facade or "12x16")
+    facade = parse_metres(args.facade or "12x16", limit=1000.0)
     rows = max(1, round(facade[1] / args.texel))
     with Progress(console=Console(stderr=True), transient=True) as progress:
         task = progress.add_task(f"rasterising {args.grammar.name}", total=rows)
@@ -107,16 +108,6 @@ def _source_name(args) -> str:
     if args.grammar is not None:
         return str(args.grammar)
     return f"layout {args.layout}" if args.layout else f"{args.height} + {args.material}"
-
-
-def _parse_size(text: str) -> tuple[float, float]:
-    try:
-        width, height = (float(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise UsageError(f"--facade {text!r}: expected WIDTHxHEIGHT in metres, e.g. 12x16") from None
-    if not (0 < width <= 1000 and 0 < height <= 1000):
-        raise UsageError(f"--facade {text!r}: each side must be in (0, 1000] metres")
-    return width, height
 
 
 def _stats(path: Path) -> int:

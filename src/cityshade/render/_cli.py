@@ -33,6 +33,17 @@ def parse_size(text: str) -> tuple[int, int]:
     return int(match.group(1)), int(match.group(2))
 
 
+def parse_metres(text: str, option: str = "--facade", limit: float = 4096.0) -> tuple[float, float]:
+    """'20x16' -> (20.0, 16.0) metres, each side in (0, limit]."""
+    try:
+        width, height = (float(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise UsageError(f"invalid {option} {text!r}; use WIDTHxHEIGHT in metres, e.g. 20x16") from None
+    if not (0 < width <= limit and 0 < height <= limit):
+        raise UsageError(f"invalid {option} {text!r}; each side must be in (0, {limit:g}] metres")
+    return width, height
+
+
 def parse_lights(text: str) -> float:
     try:
         value = float(text)
