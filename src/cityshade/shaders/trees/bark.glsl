@@ -10,6 +10,13 @@ uniform sampler2DArray u_bark_color;   // rgb colour, a height (1 = outermost)
 uniform sampler2DArray u_bark_normal;  // tangent-space normal
 uniform float u_bark_layer;
 
+// Orthonormal (tangent, bitangent, normal) from interpolated vertex normal and tangent.
+mat3 bark_frame(vec3 normal, vec3 tangent) {
+    vec3 n = normalize(normal);
+    vec3 t = normalize(tangent - n * dot(tangent, n));
+    return mat3(t, cross(n, t), n);
+}
+
 float bark_height(vec2 uv) {
     return textureLod(u_bark_color, vec3(uv, u_bark_layer), 0.0).a;
 }

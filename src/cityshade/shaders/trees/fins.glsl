@@ -114,9 +114,8 @@ in float g_w;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec3 n = normalize(g_normal);
-    vec3 t = normalize(g_tangent - n * dot(g_tangent, n));
-    vec3 b = cross(n, t);
+    mat3 frame = bark_frame(g_normal, g_tangent);
+    vec3 t = frame[0], b = frame[1], n = frame[2];
     vec3 view = normalize(g_world - u_camera);
     vec2 along = vec2(dot(view, t), dot(view, b));
     along /= max(length(along), 1e-4);

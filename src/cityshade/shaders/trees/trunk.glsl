@@ -42,9 +42,8 @@ void main() {}
 uniform vec3 u_camera;
 layout(location = 0) out vec4 out_color;
 void main() {
-    vec3 n = normalize(v_normal);
-    vec3 t = normalize(v_tangent - n * dot(v_tangent, n));
-    vec3 b = cross(n, t);
+    mat3 frame = bark_frame(v_normal, v_tangent);
+    vec3 t = frame[0], b = frame[1], n = frame[2];
 #if !defined ALPHA_TO_COVERAGE
     if (fizzled(v_fade)) discard;
 #endif
