@@ -34,8 +34,17 @@ layout(location = 0) out vec4 out_color;
 #define GROUND_PAVEMENT 1
 #define GROUND_GRASS 2
 
+float lattice(ivec2 c) {
+    return unit_float(pcg_hash(uint(c.x * 7919) ^ pcg_hash(uint(c.y))));
+}
+
+// Value noise: lattice values blended smoothly, so grass and asphalt show no square cells.
 float grain(vec2 p) {
-    return unit_float(pcg_hash(uint(int(floor(p.x)) * 7919) ^ pcg_hash(uint(int(floor(p.y))))));
+    ivec2 c = ivec2(floor(p));
+    vec2 f = fract(p);
+    f = f * f * (3.0 - 2.0 * f);
+    return mix(mix(lattice(c), lattice(c + ivec2(1, 0)), f.x),
+               mix(lattice(c + ivec2(0, 1)), lattice(c + ivec2(1, 1)), f.x), f.y);
 }
 
 void main() {
