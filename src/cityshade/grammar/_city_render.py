@@ -50,7 +50,7 @@ class FacadeCityRenderer:
             "depth": programs.get("grammar/city.glsl", {**defines, "DEPTH_ONLY": True}),
             "forward": programs.get("grammar/city.glsl", {**defines, "FORWARD": True}),
             "gbuffer": programs.get("grammar/city.glsl", {**defines, "GBUFFER": True}),
-            "deferred": programs.get("grammar/deferred.glsl", defines),
+            "deferred": programs.get("grammar/deferred.glsl", {**defines, "NO_SHADOWS": True}),
             "ssao": programs.get("grammar/ssao.glsl"),
         }
         self.vaos = {name: self._vao(self.programs[name]) for name in ("depth", "forward", "gbuffer")}

@@ -52,9 +52,12 @@ class DeferredGrammarPass:
         result.use()
         result.fbo.clear(0.0, 0.0, 0.0, 0.0)
         ctx.disable(moderngl.DEPTH_TEST)
-        program = programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True})
+        program = programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
+                                                         "NO_SHADOWS": f.shadows is None})
         set_uniforms(program, **f.common_uniforms(), u_inv_view_proj=np.linalg.inv(view_projection),
                      u_viewport=np.array(size, dtype=float))
+        if f.shadows is not None:
+            f.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program, grammar_unit)
         for offset, (name, texture) in enumerate(zip(("u_scope", "u_rule", "u_normal", "u_depth"),
                                                      (*gbuffer.colors, gbuffer.depth))):

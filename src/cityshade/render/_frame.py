@@ -172,9 +172,9 @@ def tone_map(f: FrameInputs, hdr: moderngl.Texture, target: RenderTarget):
 def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, display: RenderTarget):
     """Runs the passes in order; the tone-mapped image ends in `display`."""
     ctx = f.ctx
+    shadow_pass(f)
     if f.settings.grammar_deferred:
         grammar_deferred_pass(f)
-    shadow_pass(f)
     hdr.use()
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.disable(moderngl.CULL_FACE)

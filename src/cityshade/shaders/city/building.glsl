@@ -70,7 +70,8 @@ void main() {
     } else {
         float glass;
         if (has_grammar_facade(b)) {
-            vec3 grammar_color = grammar_building_color(b, n, v_facade.xy, d, rot, glass, label);
+            vec3 grammar_color = grammar_building_color(b, n, v_facade.xy, d, rot, shadow_factor(v_world),
+                                                         glass, label);
 #if !defined ID_PASS
             color = grammar_color;  // where it is glass, the room shows instead (below)
 #endif

@@ -49,13 +49,14 @@ vec3 grammar_normal(vec3 tangent_normal, vec3 n) {
 }
 
 // Sun and sky on the grammar's material: diffuse from its colour (tiles are sRGB), Phong specular.
-vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d) {
+// `shadow`: 1 where the sun reaches the facade (shadow/csm.glsl), 0 in shadow.
+vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d, float shadow) {
     vec3 n_world = rot * grammar_normal(g.normal, n);
     vec3 albedo = pow(max(g.color, vec3(0.0)), vec3(2.2));
     vec3 half_vector = normalize(u_sun_dir - rot * d);
     float shininess = 1.0 + 128.0 * g.specular.y;
     float highlight = g.specular.x * pow(max(dot(n_world, half_vector), 0.0), shininess) * max(dot(n_world, u_sun_dir), 0.0);
-    return lit_surface(albedo, n_world, 1.0) + highlight * u_sun_color;
+    return lit_surface(albedo, n_world, shadow) + shadow * highlight * u_sun_color;
 }
 
 // The grammar facade at a building fragment: lit colour, glass (rooms show through it) and label.
@@ -67,7 +68,8 @@ uniform sampler2D grammar_deferred_color;
 uniform usampler2D grammar_deferred_ids;
 #endif
 
-vec3 grammar_building_color(Building b, vec3 n, vec2 facade_uv, vec3 d, mat3 rot, out float glass, out uint label) {
+vec3 grammar_building_color(Building b, vec3 n, vec2 facade_uv, vec3 d, mat3 rot, float shadow, out float glass,
+                            out uint label) {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     uvec4 ids = texelFetch(grammar_deferred_ids, pixel, 0);
@@ -78,7 +80,7 @@ vec3 grammar_building_color(Building b, vec3 n, vec2 facade_uv, vec3 d, mat3 rot
     GrammarResult g = grammar_facade(b, n, facade_uv, d, dFdx(facade_uv), dFdy(facade_uv));
     glass = g.glass ? 1.0 : 0.0;
     label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
-    return grammar_lit(g, n, rot, d);
+    return grammar_lit(g, n, rot, d, shadow);
 #endif
 }
 

@@ -6,6 +6,7 @@
 
 #if defined FRAGMENT_SHADER
 #include "grammar/building.glsl"
+#include "shadow/csm.glsl"
 
 uniform sampler2D u_scope;
 uniform sampler2D u_rule;
@@ -44,7 +45,7 @@ void main() {
     vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
-    out_color = vec4(grammar_lit(g, n, mat3(1.0), d), 1.0);
+    out_color = vec4(grammar_lit(g, n, mat3(1.0), d, shadow_factor(world.xyz / world.w)), 1.0);
 #if defined CITY_FRAME
     out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), 0u, 0u);
 #endif
