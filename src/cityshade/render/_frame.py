@@ -1,9 +1,9 @@
 """The frame: its passes, listed in the order they run.
 
-    0. facade grammar    only with settings.grammar_deferred: G-buffer + one full-screen grammar
-                         evaluation per pixel (Krecklau §4), read back by the buildings pass
-    1. shadows           cascaded shadow maps of buildings and trees, each cascade at its own
+    0. shadows           cascaded shadow maps of buildings and trees, each cascade at its own
                          rate (SpeedTree §4.3.2; _shadows.py)
+    1. facade grammar    only with settings.grammar_deferred: G-buffer + one full-screen grammar
+                         evaluation per pixel (Krecklau §4), shadowed, read back by the buildings pass
     2. depth prepass     all opaque geometry into the z-buffer (interior-mapping §3.1 "z-cull")
     3. buildings         facades; behind the glass, interior-mapped rooms (or the polygonised-
                          rooms baseline: exteriors, floors, ceilings, walls, blended glass)
