@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..scene._camera import look_at
+
 SHADOW_CASTERS = ("buildings", "trunks", "fronds", "leaves")
 
 
@@ -42,18 +44,6 @@ def split_distances(near: float, far: float, count: int = 3, blend: float = 0.6)
     return blend * near * (far / near) ** i + (1 - blend) * (near + (far - near) * i)
 
 
-def _look_at(eye, target, up):
-    f = target - eye
-    f /= np.linalg.norm(f)
-    s = np.cross(f, up)
-    s /= np.linalg.norm(s)
-    u = np.cross(s, f)
-    m = np.identity(4)
-    m[0, :3], m[1, :3], m[2, :3] = s, u, -f
-    m[:3, 3] = -m[:3, :3] @ eye
-    return m
-
-
 def _ortho(half: float, near: float, far: float):
     m = np.identity(4)
     m[0, 0] = m[1, 1] = 1.0 / half
@@ -64,7 +54,7 @@ def _ortho(half: float, near: float, far: float):
 
 def light_basis(sun_dir) -> tuple[np.ndarray, np.ndarray]:
     """Right and up axes of a view looking along -sun_dir (how leaf cards face the light)."""
-    view = _look_at(np.zeros(3), -np.asarray(sun_dir, float), _up_for(sun_dir))
+    view = look_at(np.zeros(3), -np.asarray(sun_dir, float), _up_for(sun_dir))
     return view[0, :3].copy(), view[1, :3].copy()
 
 
@@ -91,13 +81,13 @@ def cascade_view_projection(inv_view_proj: np.ndarray, near: float, far: float, 
     centre = corners.mean(axis=0)
     radius = np.linalg.norm(corners - centre, axis=1).max()
     sun = np.asarray(sun_dir, float) / np.linalg.norm(sun_dir)
-    view = _look_at(np.zeros(3), -sun, _up_for(sun))
+    view = look_at(np.zeros(3), -sun, _up_for(sun))
     texel = 2 * radius / resolution
     local = view[:3, :3] @ centre
     local[:2] = np.floor(local[:2] / texel) * texel
     centre = view[:3, :3].T @ local
     eye = centre + sun * (radius + caster_reach)
-    light_view = _look_at(eye, centre, _up_for(sun))
+    light_view = look_at(eye, centre, _up_for(sun))
     return _ortho(radius, 0.0, 2 * radius + caster_reach) @ light_view
 
 
