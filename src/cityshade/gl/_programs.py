@@ -15,7 +15,7 @@ import moderngl
 
 from ..errors import ShaderError
 
-GLSL_VERSION = "#version 430 core"
+GLSL_VERSION = 430  # every program is GLSL 4.30 core; the loader writes the #version line
 STAGES = {
     "vertex_shader": "VERTEX_SHADER",
     "geometry_shader": "GEOMETRY_SHADER",
@@ -82,7 +82,7 @@ class _Assembler:
 
 
 def _define_block(stage: str, defines: dict[str, object]) -> str:
-    lines = [GLSL_VERSION, f"#define {stage}"]
+    lines = [f"#version {GLSL_VERSION} core", f"#define {stage}"]
     for name, value in sorted(defines.items()):
         if value is False or value is None:
             continue
