@@ -8,12 +8,7 @@
 #if defined VERTEX_SHADER
 #include "trees/instance.glsl"
 uniform vec3 u_camera;
-in vec3 in_position;
-in vec3 in_normal;
-in vec3 in_tangent;
-in vec2 in_uv;
-in float in_radius;
-in float in_wind;
+#include "trees/branch_inputs.glsl"
 out vec3 vs_world;
 out vec3 vs_normal;
 out vec3 vs_tangent;

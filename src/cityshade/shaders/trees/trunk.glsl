@@ -5,12 +5,7 @@
 #if defined VERTEX_SHADER
 #include "trees/instance.glsl"
 uniform mat4 u_view_proj;
-in vec3 in_position;
-in vec3 in_normal;
-in vec3 in_tangent;
-in vec2 in_uv;
-in float in_radius;
-in float in_wind;
+#include "trees/branch_inputs.glsl"
 out vec3 v_world;
 out vec3 v_normal;
 out vec3 v_tangent;
