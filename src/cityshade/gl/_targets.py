@@ -30,10 +30,6 @@ class RenderTarget:
         data = np.frombuffer(self.fbo.read(components=tex.components, attachment=attachment, dtype=tex.dtype), dtype=dtype)
         return data.reshape(self.size[1], self.size[0], tex.components)[::-1]
 
-    def read_depth(self) -> np.ndarray:
-        data = np.frombuffer(self.depth.read(), dtype=np.float32)
-        return data.reshape(self.size[1], self.size[0])[::-1]
-
     def release(self):
         self.fbo.release()
         for tex in self.colors:

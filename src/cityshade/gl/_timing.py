@@ -15,7 +15,6 @@ class FrameTimer:
     ctx: moderngl.Context
     warmup: int = 2
     frames: int = 10
-    min_seconds: float = 0.0
     times: list[float] = field(default_factory=list)
 
     def run(self, draw: Callable[[int], None]) -> float:
@@ -24,12 +23,9 @@ class FrameTimer:
             draw(i)
         self.ctx.finish()
         self.times = []
-        start = time.perf_counter()
-        i = 0
-        while i < self.frames or time.perf_counter() - start < self.min_seconds:
+        for i in range(self.frames):
             t0 = time.perf_counter()
             draw(self.warmup + i)
             self.ctx.finish()
             self.times.append(time.perf_counter() - t0)
-            i += 1
         return statistics.median(self.times)

@@ -9,6 +9,7 @@ import numpy as np
 from ..grammar._city import assign_facades
 from ..relief._city import CityRelief, assign_relief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+from ..scene._city import GROUND_ASPHALT, GROUND_GRASS
 from ._culling import BuildingChunks
 from ._polygonised import PolygonisedGPU
 
@@ -20,10 +21,11 @@ GROUND_MARGIN = 400.0
 def ground_vertices(city: City) -> np.ndarray:
     """Two triangles per ground rectangle, drawn in order (later ones on top, lifted slightly)."""
     x0, z0, x1, z1 = city.bounds
-    rects = [(x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN, 0)] + list(city.ground)
+    rects = [(x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN, GROUND_ASPHALT)]
+    rects += list(city.ground)
     out = []
     for layer, (a, b, c, d, material) in enumerate(rects):
-        y = 0.02 * min(layer, 1) + 0.01 * (material == 2)  # pavements and parks sit on the asphalt
+        y = 0.02 * min(layer, 1) + 0.01 * (material == GROUND_GRASS)  # pavements and parks sit on the asphalt
         corners = [(a, y, b), (a, y, d), (c, y, d), (c, y, b)]
         for i in (0, 1, 2, 0, 2, 3):
             out.append((*corners[i], float(material)))

@@ -71,9 +71,6 @@ class Camera:
         dirs = points - self.eye
         return dirs / np.linalg.norm(dirs, axis=-1, keepdims=True)
 
-    def moved(self, **changes) -> "Camera":
-        return replace(self, **changes)
-
     def orbit(self, angle_degrees: float) -> "Camera":
         """The camera rotated about the vertical axis through its target."""
         a = np.radians(angle_degrees)
