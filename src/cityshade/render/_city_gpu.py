@@ -74,9 +74,9 @@ class CityGPU:
         if view_projection is None:
             vao.render(moderngl.TRIANGLES)
             return
-        runs = self.chunks.visible_runs(view_projection)
-        self.chunks_drawn = int(self.chunks.visible(view_projection).sum())
-        for first, count in runs:
+        keep = self.chunks.visible(view_projection)
+        self.chunks_drawn = int(keep.sum())
+        for first, count in self.chunks.visible_runs(keep):
             vao.render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def polygonised(self) -> PolygonisedGPU:

@@ -54,9 +54,8 @@ class BuildingChunks:
     def visible(self, view_projection: np.ndarray) -> np.ndarray:
         return boxes_visible(frustum_planes(view_projection), self.lo, self.hi)
 
-    def visible_runs(self, view_projection: np.ndarray) -> list[tuple[int, int]]:
-        """(first vertex, vertex count) of the visible chunks, neighbouring chunks merged into one run."""
-        keep = self.visible(view_projection)
+    def visible_runs(self, keep: np.ndarray) -> list[tuple[int, int]]:
+        """(first vertex, vertex count) of the chunks where `keep` is set, neighbours merged into one run."""
         runs: list[tuple[int, int]] = []
         for first, count in zip(self.first[keep].tolist(), self.count[keep].tolist()):
             if runs and runs[-1][0] + runs[-1][1] == first:

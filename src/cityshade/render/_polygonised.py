@@ -35,7 +35,7 @@ class PolygonisedGPU:
         if key not in self._vaos:
             self._vaos[key] = self.ctx.vertex_array(program, [(vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)],
                                                     skip_errors=True)
-        for first, count in chunks.visible_runs(view_projection):
+        for first, count in chunks.visible_runs(chunks.visible(view_projection)):
             self._vaos[key].render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def release(self):
