@@ -1,0 +1,11 @@
+"""Real cities from map data (OpenStreetMap, GeoJSON, CityJSON) as one model in local metres."""
+
+from ._model import (
+    AREA_KINDS, BUILDING_ATTRIBUTES, ROOF_SHAPES, TREE_ATTRIBUTES, Area, Lamp, MapBuilding, MapData, MapTree,
+    Railway, ReadReport, Road, to_scene,
+)
+
+__all__ = [
+    "AREA_KINDS", "BUILDING_ATTRIBUTES", "ROOF_SHAPES", "TREE_ATTRIBUTES", "Area", "Lamp", "MapBuilding", "MapData",
+    "MapTree", "Railway", "ReadReport", "Road", "to_scene",
+]
