@@ -48,7 +48,7 @@ def output_target(path: Path) -> Path:
                              "choose another output path")
     try:
         mode = os.stat(real).st_mode
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
         mode = None
     except OSError as exc:
         raise UsageError(f"cannot write {shown!r}: {exc.strerror}; choose another output path") from None
@@ -91,9 +91,36 @@ def atomic_output(path: Path):
             os.unlink(tmp)
 
 
-def write_output_bytes(path: Path, data: bytes):
+def output_folder(path: Path) -> Path:
+    """A folder outputs go into: refused with one line if it exists as something else."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise UsageError(f"output folder {str(path)!r} exists and is not a directory; choose another folder")
+    output_target(path / "x")
+    return path
+
+
+def write_bytes(path: Path, data: bytes):
     with atomic_output(path) as tmp:
         tmp.write_bytes(data)
+
+
+def write_text(path: Path, text: str):
+    write_bytes(path, text.encode("utf-8"))
+
+
+def write_png(image, path: Path):
+    """An HxW(x3/4) uint8 or uint16 array as a PNG."""
+    from PIL import Image
+
+    with atomic_output(path) as tmp:
+        Image.fromarray(image).save(tmp, format="PNG")
+
+
+def write_figure(figure, path: Path, **options):
+    """A matplotlib figure as a PNG."""
+    with atomic_output(path) as tmp:
+        figure.savefig(tmp, format="png", **options)
 
 
 class InputError(UsageError):

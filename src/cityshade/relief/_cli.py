@@ -9,6 +9,7 @@ import numpy as np
 from rich.console import Console
 from rich.progress import Progress
 
+from .._files import output_target
 from ..errors import CityshadeError, UsageError
 from ..render._cli import parse_metres
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
@@ -57,6 +58,7 @@ def _run(args) -> int:
         return _verify(args)
     if args.out is None:
         raise UsageError("compress needs --out FILE (or --stats FILE / --verify FILE)")
+    output_target(args.out)  # refused before the factorisation, not after
     maps = _source_maps(args, required=True)
     console = Console(stderr=True)
     started = time.perf_counter()

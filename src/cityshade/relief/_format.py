@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_output
+from .._files import write_bytes
 from ..errors import CityshadeError
 from ._compress import MAP_NAMES, CompressedFacade
 from ._factor import Factors
@@ -65,9 +65,7 @@ def to_bytes(facade: CompressedFacade) -> bytes:
 
 def write_compressed(path: Path, facade: CompressedFacade):
     """Writes to a temporary file beside path, then renames: never a half-written file."""
-    data = to_bytes(facade)
-    with atomic_output(Path(path)) as tmp:
-        tmp.write_bytes(data)
+    write_bytes(Path(path), to_bytes(facade))
 
 
 def read_compressed(path: Path) -> CompressedFacade:

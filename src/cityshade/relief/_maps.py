@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from .._files import write_png
 from ..errors import CityshadeError
 
 # Material indices of the tile library; the shaders' palette (shaders/relief/materials.glsl)
@@ -81,5 +82,5 @@ def _read_integer_image(path: Path, role: str) -> np.ndarray:
 
 def save_png_maps(maps: DetailMaps, height_png: Path, material_png: Path):
     """Writes the pair load_png_maps reads (16-bit PNGs, top row = top of facade)."""
-    Image.fromarray(maps.depth[::-1].astype(np.uint16)).save(height_png)
-    Image.fromarray(maps.material[::-1].astype(np.uint16)).save(material_png)
+    write_png(maps.depth[::-1].astype(np.uint16), height_png)
+    write_png(maps.material[::-1].astype(np.uint16), material_png)

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import os
 import re
 from pathlib import Path
 
-from .._files import atomic_output
+from .._files import output_target, write_png
 from ..errors import UsageError
 from ..scene import CITIES
 
@@ -56,25 +55,11 @@ def parse_lights(text: str) -> float:
 
 def check_writable(path: Path) -> Path:
     """Fails early, with one line, if the output cannot be written (nothing is created)."""
-    folder = path.parent if str(path.parent) else Path(".")
-    if path.is_dir():
-        raise UsageError(f"output path {str(path)!r} is a directory; give a file name such as out/city.png")
-    probe = folder
-    while not probe.exists():
-        probe = probe.parent
-    if not os.access(probe, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
-        raise UsageError(f"cannot write {str(path)!r}: permission denied; choose another --out")
-    if not probe.is_dir():
-        raise UsageError(f"cannot write {str(path)!r}: {str(probe)!r} is not a directory")
+    output_target(path)
     return path
 
 
-def save_png(image, path: Path):
-    """Writes atomically: a finished PNG or nothing."""
-    from PIL import Image
-
-    with atomic_output(path) as tmp:
-        Image.fromarray(image).save(tmp, format="PNG")
+save_png = write_png  # a finished PNG or nothing
 
 
 def register(subparsers):
