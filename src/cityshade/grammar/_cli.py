@@ -63,7 +63,7 @@ def _render(args) -> int:
         compiled = compile_grammars({"g": grammar})
     except GrammarError as exc:
         print(str(exc), file=sys.stderr)
-        return 1
+        return exc.exit_code
     start = compiled.address("g", args.rule)
     seed = seed_vector(args.seed)
     tiles = tile_array(128)

@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.progress import Progress
 
 from .._files import output_target
-from ..errors import CityshadeError, UsageError
+from ..errors import CityshadeError, Finding, UsageError
 from ..render._cli import parse_metres
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS
@@ -142,6 +142,6 @@ def _verify(args) -> int:
         bad = [n for n in MAP_NAMES if digest(decoded[n]) != facade.digests[n]]
         against = "the maps it was made from"
     if bad:
-        raise CityshadeError(f"{args.verify}: decompressed {', '.join(bad)} differ from {against}")
+        raise Finding(f"{args.verify}: decompressed {', '.join(bad)} differ from {against}")
     print(f"{args.verify}: ok, D, M and A decompress exactly to {against}")
     return 0
