@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import stat
 import tempfile
 from pathlib import Path
@@ -157,3 +158,43 @@ def read_input_bytes(path: Path, limit: int, what: str = "file") -> bytes:
 def _open_nonblocking(name, flags):
     # O_NONBLOCK: opening a FIFO with no writer must not hang before it can be refused.
     return os.open(name, flags | os.O_NONBLOCK)
+
+
+# SIGTERM and SIGHUP end a command like Ctrl-C does: by an exception, so every `finally` runs and
+# no temporary output is left (their default action kills the process without running them).
+_EXIT_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+_deferred: list[int] = []  # signals that arrived while deferred
+_deferring = False
+
+
+def _leave(signum, frame):
+    if _deferring:
+        _deferred.append(signum)
+        return
+    raise SystemExit(128 + signum)
+
+
+@contextlib.contextmanager
+def signals_as_exit():
+    previous = {sig: signal.signal(sig, _leave) for sig in _EXIT_SIGNALS}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+@contextlib.contextmanager
+def signals_deferred():
+    """Holds SIGTERM and SIGHUP until the block ends: for a write into a helper process (ffmpeg)
+    that must not be cut in the middle, or the helper is killed instead of finishing cleanly."""
+    global _deferring
+    outer, _deferring = _deferring, True
+    try:
+        yield
+    finally:
+        _deferring = outer
+        if not outer and _deferred:
+            signum = _deferred[0]
+            _deferred.clear()
+            raise SystemExit(128 + signum)

@@ -6,6 +6,7 @@ import argparse
 import importlib
 import sys
 
+from ._files import signals_as_exit
 from .errors import CityshadeError, UsageError
 
 # Modules that define `register(subparsers)`; each adds its own subcommands.
@@ -37,8 +38,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
-        return int(args.run(args) or 0)
+        with signals_as_exit():
+            args = parser.parse_args(argv)
+            return int(args.run(args) or 0)
     except CityshadeError as exc:
         print(f"cityshade: error: {exc}", file=sys.stderr)
         return exc.exit_code
