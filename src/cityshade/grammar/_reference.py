@@ -84,7 +84,9 @@ class _Pixels:
 
 class _Evaluator:
     def __init__(self, compiled: CompiledGrammars, tiles: TileArray):
-        self.tex = compiled.flat()
+        # Split and Rand read all MAX_PARTS part slots and mask those past n, as the shader's
+        # loop does; zero texels after the last rule keep those reads inside the array.
+        self.tex = np.concatenate([compiled.flat(), np.zeros((limits.MAX_PARTS // 2 + 1, 4), F)])
         self.tiles = tiles
 
     def channel(self, addr, index):
