@@ -8,9 +8,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..errors import CityshadeError
 from . import _limits as limits
-from ._diagnostics import Diagnostic, GrammarError, suggest
+from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
 from ._loader import SourceGrammar, SourceRule
 from ._operators import OPERATORS, POLICIES, USAGES, Kind
 from ._syntax import Arg
@@ -139,8 +141,11 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
     if arg.kind != "number":
         return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
     value = arg.value
-    if kind is Kind.SIZE and not value > 0:
-        return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number")
+    if not abs(value) <= limits.HALF_MAX:
+        return fail(f"{shorten(arg.text)} does not fit the GPU's 16-bit numbers",
+                    f"numbers of a grammar are at most {limits.HALF_MAX:g} in magnitude")
+    if kind is Kind.SIZE and not np.float16(value) > 0:
+        return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number of at least 1e-7")
     if kind is Kind.WEIGHT and not 0 < value <= 1:
         return fail(f"weight must be in (0, 1], got {arg.text}")
     if kind is Kind.COUNT:
@@ -157,6 +162,13 @@ def _operator_checks(rule: Rule, errors: list):
         if abs(total - 1.0) > 1e-3:
             errors.append(Diagnostic(definition.operator_location, f"Rand weights sum to {total:g}, not 1",
                                      "make the weights add up to 1.0, or use RandUni for equal chances"))
+    if rule.operator in ("SplitX", "SplitY"):
+        for policy, what in ((1, "relative"), (-1, "absolute")):
+            total = sum(size for p, size in zip(rule.values[0::3], rule.values[1::3]) if p == policy)
+            if total > limits.HALF_MAX:
+                errors.append(Diagnostic(definition.operator_location,
+                                         f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "
+                                         f"numbers hold ({limits.HALF_MAX:g})", "use smaller sizes"))
     if rule.operator in ("SplitX", "SplitY", "Rand") and len(rule.children) > limits.MAX_PARTS:
         errors.append(Diagnostic(definition.operator_location,
                                  f"{rule.operator} has {len(rule.children)} parts; the GPU limit is {limits.MAX_PARTS}",
