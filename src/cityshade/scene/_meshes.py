@@ -77,6 +77,7 @@ def simplified_outline(points: np.ndarray) -> np.ndarray:
 
 def _prism_triangles(mass: BuildingMass, room: np.ndarray, smooth: bool):
     pts = simplified_outline(np.asarray(mass.footprint, dtype=np.float64))
+    pts = pts[np.any(np.roll(pts, -1, axis=0) != pts, axis=1)]  # a repeated corner has no wall (or normal)
     if _signed_area(pts) < 0:
         pts = pts[::-1]
     height = mass.extent[1]
