@@ -61,6 +61,18 @@ def test_an_included_file_that_does_not_parse_is_not_quoted(secret):
     assert "bad.grammar:2:" in message and "SECRETHASH" not in message and "19000" not in message
 
 
+def test_a_file_named_on_the_command_line_is_quoted_only_if_it_is_a_grammar(tmp_path, capsys):
+    secret = tmp_path / "notes.txt"
+    secret.write_text("password = " + SECRET + "\n")
+    assert main(["grammar", "check", str(secret)]) == 1
+    err = capsys.readouterr().err
+    assert f"{secret}:1:" in err and "SECRETHASH" not in err
+    mine = tmp_path / "mine.grammar"
+    mine.write_text("S->Skip(0)\nT->Skip(0 0)\n")
+    assert main(["grammar", "check", str(mine)]) == 1
+    assert "T->Skip(0 0)" in capsys.readouterr().err  # the author's own grammar: line and caret
+
+
 def test_a_subfolder_and_the_library_may_be_used(tmp_path):
     (tmp_path / "parts").mkdir()
     (tmp_path / "parts" / "p.grammar").write_text("T->Skip(0)\n")

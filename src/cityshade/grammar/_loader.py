@@ -74,9 +74,7 @@ def load_source(path: str | Path) -> SourceGrammar:
     """Parses a file and everything it uses into one namespaced rule table."""
     path = Path(path)
     sources: dict[str, str] = {}
-    text = read_source(path)
-    sources[str(path)] = text
-    rules, start = _collect(parse_text(text, str(path)), path, path.parent, "", sources, [])
+    rules, start = _collect(_parse_file(path, sources, quote_syntax_errors=True), path, path.parent, "", sources, [])
     return SourceGrammar(str(path), rules, start, sources)
 
 
@@ -89,13 +87,24 @@ def parse_string(text: str, name: str = "<string>") -> SourceGrammar:
 
 def _include(path: Path, namespace: str, sources: dict[str, str], chain: list[Path]) -> dict[str, SourceRule]:
     """An included file's rules. Its text is quoted in later errors only once it parsed as a grammar."""
+    return _collect(_parse_file(path, sources, quote_syntax_errors=False), path, path.parent, namespace, sources,
+                    chain)[0]
+
+
+def _parse_file(path: Path, sources: dict[str, str], quote_syntax_errors: bool) -> SourceFile:
+    """Parses a file; its lines may be quoted in errors only if it is a .grammar file, and, for
+    syntax errors, only if asked (the file named on the command line, not an included one)."""
     text = read_source(path)
+    quoted = path.suffix == GRAMMAR_SUFFIX
     try:
         parsed = parse_text(text, str(path))
     except GrammarError as exc:
+        if quoted and quote_syntax_errors:
+            raise
         raise GrammarError(exc.diagnostics, {}) from None
-    sources[str(path)] = text
-    return _collect(parsed, path, path.parent, namespace, sources, chain)[0]
+    if quoted:
+        sources[str(path)] = text
+    return parsed
 
 
 def _collect(parsed: SourceFile, path: Path, folder: Path | None, namespace: str, sources: dict[str, str],

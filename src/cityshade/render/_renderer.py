@@ -9,6 +9,7 @@ import numpy as np
 
 from .. import assets
 from .._budget import check_image_memory
+from .._values import check_size
 from ..gl import ProgramCache, RenderTarget, create_context, describe_context
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
@@ -34,7 +35,7 @@ class Renderer:
 
     def __init__(self, size: tuple[int, int] = (1280, 720), settings: RenderSettings | None = None,
                  ctx: moderngl.Context | None = None):
-        self.size = tuple(size)
+        self.size = check_size(size)
         self.settings = settings or RenderSettings()
         check_image_memory(self.size, frame_bytes_per_pixel(self.settings.samples), "a render")
         self.ctx = ctx or create_context(headless=True)
