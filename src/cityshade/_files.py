@@ -80,15 +80,16 @@ def atomic_output(path: Path):
     (or a signal the CLI turns into an exception) it is removed."""
     target = output_target(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix, dir=target.parent)
-    os.close(fd)
-    try:
+    tmp = None
+    try:  # from before the file exists: a signal right after mkstemp still removes it
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix, dir=target.parent)
+        os.close(fd)
         yield Path(tmp)
         output_target(path)  # the target may have been swapped for a special file meanwhile
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, target)
     finally:
-        if os.path.exists(tmp):
+        if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
 
 
