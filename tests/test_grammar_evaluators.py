@@ -8,6 +8,13 @@ import pytest
 from cityshade.grammar import GrammarError, compile_grammars, loads
 from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 
+
+
+@pytest.fixture(autouse=True)
+def _pictures(output_dir):
+    """compare() saves each facade for a look; output_dir makes sure the folder exists."""
+
+
 LEAVES = "A->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)\nB->Mat(Color, Rep:wall3, 0.0, 0.0, 1.0, 1.0)\n"
 
 
