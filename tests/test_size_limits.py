@@ -30,17 +30,22 @@ def _one_line(capsys) -> str:
 
 
 def test_a_render_larger_than_memory_names_the_size_that_fits(tmp_path, one_gib, capsys):
+    from cityshade.render._renderer import frame_bytes_per_pixel
+
     out = tmp_path / "city.png"
-    assert main(["render", "--size", "16384x16384", "--out", str(out)]) == 2
+    assert main(["render", "--size", "16384x12288", "--out", str(out)]) == 2
     line = _one_line(capsys)
-    assert "a render at 16384x16384 needs about 26.0 GiB" in line and "the largest --size that fits is 3" in line
-    width = int(line.rsplit(" ", 1)[1].split("x")[0])
-    assert 3000 < width < 3300 and not out.exists()
+    per_pixel = frame_bytes_per_pixel(4)
+    need = 16384 * 12288 * per_pixel / 2**30
+    fits = budget.largest_fitting((16384, 12288), 2**30 / per_pixel)
+    assert f"a render at 16384x12288 needs about {need:.1f} GiB" in line
+    assert line.endswith(f"the largest --size that fits is {fits[0]}x{fits[1]}") and fits[0] * fits[1] * per_pixel <= 2**30
+    assert fits[0] / fits[1] == pytest.approx(4 / 3, rel=1e-3) and not out.exists()
 
 
 def test_the_cpu_grammar_render_is_checked_against_memory(tmp_path, one_gib, capsys):
     assert main(["grammar", "render", FIG12, "--cpu", "--size", "4096x4096", "--out", str(tmp_path / "f.png")]) == 2
-    assert "grammar render --cpu at 4096x4096 needs about 1.6 GiB" in _one_line(capsys)
+    assert "grammar render --cpu at 4096x4096 needs about 2.3 GiB" in _one_line(capsys)
 
 
 def test_the_cpu_grammar_render_in_tiles_equals_one_piece(monkeypatch):
