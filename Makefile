@@ -7,7 +7,7 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
 BENCHES := interior facades relief trees
 
-.PHONY: setup demo test bench bench-quick clean
+.PHONY: setup demo test fuzz bench bench-quick clean
 
 setup: $(STAMP)
 
@@ -23,6 +23,10 @@ demo: setup
 
 test: setup
 	$(BIN)/python -m pytest -n 2 -q
+
+# The fuzzers with a large budget: CITYSHADE_FUZZ_SECONDS per fuzzer (default 60; docs/robustness.md).
+fuzz: setup
+	$(BIN)/python -m pytest -n 2 -q -m fuzz tests/test_fuzz.py
 
 bench: setup
 	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --json bench-results/$$b.json || exit 1; done

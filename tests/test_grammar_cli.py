@@ -37,6 +37,6 @@ def test_render_bad_grammar_writes_nothing(tmp_path, capsys):
     bad = tmp_path / "bad.grammar"
     bad.write_bytes(b"\0\1\2")
     out = tmp_path / "f.png"
-    assert main(["grammar", "render", str(bad), "--cpu", "--out", str(out)]) == 1
+    assert main(["grammar", "render", str(bad), "--cpu", "--out", str(out)]) == 2
     assert "this is a binary file" in capsys.readouterr().err
     assert not out.exists()

@@ -36,27 +36,27 @@ def test_verify_reports_a_different_image(tmp_path, pngs, capsys):
     assert "material differ from the given images" in capsys.readouterr().err
 
 
-def test_damaged_files_exit_1(tmp_path, pngs, capsys):
+def test_damaged_files_exit_2(tmp_path, pngs, capsys):
     out = tmp_path / "f.cfdm"
     main(["compress", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)])
     data = out.read_bytes()
     (tmp_path / "cut.cfdm").write_bytes(data[: len(data) // 2])
-    assert main(["compress", "--verify", str(tmp_path / "cut.cfdm")]) == 1
+    assert main(["compress", "--verify", str(tmp_path / "cut.cfdm")]) == 2
     assert "cut.cfdm: damaged or truncated" in capsys.readouterr().err
     (tmp_path / "v9.cfdm").write_bytes(data[:8] + (9).to_bytes(4, "little") + data[12:])
-    assert main(["compress", "--stats", str(tmp_path / "v9.cfdm")]) == 1
+    assert main(["compress", "--stats", str(tmp_path / "v9.cfdm")]) == 2
     assert "v9.cfdm: compressed facade format version 9" in capsys.readouterr().err
 
 
 def test_bad_inputs_write_nothing(tmp_path, pngs, capsys):
     Image.fromarray(np.zeros((20, 20), np.uint16)).save(tmp_path / "small.png")
     out = tmp_path / "never.cfdm"
-    assert main(["compress", "--height", str(pngs[0]), "--material", str(tmp_path / "small.png"), "--out", str(out)]) == 1
+    assert main(["compress", "--height", str(pngs[0]), "--material", str(tmp_path / "small.png"), "--out", str(out)]) == 2
     assert "must have the same size" in capsys.readouterr().err
     noise = np.random.default_rng(0).integers(0, 60000, (64, 64)).astype(np.uint16)
     Image.fromarray(noise).save(tmp_path / "noise.png")
     assert main(["compress", "--height", str(tmp_path / "noise.png"), "--material", str(tmp_path / "noise.png"),
-                 "--max-terms", "100", "--out", str(out)]) == 1
+                 "--max-terms", "100", "--out", str(out)]) == 2
     assert "noise.png: depth map: the BMF factorisation needs more than 100 terms" in capsys.readouterr().err
     assert main(["compress", "--layout", "F1", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)]) == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["h.png", "m.png", "noise.png", "small.png"]
@@ -73,6 +73,6 @@ def test_compress_a_grammar_file(tmp_path, capsys):
     assert main(["compress", "--verify", str(out)]) == 0
     bad = tmp_path / "bad.grammar"
     bad.write_text("Facade -> Nonexistent()\n")
-    assert main(["compress", str(bad), "--out", str(tmp_path / "x.cfdm")]) == 1
+    assert main(["compress", str(bad), "--out", str(tmp_path / "x.cfdm")]) == 2
     assert "bad.grammar" in capsys.readouterr().err
     assert not (tmp_path / "x.cfdm").exists()

@@ -6,6 +6,8 @@ import statistics
 
 import numpy as np
 
+from ._values import check_lights, check_samples, check_seed, check_size
+from .errors import UsageError
 from .render import Renderer, RenderSettings, parse_time
 from .scene import City, make_city
 
@@ -14,7 +16,17 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
                 size: tuple[int, int] = (1280, 720), lights: float | None = None, time: str = "19:10",
                 interior_mapping: bool = True, frames: int = 3, **settings) -> tuple[np.ndarray, dict]:
     """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame
-    (its median time over `frames` frames after a first one that compiles and uploads)."""
+    (its median time over `frames` frames after a first one that compiles and uploads).
+    Bad arguments raise UsageError with the message the command line prints."""
+    size, lights = check_size(size), check_lights(lights)
+    seed = None if seed is None else check_seed(seed)
+    if "samples" in settings:
+        settings["samples"] = check_samples(settings["samples"])
+    if isinstance(frames, bool) or not isinstance(frames, int) or frames < 0:
+        raise UsageError(f"invalid frames {frames!r}; a whole number of timed frames, 0 or more")
+    unknown = sorted(set(settings) - set(RenderSettings.__dataclass_fields__))
+    if unknown:
+        raise UsageError(f"unknown render setting {unknown[0]!r}; see cityshade.RenderSettings")
     layout = city if isinstance(city, City) else make_city(city, seed)
     view = layout.camera(camera)
     renderer = Renderer(size, RenderSettings(lights=lights, time_of_day=parse_time(time),

@@ -6,7 +6,8 @@ import argparse
 import importlib
 import sys
 
-from .errors import CityshadeError
+from ._files import signals_as_exit
+from .errors import CityshadeError, UsageError
 
 # Modules that define `register(subparsers)`; each adds its own subcommands.
 COMMAND_MODULES = (
@@ -19,8 +20,15 @@ COMMAND_MODULES = (
 )
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """argparse, but a bad argument is one line (no usage block) and exit code 2."""
+
+    def error(self, message: str):
+        raise UsageError(f"{message}; see `{self.prog} --help`")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="cityshade", description="Render large virtual cities in real time.")
+    parser = OneLineParser(prog="cityshade", description="Render large virtual cities in real time.")
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
@@ -29,9 +37,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
     try:
-        return int(args.run(args) or 0)
+        with signals_as_exit():
+            args = parser.parse_args(argv)
+            return int(args.run(args) or 0)
     except CityshadeError as exc:
         print(f"cityshade: error: {exc}", file=sys.stderr)
         return exc.exit_code

@@ -2,9 +2,10 @@
 
 
 class CityshadeError(Exception):
-    """An error with a message meant for the user and a process exit code."""
+    """An error with a message meant for the user and a process exit code: 2, bad input, unless
+    a subclass says otherwise."""
 
-    exit_code = 1
+    exit_code = 2
 
     def __init__(self, message: str, exit_code: int | None = None):
         super().__init__(message)
@@ -13,14 +14,22 @@ class CityshadeError(Exception):
 
 
 class UsageError(CityshadeError):
-    """A bad command-line value (exit code 2, like argparse)."""
+    """A bad command-line value or input file (exit code 2, like argparse)."""
 
-    exit_code = 2
+
+class Finding(CityshadeError):
+    """A check found a problem in well-formed input (`grammar check`, `compress --verify`): exit code 1."""
+
+    exit_code = 1
 
 
 class GLUnavailableError(CityshadeError):
-    """No OpenGL 4.3 context could be created."""
+    """No OpenGL 4.3 context could be created: the machine, not the input (exit code 1)."""
+
+    exit_code = 1
 
 
 class ShaderError(CityshadeError):
-    """A GLSL file failed to compile or link; the message names file and line."""
+    """A GLSL file failed to compile or link; the message names file and line (exit code 1)."""
+
+    exit_code = 1

@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
+from .._files import output_folder, output_target
 from ._harness import write
 
 # benchmark name -> module with run(quick: bool) -> BenchResult
@@ -26,6 +27,9 @@ def register(subparsers):
 
 
 def _run(args):
+    output_folder(args.out_dir)  # refused before minutes of measuring, not after
+    if args.json is not None:
+        output_target(args.json)
     module = importlib.import_module(BENCHMARKS[args.name])
     result = module.run(quick=args.quick, out_dir=args.out_dir)
     write(result, args.out_dir, args.json)

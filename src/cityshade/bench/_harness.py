@@ -15,7 +15,7 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from .._files import atomic_output
+from .._files import output_folder, write_text
 
 
 @dataclass
@@ -80,17 +80,11 @@ def write(result: BenchResult, out_dir: Path, json_path: Path | None = None, con
     console.print(ratios)
     for note in result.notes:
         console.print(f"- {note}")
-    out_dir.mkdir(parents=True, exist_ok=True)
+    output_folder(out_dir).mkdir(parents=True, exist_ok=True)
     payload = json.dumps(result.to_json(), indent=2)
-    _atomic_write(out_dir / f"{result.name}.json", payload)
-    _atomic_write(out_dir / f"{result.name}.md", result.to_markdown())
+    write_text(out_dir / f"{result.name}.json", payload)
+    write_text(out_dir / f"{result.name}.md", result.to_markdown())
     if json_path is not None:
-        json_path.parent.mkdir(parents=True, exist_ok=True)
-        _atomic_write(json_path, payload)
+        write_text(json_path, payload)
     console.print(f"wrote {out_dir / (result.name + '.json')}, {out_dir / (result.name + '.md')}"
                   + "".join(f", {p}" for p in result.plots))
-
-
-def _atomic_write(path: Path, text: str):
-    with atomic_output(path) as tmp:
-        tmp.write_text(text, encoding="utf-8")

@@ -16,6 +16,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..assets import tile_array
+from .._files import write_figure, write_png
 from ..gl import create_context, describe_context
 from ..grammar import compile_grammars, library_path, load, load_library
 from ..grammar._city_render import PATHS, FacadeCityRenderer
@@ -172,10 +173,7 @@ def _geomean(values) -> float:
 
 
 def _save(renderer: FacadeCityRenderer, path: Path):
-    from PIL import Image
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    Image.fromarray(renderer.read()).save(path)
+    write_png(renderer.read(), path)
 
 
 def _plot(ms, cameras, out_dir: Path) -> Path:
@@ -192,5 +190,5 @@ def _plot(ms, cameras, out_dir: Path) -> Path:
     fig.tight_layout()
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "facades.png"
-    fig.savefig(path, dpi=110)
+    write_figure(fig, path, dpi=110)
     return path

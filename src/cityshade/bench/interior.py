@@ -21,9 +21,8 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
-from PIL import Image
 
-from .._files import atomic_output
+from .._files import write_figure, write_png
 from ..gl import FrameTimer
 from ..render import Renderer, RenderSettings
 from ..scene import Camera, City, grid_city
@@ -139,8 +138,7 @@ def _plot_fig9(result: BenchResult, times: dict[int, dict[str, float]], out_dir:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     path = out_dir / "interior_fig9.png"
-    with atomic_output(path) as tmp:
-        fig.savefig(tmp, dpi=100, bbox_inches="tight", format="png")
+    write_figure(fig, path, dpi=100, bbox_inches="tight")
     result.plots.append(str(path))
 
 
@@ -264,8 +262,7 @@ def run_plan(plan: Plan, out_dir: Path) -> BenchResult:
     out_dir.mkdir(parents=True, exist_ok=True)
     picture = comparison_picture(renderer, grid_city(4), comparison_camera())
     path = out_dir / "interior_vs_polygonised.png"
-    with atomic_output(path) as tmp:
-        Image.fromarray(picture).save(tmp, format="png")
+    write_png(picture, path)
     result.plots.append(str(path))
 
     times = _fig9(result, renderer, plan.rounds, plan.building_counts)

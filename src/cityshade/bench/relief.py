@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from .._files import write_figure
 from ..gl import FrameTimer, ProgramCache, RenderTarget, create_context, describe_context
 from ..relief import (FRAME_DTYPE, MAP_NAMES, PAPER_FACADES, RENDERERS, FacadeView, GpuFacade, MeshFacade, compress,
                       detail_matrices, draw_facades, facade_camera, paper_facade, slab_faces, trace_view)
@@ -264,5 +265,5 @@ def _plot(result: BenchResult, out_dir: Path):
     ax.legend()
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "relief.png"
-    fig.savefig(path, dpi=100, bbox_inches="tight")
+    write_figure(fig, path, dpi=100, bbox_inches="tight")
     result.plots.append(str(path))

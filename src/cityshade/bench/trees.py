@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from .._files import write_figure
 from ..gl import FrameTimer
 from ..render import Renderer, RenderSettings, parse_time
 from ..render._shadows import shadow_pass
@@ -116,5 +117,5 @@ def _plot(rows, out_dir: Path) -> Path:
     ax.set_title("SpeedTree techniques: cost in the tree scene")
     fig.tight_layout()
     path = out_dir / "trees.png"
-    fig.savefig(path, dpi=110)
+    write_figure(fig, path, dpi=110)
     return path

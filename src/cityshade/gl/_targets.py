@@ -5,11 +5,14 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from .._budget import check_gl_size
+
 
 class RenderTarget:
     """A framebuffer with colour attachments of given dtypes plus a depth buffer."""
 
     def __init__(self, ctx: moderngl.Context, size: tuple[int, int], colors=(("f2", 4),), samples: int = 0):
+        check_gl_size(ctx, size)
         self.ctx = ctx
         self.size = size
         self.samples = min(samples, ctx.max_samples) if samples else 0

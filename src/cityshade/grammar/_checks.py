@@ -8,9 +8,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..errors import CityshadeError
 from . import _limits as limits
-from ._diagnostics import Diagnostic, GrammarError, suggest
+from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
 from ._loader import SourceGrammar, SourceRule
 from ._operators import OPERATORS, POLICIES, USAGES, Kind
 from ._syntax import Arg
@@ -77,7 +79,7 @@ def check(source: SourceGrammar, tile_names: dict[str, int]) -> Grammar:
         if rule is not None:
             rules[name] = rule
     if not errors:
-        errors += _cycles(rules)
+        errors += _walk(rules)[1]
     if not errors:
         errors += _limit_errors(rules)
     if errors:
@@ -139,8 +141,11 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
     if arg.kind != "number":
         return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
     value = arg.value
-    if kind is Kind.SIZE and not value > 0:
-        return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number")
+    if not abs(value) <= limits.HALF_MAX:
+        return fail(f"{shorten(arg.text)} does not fit the GPU's 16-bit numbers",
+                    f"numbers of a grammar are at most {limits.HALF_MAX:g} in magnitude")
+    if kind is Kind.SIZE and not np.float16(value) > 0:
+        return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number of at least 1e-7")
     if kind is Kind.WEIGHT and not 0 < value <= 1:
         return fail(f"weight must be in (0, 1], got {arg.text}")
     if kind is Kind.COUNT:
@@ -157,6 +162,13 @@ def _operator_checks(rule: Rule, errors: list):
         if abs(total - 1.0) > 1e-3:
             errors.append(Diagnostic(definition.operator_location, f"Rand weights sum to {total:g}, not 1",
                                      "make the weights add up to 1.0, or use RandUni for equal chances"))
+    if rule.operator in ("SplitX", "SplitY"):
+        for policy, what in ((1, "relative"), (-1, "absolute")):
+            total = sum(size for p, size in zip(rule.values[0::3], rule.values[1::3]) if p == policy)
+            if total > limits.HALF_MAX:
+                errors.append(Diagnostic(definition.operator_location,
+                                         f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "
+                                         f"numbers hold ({limits.HALF_MAX:g})", "use smaller sizes"))
     if rule.operator in ("SplitX", "SplitY", "Rand") and len(rule.children) > limits.MAX_PARTS:
         errors.append(Diagnostic(definition.operator_location,
                                  f"{rule.operator} has {len(rule.children)} parts; the GPU limit is {limits.MAX_PARTS}",
@@ -171,30 +183,33 @@ def _operator_checks(rule: Rule, errors: list):
                 errors.append(Diagnostic(arg.location, f"{what} needs four values in [0, 1]"))
 
 
-def _cycles(rules: dict[str, Rule]) -> list[Diagnostic]:
-    """Every cycle of rule references, named; a cycle would never reach a terminal."""
+def _walk(rules: dict[str, Rule]) -> tuple[list[str], list[Diagnostic]]:
+    """Every rule after all its children (a depth-first post-order), and every cycle of rule
+    references, named (a cycle would never reach a terminal). Iterative: chains of any length."""
     state: dict[str, int] = {}  # 1 = on the current path, 2 = done
-    path: list[str] = []
+    order: list[str] = []
     found: list[Diagnostic] = []
-
-    def visit(name: str):
-        state[name] = 1
-        path.append(name)
-        for child in rules[name].children:
-            if state.get(child) == 1:
+    for root in rules:
+        if root in state:
+            continue
+        state[root], path, pending = 1, [root], [iter(rules[root].children)]
+        while pending:
+            child = next(pending[-1], None)
+            if child is None:
+                pending.pop()
+                done = path.pop()
+                state[done] = 2
+                order.append(done)
+            elif state.get(child) == 1:
                 cycle = path[path.index(child):] + [child]
                 first = rules[child].source.definition
                 found.append(Diagnostic(first.location, "rules form a cycle: " + " -> ".join(cycle),
                                         "every chain of rules must end in Mat, MatAlpha, Skip or SkipMask"))
             elif child not in state:
-                visit(child)
-        path.pop()
-        state[name] = 2
-
-    for name in rules:
-        if name not in state:
-            visit(name)
-    return found
+                state[child] = 1
+                path.append(child)
+                pending.append(iter(rules[child].children))
+    return order, found
 
 
 @dataclass(frozen=True)
@@ -222,25 +237,17 @@ class Cost:
 def costs(rules: dict[str, Rule]) -> dict[str, Cost]:
     """Cost of every rule (the grammar must be acyclic)."""
     memo: dict[str, Cost] = {}
-
-    def cost(name: str) -> Cost:
-        if name in memo:
-            return memo[name]
+    for name in _walk(rules)[0]:  # children first
         rule = rules[name]
-        kids = [cost(c) for c in rule.children]
+        kids = [memo[c] for c in rule.children]
         if not kids:
-            result = Cost(1, 0, 0, 0)
-        else:
-            steps = sum(k.steps for k in kids) if rule.operator == "Layer" else max(k.steps for k in kids)
-            result = Cost(1 + steps,
+            memo[name] = Cost(1, 0, 0, 0)
+            continue
+        steps = sum(k.steps for k in kids) if rule.operator == "Layer" else max(k.steps for k in kids)
+        memo[name] = Cost(1 + steps,
                           max(k.layers for k in kids) + (rule.operator == "Layer"),
                           max(k.stack for k in kids) + (rule.operator == "RandStack"),
                           max(k.intrusions for k in kids) + (rule.operator == "Intrusion"))
-        memo[name] = result
-        return result
-
-    for name in rules:
-        cost(name)
     return memo
 
 

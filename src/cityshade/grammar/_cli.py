@@ -14,13 +14,14 @@ def register(subparsers):
     check = commands.add_parser("check", help="check grammar files; errors as FILE:LINE:COL: error: ...")
     check.add_argument("files", nargs="+", type=Path, metavar="FILE")
     check.set_defaults(run=_check)
-    from ..render._cli import parse_metres, parse_size
+    from .._values import check_seed, parse_size
+    from ..render._cli import parse_metres
 
     render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
     render.add_argument("file", type=Path, metavar="FILE")
     render.add_argument("--rule", default=None, help="start rule (default: the file's first rule)")
     render.add_argument("--facade", type=parse_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres")
-    render.add_argument("--seed", type=int, default=0, help="the facade's random seed")
+    render.add_argument("--seed", type=check_seed, default=0, help="the facade's random seed, 0 to 2^31-1")
     render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
     render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
     render.add_argument("--out", type=Path, default=Path("out/facade.png"), metavar="PNG")
@@ -52,7 +53,8 @@ def _render(args) -> int:
     from ..render._cli import check_writable, save_png
     from . import compile_grammars, load
     from ._random import seed_vector
-    from ._reference import evaluate_facade
+    from .._budget import check_image_memory
+    from ._reference import CPU_BYTES_PER_PIXEL, evaluate_facade
 
     for path in (args.out, args.labels):
         if path is not None:
@@ -63,11 +65,12 @@ def _render(args) -> int:
         compiled = compile_grammars({"g": grammar})
     except GrammarError as exc:
         print(str(exc), file=sys.stderr)
-        return 1
+        return exc.exit_code
     start = compiled.address("g", args.rule)
     seed = seed_vector(args.seed)
     tiles = tile_array(128)
     if args.cpu:
+        check_image_memory(args.size, CPU_BYTES_PER_PIXEL, "grammar render --cpu")
         result = evaluate_facade(compiled, start, args.facade, args.size, seed, tiles)
         colour, labels = result.color, result.label
     else:

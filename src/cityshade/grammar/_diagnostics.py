@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import difflib
 from dataclasses import dataclass
-from pathlib import Path
 
 from ..errors import CityshadeError
 
@@ -27,13 +26,11 @@ class Diagnostic:
         loc = self.location
         head = f"{loc.path}:{loc.line}:{loc.column}: error: {self.message}"
         lines = [head]
-        text = (sources or {}).get(loc.path)
-        if text is None:
-            text = _read_quietly(loc.path)
+        text = (sources or {}).get(loc.path)  # only files that parsed as grammars are quoted
         if text is not None:
-            source_lines = text.splitlines()
+            source_lines = text.split("\n")  # as the parser counts lines: '\f' or a bare '\r' do not end one
             if 1 <= loc.line <= len(source_lines):
-                shown = source_lines[loc.line - 1].replace("\t", " ")
+                shown = "".join(c if c.isprintable() else " " for c in source_lines[loc.line - 1])
                 lines.append(f"    {shown}")
                 lines.append("    " + " " * (loc.column - 1) + "^" + "~" * max(loc.length - 1, 0))
         if self.hint:
@@ -41,11 +38,9 @@ class Diagnostic:
         return "\n".join(lines)
 
 
-def _read_quietly(path: str) -> str | None:
-    try:
-        return Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return None
+def shorten(token: str, limit: int = 40) -> str:
+    """A token as quoted in a message: never more than `limit` characters of someone's file."""
+    return token if len(token) <= limit else token[: limit - 3] + "..."
 
 
 class GrammarError(CityshadeError):

@@ -8,6 +8,7 @@ MAX_PARTS = 16  # parts of one Split or Rand
 MAX_INTRUSIONS = 3  # nested Intrusion operators
 MAX_TEXELS = 2048  # rule addresses are exact integers in a 16-bit float channel up to 2048
 TEXTURE_WIDTH = 256
+HALF_MAX = 65504.0  # the largest 16-bit float: every number of a rule, and Split's sums, are stored as one
 
 DEFINES = {
     "GRAMMAR_MAX_STEPS": MAX_STEPS,

@@ -3,6 +3,10 @@
 `use "brick.grammar" as Brick` copies every rule of brick.grammar into the namespace `Brick`
 (§6 "Usability"): inside it names resolve to `Brick.Name`, and the including file may redefine
 `Brick.Name` to vary one part of the style without copying the rest.
+
+A `use` names a `.grammar` file in the including file's folder (or below it) or a library style;
+it never leaves that folder, so a grammar cannot make cityshade read, or quote in an error, any
+other file. An included file that does not parse is reported without quoting its lines.
 """
 
 from __future__ import annotations
@@ -11,8 +15,12 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
-from ._diagnostics import Diagnostic, GrammarError, Location
-from ._syntax import RuleDef, parse_text
+from .._files import InputError, read_input_bytes
+from ._diagnostics import Diagnostic, GrammarError, Location, shorten
+from ._syntax import RuleDef, SourceFile, parse_text
+
+GRAMMAR_SUFFIX = ".grammar"
+MAX_GRAMMAR_BYTES = 1 << 20  # the whole library is 10 KB; a megabyte of rules would not fit the texture anyway
 
 
 @dataclass(frozen=True)
@@ -46,11 +54,9 @@ def read_source(path: Path) -> str:
     """The file's text, refusing binary and empty files with a located message."""
     where = Location(str(path), 1, 1)
     try:
-        data = path.read_bytes()
-    except FileNotFoundError:
-        raise GrammarError([Diagnostic(where, "no such grammar file", "check the path")]) from None
-    except OSError as exc:
-        raise GrammarError([Diagnostic(where, f"cannot read the file ({exc.strerror})")]) from None
+        data = read_input_bytes(path, MAX_GRAMMAR_BYTES, "grammar file")
+    except InputError as exc:
+        raise GrammarError([Diagnostic(where, exc.reason)], {}) from None
     if b"\0" in data:
         raise GrammarError([Diagnostic(where, "this is a binary file, not a grammar",
                                        "grammar files are UTF-8 text with rules Name->Operator(args)")])
@@ -68,26 +74,42 @@ def load_source(path: str | Path) -> SourceGrammar:
     """Parses a file and everything it uses into one namespaced rule table."""
     path = Path(path)
     sources: dict[str, str] = {}
-    rules, start = _load(path, "", sources, [])
+    rules, start = _collect(_parse_file(path, sources, quote_syntax_errors=True), path, path.parent, "", sources, [])
     return SourceGrammar(str(path), rules, start, sources)
 
 
 def parse_string(text: str, name: str = "<string>") -> SourceGrammar:
-    """A grammar from text (no `use` relative to a folder other than the library)."""
+    """A grammar from text; its `use` lines may name library styles only."""
     sources = {name: text}
-    rules, start = _collect(text, Path(name), "", sources, [])
+    rules, start = _collect(parse_text(text, name), Path(name), None, "", sources, [])
     return SourceGrammar(name, rules, start, sources)
 
 
-def _load(path: Path, namespace: str, sources: dict[str, str], chain: list[Path]) -> tuple[dict[str, SourceRule], str]:
+def _include(path: Path, namespace: str, sources: dict[str, str], chain: list[Path]) -> dict[str, SourceRule]:
+    """An included file's rules. Its text is quoted in later errors only once it parsed as a grammar."""
+    return _collect(_parse_file(path, sources, quote_syntax_errors=False), path, path.parent, namespace, sources,
+                    chain)[0]
+
+
+def _parse_file(path: Path, sources: dict[str, str], quote_syntax_errors: bool) -> SourceFile:
+    """Parses a file; its lines may be quoted in errors only if it is a .grammar file, and, for
+    syntax errors, only if asked (the file named on the command line, not an included one)."""
     text = read_source(path)
-    sources[str(path)] = text
-    return _collect(text, path, namespace, sources, chain)
+    quoted = path.suffix == GRAMMAR_SUFFIX
+    try:
+        parsed = parse_text(text, str(path))
+    except GrammarError as exc:
+        if quoted and quote_syntax_errors:
+            raise
+        raise GrammarError(exc.diagnostics, {}) from None
+    if quoted:
+        sources[str(path)] = text
+    return parsed
 
 
-def _collect(text: str, path: Path, namespace: str, sources: dict[str, str], chain: list[Path]):
+def _collect(parsed: SourceFile, path: Path, folder: Path | None, namespace: str, sources: dict[str, str],
+             chain: list[Path]):
     where = Location(str(path), 1, 1)
-    parsed = parse_text(text, str(path))
     if not parsed.rules and not parsed.uses:
         raise GrammarError([Diagnostic(where, "the grammar is empty: it defines no rules",
                                        "add rules like Facade->SplitY(Abs, 3.0, Ground, Rel, 1.0, Upper)")], sources)
@@ -100,18 +122,22 @@ def _collect(text: str, path: Path, namespace: str, sources: dict[str, str], cha
                                      "give each included file its own namespace"))
             continue
         seen_namespaces[use.namespace] = use.location
-        target = _find_include(path, use.file)
+        if not use.file.endswith(GRAMMAR_SUFFIX):
+            errors.append(Diagnostic(use.location, f"'{shorten(use.file)}' is not a {GRAMMAR_SUFFIX} file",
+                                     f"a grammar may only use other {GRAMMAR_SUFFIX} files"))
+            continue
+        target = _find_include(folder, use.file)
         if target is None:
-            errors.append(Diagnostic(use.location, f"included file '{use.file}' not found",
-                                     f"paths are relative to {path.parent or '.'} or name a library style"))
+            where_from = f"{folder or '.'} (or a folder below it)" if folder is not None else "nowhere but the library"
+            errors.append(Diagnostic(use.location, f"included file '{shorten(use.file)}' not found",
+                                     f"a use names a file in {where_from} or a library style"))
             continue
         if target.resolve() in [p.resolve() for p in chain + [path]]:
             cycle = " -> ".join(p.name for p in chain + [path, target])
             errors.append(Diagnostic(use.location, f"files include each other: {cycle}"))
             continue
         full_ns = f"{namespace}.{use.namespace}" if namespace else use.namespace
-        sub_rules, _ = _load(target, full_ns, sources, chain + [path])
-        included.update(sub_rules)
+        included.update(_include(target, full_ns, sources, chain + [path]))
     own: dict[str, SourceRule] = {}
     for rule in parsed.rules:
         full = f"{namespace}.{rule.name}" if namespace else rule.name
@@ -129,8 +155,14 @@ def _collect(text: str, path: Path, namespace: str, sources: dict[str, str], cha
     return merged, start
 
 
-def _find_include(path: Path, name: str) -> Path | None:
-    for candidate in (path.parent / name, library_path(name)):
-        if candidate.is_file():
+def _find_include(folder: Path | None, name: str) -> Path | None:
+    """The file a `use` names, only if it lies inside `folder` (links resolved) or the library."""
+    library = library_path("")
+    roots = ([folder] if folder is not None else []) + [library]
+    for root in roots:
+        candidate = root / name
+        inside = Path(root).resolve()
+        if (not Path(name).is_absolute() and inside in candidate.resolve().parents
+                and candidate.resolve().is_file()):
             return candidate
     return None

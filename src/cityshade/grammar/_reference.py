@@ -25,6 +25,13 @@ WALL_LABEL = LABELS.index("wall")
 REPEAT_SLACK = F(1e-4)  # ceil(S_w / v) must not jump when S_w / v is an integer up to rounding
 
 
+# The evaluator's work arrays take hundreds of bytes per pixel (7.7 GB for 4096x4096 at once);
+# it runs on tiles of this many pixels.
+# What stays per pixel is the Evaluation, the view rays and the 8-bit images.
+CHUNK_PIXELS = 1 << 16
+CPU_BYTES_PER_PIXEL = 150  # measured: 242 MB peak at 1024x1024, 584 MB before tiling
+
+
 @dataclass
 class Evaluation:
     """Per-pixel results; terminal is the winning Mat's texel address (-1: none)."""
@@ -77,7 +84,9 @@ class _Pixels:
 
 class _Evaluator:
     def __init__(self, compiled: CompiledGrammars, tiles: TileArray):
-        self.tex = compiled.flat()
+        # Split and Rand read all MAX_PARTS part slots and mask those past n, as the shader's
+        # loop does; zero texels after the last rule keep those reads inside the array.
+        self.tex = np.concatenate([compiled.flat(), np.zeros((limits.MAX_PARTS // 2 + 1, 4), F)])
         self.tiles = tiles
 
     def channel(self, addr, index):
@@ -380,8 +389,13 @@ def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarra
 def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
-    result = evaluate(compiled, start, uv, facade, seed, tiles, rays)
-    result.color = shade(result, rays)
+    parts = []
+    for first in range(0, len(uv), CHUNK_PIXELS):  # pixels are independent: tiles bound the work arrays
+        part = evaluate(compiled, start, uv[first:first + CHUNK_PIXELS], facade, seed, tiles,
+                        rays[first:first + CHUNK_PIXELS])
+        part.color = shade(part, rays[first:first + CHUNK_PIXELS])
+        parts.append(part)
+    result = Evaluation(**{name: np.concatenate([vars(p)[name] for p in parts]) for name in vars(parts[0])})
     cols, rows = size
     for name, value in vars(result).items():
         setattr(result, name, value.reshape((rows, cols) + value.shape[1:])[::-1])

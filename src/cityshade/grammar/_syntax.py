@@ -15,7 +15,7 @@ from functools import lru_cache
 
 from lark import Lark, Token, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
-from ._diagnostics import Diagnostic, GrammarError, Location
+from ._diagnostics import Diagnostic, GrammarError, Location, shorten
 
 _LARK_GRAMMAR = r"""
 start: _item*
@@ -110,7 +110,7 @@ def parse_text(text: str, path: str) -> SourceFile:
 
 def _syntax_diagnostic(exc: UnexpectedInput, text: str, path: str) -> Diagnostic:
     if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
-        lines = text.rstrip().splitlines() or [""]
+        lines = text.rstrip().split("\n") or [""]
         loc = Location(path, len(lines), len(lines[-1]) + 1)
         expected = _expected_words(getattr(exc, "expected", ()))
         return Diagnostic(loc, f"the file ends in the middle of a rule; expected {expected}",
@@ -130,7 +130,7 @@ def _syntax_diagnostic(exc: UnexpectedInput, text: str, path: str) -> Diagnostic
         hint = "a rule is written Name->Operator(args); is '->' missing?"
     elif token.type == "NAME" and "COMMA" in exc.expected:
         hint = "is a ',' missing between arguments?"
-    return Diagnostic(loc, f"unexpected {str(token)!r}; expected {expected}", hint)
+    return Diagnostic(loc, f"unexpected {shorten(str(token))!r}; expected {expected}", hint)
 
 
 def _expected_words(expected) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -9,12 +10,15 @@ import numpy as np
 from rich.console import Console
 from rich.progress import Progress
 
-from ..errors import CityshadeError, UsageError
+from .._files import output_target
+from .._values import check_seed
+from ..errors import CityshadeError, Finding, UsageError
 from ..render._cli import parse_metres
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS
 from ._format import read_compressed, write_compressed
 from ._grammar_source import grammar_maps
+from ._limits import check_facade_texels
 from ._layout import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, generate_facade
 from ._maps import DetailMaps, load_png_maps
 
@@ -33,7 +37,7 @@ def register(subparsers):
                         help="16- or 8-bit greyscale PNG of depth steps behind the outermost surface")
     source.add_argument("--material", type=Path, metavar="PNG", help="8- or 16-bit greyscale PNG of material indices")
     parser.add_argument("--rule", help="with GRAMMAR_FILE: the start rule (default: the file's first)")
-    parser.add_argument("--seed", type=int, default=1, help="with GRAMMAR_FILE: the facade's random seed")
+    parser.add_argument("--seed", type=check_seed, default=1, help="with GRAMMAR_FILE: the facade's random seed")
     parser.add_argument("--facade", metavar="WxH",
                         help="facade size in metres (GRAMMAR_FILE: default 12x16; --layout: default the paper's)")
     parser.add_argument("--texel", type=float, default=PAPER_TEXEL, metavar="METRES", help="texel size (default 0.02)")
@@ -57,6 +61,7 @@ def _run(args) -> int:
         return _verify(args)
     if args.out is None:
         raise UsageError("compress needs --out FILE (or --stats FILE / --verify FILE)")
+    output_target(args.out)  # refused before the factorisation, not after
     maps = _source_maps(args, required=True)
     console = Console(stderr=True)
     started = time.perf_counter()
@@ -73,8 +78,11 @@ def _run(args) -> int:
 
 
 def _source_maps(args, required: bool) -> DetailMaps | None:
-    if args.texel <= 0 or args.depth_unit <= 0:
-        raise UsageError("--texel and --depth-unit must be positive")
+    for option, value in (("--texel", args.texel), ("--depth-unit", args.depth_unit)):
+        if not (math.isfinite(value) and value > 0):
+            raise UsageError(f"invalid {option} {value:g}; it must be a positive number of metres")
+    if not 1 <= args.max_terms <= MAX_TERMS:
+        raise UsageError(f"invalid --max-terms {args.max_terms}; it must be from 1 to {MAX_TERMS}")
     images = args.height is not None or args.material is not None
     if sum((args.grammar is not None, args.layout is not None, images)) > 1:
         raise UsageError("give one source: GRAMMAR_FILE, --layout NAME, or --height and --material")
@@ -89,6 +97,7 @@ def _source_maps(args, required: bool) -> DetailMaps | None:
         if args.facade:
             width, height = parse_metres(args.facade, limit=1000.0)
             cols, rows = max(1, round(width / args.texel)), max(1, round(height / args.texel))
+        check_facade_texels(cols, rows, f"--facade {args.facade or args.layout}", args.texel)
         return generate_facade(cols, rows, layout, args.texel)
     if required:
         raise UsageError("give a source: GRAMMAR_FILE, --layout NAME, or --height PNG --material PNG")
@@ -97,7 +106,8 @@ def _source_maps(args, required: bool) -> DetailMaps | None:
 
 def _grammar(args) -> DetailMaps:
     facade = parse_metres(args.facade or "12x16", limit=1000.0)
-    rows = max(1, round(facade[1] / args.texel))
+    cols, rows = max(1, round(facade[0] / args.texel)), max(1, round(facade[1] / args.texel))
+    check_facade_texels(cols, rows, f"--facade {args.facade or '12x16'}", args.texel)
     with Progress(console=Console(stderr=True), transient=True) as progress:
         task = progress.add_task(f"rasterising {args.grammar.name}", total=rows)
         return grammar_maps(args.grammar, args.rule, facade, args.texel, args.seed,
@@ -140,6 +150,6 @@ def _verify(args) -> int:
         bad = [n for n in MAP_NAMES if digest(decoded[n]) != facade.digests[n]]
         against = "the maps it was made from"
     if bad:
-        raise CityshadeError(f"{args.verify}: decompressed {', '.join(bad)} differ from {against}")
+        raise Finding(f"{args.verify}: decompressed {', '.join(bad)} differ from {against}")
     print(f"{args.verify}: ok, D, M and A decompress exactly to {against}")
     return 0

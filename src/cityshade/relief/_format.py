@@ -13,16 +13,18 @@ Layout (little endian):
 from __future__ import annotations
 
 import json
+import math
 import struct
 import zlib
 from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_output
+from .._files import read_input_bytes, write_bytes
 from ..errors import CityshadeError
 from ._compress import MAP_NAMES, CompressedFacade
-from ._factor import Factors
+from ._factor import MAX_TERMS, METHODS, Factors
+from ._limits import MAX_FILE_BYTES, MAX_TEXELS, check_facade_texels
 from ._pack import pack_bits, unpack_bits
 
 MAGIC = b"CFDM\r\n\x1a\n"
@@ -65,19 +67,11 @@ def to_bytes(facade: CompressedFacade) -> bytes:
 
 def write_compressed(path: Path, facade: CompressedFacade):
     """Writes to a temporary file beside path, then renames: never a half-written file."""
-    data = to_bytes(facade)
-    with atomic_output(Path(path)) as tmp:
-        tmp.write_bytes(data)
+    write_bytes(Path(path), to_bytes(facade))
 
 
 def read_compressed(path: Path) -> CompressedFacade:
-    try:
-        data = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise CityshadeError(f"{path}: no such file") from None
-    except OSError as exc:
-        raise CityshadeError(f"{path}: cannot read ({exc.strerror})") from None
-    return from_bytes(data, str(path))
+    return from_bytes(read_input_bytes(Path(path), MAX_FILE_BYTES, "compressed facade file"), str(path))
 
 
 def from_bytes(data: bytes, source: str = "<bytes>") -> CompressedFacade:
@@ -94,16 +88,30 @@ def from_bytes(data: bytes, source: str = "<bytes>") -> CompressedFacade:
     (stored_crc,) = struct.unpack_from("<I", data, len(data) - 4)
     if zlib.crc32(data[:-4]) != stored_crc:
         raise CityshadeError(f"{source}: damaged or truncated compressed facade (checksum mismatch)")
+    if header_len > len(data) - _PREFIX.size - 4:
+        raise CityshadeError(f"{source}: malformed compressed facade header (longer than the file)")
     try:
         header = json.loads(data[_PREFIX.size:_PREFIX.size + header_len].decode("utf-8"))
         payload = data[_PREFIX.size + header_len:-4]
+        expected = _expected_sections(header, source)
         arrays = {}
         for sec in header["sections"]:
-            dtype = np.dtype(sec["dtype"])
-            count = int(np.prod(sec["shape"], dtype=np.int64))
-            if sec["offset"] + count * dtype.itemsize > len(payload):
-                raise ValueError(f"section {sec['name']} runs past the end")
-            arrays[sec["name"]] = np.frombuffer(payload, dtype, count, sec["offset"]).reshape(sec["shape"])
+            name = sec["name"]
+            if name not in expected or name in arrays:
+                raise ValueError(f"unexpected section {name!r}")
+            dtype_text, shape = expected[name]
+            declared = [int(n) for n in sec["shape"]]
+            if name == "boxes" and len(declared) == 2 and 0 <= declared[0] <= MAX_TEXELS and declared[1] == 4:
+                shape = declared
+            if sec["dtype"] != dtype_text or declared != shape:
+                raise ValueError(f"section {name} is {sec['dtype']} {declared}; the facade's size and terms "
+                                 f"make it {dtype_text} {shape}")
+            dtype, offset = np.dtype(dtype_text), int(sec["offset"])
+            if offset < 0 or offset + math.prod(shape) * dtype.itemsize > len(payload):
+                raise ValueError(f"section {name} runs past the end")
+            arrays[name] = np.frombuffer(payload, dtype, math.prod(shape), offset).reshape(shape)
+        if set(arrays) != set(expected):
+            raise ValueError(f"sections {sorted(set(expected) - set(arrays))} are missing")
         factors = {}
         for name in MAP_NAMES:
             terms = header["terms"][name]
@@ -112,6 +120,28 @@ def from_bytes(data: bytes, source: str = "<bytes>") -> CompressedFacade:
                 x, y = unpack_bits(x, terms), unpack_bits(y, terms)
             factors[name] = Factors(header["method"], np.array(x), np.array(s, np.float32), np.array(y))
         return CompressedFacade(header["method"], float(header["texel"]), float(header["depth_unit"]), factors,
-                                np.array(arrays["boxes"], np.uint16), dict(header["digests"]))
-    except (KeyError, ValueError, TypeError, UnicodeDecodeError) as exc:
+                                np.array(arrays["boxes"], np.uint16), {n: str(header["digests"][n]) for n in MAP_NAMES})
+    except (KeyError, ValueError, TypeError, UnicodeDecodeError, OverflowError, AttributeError) as exc:
         raise CityshadeError(f"{source}: malformed compressed facade header ({exc})") from None
+
+
+def _expected_sections(header: dict, source: str) -> dict[str, tuple[str, list[int]]]:
+    """Each section's dtype and shape as the header's size, method and terms imply; the declared
+    size is checked against the limits before anything is allocated."""
+    method = header["method"]
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}")
+    rows, cols = (int(n) for n in header["shape"])
+    check_facade_texels(cols, rows, f"{source}: the facade")
+    for key in ("texel", "depth_unit"):
+        if not (isinstance(header[key], (int, float)) and math.isfinite(header[key]) and header[key] > 0):
+            raise ValueError(f"{key} must be a positive number")
+    out = {"boxes": ("<u2", ["n", 4])}
+    for name in MAP_NAMES:
+        terms = header["terms"][name]
+        if not (isinstance(terms, int) and 0 <= terms <= MAX_TERMS):
+            raise ValueError(f"{name} has {terms!r} terms; at most {MAX_TERMS}")
+        width, dtype = (-(-terms // 32), "<u4") if method == "bmf" else (terms, "<f4")
+        out.update({f"{name}.x": (dtype, [rows, width]), f"{name}.s": ("<f4", [terms]),
+                    f"{name}.y": (dtype, [cols, width])})
+    return out

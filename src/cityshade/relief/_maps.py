@@ -8,13 +8,16 @@ outermost surface (0 = outermost); M indexes MATERIALS.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from PIL import Image
 
+from .._files import write_png
 from ..errors import CityshadeError
+from ._limits import check_facade_texels
 
 # Material indices of the tile library; the shaders' palette (shaders/relief/materials.glsl)
 # lists them in the same order.
@@ -62,12 +65,16 @@ def load_png_maps(height_png: Path, material_png: Path, texel: float, depth_unit
 
 def _read_integer_image(path: Path, role: str) -> np.ndarray:
     try:
-        with Image.open(path) as image:
+        with warnings.catch_warnings():  # Pillow's bomb warning: the size is checked here instead
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            image = Image.open(path)  # reads the header only: the size is checked before decoding
+        with image:
+            check_facade_texels(*image.size, f"{path}: the {role} image")
             mode = image.mode
             data = np.asarray(image)
     except FileNotFoundError:
         raise CityshadeError(f"{path}: no such file") from None
-    except (OSError, SyntaxError) as exc:
+    except (OSError, SyntaxError, Image.DecompressionBombError) as exc:
         raise CityshadeError(f"{path}: not a readable image ({exc})") from None
     if mode not in ("L", "I;16", "I;16B", "I;16L", "I", "P") or data.ndim != 2 or data.dtype.kind not in "ui":
         raise CityshadeError(
@@ -81,5 +88,5 @@ def _read_integer_image(path: Path, role: str) -> np.ndarray:
 
 def save_png_maps(maps: DetailMaps, height_png: Path, material_png: Path):
     """Writes the pair load_png_maps reads (16-bit PNGs, top row = top of facade)."""
-    Image.fromarray(maps.depth[::-1].astype(np.uint16)).save(height_png)
-    Image.fromarray(maps.material[::-1].astype(np.uint16)).save(material_png)
+    write_png(maps.depth[::-1].astype(np.uint16), height_png)
+    write_png(maps.material[::-1].astype(np.uint16), material_png)

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import os
-import re
 from pathlib import Path
 
-from .._files import atomic_output
+from .._files import output_target, write_png
+from .._values import check_lights as parse_lights
+from .._values import check_seed, parse_size
 from ..errors import UsageError
 from ..scene import CITIES
 
@@ -26,13 +26,6 @@ def _trees_scene(args) -> int:
 SCENES = {"trees": _trees_scene}  # a technique's own scene: name -> callable(args) -> exit code
 
 
-def parse_size(text: str) -> tuple[int, int]:
-    match = re.fullmatch(r"(\d+)x(\d+)", text.strip())
-    if not match or not (1 <= int(match.group(1)) <= 16384 and 1 <= int(match.group(2)) <= 16384):
-        raise UsageError(f"invalid size {text!r}; use WIDTHxHEIGHT with each from 1 to 16384, e.g. 1280x720")
-    return int(match.group(1)), int(match.group(2))
-
-
 def parse_metres(text: str, option: str = "--facade", limit: float = 4096.0) -> tuple[float, float]:
     """'20x16' -> (20.0, 16.0) metres, each side in (0, limit]."""
     try:
@@ -44,37 +37,13 @@ def parse_metres(text: str, option: str = "--facade", limit: float = 4096.0) -> 
     return width, height
 
 
-def parse_lights(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not 0.0 <= value <= 1.0:
-        raise UsageError(f"invalid --lights {text!r}; the share of lit rooms is a number from 0 to 1")
-    return value
-
-
 def check_writable(path: Path) -> Path:
     """Fails early, with one line, if the output cannot be written (nothing is created)."""
-    folder = path.parent if str(path.parent) else Path(".")
-    if path.is_dir():
-        raise UsageError(f"output path {str(path)!r} is a directory; give a file name such as out/city.png")
-    probe = folder
-    while not probe.exists():
-        probe = probe.parent
-    if not os.access(probe, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
-        raise UsageError(f"cannot write {str(path)!r}: permission denied; choose another --out")
-    if not probe.is_dir():
-        raise UsageError(f"cannot write {str(path)!r}: {str(probe)!r} is not a directory")
+    output_target(path)
     return path
 
 
-def save_png(image, path: Path):
-    """Writes atomically: a finished PNG or nothing."""
-    from PIL import Image
-
-    with atomic_output(path) as tmp:
-        Image.fromarray(image).save(tmp, format="PNG")
+save_png = write_png  # a finished PNG or nothing
 
 
 def register(subparsers):
@@ -84,7 +53,7 @@ def register(subparsers):
                         help="build the city from footprints: GeoJSON or OpenStreetMap XML (.osm), "
                              "extruded by height / building:levels tags")
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
-    parser.add_argument("--seed", type=int, default=None, help="layout seed")
+    parser.add_argument("--seed", type=check_seed, default=None, help="layout seed, 0 to 2^31-1")
     parser.add_argument("--camera", default="street", help="named viewpoint of the city")
     parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
     parser.add_argument("--lights", default=None, help="share of lit rooms, 0..1 (default: from --time)")

@@ -8,7 +8,7 @@ from pathlib import Path
 import imageio.v2 as imageio
 from rich.progress import Progress
 
-from .._files import atomic_output
+from .._files import atomic_output, signals_deferred
 from ..errors import UsageError
 from ..scene import make_city
 from ..scene._paths import PATHS, camera_path
@@ -25,6 +25,7 @@ def render_video(out: Path, city: str = "default", path: str = "orbit", frames: 
     With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up."""
     if frames < 1 or fps < 1:
         raise UsageError(f"frames and fps must be at least 1 (got {frames} frames at {fps} fps)")
+    _check_mp4(Path(out))
     layout = make_city(city)
     move = camera_path(path)
     begin = parse_time(start_time)
@@ -40,7 +41,9 @@ def render_video(out: Path, city: str = "default", path: str = "orbit", frames: 
                 t = i / max(frames - 1, 1)
                 renderer.set_settings(replace(renderer.settings, time_of_day=begin + (finish - begin) * t,
                                               animation_time=i / fps))
-                writer.append_data(renderer.render(move(layout, t)))
+                frame = renderer.render(move(layout, t))
+                with signals_deferred():
+                    writer.append_data(frame)
                 bar.advance(task)
     finally:
         renderer.release()
@@ -60,7 +63,13 @@ def register(subparsers):
     parser.set_defaults(run=_run)
 
 
+def _check_mp4(path: Path):
+    if path.suffix.lower() != ".mp4":
+        raise UsageError(f"cannot write {str(path)!r}: videos are H.264 MP4 files; give a name ending in .mp4")
+
+
 def _run(args) -> int:
+    _check_mp4(args.out)
     size = parse_size(args.size)
     camera_path(args.path)
     parse_time(args.time)

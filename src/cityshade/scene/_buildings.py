@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -36,7 +37,7 @@ class BuildingMass:
         if self.height <= 0:
             raise ValueError(f"building height must be positive, got {self.height}")
 
-    @property
+    @cached_property  # the footprint may have many vertices: scanned once
     def extent(self) -> np.ndarray:
         pts = np.asarray(self.footprint, dtype=np.float64)
         width, depth = pts.max(axis=0)
