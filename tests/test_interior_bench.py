@@ -17,8 +17,6 @@ from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FAC
 from cityshade.render import Renderer
 from cityshade.scene import cylinder, grid_city
 
-OUTPUT = "tests/output"
-
 
 def test_apartment_block_counts():
     """Fig. 9's block: 31 storeys, 6x6 windows -> 31 floors, 31 ceilings, 2 x (6 + 6) wall quads."""
@@ -60,13 +58,13 @@ def test_scaled_rooms_keep_the_mass():
         assert np.allclose(scaled.masses[0].extent, city.masses[0].extent)
 
 
-def test_polygonised_picture_matches_interior_mapping():
+def test_polygonised_picture_matches_interior_mapping(output_dir):
     """Same rooms, variants and lights: the pictures differ along window edges only (alpha-tested
     glass against blended glass), which at this size are a good share of the pixels."""
     renderer = Renderer((160, 120), SETTINGS)
     picture = comparison_picture(renderer, grid_city(4), comparison_camera())
     renderer.release()
-    Image.fromarray(picture).save(f"{OUTPUT}/interior_vs_polygonised.png")
+    Image.fromarray(picture).save(output_dir / "interior_vs_polygonised.png")
     left, right = picture[:, :160].astype(int), picture[:, -160:].astype(int)
     differing = np.abs(left - right).max(axis=-1) > 40
     assert differing.mean() < 0.15, f"{differing.mean():.1%} of pixels differ"

@@ -114,15 +114,15 @@ def test_alpha_to_coverage_turns_alpha_into_coverage(ctx, programs):
     assert kept[True] > 0.99 and kept[False] == pytest.approx(0.5, abs=0.1)
 
 
-def test_alpha_test_edges_are_hard_and_coverage_edges_soft(ctx, programs):
+def test_alpha_test_edges_are_hard_and_coverage_edges_soft(ctx, programs, output_dir):
     camera = Camera((0, 5.0, 9.0), (0, 5.0, 0), fov_y=50, near=0.1, far=80)
     images = {}
     for a2c, samples in ((False, 4), (False, 0), (True, 4)):
         tree = one_tree(ctx, programs, alpha_to_coverage=a2c, shadows=False)
         images[a2c, samples] = render(ctx, tree, camera, samples=samples, parts=("leaves",))
         tree.release()
-    save(images[True, 4], "trees_leaves_a2c")
-    save(images[False, 4], "trees_leaves_alpha_test")
+    save(images[True, 4], "trees_leaves_a2c", output_dir)
+    save(images[False, 4], "trees_leaves_alpha_test", output_dir)
     # Alpha test: multisampling adds nothing inside a card, so the 4x image equals the 1x image.
     hard = np.abs(images[False, 4] - images[False, 0]).max(axis=2) > 1e-3
     soft = np.abs(images[True, 4] - images[False, 0]).max(axis=2) > 1e-3
@@ -140,14 +140,14 @@ def test_lod_fade_curves_are_offset():
     assert both.any() and np.all(np.maximum(near, far)[both] >= 0.74)  # never both half transparent
 
 
-def test_leaves_shadow_leaves(ctx, programs):
+def test_leaves_shadow_leaves(ctx, programs, output_dir):
     camera = Camera((0, 5.0, 9.0), (0, 5.0, 0), fov_y=50, near=0.1, far=80)
     lit_tree = one_tree(ctx, programs, shadows=False)
     tree = one_tree(ctx, programs)
     shadows = CascadedShadows(ctx, 512, shadow_far=40.0)
     lit = render(ctx, lit_tree, camera, parts=("leaves",))
     shaded = render(ctx, tree, camera, shadows=shadows, parts=("leaves",))
-    save(shaded, "trees_leaf_self_shadow")
+    save(shaded, "trees_leaf_self_shadow", output_dir)
     leaf = lit.sum(axis=2) > 0.02
     darker = (shaded.sum(axis=2) < 0.8 * lit.sum(axis=2)) & leaf
     assert 0.1 < darker.sum() / leaf.sum() < 0.85  # some leaves in the shade of others, not all
@@ -156,13 +156,13 @@ def test_leaves_shadow_leaves(ctx, programs):
 
 
 @pytest.mark.parametrize("species", ["oak", "fir", "poplar"])
-def test_single_tree_picture(ctx, programs, species):
+def test_single_tree_picture(ctx, programs, species, output_dir):
     tree = one_tree(ctx, programs, species)
     height = tree.models[next(iter(tree.models))].height
     camera = Camera((0, height * 0.45, height * 1.3), (0, height * 0.45, 0), fov_y=55, near=0.1, far=200)
     shadows = CascadedShadows(ctx, 512, shadow_far=60.0)
     image = render(ctx, tree, camera, shadows=shadows, background=(0.45, 0.6, 0.8))
-    save(image, f"trees_single_{species}")
+    save(image, f"trees_single_{species}", output_dir)
     sky = np.abs(image - np.array([0.45, 0.6, 0.8])).max(axis=2) < 0.01
     assert 0.05 < 1 - sky.mean() < 0.8  # the tree is there and fits the frame
     tree.release()

@@ -8,6 +8,7 @@ from cityshade.render import Daylight, Renderer, RenderSettings
 from cityshade.scene import Camera, City, box
 from cityshade.scene._city import GROUND_PAVEMENT
 from cityshade.trees import city_trees, park_scene
+from render_checks import render_finite
 
 SIZE = (160, 120)
 
@@ -25,7 +26,7 @@ def test_a_tower_shades_the_ground_and_a_roof_on_its_far_side_from_the_sun(outpu
     for shadows in (True, False):
         renderer = Renderer(SIZE, RenderSettings(time_of_day=15.0, shadows=shadows, samples=0, god_rays=False))
         renderer.set_city(city)
-        shots[shadows] = renderer.render(camera).astype(float).sum(axis=2)
+        shots[shadows] = render_finite(renderer, camera).astype(float).sum(axis=2)
         renderer.release()
     Image.fromarray(np.clip(shots[True] / 3, 0, 255).astype(np.uint8)).save(output_dir / "trees_tower_shadow.png")
     view_projection = camera.view_projection(SIZE[0] / SIZE[1])
