@@ -16,6 +16,7 @@ from cityshade.interior import POLYGONISED_LAYERS, polygonised_vertices, quad_co
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer
 from cityshade.scene import cylinder, grid_city
+from render_checks import render_finite
 
 
 def test_apartment_block_counts():
@@ -81,3 +82,18 @@ def test_tiny_run_writes_the_ratios(tmp_path):
         assert key in data["targets"]
     assert (tmp_path / "interior_fig9.png").exists() and (tmp_path / "interior_vs_polygonised.png").exists()
     assert [len(t["rows"]) for t in data["tables"]] == [2, 3, 3, 2, 4]
+
+
+@pytest.mark.parametrize("polygonised", [False, True])
+def test_depth_prepass_leaves_the_picture_unchanged(gl_context, polygonised):
+    """The prepass only saves shading work: both methods draw the same picture with and without it."""
+    city = grid_city(4)
+    renderer = Renderer((128, 96), SETTINGS.with_(polygonised_interiors=polygonised), ctx=gl_context)
+    renderer.set_city(city)
+    with_prepass = render_finite(renderer, comparison_camera()).astype(int)
+    renderer.set_settings(renderer.settings.with_(depth_prepass=False))
+    without = render_finite(renderer, comparison_camera()).astype(int)
+    renderer.release()
+    differing = np.abs(with_prepass - without).max(axis=-1) > 2
+    print(f"prepass on vs off: {differing.sum()} of {differing.size} pixels differ by more than 2/255")
+    assert with_prepass.std() > 10 and differing.mean() < 0.001
