@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.bench._harness import write
-from cityshade.bench.interior import (SETTINGS, TARGETS, Plan, comparison_camera, comparison_picture, run_plan,
+from cityshade.bench._harness import MIN_TIMED_FRAMES, write
+from cityshade.bench.interior import (FULL, QUICK, SETTINGS, TARGETS, Plan, comparison_camera, comparison_picture, run_plan,
                                       scaled_rooms)
 from cityshade.interior import POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
@@ -82,6 +82,14 @@ def test_tiny_run_writes_the_ratios(tmp_path):
         assert key in data["targets"]
     assert (tmp_path / "interior_fig9.png").exists() and (tmp_path / "interior_vs_polygonised.png").exists()
     assert [len(t["rows"]) for t in data["tables"]] == [2, 3, 3, 2, 4]
+    assert data["timing"]["samples_per_point"] == 1 and data["timing"]["interleaved"] is True
+    poly, im = data["methods"]["polygonised interiors"], data["methods"]["interior mapping (paper's version)"]
+    assert poly["cull_back_faces"] and poly["depth_prepass"] and poly["frustum_culling"]
+    assert im["depth_prepass"] and im["msaa"] == poly["msaa"] == 0 and im["size"] == poly["size"] == [64, 48]
+
+
+def test_cli_plans_time_enough_frames():
+    assert QUICK.rounds >= MIN_TIMED_FRAMES and FULL.rounds >= MIN_TIMED_FRAMES
 
 
 @pytest.mark.parametrize("polygonised", [False, True])
