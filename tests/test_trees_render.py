@@ -25,7 +25,7 @@ def programs(ctx):
     return ProgramCache(ctx)
 
 
-def capture_fins(ctx, programs, positions, normals, eye, depth):
+def capture_fins(ctx, programs, positions, normals, eye, depth, fade=(1e6, 2e6)):
     """Runs the fin geometry shader with transform feedback; returns the emitted world positions."""
     program = programs.get("trees/fins.glsl", {"NO_SHADOWS": True}, varyings=("g_world", "g_w"))
     verts = np.zeros((len(positions) * 3, 13), np.float32)
@@ -40,7 +40,7 @@ def capture_fins(ctx, programs, positions, normals, eye, depth):
     vao = ctx.vertex_array(program, [(vbo, fmt, *[a for a in attributes if a in program]),
                                      (ibo, "4f 4f/i", "in_place", "in_params")])
     set_uniforms(program, u_camera=np.asarray(eye, float), u_view_proj=np.identity(4), u_relief_depth=depth,
-                 u_fin_fade=np.array([1e6, 2e6]), u_time=0.0, u_wind=np.zeros(3),
+                 u_fin_fade=np.array(fade, float), u_time=0.0, u_wind=np.zeros(3),
                  u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL)  # samplers of two types may not share a unit
     out = ctx.buffer(np.full(len(positions) * 6 * 4, np.nan, np.float32).tobytes())
     target = RenderTarget(ctx, (4, 4))  # transform feedback still wants a complete framebuffer bound
@@ -54,27 +54,47 @@ def capture_fins(ctx, programs, positions, normals, eye, depth):
     return data
 
 
-def test_fins_match_the_numpy_reference_on_a_trunk(ctx, programs):
+def trunk_triangles():
     mesh = generate_tree(OAK, 3).lods[1]
     tri = mesh.branch_indices.reshape(-1, 3)
-    positions, normals = mesh.branches[tri, 0:3], mesh.branches[tri, 3:6]
+    return mesh.branches[tri, 0:3], mesh.branches[tri, 3:6]
+
+
+def fade_band(positions, eye):
+    """A fade band across the middle of the trunk's distances: some fins full, some narrowed, some gone."""
+    d = np.linalg.norm(positions.reshape(-1, 3) - eye, axis=1)
+    lo, hi = np.percentile(d, [30, 70])
+    return float(lo), float(hi)
+
+
+@pytest.mark.parametrize("faded", [False, True])
+def test_fins_match_the_numpy_reference_on_a_trunk(ctx, programs, faded):
+    positions, normals = trunk_triangles()
     eye = np.array([3.0, 2.0, 9.0])
-    triangles, quads = extrude_fins(positions, normals, eye, 0.05)
-    captured = capture_fins(ctx, programs, positions, normals, eye, 0.05)
-    assert len(quads) > 50
+    fade = fade_band(positions, eye) if faded else (1e6, 2e6)
+    triangles, quads = extrude_fins(positions, normals, eye, 0.05, fade)
+    captured = capture_fins(ctx, programs, positions, normals, eye, 0.05, fade)
+    assert len(quads) > 50 if not faded else len(quads) > 20
+    if faded:  # the band narrows fins and drops the far ones
+        _, unfaded = extrude_fins(positions, normals, eye, 0.05)
+        widths = np.linalg.norm(quads[:, 3] - quads[:, 0], axis=1)
+        assert len(quads) < len(unfaded) and widths.min() < 0.04 and np.isclose(widths.max(), 0.05, atol=1e-4)
     assert len(captured) == len(quads) * 6  # two triangles per fin, none for the other triangles
     # Strip order V0, V3, V1, V2 as triangles (V0 V3 V1) (V1 V3 V2) -> compare as point sets.
     for k, quad in enumerate(quads):
         fin = captured[6 * k: 6 * k + 6]
         expected = np.array([quad[0], quad[3], quad[1], quad[2]])
         got = np.unique(np.round(fin[:, :3], 4), axis=0)
-        assert len(got) == 4
-        for point, w in zip(expected, (0, 1, 0, 1)):
+        assert len(got) == len(np.unique(np.round(expected, 4), axis=0))  # a fin faded to 0 at one end is a triangle
+        for k, (point, w) in enumerate(zip(expected, (0, 1, 0, 1))):
             nearest = np.argmin(np.linalg.norm(fin[:, :3] - point, axis=1))
             assert np.linalg.norm(fin[nearest, :3] - point) < 1e-4
-            assert fin[nearest, 3] == w
+            if w == 0 or np.linalg.norm(point - expected[k - 1]) > 1e-4:  # a zero-width end has both w
+                assert fin[nearest, 3] == w
         # Silhouette points lie where N.V = 0 (the interpolated normal is perpendicular to the view).
         for point, top in ((quad[0], quad[3]), (quad[1], quad[2])):
+            if np.linalg.norm(top - point) < 1e-6:
+                continue  # faded to nothing at this end
             n = (top - point) / np.linalg.norm(top - point)
             assert abs(np.dot(n, (eye - point) / np.linalg.norm(eye - point))) < 0.2
 
