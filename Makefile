@@ -1,4 +1,5 @@
-# cityshade: `make demo` renders the default city, `make test` runs the suite.
+# cityshade: `make demo` renders the default city, `make test` runs the suite (`make test-slow`: the
+# command-line render checks that take minutes).
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
@@ -7,7 +8,7 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
 BENCHES := interior facades relief trees
 
-.PHONY: setup demo test bench bench-quick clean
+.PHONY: setup demo test test-slow bench bench-quick clean
 
 setup: $(STAMP)
 
@@ -22,7 +23,10 @@ demo: setup
 	$(BIN)/cityshade render --out out/city.png
 
 test: setup
-	$(BIN)/python -m pytest -n 2 -q
+	$(BIN)/python -m pytest -n 2 -q -m "not slow"
+
+test-slow: setup
+	$(BIN)/python -m pytest -n 2 -q -m slow
 
 bench: setup
 	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --json bench-results/$$b.json || exit 1; done
