@@ -210,7 +210,7 @@ class CityChunks:
         return frames[np.concatenate(chosen)] if chosen else frames[:0]
 
 
-def _flyover_camera(extent: float, frame: int) -> Camera:
+def flyover_camera(extent: float, frame: int) -> Camera:
     t = 0.15 + 0.05 * frame
     eye = np.array([t * extent, 70.0, t * extent])
     return Camera(tuple(eye), tuple(eye + np.array([60.0, -40.0, 60.0])), fov_y=60.0, near=1.0, far=4000.0)
@@ -240,7 +240,7 @@ def _table3(result: BenchResult, ctx, programs, facades: dict, quick: bool):
     def draw_relief(i):
         target.use()
         ctx.clear(0.5, 0.6, 0.7, 1.0, depth=1.0)
-        camera = _flyover_camera(extent, i)
+        camera = flyover_camera(extent, i)
         shown = visible(camera)
         ctx.depth_func = "<"
         draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, shown, aspect, depth_only=True)
@@ -253,7 +253,7 @@ def _table3(result: BenchResult, ctx, programs, facades: dict, quick: bool):
     def draw_mesh(i):
         target.use()
         ctx.clear(0.5, 0.6, 0.7, 1.0, depth=1.0)
-        camera = _flyover_camera(extent, i)
+        camera = flyover_camera(extent, i)
         mesh.draw(ctx, programs, camera, visible(camera), aspect)
 
     n = FRAMES[quick]
