@@ -1,4 +1,5 @@
-# cityshade: `make demo` renders the default city, `make test` runs the suite.
+# cityshade: `make demo` renders the default city, `make test` runs the suite (`make test-slow`: the
+# command-line render checks that take minutes).
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
@@ -7,7 +8,7 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
 BENCHES := interior facades relief trees
 
-.PHONY: setup demo test fuzz bench bench-quick clean
+.PHONY: setup demo test test-slow fuzz bench bench-quick clean
 
 setup: $(STAMP)
 
@@ -22,7 +23,10 @@ demo: setup
 	$(BIN)/cityshade render --out out/city.png
 
 test: setup
-	$(BIN)/python -m pytest -n 2 -q
+	$(BIN)/python -m pytest -n 2 -q -m "not slow and not fuzz"
+
+test-slow: setup
+	$(BIN)/python -m pytest -n 2 -q -m slow
 
 # The fuzzers with a large budget: CITYSHADE_FUZZ_SECONDS per fuzzer (default 60; docs/robustness.md).
 fuzz: setup

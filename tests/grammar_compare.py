@@ -11,10 +11,10 @@ from cityshade.gl import create_context
 from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._reference import evaluate_facade
+from render_checks import assert_finite
 
 SIZE = (128, 96)
 FACADE = (16.0, 12.0)
-OUTPUT = "tests/output"
 
 
 @pytest.fixture(scope="module")
@@ -24,14 +24,15 @@ def ctx():
     context.release()
 
 
-def compare(ctx, compiled, name, seed=3, facade=FACADE, size=SIZE, min_terminals=2):
+def compare(ctx, compiled, name, output_dir, seed=3, facade=FACADE, size=SIZE, min_terminals=2):
     tiles = tile_array(32)
     textures = GrammarTextures(ctx, compiled, tiles)
     start = compiled.address(name)
     colour, ids = FacadeRenderer(ctx, textures, nearest=True).render(start, facade, size, seed_vector(seed))
     textures.release()
     cpu = evaluate_facade(compiled, start, facade, size, seed_vector(seed), tiles)
-    Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(f"{OUTPUT}/grammar_{name}.png")
+    assert_finite(colour, f"grammar {name} colour")
+    Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(output_dir / f"grammar_{name}.png")
     terminal_diff = ids[..., 0].astype(np.int64) - 1 != cpu.terminal
     label_diff = ids[..., 1] != cpu.label
     glass_diff = ids[..., 3].astype(bool) != cpu.glass

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 import cityshade
+from cityshade.scene import make_city
 
 
 def test_render_returns_an_rgb_uint8_array():
@@ -18,3 +20,9 @@ def test_render_accepts_a_city_and_the_time_changes_the_sky():
     noon = cityshade.render(city, camera="overview", size=(64, 48), time="12:00")
     night = cityshade.render(city, camera="overview", size=(64, 48), time="22:30")
     assert noon[:8].mean() > night[:8].mean() + 30  # the sky at the top of the frame
+
+
+@pytest.mark.parametrize("camera", sorted(make_city("interior").viewpoints))
+def test_every_interior_camera_renders(camera):
+    image = cityshade.render("interior", camera=camera, size=(64, 48), samples=0).astype(int)
+    assert image.std() > 5, f"{camera}: a flat picture"

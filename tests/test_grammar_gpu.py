@@ -51,14 +51,14 @@ CASES = {
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
-def test_operator_gpu_matches_numpy(ctx, name):
+def test_operator_gpu_matches_numpy(ctx, name, output_dir):
     compiled = compile_grammars({name: loads(CASES[name], f"{name}.grammar")})
-    compare(ctx, compiled, name)
+    compare(ctx, compiled, name, output_dir)
 
 
-def test_fig12_gpu_matches_numpy(ctx):
+def test_fig12_gpu_matches_numpy(ctx, output_dir):
     compiled = compile_grammars({"fig12": load(library_path("fig12.grammar"))})
-    cpu, _ = compare(ctx, compiled, "fig12", facade=(20.0, 16.0), size=(160, 128))
+    cpu, _ = compare(ctx, compiled, "fig12", output_dir, facade=(20.0, 16.0), size=(160, 128))
     labels = set(np.unique(cpu.label).tolist())
     assert labels == {1, 2} and cpu.glass.any()  # wall and window, with glass panes
 

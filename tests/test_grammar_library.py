@@ -27,9 +27,9 @@ def test_library_has_six_styles_in_one_small_texture(library):
 
 
 @pytest.mark.parametrize("style", LIBRARY_STYLES)
-def test_style_gpu_matches_numpy(ctx, library, style):  # noqa: F811 (fixture)
+def test_style_gpu_matches_numpy(ctx, library, style, output_dir):  # noqa: F811 (fixture)
     _, compiled = library
-    compare(ctx, compiled, style, seed=7, facade=(20.0, 16.0), size=(120, 96), min_terminals=3)
+    compare(ctx, compiled, style, output_dir, seed=7, facade=(20.0, 16.0), size=(120, 96), min_terminals=3)
 
 
 def test_dusk_shows_rooms_through_holes(library):

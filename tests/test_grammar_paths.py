@@ -10,6 +10,7 @@ from cityshade.bench.facades import city_masses, views
 from cityshade.grammar import compile_grammars, library_path, load
 from cityshade.grammar._city_render import PATHS, FacadeCityRenderer
 from cityshade.scene import Camera
+from render_checks import render_finite
 
 
 def test_forward_and_deferred_agree(gl_context, output_dir):
@@ -40,7 +41,7 @@ def test_city_frame_paths_agree(gl_context, output_dir):
     for deferred in (False, True):
         renderer = Renderer((128, 96), RenderSettings(lights=0.7, grammar_deferred=deferred), ctx=gl_context)
         renderer.set_city(City("paths", 0, masses, [], (-40.0, -40.0, 60.0, 60.0)))
-        images[deferred] = renderer.render(camera).astype(np.int16)
+        images[deferred] = render_finite(renderer, camera).astype(np.int16)
         Image.fromarray(images[deferred].astype(np.uint8)).save(output_dir / f"grammar_city_deferred_{deferred}.png")
         renderer.release()
     differ = np.abs(images[True] - images[False]).max(axis=-1) > 24

@@ -1,4 +1,5 @@
-"""Interior mapping on the GPU against its numpy twin, pixel by pixel (face and room ids)."""
+"""Interior mapping on the GPU against its numpy twin, pixel by pixel (face and room ids), and room
+by room (lit or dark, seen in colour)."""
 
 from __future__ import annotations
 
@@ -7,11 +8,12 @@ import pytest
 from PIL import Image
 
 from cityshade import assets
-from cityshade.interior import FACE_NAMES, InteriorParams, reference_ids
+from cityshade.interior import FACE_NAMES, InteriorParams, reference_ids, reference_pixels
 from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import make_city
+from render_checks import render_finite
 
 SIZE = (160, 120)
 MAX_MISMATCH = 0.001  # only rasterisation-edge pixels may differ
@@ -28,6 +30,20 @@ def renderer(gl_context):
     r.set_city(SCENE)
     yield r
     r.release()
+
+
+@pytest.fixture(scope="module")
+def twin(renderer):
+    """twin(view) -> the numpy twin's (ids, lit) for a view, computed once per module."""
+    cache = {}
+
+    def pixels(view: str):
+        if view not in cache:
+            alpha = assets.facade_texture()[0][..., 3] / 255.0
+            cache[view] = reference_pixels(MASSES, CAMERAS[view], SIZE, _params(renderer), alpha, _ground())
+        return cache[view]
+
+    return pixels
 
 
 def _params(renderer) -> InteriorParams:
@@ -50,11 +66,10 @@ def _ground() -> tuple[float, float, float, float]:
 
 
 @pytest.mark.parametrize("view", sorted(CAMERAS))
-def test_gpu_ids_match_numpy_twin(renderer, view, output_dir):
+def test_gpu_ids_match_numpy_twin(renderer, twin, view, output_dir):
     camera = CAMERAS[view]
     gpu = renderer.render_ids(camera)
-    alpha = assets.facade_texture()[0][..., 3] / 255.0
-    ref = reference_ids(MASSES, camera, SIZE, _params(renderer), alpha, _ground())
+    ref = twin(view)[0]
     Image.fromarray(np.hstack([_colorise(gpu), _colorise(ref)])).save(output_dir / f"interior_ids_{view}.png")
     differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
     share = differ.mean()
@@ -93,3 +108,31 @@ def test_corner_shows_the_same_room_through_both_facades(renderer):
     for name, mask in (("front", entered_front), ("side", ~entered_front)):
         rooms_by_facade[name] = set(ids[..., 1][building0 & interior & mask].tolist())
     assert rooms_by_facade["front"] & rooms_by_facade["side"], "no room is visible through both facades"
+
+
+@pytest.mark.parametrize("view", sorted(CAMERAS))
+def test_lit_rooms_match_numpy_twin(renderer, twin, view):
+    """A room the twin calls lit is brighter on the GPU than with every light off (lights = 0),
+    and a dark room is unchanged: compared per room seen (building, room id from the id AOV)."""
+    camera = CAMERAS[view]
+    ids = renderer.render_ids(camera)
+    lit_colour = render_finite(renderer, camera).astype(float).mean(axis=2)
+    settings = renderer.settings
+    renderer.set_settings(settings.with_(lights=0.0))
+    dark_colour = render_finite(renderer, camera).astype(float).mean(axis=2)
+    renderer.set_settings(settings)
+    ref, ref_lit = twin(view)
+    rooms = np.isin(ids[..., 0], [FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z])
+    rooms &= np.all(ids[..., :3] == ref[..., :3], axis=-1)
+    keys = ids[..., 2].astype(np.int64) << 32 | ids[..., 1].astype(np.int64)
+    verdicts = []
+    for key in np.unique(keys[rooms]):
+        seen = rooms & (keys == key)
+        if seen.sum() < 4:
+            continue  # a sliver of a room: its median is mostly window edge
+        gpu_lit = np.median(lit_colour[seen]) > 1.1 * max(np.median(dark_colour[seen]), 1.0)
+        verdicts.append((bool(ref_lit[seen].mean() > 0.5), bool(gpu_lit)))
+    wrong = sum(twin != gpu for twin, gpu in verdicts)
+    print(f"{view}: {wrong} of {len(verdicts)} rooms lit differently; twin lit {sum(t for t, _ in verdicts)}")
+    assert wrong == 0
+    assert {twin for twin, _ in verdicts} == {True, False}, "the view must show lit and dark rooms"

@@ -7,8 +7,8 @@ from cityshade.gl import RenderTarget
 from cityshade.render._daylight import Daylight
 from cityshade.render._trees import TreePass, TreeSettings
 from cityshade.trees import tree_instances
+from render_checks import assert_finite
 
-OUTPUT = "tests/output"
 SIZE = (128, 128)
 
 
@@ -43,6 +43,7 @@ def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fi
     tree_pass.draw(frame_uniforms(camera, daylight), camera.view(), shadows, time=time, parts=parts)
     ctx.copy_framebuffer(out.fbo, hdr.fbo)
     image = out.read()[..., :3].astype(np.float32)
+    assert_finite(image, "tree HDR colour")
     hdr.release()
     out.release()
     return image
@@ -55,5 +56,5 @@ def display(image):
     return (x * 255).astype(np.uint8)
 
 
-def save(image, name):
-    Image.fromarray(display(image)).save(f"{OUTPUT}/{name}.png")
+def save(image, name, output_dir):
+    Image.fromarray(display(image)).save(output_dir / f"{name}.png")

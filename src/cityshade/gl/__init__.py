@@ -1,8 +1,7 @@
-"""Everything that talks to OpenGL: context creation, shader programs, render targets, timing."""
+"""Everything that talks to OpenGL: context creation, shader programs, render targets."""
 
 from ._context import create_context, describe_context
 from ._programs import ProgramCache, shader_source
 from ._targets import RenderTarget
-from ._timing import FrameTimer
 
-__all__ = ["create_context", "describe_context", "ProgramCache", "shader_source", "RenderTarget", "FrameTimer"]
+__all__ = ["create_context", "describe_context", "ProgramCache", "shader_source", "RenderTarget"]

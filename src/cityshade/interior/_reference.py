@@ -73,9 +73,10 @@ def find_room(p: np.ndarray, n: np.ndarray, record, params: InteriorParams) -> d
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 
 
-def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per ray (facade point p, unit direction d, normal n; object space): face code, room id and
-    distance t from the facade, exactly as the interior shader decides them."""
+def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorParams) -> tuple[np.ndarray, ...]:
+    """Per ray (facade point p, unit direction d, normal n; object space): face code, room id,
+    distance t from the facade and whether the room is lit, exactly as the interior shader decides
+    them."""
     room = find_room(p, n, record, params)
     lo, hi = room["lo"], room["hi"]
     size = hi - lo
@@ -122,7 +123,7 @@ def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorP
         hit = (pick < CURTAIN_SHARE) & (v >= g[3] - closed * (g[3] - g[1]))
         face = np.where(hit, FACE_CURTAIN, face)
         t = np.where(hit, tc, t)
-    return face, room["id"], t
+    return face, room["id"], t, room["lit"]
 
 
 def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams, facade_alpha: np.ndarray,
@@ -130,6 +131,12 @@ def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams,
     """The id AOV (face, room, building + 1, 0) of the building and ground passes, per pixel centre:
     triangles ray-cast, attributes interpolated as the rasteriser does, glass decided by the facade
     texel, rooms by `trace`. The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1)."""
+    return reference_pixels(masses, camera, size, params, facade_alpha, ground_bounds)[0]
+
+
+def reference_pixels(masses, camera, size: tuple[int, int], params: InteriorParams, facade_alpha: np.ndarray,
+                     ground_bounds: tuple[float, float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """reference_ids and, per pixel, whether the room seen there is lit (False off the rooms)."""
     from ..scene._meshes import SURFACE_ROOF, batch
     from ..scene._raycast import intersect
     from ._faces import FACE_EXTERIOR, FACE_GROUND, FACE_ROOF
@@ -141,6 +148,7 @@ def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams,
     tris = vertices["position"].astype(np.float64).reshape(-1, 3, 3)
     t, tri, bary = intersect(eye, dirs, tris)
     out = np.zeros((len(dirs), 4), dtype=np.uint32)
+    lit = np.zeros(len(dirs), dtype=bool)
     # ground plane y = 0 where no building is nearer
     with np.errstate(divide="ignore", invalid="ignore"):
         tg = -eye[1] / dirs[:, 1]
@@ -173,11 +181,13 @@ def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams,
         glass = ~roof & (facade_alpha[row, col] < 0.5)
         face = np.where(roof, FACE_ROOF, FACE_EXTERIOR).astype(np.int64)
         room = np.zeros(len(face), dtype=np.int64)
+        room_lit = np.zeros(len(face), dtype=bool)
         if glass.any():
-            gface, groom, _ = trace(local[glass], d[glass], normal[glass], record, params)
-            face[glass], room[glass] = gface, groom
+            gface, groom, _, glit = trace(local[glass], d[glass], normal[glass], record, params)
+            face[glass], room[glass], room_lit[glass] = gface, groom, glit
         idx = np.nonzero(sel)[0]
+        lit[idx] = room_lit
         out[idx, 0] = face
         out[idx, 1] = room
         out[idx, 2] = b + 1
-    return out.reshape(height, width, 4)
+    return out.reshape(height, width, 4), lit.reshape(height, width)

@@ -153,7 +153,9 @@ class MeshFacade:
         program["uMapScale"].value = tuple(np.abs(map_scale(self.maps)))
         program["uSunDir"].value = SUN
         ctx.enable(moderngl.DEPTH_TEST)
+        ctx.enable(moderngl.CULL_FACE)  # every quad wound counter-clockwise seen from outside
         vao.render(moderngl.TRIANGLES, instances=len(frames))
+        ctx.disable(moderngl.CULL_FACE)
         vao.release()
         instances.release()
 

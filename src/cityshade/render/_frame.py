@@ -130,10 +130,12 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
 
 
 def draw_polygonised_buildings(f: FrameInputs):
-    """The polygonised-interiors baseline (interior-mapping §3.1): the exterior walls with the glass
-    cut out first (they hide most of the rooms' geometry, so no prepass is needed), then the real
-    floors, ceilings and walls, then the glass's reflection blended over them: five draw calls."""
+    """The polygonised-interiors baseline (interior-mapping §3.1), with what a competent
+    implementation has: back faces culled throughout; the exterior walls with the glass cut out
+    first (they hide most of the rooms' geometry), then the real floors, ceilings and walls after
+    their own depth prepass, then the glass's reflection blended over them."""
     f.ctx.depth_func = "<"
+    f.ctx.enable(moderngl.CULL_FACE)
     draw_buildings(f, {"INTERIOR_MAPPING": False, "POLYGONISED_EXTERIOR": True})
     draw_interior_layers(f)
     f.ctx.enable(moderngl.BLEND)
@@ -142,6 +144,7 @@ def draw_polygonised_buildings(f: FrameInputs):
     draw_buildings(f, {"INTERIOR_MAPPING": False, "POLYGONISED_WINDOWS": True})
     f.ctx.depth_mask = True
     f.ctx.disable(moderngl.BLEND)
+    f.ctx.disable(moderngl.CULL_FACE)
 
 
 def draw_ground(f: FrameInputs, defines: dict | None = None):

@@ -47,11 +47,21 @@ class PolygonisedGPU:
 
 def draw_interior_layers(f):
     """Floors, ceilings, then walls: three draw calls, each layer its own texture kind, back faces
-    culled (a floor and the ceiling below it share a plane)."""
-    program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
+    culled (a floor and the ceiling below it share a plane). With the depth prepass setting, the
+    layers' depth goes first, so each visible room pixel is shaded once."""
+    defines = {"IM_SINGLE_ATLAS": f.settings.single_atlas}
+    f.ctx.enable(moderngl.CULL_FACE)
+    if f.settings.depth_prepass:
+        depth = f.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
+        set_uniforms(depth, u_view_proj=f.view_projection)
+        f.ctx.color_mask = (False, False, False, False)
+        for layer in POLYGONISED_LAYERS:
+            f.city.polygonised().draw(depth, layer, f.view_projection)
+        f.ctx.color_mask = (True, True, True, True)
+        f.ctx.depth_func = "<="
+    program = f.programs.get("interior/polygonised.glsl", defines)
     set_uniforms(program, **f.common_uniforms())
     f.city.records.bind_to_storage_buffer(0)
-    f.ctx.enable(moderngl.CULL_FACE)
     for layer in POLYGONISED_LAYERS:
         f.city.polygonised().draw(program, layer, f.view_projection)
-    f.ctx.disable(moderngl.CULL_FACE)
+    f.ctx.depth_func = "<"

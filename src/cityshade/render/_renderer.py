@@ -131,6 +131,12 @@ class Renderer:
         """One frame as an HxWx3 uint8 sRGB array."""
         return self.draw(camera).read()[..., :3].copy()
 
+    def read_hdr(self) -> np.ndarray:
+        """The last frame's linear HDR colour before tone mapping, HxWx3 float32 (to check it is finite)."""
+        if self._targets is None:
+            raise RuntimeError("no frame drawn yet: call draw() or render() first")
+        return self._targets[1].read()[..., :3].astype(np.float32)
+
     def render_ids(self, camera: Camera) -> np.ndarray:
         """The id AOV as HxWx4 uint32: face code, room id, building index + 1, 0."""
         if self._ids is None:
