@@ -3,7 +3,7 @@ repeated maps, and a share of the default city's buildings gets relief facades."
 
 import numpy as np
 
-from cityshade.gl import ProgramCache, create_context
+from cityshade.gl import programs as gl_programs
 from cityshade.relief import (DetailMaps, FacadeView, GpuFacade, compress, draw_facades, facade_camera, generate_bay,
                               slab_faces, trace_view)
 from cityshade.relief._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, assign_relief
@@ -14,9 +14,9 @@ from cityshade.scene import batch, default_city
 SIZE = (96, 96)
 
 
-def test_repeated_bay_matches_reference():
-    ctx = create_context()
-    programs = ProgramCache(ctx)
+def test_repeated_bay_matches_reference(gl_context):
+    ctx = gl_context
+    programs = gl_programs(ctx)
     bay = generate_bay(texel=0.1)
     wall = DetailMaps(np.tile(bay.depth, (2, 3)), np.tile(bay.material, (2, 3)), bay.texel, bay.depth_unit)
     gpu = GpuFacade(ctx, bay, {"bmf": compress(bay, "bmf")})

@@ -11,7 +11,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget
+from ..gl import RenderTarget, draw_fullscreen
 from ._gpu import GrammarTextures, shader_defines
 
 G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, facade flag; normal
@@ -63,7 +63,7 @@ class DeferredGrammarPass:
                                                      (*gbuffer.colors, gbuffer.depth))):
             texture.use(first_unit + offset)
             program[name] = first_unit + offset
-        ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(program)
         ctx.enable(moderngl.DEPTH_TEST)
 
     def bind_results(self, program, first_unit: int):

@@ -8,7 +8,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget
+from ..gl import ProgramCache, RenderTarget, draw_fullscreen, upload_texture
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices
 from ._maps import DetailMaps
 from ._pack import pack_bits
@@ -34,10 +34,8 @@ def _texture(ctx: moderngl.Context, array: np.ndarray, dtype: str) -> moderngl.T
     """A one-channel texture of a (rows, columns) array; empty arrays become one zero texel."""
     if array.size == 0:
         array = np.zeros((1, 1), array.dtype)
-    data = np.ascontiguousarray(array.astype({"u2": np.uint16, "u4": np.uint32, "f4": np.float32}[dtype]))
-    tex = ctx.texture((array.shape[1], array.shape[0]), 1, data.tobytes(), dtype=dtype)
-    tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
-    return tex
+    data = array.astype({"u2": np.uint16, "u4": np.uint32, "f4": np.float32}[dtype])
+    return upload_texture(ctx, data, "stored", mipmaps=False, dtype=dtype)
 
 
 def _set_array(program: moderngl.Program, name: str, values: list[int]):
@@ -121,9 +119,7 @@ def decode_on_gpu(ctx: moderngl.Context, facade: GpuFacade, codec: str, programs
     target = RenderTarget(ctx, (cols, rows), colors=(("u4", 4),))
     facade.bind(program, codec)
     target.use()
-    vao = ctx.vertex_array(program, [])
-    vao.render(moderngl.TRIANGLES, vertices=3)
+    draw_fullscreen(program)
     decoded = target.read(0)[::-1]  # read() is top row first; maps have row 0 at the bottom
-    vao.release()
     target.release()
     return {name: decoded[..., k] for k, name in enumerate(MAP_NAMES)}

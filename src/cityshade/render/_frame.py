@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget
+from ..gl import ProgramCache, RenderTarget, draw_fullscreen
 from ..grammar._gpu import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
@@ -156,7 +156,7 @@ def draw_sky(f: FrameInputs):
     program = f.programs.get("frame/sky.glsl")
     set_uniforms(program, u_inv_view_proj=np.linalg.inv(f.view_projection), u_camera=f.camera.eye, u_env=UNIT_ENV)
     f.ctx.depth_func = "<="
-    f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+    draw_fullscreen(program)
 
 
 def tone_map(f: FrameInputs, hdr: moderngl.Texture, target: RenderTarget):
@@ -166,7 +166,7 @@ def tone_map(f: FrameInputs, hdr: moderngl.Texture, target: RenderTarget):
     hdr.use(UNIT_HDR)
     set_uniforms(program, u_hdr=UNIT_HDR, u_exposure=f.daylight.exposure,
                  **god_ray_uniforms(f.view_projection, f.camera.eye, f.daylight.sun_direction, f.daylight.sun_color))
-    f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+    draw_fullscreen(program)
 
 
 def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, display: RenderTarget):

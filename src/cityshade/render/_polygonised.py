@@ -7,6 +7,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from ..gl import VertexArrays
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
 from ._culling import BuildingChunks
@@ -21,7 +22,7 @@ class PolygonisedGPU:
             if len(vertices):
                 chunks = BuildingChunks(vertices)
                 self.layers[name] = (chunks, ctx.buffer(chunks.vertices.tobytes()))
-        self._vaos: dict[tuple[int, str], moderngl.VertexArray] = {}
+        self._vaos = VertexArrays(ctx)
 
     @property
     def triangle_count(self) -> int:
@@ -31,16 +32,12 @@ class PolygonisedGPU:
         if layer not in self.layers:
             return
         chunks, vbo = self.layers[layer]
-        key = (id(program), layer)
-        if key not in self._vaos:
-            self._vaos[key] = self.ctx.vertex_array(program, [(vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)],
-                                                    skip_errors=True)
+        vao = self._vaos.get((program.glo, layer), program, [(vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)])
         for first, count in chunks.visible_runs(chunks.visible(view_projection)):
-            self._vaos[key].render(moderngl.TRIANGLES, vertices=count, first=first)
+            vao.render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def release(self):
-        for vao in self._vaos.values():
-            vao.release()
+        self._vaos.release()
         for _, vbo in self.layers.values():
             vbo.release()
 

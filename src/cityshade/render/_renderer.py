@@ -8,7 +8,7 @@ import moderngl
 import numpy as np
 
 from .. import assets
-from ..gl import ProgramCache, RenderTarget, create_context, describe_context
+from ..gl import RenderTarget, create_context, describe_context, programs
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
@@ -30,7 +30,7 @@ class Renderer:
         self.ctx = ctx or create_context(headless=True)
         self.size = tuple(size)
         self.settings = settings or RenderSettings()
-        self.programs = ProgramCache(self.ctx)
+        self.programs = programs(self.ctx)
         self.textures = CityTextures.create(self.ctx, self.settings.room_texture_size, self.settings.room_variants)
         self.city: CityGPU | None = None
         self.trees: TreePass | None = None

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
-from ._textures import linear
+from ..gl import VertexArrays, upload_texture
 from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL, set_uniforms
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
@@ -51,23 +51,6 @@ class TreeSettings:
         return replace(self, **changes)
 
 
-def _upload(ctx, data: np.ndarray, colour: bool):
-    """A mipmapped 2D texture (HxWxC) or texture array (NxHxWxC). Colour is sRGB, filtered in
-    linear space (alpha stays linear); anything else (heights, normals, offsets) goes as stored."""
-    data = np.ascontiguousarray(linear(data) if colour else data)
-    dtype = "f2" if colour else "f1"
-    if data.ndim == 4:
-        n, h, w, c = data.shape
-        tex = ctx.texture_array((w, h, n), c, data.tobytes(), dtype=dtype)
-    else:
-        h, w, c = data.shape
-        tex = ctx.texture((w, h), c, data.tobytes(), dtype=dtype)
-    tex.build_mipmaps()
-    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-    # no anisotropic filtering: on llvmpipe it made the relief-mapped trunks ~800x slower
-    return tex
-
-
 class _Part:
     """One part (trunks, leaves, fronds) of one species at one LOD, on the GPU."""
 
@@ -102,18 +85,16 @@ class TreePass:
                 self.parts[index, lod, "fronds"] = _Part(ctx, mesh.fronds, mesh.frond_indices)
         bark, leaves = bark_textures(), leaf_textures()
         self.textures = {
-            UNIT_BARK_COLOR: _upload(ctx, bark.color_height, colour=True),
-            UNIT_BARK_NORMAL: _upload(ctx, bark.normal, colour=False),
-            UNIT_LEAF_COLOR: _upload(ctx, leaves.color, colour=True),
-            UNIT_LEAF_DETAIL: _upload(ctx, leaves.detail, colour=False),
+            UNIT_BARK_COLOR: upload_texture(ctx, bark.color_height, "srgb"),
+            UNIT_BARK_NORMAL: upload_texture(ctx, bark.normal, "stored", dtype="f1"),
+            UNIT_LEAF_COLOR: upload_texture(ctx, leaves.color, "srgb", repeat=False),
+            UNIT_LEAF_DETAIL: upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
-        for tex in (self.textures[UNIT_LEAF_COLOR], self.textures[UNIT_LEAF_DETAIL]):
-            tex.repeat_x = tex.repeat_y = False
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
         self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
                           for index in self.models for lod in (0, 1)}
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
-        self._vaos = {}
+        self._vaos = VertexArrays(ctx)
 
     # -- per frame -------------------------------------------------------------------------------
     def prepare(self, eye):
@@ -141,19 +122,12 @@ class TreePass:
                 self.instances[index, lod] = (buffer, len(t))
 
     def _vao(self, program, species: int, lod: int, part: str):
-        key = (program.glo, species, lod, part)
-        vao = self._vaos.get(key)
-        if vao is None:
-            _, layout, attributes, _ = PARTS[part]
-            gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
-            fmt = " ".join(f if a in program else f"{int(f[:-1]) * 4}x" for f, a in zip(layout.split(), attributes))
-            names = [a for a in attributes if a in program]
-            instances = self.instances[species, lod][0]
-            vao = self.ctx.vertex_array(program, [(gpu.vbo, fmt, *names),
-                                                  (instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
-                                        index_buffer=gpu.ibo, index_element_size=4)
-            self._vaos[key] = vao
-        return vao
+        _, layout, attributes, _ = PARTS[part]
+        gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
+        instances = self.instances[species, lod][0]
+        return self._vaos.get((program.glo, species, lod, part), program,
+                              [(gpu.vbo, layout, *attributes), (instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
+                              index_buffer=gpu.ibo)
 
     def _draw_part(self, program, part: str, mode=moderngl.TRIANGLES) -> int:
         calls = 0
@@ -236,8 +210,7 @@ class TreePass:
         return calls
 
     def release(self):
-        for vao in self._vaos.values():
-            vao.release()
+        self._vaos.release()
         for part in self.parts.values():
             part.release()
         for buffer, _ in self.instances.values():

@@ -5,6 +5,7 @@
 
 #include "common/buildings.glsl"
 #include "common/lighting.glsl"
+#include "common/srgb.glsl"
 #include "grammar/eval.glsl"
 
 #define FACADE_GRAMMAR 1
@@ -52,7 +53,7 @@ vec3 grammar_normal(vec3 tangent_normal, vec3 n) {
 // `shadow`: 1 where the sun reaches the facade (shadow/csm.glsl), 0 in shadow.
 vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d, float shadow) {
     vec3 n_world = rot * grammar_normal(g.normal, n);
-    vec3 albedo = pow(max(g.color, vec3(0.0)), vec3(2.2));
+    vec3 albedo = srgb_to_linear(g.color);
     vec3 half_vector = normalize(u_sun_dir - rot * d);
     float shininess = 1.0 + 128.0 * g.specular.y;
     float highlight = g.specular.x * pow(max(dot(n_world, half_vector), 0.0), shininess) * max(dot(n_world, u_sun_dir), 0.0);

@@ -9,6 +9,7 @@
 #define TRACER_FDM
 #define RELIEF_TILED
 #include "common/buildings.glsl"
+#include "common/srgb.glsl"
 #include "relief/maps.glsl"
 #include "relief/trace.glsl"
 #include "relief/materials.glsl"
@@ -38,7 +39,7 @@ ReliefSurface relief_building(Building b, vec3 n, vec3 wall, vec3 facade, vec3 d
     vec3 offset = (h.point - start) / scale;
     vec3 normal = h.face == FACE_NEG_X ? -along : h.face == FACE_POS_X ? along
                 : h.face == FACE_NEG_Y ? -up : h.face == FACE_POS_Y ? up : n;
-    vec3 albedo = pow(relief_albedo(h.material, h.point.xy / scale.xy, h.face), vec3(2.2));
+    vec3 albedo = srgb_to_linear(relief_albedo(h.material, h.point.xy / scale.xy, h.face));
     return ReliefSurface(wall + along * offset.x + up * offset.y - n * offset.z, normal, albedo,
                          h.hit && h.material == RELIEF_GLASS);
 }
