@@ -1,11 +1,13 @@
-"""The frame as a whole: GL objects do not pile up from frame to frame."""
+"""The frame as a whole: its passes, their GL state, and GL objects that do not pile up."""
 
 from __future__ import annotations
+
+from dataclasses import fields
 
 import moderngl
 import pytest
 
-from cityshade.render import Renderer, RenderSettings
+from cityshade.render import FrameTargets, Renderer, RenderSettings, frame_passes
 from cityshade.scene import make_city
 
 # Every Context method that creates a GL object.
@@ -64,3 +66,40 @@ def test_live_gl_objects_stay_flat_over_200_frames(counted_renderer):
     after = counter.live()
     assert sum(before.values()) > 0, "the counter sees the objects the renderer made"
     assert after == before, f"live GL objects grew over 200 frames: {before} -> {after}"
+
+
+def test_passes_set_the_state_they_rely_on(counted_renderer):
+    """A frame drawn after some other code left odd GL state looks the same as one drawn after a frame."""
+    renderer, _ = counted_renderer
+    camera = renderer.city.city.camera("corner")
+    clean = renderer.render(camera)
+    ctx = renderer.ctx
+    ctx.enable(moderngl.BLEND | moderngl.CULL_FACE)
+    ctx.blend_func = moderngl.ONE, moderngl.ONE
+    ctx.depth_func = ">"
+    ctx.disable(moderngl.DEPTH_TEST)
+    ctx.color_mask = (False, True, False, True)
+    ctx.depth_mask = False
+    after_mess = renderer.render(camera)
+    assert (after_mess != clean).any(axis=-1).sum() == 0
+
+
+@pytest.mark.parametrize("changes", [{}, {"depth_prepass": False}, {"polygonised_interiors": True},
+                                     {"grammar_deferred": False, "shadows": False, "trees": False}])
+def test_every_pass_reads_targets_written_before_it(changes):
+    passes = frame_passes(RenderSettings().with_(**changes))
+    targets = {f.name for f in fields(FrameTargets)} | {"shadow maps"}
+    written: set[str] = set()
+    for p in passes:
+        missing = [name for name in p.reads if name in targets and name not in written]
+        assert not missing, f"pass {p.name!r} reads {missing} before any pass writes them"
+        written.add(p.writes)
+    assert passes[-1].name == "tone map" and passes[-1].writes == "display"
+    assert len({p.name for p in passes}) == len(passes), "pass names are unique"
+
+
+def test_profile_times_every_pass(counted_renderer):
+    renderer, _ = counted_renderer
+    renderer.draw(renderer.city.city.camera("front"), profile=True)
+    assert list(renderer.last_pass_seconds) == [p.name for p in frame_passes(renderer.settings)]
+    assert all(seconds > 0 for seconds in renderer.last_pass_seconds.values())

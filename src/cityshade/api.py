@@ -12,9 +12,11 @@ from .scene import City, make_city
 
 def render_city(city: str | City = "default", seed: int | None = None, camera: str = "street",
                 size: tuple[int, int] = (1280, 720), lights: float | None = None, time: str = "19:10",
-                interior_mapping: bool = True, frames: int = 3, **settings) -> tuple[np.ndarray, dict]:
+                interior_mapping: bool = True, frames: int = 3, profile: bool = False,
+                **settings) -> tuple[np.ndarray, dict]:
     """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame
-    (its median time over `frames` frames after a first one that compiles and uploads)."""
+    (its median time over `frames` frames after a first one that compiles and uploads). With
+    `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run."""
     layout = city if isinstance(city, City) else make_city(city, seed)
     view = layout.camera(camera)
     renderer = Renderer(size, RenderSettings(lights=lights, time_of_day=parse_time(time),
@@ -22,13 +24,16 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
     try:
         renderer.set_city(layout)
         image = renderer.render(view)  # the first frame compiles shaders and uploads: not timed
-        times = []
+        times, passes = [], {}
         for _ in range(frames):
-            image = renderer.render(view)
+            image = renderer.draw(view, profile=profile).read()[..., :3].copy()
             times.append(renderer.last_frame_seconds)
+            for name, seconds in renderer.last_pass_seconds.items():
+                passes.setdefault(name, []).append(seconds)
         info = {"frame_ms": statistics.median(times) * 1000 if times else float("nan"), "frames": frames,
                 "device": renderer.device, "buildings": len(layout.masses), "samples": renderer.samples,
-                "trees": len(renderer.trees.trees) if renderer.trees is not None else 0}
+                "trees": len(renderer.trees.trees) if renderer.trees is not None else 0,
+                "pass_ms": {name: statistics.median(s) * 1000 for name, s in passes.items()}}
     finally:
         renderer.release()
     return image, info

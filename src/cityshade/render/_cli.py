@@ -77,6 +77,14 @@ def save_png(image, path: Path):
         Image.fromarray(image).save(tmp, format="PNG")
 
 
+def print_profile(pass_ms: dict[str, float]):
+    """Each pass's median wall time and their sum, in the order the passes run (docs/frame.md)."""
+    width = max(len(name) for name in (*pass_ms, "frame total"))
+    for name, ms in pass_ms.items():
+        print(f"  {name:<{width}}  {ms:8.2f} ms")
+    print(f"  {'frame total':<{width}}  {sum(pass_ms.values()):8.2f} ms")
+
+
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
@@ -93,6 +101,8 @@ def register(subparsers):
     parser.add_argument("--samples", type=int, default=4, choices=(0, 2, 4, 8),
                         help="MSAA samples (0: off; llvmpipe shades every sample, so 0 is about 4x faster there)")
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
+    parser.add_argument("--profile", action="store_true",
+                        help="print each pass's wall time (ctx.finish() around it) and the frame total")
     parser.set_defaults(run=run)
 
 
@@ -114,8 +124,11 @@ def run(args) -> int:
         if args.camera == "street" and "street" not in city.viewpoints:
             args.camera = "aerial"
     image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,
-                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples)
+                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples,
+                              profile=args.profile)
     save_png(image, args.out)
+    if args.profile:
+        print_profile(info["pass_ms"])
     msaa = f"{info['samples']}x MSAA" if info["samples"] else "no MSAA"
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {msaa}): {info['buildings']} buildings, "
           f"frame {info['frame_ms']:.1f} ms (median of {info['frames']}) on {info['device']}")

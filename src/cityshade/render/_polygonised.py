@@ -43,12 +43,10 @@ class PolygonisedGPU:
 
 
 def draw_interior_layers(f):
-    """Floors, ceilings, then walls: three draw calls, each layer its own texture kind, back faces
-    culled (a floor and the ceiling below it share a plane)."""
+    """Floors, ceilings, then walls: three draw calls, each layer its own texture kind (the frame's
+    pass culls back faces: a floor and the ceiling below it share a plane)."""
     program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
     set_uniforms(program, **f.common_uniforms())
     f.city.records.bind_to_storage_buffer(0)
-    f.ctx.enable(moderngl.CULL_FACE)
     for layer in POLYGONISED_LAYERS:
         f.city.polygonised().draw(program, layer, f.view_projection)
-    f.ctx.disable(moderngl.CULL_FACE)

@@ -224,6 +224,4 @@ def draw_trees(f) -> int:
     if f.trees is None:
         return 0
     f.trees.prepare(f.camera.eye)
-    calls = f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows, time=f.settings.animation_time)
-    f.bind_textures()  # the tree textures took units of their own; restore the city's for later passes
-    return calls
+    return f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows, time=f.settings.animation_time)
