@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+
+# Uniform names that no variant of a program declares are errors, not silence (cityshade.gl.set_uniforms).
+os.environ.setdefault("CITYSHADE_STRICT_UNIFORMS", "1")
 
 OUTPUT = Path(__file__).parent / "output"
 

@@ -7,6 +7,8 @@ from dataclasses import fields
 import moderngl
 import pytest
 
+from cityshade.errors import ShaderError
+from cityshade.gl import programs, set_uniforms
 from cityshade.render import FrameTargets, Renderer, RenderSettings, frame_passes
 from cityshade.scene import make_city
 
@@ -103,3 +105,10 @@ def test_profile_times_every_pass(counted_renderer):
     renderer.draw(renderer.city.city.camera("front"), profile=True)
     assert list(renderer.last_pass_seconds) == [p.name for p in frame_passes(renderer.settings)]
     assert all(seconds > 0 for seconds in renderer.last_pass_seconds.values())
+
+
+def test_a_misspelt_uniform_is_an_error_in_strict_mode(gl_context):
+    program = programs(gl_context).get("frame/tonemap.glsl")
+    set_uniforms(program, u_exposure=1.0, u_god_rays=0.5)  # u_god_rays: compiled away without GOD_RAYS
+    with pytest.raises(ShaderError, match="u_exposer"):
+        set_uniforms(program, u_exposer=1.0)

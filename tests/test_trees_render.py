@@ -10,7 +10,8 @@ import pytest
 from cityshade.gl import ProgramCache, RenderTarget
 from cityshade.render._shadows import CascadedShadows
 from cityshade.render._trees import PARTS
-from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, set_uniforms
+from cityshade.gl import set_uniforms
+from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL
 from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas
 from trees_scene import SIZE, one_tree, render, save

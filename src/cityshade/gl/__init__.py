@@ -10,7 +10,8 @@ from ._resources import programs
 from ._targets import RenderTarget
 from ._textures import upload_texture
 from ._timing import FrameTimer
+from ._uniforms import set_uniforms
 from ._vertex_arrays import VertexArrays
 
 __all__ = ["create_context", "describe_context", "draw_fullscreen", "linear_to_srgb", "programs", "ProgramCache",
-           "shader_source", "srgb_to_linear", "RenderTarget", "upload_texture", "FrameTimer", "VertexArrays"]
+           "shader_source", "srgb_to_linear", "RenderTarget", "upload_texture", "FrameTimer", "set_uniforms", "VertexArrays"]

@@ -8,6 +8,7 @@ compile error names the file and line it came from.
 
 from __future__ import annotations
 
+import functools
 import re
 from importlib import resources
 
@@ -22,6 +23,7 @@ STAGES = {
     "fragment_shader": "FRAGMENT_SHADER",
 }
 _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
+_UNIFORM = re.compile(r"^\s*uniform\s+\w+\s+([^;{]+);", re.M)  # uniform TYPE a, b[3];
 # Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error ..."
 _MESA_LOC = re.compile(r"(\d+):(\d+)\((\d+)\)")
 _NV_LOC = re.compile(r"(\d+)\((\d+)\)")
@@ -120,3 +122,22 @@ class ProgramCache:
             return self.ctx.program(**stages, varyings=varyings)
         except moderngl.Error as exc:
             raise ShaderError(f"{path}: {assembler.locate(str(exc)).strip()}") from None
+
+
+@functools.cache
+def declared_uniforms() -> frozenset[str]:
+    """Every uniform name some shader file of cityshade/shaders declares (see gl.set_uniforms)."""
+    files = resources.files("cityshade").joinpath("shaders")
+    names = set()
+    for path in _glsl_files(files):
+        for match in _UNIFORM.finditer(path.read_text(encoding="utf-8")):
+            names.update(name.split("[")[0].strip() for name in match.group(1).split(","))
+    return frozenset(names)
+
+
+def _glsl_files(folder):
+    for entry in folder.iterdir():
+        if entry.is_dir():
+            yield from _glsl_files(entry)
+        elif entry.name.endswith(".glsl"):
+            yield entry

@@ -63,7 +63,7 @@ class DeferredGrammarPass:
         Nothing before the pass first ran (the id pass evaluates the grammar itself)."""
         if self.result is None:
             return
-        for offset, (name, texture) in enumerate(zip(("grammar_deferred_color", "grammar_deferred_ids"),
+        for offset, (name, texture) in enumerate(zip(("u_grammar_deferred_color", "u_grammar_deferred_ids"),
                                                      self.result.colors)):
             texture.use(first_unit + offset)
             if name in program:

@@ -12,7 +12,7 @@ from ._compiler import CompiledGrammars
 from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
-MAX_TILES = 64  # size of grammar_tile_labels[] in eval.glsl
+MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
 
 
 def shader_defines(nearest: bool = False) -> dict[str, object]:
@@ -39,15 +39,15 @@ class GrammarTextures:
     def bind(self, program, first_unit: int = 0) -> int:
         """Binds the three textures from `first_unit` on; returns the next free unit."""
         for offset, (name, texture) in enumerate(
-            (("grammar_rules", self.rules), ("grammar_noise", self.noise), ("grammar_tiles", self.tile_array))
+            (("u_grammar_rules", self.rules), ("u_grammar_noise", self.noise), ("u_grammar_tiles", self.tile_array))
         ):
             texture.use(first_unit + offset)
             if name in program:
                 program[name] = first_unit + offset
-        if "grammar_tile_size" in program:
-            program["grammar_tile_size"] = self.tiles.size
-        if "grammar_tile_labels" in program:
-            program["grammar_tile_labels"].write(self.labels.tobytes())
+        if "u_grammar_tile_size" in program:
+            program["u_grammar_tile_size"] = self.tiles.size
+        if "u_grammar_tile_labels" in program:
+            program["u_grammar_tile_labels"].write(self.labels.tobytes())
         return first_unit + 3
 
     def release(self):
@@ -70,12 +70,12 @@ class FacadeRenderer:
             target.use()
             self.ctx.viewport = (0, 0, *size)
             self.textures.bind(self.program)
-            self.program["facade_size"] = tuple(float(x) for x in facade)
-            self.program["viewport_size"] = tuple(float(x) for x in size)
-            self.program["facade_seed"] = tuple(float(x) for x in seed)
-            self.program["start_rule"] = int(start)
+            self.program["u_facade_size"] = tuple(float(x) for x in facade)
+            self.program["u_viewport_size"] = tuple(float(x) for x in size)
+            self.program["u_facade_seed"] = tuple(float(x) for x in seed)
+            self.program["u_start_rule"] = int(start)
             light = np.array(FACADE_LIGHT)
-            self.program["light_dir"] = tuple(light / np.linalg.norm(light))
+            self.program["u_light_dir"] = tuple(light / np.linalg.norm(light))
             self.ctx.disable(moderngl.DEPTH_TEST)
             draw_fullscreen(self.program)
             return target.read(0).astype(np.float32), target.read(1)

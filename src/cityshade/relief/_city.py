@@ -30,8 +30,8 @@ class CityRelief:
         self.facade = GpuFacade(ctx, maps, {"bmf": compress(maps, "bmf", source="city window bay")})
 
     def bind(self, program: moderngl.Program, first_unit: int) -> int:
-        if "uReliefDepthUnit" in program:
-            program["uReliefDepthUnit"].value = self.facade.maps.depth_unit
+        if "u_relief_depth_unit" in program:
+            program["u_relief_depth_unit"].value = self.facade.maps.depth_unit
         return self.facade.bind(program, "bmf", first_unit)
 
     def release(self):

@@ -60,20 +60,20 @@ class GpuFacade:
         words = np.column_stack([packed_boxes[:, 0] | packed_boxes[:, 1] << 16,
                                  packed_boxes[:, 2] | packed_boxes[:, 3] << 16]).astype(np.uint32)
         self.boxes = ctx.buffer(words.tobytes() if len(words) else bytes(8))
-        self.codec_textures = {"raw": {"uRaw": self.raw}}
+        self.codec_textures = {"raw": {"u_raw": self.raw}}
         for method, facade in self.compressed.items():
             fs = [facade.factors[name] for name in MAP_NAMES]
             if method == "svd":
                 self.codec_textures["svd"] = {
-                    "uSvdX": [_texture(ctx, f.x, "f4") for f in fs],
-                    "uSvdY": [_texture(ctx, f.y, "f4") for f in fs],
-                    "uSvdS": [_texture(ctx, f.s[None, :], "f4") for f in fs],
+                    "u_svd_x": [_texture(ctx, f.x, "f4") for f in fs],
+                    "u_svd_y": [_texture(ctx, f.y, "f4") for f in fs],
+                    "u_svd_s": [_texture(ctx, f.s[None, :], "f4") for f in fs],
                 }
             else:
                 self.codec_textures["bmf"] = {
-                    "uBmfX": [_texture(ctx, pack_bits(f.x), "u4") for f in fs],
-                    "uBmfY": [_texture(ctx, pack_bits(f.y), "u4") for f in fs],
-                    "uBmfS": [_texture(ctx, f.s[None, :], "f4") for f in fs],
+                    "u_bmf_x": [_texture(ctx, pack_bits(f.x), "u4") for f in fs],
+                    "u_bmf_y": [_texture(ctx, pack_bits(f.y), "u4") for f in fs],
+                    "u_bmf_s": [_texture(ctx, f.s[None, :], "f4") for f in fs],
                 }
         # Per map: SVD terms, or BMF words of 32 terms.
         self.counts = {method: [f.terms if method == "svd" else -(-f.terms // 32) for f in facade.factors.values()]
@@ -93,11 +93,11 @@ class GpuFacade:
                 units.append(unit)
                 unit += 1
             _set_array(program, name, units)
-        count_name = {"svd": "uTerms", "bmf": "uWords"}.get(codec)
+        count_name = {"svd": "u_terms", "bmf": "u_words"}.get(codec)
         if count_name:
             _set_array(program, count_name, self.counts[codec])
         rows, cols = self.maps.shape
-        for name, value in (("uMapSize", (cols, rows)), ("uSlabDepth", self.slab_depth)):
+        for name, value in (("u_map_size", (cols, rows)), ("u_slab_depth", self.slab_depth)):
             if name in program:
                 program[name].value = value
         self.boxes.bind_to_storage_buffer(BOXES_BINDING)

@@ -121,9 +121,9 @@ def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacad
     vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(np.ascontiguousarray(frames, FRAME_DTYPE).tobytes())
     vao = ctx.vertex_array(program, [(vbo, "3f4 i4", "in_position", "in_face"), (ibo, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")])
     facade.bind(program, RENDERERS[renderer][1])
-    program["uViewProj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
-    for name, value in (("uCamera", tuple(camera.eye)), ("uMapScale", tuple(np.abs(map_scale(facade.maps)))),
-                        ("uSunDir", SUN)):
+    program["u_view_proj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
+    for name, value in (("u_camera", tuple(camera.eye)), ("u_map_scale", tuple(np.abs(map_scale(facade.maps)))),
+                        ("u_sun_dir", SUN)):
         if name in program:
             program[name].value = value
     ctx.enable(moderngl.DEPTH_TEST)
@@ -149,9 +149,9 @@ class MeshFacade:
         vao = ctx.vertex_array(program, [(self.vbo, "3f4 i4 i4", "in_position", "in_face", "in_material"),
                                          (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")],
                                index_buffer=self.ibo)
-        program["uViewProj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
-        program["uMapScale"].value = tuple(np.abs(map_scale(self.maps)))
-        program["uSunDir"].value = SUN
+        program["u_view_proj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
+        program["u_map_scale"].value = tuple(np.abs(map_scale(self.maps)))
+        program["u_sun_dir"].value = SUN
         ctx.enable(moderngl.DEPTH_TEST)
         vao.render(moderngl.TRIANGLES, instances=len(frames))
         vao.release()

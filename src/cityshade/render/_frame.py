@@ -17,7 +17,7 @@ from typing import Callable
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget, draw_fullscreen
+from ..gl import ProgramCache, RenderTarget, draw_fullscreen, set_uniforms
 from ..grammar._gpu import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
@@ -31,7 +31,7 @@ from ._textures import CityTextures
 from ._trees import TreePass, draw_trees
 from ._uniforms import (
     UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
-    UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
+    UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z,
 )
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1

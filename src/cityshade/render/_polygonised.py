@@ -7,11 +7,10 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays
+from ..gl import VertexArrays, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
 from ._culling import BuildingChunks
-from ._uniforms import set_uniforms
 
 
 class PolygonisedGPU:

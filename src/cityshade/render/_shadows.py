@@ -16,7 +16,8 @@ import numpy as np
 
 from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
-from ._uniforms import UNIT_SHADOW, set_uniforms
+from ..gl import set_uniforms
+from ._uniforms import UNIT_SHADOW
 
 # Until a cascade is first drawn, its matrix sends every point outside [0, 1]: no shadow from it.
 _OUTSIDE = np.array([[0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, 1.0]])

@@ -14,8 +14,8 @@ import numpy as np
 
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
-from ..gl import VertexArrays, upload_texture
-from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL, set_uniforms
+from ..gl import VertexArrays, set_uniforms, upload_texture
+from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
 INSTANCE_LAYOUT = "4f 4f/i"
