@@ -109,6 +109,8 @@ def test_profile_times_every_pass(counted_renderer):
 
 def test_a_misspelt_uniform_is_an_error_in_strict_mode(gl_context):
     program = programs(gl_context).get("frame/tonemap.glsl")
-    set_uniforms(program, u_exposure=1.0, u_god_rays=0.5)  # u_god_rays: compiled away without GOD_RAYS
-    with pytest.raises(ShaderError, match="u_exposer"):
-        set_uniforms(program, u_exposer=1.0)
+    set_uniforms(program, u_hdr=0, u_god_rays=0.5)  # u_god_rays: compiled away without GOD_RAYS
+    with pytest.raises(ShaderError, match="u_exposure"):
+        set_uniforms(program, u_exposure=1.0)  # in the frame block, not a uniform of its own
+    with pytest.raises(ShaderError, match="u_hrd"):
+        set_uniforms(program, u_hrd=0)

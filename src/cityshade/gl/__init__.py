@@ -2,6 +2,8 @@
 context), vertex arrays, texture uploads with an explicit colour space, full-screen passes, render
 targets and timing."""
 
+from . import _generated  # noqa: F401  (registers the generated includes)
+from ._blocks import FRAME_BLOCK, UniformBlock
 from ._colour import linear_to_srgb, srgb_to_linear
 from ._context import create_context, describe_context
 from ._fullscreen import draw_fullscreen
@@ -13,5 +15,5 @@ from ._timing import FrameTimer
 from ._uniforms import set_uniforms
 from ._vertex_arrays import VertexArrays
 
-__all__ = ["create_context", "describe_context", "draw_fullscreen", "linear_to_srgb", "programs", "ProgramCache",
+__all__ = ["FRAME_BLOCK", "UniformBlock", "create_context", "describe_context", "draw_fullscreen", "linear_to_srgb", "programs", "ProgramCache",
            "shader_source", "srgb_to_linear", "RenderTarget", "upload_texture", "FrameTimer", "set_uniforms", "VertexArrays"]

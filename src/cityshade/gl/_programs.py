@@ -29,8 +29,14 @@ _MESA_LOC = re.compile(r"(\d+):(\d+)\((\d+)\)")
 _NV_LOC = re.compile(r"(\d+)\((\d+)\)")
 
 
+GENERATED: dict[str, str] = {}  # "generated/NAME.glsl" -> text made from Python definitions
+PRELUDE: list[str] = []  # generated includes that every program gets, in every stage
+
+
 def shader_source(path: str) -> str:
-    """The text of a shader file, path relative to cityshade/shaders."""
+    """The text of a shader file, path relative to cityshade/shaders (or a generated include)."""
+    if path in GENERATED:
+        return GENERATED[path]
     try:
         return resources.files("cityshade").joinpath("shaders", path).read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -89,6 +95,7 @@ def _define_block(stage: str, defines: dict[str, object]) -> str:
         if value is False or value is None:
             continue
         lines.append(f"#define {name}" if value is True else f"#define {name} {value}")
+    lines += [GENERATED[path] for path in PRELUDE]
     return "\n".join(lines) + "\n"
 
 

@@ -1,10 +1,10 @@
-"""What a context shares between everything drawn with it: one program cache and the vertex
-arrays of the full-screen passes."""
+"""What a context shares between everything drawn with it: one program cache, the vertex arrays
+of the full-screen passes and the buffers of the uniform blocks."""
 
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import moderngl
 
@@ -16,6 +16,7 @@ from ._vertex_arrays import VertexArrays
 class ContextResources:
     programs: ProgramCache
     vertex_arrays: VertexArrays
+    block_buffers: dict[str, moderngl.Buffer] = field(default_factory=dict)  # by block name
 
 
 _BY_CONTEXT: "weakref.WeakKeyDictionary[moderngl.Context, ContextResources]" = weakref.WeakKeyDictionary()

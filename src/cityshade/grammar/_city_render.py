@@ -14,7 +14,7 @@ import moderngl
 import numpy as np
 
 from ..assets._tiles import TileArray
-from ..gl import RenderTarget, VertexArrays, draw_fullscreen
+from ..gl import FRAME_BLOCK, RenderTarget, VertexArrays, draw_fullscreen, set_uniforms
 from ..gl import programs as gl_programs
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, Camera, batch
 from ._city import FACADE_GRAMMAR
@@ -69,15 +69,17 @@ class FacadeCityRenderer:
             self.ssbo.write(self.records.tobytes())
             self.start = start
 
+    def _frame_block(self, camera: Camera):
+        FRAME_BLOCK.write(self.ctx, u_inv_view_proj=np.linalg.inv(self._view_projection(camera)), u_camera=camera.eye,
+                          u_time=0.0, u_sun_dir=SUN / np.linalg.norm(SUN), u_exposure=1.0,
+                          u_sun_color=np.array([2.6, 2.4, 2.1]), u_sky_ambient=np.array([0.45, 0.5, 0.6]),
+                          u_ground_ambient=np.array([0.2, 0.18, 0.16]))
+
+    def _view_projection(self, camera: Camera) -> np.ndarray:
+        return camera.view_projection(self.size[0] / self.size[1])
+
     def _uniforms(self, program, camera: Camera):
-        values = {"u_view_proj": camera.view_projection(self.size[0] / self.size[1]), "u_camera": camera.eye,
-                  "u_sun_dir": SUN / np.linalg.norm(SUN), "u_sun_color": np.array([2.6, 2.4, 2.1]),
-                  "u_sky_ambient": np.array([0.45, 0.5, 0.6]), "u_ground_ambient": np.array([0.2, 0.18, 0.16])}
-        for name, value in values.items():
-            if name not in program:
-                continue
-            value = np.asarray(value, dtype="f4")
-            program[name].write(value.T.tobytes() if value.shape == (4, 4) else value.tobytes())
+        set_uniforms(program, u_view_proj=self._view_projection(camera))
         self.textures.bind(program, UNITS["grammar"])
 
     def _buildings(self, name: str, camera: Camera):
@@ -89,6 +91,7 @@ class FacadeCityRenderer:
     def draw(self, camera: Camera, path: str = DEFAULT_PATH):
         """One frame by `path`; the tone-mapped result is in self.output."""
         ctx = self.ctx
+        self._frame_block(camera)
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE)
         if path == "forward":
@@ -116,8 +119,6 @@ class FacadeCityRenderer:
                 program[f"u_{name}"] = UNITS[name]
             self.gbuffer.depth.use(UNITS["depth"])
             program["u_depth"] = UNITS["depth"]
-            program["u_inv_view_proj"].write(np.linalg.inv(camera.view_projection(self.size[0] / self.size[1]))
-                                             .T.astype("f4").tobytes())
             program["u_viewport"] = tuple(float(x) for x in self.size)
             draw_fullscreen(self.programs["deferred"])
             depth = self.gbuffer.depth

@@ -119,6 +119,7 @@ def decode_on_gpu(ctx: moderngl.Context, facade: GpuFacade, codec: str, programs
     target = RenderTarget(ctx, (cols, rows), colors=(("u4", 4),))
     facade.bind(program, codec)
     target.use()
+    ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE | moderngl.BLEND)  # every texel, whatever was drawn before
     draw_fullscreen(program)
     decoded = target.read(0)[::-1]  # read() is top row first; maps have row 0 at the bottom
     target.release()

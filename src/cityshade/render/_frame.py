@@ -17,7 +17,7 @@ from typing import Callable
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget, draw_fullscreen, set_uniforms
+from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, draw_fullscreen, set_uniforms
 from ..grammar._gpu import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
@@ -88,9 +88,7 @@ class FrameInputs:
         layout = t.atlas_layout
         atlas_size = (t.atlas.width, t.atlas.height)
         return dict(
-            u_view_proj=self.view_projection, u_camera=self.camera.eye, u_sun_dir=d.sun_direction,
-            u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient,
-            u_lights=float(d.lights if s.lights is None else s.lights), u_time=float(s.animation_time),
+            u_view_proj=self.view_projection, u_lights=float(d.lights if s.lights is None else s.lights),
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
             u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
@@ -98,6 +96,13 @@ class FrameInputs:
             u_env=UNIT_ENV, u_facade=UNIT_FACADE, u_ceiling=UNIT_CEILING, u_floor=UNIT_FLOOR, u_wall_x=UNIT_WALL_X,
             u_wall_z=UNIT_WALL_Z, u_room_atlas=UNIT_ATLAS, u_sprites=UNIT_SPRITES, u_curtain=UNIT_CURTAIN,
         )
+
+    def write_frame_block(self):
+        """The values every program shares, once per frame (cityshade.gl.FRAME_BLOCK)."""
+        d = self.daylight
+        FRAME_BLOCK.write(self.ctx, u_inv_view_proj=np.linalg.inv(self.view_projection), u_camera=self.camera.eye,
+                          u_time=self.settings.animation_time, u_sun_dir=d.sun_direction, u_exposure=d.exposure,
+                          u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient)
 
     def bind_textures(self):
         t = self.textures
@@ -214,7 +219,7 @@ def trees(f: FrameInputs):
 def draw_sky(f: FrameInputs):
     program = f.programs.get("frame/sky.glsl")
     f.env.use(UNIT_ENV)
-    set_uniforms(program, u_inv_view_proj=np.linalg.inv(f.view_projection), u_camera=f.camera.eye, u_env=UNIT_ENV)
+    set_uniforms(program, u_env=UNIT_ENV)
     draw_fullscreen(program)
 
 
@@ -225,7 +230,7 @@ def resolve(f: FrameInputs):
 def tone_map(f: FrameInputs):
     program = f.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.settings.god_rays})
     f.targets.resolved.colors[0].use(UNIT_HDR)
-    set_uniforms(program, u_hdr=UNIT_HDR, u_exposure=f.daylight.exposure,
+    set_uniforms(program, u_hdr=UNIT_HDR,
                  **god_ray_uniforms(f.view_projection, f.camera.eye, f.daylight.sun_direction, f.daylight.sun_color))
     draw_fullscreen(program)
 
@@ -306,6 +311,7 @@ def id_passes(settings: RenderSettings) -> list[Pass]:
 def run_passes(f: FrameInputs, passes: list[Pass], times: dict[str, float] | None = None):
     """Runs the passes in order. With `times`, each pass's wall time in seconds is stored under its
     name, measured with ctx.finish() before and after it."""
+    f.write_frame_block()
     for p in passes:
         if times is not None:
             f.ctx.finish()

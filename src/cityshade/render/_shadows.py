@@ -114,7 +114,7 @@ def shadow_pass(f):
             calls += 1
         if f.trees is not None:
             f.trees.prepare(f.camera.eye)
-            calls += f.trees.draw_shadow(view_proj, sun, casters, time=f.settings.animation_time)
+            calls += f.trees.draw_shadow(view_proj, sun, casters)
         return calls
 
     aspect = f.size[0] / f.size[1]

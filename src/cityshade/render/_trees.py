@@ -148,8 +148,8 @@ class TreePass:
         path, _, _, extra = PARTS[part]
         return self.programs.get(path, {**extra, **{k: v for k, v in defines.items() if v}})
 
-    def _common(self, time: float) -> dict:
-        return dict(u_time=float(time), u_wind=np.array(self.settings.wind, float),
+    def _common(self) -> dict:
+        return dict(u_wind=np.array(self.settings.wind, float),
                     u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL,
                     u_leaf_color=UNIT_LEAF_COLOR, u_leaf_detail=UNIT_LEAF_DETAIL)
 
@@ -157,15 +157,15 @@ class TreePass:
         for unit, tex in self.textures.items():
             tex.use(unit)
 
-    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, time: float = 0.0,
-             parts=("trunks", "fins", "leaves", "fronds")) -> int:
-        """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj,
-        u_camera and the sun/sky uniforms of common/lighting.glsl; `view` is the camera's view
-        matrix (its rows give the axes the leaf cards span). Returns the number of draw calls."""
+    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds")) -> int:
+        """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj; the
+        camera, sun, sky and time come from the frame block (cityshade.gl.FRAME_BLOCK), which the
+        caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
+        span). Returns the number of draw calls."""
         s, ctx = self.settings, self.ctx
         self.bind_textures()
         base = dict(ALPHA_TO_COVERAGE=s.alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None))
-        values = {**uniforms, **self._common(time), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
+        values = {**uniforms, **self._common(), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
                   "u_card_shift": np.zeros(3), "u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach,
                   "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
                   "u_normal_bias": s.normal_bias}
@@ -194,10 +194,10 @@ class TreePass:
         ctx.disable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
         return calls
 
-    def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters, time: float = 0.0) -> int:
+    def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters) -> int:
         """The trees' casters of one cascade; leaf cards face the light and move toward it."""
         right, up = light_basis(sun_dir)
-        values = {**self._common(time), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
+        values = {**self._common(), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
                   "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
         self.bind_textures()
         calls = 0
@@ -224,4 +224,4 @@ def draw_trees(f) -> int:
     if f.trees is None:
         return 0
     f.trees.prepare(f.camera.eye)
-    return f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows, time=f.settings.animation_time)
+    return f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows)

@@ -22,7 +22,6 @@ void main() {}
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
 
-uniform vec3 u_camera;          // world
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
 uniform vec3 u_window_tint;

@@ -4,8 +4,6 @@
 
 #if defined FRAGMENT_SHADER
 #include "common/lighting.glsl"
-uniform mat4 u_inv_view_proj;
-uniform vec3 u_camera;
 in vec2 v_ndc;
 layout(location = 0) out vec4 out_color;
 void main() {

@@ -7,7 +7,6 @@ uniform sampler2D u_hdr;
 #if defined GOD_RAYS
 #include "post/godrays.glsl"
 #endif
-uniform float u_exposure;
 in vec2 v_uv;
 layout(location = 0) out vec4 out_color;
 

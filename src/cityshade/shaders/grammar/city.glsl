@@ -12,7 +12,6 @@ void main() {}
 #else
 #include "grammar/building.glsl"
 
-uniform vec3 u_camera;
 in vec3 v_local;
 in vec3 v_normal;
 in vec3 v_facade;

@@ -15,7 +15,6 @@ in vec3 in_origin;    // per instance: the facade's frame
 in vec3 in_along;
 in vec3 in_out;
 uniform mat4 u_view_proj;
-uniform vec3 u_camera;  // world
 out vec3 vPosition;
 flat out int vFace;
 flat out vec3 vEye;    // map space
@@ -63,7 +62,6 @@ flat in vec3 vEye;
 flat in vec3 vOrigin;
 flat in vec3 vAlong;
 flat in vec3 vOut;
-uniform vec3 u_sun_dir;  // world, towards the sun
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out uvec4 outIds;
 layout(location = 2) out vec4 outPoint;

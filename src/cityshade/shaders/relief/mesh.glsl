@@ -16,7 +16,6 @@ out vec3 vPosition;
 flat out int vFace;
 flat out int vMaterial;
 flat out vec3 vSun;   // facade space
-uniform vec3 u_sun_dir;
 void main() {
     FacadeFrame f = FacadeFrame(in_origin, in_along, in_out);
     vPosition = in_position;
