@@ -114,3 +114,15 @@ def test_a_misspelt_uniform_is_an_error_in_strict_mode(gl_context):
         set_uniforms(program, u_exposure=1.0)  # in the frame block, not a uniform of its own
     with pytest.raises(ShaderError, match="u_hrd"):
         set_uniforms(program, u_hrd=0)
+
+
+def test_one_registry_chooses_each_building_facade():
+    from cityshade.render import FACADE_KINDS, choose_facade
+    from cityshade.scene import box, cylinder
+
+    assert [k.precedence for k in FACADE_KINDS] == sorted(k.precedence for k in FACADE_KINDS)
+    assert len({k.name for k in FACADE_KINDS}) == len(FACADE_KINDS), "each kind registered once"
+    assert choose_facade(box((0, 0), 10, 10, 9, style=7)).name == "relief bay"  # relief wins on boxes
+    assert choose_facade(cylinder((0, 0), 6, 9, style=7)).name == "grammar fig12"  # no relief on curved walls
+    assert choose_facade(box((0, 0), 10, 10, 9, style=4)).name == "grammar brick"
+    assert choose_facade(box((0, 0), 10, 10, 9, style=0)).name == "window bay"

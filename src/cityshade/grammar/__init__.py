@@ -31,8 +31,11 @@ def load_library() -> dict[str, Grammar]:
     return {style: load(library_path(f"{style}.grammar")) for style in LIBRARY_STYLES}
 
 
+from ._city import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_texture  # noqa: E402 (needs load_library)
+from ._random import seed_cells  # noqa: E402
+
 __all__ = [
-    "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
+    "BUILDING_STYLES", "FACADE_GRAMMAR", "GRAMMAR_SHAPES", "library_texture", "seed_cells", "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
     "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
     "load_source", "parse_string",
 ]

@@ -5,6 +5,7 @@ binary factorisations, bit packing, the .cfdm file format and a numpy reference 
 """
 
 from ._boxes import free_boxes
+from ._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, CityRelief
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
 from ._factor import METHODS, Factors, factorize, greedy_biclique
 from ._format import VERSION, from_bytes, read_compressed, to_bytes, write_compressed
@@ -17,6 +18,7 @@ from ._mesh import relief_mesh
 from ._view import FRAME_DTYPE, FacadeImages, FacadeView, MeshFacade, draw_facades, facade_camera, slab_faces, trace_view
 
 __all__ = [
+    "FACADE_RELIEF", "RELIEF_SHAPES", "RELIEF_STYLES", "CityRelief",
     "free_boxes", "MAP_NAMES", "CompressedFacade", "compress", "detail_matrices", "digest",
     "METHODS", "Factors", "factorize", "greedy_biclique",
     "VERSION", "from_bytes", "read_compressed", "to_bytes", "write_compressed",

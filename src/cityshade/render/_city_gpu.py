@@ -7,11 +7,11 @@ import moderngl
 import numpy as np
 
 from ..gl import VertexArrays
-from ..grammar._city import assign_facades
-from ..relief._city import CityRelief, assign_relief
+from ..relief import CityRelief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene._city import GROUND_ASPHALT, GROUND_GRASS
 from ._culling import BuildingChunks
+from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
 
 GROUND_FORMAT = "3f 1f"
@@ -38,8 +38,7 @@ class CityGPU:
         self.ctx = ctx
         self.city = city
         vertices, records = batch(city.masses)
-        self.grammar_buildings = assign_facades(records, city.masses)
-        self.relief_buildings = assign_relief(records, city.masses)
+        self.facades = assign_facades(records, city.masses)  # buildings per facade kind
         self.relief = CityRelief(ctx)
         self.chunks = BuildingChunks(vertices)
         vertices = self.chunks.vertices

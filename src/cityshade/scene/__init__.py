@@ -1,6 +1,6 @@
 """What is drawn: cameras, building masses, city layouts and their meshes. No GL here."""
 
-from ._buildings import BuildingMass, box, cylinder, dome
+from ._buildings import SHAPES, BuildingMass, box, cylinder, dome
 from ._camera import Camera, look_at, perspective
 from ._city import CITIES, City, default_city, grid_city, make_city
 from ._footprints import load_footprints, load_geojson, load_osm
@@ -8,7 +8,7 @@ from ._meshes import VERTEX_ATTRIBUTES, VERTEX_DTYPE, VERTEX_FORMAT, batch, buil
 from ._records import BUILDING_DTYPE, rotation_y
 
 __all__ = [
-    "BuildingMass", "box", "cylinder", "dome", "Camera", "look_at", "perspective", "CITIES", "City",
+    "SHAPES", "BuildingMass", "box", "cylinder", "dome", "Camera", "look_at", "perspective", "CITIES", "City",
     "default_city", "grid_city", "make_city", "load_footprints", "load_geojson", "load_osm", "VERTEX_ATTRIBUTES", "VERTEX_DTYPE", "VERTEX_FORMAT",
     "batch", "building_record", "building_vertices", "BUILDING_DTYPE", "rotation_y",
 ]
