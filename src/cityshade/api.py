@@ -1,4 +1,4 @@
-"""The Python API: `cityshade.render(...)` and friends."""
+"""The Python API: `cityshade.render_image(...)` and `cityshade.render_city(...)`."""
 
 from __future__ import annotations
 
@@ -39,6 +39,6 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
     return image, info
 
 
-def render(city: str | City = "default", **kwargs) -> np.ndarray:
+def render_image(city: str | City = "default", **kwargs) -> np.ndarray:
     """The city as an HxWx3 uint8 numpy array. Keywords as `render_city`."""
     return render_city(city, frames=0, **kwargs)[0]

@@ -1,4 +1,11 @@
-"""The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings."""
+"""The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings.
+
+`cityshade.render` is this package. It used to be a function as well; calling the package still
+works for now, with a DeprecationWarning: use `cityshade.render_image(...)`."""
+
+import sys
+import types
+import warnings
 
 from ._daylight import Daylight, parse_time
 from ._facades import FACADE_KINDS, FacadeKind, assign_facades, choose_facade
@@ -8,3 +15,15 @@ from ._settings import RenderSettings
 
 __all__ = ["Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "GLState", "Pass", "frame_passes", "id_passes", "Renderer",
            "RenderSettings"]
+
+
+class _DeprecatedCall(types.ModuleType):
+    def __call__(self, *args, **kwargs):
+        warnings.warn("cityshade.render(...) is deprecated; use cityshade.render_image(...)", DeprecationWarning,
+                      stacklevel=2)
+        from ..api import render_image
+
+        return render_image(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _DeprecatedCall
