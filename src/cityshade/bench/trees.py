@@ -14,8 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..gl import FrameTimer
-from ..render import Renderer, RenderSettings, parse_time
-from ..render._shadows import shadow_pass
+from ..render import Renderer, RenderSettings, frame_passes, parse_time, run_passes
 from ..trees import EVERY_FRAME, PAPER_RATES, SCENE_TIME, park_scene
 from ._harness import BenchResult
 
@@ -39,11 +38,12 @@ def _shadow_pass_ms(renderer: Renderer, camera, rates, frames: int) -> tuple[flo
     """Mean shadow-pass time and draw calls per frame over whole update cycles (frames 1..)."""
     renderer.shadows.rates = rates
     inputs = renderer._inputs(camera)
+    shadows = [p for p in frame_passes(renderer.settings) if p.name == "shadows"]
     calls = []
 
     def draw(i):
         inputs.frame_index = 1 + i % 8  # skip frame 0, which draws every cascade to fill them
-        shadow_pass(inputs)
+        run_passes(inputs, shadows)
         calls.append(renderer.shadows.stats.draw_calls)
 
     timer = FrameTimer(renderer.ctx, warmup=0, frames=frames)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..assets._tiles import TileArray
+from ..assets import TileArray
 from ..gl import FRAME_BLOCK, RenderTarget, VertexArrays, draw_fullscreen, set_uniforms
 from ..gl import programs as gl_programs
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, Camera, batch

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, rotation_y
+from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, rotation_y
 from ._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from ._hash import hash3, unit_float
 
@@ -130,8 +130,7 @@ def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams,
     """The id AOV (face, room, building + 1, 0) of the building and ground passes, per pixel centre:
     triangles ray-cast, attributes interpolated as the rasteriser does, glass decided by the facade
     texel, rooms by `trace`. The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1)."""
-    from ..scene._meshes import SURFACE_ROOF, batch
-    from ..scene._raycast import intersect
+    from ..scene import SURFACE_ROOF, batch, intersect
     from ._faces import FACE_EXTERIOR, FACE_GROUND, FACE_ROOF
 
     vertices, records = batch(masses)

@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.progress import Progress
 
 from ..errors import CityshadeError, UsageError
-from ..render._cli import parse_metres
+from ..arguments import parse_metres
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS
 from ._format import read_compressed, write_compressed

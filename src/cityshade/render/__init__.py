@@ -9,11 +9,11 @@ import warnings
 
 from ._daylight import Daylight, parse_time
 from ._facades import FACADE_KINDS, FacadeKind, assign_facades, choose_facade
-from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes
+from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._renderer import Renderer
 from ._settings import RenderSettings
 
-__all__ = ["Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "GLState", "Pass", "frame_passes", "id_passes", "Renderer",
+__all__ = ["Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "GLState", "Pass", "frame_passes", "id_passes", "run_passes", "Renderer",
            "RenderSettings"]
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from ..gl import VertexArrays
 from ..relief import CityRelief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
-from ..scene._city import GROUND_ASPHALT, GROUND_GRASS
+from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._culling import BuildingChunks
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU

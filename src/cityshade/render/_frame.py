@@ -18,9 +18,9 @@ import moderngl
 import numpy as np
 
 from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, draw_fullscreen, set_uniforms
-from ..grammar._gpu import shader_defines as grammar_defines
+from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
-from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
+from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms

@@ -9,9 +9,7 @@ import numpy as np
 
 from .. import assets
 from ..gl import upload_texture
-from ..grammar._city import library_texture
-from ..grammar._frame_pass import DeferredGrammarPass
-from ..grammar._gpu import GrammarTextures
+from ..grammar import DeferredGrammarPass, GrammarTextures, library_texture
 
 ROOM_FACES = ("ceiling", "floor", "wall_x", "wall_z")
 
