@@ -22,6 +22,15 @@ def gl_context():
     ctx.release()
 
 
+@pytest.fixture(autouse=True)
+def _session_context_current(request):
+    """Tests that make contexts of their own (Renderer() without ctx, cityshade.render_image) leave
+    them current; the session context's objects must be used with the session context current."""
+    if "gl_context" in request.fixturenames:
+        request.getfixturevalue("gl_context").__enter__()
+    yield
+
+
 @pytest.fixture(scope="session")
 def output_dir() -> Path:
     OUTPUT.mkdir(parents=True, exist_ok=True)

@@ -53,7 +53,11 @@ def test_no_package_imports_another_packages_private_modules():
 def test_the_check_sees_a_private_import(tmp_path):
     fake = tmp_path / "cityshade"
     (fake / "trees").mkdir(parents=True)
-    (fake / "trees" / "x.py").write_text("from ..render._frame import Pass\nfrom ..render import Renderer\n"
-                                         "from ._own import ok\nfrom .. import _files\nfrom ..scene import _city\n")
-    assert violations(fake) == ["cityshade/trees/x.py:1: cityshade.render._frame",
-                                "cityshade/trees/x.py:5: cityshade.scene._city"]
+    (fake / "trees" / "x.py").write_text(
+        "from ..render._frame import Pass\nfrom ..render import Renderer\n"
+        "from ._own import ok\nfrom .. import _files\nfrom ..scene import _city\n"
+    )
+    assert violations(fake) == [
+        "cityshade/trees/x.py:1: cityshade.render._frame",
+        "cityshade/trees/x.py:5: cityshade.scene._city",
+    ]

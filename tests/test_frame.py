@@ -13,8 +13,21 @@ from cityshade.render import FrameTargets, Renderer, RenderSettings, frame_passe
 from cityshade.scene import make_city
 
 # Every Context method that creates a GL object.
-CREATORS = ("buffer", "texture", "texture_array", "texture_cube", "depth_texture", "framebuffer", "renderbuffer",
-            "depth_renderbuffer", "vertex_array", "program", "compute_shader", "sampler", "query")
+CREATORS = (
+    "buffer",
+    "texture",
+    "texture_array",
+    "texture_cube",
+    "depth_texture",
+    "framebuffer",
+    "renderbuffer",
+    "depth_renderbuffer",
+    "vertex_array",
+    "program",
+    "compute_shader",
+    "sampler",
+    "query",
+)
 
 
 class ObjectCounter:
@@ -86,8 +99,15 @@ def test_passes_set_the_state_they_rely_on(counted_renderer):
     assert (after_mess != clean).any(axis=-1).sum() == 0
 
 
-@pytest.mark.parametrize("changes", [{}, {"depth_prepass": False}, {"polygonised_interiors": True},
-                                     {"grammar_deferred": False, "shadows": False, "trees": False}])
+@pytest.mark.parametrize(
+    "changes",
+    [
+        {},
+        {"depth_prepass": False},
+        {"polygonised_interiors": True},
+        {"grammar_deferred": False, "shadows": False, "trees": False},
+    ],
+)
 def test_every_pass_reads_targets_written_before_it(changes):
     passes = frame_passes(RenderSettings().with_(**changes))
     targets = {f.name for f in fields(FrameTargets)} | {"shadow maps"}

@@ -5,5 +5,5 @@ from .api import render_city, render_image
 from .render import Renderer, RenderSettings
 from .scene import Camera, City, make_city
 
-__all__ = ["render_image", "render_city", "Renderer", "RenderSettings", "Camera", "City", "make_city"]
+__all__ = ["render", "render_image", "render_city", "Renderer", "RenderSettings", "Camera", "City", "make_city"]
 __version__ = "0.1.0"

@@ -15,5 +15,20 @@ from ._timing import FrameTimer
 from ._uniforms import set_uniforms
 from ._vertex_arrays import VertexArrays
 
-__all__ = ["FRAME_BLOCK", "UniformBlock", "create_context", "describe_context", "draw_fullscreen", "linear_to_srgb", "programs", "ProgramCache",
-           "shader_source", "srgb_to_linear", "RenderTarget", "upload_texture", "FrameTimer", "set_uniforms", "VertexArrays"]
+__all__ = [
+    "FRAME_BLOCK",
+    "UniformBlock",
+    "create_context",
+    "describe_context",
+    "draw_fullscreen",
+    "linear_to_srgb",
+    "programs",
+    "ProgramCache",
+    "shader_source",
+    "srgb_to_linear",
+    "RenderTarget",
+    "upload_texture",
+    "FrameTimer",
+    "set_uniforms",
+    "VertexArrays",
+]

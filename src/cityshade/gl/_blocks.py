@@ -24,8 +24,10 @@ class UniformBlock:
         return f"generated/{self.name}.glsl"
 
     def glsl(self) -> str:
-        lines = [f"// Generated from cityshade.gl ({self.name}): do not edit.",
-                 f"layout(std140, binding = {self.binding}) uniform {self.name} {{"]
+        lines = [
+            f"// Generated from cityshade.gl ({self.name}): do not edit.",
+            f"layout(std140, binding = {self.binding}) uniform {self.name} {{",
+        ]
         lines += [f"    {kind} {name};  // {comment}" for name, kind, comment in self.fields]
         return "\n".join(lines + ["};", ""])
 
@@ -42,7 +44,9 @@ class UniformBlock:
         """The block's bytes; every field must be given, and nothing else."""
         names = {name for name, _, _ in self.fields}
         if set(values) != names:
-            raise ValueError(f"{self.name}: missing {sorted(names - set(values))}, unknown {sorted(set(values) - names)}")
+            raise ValueError(
+                f"{self.name}: missing {sorted(names - set(values))}, unknown {sorted(set(values) - names)}"
+            )
         offsets, size = self.offsets()
         data = bytearray(size)
         for name, kind, _ in self.fields:
@@ -50,7 +54,7 @@ class UniformBlock:
             if kind == "mat4":
                 value = value.T  # GLSL matrices are column-major
             raw = value.tobytes()
-            data[offsets[name]:offsets[name] + len(raw)] = raw
+            data[offsets[name] : offsets[name] + len(raw)] = raw
         return bytes(data)
 
     def write(self, ctx: moderngl.Context, **values):
@@ -67,13 +71,17 @@ class UniformBlock:
 
 # The per-frame values every program shares: written once per frame (cityshade.render), or by
 # any code that draws with the city's shaders on its own.
-FRAME_BLOCK = UniformBlock("FrameBlock", 0, (
-    ("u_inv_view_proj", "mat4", "the camera's clip space -> world"),
-    ("u_camera", "vec3", "the eye, world"),
-    ("u_time", "float", "seconds: furniture sprites, wind"),
-    ("u_sun_dir", "vec3", "unit vector toward the sun (world)"),
-    ("u_exposure", "float", "HDR scale before tone mapping"),
-    ("u_sun_color", "vec3", "sun radiance"),
-    ("u_sky_ambient", "vec3", "sky irradiance from above"),
-    ("u_ground_ambient", "vec3", "bounce light from below"),
-))
+FRAME_BLOCK = UniformBlock(
+    "FrameBlock",
+    0,
+    (
+        ("u_inv_view_proj", "mat4", "the camera's clip space -> world"),
+        ("u_camera", "vec3", "the eye, world"),
+        ("u_time", "float", "seconds: furniture sprites, wind"),
+        ("u_sun_dir", "vec3", "unit vector toward the sun (world)"),
+        ("u_exposure", "float", "HDR scale before tone mapping"),
+        ("u_sun_color", "vec3", "sun radiance"),
+        ("u_sky_ambient", "vec3", "sky irradiance from above"),
+        ("u_ground_ambient", "vec3", "bounce light from below"),
+    ),
+)

@@ -10,8 +10,14 @@ from ._colour import srgb_to_linear
 COLOUR_SPACES = ("srgb", "stored")
 
 
-def upload_texture(ctx: moderngl.Context, data: np.ndarray, colour_space: str, mipmaps: bool = True,
-                   repeat: bool = True, dtype: str | None = None):
+def upload_texture(
+    ctx: moderngl.Context,
+    data: np.ndarray,
+    colour_space: str,
+    mipmaps: bool = True,
+    repeat: bool = True,
+    dtype: str | None = None,
+):
     """A 2D texture (HxWxC) or texture array (NxHxWxC).
 
     colour_space "srgb": 8-bit sRGB colour, converted exactly to linear float16 (alpha stays linear)
@@ -25,7 +31,9 @@ def upload_texture(ctx: moderngl.Context, data: np.ndarray, colour_space: str, m
         data[..., :3] = srgb_to_linear(data[..., :3])
         data, dtype = data.astype(np.float16), "f2"
     data = np.ascontiguousarray(data)
-    dtype = dtype or {np.uint8: "f1", np.float16: "f2", np.float32: "f4", np.uint32: "u4", np.int32: "i4"}[data.dtype.type]
+    dtype = (
+        dtype or {np.uint8: "f1", np.float16: "f2", np.float32: "f4", np.uint32: "u4", np.int32: "i4"}[data.dtype.type]
+    )
     if data.ndim == 4:
         n, h, w, c = data.shape
         tex = ctx.texture_array((w, h, n), c, data.tobytes(), dtype=dtype)

@@ -36,8 +36,7 @@ class VertexArrays:
         vao = self._vaos.get(key)
         if vao is None:
             content = [_binding(program, *binding) for binding in bindings]
-            vao = self.ctx.vertex_array(program, content, index_buffer=index_buffer,
-                                        index_element_size=4)
+            vao = self.ctx.vertex_array(program, content, index_buffer=index_buffer, index_element_size=4)
             self._vaos[key] = vao
         return vao
 

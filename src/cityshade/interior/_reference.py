@@ -34,8 +34,8 @@ class InteriorParams:
 
 
 def room_id(cx, cy, cz) -> np.ndarray:
-    u = lambda v: np.asarray(v).astype(np.int64) & 0xFFFFFFFF
-    return (u(cx) & 0x7FF) | ((u(cz) & 0x7FF) << 11) | ((u(cy) & 0x3FF) << 22)
+    cx, cy, cz = (np.asarray(v).astype(np.int64) & 0xFFFFFFFF for v in (cx, cy, cz))
+    return (cx & 0x7FF) | ((cz & 0x7FF) << 11) | ((cy & 0x3FF) << 22)
 
 
 def _wall_offset(k, floor_index, lines, salt, jitter):

@@ -34,13 +34,20 @@ class FacadeKind:
         return (self.styles is None or mass.style in self.styles) and mass.shape in self.shapes
 
 
-FACADE_KINDS = tuple(sorted((
-    # relief first: its styles are a quarter of the style numbers, so a quarter of the box buildings
-    FacadeKind("relief bay", 10, FACADE_RELIEF, frozenset(RELIEF_STYLES), RELIEF_SHAPES),
-    *(FacadeKind(f"grammar {style}", 20, FACADE_GRAMMAR, frozenset({number}), GRAMMAR_SHAPES, style)
-      for number, style in BUILDING_STYLES.items()),
-    FacadeKind("window bay", 100, WINDOW_BAY, None, SHAPES),
-), key=lambda kind: kind.precedence))
+FACADE_KINDS = tuple(
+    sorted(
+        (
+            # relief first: its styles are a quarter of the style numbers, so a quarter of the box buildings
+            FacadeKind("relief bay", 10, FACADE_RELIEF, frozenset(RELIEF_STYLES), RELIEF_SHAPES),
+            *(
+                FacadeKind(f"grammar {style}", 20, FACADE_GRAMMAR, frozenset({number}), GRAMMAR_SHAPES, style)
+                for number, style in BUILDING_STYLES.items()
+            ),
+            FacadeKind("window bay", 100, WINDOW_BAY, None, SHAPES),
+        ),
+        key=lambda kind: kind.precedence,
+    )
+)
 
 
 def choose_facade(mass: BuildingMass) -> FacadeKind:

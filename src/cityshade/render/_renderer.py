@@ -28,6 +28,7 @@ class Renderer:
     def __init__(self, size: tuple[int, int] = (1280, 720), settings: RenderSettings | None = None,
                  ctx: moderngl.Context | None = None):
         self.ctx = ctx or create_context(headless=True)
+        self._current()
         self.size = tuple(size)
         self.settings = settings or RenderSettings()
         self.programs = programs(self.ctx)
@@ -42,6 +43,11 @@ class Renderer:
         self.last_frame_seconds = float("nan")
         self.last_pass_seconds: dict[str, float] = {}  # by pass name, from draw(..., profile=True)
 
+    def _current(self):
+        """Makes this renderer's context the current one: GL calls go to the current context, and
+        a process may hold several (each cityshade.render_image call makes its own)."""
+        self.ctx.__enter__()
+
     @property
     def samples(self) -> int:
         """MSAA samples in use: the setting, clamped to the device's maximum."""
@@ -52,6 +58,7 @@ class Renderer:
         return describe_context(self.ctx)
 
     def set_city(self, city: City):
+        self._current()
         if self.city is not None:
             self.city.release()
         self.city = CityGPU(self.ctx, city)
@@ -60,6 +67,7 @@ class Renderer:
         self.trees = TreePass(self.ctx, self.programs, city_trees(city), seed=city.seed)
 
     def set_settings(self, settings: RenderSettings):
+        self._current()
         if settings.room_texture_size != self.settings.room_texture_size or settings.room_variants != self.settings.room_variants:
             self.textures.release()
             self.textures = CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants)
@@ -107,6 +115,7 @@ class Renderer:
              profile: bool = False) -> RenderTarget:
         """Draws one frame; returns the display target (also blitted to `framebuffer` if given).
         With `profile`, each pass is timed on its own (ctx.finish() around it) into last_pass_seconds."""
+        self._current()
         t = self.targets
         if t.hdr is None:
             t.hdr = RenderTarget(self.ctx, self.size, (("f2", 4),), samples=self.settings.samples)
@@ -130,12 +139,14 @@ class Renderer:
 
     def render_ids(self, camera: Camera) -> np.ndarray:
         """The id AOV as HxWx4 uint32: face code, room id, building index + 1, 0."""
+        self._current()
         if self.targets.ids is None:
             self.targets.ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
         run_passes(self._inputs(camera), id_passes(self.settings))
         return self.targets.ids.read().copy()
 
     def release(self):
+        self._current()
         self._release_targets()
         if self.city is not None:
             self.city.release()
