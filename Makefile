@@ -8,8 +8,8 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 BENCHES := interior facades relief trees
 # `ruff format --check` covers these paths; the rest of the tree joins them as it is next edited
 # (reformatting every file at once would collide with concurrent work on it).
-FORMATTED := src/cityshade/gl src/cityshade/arguments.py src/cityshade/render/_facades.py \
-             tests/test_frame.py tests/test_boundaries.py
+FORMATTED := src/cityshade/gl src/cityshade/arguments.py src/cityshade/render/_facades.py src/cityshade/shader_constants.py \
+             tests/test_frame.py tests/test_boundaries.py tests/test_constants.py
 
 .PHONY: setup demo lint test bench bench-quick clean
 

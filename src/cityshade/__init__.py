@@ -1,5 +1,6 @@
 """cityshade: real-time rendering of large virtual cities, facades, interiors, relief and trees per pixel."""
 
+from . import shader_constants  # noqa: F401  (declares the constants every shader program gets)
 from . import render  # the package; calling it still renders, with a DeprecationWarning
 from .api import render_city, render_image
 from .render import Renderer, RenderSettings

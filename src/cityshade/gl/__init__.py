@@ -2,7 +2,7 @@
 context), vertex arrays, texture uploads with an explicit colour space, full-screen passes, render
 targets and timing."""
 
-from . import _generated  # noqa: F401  (registers the generated includes)
+from ._generated import declare_constants
 from ._blocks import FRAME_BLOCK, UniformBlock
 from ._colour import linear_to_srgb, srgb_to_linear
 from ._context import create_context, describe_context
@@ -18,6 +18,7 @@ from ._vertex_arrays import VertexArrays
 __all__ = [
     "FRAME_BLOCK",
     "UniformBlock",
+    "declare_constants",
     "create_context",
     "describe_context",
     "draw_fullscreen",

@@ -13,7 +13,7 @@ from ._layout import PAPER_FACADES, FacadeLayout, generate_bay, generate_facade,
 from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
 from ._gpu import RENDERERS, GpuFacade, decode_on_gpu, renderer_defines
 from ._pack import pack_bits, unpack_bits
-from ._reference import Hits, trace_reference
+from ._reference import RELIEF_FACE_CODES, Hits, trace_reference
 from ._mesh import relief_mesh
 from ._view import FRAME_DTYPE, FacadeImages, FacadeView, MeshFacade, draw_facades, facade_camera, slab_faces, trace_view
 
@@ -25,6 +25,6 @@ __all__ = [
     "PAPER_FACADES", "FacadeLayout", "generate_bay", "generate_facade", "paper_facade",
     "GLASS", "MATERIALS", "DetailMaps", "load_png_maps", "save_png_maps",
     "pack_bits", "unpack_bits", "RENDERERS", "GpuFacade", "decode_on_gpu", "renderer_defines",
-    "Hits", "trace_reference", "relief_mesh", "FRAME_DTYPE", "FacadeImages", "FacadeView", "MeshFacade", "draw_facades",
+    "RELIEF_FACE_CODES", "Hits", "trace_reference", "relief_mesh", "FRAME_DTYPE", "FacadeImages", "FacadeView", "MeshFacade", "draw_facades",
     "facade_camera", "slab_faces", "trace_view",
 ]

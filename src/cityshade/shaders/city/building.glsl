@@ -14,7 +14,6 @@ void main() {}
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
 #include "common/lighting.glsl"
-#include "interior/faces.glsl"
 #include "shadow/csm.glsl"
 #if defined INTERIOR_MAPPING
 #include "interior/interior.glsl"
@@ -37,8 +36,6 @@ layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar l
 #else
 layout(location = 0) out vec4 out_color;
 #endif
-
-#define SURFACE_ROOF 1
 
 vec3 building_tint(Building b) {
     uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);

@@ -8,8 +8,6 @@
 #include "common/srgb.glsl"
 #include "grammar/eval.glsl"
 
-#define FACADE_GRAMMAR 1
-
 bool has_grammar_facade(Building b) {
     return b.facade.x == FACADE_GRAMMAR;
 }

@@ -14,8 +14,6 @@
 #define GRAMMAR_OPAQUE 0.999
 #define GRAMMAR_BIG 1e30
 #define GRAMMAR_REPEAT_SLACK 1e-4
-#define GRAMMAR_WALL_LABEL 1
-#define GRAMMAR_ROOM_LABEL 7
 
 uniform sampler2D u_grammar_rules;      // RGBA16F, GRAMMAR_WIDTH texels per row
 uniform sampler2D u_grammar_noise;      // R32F uniform noise

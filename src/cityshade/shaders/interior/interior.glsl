@@ -5,7 +5,6 @@
 
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
-#include "interior/faces.glsl"
 
 #define SALT_LIGHT 0x1000u
 #define SALT_VARIANT 0x2000u

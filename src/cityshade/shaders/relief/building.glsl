@@ -14,9 +14,6 @@
 #include "relief/trace.glsl"
 #include "relief/materials.glsl"
 
-#define FACADE_RELIEF 2
-#define RELIEF_GLASS 1u  // cityshade.relief.GLASS
-
 uniform float u_relief_depth_unit;  // metres per depth step
 
 bool has_relief_facade(Building b) { return b.facade.x == FACADE_RELIEF; }

@@ -6,7 +6,6 @@
 // same quads lets early depth testing skip the rays of hidden facades (paper §7).
 
 #include "relief/frame.glsl"
-#include "relief/faces.glsl"
 
 #if defined VERTEX_SHADER
 in vec3 in_position;  // map space

@@ -2,7 +2,6 @@
 // with the same materials and light as the traced facades, with the same outputs as facade.glsl.
 
 #include "relief/frame.glsl"
-#include "relief/faces.glsl"
 
 #if defined VERTEX_SHADER
 in vec3 in_position;  // map space

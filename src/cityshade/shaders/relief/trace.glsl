@@ -5,8 +5,6 @@
 // free boxes, which never leave the map, are shifted to the repeat the ray is in.
 // Needs relief/maps.glsl.
 
-#include "relief/faces.glsl"
-
 #ifndef FDM_MAX_STEPS
 #define FDM_MAX_STEPS 256
 #endif
