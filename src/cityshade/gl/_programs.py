@@ -3,7 +3,9 @@
 A program is one file whose stages are selected with `#if defined VERTEX_SHADER` /
 `GEOMETRY_SHADER` / `FRAGMENT_SHADER` / `COMPUTE_SHADER`. `#include "common/x.glsl"` pastes
 a file (once per stage) and `#line` directives keep every line traceable to its file, so a
-compile error names the file and line it came from.
+compile error names the file and line it came from. `generated/NAME.glsl` includes are text made
+from Python definitions (gl/_generated.py); those in PRELUDE (the frame block, the shared
+constants) go into every stage of every program.
 """
 
 from __future__ import annotations
