@@ -7,7 +7,6 @@ import pytest
 from PIL import Image
 
 from cityshade.assets import tile_array
-from cityshade.gl import create_context
 from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._reference import evaluate_facade
@@ -18,10 +17,9 @@ FACADE = (16.0, 12.0)
 
 
 @pytest.fixture(scope="module")
-def ctx():
-    context = create_context()
-    yield context
-    context.release()
+def ctx(gl_context):
+    # the session's context: objects of one context used while another is current would be wrong
+    return gl_context
 
 
 def compare(ctx, compiled, name, output_dir, seed=3, facade=FACADE, size=SIZE, min_terminals=2):

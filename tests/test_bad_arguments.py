@@ -57,7 +57,7 @@ def test_bad_arguments_are_one_line_and_exit_2(tmp_path, monkeypatch, capsys, ar
 ])
 def test_the_api_raises_the_cli_error(kwargs, message):
     with pytest.raises(UsageError) as info:
-        cityshade.render("default", **kwargs)
+        cityshade.render_image("default", **kwargs)
     assert message in str(info.value) and info.value.exit_code == 2
 
 

@@ -5,10 +5,11 @@ chunk culling keeps its picture."""
 import numpy as np
 
 from cityshade.bench.relief import CityChunks, city_frames, flyover_camera
-from cityshade.gl import ProgramCache, create_context
+from cityshade.gl import programs as gl_programs
 from cityshade.relief import (DetailMaps, FacadeView, GpuFacade, compress, draw_facades, facade_camera, generate_bay,
                               paper_facade, slab_faces, trace_view)
-from cityshade.relief._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, assign_relief
+from cityshade.relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES
+from cityshade.render import assign_facades
 from cityshade.relief._reference import MISS
 from cityshade.relief._view import SINGLE_FACADE
 from cityshade.scene import batch, default_city
@@ -16,9 +17,9 @@ from cityshade.scene import batch, default_city
 SIZE = (96, 96)
 
 
-def test_repeated_bay_matches_reference():
-    ctx = create_context()
-    programs = ProgramCache(ctx)
+def test_repeated_bay_matches_reference(gl_context):
+    ctx = gl_context
+    programs = gl_programs(ctx)
     bay = generate_bay(texel=0.1)
     wall = DetailMaps(np.tile(bay.depth, (2, 3)), np.tile(bay.material, (2, 3)), bay.texel, bay.depth_unit)
     gpu = GpuFacade(ctx, bay, {"bmf": compress(bay, "bmf")})
@@ -42,19 +43,22 @@ def test_repeated_bay_matches_reference():
     gpu.release()
 
 
-def test_a_share_of_the_city_gets_relief():
+def test_a_quarter_of_the_box_buildings_gets_relief():
     city = default_city()
     _, records = batch(city.masses)
-    count = assign_relief(records, city.masses)
+    count = assign_facades(records, city.masses)["relief bay"]
     marked = np.flatnonzero(records["facade"][:, 0] == FACADE_RELIEF)
-    assert count == len(marked) and 0.1 < count / len(city.masses) < 0.4
-    assert all(city.masses[i].style in RELIEF_STYLES and city.masses[i].shape in RELIEF_SHAPES for i in marked)
+    boxes = [i for i, m in enumerate(city.masses) if m.shape in RELIEF_SHAPES]
+    due = [i for i in boxes if city.masses[i].style in RELIEF_STYLES]
+    assert count == len(marked) and list(marked) == due  # every box building of a relief style, nothing else
+    print(f"relief on {count} of {len(boxes)} box buildings ({count / len(boxes):.3f})")
+    assert 0.2 < count / len(boxes) < 0.3  # styles are uniform over 0..7: two of eight
 
 
-def test_flyover_chunk_culling_keeps_the_picture():
+def test_flyover_chunk_culling_keeps_the_picture(gl_context):
     """`bench relief` Table 3 draws only the chunks inside the frustum: the same picture, fewer facades."""
-    ctx = create_context()
-    programs = ProgramCache(ctx)
+    ctx = gl_context
+    programs = gl_programs(ctx)
     maps = paper_facade("F1")
     gpu = GpuFacade(ctx, maps, {"bmf": compress(maps, "bmf")})
     width, height = maps.size_m

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.gl import ProgramCache, create_context
+from cityshade.gl import programs
 from cityshade.relief import detail_matrices, generate_facade, paper_facade
 from cityshade.relief._gpu import RENDERERS, GpuFacade, decode_on_gpu
 from cityshade.relief._reference import MISS
@@ -20,9 +20,8 @@ VIEWS = {  # azimuth, elevation, distance, target
 
 
 @pytest.fixture(scope="module")
-def gl():
-    ctx = create_context()
-    return ctx, ProgramCache(ctx)
+def gl(gl_context):
+    return gl_context, programs(gl_context)
 
 
 @pytest.fixture(scope="module")

@@ -18,7 +18,7 @@ from ..assets import tile_array
 from .._files import write_figure, write_png
 from ..gl import create_context, describe_context
 from ..grammar import compile_grammars, library_path, load, load_library
-from ..grammar._city_render import PATHS, FacadeCityRenderer
+from ..grammar import PATHS, FacadeCityRenderer
 from ..render import Renderer, RenderSettings
 from ..scene import Camera, box, make_city
 from ._harness import BenchResult, Timing, method_record, time_interleaved, timing_record

@@ -14,8 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._files import write_figure
-from ..render import Renderer, RenderSettings, parse_time
-from ..render._shadows import shadow_pass
+from ..render import Renderer, RenderSettings, frame_passes, parse_time, run_passes
 from ..trees import EVERY_FRAME, PAPER_RATES, SCENE_TIME, park_scene
 from ._harness import BenchResult, method_record, time_interleaved, timing_record
 
@@ -35,13 +34,14 @@ def _shadow_pass_ms(renderer: Renderer, camera, frames: int) -> dict[str, tuple[
     cycles (frames 1..), the two schedules taking turns frame by frame. The mean, not the median:
     a cycle's frames differ in cost by design."""
     inputs = renderer._inputs(camera)
+    shadows = [p for p in frame_passes(renderer.settings) if p.name == "shadows"]
     calls: dict[str, list[int]] = {"rated": [], "every": []}
 
     def draw(name, rates):
         def run(i):
             renderer.shadows.rates = rates
             inputs.frame_index = 1 + i % 8  # skip frame 0, which draws every cascade to fill them
-            shadow_pass(inputs)
+            run_passes(inputs, shadows)
             calls[name].append(renderer.shadows.stats.draw_calls)
         return run
 

@@ -1,4 +1,4 @@
-"""Face codes of the id AOV; mirrors shaders/interior/faces.glsl."""
+"""Face codes of the id AOV, the shaders' FACE_* (through cityshade.shader_constants)."""
 
 FACE_NONE = 0
 FACE_EXTERIOR = 1
@@ -16,3 +16,5 @@ FACE_NAMES = {
     FACE_WALL_X: "wall x", FACE_WALL_Z: "wall z", FACE_FURNITURE: "furniture", FACE_CURTAIN: "curtain",
     FACE_ROOF: "roof", FACE_GROUND: "ground",
 }
+
+FACE_CODES = {f"FACE_{name.upper().replace(' ', '_')}": code for code, name in FACE_NAMES.items()}

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, rotation_y
+from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, rotation_y
 from ._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from ._hash import hash3, unit_float
 
@@ -34,8 +34,8 @@ class InteriorParams:
 
 
 def room_id(cx, cy, cz) -> np.ndarray:
-    u = lambda v: np.asarray(v).astype(np.int64) & 0xFFFFFFFF
-    return (u(cx) & 0x7FF) | ((u(cz) & 0x7FF) << 11) | ((u(cy) & 0x3FF) << 22)
+    cx, cy, cz = (np.asarray(v).astype(np.int64) & 0xFFFFFFFF for v in (cx, cy, cz))
+    return (cx & 0x7FF) | ((cz & 0x7FF) << 11) | ((cy & 0x3FF) << 22)
 
 
 def _wall_offset(k, floor_index, lines, salt, jitter):
@@ -137,8 +137,7 @@ def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams,
 def reference_pixels(masses, camera, size: tuple[int, int], params: InteriorParams, facade_alpha: np.ndarray,
                      ground_bounds: tuple[float, float, float, float]) -> tuple[np.ndarray, np.ndarray]:
     """reference_ids and, per pixel, whether the room seen there is lit (False off the rooms)."""
-    from ..scene._meshes import SURFACE_ROOF, batch
-    from ..scene._raycast import intersect
+    from ..scene import SURFACE_ROOF, batch, intersect
     from ._faces import FACE_EXTERIOR, FACE_GROUND, FACE_ROOF
 
     vertices, records = batch(masses)

@@ -11,9 +11,8 @@ from rich.console import Console
 from rich.progress import Progress
 
 from .._files import output_target
-from .._values import check_seed
+from ..arguments import check_seed, parse_metres
 from ..errors import CityshadeError, Finding, UsageError
-from ..render._cli import parse_metres
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS
 from ._format import read_compressed, write_compressed

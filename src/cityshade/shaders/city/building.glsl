@@ -14,7 +14,6 @@ void main() {}
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
 #include "common/lighting.glsl"
-#include "interior/faces.glsl"
 #include "shadow/csm.glsl"
 #if defined INTERIOR_MAPPING
 #include "interior/interior.glsl"
@@ -22,7 +21,6 @@ void main() {}
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
 
-uniform vec3 u_camera;          // world
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
 uniform vec3 u_window_tint;
@@ -38,8 +36,6 @@ layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar l
 #else
 layout(location = 0) out vec4 out_color;
 #endif
-
-#define SURFACE_ROOF 1
 
 vec3 building_tint(Building b) {
     uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);

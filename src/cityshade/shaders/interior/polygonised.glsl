@@ -11,7 +11,6 @@ void main() {}
 #elif defined FRAGMENT_SHADER
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
-#include "interior/faces.glsl"
 #include "interior/interior.glsl"
 
 in vec3 v_local;
