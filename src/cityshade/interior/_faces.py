@@ -1,5 +1,7 @@
 """Face codes of the id AOV; mirrors shaders/interior/faces.glsl."""
 
+import numpy as np
+
 FACE_NONE = 0
 FACE_EXTERIOR = 1
 FACE_CEILING = 2
@@ -16,3 +18,9 @@ FACE_NAMES = {
     FACE_WALL_X: "wall x", FACE_WALL_Z: "wall z", FACE_FURNITURE: "furniture", FACE_CURTAIN: "curtain",
     FACE_ROOF: "roof", FACE_GROUND: "ground",
 }
+
+
+def room_state(lit, variant):
+    """The id AOV's fourth channel with ID_ROOM_STATE (building.glsl) where a room is seen:
+    1 | lit << 1 | texture variant << 2 (0 where no room is seen)."""
+    return 1 | (np.asarray(lit).astype(np.uint32) << 1) | (np.asarray(variant).astype(np.uint32) << 2)

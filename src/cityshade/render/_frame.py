@@ -197,13 +197,14 @@ def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, displa
     tone_map(f, resolved.colors[0], display)
 
 
-def draw_ids(f: FrameInputs, target: RenderTarget):
-    """The id AOV: per pixel (face, room id, building index + 1, 0) as uint32."""
+def draw_ids(f: FrameInputs, target: RenderTarget, room_state: bool = False):
+    """The id AOV: per pixel (face, room id, building index + 1, grammar label) as uint32; with
+    `room_state` the fourth channel is the room seen instead (1 | lit << 1 | variant << 2, 0: none)."""
     ctx = f.ctx
     target.use()
     ctx.enable(moderngl.DEPTH_TEST)
     ctx.depth_func = "<"
     target.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
     f.bind_textures()
-    draw_buildings(f, {"ID_PASS": True, "INTERIOR_LOD": False})
+    draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "INTERIOR_LOD": False})
     draw_ground(f, {"ID_PASS": True})

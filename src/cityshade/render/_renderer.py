@@ -137,11 +137,12 @@ class Renderer:
             raise RuntimeError("no frame drawn yet: call draw() or render() first")
         return self._targets[1].read()[..., :3].astype(np.float32)
 
-    def render_ids(self, camera: Camera) -> np.ndarray:
-        """The id AOV as HxWx4 uint32: face code, room id, building index + 1, 0."""
+    def render_ids(self, camera: Camera, room_state: bool = False) -> np.ndarray:
+        """The id AOV as HxWx4 uint32: face code, room id, building index + 1, grammar label (with
+        `room_state`: the room seen, 1 | lit << 1 | texture variant << 2, 0 where none)."""
         if self._ids is None:
             self._ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
-        draw_ids(self._inputs(camera), self._ids)
+        draw_ids(self._inputs(camera), self._ids, room_state)
         return self._ids.read().copy()
 
     def release(self):
