@@ -14,7 +14,7 @@ from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FA
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import make_city
-from render_checks import render_finite
+from render_checks import id_edges, render_finite
 
 SIZE = (160, 120)
 # Flat walls: only rasterisation-edge pixels may differ (share of the picture). Curved walls: the
@@ -67,14 +67,6 @@ def _colorise(ids: np.ndarray) -> np.ndarray:
     return np.clip(palette[ids[..., 0] % 10].astype(int) + room_tint, 0, 255).astype(np.uint8)
 
 
-def _edges(ids: np.ndarray) -> np.ndarray:
-    """Pixels whose 3x3 neighbourhood holds another (face, room, building): the twin's own edges."""
-    key = ids[..., 0].astype(np.int64) << 48 ^ ids[..., 1].astype(np.int64) << 8 ^ ids[..., 2].astype(np.int64)
-    padded = np.pad(key, 1, mode="edge")
-    h, w = key.shape
-    return np.any([padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] != key for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
-
-
 def _ground() -> tuple[float, float, float, float]:
     x0, z0, x1, z1 = SCENE.bounds
     return x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN
@@ -101,7 +93,7 @@ def test_gpu_ids_match_numpy_twin(renderer, twin, view, output_dir):
           + "faces: " + ", ".join(f"{FACE_NAMES[int(f)]}={c}" for f, c in zip(faces, counts)))
     assert flat_share <= MAX_MISMATCH_FLAT, f"{(differ & ~curved).sum()} pixels differ on flat buildings"
     assert curved_share <= MAX_MISMATCH_CURVED, f"{(differ & curved).sum()} pixels differ on curved buildings"
-    assert not (differ & ~_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"
+    assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"
     assert not lit_differ.any(), f"{lit_differ.sum()} room pixels differ in light"
     assert not variant_differ.any(), f"{variant_differ.sum()} room pixels differ in texture variant"
     assert not (~differ & ((gpu[..., 3] ^ ref[..., 3]) & SEEN).astype(bool)).any(), "a room seen by one only"

@@ -129,12 +129,40 @@ def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, mass: BuildingMass, param
     return face, room["id"], t, room["lit"], room["variant"]
 
 
+def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: np.ndarray, floor_height: float):
+    """Relief facades (docs/relief.md, the city): the window bay `maps` repeats across the wall, one
+    bay (facade[:, 2] metres) wide and one floor high; each ray is traced through it by the
+    reference tracer. Returns, per ray, whether it meets glass and where (object space): the
+    point from which it continues into the room."""
+    from ..relief import GLASS, DetailMaps, trace_reference
+
+    rows, cols = maps.shape
+    up = np.array([0.0, 1.0, 0.0])
+    along = np.stack([-n[:, 2], np.zeros(len(n)), n[:, 0]], axis=1)  # the way facade u grows: n x up
+    scale = np.stack([cols / facade[:, 2], np.full(len(n), rows / floor_height), np.full(len(n), 1 / maps.depth_unit)], axis=1)
+    start = np.stack([facade[:, 0], facade[:, 1], np.zeros(len(n))], axis=1) * scale
+    direction = np.stack([np.sum(d * along, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1) * scale
+    # The bay tiled over the wall, with a bay and a floor to spare on every side: a ray entering
+    # near a corner or the roof line meets the repeat the GPU samples there.
+    bays = int(np.ceil(np.max(start[:, 0]) / cols)) + 3
+    floors = int(np.ceil(np.max(start[:, 1]) / rows)) + 3
+    wall = DetailMaps(np.tile(maps.depth, (floors, bays)), np.tile(maps.material, (floors, bays)), maps.texel, maps.depth_unit)
+    margin = np.array([cols, rows, 0.0])
+    hits = trace_reference(wall, start + margin, direction)
+    offset = np.nan_to_num(hits.point - margin - start) / scale
+    point = local + along * offset[:, :1] + up * offset[:, 1:2] - n * offset[:, 2:]
+    return hits.material == GLASS, point
+
+
 def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], params: InteriorParams,
-                  facade_alpha: np.ndarray, ground_bounds: tuple[float, float, float, float]) -> np.ndarray:
+                  facade_alpha: np.ndarray, ground_bounds: tuple[float, float, float, float],
+                  relief: dict | None = None) -> np.ndarray:
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
-    glass decided by the facade texel, rooms by `trace`. The ground is the plane y = 0 inside
-    `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
+    glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
+    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace`. The ground is the
+    plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
+    relief = relief or {}
     width, height = size
     dirs = camera.pixel_rays(size).reshape(-1, 3)
     eye = camera.eye
@@ -153,13 +181,20 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
         if not len(sel):
             continue
         facade, roof = hits.facade[sel], hits.roof[sel]
-        col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
-        row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
-        glass = ~roof & (facade_alpha[row, col] < 0.5)
+        entry = hits.local.copy()
+        if b in relief:
+            glass = np.zeros(len(sel), dtype=bool)
+            walls = sel[~roof]
+            glass[~roof], entry[walls] = relief_entry(relief[b], hits.local[walls], hits.direction[walls],
+                                                      hits.normal[walls], hits.facade[walls], mass.room_size[1])
+        else:
+            col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
+            row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
+            glass = ~roof & (facade_alpha[row, col] < 0.5)
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
         if glass.any():
             rays = sel[glass]
-            face, room, _, lit, variant = trace(hits.local[rays], hits.direction[rays], hits.normal[rays], mass, params)
+            face, room, _, lit, variant = trace(entry[rays], hits.direction[rays], hits.normal[rays], mass, params)
             out[rays, 0], out[rays, 1], out[rays, 3] = face, room, room_state(lit, variant)
     return out.reshape(height, width, 4)
