@@ -17,10 +17,20 @@ def render_finite(renderer, camera) -> np.ndarray:
     return image
 
 
-def id_edges(ids: np.ndarray) -> np.ndarray:
-    """Pixels whose 3x3 neighbourhood holds another (face, room, building) in the id AOV `ids`
-    (built from the twin's picture alone, so a miss of the GPU's own is never excused)."""
-    key = ids[..., 0].astype(np.int64) << 48 ^ ids[..., 1].astype(np.int64) << 8 ^ ids[..., 2].astype(np.int64)
+def key_edges(key: np.ndarray) -> np.ndarray:
+    """Pixels whose 3x3 neighbourhood holds another value of `key` (H, W): where a ray grazes an
+    edge and two tracers may pick either side. Built from one picture (the twin's) alone, so a
+    false answer of the other is never excused elsewhere."""
     padded = np.pad(key, 1, mode="edge")
     h, w = key.shape
     return np.any([padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] != key for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
+
+
+def id_edges(ids: np.ndarray) -> np.ndarray:
+    """key_edges of the id AOV's (face, room, building)."""
+    return key_edges(ids[..., 0].astype(np.int64) << 48 ^ ids[..., 1].astype(np.int64) << 8 ^ ids[..., 2].astype(np.int64))
+
+
+def hit_edges(hits) -> np.ndarray:
+    """key_edges of relief hits' (material, face); a miss (material -1) is a surface of its own."""
+    return key_edges(np.where(hits.material < 0, -1, hits.material * 8 + hits.face))
