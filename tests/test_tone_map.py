@@ -12,6 +12,15 @@ from cityshade.scene import make_city
 from render_checks import render_finite
 
 SIZE = (96, 72)
+CITY = make_city("interior")
+
+
+@pytest.fixture(scope="module")
+def renderer(gl_context):
+    r = Renderer(SIZE, RenderSettings(samples=0, god_rays=False), ctx=gl_context)
+    r.set_city(CITY)
+    yield r
+    r.release()
 
 
 def tone_map(hdr: np.ndarray, exposure: float) -> np.ndarray:
@@ -23,13 +32,10 @@ def tone_map(hdr: np.ndarray, exposure: float) -> np.ndarray:
 
 
 @pytest.mark.parametrize("hours", [13.0, 21.0])
-def test_display_is_the_hdr_frame_tone_mapped_with_the_hours_exposure(gl_context, hours):
-    city = make_city("interior")
-    renderer = Renderer(SIZE, RenderSettings(samples=0, god_rays=False, time_of_day=hours), ctx=gl_context)
-    renderer.set_city(city)
-    image = render_finite(renderer, city.camera("overview")).astype(float)
+def test_display_is_the_hdr_frame_tone_mapped_with_the_hours_exposure(renderer, hours):
+    renderer.set_settings(renderer.settings.with_(time_of_day=hours))
+    image = render_finite(renderer, CITY.camera("overview")).astype(float)
     hdr = renderer.read_hdr()
-    renderer.release()
     exposure = Daylight.at(hours).exposure
     off = np.abs(image - tone_map(hdr, exposure)).max(axis=-1)
     print(f"{hours:g} h: exposure {exposure:.2f}; {int((off > 1).sum())} of {off.size} pixels differ from the twin "
