@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..relief import GLASS, DetailMaps, trace_reference
 from ..scene import BuildingMass
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
                      FACE_WALL_X, FACE_WALL_Z, room_state)
@@ -134,8 +135,6 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
     bay (facade[:, 2] metres) wide and one floor high; each ray is traced through it by the
     reference tracer. Returns, per ray, whether it meets glass and where (object space): the
     point from which it continues into the room."""
-    from ..relief import GLASS, DetailMaps, trace_reference
-
     rows, cols = maps.shape
     up = np.array([0.0, 1.0, 0.0])
     along = np.stack([-n[:, 2], np.zeros(len(n)), n[:, 0]], axis=1)  # the way facade u grows: n x up
@@ -185,8 +184,9 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
         if b in relief:
             glass = np.zeros(len(sel), dtype=bool)
             walls = sel[~roof]
-            glass[~roof], entry[walls] = relief_entry(relief[b], hits.local[walls], hits.direction[walls],
-                                                      hits.normal[walls], hits.facade[walls], mass.room_size[1])
+            if len(walls):
+                glass[~roof], entry[walls] = relief_entry(relief[b], hits.local[walls], hits.direction[walls],
+                                                          hits.normal[walls], hits.facade[walls], mass.room_size[1])
         else:
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
