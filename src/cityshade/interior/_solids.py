@@ -76,18 +76,18 @@ def _prism(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float):
             continue
         outward = np.array([edge[1], 0.0, -edge[0]]) / length  # right of the edge walked counter-clockwise
         a3 = np.array([a[0], 0.0, a[1]])
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore"):  # rays along the wall: inf, nan
             t = ((a3 - eye) @ outward) / (d @ outward)
-        hit = eye + d * t[:, None]
+            hit = eye + d * t[:, None]
         along = ((hit[:, 0] - a[0]) * edge[0] + (hit[:, 2] - a[1]) * edge[1]) / length
         ok = (t > 1e-9) & (along >= 0) & (along <= length) & (hit[:, 1] >= 0) & (hit[:, 1] <= height) & (t < best)
         nominal = room[0] if abs(edge[0]) >= abs(edge[1]) else room[2]
         best = np.where(ok, t, best)
         normal[ok] = outward
         facade[ok] = np.stack([along[ok], hit[ok, 1], np.full(ok.sum(), whole_bays(length, nominal))], axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):  # level rays never meet the roof
         t = (height - eye[1]) / d[:, 1]
-    top = eye + d * t[:, None]
+        top = eye + d * t[:, None]
     ok = (t > 1e-9) & (t < best) & _inside_polygon(top[:, 0], top[:, 2], ring)
     best = np.where(ok, t, best)
     normal[ok] = (0.0, 1.0, 0.0)
@@ -122,9 +122,9 @@ def _cylinder(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float)
         angle = np.mod(np.arctan2(rz, rx), 2 * np.pi)  # facade u runs counter-clockwise from +x
         normal[ok] = np.stack([rx, np.zeros(n), rz], axis=1)[ok]
         facade[ok] = np.stack([angle * radius, y, np.full(n, bay)], axis=1)[ok]
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):  # level rays never meet the roof
         t = (height - eye[1]) / d[:, 1]
-    top = eye + d * t[:, None]
+        top = eye + d * t[:, None]
     ok = (t > 1e-9) & (t < best) & ((top[:, 0] - centre[0]) ** 2 + (top[:, 2] - centre[1]) ** 2 <= radius * radius)
     best = np.where(ok, t, best)
     normal[ok] = (0.0, 1.0, 0.0)
