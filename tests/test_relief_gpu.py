@@ -9,7 +9,7 @@ from cityshade.relief import detail_matrices, generate_facade, paper_facade
 from cityshade.relief._gpu import RENDERERS, GpuFacade, decode_on_gpu
 from cityshade.relief._reference import MISS
 from cityshade.relief._view import SINGLE_FACADE, FacadeView, MeshFacade, facade_camera, trace_view
-from render_checks import assert_finite
+from render_checks import assert_finite, hit_edges
 
 SIZE = (96, 96)
 VIEWS = {  # azimuth, elevation, distance, target
@@ -41,19 +41,6 @@ def test_gpu_decodes_every_texel_exactly(gl, codec, mod37):
     gpu.release()
 
 
-def edge_pixels(ref):
-    """Pixels next to a change of hit surface in the reference alone (material, face, or a miss in the
-    3x3 neighbourhood): where a ray grazes an edge and the two tracers may pick either side. Built
-    without the GPU's answer, so a false GPU miss is not excused anywhere else."""
-    key = np.where(ref.material == MISS, -1, ref.material * 8 + ref.face)
-    padded = np.pad(key, 1, mode="edge")
-    edge = np.zeros(key.shape, bool)
-    for dy in range(3):
-        for dx in range(3):
-            edge |= padded[dy:dy + key.shape[0], dx:dx + key.shape[1]] != key
-    return edge
-
-
 def read(view, what):
     """The view's images, after checking that the colour is finite."""
     images = view.read()
@@ -77,7 +64,7 @@ def test_fdm_matches_reference(gl, facade, view, output_dir):
         gpu = read(renderer, f"{name} {view}")
         save(output_dir, f"{name}_{view}", gpu)
         differ = (gpu.material != ref.material) | (gpu.face != ref.face)
-        edges = edge_pixels(ref)
+        edges = hit_edges(ref)
         print(f"{name} {view}: {differ.sum()} of {differ.size} pixels differ, all on edges: {not (differ & ~edges).any()}")
         assert not (differ & ~edges).any(), f"{name}: off-edge mismatches at {np.argwhere(differ & ~edges)[:5]}"
         assert differ.mean() < 0.005

@@ -3,6 +3,8 @@
 Images are small; every test that renders writes its picture to tests/output/ to be looked at.
 """
 
+from dataclasses import replace
+
 import moderngl
 import numpy as np
 import pytest
@@ -201,3 +203,35 @@ def test_wind_sways_the_crown_and_not_the_trunk_base(ctx, programs):
     rows = SIZE[1]
     assert moved[: rows // 2].mean() > 0.01  # leaves and upper branches move
     assert moved[-rows // 8:].mean() < 0.002  # the trunk's foot stays put
+
+
+def test_lod_cross_fade_has_no_pop_along_a_path(ctx, programs, output_dir):
+    """A tree passing through the LOD band in 20 steps (the band slid past it, so only the LOD
+    changes, not the view): no step between consecutive frames carries more than 40% of the whole
+    change from the near to the far LOD. The control, a band narrower than a step (a hard switch),
+    puts all of it into one step."""
+    tree = one_tree(ctx, programs, "oak", shadows=False, fins=False)
+    distance, band, steps = 50.0, 30.0, 20
+    camera = Camera((0, 6.0, distance), (0, 6.0, 0), fov_y=16, near=0.5, far=200)
+
+    def path(width: float) -> list[np.ndarray]:
+        frames = []
+        for k in range(steps + 1):
+            start = distance - k / steps * band + (band - width) / 2 * (width < band)
+            tree.settings = replace(tree.settings, lod_band=(start, start + width))
+            frames.append(render(ctx, tree, camera))
+        return frames
+
+    jumps = {}
+    for name, width in (("cross-fade", band), ("hard switch", 0.5)):
+        frames = path(width)
+        total = np.abs(frames[-1] - frames[0]).mean()
+        steps_taken = [np.abs(b - a).mean() / total for a, b in zip(frames, frames[1:])]
+        jumps[name] = max(steps_taken)
+        assert total > 1e-3, "the two LODs must look different"
+        if name == "cross-fade":
+            save(np.hstack([frames[0], frames[steps // 2], frames[-1]]), "trees_lod_path", output_dir)
+    tree.release()
+    print("largest step between frames, share of the whole LOD change:", {k: round(v, 3) for k, v in jumps.items()})
+    assert jumps["cross-fade"] < 0.4
+    assert jumps["hard switch"] > 0.9

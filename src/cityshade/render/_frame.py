@@ -236,10 +236,6 @@ def tone_map(f: FrameInputs):
     draw_fullscreen(program)
 
 
-def id_buildings(f: FrameInputs):
-    draw_buildings(f, {"ID_PASS": True, "INTERIOR_LOD": False})
-
-
 def id_ground(f: FrameInputs):
     draw_ground(f, {"ID_PASS": True})
 
@@ -308,8 +304,13 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
     return passes
 
 
-def id_passes(settings: RenderSettings) -> list[Pass]:
-    """The id AOV: per pixel (face, room id, building index + 1, 0) as uint32."""
+def id_passes(settings: RenderSettings, room_state: bool = False) -> list[Pass]:
+    """The id AOV: per pixel (face, room id, building index + 1, grammar label) as uint32; with
+    `room_state` the fourth channel is the room seen instead (1 | lit << 1 | variant << 2, 0: none)."""
+
+    def id_buildings(f: FrameInputs):
+        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "INTERIOR_LOD": False})
+
     inputs = (*CITY, "grammar textures", "relief maps")
     return [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
             Pass("ground ids", id_ground, CITY, "ids")]

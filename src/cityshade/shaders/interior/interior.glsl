@@ -57,6 +57,8 @@ struct InteriorHit {
     int face;
     uint room;
     float t;       // distance from the facade along the ray
+    bool lit;
+    int variant;
 };
 
 uint room_id(ivec3 cell) {
@@ -145,6 +147,8 @@ InteriorHit interior_trace(vec3 p, vec3 d, vec3 n, Building b, vec3 dpdx, vec3 d
     vec3 tt = (far_planes - p) / d;
     InteriorHit hit;
     hit.room = r.id;
+    hit.lit = r.lit;
+    hit.variant = r.variant;
     vec2 uv;
     if (tt.y <= tt.x && tt.y <= tt.z) {
         hit.t = tt.y;
