@@ -4,8 +4,9 @@ from ._model import (
     AREA_KINDS, BUILDING_ATTRIBUTES, ROOF_SHAPES, TREE_ATTRIBUTES, Area, Lamp, MapBuilding, MapData, MapTree,
     Railway, ReadReport, Road, to_scene,
 )
+from ._guess import guess_missing
 
 __all__ = [
     "AREA_KINDS", "BUILDING_ATTRIBUTES", "ROOF_SHAPES", "TREE_ATTRIBUTES", "Area", "Lamp", "MapBuilding", "MapData",
-    "MapTree", "Railway", "ReadReport", "Road", "to_scene",
+    "MapTree", "Railway", "ReadReport", "Road", "guess_missing", "to_scene",
 ]

@@ -67,6 +67,9 @@ class MapBuilding:
     building_material: str | None = None
     roof_material: str | None = None
     use: str | None = None  # what the building is used for (from building=*, shop, amenity, office)
+    # A shed, sauna, garage, kiosk, tank or any footprint under ~30 m² whose size the map does not give:
+    # one storey, no interior rooms, a door and few or no windows (set by the guessing model).
+    small_utility: bool = False
     tags: dict[str, str] = field(default_factory=dict)
     tagged: set[str] = field(default_factory=set)
     guessed: set[str] = field(default_factory=set)
