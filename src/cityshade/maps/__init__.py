@@ -5,8 +5,9 @@ from ._model import (
     Railway, ReadReport, Road, to_scene,
 )
 from ._guess import guess_missing
+from ._load import load_map
 
 __all__ = [
     "AREA_KINDS", "BUILDING_ATTRIBUTES", "ROOF_SHAPES", "TREE_ATTRIBUTES", "Area", "Lamp", "MapBuilding", "MapData",
-    "MapTree", "Railway", "ReadReport", "Road", "guess_missing", "to_scene",
+    "MapTree", "Railway", "ReadReport", "Road", "guess_missing", "load_map", "to_scene",
 ]

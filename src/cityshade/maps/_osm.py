@@ -1,0 +1,159 @@
+"""OpenStreetMap `.osm.pbf` and `.osm` XML through pyosmium: its area assembler builds multipolygons.
+
+One streaming pass: nodes give trees and street lamps, ways give roads, railways, tree rows and the
+coastline, and the area assembler gives building outlines, `building:part`s and land use (closed
+ways and multipolygon relations with their inner rings). What the assembler cannot build (an
+unclosed building way, a way with a missing node, a broken relation) is counted and skipped.
+
+XML is checked before libosmium sees it: a document type declaration (the carrier of entity bombs
+and external entities) is refused outright, so nothing is expanded and no local file is read.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import osmium
+import shapely
+
+from ..errors import UsageError
+from ._assemble import RAILWAYS, Raw, area_kind, assemble, is_building
+from ._model import MapData, ReadReport
+
+PROLOG_BYTES = 65536
+LINE_KEYS = ("highway", "railway", "natural")
+
+
+def refuse_doctype(path: Path) -> None:
+    """Refuse an XML file whose prolog declares a document type (entities) before its first element."""
+    with open(path, "rb") as stream:
+        head = stream.read(PROLOG_BYTES)
+    start = head.find(b"<osm")
+    prolog = head if start < 0 else head[:start]
+    if b"<!DOCTYPE" in prolog.upper() or b"<!ENTITY" in prolog.upper():
+        raise UsageError(f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
+                         "never need; refusing it (entities could expand without bound or read local files)")
+
+
+def _ring(nodes) -> list[tuple[float, float]]:
+    return [(node.lon, node.lat) for node in nodes]
+
+
+def _area_polygon(area) -> shapely.Geometry:
+    polygons = [shapely.Polygon(_ring(outer), [_ring(inner) for inner in area.inner_rings(outer)])
+                for outer in area.outer_rings()]
+    return polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(polygons)
+
+
+def _runs(nodes, valid: list[bool]) -> list[list[tuple[float, float]]]:
+    """The stretches of a way whose nodes all have a location, each with at least two nodes."""
+    runs, run = [], []
+    for node, ok in zip(nodes, valid):
+        if ok:
+            run.append((node.lon, node.lat))
+        else:
+            runs.append(run)
+            run = []
+    runs.append(run)
+    return [run for run in runs if len(run) >= 2]
+
+
+def _line_kind(tags) -> str:
+    return next((key for key in LINE_KEYS if key in tags), "way")
+
+
+def _wanted_line(tags: dict[str, str]) -> bool:
+    return ("highway" in tags or tags.get("railway") in RAILWAYS
+            or tags.get("natural") in ("tree_row", "coastline"))
+
+
+class _Collector:
+    """Turns the stream of OSM objects into raw features and counts what cannot be used."""
+
+    def __init__(self, report: ReadReport):
+        self.report = report
+        self.raws: list[Raw] = []
+        self.last_node = None
+        self.areas_from_relations: set[int] = set()
+        self.area_relations: dict[int, str] = {}
+
+    def node(self, node) -> None:
+        if self.last_node is not None and node.id <= self.last_node:
+            self.report.repair("node", "duplicate or unsorted node id (the last one is used)", f"node/{node.id}")
+        self.last_node = node.id
+        tags = node.tags
+        if tags.get("natural") != "tree" and tags.get("highway") != "street_lamp":
+            return
+        if not node.location.valid():
+            self.report.skip(tags.get("natural") or "highway", "location missing or out of range", f"node/{node.id}")
+            return
+        self.raws.append(Raw(f"node/{node.id}", shapely.Point(node.location.lon, node.location.lat), dict(tags)))
+
+    def way(self, way) -> None:
+        tags = way.tags
+        building = is_building(tags)
+        if not building and not _wanted_line(tags):
+            return
+        element = f"way/{way.id}"
+        valid = [node.location.valid() for node in way.nodes]
+        if building:
+            if not all(valid):
+                self.report.skip("building", "refers to a missing node or a bad location", element)
+            elif len(way.nodes) < 4:
+                self.report.skip("building", "fewer than 3 corners", element)
+            elif not way.is_closed():
+                self.report.skip("building", "way is not closed", element)
+            return
+        if way.is_closed() and tags.get("area") == "yes":
+            return  # a pedestrian square or the like: the area assembler has it
+        runs = _runs(way.nodes, valid)
+        if not all(valid):
+            self.report.repair(_line_kind(tags), "cut where it refers to missing nodes (the extract's edge)", element)
+        if not runs:
+            self.report.skip(_line_kind(tags), "fewer than 2 nodes with a location", element)
+            return
+        line = shapely.LineString(runs[0]) if len(runs) == 1 else shapely.MultiLineString(runs)
+        self.raws.append(Raw(element, line, dict(tags)))
+
+    def relation(self, relation) -> None:
+        tags = relation.tags
+        if tags.get("type") == "multipolygon" and (is_building(tags) or area_kind(dict(tags))):
+            self.area_relations[relation.id] = "building" if is_building(tags) else "area"
+
+    def area(self, area) -> None:
+        tags = dict(area.tags)
+        if not is_building(tags) and area_kind(tags) is None:
+            return
+        element = f"{'way' if area.from_way() else 'relation'}/{area.orig_id()}"
+        if not area.from_way():
+            self.areas_from_relations.add(area.orig_id())
+        polygon = _area_polygon(area)
+        if polygon.is_empty:
+            self.report.skip("building" if is_building(tags) else "area", "no rings", element)
+            return
+        self.raws.append(Raw(element, polygon, tags))
+
+    def finish(self) -> None:
+        for relation, what in self.area_relations.items():
+            if relation not in self.areas_from_relations:
+                self.report.skip(what, "multipolygon could not be assembled (open or missing members)",
+                                 f"relation/{relation}")
+
+
+def read_osm(path: Path) -> MapData:
+    """MapData of an OpenStreetMap extract (.osm.pbf or .osm XML)."""
+    if path.suffix.lower() == ".osm" or path.name.lower().endswith(".osm.xml"):
+        refuse_doctype(path)
+    report = ReadReport()
+    collector = _Collector(report)
+    dispatch = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
+    try:
+        processor = osmium.FileProcessor(str(path)).with_areas().with_locations()
+        for item in processor:
+            dispatch[item.type_str()](item)
+    except (RuntimeError, ValueError, osmium.InvalidLocationError) as exc:
+        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise UsageError(f"{path}: not a readable OpenStreetMap file ({message}); "
+                         "check that it is a complete .osm.pbf or .osm XML export") from None
+    collector.finish()
+    return assemble(path, collector.raws, report)
