@@ -80,12 +80,13 @@ def save_png(image, path: Path):
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
-    parser.add_argument("--footprints", type=Path, default=None, metavar="FILE",
-                        help="build the city from footprints: GeoJSON or OpenStreetMap XML (.osm), "
-                             "extruded by height / building:levels tags")
+    parser.add_argument("--map", "--footprints", dest="map", type=Path, default=None, metavar="FILE",
+                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=int, default=None, help="layout seed")
-    parser.add_argument("--camera", default="street", help="named viewpoint of the city")
+    parser.add_argument("--camera", default="street",
+                        help="named viewpoint of the city, or lon,lat,height,heading for a city from --map")
+    parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
     parser.add_argument("--lights", default=None, help="share of lit rooms, 0..1 (default: from --time)")
     parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
@@ -106,15 +107,13 @@ def run(args) -> int:
         if args.scene not in SCENES:
             raise UsageError(f"unknown scene {args.scene!r}; allowed: {', '.join(SCENES) or 'none'}")
         return SCENES[args.scene](args)
-    city = args.city
-    if args.footprints is not None:
-        from ..scene import load_footprints
+    city, sky = args.city, {}
+    if args.map is not None:
+        from ..maps import city_from_map
 
-        city = load_footprints(args.footprints)
-        if args.camera == "street" and "street" not in city.viewpoints:
-            args.camera = "aerial"
+        city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time)
     image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,
-                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples)
+                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples, **sky)
     save_png(image, args.out)
     msaa = f"{info['samples']}x MSAA" if info["samples"] else "no MSAA"
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {msaa}): {info['buildings']} buildings, "

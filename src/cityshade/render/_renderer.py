@@ -57,7 +57,8 @@ class Renderer:
         self.city = CityGPU(self.ctx, city)
         if self.trees is not None:
             self.trees.release()
-        self.trees = TreePass(self.ctx, self.programs, city_trees(city), seed=city.seed)
+        trees = city_trees(city) if city.trees is None else city.trees
+        self.trees = TreePass(self.ctx, self.programs, trees, seed=city.seed)
 
     def set_settings(self, settings: RenderSettings):
         if settings.room_texture_size != self.settings.room_texture_size or settings.room_variants != self.settings.room_variants:
@@ -79,12 +80,13 @@ class Renderer:
         self._targets = self._ids = None
 
     def _daylight(self) -> Daylight:
-        daylight = Daylight.at(self.settings.time_of_day)
-        key = (round(daylight.hours, 3),)
+        s = self.settings
+        daylight = Daylight.at(s.time_of_day, s.sun, s.moon)
+        key = (round(daylight.hours, 3), s.sun)
         if key != self._env_key:
             if self.env is not None:
                 self.env.release()
-            self.env = cubemap(self.ctx, assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sun_direction),
+            self.env = cubemap(self.ctx, assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sky_sun),
                                                                      dusk=daylight.dusk))
             self._env_key = key
         return daylight

@@ -1,0 +1,97 @@
+"""map_city: buildings, framed cameras, and the sun over the map, from small hand-made maps."""
+
+from __future__ import annotations
+
+import sys
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from cityshade.maps import MapBuilding, MapData, Road, map_city, street_segment, sun_and_moon, to_scene
+from cityshade.scene import box
+
+HELSINKI = (24.9384, 60.1699)
+
+
+def _prisms(map_data):
+    """Flat-roofed prisms from the outlines' bounding boxes: stands in until building_masses lands."""
+    masses = []
+    for b in map_data.buildings:
+        x0, y0, x1, y1 = b.outline.bounds
+        (sx, sz), = to_scene([(x0, y1)])
+        masses.append(box((sx, sz), x1 - x0, y1 - y0, b.height or 10.0))
+    return masses
+
+
+@pytest.fixture(autouse=True)
+def building_stage(monkeypatch):
+    try:
+        import cityshade.maps._masses  # noqa: F401
+    except ImportError:
+        monkeypatch.setitem(sys.modules, "cityshade.maps._masses", types.SimpleNamespace(building_masses=_prisms))
+
+
+def square(x, y, size):
+    return shapely.box(x, y, x + size, y + size)
+
+
+def block_map() -> MapData:
+    """Nine 30 m buildings on a 60 m grid, streets between them: an east-west avenue 20 m wide and
+    narrow north-south residential streets."""
+    buildings = [MapBuilding(i, f"way/{i}", square(60 * (i % 3), 60 * (i // 3), 30.0), height=12.0 + 6 * i)
+                 for i in range(9)]
+    roads = [Road("way/100", shapely.LineString([(-20, 45), (170, 45)]), "primary", 20.0, lanes=4)]
+    roads += [Road(f"way/{101 + k}", shapely.LineString([(45 + 60 * k, -20), (45 + 60 * k, 170)]), "residential", 6.0)
+              for k in range(2)]
+    return MapData(Path("blocks.osm"), HELSINKI, "EPSG:32635", buildings=buildings, roads=roads)
+
+
+def test_map_city_has_every_building():
+    city = map_city(block_map())
+    assert len(city.masses) == 9
+    assert city.origin == HELSINKI and city.crs == "EPSG:32635"
+
+
+def test_aerial_frustum_holds_every_building():
+    map_data = block_map()
+    city = map_city(map_data)
+    camera = city.viewpoints["aerial"]
+    corners = []
+    for b in map_data.buildings:
+        x0, y0, x1, y1 = b.outline.bounds
+        for x, y in ((x0, y0), (x0, y1), (x1, y0), (x1, y1)):
+            (sx, sz), = to_scene([(x, y)])
+            corners += [(sx, 0.0, sz), (sx, b.height, sz)]
+    clip = np.c_[np.array(corners), np.ones(len(corners))] @ camera.view_projection(16 / 9).T
+    ndc = clip[:, :3] / clip[:, 3:4]
+    assert np.all(clip[:, 3] > 0)
+    assert np.all(np.abs(ndc) <= 1.0), np.abs(ndc).max(axis=0)
+    # framed, not lost in the picture: the buildings (150 m of the 250 m framed) span half the image or more
+    assert np.ptp(ndc[:, 0]) > 0.9 or np.ptp(ndc[:, 1]) > 0.9
+
+
+def test_street_camera_stands_on_the_avenue_looking_along_it():
+    map_data = block_map()
+    camera = map_city(map_data).viewpoints["street"]
+    assert camera.eye[1] == pytest.approx(1.7)
+    x, y = camera.eye[0], -camera.eye[2]
+    assert map_data.roads[0].line.buffer(map_data.roads[0].width / 2).contains(shapely.Point(x, y))
+    assert not any(b.outline.contains(shapely.Point(x, y)) for b in map_data.buildings)
+    assert abs(camera.forward[0]) > 0.9  # the avenue runs east-west
+    a, b = street_segment(map_data, [b.outline for b in map_data.buildings])
+    assert a[1] == b[1] == 45
+
+
+def test_sun_matches_astral_at_helsinki_noon_midsummer():
+    import datetime as dt
+
+    from astral import Observer, sun
+
+    when = dt.datetime(2025, 6, 21, 10, 0, tzinfo=dt.timezone.utc)  # 12:00 local standard time (UTC+2)
+    position = sun_and_moon(HELSINKI, when)["sun"]
+    observer = Observer(latitude=HELSINKI[1], longitude=HELSINKI[0])
+    assert position == (pytest.approx(sun.elevation(observer, when)), pytest.approx(sun.azimuth(observer, when)))
+    assert 50 < position[0] < 54 and 160 < position[1] < 185  # high in the south
