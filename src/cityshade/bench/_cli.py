@@ -13,6 +13,7 @@ BENCHMARKS = {
     "relief": "cityshade.bench.relief",
     "facades": "cityshade.bench.facades",
     "trees": "cityshade.bench.trees",
+    "guesses": "cityshade.bench.guesses",
 }
 
 

@@ -77,7 +77,7 @@ def _set(building: MapBuilding, name: str, value):
 
 def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineShape, i: int):
     defaults = defaults_for(building.kind)
-    small = defaults.small or shape.area[i] < SMALL_FOOTPRINT
+    small = defaults.small or (shape.area[i] < SMALL_FOOTPRINT and not building.is_part)  # small parts are turrets
     storey = float(estimates.storey[i])
     if small and "levels" not in building.tagged and "height" not in building.tagged:
         building.small_utility = True
@@ -137,7 +137,7 @@ def _roof_height(building: MapBuilding, short_side: float) -> float:
         return 0.0
     half_width = short_side / 2
     if building.roof_shape in ("dome", "round"):
-        return half_width
+        return float(min(half_width, 12.0))
     angle = building.roof_angle if building.roof_angle is not None else ROOF_ANGLES.get(building.roof_shape, DEFAULT_ROOF_ANGLE)
     rise = half_width * math.tan(math.radians(min(angle, 75.0)))
     if building.roof_shape == "skillion":
