@@ -12,7 +12,9 @@ Every reader produces the same raw features, so every format shares one set of r
   `replaced_by_parts`. `building=roof` (or `building:part=roof`) has no walls.
 - roads: `highway=*` lines; width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class.
 - areas: see AREA_TAGS; the coastline (land on its left) splits the data's bounds into land and
-  sea, and the sea faces become water areas.
+  sea, and the sea faces become water areas. A coastline the extract cuts off inside the bounds is
+  carried on straight from its last segment to the edge; where pieces still leave a face unclosed,
+  the side of the nearest coastline decides the whole face.
 - trees: `natural=tree` points, and `natural=tree_row` lines planted every TREE_ROW_SPACING metres.
 - lamps: `highway=street_lamp` points (height from `height`, else 6 m).
 """
@@ -25,8 +27,8 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from ._model import Area, Lamp, MapBuilding, MapData, MapTree, Railway, ReadReport, Road
-from ._projection import LocalMetres, Projection, in_range
+from ._model import BUILDING_ATTRIBUTES, Area, Lamp, MapBuilding, MapData, MapTree, Railway, ReadReport, Road
+from ._projection import LOCAL, LocalMetres, Projection, in_range
 from ._tags import building_attributes, length, number
 
 MIN_AREA = 0.5  # square metres
@@ -70,6 +72,7 @@ class Raw:
     geometry: shapely.Geometry
     tags: dict[str, str]
     fixed: dict = field(default_factory=dict)  # attributes a reader measured from geometry (CityJSON heights)
+    parent: str | None = None  # a part's outline when the format names it (CityJSON); else found by position
 
 
 def is_building(tags: dict[str, str]) -> bool:
@@ -93,21 +96,27 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
     """
     raws = _finite(raws, report, geographic=source_crs is None)
     if not raws:
-        return MapData(path, (0.0, 0.0), "local", report=report)
+        return MapData(path, (0.0, 0.0), LOCAL, report=report)
     geometries = np.asarray([raw.geometry for raw in raws], dtype=object)
     x0, y0, x1, y1 = shapely.total_bounds(geometries)
     centre = ((x0 + x1) / 2.0, (y0 + y1) / 2.0)
-    projection = LocalMetres(centre) if source_crs == "local" else Projection(centre, source_crs or "EPSG:4326")
+    local = isinstance(source_crs, str) and source_crs == LOCAL
+    projection = LocalMetres(centre) if local else Projection(centre, source_crs or "EPSG:4326")
     projected = projection.geometries(geometries)
     for raw, geometry in zip(raws, projected):
         raw.geometry = geometry
+        if "surfaces" in raw.fixed:  # CityJSON's semantic surfaces: plan position to map metres, z kept
+            raw.fixed["surfaces"] = {kind: [np.column_stack([projection.points(ring[:, :2]), ring[:, 2]])
+                                            for ring in rings] for kind, rings in raw.fixed["surfaces"].items()}
     data = MapData(path, projection.origin, projection.crs, report=report)
-    coast = []
+    coast, named_parents = [], []
     for raw in raws:
         kind = shapely.get_type_id(raw.geometry)
         if kind in (3, 6):  # Polygon, MultiPolygon
             if is_building(raw.tags):
-                _add_buildings(data, raw)
+                records = _add_buildings(data, raw)
+                if raw.parent is not None:
+                    named_parents += [(record, raw.parent) for record in records]
             else:
                 _add_area(data, raw)
         elif kind in (1, 5):  # LineString, MultiLineString
@@ -117,7 +126,7 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
                 _add_line(data, raw)
         elif kind == 0:
             _add_point(data, raw)
-    _link_parts(data.buildings)
+    _link_parts(data.buildings, named_parents)
     if coast:
         _add_sea(data, coast)
     return data
@@ -172,18 +181,22 @@ def _polygons(raw: Raw, report: ReadReport) -> list[shapely.Polygon]:
     return list(shapely.orient_polygons(kept)) if kept else []
 
 
-def _add_buildings(data: MapData, raw: Raw) -> None:
+def _add_buildings(data: MapData, raw: Raw) -> list[MapBuilding]:
     tags = raw.tags
     is_part = tags.get("building", "no") == "no"
     kind = tags.get("building:part" if is_part else "building", "yes")
+    records = []
     for outline in _polygons(raw, data.report):
         building = MapBuilding(index=len(data.buildings), source_id=raw.source_id, outline=outline, kind=kind,
                                is_part=is_part, has_walls=kind != "roof", tags=tags)
         building_attributes(building, tags, data.report)
         for name, value in raw.fixed.items():
             setattr(building, name, value)
-            building.tagged.add(name)
+            if name in BUILDING_ATTRIBUTES:
+                building.tagged.add(name)
         data.buildings.append(building)
+        records.append(building)
+    return records
 
 
 def _add_area(data: MapData, raw: Raw) -> None:
@@ -281,11 +294,19 @@ def _add_point(data: MapData, raw: Raw) -> None:
                                height=height if height and 1.0 <= height <= 30.0 else LAMP_HEIGHT))
 
 
-def _link_parts(buildings: list[MapBuilding]) -> None:
-    """Give each part the smallest outline holding its inner point; mark outlines their parts cover."""
+def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str]]) -> None:
+    """Give each part its named outline or the smallest one holding its inner point; mark outlines their
+    parts cover."""
+    first = {}
+    for building in buildings:
+        if not building.is_part:
+            first.setdefault(building.source_id, building.index)
+    for part, parent in named:
+        part.parent = first.get(parent)
     outlines = [b for b in buildings if not b.is_part]
-    parts = [b for b in buildings if b.is_part]
+    parts = [b for b in buildings if b.is_part and b.parent is None]
     if not outlines or not parts:
+        _mark_replaced(buildings)
         return
     tree = shapely.STRtree([b.outline for b in outlines])
     inner = shapely.point_on_surface([p.outline for p in parts])
@@ -294,21 +315,40 @@ def _link_parts(buildings: list[MapBuilding]) -> None:
     for p, o in zip(part_index.tolist(), outline_index.tolist()):
         if p not in best or outlines[o].footprint_area < outlines[best[p]].footprint_area:
             best[p] = o
-    children: dict[int, list] = {}
     for p, o in best.items():
         parts[p].parent = outlines[o].index
-        children.setdefault(o, []).append(parts[p].outline)
-    for o, covering in children.items():
-        outline = outlines[o].outline
+    _mark_replaced(buildings)
+
+
+def _mark_replaced(buildings: list[MapBuilding]) -> None:
+    children: dict[int, list] = {}
+    for part in buildings:
+        if part.is_part and part.parent is not None:
+            children.setdefault(part.parent, []).append(part.outline)
+    for index, covering in children.items():
+        outline = buildings[index].outline
         covered = shapely.intersection(shapely.union_all(covering), outline).area
-        outlines[o].replaced_by_parts = covered >= PARTS_COVER * outline.area
+        buildings[index].replaced_by_parts = covered >= PARTS_COVER * outline.area
+
+
+def _extended(line: shapely.LineString, reach: float) -> shapely.LineString:
+    """An open coastline cut at the extract's edge, carried straight on past the data's bounds."""
+    if line.is_closed:
+        return line
+    points = np.asarray(line.coords)
+    head, tail = points[0] - points[1], points[-1] - points[-2]
+    head *= reach / max(np.linalg.norm(head), 1e-9)
+    tail *= reach / max(np.linalg.norm(tail), 1e-9)
+    return shapely.LineString(np.vstack([points[0] + head, points, points[-1] + tail]))
 
 
 def _add_sea(data: MapData, coast: list) -> None:
     """Split the data's bounds along the coastline; faces on the coastline's right (sea) become water."""
-    lines = shapely.line_merge(shapely.union_all(coast))
     x0, y0, x1, y1 = data.bounds()
     bounds = shapely.box(x0 - 50.0, y0 - 50.0, x1 + 50.0, y1 + 50.0)
+    reach = 2.0 * float(np.hypot(x1 - x0, y1 - y0)) + 200.0
+    merged = shapely.get_parts(shapely.line_merge(shapely.union_all(coast)))
+    lines = shapely.union_all([_extended(line, reach) for line in merged])
     clipped = shapely.intersection(lines, bounds)
     faces = shapely.get_parts(shapely.polygonize([shapely.union(bounds.boundary, clipped)]))
     segments = [line for line in shapely.get_parts(clipped) if line.length > 0.0]

@@ -73,6 +73,9 @@ class MapBuilding:
     tags: dict[str, str] = field(default_factory=dict)
     tagged: set[str] = field(default_factory=set)
     guessed: set[str] = field(default_factory=set)
+    # CityJSON only: the solid's faces by semantic type ("RoofSurface", "WallSurface", "GroundSurface", ...;
+    # "unclassified" without semantics), each face's outer ring as (n, 3) map metres, z above the ground.
+    surfaces: dict[str, list[np.ndarray]] | None = None
 
     @property
     def footprint_area(self) -> float:

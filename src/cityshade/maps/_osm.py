@@ -11,6 +11,7 @@ and external entities) is refused outright, so nothing is expanded and no local 
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import osmium
@@ -140,6 +141,21 @@ class _Collector:
                                  f"relation/{relation}")
 
 
+def _where(path: Path, message: str) -> str:
+    """`path:LINE: node/ID` for libosmium's "wrong format for coordinate: 'X'" in XML, else `path`."""
+    match = re.search(r"coordinate: '([^']*)'", message)
+    if not match or path.suffix.lower() != ".osm":
+        return str(path)
+    value = f'"{match.group(1)}"'
+    with open(path, "rb") as stream:
+        for number, line in enumerate(stream, 1):
+            text = line.decode("utf-8", "replace")
+            if value in text:
+                node = re.search(r'<node\s[^>]*id="(-?\d+)"[^>]*' + re.escape(value), text)
+                return f"{path}:{number}" + (f": node/{node.group(1)}" if node else "")
+    return str(path)
+
+
 def read_osm(path: Path) -> MapData:
     """MapData of an OpenStreetMap extract (.osm.pbf or .osm XML)."""
     if path.suffix.lower() == ".osm" or path.name.lower().endswith(".osm.xml"):
@@ -153,7 +169,7 @@ def read_osm(path: Path) -> MapData:
             dispatch[item.type_str()](item)
     except (RuntimeError, ValueError, osmium.InvalidLocationError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise UsageError(f"{path}: not a readable OpenStreetMap file ({message}); "
+        raise UsageError(f"{_where(path, message)}: not a readable OpenStreetMap file ({message}); "
                          "check that it is a complete .osm.pbf or .osm XML export") from None
     collector.finish()
     return assemble(path, collector.raws, report)

@@ -102,7 +102,7 @@ def roof_shape(value: str) -> str | None:
 def use_of(tags: dict[str, str]) -> str | None:
     """What the building is for: a specific `building=*` value, else shop -> retail, office, amenity=*."""
     kind = tags.get("building:part") if tags.get("building") in (None, "yes") else tags.get("building")
-    if kind and kind not in ("yes", "part", "no"):
+    if kind and kind not in ("yes", "part", "no", "roof"):
         return kind
     if "shop" in tags:
         return "retail"
