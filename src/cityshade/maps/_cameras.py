@@ -39,21 +39,32 @@ def _fits(corners: np.ndarray, eye: np.ndarray, forward: np.ndarray, fov: float,
 
 def aerial_camera(bounds: tuple[float, float, float, float], top: float, aspect: float = AERIAL_ASPECT) -> Camera:
     """Looks at the middle of the scene rectangle `bounds` (x0, z0, x1, z1) from above, at AERIAL_PITCH,
-    from just far enough that the box up to height `top` lies in the frustum."""
+    from just far enough that the box up to height `top` lies in the frustum; of the headings
+    AERIAL_HEADING + k * 90 degrees, the one that can stand closest (the long side across the picture)."""
     x0, z0, x1, z1 = bounds
     corners = np.array([(x, y, z) for x in (x0, x1) for y in (0.0, top) for z in (z0, z1)], float)
     centre = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2])
-    forward = heading_vector(AERIAL_HEADING, -AERIAL_PITCH)
-    near, far = 1.0, 1.0
+    best = None
+    for turn in range(4):
+        forward = heading_vector(AERIAL_HEADING + 90.0 * turn, -AERIAL_PITCH)
+        distance = _fit_distance(corners, centre, forward, aspect)
+        if best is None or distance < best[0] - 1e-6:
+            best = (distance, forward)
+    distance, forward = best
+    eye = centre - forward * distance
+    # the nearest ground is about half the distance away: a large near plane keeps roads apart from the ground
+    return Camera(tuple(eye), tuple(centre), fov_y=AERIAL_FOV, near=max(0.5, distance / 40), far=FAR)
+
+
+def _fit_distance(corners: np.ndarray, centre: np.ndarray, forward: np.ndarray, aspect: float) -> float:
+    """The smallest distance from `centre` back along `forward` at which every corner is in view (bisection)."""
+    near, far = 0.0, 1.0
     while not _fits(corners, centre - forward * far, forward, AERIAL_FOV, aspect):
-        far *= 1.5
-    near = far / 1.5 if far > 1.0 else 0.0
-    for _ in range(30):  # bisection on the distance
+        near, far = far, far * 1.5
+    for _ in range(30):
         middle = (near + far) / 2
         near, far = (near, middle) if _fits(corners, centre - forward * middle, forward, AERIAL_FOV, aspect) else (middle, far)
-    eye = centre - forward * far
-    # the nearest ground is about half the distance away: a large near plane keeps roads apart from the ground
-    return Camera(tuple(eye), tuple(centre), fov_y=AERIAL_FOV, near=max(0.5, far / 40), far=FAR)
+    return far
 
 
 def street_segment(map_data: MapData, outlines=()):

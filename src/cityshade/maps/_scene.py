@@ -7,7 +7,9 @@ import numpy as np
 from ..errors import CityshadeError
 from ..scene import City
 from ._cameras import aerial_camera, street_camera
+from ._ground import ground_mesh
 from ._model import MapData, to_scene
+from ._trees import map_trees
 
 MARGIN = 30.0  # metres of ground the aerial view keeps around the data
 
@@ -31,4 +33,6 @@ def map_city(map_data: MapData) -> City:
     street = street_camera(map_data, [b.outline for b in drawn])
     if street is not None:
         viewpoints["street"] = street
-    return City(map_data.name, 0, masses, [], bounds, viewpoints, origin=map_data.origin, crs=map_data.crs)
+    return City(map_data.name, 0, masses, [], bounds, viewpoints, ground_mesh=ground_mesh(map_data),
+                trees=map_trees(map_data),
+                origin=map_data.origin, crs=map_data.crs)

@@ -19,7 +19,10 @@ GROUND_MARGIN = 400.0
 
 
 def ground_vertices(city: City) -> np.ndarray:
-    """Two triangles per ground rectangle, drawn in order (later ones on top, lifted slightly)."""
+    """Two triangles per ground rectangle, drawn in order (later ones on top, lifted slightly);
+    a city from a map brings its own triangles."""
+    if city.ground_mesh is not None:
+        return np.ascontiguousarray(city.ground_mesh, dtype=np.float32)
     x0, z0, x1, z1 = city.bounds
     rects = [(x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN, GROUND_ASPHALT)]
     rects += list(city.ground)

@@ -62,6 +62,7 @@ class Daylight:
     exposure: float
     sky_sun: np.ndarray | None = None  # toward the sun itself, for the sky (None: sun_direction)
     moon_direction: np.ndarray | None = None  # toward the moon when it is up and the sun is down
+    street_lights: float = 0.0  # 1 when the street lamps are on: the sun is below the horizon
 
     @classmethod
     def at(cls, hours: float, sun: tuple[float, float] | None = None,
@@ -82,12 +83,14 @@ class Daylight:
         evening = _smoothstep(16.0, 21.0, hours)
         late = _smoothstep(23.0, 26.0, hours if hours >= 12 else hours + 24)
         lights = 0.12 + 0.66 * evening * (1 - 0.6 * late)
-        # brighter by day: the noon sun on a pale roof stays below white
-        exposure = 0.5 + 0.8 * dusk - 0.15 * high
+        exposure = 0.5 + 0.8 * dusk
+        if sun is not None:  # maps are mostly seen from above: pale roofs face a high sun squarely
+            exposure -= 0.15 * high
         light, moon_direction = direction, None
         if moon is not None and elevation < -3.0 and moon[0] > 0.0:
             moon_direction = compass_direction(moon[0], moon[1])
             light = moon_direction
             sun_color = MOONLIGHT * moon[2] * _smoothstep(0.0, 10.0, moon[0])
         return cls(hours, light, sun_color, sky, ground, float(dusk), float(np.clip(lights, 0, 1)), float(exposure),
-                   sky_sun=direction, moon_direction=moon_direction)
+                   sky_sun=direction, moon_direction=moon_direction,
+                   street_lights=1.0 - _smoothstep(-2.0, 1.0, elevation))

@@ -79,6 +79,7 @@ class FrameInputs:
             u_view_proj=self.view_projection, u_camera=self.camera.eye, u_sun_dir=d.sun_direction,
             u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient,
             u_lights=float(d.lights if s.lights is None else s.lights), u_time=float(s.animation_time),
+            u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
             u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
