@@ -109,6 +109,13 @@ def _retag(building: MapBuilding, name: str, value: float, report: ReadReport, w
     report.repair("building", why, building.source_id)
 
 
+def settle_top(building: MapBuilding, report: ReadReport):
+    """A top not above the bottom is almost always measured from the bottom (a part's own size)."""
+    if building.height is not None and building.min_height is not None and building.height <= building.min_height:
+        _retag(building, "height", building.min_height + building.height, report,
+               "height not above min_height: read as measured from min_height")
+
+
 def resolve_contradictions(building: MapBuilding, report: ReadReport):
     """Settles impossible or contradictory tags before any guessing (rules in docs/guesses.md)."""
     for name in ("height", "min_height", "levels", "min_level", "roof_height", "roof_levels"):
@@ -121,10 +128,7 @@ def resolve_contradictions(building: MapBuilding, report: ReadReport):
         _reject(building, "height", report, "height zero: ignored")
     if building.levels is not None and building.levels == 0 and building.has_walls:
         _reject(building, "levels", report, "levels zero on a building with walls: ignored")
-    # A top not above the bottom is almost always measured from the bottom (a part's own size).
-    if building.height is not None and building.min_height is not None and building.height <= building.min_height:
-        _retag(building, "height", building.min_height + building.height, report,
-               "height not above min_height: read as measured from min_height")
+    settle_top(building, report)
     if building.levels is not None and building.min_level is not None and building.levels <= building.min_level:
         _retag(building, "levels", building.min_level + building.levels, report,
                "min_level not below levels: levels read as counted from min_level")

@@ -7,7 +7,7 @@ with `natural=tree` or `highway=street_lamp` are trees and lamps. Anything else 
 GeometryCollection, null geometry, coordinates that are not number pairs) is counted and skipped.
 
 Coordinates are longitude/latitude (RFC 7946) unless a legacy `crs` member names another system,
-or unless almost no coordinate could be one (then they are metres, kept as they are).
+or unless most coordinates could not be one (then they are metres, kept as they are).
 Numbers too long for a float (thousands of digits) read as infinity and drop their feature.
 """
 
@@ -25,7 +25,7 @@ from ._assemble import Raw, area_kind, assemble, is_building
 from ._model import MapData, ReadReport
 from ._projection import LOCAL, in_range
 
-GEOGRAPHIC_SHARE = 0.99  # of coordinates inside lon/lat ranges for a file without `crs` to be lon/lat
+GEOGRAPHIC_SHARE = 0.5  # of coordinates inside lon/lat ranges for a file without `crs` to be lon/lat
 
 
 def parse_json(path: Path, text: str):

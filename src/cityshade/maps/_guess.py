@@ -14,9 +14,11 @@ import zlib
 import numpy as np
 import shapely
 
-from ._defaults import DEFAULT_ROOF_ANGLE, HOUSE, MATERIAL_COLOURS, SMALL_FOOTPRINT, defaults_for, resolve_contradictions
+from ._defaults import (
+    DEFAULT_ROOF_ANGLE, HOUSE, MATERIAL_COLOURS, SMALL_FOOTPRINT, defaults_for, resolve_contradictions, settle_top,
+)
 from ._learn import Estimates, estimate
-from ._model import MapBuilding, MapData, MapTree
+from ._model import MapBuilding, MapData, MapTree, ReadReport
 
 ROOF_ANGLES = {"skillion": 15.0, "gambrel": 45.0, "mansard": 50.0, "cone": 45.0, "onion": 60.0}
 ATTIC = 2.2  # metres of roof height a person can stand in: one roof level
@@ -40,7 +42,7 @@ def guess_missing(map_data: MapData) -> None:
         shape = OutlineShape(map_data.buildings)
         estimates = estimate(map_data.buildings, shape)
         for i, building in enumerate(map_data.buildings):
-            _fill_building(building, estimates, shape, i)
+            _fill_building(building, estimates, shape, i, map_data.report)
     _guess_trees(map_data.trees)
 
 
@@ -75,7 +77,7 @@ def _set(building: MapBuilding, name: str, value):
     building.guessed.add(name)
 
 
-def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineShape, i: int):
+def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineShape, i: int, report: ReadReport):
     defaults = defaults_for(building.kind)
     small = defaults.small or (shape.area[i] < SMALL_FOOTPRINT and not building.is_part)  # small parts are turrets
     storey = float(estimates.storey[i])
@@ -92,9 +94,13 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
     if building.roof_height is None:
         _set(building, "roof_height", _roof_height(building, shape.short_side[i]))
     if building.min_level is None:
-        _set(building, "min_level", float(round(building.min_height / storey)) if building.min_height else 0.0)
+        min_level = float(round(building.min_height / storey)) if building.min_height else 0.0
+        if building.levels is not None:
+            min_level = min(min_level, building.levels - 1.0)  # the guess yields to tagged levels
+        _set(building, "min_level", max(min_level, 0.0))
     if building.min_height is None:
         _set(building, "min_height", building.min_level * storey)
+        settle_top(building, report)
     if building.levels is None:
         if building.height is not None:
             walls = max(building.height - building.roof_height - building.min_height, 0.0)
@@ -107,9 +113,8 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
             levels = max(1.0, float(estimates.levels[i]))
         _set(building, "levels", max(levels, building.min_level + 1.0))
     if building.height is None:
-        walls_from = building.min_height if "min_height" in building.tagged else building.min_level * storey
         wall_height = max(building.levels - building.min_level, 1.0) * storey
-        _set(building, "height", walls_from + wall_height + building.roof_height)
+        _set(building, "height", building.min_height + wall_height + building.roof_height)
     # Never a negative or empty volume: the roof fits between the bottom and the top.
     building.roof_height = min(building.roof_height, max(building.height - building.min_height, 0.0))
     if building.roof_levels is None:

@@ -22,18 +22,32 @@ from ._assemble import RAILWAYS, Raw, area_kind, assemble, is_building
 from ._model import MapData, ReadReport
 
 PROLOG_BYTES = 65536
+SCAN_BYTES = 1 << 24
+_EXPONENT = re.compile(rb'\bl(?:at|on)="[^"]*[eE][^"]*"')
 LINE_KEYS = ("highway", "railway", "natural")
 
 
-def refuse_doctype(path: Path) -> None:
-    """Refuse an XML file whose prolog declares a document type (entities) before its first element."""
+def check_xml(path: Path) -> None:
+    """Refuse XML that declares a document type (entities) before its first element, or that writes a
+    coordinate with an exponent (libosmium reads an overflowing `lat="1e308"` as 0 without a word)."""
     with open(path, "rb") as stream:
         head = stream.read(PROLOG_BYTES)
-    start = head.find(b"<osm")
-    prolog = head if start < 0 else head[:start]
-    if b"<!DOCTYPE" in prolog.upper() or b"<!ENTITY" in prolog.upper():
-        raise UsageError(f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
-                         "never need; refusing it (entities could expand without bound or read local files)")
+        start = head.find(b"<osm")
+        prolog = head if start < 0 else head[:start]
+        if b"<!DOCTYPE" in prolog.upper() or b"<!ENTITY" in prolog.upper():
+            raise UsageError(f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
+                             "never need; refusing it (entities could expand without bound or read local files)")
+        stream.seek(0)
+        line = 1
+        while chunk := stream.read(SCAN_BYTES) + stream.readline():
+            match = _EXPONENT.search(chunk)
+            if match:
+                node = re.search(rb'id="(-?\d+)"', chunk[chunk.rfind(b"<", 0, match.start()):match.start()])
+                at = line + chunk.count(b"\n", 0, match.start())
+                where = f"{path}:{at}" + (f": node/{node.group(1).decode()}" if node else "")
+                raise UsageError(f"{where}: coordinate {match.group(0).decode('ascii', 'replace')[:40]} has an "
+                                 "exponent; write latitude and longitude as plain decimals within ±90 and ±180")
+            line += chunk.count(b"\n")
 
 
 def _ring(nodes) -> list[tuple[float, float]]:
@@ -93,20 +107,27 @@ class _Collector:
     def way(self, way) -> None:
         tags = way.tags
         building = is_building(tags)
-        if not building and not _wanted_line(tags):
+        polygon = building or (way.is_closed() and area_kind(dict(tags)) is not None)
+        if not polygon and not _wanted_line(tags):
             return
         element = f"way/{way.id}"
         valid = [node.location.valid() for node in way.nodes]
-        if building:
+        if polygon:
+            # closed ways are built here rather than by the assembler, which drops a self-intersecting
+            # ring without a word; `assemble` repairs it with make_valid and counts it
+            what = "building" if building else "area"
             if not all(valid):
-                self.report.skip("building", "refers to a missing node or a bad location", element)
+                self.report.skip(what, "refers to a missing node or a bad location", element)
             elif len(way.nodes) < 4:
-                self.report.skip("building", "fewer than 3 corners", element)
+                self.report.skip(what, "fewer than 3 corners", element)
             elif not way.is_closed():
-                self.report.skip("building", "way is not closed", element)
-            return
+                self.report.skip(what, "way is not closed", element)
+            else:
+                self.raws.append(Raw(element, shapely.Polygon(_ring(way.nodes)), dict(tags)))
+            if building or not _wanted_line(tags):
+                return
         if way.is_closed() and tags.get("area") == "yes":
-            return  # a pedestrian square or the like: the area assembler has it
+            return
         runs = _runs(way.nodes, valid)
         if not all(valid):
             self.report.repair(_line_kind(tags), "cut where it refers to missing nodes (the extract's edge)", element)
@@ -122,12 +143,13 @@ class _Collector:
             self.area_relations[relation.id] = "building" if is_building(tags) else "area"
 
     def area(self, area) -> None:
+        if area.from_way():
+            return  # built from the way itself (see `way`)
         tags = dict(area.tags)
         if not is_building(tags) and area_kind(tags) is None:
             return
-        element = f"{'way' if area.from_way() else 'relation'}/{area.orig_id()}"
-        if not area.from_way():
-            self.areas_from_relations.add(area.orig_id())
+        element = f"relation/{area.orig_id()}"
+        self.areas_from_relations.add(area.orig_id())
         polygon = _area_polygon(area)
         if polygon.is_empty:
             self.report.skip("building" if is_building(tags) else "area", "no rings", element)
@@ -159,7 +181,7 @@ def _where(path: Path, message: str) -> str:
 def read_osm(path: Path) -> MapData:
     """MapData of an OpenStreetMap extract (.osm.pbf or .osm XML)."""
     if path.suffix.lower() == ".osm" or path.name.lower().endswith(".osm.xml"):
-        refuse_doctype(path)
+        check_xml(path)
     report = ReadReport()
     collector = _Collector(report)
     dispatch = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
