@@ -226,3 +226,38 @@ def test_helsinki_extract(helsinki_pbf):
     buildings = shapely.union_all([b.outline for b in outlines])
     assert shapely.intersection(buildings, shapely.union_all(
         [a.polygon for a in data.areas if a.source_id == "coastline"])).area < 0.01 * buildings.area
+
+
+def test_info_prints_counts_and_reasons(capsys):
+    from cityshade.cli import main
+
+    assert main(["info", str(DATA / "tagged.osm")]) == 0
+    out = capsys.readouterr().out
+    assert "buildings: 3  parts: 2  outlines replaced by parts: 1  roofs without walls: 1" in out
+    assert "roof shapes tagged: gabled 1, pyramidal 1" in out
+    assert "trees: 9  street lamps: 1" in out and "primary 0.11" in out
+
+
+def test_info_json_counts_tagged_and_guessed_per_attribute(capsys, tmp_path):
+    from cityshade.cli import main
+
+    path = tmp_path / "two.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
+        _feature({"type": "Polygon", "coordinates": [_square(24.0, 60.0)]}, height="tall"),
+        _feature({"type": "Polygon", "coordinates": [_square(24.001, 60.0)]}, height=9, natural="water"),
+        _feature({"type": "Polygon", "coordinates": [_square(24.002, 60.0)]}, **{"building:levels": 4})]}))
+    assert main(["info", str(path), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["buildings"] == 2 and info["water_m2"] == pytest.approx(11.13 * 22.33, rel=0.01)
+    assert info["building_attributes"]["levels"]["tagged"] == 1
+    assert info["building_attributes"]["height"] == {"tagged": 0, "guessed": 2}
+    assert info["fallbacks"] == [{"what": "height", "why": "not a number", "count": 1,
+                                  "example": "feature/0 height=tall"}]
+
+
+def test_info_on_a_bad_file_is_one_line_and_exit_2(capsys, tmp_path):
+    from cityshade.cli import main
+
+    assert main(["info", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "is a directory" in err

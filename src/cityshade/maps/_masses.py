@@ -97,6 +97,9 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
         "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,
         seed=building.index, style=facade_style(building), holes=holes, base=base, roof=roof,
         walls=building.has_walls, wall_colour=building.building_colour, wall_material=building.building_material,
+        guessed=frozenset(building.guessed),
+        # A shed or sauna: no furnished, curtained or lit rooms behind its few windows.
+        **({"furniture": False, "curtains": False, "lights": 0.0} if building.small_utility else {}),
     )
 
 

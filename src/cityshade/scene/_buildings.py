@@ -40,6 +40,7 @@ class BuildingMass:
     walls: bool = True
     wall_colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the style's own tint
     wall_material: str | None = None
+    guessed: frozenset[str] = frozenset()  # map attributes the data did not give ("height", "roof_shape", ...)
 
     def __post_init__(self):
         if self.shape not in SHAPES:
