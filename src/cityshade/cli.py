@@ -16,6 +16,7 @@ COMMAND_MODULES = (
     "cityshade.bench._cli",
     "cityshade.grammar._cli",
     "cityshade.relief._cli",
+    "cityshade.maps._info",
 )
 
 
