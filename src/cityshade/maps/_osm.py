@@ -164,7 +164,11 @@ class _Collector:
 
 
 def _where(path: Path, message: str) -> str:
-    """`path:LINE: node/ID` for libosmium's "wrong format for coordinate: 'X'" in XML, else `path`."""
+    """`path:LINE:COLUMN` of an XML syntax error, `path:LINE: node/ID` for libosmium's "wrong format
+    for coordinate: 'X'" in XML, else `path`."""
+    position = re.search(r"at line (\d+), column (\d+)", message)
+    if position:
+        return f"{path}:{position.group(1)}:{position.group(2)}"
     match = re.search(r"coordinate: '([^']*)'", message)
     if not match or path.suffix.lower() != ".osm":
         return str(path)
