@@ -93,6 +93,9 @@ def register(subparsers):
     parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
     parser.add_argument("--samples", type=int, default=4, choices=(0, 2, 4, 8),
                         help="MSAA samples (0: off; llvmpipe shades every sample, so 0 is about 4x faster there)")
+    parser.add_argument("--aov", choices=("guessed",), default=None,
+                        help="with --map: tint walls whose height and roofs whose shape the map did not give "
+                             "(orange) apart from what it gave (blue)")
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
     parser.set_defaults(run=run)
 
@@ -107,13 +110,16 @@ def run(args) -> int:
         if args.scene not in SCENES:
             raise UsageError(f"unknown scene {args.scene!r}; allowed: {', '.join(SCENES) or 'none'}")
         return SCENES[args.scene](args)
+    if args.aov is not None and args.map is None:
+        raise UsageError(f"--aov {args.aov} shows what a map gave and what was guessed; it needs --map FILE")
     city, sky = args.city, {}
     if args.map is not None:
         from ..maps import city_from_map
 
         city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time)
     image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,
-                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples, **sky)
+                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples,
+                              aov=args.aov, **sky)
     save_png(image, args.out)
     msaa = f"{info['samples']}x MSAA" if info["samples"] else "no MSAA"
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {msaa}): {info['buildings']} buildings, "
