@@ -12,6 +12,7 @@ import shapely
 
 from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES, rotation_y
+from ._materials import linear, roof_material, wall_tint
 from ._roofs import Triangles, flat, roof_triangles
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
@@ -188,6 +189,11 @@ def building_record(mass: BuildingMass) -> np.ndarray:
     rec["extent"][:3] = mass.extent
     rec["extent"][3] = mass.lights
     rec["ids"] = (mass.seed, mass.style, mass.flags, SHAPES[mass.shape])
+    tint = wall_tint(mass.wall_colour, mass.wall_material)
+    if tint is not None:
+        rec["tint"] = (*linear(tint), 1.0)
+    material, colour = roof_material(mass.roof.material)
+    rec["roof"] = (*linear(mass.roof.colour if mass.roof.colour is not None else colour), material)
     return rec
 
 

@@ -6,10 +6,12 @@ Every roof is built in the building's object space (x, z metres, y up) from the 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
+
+from ._skeleton import ring_edges, skeleton_triangles
 
 
 @dataclass(frozen=True)
@@ -27,6 +29,15 @@ class Roof:
 
 
 FLAT_ROOF = Roof()
+
+ROUND_SEGMENTS = 12  # chords of a round (barrel) roof's arc
+DOME_RINGS = 8
+SALTBOX_RIDGE = 0.3  # where the ridge stands across the outline, from the back
+GAMBREL_KNEE, GAMBREL_RISE = 0.3, 0.6  # the steep lower slopes run this share of the half width, rise this share
+MANSARD_KNEE, MANSARD_RISE = 0.2, 0.75
+RECTANGULAR = 0.9  # outlines filling this share of their bounding rectangle take the exact ridged profiles
+EPS = 1e-6
+HALF_HIP = 0.4  # the share of the roof height (and of the half width) the hips of a half-hipped roof take
 
 
 @dataclass
@@ -67,7 +78,7 @@ def polygon_triangles(polygon: shapely.Polygon) -> np.ndarray:
     cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
     up = cross < 0  # x right, z toward the viewer: up-facing triangles turn clockwise in (x, z)
     tris[~up] = tris[~up][:, ::-1]
-    return tris
+    return tris[np.abs(cross) > 1e-9]  # slivers where a polygon touches itself
 
 
 def flat(polygon: shapely.Polygon, y: float, up: bool = True) -> Triangles:
@@ -81,6 +92,257 @@ def flat(polygon: shapely.Polygon, y: float, up: bool = True) -> Triangles:
     return Triangles(positions, normals)
 
 
+def _lift(tris: np.ndarray, plane: np.ndarray, top: float) -> Triangles:
+    """2D triangles (n, 3, 2) onto the plane y = top + a x + b z + c, facing up."""
+    a, b, c = plane
+    points = tris.reshape(-1, 2)
+    positions = np.column_stack([points[:, 0], top + a * points[:, 0] + b * points[:, 1] + c, points[:, 1]])
+    normal = np.array([-a, 1.0, -b]) / np.sqrt(a * a + b * b + 1.0)
+    return Triangles(positions, np.broadcast_to(normal, positions.shape).copy())
+
+
+def _upright(a: np.ndarray, b: np.ndarray, outline: np.ndarray, top: float) -> Triangles:
+    """A wall piece standing on the edge a -> b (outward to its right) under `outline`: (along, rise)
+    points of its top from along 0 to the edge's length."""
+    length = float(np.linalg.norm(b - a))
+    if length < 1e-9 or outline[:, 1].max() < 1e-6:
+        return Triangles.empty()
+    piece = shapely.Polygon([(0.0, 0.0), (length, 0.0), *outline[::-1]])
+    tris = polygon_triangles(piece.buffer(0) if not piece.is_valid else piece)
+    if not len(tris):
+        return Triangles.empty()
+    along, rise = tris.reshape(-1, 2).T
+    e = (b - a) / length
+    positions = np.column_stack([a[0] + along * e[0], top + rise, a[1] + along * e[1]])
+    normal = np.array([e[1], 0.0, -e[0]])
+    return Triangles(positions, np.broadcast_to(normal, positions.shape).copy(), along, np.full(len(along), length))
+
+
+def _rings(polygon: shapely.Polygon) -> list[np.ndarray]:
+    return [np.asarray(r.coords) for r in (polygon.exterior, *polygon.interiors)]
+
+
+def _lowest(planes: np.ndarray, points: np.ndarray) -> np.ndarray:
+    return (points @ planes[:, :2].T + planes[:, 2]).min(axis=1)
+
+
+def _clip(region: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """The part of a convex polygon where g . (x, z, 1) <= 0 (Sutherland-Hodgman, one line)."""
+    if not len(region):
+        return region
+    value = region @ g[:2] + g[2]
+    out = []
+    for i in range(len(region)):
+        p, q, vp, vq = region[i], region[(i + 1) % len(region)], value[i], value[(i + 1) % len(region)]
+        if vp <= 0:
+            out.append(p)
+        if (vp < 0) != (vq < 0) and vp != vq:
+            out.append(p + (q - p) * vp / (vp - vq))
+    return np.asarray(out).reshape(-1, 2)
+
+
+def plane_roof(polygon: shapely.Polygon, top: float, planes: np.ndarray) -> tuple[Triangles, Triangles]:
+    """A roof whose height over the outline is the lowest of `planes` (rows a, b, c: a x + b z + c),
+    a concave piecewise-planar surface (gabled, hipped, gambrel, mansard...), with the wall pieces
+    that close it along every outline edge."""
+    x0, z0, x1, z1 = polygon.bounds
+    box = np.array([[x0, z0], [x1, z0], [x1, z1], [x0, z1]]) + np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])
+    roofs = []
+    for k, plane in enumerate(planes):
+        region = box
+        for j, other in enumerate(planes):
+            if j != k:
+                region = _clip(region, plane - other)
+        if len(region) < 3:
+            continue
+        part = shapely.intersection(polygon, shapely.Polygon(region))
+        for piece in getattr(part, "geoms", [part]):
+            if isinstance(piece, shapely.Polygon) and piece.area > 1e-9:
+                roofs.append(_lift(polygon_triangles(piece), plane, top))
+    walls = []
+    for ring in _rings(polygon):
+        for a, b in zip(ring[:-1], ring[1:]):
+            walls.append(_upright(a, b, _envelope(planes, a, b), top))
+    return Triangles.join(roofs), Triangles.join(walls)
+
+
+def _envelope(planes: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(along, height) of the lowest plane over the edge a -> b, at every kink."""
+    slope = planes[:, :2] @ (b - a)
+    start = planes[:, :2] @ a + planes[:, 2]
+    ds, dv = slope[:, None] - slope[None, :], start[None, :] - start[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        crossings = dv / ds
+    t = np.unique(np.concatenate([[0.0, 1.0], crossings[np.isfinite(crossings) & (crossings > 0) & (crossings < 1)]]))
+    height = np.maximum((start[None, :] + t[:, None] * slope[None, :]).min(axis=1), 0.0)
+    return np.column_stack([t * np.linalg.norm(b - a), height])
+
+
+def _profile_planes(axis: np.ndarray, points) -> list[np.ndarray]:
+    """Planes rising along `axis` through a concave profile of (coordinate along axis, height) points."""
+    planes = []
+    for (va, ha), (vb, hb) in zip(points[:-1], points[1:]):
+        slope = (hb - ha) / (vb - va)
+        planes.append(np.array([slope * axis[0], slope * axis[1], ha - slope * va]))
+    return planes
+
+
+def _arc(v0: float, v1: float, h: float, segments: int = ROUND_SEGMENTS) -> list[tuple[float, float]]:
+    angles = np.linspace(np.pi, 0.0, segments + 1)
+    return list(zip((v0 + v1) / 2 + (v1 - v0) / 2 * np.cos(angles), h * np.sin(angles)))
+
+
+def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+    """The shapes with a ridge (or a single slope) across `roof.direction`, from profiles over the
+    outline's extent across the ridge (v) and along it (u, for the hipped ends)."""
+    h = roof.height
+    across = np.array([np.cos(roof.direction), np.sin(roof.direction)])  # downhill, main face
+    along = np.array([-across[1], across[0]])
+    points = np.asarray(polygon.exterior.coords)
+    v0, v1 = (points @ across).min(), (points @ across).max()
+    u0, u1 = (points @ along).min(), (points @ along).max()
+    half = (v1 - v0) / 2
+    mid = v0 + half
+    ends: list = []
+    if roof.shape == "skillion":
+        profile = [(v0, h), (v1, 0.0)]
+    elif roof.shape == "saltbox":  # a short steep back, a long front
+        profile = [(v0, 0.0), (v0 + SALTBOX_RIDGE * 2 * half, h), (v1, 0.0)]
+    elif roof.shape == "gambrel":
+        knee = GAMBREL_KNEE * half
+        profile = [(v0, 0.0), (v0 + knee, GAMBREL_RISE * h), (mid, h), (v1 - knee, GAMBREL_RISE * h), (v1, 0.0)]
+    elif roof.shape == "round":
+        profile = _arc(v0, v1, h)
+    elif roof.shape == "mansard":
+        knee = MANSARD_KNEE * half
+        low = MANSARD_RISE * h
+        profile = [(v0, 0.0), (v0 + knee, low), (mid, h), (v1 - knee, low), (v1, 0.0)]
+        ends = [(u0, 0.0), (u0 + knee, low), (u0 + half, h)], [(u1 - half, h), (u1 - knee, low), (u1, 0.0)]
+    else:  # gabled, hipped, half-hipped
+        profile = [(v0, 0.0), (mid, h), (v1, 0.0)]
+        if roof.shape == "hipped":
+            ends = [(u0, 0.0), (u0 + half, h)], [(u1 - half, h), (u1, 0.0)]
+        elif roof.shape == "half-hipped":  # a gable wall up to the hip, the hip at the pitch of the sides
+            low = (1.0 - HALF_HIP) * h
+            ends = [(u0, low), (u0 + HALF_HIP * half, h)], [(u1 - HALF_HIP * half, h), (u1, low)]
+    planes = _profile_planes(across, profile)
+    for end in ends:
+        planes += _profile_planes(along, end)
+    return plane_roof(polygon, top, np.asarray(planes))
+
+
+def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+    """Pyramids, cones, domes and onions: the outline shrunk toward its centre ring by ring along a
+    profile of (scale, height fraction) points."""
+    profile = POINTED_PROFILES[roof.shape]
+    ring = np.asarray(polygon.exterior.coords)
+    centre = np.asarray(polygon.centroid.coords)[0]
+    if not polygon.contains(shapely.Point(centre)):
+        centre = np.asarray(polygon.representative_point().coords)[0]
+    rings = [(centre + (ring - centre) * scale, top + roof.height * rise) for scale, rise in profile]
+    tris = []
+    for (low, y0), (high, y1) in zip(rings[:-1], rings[1:]):
+        a0 = np.column_stack([low[:-1, 0], np.full(len(low) - 1, y0), low[:-1, 1]])
+        b0 = np.column_stack([low[1:, 0], np.full(len(low) - 1, y0), low[1:, 1]])
+        a1 = np.column_stack([high[:-1, 0], np.full(len(high) - 1, y1), high[:-1, 1]])
+        b1 = np.column_stack([high[1:, 0], np.full(len(high) - 1, y1), high[1:, 1]])
+        tris += [np.stack([a0, b1, b0], axis=1), np.stack([a0, a1, b1], axis=1)]
+    tris = np.concatenate(tris)
+    normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    length = np.linalg.norm(normals, axis=1)
+    keep = length > 1e-9  # the quads that meet at the apex are triangles
+    tris, normals = tris[keep], normals[keep] / length[keep, None]
+    return Triangles(tris.reshape(-1, 3), np.repeat(normals, 3, axis=0)), Triangles.empty()
+
+
+POINTED_PROFILES = {
+    "pyramidal": [(1.0, 0.0), (0.0, 1.0)],
+    "cone": [(1.0, 0.0), (0.0, 1.0)],
+    "dome": list(zip(np.cos(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)), np.sin(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)))),
+    # a bulb wider than its drum, drawn in to a point
+    "onion": [(1.0, 0.0), (1.18, 0.1), (1.25, 0.22), (1.2, 0.34), (1.0, 0.46), (0.7, 0.58), (0.4, 0.7),
+              (0.2, 0.8), (0.08, 0.9), (0.0, 1.0)],
+}
+
+
+def _skeleton_roof(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles] | None:
+    """Hipped (or gabled) roofs over any outline, courtyards included: each outline edge's face of
+    the straight skeleton, at the pitch that makes the highest point `roof.height` above the walls.
+    A gabled roof stands the faces that a hip would close with a single triangle upright.
+    None if CGAL fails."""
+    tris = skeleton_triangles(polygon)
+    if tris is None or not len(tris):
+        return None
+    edges = ring_edges(polygon)
+    if roof.shape == "gabled":
+        ends = _hip_ends(tris, edges)
+        if ends and len(ends) < len(edges) - 1:
+            gabled = skeleton_triangles(polygon, ends)
+            tris = gabled if gabled is not None and len(gabled) else tris
+    tris = tris * np.array([1.0, 1.0, roof.height / tris[:, :, 2].max()])
+    positions = np.stack([tris[:, :, 0], top + tris[:, :, 2], tris[:, :, 1]], axis=2)
+    normals = np.cross(positions[:, 1] - positions[:, 0], positions[:, 2] - positions[:, 0])
+    length = np.linalg.norm(normals, axis=1)
+    keep = length > EPS
+    positions, normals = positions[keep], normals[keep] / length[keep, None]
+    upright = np.abs(normals[:, 1]) < 1e-4
+    flip = ~upright & (normals[:, 1] < 0)
+    positions[flip], normals[flip] = positions[flip][:, ::-1], -normals[flip]
+    roof_tris = Triangles(positions[~upright].reshape(-1, 3), np.repeat(normals[~upright], 3, axis=0))
+    return roof_tris, _gable_walls(positions[upright], edges)
+
+
+def _gable_walls(tris: np.ndarray, edges) -> Triangles:
+    """Upright skeleton triangles as wall pieces of the outline edge each stands on, facing out."""
+    walls = []
+    for tri in tris:
+        ground = tri[:, [0, 2]]
+        for a, b in edges:
+            length = float(np.linalg.norm(b - a))
+            e = (b - a) / length
+            offset = (ground - a) @ np.array([e[1], -e[0]])
+            along = (ground - a) @ e
+            if np.abs(offset).max() < 1e-3 and along.min() > -1e-3 and along.max() < length + 1e-3:
+                normal = np.array([e[1], 0.0, -e[0]])
+                if np.cross(tri[1] - tri[0], tri[2] - tri[0]) @ normal < 0:
+                    tri, along = tri[::-1], along[::-1]
+                walls.append(Triangles(tri, np.tile(normal, (3, 1)), along, np.full(3, length)))
+                break
+    return Triangles.join(walls)
+
+
+def _hip_ends(tris: np.ndarray, edges) -> set[int]:
+    """Outline edges whose skeleton face is one triangle over the whole edge (a hip's end)."""
+    normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), EPS)
+    keys = np.round(np.column_stack([normals, np.einsum("ij,ij->i", normals, tris[:, 0])]), 3)
+    _, group, count = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    ends = set()
+    for tri, g in zip(tris, group.ravel()):
+        base = tri[tri[:, 2] < EPS][:, :2]
+        if count[g] != 1 or len(base) != 2:
+            continue
+        for i, (a, b) in enumerate(edges):
+            if min(np.abs(base - [a, b]).max(), np.abs(base - [b, a]).max()) < 1e-3:
+                ends.add(i)
+    return ends
+
+
 def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
-    """(roof surfaces, wall pieces between the walls' top and the roof) over `polygon` at `top`."""
-    return flat(polygon, top), Triangles.empty()
+    """(roof surfaces, wall pieces between the walls' top and the roof) over `polygon` at `top`.
+
+    Ridged shapes over outlines that fill their bounding rectangle use the exact profiles; hipped and
+    gabled roofs over other outlines, and any ridged roof over a courtyard, follow the straight
+    skeleton (a hipped one where the shape has no skeleton form). Pointed shapes over a courtyard
+    are flat."""
+    if roof.shape == "flat" or roof.height <= 0:
+        return flat(polygon, top), Triangles.empty()
+    if roof.shape in POINTED_PROFILES:
+        return _pointed(polygon, top, roof) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
+    x0, z0, x1, z1 = polygon.bounds
+    rectangular = not polygon.interiors and polygon.area >= RECTANGULAR * (x1 - x0) * (z1 - z0)
+    if polygon.interiors or (not rectangular and roof.shape in ("gabled", "hipped")):
+        mesh = _skeleton_roof(polygon, top, roof if roof.shape == "gabled" else replace(roof, shape="hipped"))
+        if mesh is not None:
+            return mesh
+    return _ridged(polygon, top, roof)

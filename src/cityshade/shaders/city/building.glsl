@@ -21,6 +21,7 @@ void main() {}
 #endif
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
+#include "city/roof.glsl"
 
 uniform vec3 u_camera;          // world
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
@@ -42,6 +43,7 @@ layout(location = 0) out vec4 out_color;
 #define SURFACE_ROOF 1
 
 vec3 building_tint(Building b) {
+    if (b.tint.w > 0.0) return b.tint.rgb * 1.6;  // a tagged colour or material over the (grey) bay texture
     uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);
     return vec3(0.8) + 0.35 * vec3(float(h & 255u), float((h >> 8u) & 255u), float((h >> 16u) & 255u)) / 255.0 - 0.17;
 }
@@ -66,7 +68,7 @@ void main() {
 #if defined POLYGONISED_WINDOWS
         discard;
 #endif
-        color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, shadow_factor(v_world));
+        color = roof_color(b, v_local, n, n_world, rot * d, shadow_factor(v_world));
     } else {
         float glass;
         if (has_grammar_facade(b)) {

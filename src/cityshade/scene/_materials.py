@@ -1,0 +1,52 @@
+"""Wall and roof materials of map buildings (OpenStreetMap `building:material`, `roof:material`):
+the colour each is painted in unless a colour is tagged, and the roof's shading model in
+shaders/city/roof.glsl (the ROOF_* ids there)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+# roof material -> (shading id in roof.glsl, sRGB colour)
+ROOF_MATERIALS = {
+    "roofing_felt": (0, (0.25, 0.25, 0.26)),
+    "roof_tiles": (1, (0.62, 0.27, 0.18)),
+    "metal": (2, (0.5, 0.52, 0.55)),
+    "slate": (3, (0.28, 0.3, 0.33)),
+    "copper": (4, (0.33, 0.6, 0.5)),  # weathered green
+    "concrete": (5, (0.6, 0.6, 0.58)),
+    "glass": (6, (0.45, 0.55, 0.6)),
+    "grass": (7, (0.3, 0.45, 0.2)),
+    "wood": (8, (0.45, 0.33, 0.22)),
+    "stone": (3, (0.55, 0.53, 0.5)),
+    "gravel": (0, (0.5, 0.48, 0.45)),
+}
+ROOF_ALIASES = {"asphalt": "roofing_felt", "tar_paper": "roofing_felt", "tile": "roof_tiles", "tiles": "roof_tiles",
+                "clay": "roof_tiles", "eternit": "slate", "plants": "grass", "steel": "metal", "tin": "metal",
+                "zinc": "metal", "aluminium": "metal", "thatch": "wood", "wood_shingles": "wood"}
+PLAIN_ROOF = (0, (0.6012, 0.5926, 0.5839))  # untagged roofs of the procedural district: a plain grey
+
+# wall material -> sRGB colour the facade is tinted with
+WALL_MATERIALS = {
+    "brick": (0.62, 0.32, 0.24), "concrete": (0.68, 0.68, 0.66), "glass": (0.5, 0.62, 0.7),
+    "metal": (0.6, 0.63, 0.66), "wood": (0.6, 0.4, 0.28), "plaster": (0.9, 0.85, 0.72),
+    "stone": (0.74, 0.71, 0.65), "sandstone": (0.82, 0.72, 0.55), "limestone": (0.85, 0.82, 0.74),
+    "timber_framing": (0.85, 0.8, 0.7), "steel": (0.6, 0.63, 0.66), "cement_block": (0.66, 0.66, 0.64),
+}
+
+
+def linear(colour) -> np.ndarray:
+    """sRGB 0..1 -> linear light."""
+    c = np.asarray(colour, dtype=np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def roof_material(name: str | None) -> tuple[int, tuple[float, float, float]]:
+    """(shading id, sRGB colour) of a roof material name; none or an unknown one is plain grey."""
+    return ROOF_MATERIALS.get(ROOF_ALIASES.get(name, name), PLAIN_ROOF)
+
+
+def wall_tint(colour, material: str | None):
+    """The sRGB colour a facade is tinted with: the tagged colour, else the material's, else None."""
+    if colour is not None:
+        return tuple(colour)
+    return WALL_MATERIALS.get(material)
