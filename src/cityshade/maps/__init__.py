@@ -6,6 +6,7 @@ from ._model import (
 )
 from ._guess import guess_missing
 from ._load import load_map
+from ._tiling import measure_load, tiled_extract
 from ._masses import building_masses, facade_style
 from ._cameras import aerial_camera, spot_camera, street_camera, street_segment
 from ._open import city_from_map
@@ -14,7 +15,7 @@ from ._sun import sky_settings, sun_and_moon
 
 __all__ = [
     "AREA_KINDS", "BUILDING_ATTRIBUTES", "ROOF_SHAPES", "TREE_ATTRIBUTES", "Area", "Lamp", "MapBuilding", "MapData",
-    "MapTree", "Railway", "ReadReport", "Road", "building_masses", "facade_style", "guess_missing", "load_map", "to_scene",
+    "MapTree", "Railway", "ReadReport", "Road", "building_masses", "facade_style", "guess_missing", "load_map", "measure_load", "tiled_extract", "to_scene",
     "aerial_camera", "spot_camera", "street_camera", "street_segment", "city_from_map", "map_city", "sky_settings",
     "sun_and_moon",
 ]
