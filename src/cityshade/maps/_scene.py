@@ -4,10 +4,12 @@ with viewpoints framed from the data."""
 from __future__ import annotations
 
 import numpy as np
+
 from ..errors import CityshadeError
 from ..scene import City
 from ._cameras import aerial_camera, street_camera
 from ._ground import ground_mesh
+from ._lamps import lamp_lights, lamp_posts
 from ._model import MapData, to_scene
 from ._trees import map_trees
 
@@ -33,6 +35,8 @@ def map_city(map_data: MapData) -> City:
     street = street_camera(map_data, [b.outline for b in drawn])
     if street is not None:
         viewpoints["street"] = street
-    return City(map_data.name, 0, masses, [], bounds, viewpoints, ground_mesh=ground_mesh(map_data),
-                trees=map_trees(map_data),
+    lights = lamp_lights(map_data)
+    ground = np.concatenate([ground_mesh(map_data), lamp_posts(lights)])
+    return City(map_data.name, 0, masses, [], bounds, viewpoints, ground_mesh=ground, trees=map_trees(map_data),
+                lamps=lights,
                 origin=map_data.origin, crs=map_data.crs)

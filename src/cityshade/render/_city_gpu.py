@@ -12,6 +12,7 @@ from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene._city import GROUND_ASPHALT, GROUND_GRASS
 from ._culling import BuildingChunks
 from ._polygonised import PolygonisedGPU
+from ._street_lights import StreetLightsGPU
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -52,6 +53,7 @@ class CityGPU:
         ground = ground_vertices(city)
         self.ground_vbo = ctx.buffer(ground.tobytes())
         self.ground_vertex_count = len(ground)
+        self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos: dict[int, moderngl.VertexArray] = {}
         self._polygonised: PolygonisedGPU | None = None
         self.chunks_drawn = len(self.chunks)
@@ -98,6 +100,7 @@ class CityGPU:
             if buf is not None:
                 buf.release()
         self.relief.release()
+        self.street_lights.release()
         if self._polygonised is not None:
             self._polygonised.release()
 

@@ -125,6 +125,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     if f.settings.grammar_deferred:
         f.textures.grammar_pass.bind_results(program, UNIT_GRAMMAR_DEFERRED + 4)
     f.city.relief.bind(program, UNIT_RELIEF)
+    f.city.street_lights.bind(program)
     if f.shadows is not None:
         f.shadows.bind(program)
     f.city.draw_buildings(program, f.view_projection)
@@ -150,6 +151,7 @@ def draw_ground(f: FrameInputs, defines: dict | None = None):
     set_uniforms(program, **f.common_uniforms())
     if f.shadows is not None:
         f.shadows.bind(program)
+    f.city.street_lights.bind(program)
     f.city.draw_ground(program)
 
 

@@ -22,6 +22,8 @@ void main() {}
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
 #include "city/roof.glsl"
+#include "city/street_lights.glsl"
+const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 
 uniform vec3 u_camera;          // world
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
@@ -141,7 +143,7 @@ void main() {
 #if defined ID_PASS
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), label);
 #else
-    out_color = vec4(color, 1.0);
+    out_color = vec4(color + STREET_LIT_ALBEDO * street_light(v_world, n_world), 1.0);
 #endif
 }
 #endif

@@ -51,7 +51,7 @@ float grain(vec2 p) {
 
 void main() {
 #if defined ID_PASS
-    out_ids = uvec4(uint(FACE_GROUND), 0u, 0u, 0u);
+    out_ids = uvec4(uint(FACE_GROUND), lamps_listed(v_world), 0u, 0u);  // y: the lamps of its light-grid cell
 #else
     float shadow = shadow_factor(v_world);
     vec3 albedo, color;
@@ -68,7 +68,8 @@ void main() {
         albedo = map_albedo(v_material, v_world, grain(v_world.xz * 4.0));
         n = map_normal(v_material, v_world);
     }
-    color = v_material == GROUND_WATER ? water_surface(v_world, shadow) : lit_surface(albedo, n, shadow);
+    color = v_material == GROUND_WATER ? water_surface(v_world, shadow)
+                                       : lit_surface(albedo, n, shadow) + albedo * street_light(v_world, n);
     out_color = vec4(ground_haze(color + map_emission(v_material), v_world), 1.0);
 #endif
 }

@@ -13,12 +13,13 @@
 #define GROUND_POST 9
 #define GROUND_BULB 10
 
+#include "city/street_lights.glsl"
+
 uniform vec3 u_camera;
 uniform float u_time;
-uniform float u_street_lights;  // 0 by day, 1 when the street lamps are on
 
 const vec2 HAZE_RANGE = vec2(1500.0, 25000.0);  // metres: the ground fades into the horizon's colour
-const vec3 BULB = vec3(1.0, 0.72, 0.42) * 30.0;
+const float BULB_RADIANCE = 30.0;
 
 vec3 map_albedo(int material, vec3 world, float noise) {
     if (material == GROUND_MARKING) return vec3(0.62, 0.62, 0.6) * (0.9 + 0.1 * noise);
@@ -37,7 +38,7 @@ vec3 map_normal(int material, vec3 world) {
 }
 
 vec3 map_emission(int material) {
-    return material == GROUND_BULB ? BULB * u_street_lights : vec3(0.0);
+    return material == GROUND_BULB ? LAMP_COLOR * BULB_RADIANCE * u_street_lights : vec3(0.0);
 }
 
 // Ripples: a few travelling sine waves; their slopes tilt the normal by a few degrees.
