@@ -261,3 +261,15 @@ def test_info_on_a_bad_file_is_one_line_and_exit_2(capsys, tmp_path):
     assert main(["info", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "is a directory" in err
+
+
+def test_tiled_extract_repeats_every_building_on_a_grid(helsinki_pbf, tmp_path):
+    from cityshade.maps import tiled_extract
+
+    info = tiled_extract(helsinki_pbf, tmp_path / "tiled.osm.pbf", buildings=1000)
+    assert info["tiles"] == 2 and info["buildings"] >= 1000
+    tiled, original = load_map(tmp_path / "tiled.osm.pbf"), load_map(helsinki_pbf)
+    single = [b for b in original.buildings if b.source_id.startswith("way/")]
+    assert len(tiled.buildings) == 2 * len(single)
+    assert sum(b.footprint_area for b in tiled.buildings) == pytest.approx(
+        2 * sum(b.footprint_area for b in single), rel=0.01)
