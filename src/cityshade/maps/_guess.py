@@ -101,6 +101,8 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
     if building.min_height is None:
         _set(building, "min_height", building.min_level * storey)
         settle_top(building, report)
+    if building.height is None and building.levels is None and not small and np.isfinite(estimates.block_height[i]):
+        _set(building, "height", max(float(estimates.block_height[i]), building.min_height + building.roof_height + 2.0))
     if building.levels is None:
         if building.height is not None:
             walls = max(building.height - building.roof_height - building.min_height, 0.0)

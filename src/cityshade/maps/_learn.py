@@ -6,7 +6,8 @@ separately those that share a wall: the block). Training uses the map's own tagg
 described without itself, exactly as an untagged building is. With few tagged buildings the ridge
 penalty keeps the estimate near the regional default; with none it is the default.
 
-Storey height: the median of tagged height / levels per type, shrunk toward the regional default.
+Height: where tagged buildings share a wall with it (the block), their height; else levels x storey.
+Storey height: the mean of tagged height / levels per type, shrunk toward the regional default.
 Roof shape: a vote of the tagged roofs nearby (closer counts more), on top of the map's own mix per
 building type and the regional default as a prior.
 
@@ -38,6 +39,7 @@ class Estimates:
     levels: np.ndarray  # storeys below the roof
     storey: np.ndarray  # metres floor to floor
     roof_shape: np.ndarray  # object array of ROOF_SHAPES values
+    block_height: np.ndarray  # tagged height of the buildings sharing a wall (distance-weighted), NaN if none
 
 
 def estimate(buildings: list[MapBuilding], shape) -> Estimates:
@@ -52,7 +54,9 @@ def estimate(buildings: list[MapBuilding], shape) -> Estimates:
     levels[((shape.area < SMALL_FOOTPRINT) & ~parts) | np.array([d.small for d in defaults])] = 1.0
     storey = _storeys(buildings, kinds, np.array([d.storey for d in defaults], float))
     roofs = _roof_shapes(buildings, kinds, defaults, neighbours)
-    return Estimates(levels, storey, roofs)
+    heights = np.array([b.height if "height" in b.tagged and b.height is not None else 0.0 for b in buildings], float)
+    block_height, weight = neighbours.mean(heights, heights > 0, neighbours.touching)
+    return Estimates(levels, storey, roofs, np.where(weight > 0, block_height, np.nan))
 
 
 class _Neighbours:
