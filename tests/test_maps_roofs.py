@@ -260,3 +260,41 @@ def test_object_space_turns_with_the_outline():
     direction = points.max(axis=0) - points.min(axis=0)
     # the ridge follows the long side: 30 degrees north of east is (cos 30, -sin 30) in scene x, z
     assert abs(direction[1] / direction[0]) == pytest.approx(math.tan(math.radians(30)), rel=1e-6)
+
+
+def roof_gallery():
+    """One building per roof shape in two rows, each with its own roof material."""
+    materials = ["roofing_felt", "roof_tiles", "slate", "copper", "metal", "roof_tiles", "metal",
+                 "slate", "copper", "metal", "glass", "roof_tiles", "wood"]
+    buildings = []
+    for i, shape in enumerate(ROOF_SHAPES):
+        x, y = (i % 7) * 26.0, -(i // 7) * 28.0
+        round_outline = shape in ("dome", "onion", "cone")
+        outline = shapely.Point(x + 9, y + 6).buffer(8, 12) if round_outline else shapely.box(x, y, x + 18, y + 12)
+        buildings.append(MapBuilding(i, f"way/{i}", outline, height=9.0 if shape == "flat" else 14.0, levels=3,
+                                     roof_shape=shape, roof_height=None if shape in ("dome", "onion") else 5.0,
+                                     roof_material=materials[i], building_material="plaster"))
+    return masses_of(*buildings)
+
+
+def test_roof_gallery_picture(gl_context, output_dir):
+    """All 13 shapes side by side from the air, daylight (tests/output/roof_shapes.png): every
+    building shows in the id pass."""
+    from PIL import Image
+
+    from cityshade.render import Renderer, RenderSettings
+    from cityshade.scene import Camera, City
+
+    masses = roof_gallery()
+    city = City("roofs", 0, masses, [], (-20.0, -10.0, 190.0, 50.0))
+    camera = Camera((78.0, 42.0, 78.0), (78.0, 4.0, 12.0), fov_y=62.0)
+    renderer = Renderer((960, 440), RenderSettings(time_of_day=11.0, trees=False, god_rays=False), ctx=gl_context)
+    renderer.set_city(city)
+    try:
+        image = renderer.render(camera)
+        ids = renderer.render_ids(camera)
+    finally:
+        renderer.release()
+    Image.fromarray(image).save(output_dir / "roof_shapes.png")
+    seen = set(np.unique(ids[..., 2]).tolist()) - {0}
+    assert seen == set(range(1, len(ROOF_SHAPES) + 1))

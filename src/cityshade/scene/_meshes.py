@@ -12,8 +12,8 @@ import shapely
 
 from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES, rotation_y
+from ._extrusions import outline_rows
 from ._materials import linear, roof_material, wall_tint
-from ._roofs import Triangles, flat, roof_triangles
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
 
@@ -38,7 +38,7 @@ def _signed_area(points: np.ndarray) -> float:
     return 0.5 * float(np.sum(x * np.roll(z, -1) - np.roll(x, -1) * z))
 
 
-def _walls(ring: np.ndarray, normals: np.ndarray, height: float, bay: np.ndarray, u0: np.ndarray, base: float = 0.0):
+def _walls(ring: np.ndarray, normals: np.ndarray, height: float, bay: np.ndarray, u0: np.ndarray):
     """Quads standing on each ring edge; normals are per ring vertex (smooth) or per edge (flat)."""
     a, b = ring[:-1], ring[1:]
     na, nb = normals
@@ -47,8 +47,8 @@ def _walls(ring: np.ndarray, normals: np.ndarray, height: float, bay: np.ndarray
     tris = []
     for (pa, pb, qa, qb, ea, eb, wa, wb, w) in zip(a, b, na, nb, ua, ub, bay, bay, bay):
         corners = [
-            (pa, base, qa, ea),
-            (pb, base, qb, eb),
+            (pa, 0.0, qa, ea),
+            (pb, 0.0, qb, eb),
             (pb, height, qb, eb),
             (pa, height, qa, ea),
         ]
@@ -73,59 +73,12 @@ def _prism_triangles(mass: BuildingMass, room: np.ndarray, smooth: bool):
         circumference = 2 * np.pi * radius
         bay = np.full(CURVE_SEGMENTS, circumference / max(1, round(circumference / mass.room_width)))
     else:
-        return _outline_triangles(mass, pts, room)
+        return outline_rows(mass, pts, room)
     edge_len = np.linalg.norm(ring[1:] - ring[:-1], axis=1)
     u0 = np.concatenate([[0.0], np.cumsum(edge_len)[:-1]])
     walls = _walls(ring, normals, mass.extent[1], bay, u0)
     roof = [((p[0], mass.extent[1], p[1]), (0.0, 1.0, 0.0), (p[0], p[1], 0.0)) for p in _roof_triangles(ring[:-1])]
     return walls, roof
-
-
-def _bays(d: np.ndarray, room: np.ndarray) -> np.ndarray:
-    """Window bay widths of walls along edge vectors d: whole bays per facade, a room wide where
-    the facade runs along a room axis, so windows sit in rooms and never touch a corner."""
-    along_x = np.abs(d[:, 0]) >= np.abs(d[:, 1])
-    nominal = np.where(along_x, room[0], room[2])
-    length = np.linalg.norm(d, axis=1)
-    return length / np.maximum(1, np.round(length / nominal))
-
-
-def _edge_walls(ring: np.ndarray, room: np.ndarray, base: float, top: float):
-    """Flat wall quads on a closed ring's edges, from base to top."""
-    d = ring[1:] - ring[:-1]
-    n = np.stack([d[:, 1], -d[:, 0]], axis=1)
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
-    return _walls(ring, (n, n), top, _bays(d, room), np.zeros(len(d)), base)
-
-
-def _outline_triangles(mass: BuildingMass, pts: np.ndarray, room: np.ndarray):
-    """An extruded outline (courtyards included) from its base to its walls' top, with its roof,
-    the gables under the roof and, when it floats, an underside."""
-    holes = [np.asarray(h, dtype=np.float64) for h in mass.holes]
-    holes = [h[::-1] if _signed_area(h) > 0 else h for h in holes]  # clockwise: walls face the courtyard
-    top = mass.wall_top
-    walls = []
-    if mass.walls:
-        for ring in [pts, *holes]:
-            walls += _edge_walls(np.vstack([ring, ring[:1]]), room, mass.base, top)
-    polygon = shapely.Polygon(pts, holes)
-    roof, gables = roof_triangles(polygon, top, mass.roof)
-    if mass.base > 0 or not mass.walls:
-        roof = Triangles.join([roof, flat(polygon, mass.base, up=False)])
-    return walls + _facade_rows(gables, room), _roof_rows(roof)
-
-
-def _facade_rows(walls: Triangles, room: np.ndarray) -> list:
-    """Wall triangles above the walls' top (gables) as rows with facade coordinates that carry on
-    the wall below: metres along the edge from its start, metres up, the edge's bay width."""
-    n = walls.normals
-    edge = np.stack([-n[:, 2], n[:, 0]], axis=1) * walls.edge_length[:, None]
-    bay = _bays(edge, room)
-    return [(tuple(q), tuple(m), (u, q[1], w)) for q, m, u, w in zip(walls.positions, n, walls.along, bay)]
-
-
-def _roof_rows(roof: Triangles) -> list:
-    return [(tuple(q), tuple(m), (q[0], q[2], 0.0)) for q, m in zip(roof.positions, roof.normals)]
 
 
 def _roof_triangles(outline: np.ndarray) -> list:
@@ -161,6 +114,13 @@ def _dome_triangles(mass: BuildingMass):
     return tris, []
 
 
+def _as_rows(triangles):
+    """Per-vertex (position, normal, facade) tuples, or arrays of each, as three (n, 3) arrays."""
+    if isinstance(triangles, tuple):
+        return triangles
+    return tuple(np.asarray([t[i] for t in triangles], dtype=np.float64).reshape(-1, 3) for i in range(3))
+
+
 def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
     """The triangles of one mass as VERTEX_DTYPE records (world and object space)."""
     room = mass.room_size
@@ -168,13 +128,12 @@ def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
         walls, roof = _dome_triangles(mass)
     else:
         walls, roof = _prism_triangles(mass, room, smooth=mass.shape == "cylinder")
-    out = np.zeros(len(walls) + len(roof), dtype=VERTEX_DTYPE)
-    rows = walls + roof
-    out["local"] = [r[0] for r in rows]
-    out["normal"] = [r[1] for r in rows]
-    out["facade"] = [r[2] for r in rows]
+    walls, roof = _as_rows(walls), _as_rows(roof)
+    out = np.zeros(len(walls[0]) + len(roof[0]), dtype=VERTEX_DTYPE)
+    for field, w, r in zip(("local", "normal", "facade"), walls, roof):
+        out[field] = np.concatenate([w, r])
     out["ids"][:, 0] = index
-    out["ids"][len(walls):, 1] = SURFACE_ROOF
+    out["ids"][len(walls[0]):, 1] = SURFACE_ROOF
     rot = rotation_y(mass.yaw)
     origin = np.array([mass.position[0], 0.0, mass.position[1]])
     out["position"] = out["local"].astype(np.float64) @ rot.T + origin

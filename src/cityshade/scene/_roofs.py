@@ -30,7 +30,7 @@ class Roof:
 
 FLAT_ROOF = Roof()
 
-ROUND_SEGMENTS = 12  # chords of a round (barrel) roof's arc
+ROUND_SEGMENTS = 8  # chords of a round (barrel) roof's arc
 DOME_RINGS = 8
 SALTBOX_RIDGE = 0.3  # where the ridge stands across the outline, from the back
 GAMBREL_KNEE, GAMBREL_RISE = 0.3, 0.6  # the steep lower slopes run this share of the half width, rise this share
@@ -102,15 +102,15 @@ def _lift(tris: np.ndarray, plane: np.ndarray, top: float) -> Triangles:
 
 
 def _upright(a: np.ndarray, b: np.ndarray, outline: np.ndarray, top: float) -> Triangles:
-    """A wall piece standing on the edge a -> b (outward to its right) under `outline`: (along, rise)
-    points of its top from along 0 to the edge's length."""
+    """A wall piece standing on the edge a -> b (outward to its right) up to a concave `outline` of
+    (along, rise) points from along 0 to the edge's length: a convex polygon, fanned from a's foot."""
     length = float(np.linalg.norm(b - a))
     if length < 1e-9 or outline[:, 1].max() < 1e-6:
         return Triangles.empty()
-    piece = shapely.Polygon([(0.0, 0.0), (length, 0.0), *outline[::-1]])
-    tris = polygon_triangles(piece.buffer(0) if not piece.is_valid else piece)
-    if not len(tris):
-        return Triangles.empty()
+    ring = np.vstack([[length, 0.0], outline[::-1]])  # from b's foot up and back toward a
+    tris = np.stack([np.zeros_like(ring[:-1]), ring[1:], ring[:-1]], axis=1)  # clockwise in (along, rise): facing out
+    cross = (tris[:, 1, 0] - tris[:, 0, 0]) * (tris[:, 2, 1] - tris[:, 0, 1]) - (tris[:, 1, 1] - tris[:, 0, 1]) * (tris[:, 2, 0] - tris[:, 0, 0])
+    tris = tris[cross < -1e-9]
     along, rise = tris.reshape(-1, 2).T
     e = (b - a) / length
     positions = np.column_stack([a[0] + along * e[0], top + rise, a[1] + along * e[1]])
@@ -141,18 +141,22 @@ def _clip(region: np.ndarray, g: np.ndarray) -> np.ndarray:
     return np.asarray(out).reshape(-1, 2)
 
 
-def plane_roof(polygon: shapely.Polygon, top: float, planes: np.ndarray) -> tuple[Triangles, Triangles]:
+def plane_roof(polygon: shapely.Polygon, top: float, planes: np.ndarray, regions=None) -> tuple[Triangles, Triangles]:
     """A roof whose height over the outline is the lowest of `planes` (rows a, b, c: a x + b z + c),
     a concave piecewise-planar surface (gabled, hipped, gambrel, mansard...), with the wall pieces
-    that close it along every outline edge."""
+    that close it along every outline edge. `regions` (convex polygons where each plane is the
+    lowest) saves finding them when the caller knows them."""
     x0, z0, x1, z1 = polygon.bounds
     box = np.array([[x0, z0], [x1, z0], [x1, z1], [x0, z1]]) + np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])
     roofs = []
     for k, plane in enumerate(planes):
-        region = box
-        for j, other in enumerate(planes):
-            if j != k:
-                region = _clip(region, plane - other)
+        if regions is not None:
+            region = regions[k]
+        else:
+            region = box
+            for j, other in enumerate(planes):
+                if j != k:
+                    region = _clip(region, plane - other)
         if len(region) < 3:
             continue
         part = shapely.intersection(polygon, shapely.Polygon(region))
@@ -226,6 +230,12 @@ def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles
             low = (1.0 - HALF_HIP) * h
             ends = [(u0, low), (u0 + HALF_HIP * half, h)], [(u1 - HALF_HIP * half, h), (u1, low)]
     planes = _profile_planes(across, profile)
+    if not ends:  # one plane per strip across the ridge
+        cuts = [v for v, _ in profile]
+        cuts[0], cuts[-1] = v0 - 1.0, v1 + 1.0
+        strips = [np.outer([a, b, b, a], across) + np.outer([u0 - 1.0, u0 - 1.0, u1 + 1.0, u1 + 1.0], along)
+                  for a, b in zip(cuts[:-1], cuts[1:])]
+        return plane_roof(polygon, top, np.asarray(planes), strips)
     for end in ends:
         planes += _profile_planes(along, end)
     return plane_roof(polygon, top, np.asarray(planes))
@@ -267,18 +277,14 @@ POINTED_PROFILES = {
 
 def _skeleton_roof(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles] | None:
     """Hipped (or gabled) roofs over any outline, courtyards included: each outline edge's face of
-    the straight skeleton, at the pitch that makes the highest point `roof.height` above the walls.
-    A gabled roof stands the faces that a hip would close with a single triangle upright.
-    None if CGAL fails."""
+    the straight skeleton, at the pitch that makes the highest point `roof.height` above the walls,
+    with gable ends where a hip would close with a single triangle. None if CGAL fails."""
     tris = skeleton_triangles(polygon)
     if tris is None or not len(tris):
         return None
     edges = ring_edges(polygon)
     if roof.shape == "gabled":
-        ends = _hip_ends(tris, edges)
-        if ends and len(ends) < len(edges) - 1:
-            gabled = skeleton_triangles(polygon, ends)
-            tris = gabled if gabled is not None and len(gabled) else tris
+        tris = _gable_ends(tris, edges)
     tris = tris * np.array([1.0, 1.0, roof.height / tris[:, :, 2].max()])
     positions = np.stack([tris[:, :, 0], top + tris[:, :, 2], tris[:, :, 1]], axis=2)
     normals = np.cross(positions[:, 1] - positions[:, 0], positions[:, 2] - positions[:, 0])
@@ -311,21 +317,32 @@ def _gable_walls(tris: np.ndarray, edges) -> Triangles:
     return Triangles.join(walls)
 
 
-def _hip_ends(tris: np.ndarray, edges) -> set[int]:
-    """Outline edges whose skeleton face is one triangle over the whole edge (a hip's end)."""
+def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
+    """A hipped skeleton turned gabled: where an outline edge's face is a single triangle (a hip's
+    end), its top moves out over the edge's middle, so the face stands upright and the ridge runs on
+    to the gable. Hips sharing their top with another end (pyramids) stay."""
     normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), EPS)
     keys = np.round(np.column_stack([normals, np.einsum("ij,ij->i", normals, tris[:, 0])]), 3)
     _, group, count = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
-    ends = set()
+    moves = []
     for tri, g in zip(tris, group.ravel()):
-        base = tri[tri[:, 2] < EPS][:, :2]
-        if count[g] != 1 or len(base) != 2:
+        ground = tri[:, 2] < EPS
+        if count[g] != 1 or ground.sum() != 2:
             continue
-        for i, (a, b) in enumerate(edges):
+        base = tri[ground][:, :2]
+        for a, b in edges:
             if min(np.abs(base - [a, b]).max(), np.abs(base - [b, a]).max()) < 1e-3:
-                ends.add(i)
-    return ends
+                apex = tri[~ground][0]
+                moves.append((apex, np.array([(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, apex[2]])))
+    if len(moves) >= len(edges) - 1:
+        return tris
+    tops = np.array([apex for apex, _ in moves]).reshape(-1, 3)
+    tris = tris.copy()
+    for apex, target in moves:
+        if np.sum(np.all(np.abs(tops - apex) < 1e-6, axis=1)) == 1:
+            tris[np.all(np.abs(tris - apex) < 1e-6, axis=2)] = target
+    return tris
 
 
 def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:

@@ -1,5 +1,5 @@
 """Straight skeletons of building outlines through CGAL (the pySVCGAL wrapper): the faces of a
-hipped roof over any outline with courtyards, and of a gabled one when some edges stand upright."""
+hipped roof over any outline, courtyards included."""
 
 from __future__ import annotations
 
@@ -13,7 +13,6 @@ with contextlib.redirect_stdout(io.StringIO()):  # the wrapper prints a line whe
     from pySVCGAL.pySVCGAL import pySVCGAL_straight_skeleton_2d_extrude as _extrude
 
 HIP = 45.0  # degrees: a face's height is its distance from its outline edge
-UPRIGHT = 90.0  # degrees: the edge's face stands vertical (a gable)
 
 
 def _rings(polygon: shapely.Polygon) -> list[np.ndarray]:
@@ -22,17 +21,11 @@ def _rings(polygon: shapely.Polygon) -> list[np.ndarray]:
     return [np.asarray(r.coords)[:-1] for r in (polygon.exterior, *polygon.interiors)]
 
 
-def skeleton_triangles(polygon: shapely.Polygon, upright: set[int] = frozenset()) -> np.ndarray | None:
-    """The skeleton's roof as (n, 3, 3) triangles of (x, z, height above the outline), with the
-    faces of the edges numbered in `upright` (ring by ring, exterior first) standing vertical;
-    None if CGAL fails."""
+def skeleton_triangles(polygon: shapely.Polygon) -> np.ndarray | None:
+    """The skeleton's roof as (n, 3, 3) triangles of (x, z, height above the outline = distance from
+    the face's outline edge); None if CGAL fails."""
     rings = _rings(polygon)
-    angles, edge = [], 0
-    for ring in rings:
-        # CGAL takes the angle of the edge that ends at each vertex
-        own = [UPRIGHT if edge + i in upright else HIP for i in range(len(ring))]
-        angles.append(own[-1:] + own[:-1])
-        edge += len(ring)
+    angles = [[HIP] * len(ring) for ring in rings]
     contours = [[(float(x), float(z), 0.0) for x, z in ring] for ring in rings]
     data = {
         "objects": [{"shape_mode": 0, "restrict_height": False, "height": 0.0, "planes": [contours], "angles": [angles]}],
