@@ -124,10 +124,10 @@ def resolve_contradictions(building: MapBuilding, report: ReadReport):
             _reject(building, name, report, f"{name} below zero or not a number: ignored")
     if building.levels is not None and building.levels > MAX_LEVELS:
         _reject(building, "levels", report, f"levels above {MAX_LEVELS}: ignored")
-    if building.height is not None and building.height == 0:
-        _reject(building, "height", report, "height zero: ignored")
-    if building.levels is not None and building.levels == 0 and building.has_walls:
-        _reject(building, "levels", report, "levels zero on a building with walls: ignored")
+    if building.height is not None and building.height < 1.0:
+        _reject(building, "height", report, "height below 1 m: ignored")
+    if building.levels is not None and building.levels < 1.0 and building.has_walls:
+        _reject(building, "levels", report, "levels below 1 on a building with walls: ignored")
     settle_top(building, report)
     if building.levels is not None and building.min_level is not None and building.levels <= building.min_level:
         _retag(building, "levels", building.min_level + building.levels, report,
