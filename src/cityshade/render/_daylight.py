@@ -63,6 +63,8 @@ class Daylight:
     sky_sun: np.ndarray | None = None  # toward the sun itself, for the sky (None: sun_direction)
     moon_direction: np.ndarray | None = None  # toward the moon when it is up and the sun is down
     street_lights: float = 0.0  # 1 when the street lamps are on: the sun is below the horizon
+    moon_lit: float = 0.0  # lit fraction of the moon's disc
+    sun_elevation: float = 0.0  # degrees
 
     @classmethod
     def at(cls, hours: float, sun: tuple[float, float] | None = None,
@@ -93,4 +95,5 @@ class Daylight:
             sun_color = MOONLIGHT * moon[2] * _smoothstep(0.0, 10.0, moon[0])
         return cls(hours, light, sun_color, sky, ground, float(dusk), float(np.clip(lights, 0, 1)), float(exposure),
                    sky_sun=direction, moon_direction=moon_direction,
-                   street_lights=1.0 - _smoothstep(-2.0, 1.0, elevation))
+                   street_lights=1.0 - _smoothstep(-2.0, 1.0, elevation),
+                   moon_lit=float(moon[2]) if moon is not None else 0.0, sun_elevation=elevation)

@@ -30,6 +30,7 @@ from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
+from ._night_sky import night_amount
 from ._polygonised import draw_interior_layers
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
@@ -157,7 +158,8 @@ def draw_ground(f: FrameInputs, defines: dict | None = None):
 
 def draw_sky(f: FrameInputs):
     program = f.programs.get("frame/sky.glsl")
-    set_uniforms(program, u_inv_view_proj=np.linalg.inv(f.view_projection), u_camera=f.camera.eye, u_env=UNIT_ENV)
+    set_uniforms(program, u_inv_view_proj=np.linalg.inv(f.view_projection), u_camera=f.camera.eye, u_env=UNIT_ENV,
+                 u_stars=night_amount(f.daylight.sun_elevation))
     f.ctx.depth_func = "<="
     f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
 

@@ -13,6 +13,7 @@ from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._frame import FrameInputs, draw_frame, draw_ids
+from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
 from ._textures import CityTextures, cubemap
@@ -82,12 +83,16 @@ class Renderer:
     def _daylight(self) -> Daylight:
         s = self.settings
         daylight = Daylight.at(s.time_of_day, s.sun, s.moon)
-        key = (round(daylight.hours, 3), s.sun)
+        key = (round(daylight.hours, 3), s.sun, s.moon)
         if key != self._env_key:
             if self.env is not None:
                 self.env.release()
-            self.env = cubemap(self.ctx, assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sky_sun),
-                                                                     dusk=daylight.dusk))
+            radiance = assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sky_sun), dusk=daylight.dusk)
+            night = night_amount(daylight.sun_elevation)
+            if night > 0.0 or daylight.moon_direction is not None:
+                radiance = night_sky(radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction,
+                                     daylight.moon_lit)
+            self.env = cubemap(self.ctx, radiance)
             self._env_key = key
         return daylight
 

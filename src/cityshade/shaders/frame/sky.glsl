@@ -10,6 +10,7 @@ void main() {
 
 #if defined FRAGMENT_SHADER
 #include "common/lighting.glsl"
+#include "frame/stars.glsl"
 uniform mat4 u_inv_view_proj;
 uniform vec3 u_camera;
 in vec2 v_ndc;
@@ -17,6 +18,6 @@ layout(location = 0) out vec4 out_color;
 void main() {
     vec4 far_point = u_inv_view_proj * vec4(v_ndc, 1.0, 1.0);
     vec3 dir = normalize(far_point.xyz / far_point.w - u_camera);
-    out_color = vec4(environment(dir), 1.0);
+    out_color = vec4(environment(dir) + stars(dir), 1.0);
 }
 #endif
