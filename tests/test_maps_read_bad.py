@@ -60,6 +60,22 @@ def test_latitude_out_of_range_skips_the_building_and_says_why(tmp_path):
     _refused(path, "nothing usable", "way/10", "missing node or a bad location")
 
 
+def test_node_without_latitude_skips_its_building(tmp_path):
+    path = tmp_path / "nolat.osm"
+    path.write_text('<?xml version="1.0"?>\n<osm version="0.6">\n' + "".join(
+        f'<node id="{i}" lon="{lon}"' + ("" if i == 2 else f' lat="{lat}"') + "/>"
+        for i, lat, lon in _square_nodes()) + TREE + _way(10, [1, 2, 3, 4, 1]) + "</osm>")
+    data = load_map(path)
+    assert not data.buildings and len(data.trees) == 1
+    assert data.report.examples[("building", "refers to a missing node or a bad location")] == "way/10"
+
+
+def test_a_file_that_is_not_osm_is_refused(tmp_path):
+    path = tmp_path / "junk.osm.pbf"
+    path.write_bytes(bytes(range(256)) * 8)
+    _refused(path, "not a readable OpenStreetMap file")
+
+
 def test_missing_node_and_unclosed_way_are_counted_and_the_rest_loads(tmp_path):
     nodes = _square_nodes() + _square_nodes(11, [(60.001, 24.0), (60.001, 24.0004), (60.0012, 24.0004),
                                                  (60.0012, 24.0)])
@@ -102,7 +118,7 @@ def test_zero_area_outline_is_skipped_and_nothing_usable_exits_2(tmp_path):
 
 
 @pytest.mark.parametrize("key, value, why", [
-    ("height", "tall", "not a number"), ("height", "-5", "not a number"), ("height", "0", "out of range 0..1000"),
+    ("height", "tall", "not a number"), ("height", "-5", "out of range 0..1000"), ("height", "0", "out of range 0..1000"),
     ("height", "1e308", "not a number"), ("height", "5000", "out of range 0..1000"),
     ("building__levels", "10000", "out of range 0..200"), ("roof__angle", "120", "out of range 0..90"),
     ("roof__shape", "banana", "unknown value"), ("roof__colour", "bricky", "unknown value"),
@@ -197,6 +213,24 @@ def test_geojson_geometry_that_cannot_be_read_is_skipped_and_counted(tmp_path, g
     ((what, reason),) = data.report.skipped
     assert reason.startswith(why)
     assert data.report.examples[(what, reason)] == "feature/1"
+
+
+def test_geojson_self_touching_and_unclosed_rings_are_repaired(tmp_path):
+    touching = [[24.0, 60.0], [24.0004, 60.0], [24.0004, 60.0002], [24.0002, 60.0], [24.0, 60.0002], [24.0, 60.0]]
+    unclosed = [[24.001, 60.0], [24.0014, 60.0], [24.0014, 60.0002], [24.001, 60.0002]]
+    data = load_map(_geojson(tmp_path, {"type": "Polygon", "coordinates": [touching]},
+                             {"type": "Polygon", "coordinates": [unclosed]}))
+    assert len(data.buildings) == 3 and all(b.outline.is_valid for b in data.buildings)
+    ((what, why),) = [key for key in data.report.repaired if key[0] == "building"]
+    assert why.startswith("invalid outline") and data.report.examples[(what, why)] == "feature/0"
+    assert data.report.examples[("feature", "ring not closed, closed")] == "feature/1"
+
+
+def test_json_above_the_size_limit_is_refused(tmp_path, monkeypatch):
+    from cityshade.maps import _load
+
+    monkeypatch.setattr(_load, "MAX_JSON_BYTES", 100)
+    _refused(_geojson(tmp_path, GOOD), "above the 100-byte limit")
 
 
 def test_geojson_with_nothing_usable_exits_2_with_the_reason(tmp_path):

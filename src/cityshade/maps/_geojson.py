@@ -50,26 +50,28 @@ def _positions(value) -> np.ndarray | None:
     return array[:, :2]
 
 
-def _polygon(rings) -> shapely.Polygon | None:
+def _polygon(rings, report: ReadReport, element: str) -> shapely.Polygon | None:
     if not isinstance(rings, list) or not rings:
         return None
     arrays = [_positions(ring) for ring in rings]
     if any(a is None or len(a) < 3 for a in arrays):
         return None
-    arrays = [a if np.array_equal(a[0], a[-1]) else np.vstack([a, a[:1]]) for a in arrays]
+    if not all(np.array_equal(a[0], a[-1]) for a in arrays):
+        report.repair("feature", "ring not closed, closed", element)
+        arrays = [a if np.array_equal(a[0], a[-1]) else np.vstack([a, a[:1]]) for a in arrays]
     return shapely.Polygon(arrays[0], arrays[1:])
 
 
-def _geometry(value) -> tuple[shapely.Geometry | None, str]:
+def _geometry(value, report: ReadReport, element: str) -> tuple[shapely.Geometry | None, str]:
     """A shapely geometry and '' or None and why it cannot be one."""
     if not isinstance(value, dict):
         return None, "no geometry"
     kind, coords = value.get("type"), value.get("coordinates")
     if kind == "Polygon":
-        polygon = _polygon(coords)
+        polygon = _polygon(coords, report, element)
         return (polygon, "") if polygon is not None else (None, "Polygon coordinates are not rings of [x, y]")
     if kind == "MultiPolygon":
-        polygons = [_polygon(rings) for rings in coords] if isinstance(coords, list) and coords else [None]
+        polygons = [_polygon(rings, report, element) for rings in coords] if isinstance(coords, list) and coords else [None]
         if any(p is None for p in polygons):
             return None, "MultiPolygon coordinates are not rings of [x, y]"
         return shapely.MultiPolygon(polygons), ""
@@ -149,7 +151,7 @@ def read_geojson(path: Path, text: str) -> MapData:
         if isinstance(feature.get("id"), (str, int)) and not isinstance(feature.get("id"), bool):
             element = f"feature/{index} (id {str(feature['id'])[:40]})"
         tags = _tags(feature.get("properties"), report, element)
-        geometry, why = _geometry(feature.get("geometry"))
+        geometry, why = _geometry(feature.get("geometry"), report, element)
         if geometry is None:
             report.skip("feature", why, element)
             continue

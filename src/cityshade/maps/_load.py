@@ -54,7 +54,7 @@ def _format(path: Path) -> str:
 
 def read_json_text(path: Path, size: int) -> str:
     if size > MAX_JSON_BYTES:
-        raise UsageError(f"{path}: {size / 2**30:.1f} GiB of JSON is above the {MAX_JSON_BYTES >> 30} GiB limit; "
+        raise UsageError(f"{path}: {size:,} bytes of JSON is above the {MAX_JSON_BYTES:,}-byte limit; "
                          "split the file or convert it to .osm.pbf")
     try:
         return path.read_bytes().decode("utf-8-sig")

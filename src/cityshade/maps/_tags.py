@@ -26,10 +26,10 @@ from ._model import ROOF_SHAPES, MapBuilding, ReadReport
 FOOT = 0.3048
 INCH = 0.0254
 
-_METRES = re.compile(r"^\s*([0-9]+(?:[.,][0-9]+)?)\s*(m|metres|meters|metre|meter)?\s*$", re.IGNORECASE)
+_METRES = re.compile(r"^\s*(-?[0-9]+(?:[.,][0-9]+)?)\s*(m|metres|meters|metre|meter)?\s*$", re.IGNORECASE)
 _FEET = re.compile(r"^\s*([0-9]+(?:\.[0-9]+)?)\s*(?:ft|feet|')\s*(?:([0-9]+(?:\.[0-9]+)?)\s*(?:\"|in|inch|inches))?\s*$",
                    re.IGNORECASE)
-_NUMBER = re.compile(r"^\s*([0-9]+(?:[.,][0-9]+)?)\s*$")
+_NUMBER = re.compile(r"^\s*(-?[0-9]+(?:[.,][0-9]+)?)\s*$")
 
 # (smallest, largest) accepted value of each numeric attribute; outside it the value is dropped.
 RANGES = {
