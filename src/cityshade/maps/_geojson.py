@@ -151,7 +151,8 @@ def read_geojson(path: Path, text: str) -> MapData:
         if isinstance(feature.get("id"), (str, int)) and not isinstance(feature.get("id"), bool):
             element = f"feature/{index} (id {str(feature['id'])[:40]})"
         tags = _tags(feature.get("properties"), report, element)
-        geometry, why = _geometry(feature.get("geometry"), report, element)
+        with np.errstate(invalid="ignore"):  # NaN corners are reported by `assemble`, not warned about here
+            geometry, why = _geometry(feature.get("geometry"), report, element)
         if geometry is None:
             report.skip("feature", why, element)
             continue
