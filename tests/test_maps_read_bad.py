@@ -118,7 +118,8 @@ def test_zero_area_outline_is_skipped_and_nothing_usable_exits_2(tmp_path):
 
 
 @pytest.mark.parametrize("key, value, why", [
-    ("height", "tall", "not a number"), ("height", "-5", "out of range 0..1000"), ("height", "0", "out of range 0..1000"),
+    ("height", "tall", "not a number"), ("height", "-5", "out of range 0..1000"),
+    ("height", "0", "out of range 0..1000"),
     ("height", "1e308", "not a number"), ("height", "5000", "out of range 0..1000"),
     ("building__levels", "10000", "out of range 0..200"), ("roof__angle", "120", "out of range 0..90"),
     ("roof__shape", "banana", "unknown value"), ("roof__colour", "bricky", "unknown value"),
@@ -181,8 +182,8 @@ def test_a_huge_outline_loads_simplified(tmp_path):
 
 
 def _geojson(tmp_path, *geometries_or_features, name="bad.geojson") -> Path:
-    features = [g if g is not None and g.get("type") == "Feature" else {"type": "Feature", "properties": {}, "geometry": g}
-                for g in geometries_or_features]
+    features = [g if g is not None and g.get("type") == "Feature"
+                else {"type": "Feature", "properties": {}, "geometry": g} for g in geometries_or_features]
     path = tmp_path / name
     path.write_text(json.dumps({"type": "FeatureCollection", "features": features}, allow_nan=True))
     return path

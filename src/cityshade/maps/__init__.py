@@ -15,7 +15,8 @@ from ._sun import sky_settings, sun_and_moon
 
 __all__ = [
     "AREA_KINDS", "BUILDING_ATTRIBUTES", "ROOF_SHAPES", "TREE_ATTRIBUTES", "Area", "Lamp", "MapBuilding", "MapData",
-    "MapTree", "Railway", "ReadReport", "Road", "building_masses", "facade_style", "guess_missing", "load_map", "measure_load", "tiled_extract", "to_scene",
+    "MapTree", "Railway", "ReadReport", "Road", "building_masses", "facade_style", "guess_missing", "load_map", "to_scene",
+    "measure_load", "tiled_extract",
     "aerial_camera", "spot_camera", "street_camera", "street_segment", "city_from_map", "map_city", "sky_settings",
     "sun_and_moon",
 ]

@@ -112,7 +112,8 @@ def _tags(obj: dict) -> dict[str, str]:
     attributes = obj.get("attributes")
     if not isinstance(attributes, dict):
         return {}
-    return {str(k): str(v) for k, v in attributes.items() if isinstance(v, (str, int, float)) and not isinstance(v, bool)}
+    return {str(k): str(v) for k, v in attributes.items()
+            if isinstance(v, (str, int, float)) and not isinstance(v, bool)}
 
 
 def read_cityjson(path: Path, text: str) -> MapData:

@@ -71,7 +71,9 @@ def _geometry(value, report: ReadReport, element: str) -> tuple[shapely.Geometry
         polygon = _polygon(coords, report, element)
         return (polygon, "") if polygon is not None else (None, "Polygon coordinates are not rings of [x, y]")
     if kind == "MultiPolygon":
-        polygons = [_polygon(rings, report, element) for rings in coords] if isinstance(coords, list) and coords else [None]
+        if not isinstance(coords, list) or not coords:
+            return None, "MultiPolygon coordinates are not rings of [x, y]"
+        polygons = [_polygon(rings, report, element) for rings in coords]
         if any(p is None for p in polygons):
             return None, "MultiPolygon coordinates are not rings of [x, y]"
         return shapely.MultiPolygon(polygons), ""

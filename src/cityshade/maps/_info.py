@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from collections import Counter
 from pathlib import Path
@@ -68,7 +69,8 @@ def summary(data: MapData) -> dict:
 
 
 def _text(info: dict) -> str:
-    lines = [f"{info['file']}  ({info['crs']}, origin {info['origin_lon_lat'][0]:.6f}, {info['origin_lon_lat'][1]:.6f})",
+    lon, lat = info["origin_lon_lat"]
+    lines = [f"{info['file']}  ({info['crs']}, origin {lon:.6f}, {lat:.6f})",
              f"buildings: {info['buildings']}  parts: {info['parts']}  outlines replaced by parts: "
              f"{info['outlines_replaced_by_parts']}  roofs without walls: {info['roofs_without_walls']}",
              "roof shapes: " + ", ".join(f"{k} {v}" for k, v in info["roof_shapes"].items()),
@@ -93,7 +95,11 @@ def run(args: argparse.Namespace) -> int:
     data = load_map(args.file)
     guess_missing(data)
     info = summary(data)
-    print(json.dumps(info, indent=2, ensure_ascii=False) if args.json else _text(info), file=sys.stdout)
+    try:
+        print(json.dumps(info, indent=2, ensure_ascii=False) if args.json else _text(info), file=sys.stdout)
+        sys.stdout.flush()
+    except BrokenPipeError:  # `cityshade info FILE | head`: the reader has all it wanted
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     return 0
 
 

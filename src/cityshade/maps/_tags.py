@@ -27,8 +27,8 @@ FOOT = 0.3048
 INCH = 0.0254
 
 _METRES = re.compile(r"^\s*(-?[0-9]+(?:[.,][0-9]+)?)\s*(m|metres|meters|metre|meter)?\s*$", re.IGNORECASE)
-_FEET = re.compile(r"^\s*([0-9]+(?:\.[0-9]+)?)\s*(?:ft|feet|')\s*(?:([0-9]+(?:\.[0-9]+)?)\s*(?:\"|in|inch|inches))?\s*$",
-                   re.IGNORECASE)
+_FEET = re.compile(r"^\s*([0-9]+(?:\.[0-9]+)?)\s*(?:ft|feet|')\s*"
+                   r"(?:([0-9]+(?:\.[0-9]+)?)\s*(?:\"|in|inch|inches))?\s*$", re.IGNORECASE)
 _NUMBER = re.compile(r"^\s*(-?[0-9]+(?:[.,][0-9]+)?)\s*$")
 
 # (smallest, largest) accepted value of each numeric attribute; outside it the value is dropped.
