@@ -102,12 +102,14 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
     centre = ((x0 + x1) / 2.0, (y0 + y1) / 2.0)
     local = isinstance(source_crs, str) and source_crs == LOCAL
     projection = LocalMetres(centre) if local else Projection(centre, source_crs or "EPSG:4326")
-    projected = projection.geometries(geometries)
+    with np.errstate(invalid="ignore", over="ignore"):
+        projected = projection.geometries(geometries)
     for raw, geometry in zip(raws, projected):
         raw.geometry = geometry
         if "surfaces" in raw.fixed:  # CityJSON's semantic surfaces: plan position to map metres, z kept
             raw.fixed["surfaces"] = {kind: [np.column_stack([projection.points(ring[:, :2]), ring[:, 2]])
                                             for ring in rings] for kind, rings in raw.fixed["surfaces"].items()}
+    raws = _finite(raws, report, geographic=False)  # points the projection cannot reach from the centre
     data = MapData(path, projection.origin, projection.crs, report=report)
     coast, named_parents = [], []
     for raw in raws:
@@ -217,11 +219,11 @@ def _add_line(data: MapData, raw: Raw) -> None:
         for line in lines:
             data.roads.append(_road(raw.source_id, line, tags, data.report))
     elif railway in RAILWAYS:
-        gauge = number(tags.get("gauge", "").split(";")[0])
+        gauge = number(tags.get("gauge", "").split(";")[0])  # millimetres
+        tagged_gauge = {"gauge": gauge / 1000.0} if gauge and 300.0 <= gauge <= 3000.0 else {}
         for line in lines:
-            data.railways.append(Railway(raw.source_id, line, railway, gauge=gauge / 1000.0 if gauge else 1.435,
-                                         layer=_layer(tags), bridge=_yes(tags, "bridge"), tunnel=_yes(tags, "tunnel"),
-                                         tags=tags))
+            data.railways.append(Railway(raw.source_id, line, railway, layer=_layer(tags), bridge=_yes(tags, "bridge"),
+                                         tunnel=_yes(tags, "tunnel"), tags=tags, **tagged_gauge))
     elif tags.get("natural") == "tree_row":
         for line in lines:
             count = max(2, int(round(line.length / TREE_ROW_SPACING)) + 1)
@@ -229,6 +231,8 @@ def _add_line(data: MapData, raw: Raw) -> None:
                                                                      normalized=True)):
                 tree = _tree(f"{raw.source_id}#{i}", (point.x, point.y), tags, data.report)
                 data.trees.append(tree)
+    elif not (highway or railway):
+        data.report.skip("feature", "a line that is no road, railway or tree row", raw.source_id)
 
 
 def _yes(tags: dict[str, str], key: str) -> bool:
