@@ -71,6 +71,22 @@ def test_unknown_kind_falls_back_to_a_generic_building():
     assert b.levels == 3 and b.roof_shape == "flat"
 
 
+@pytest.mark.parametrize("kind", ["yes", "residential"])
+def test_untyped_footprints_by_size(kind):
+    outbuilding, house, block = guessed(building(0, kind, size=(9.0, 5.0)), building(1, kind, size=(14.0, 10.0), at=(400.0, 0)),
+                                        building(2, kind, size=(40.0, 14.0), at=(0, 400.0))).buildings
+    assert outbuilding.levels == 1 and outbuilding.roof_shape == "gabled" and not outbuilding.small_utility
+    assert house.levels == 1 and house.roof_levels == 1 and house.roof_shape == "gabled"
+    assert block.levels >= 3 and block.roof_shape == "flat"
+
+
+def test_a_small_part_is_not_a_house():
+    part = building(0, "yes", size=(14.0, 10.0))
+    part.is_part = True
+    b = guessed(part).buildings[0]
+    assert b.levels == 3 and b.roof_shape == "flat" and not b.small_utility
+
+
 def test_levels_alone_give_the_height_and_height_alone_gives_the_levels():
     by_levels, by_height = guessed(building(0, "apartments", levels=8.0), building(1, "apartments", height=21.0)).buildings
     assert by_levels.height == pytest.approx(24.0)
@@ -199,10 +215,10 @@ def test_a_tall_tagged_neighbourhood_raises_the_guess():
 
 
 def test_tagged_roofs_nearby_choose_the_roof():
-    houses = [building(0, "yes", size=(12.0, 9.0))]
-    houses += [building(i, "yes", size=(12.0, 9.0), at=(25.0 * i, 0.0), roof_shape="hipped") for i in range(1, 7)]
+    houses = [building(0, "yes", size=(20.0, 14.0))]
+    houses += [building(i, "yes", size=(20.0, 14.0), at=(30.0 * i, 0.0), roof_shape="hipped") for i in range(1, 7)]
     assert guessed(*houses).buildings[0].roof_shape == "hipped"
-    assert guessed(building(0, "yes", size=(12.0, 9.0))).buildings[0].roof_shape == "flat"
+    assert guessed(building(0, "yes", size=(20.0, 14.0))).buildings[0].roof_shape == "flat"
 
 
 def test_guesses_are_deterministic():

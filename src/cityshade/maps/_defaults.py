@@ -90,7 +90,20 @@ MATERIAL_COLOURS = {
 }
 
 
-def defaults_for(kind: str) -> TypeDefaults:
+# building=yes and building=residential say nothing of the size; the footprint does. In Finnish towns an
+# untyped footprint under 60 m² is an outbuilding (sauna, storehouse, garage), one under 220 m² a house.
+GENERIC = {"yes", "residential"}
+OUTBUILDING = TypeDefaults(1, 2.8, "gabled", "wood", "metal")
+HOUSE_FOOTPRINT = (60.0, 220.0)
+
+
+def defaults_for(kind: str, area: float | None = None, is_part: bool = False) -> TypeDefaults:
+    """The defaults of a building type; for untyped buildings (and not parts) by footprint area too."""
+    if kind in GENERIC and area is not None and not is_part:
+        if area < HOUSE_FOOTPRINT[0]:
+            return OUTBUILDING
+        if area < HOUSE_FOOTPRINT[1]:
+            return HOUSE
     return DEFAULTS.get(kind, DEFAULTS["yes"])
 
 
@@ -143,5 +156,6 @@ def resolve_contradictions(building: MapBuilding, report: ReadReport):
         storey = walls / storeys if storeys > 0 else 0.0
         if not STOREY_RANGE[0] <= storey <= STOREY_RANGE[1]:
             # The height is a measurement; the level count is re-derived from it.
-            levels = (building.min_level or 0.0) + max(1.0, round(walls / defaults_for(building.kind).storey))
+            storey = defaults_for(building.kind, building.footprint_area, building.is_part).storey
+            levels = (building.min_level or 0.0) + max(1.0, round(walls / storey))
             _retag(building, "levels", levels, report, "levels contradict height: levels derived from the height")

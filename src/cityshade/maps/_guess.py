@@ -78,7 +78,7 @@ def _set(building: MapBuilding, name: str, value):
 
 
 def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineShape, i: int, report: ReadReport):
-    defaults = defaults_for(building.kind)
+    defaults = defaults_for(building.kind, shape.area[i], building.is_part)
     small = defaults.small or (shape.area[i] < SMALL_FOOTPRINT and not building.is_part)  # small parts are turrets
     storey = float(estimates.storey[i])
     if small and "levels" not in building.tagged and "height" not in building.tagged:

@@ -45,7 +45,7 @@ class Estimates:
 def estimate(buildings: list[MapBuilding], shape) -> Estimates:
     """Estimates for every building (tagged ones too: the caller keeps tagged values)."""
     kinds = [b.kind for b in buildings]
-    defaults = [defaults_for(k) for k in kinds]
+    defaults = [defaults_for(b.kind, a, b.is_part) for b, a in zip(buildings, shape.area)]
     default_levels = np.array([d.levels for d in defaults], float)
     centres = shapely.get_coordinates(shapely.centroid(np.array([b.outline for b in buildings], dtype=object)))
     neighbours = _Neighbours(buildings, centres)
