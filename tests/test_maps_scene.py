@@ -95,3 +95,52 @@ def test_sun_matches_astral_at_helsinki_noon_midsummer():
     observer = Observer(latitude=HELSINKI[1], longitude=HELSINKI[0])
     assert position == (pytest.approx(sun.elevation(observer, when)), pytest.approx(sun.azimuth(observer, when)))
     assert 50 < position[0] < 54 and 160 < position[1] < 185  # high in the south
+
+
+def run_cli(*args) -> tuple[int, str]:
+    import subprocess
+
+    done = subprocess.run([sys.executable, "-m", "cityshade", *args], capture_output=True, text=True, timeout=600)
+    return done.returncode, done.stdout + done.stderr
+
+
+def test_render_map_cli_aerial_and_spot_camera(helsinki_pbf, tmp_path):
+    for camera in ("aerial", "24.9449,60.1699,1.7,90"):
+        out = tmp_path / "h.png"
+        code, text = run_cli("render", "--map", str(helsinki_pbf), "--camera", camera, "--size", "64x36",
+                             "--samples", "0", "--date", "2025-03-20", "--time", "12:00", "--out", str(out))
+        assert code == 0 and out.is_file(), text
+        out.unlink()
+
+
+@pytest.mark.parametrize("option, value, words", [
+    ("--camera", "24.9,60.1,tall,0", "lon,lat,height,heading"),
+    ("--date", "2025-13-01", "YYYY-MM-DD"),
+    ("--time", "25:00", "HH:MM"),
+])
+def test_render_map_cli_bad_values_one_line_exit_2(helsinki_pbf, tmp_path, option, value, words):
+    out = tmp_path / "h.png"
+    code, text = run_cli("render", "--map", str(helsinki_pbf), option, value, "--size", "32x18", "--out", str(out))
+    assert code == 2 and words in text and len(text.strip().splitlines()) == 1, text
+    assert not out.exists()
+
+
+def test_video_and_viewer_take_a_map(helsinki_pbf, tmp_path):
+    from cityshade.maps import city_from_map, sky_clock
+    from cityshade.render import RenderSettings
+    from cityshade.render._video import render_video
+    from cityshade.viewer import open_viewer
+
+    city, camera, placed = city_from_map(helsinki_pbf, "street", "2025-06-21", "21:00")
+    assert camera == "street" and placed["sun"][0] < 10  # evening sun low over Helsinki
+    sky = sky_clock(city.origin, "2025-06-21")
+    out = render_video(tmp_path / "h.mp4", city, "walk", frames=2, fps=2, size=(64, 36), start_time="21:00",
+                       end_time="23:30", progress=False, sky=sky)
+    assert out.stat().st_size > 0
+    viewer = open_viewer(city, camera, RenderSettings(samples=0, **placed), window="headless", size=(64, 36), sky=sky)
+    try:
+        viewer.press("T")  # a quarter of an hour later: the sun moves over the map
+        assert viewer.renderer.settings.sun != placed["sun"]
+        viewer.on_render(0.0, 0.016)
+    finally:
+        viewer.wnd.destroy()

@@ -47,11 +47,15 @@ def sun_and_moon(origin: tuple[float, float], when: dt.datetime) -> dict:
     return {"sun": sun_position, "moon": (*moon_position, lit)}
 
 
+def sky_clock(origin: tuple[float, float], date: str | None = None):
+    """hours -> render settings of the sun and moon over `origin` at that clock time on `date`."""
+    day = parse_date(date or DEFAULT_DATE)
+    return lambda hours: sun_and_moon(origin, utc_time(origin, day, hours))
+
+
 def sky_settings(date: str | None, time: str, origin: tuple[float, float] | None = None) -> dict:
     """Render settings for the sun and moon over `origin` (longitude, latitude); {} without an origin.
     Bad dates and times fail here, before anything is loaded."""
-    day = parse_date(date or DEFAULT_DATE)
+    parse_date(date or DEFAULT_DATE)
     hours = parse_time(time)
-    if origin is None:
-        return {}
-    return sun_and_moon(origin, utc_time(origin, day, hours))
+    return {} if origin is None else sky_clock(origin, date)(hours)

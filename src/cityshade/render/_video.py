@@ -10,7 +10,7 @@ from rich.progress import Progress
 
 from .._files import atomic_output
 from ..errors import UsageError
-from ..scene import make_city
+from ..scene import City, make_city
 from ..scene._paths import PATHS, camera_path
 from ._cli import check_writable, parse_size
 from ._daylight import parse_time
@@ -18,14 +18,15 @@ from ._renderer import Renderer
 from ._settings import RenderSettings
 
 
-def render_video(out: Path, city: str = "default", path: str = "orbit", frames: int = 48, fps: int = 24,
+def render_video(out: Path, city: str | City = "default", path: str = "orbit", frames: int = 48, fps: int = 24,
                  size: tuple[int, int] = (640, 360), start_time: str = "19:10", end_time: str | None = None,
-                 progress: bool = True) -> Path:
+                 progress: bool = True, sky=None) -> Path:
     """Renders `frames` frames along a camera path into an H.264 MP4 (written whole or not at all).
-    With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up."""
+    With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up.
+    `sky` (hours -> settings, e.g. `maps.sky_clock`) places the sun and moon for each frame's time."""
     if frames < 1 or fps < 1:
         raise UsageError(f"frames and fps must be at least 1 (got {frames} frames at {fps} fps)")
-    layout = make_city(city)
+    layout = city if isinstance(city, City) else make_city(city)
     move = camera_path(path)
     begin = parse_time(start_time)
     finish = parse_time(end_time) if end_time else begin
@@ -38,8 +39,9 @@ def render_video(out: Path, city: str = "default", path: str = "orbit", frames: 
             task = bar.add_task(f"rendering {out.name}", total=frames)
             for i in range(frames):
                 t = i / max(frames - 1, 1)
-                renderer.set_settings(replace(renderer.settings, time_of_day=begin + (finish - begin) * t,
-                                              animation_time=i / fps))
+                hours = begin + (finish - begin) * t
+                renderer.set_settings(replace(renderer.settings, time_of_day=hours, animation_time=i / fps,
+                                              **(sky(hours) if sky else {})))
                 writer.append_data(renderer.render(move(layout, t)))
                 bar.advance(task)
     finally:
@@ -50,6 +52,9 @@ def render_video(out: Path, city: str = "default", path: str = "orbit", frames: 
 def register(subparsers):
     parser = subparsers.add_parser("video", help="render a camera path to MP4")
     parser.add_argument("--city", default="default")
+    parser.add_argument("--map", type=Path, default=None, metavar="FILE",
+                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--path", default="orbit", help=f"camera path: {', '.join(PATHS)}")
     parser.add_argument("--frames", type=int, default=48)
     parser.add_argument("--fps", type=int, default=24)
@@ -67,6 +72,12 @@ def _run(args) -> int:
     if args.until:
         parse_time(args.until)
     check_writable(args.out)
-    render_video(args.out, args.city, args.path, args.frames, args.fps, size, args.time, args.until)
+    city, sky = args.city, None
+    if args.map is not None:
+        from ..maps import city_from_map, sky_clock
+
+        city = city_from_map(args.map, "aerial", args.date, args.time)[0]
+        sky = sky_clock(city.origin, args.date)
+    render_video(args.out, city, args.path, args.frames, args.fps, size, args.time, args.until, sky=sky)
     print(f"wrote {args.out} ({args.frames} frames, {size[0]}x{size[1]}, {args.fps} fps)")
     return 0
