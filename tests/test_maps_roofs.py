@@ -274,21 +274,32 @@ def roof_gallery():
         buildings.append(MapBuilding(i, f"way/{i}", outline, height=9.0 if shape == "flat" else 14.0, levels=3,
                                      roof_shape=shape, roof_height=None if shape in ("dome", "onion") else 5.0,
                                      roof_material=materials[i], building_material="plaster"))
+    # a third row: the skeleton roofs over an L, a courtyard block, and a bridge between two houses
+    skeletons = [(shapely.affinity.translate(L_SHAPE, 0, -62), "gabled"), (shapely.affinity.translate(L_SHAPE, 30, -62), "hipped"),
+                 (shapely.affinity.translate(courtyard(), 60, -62), "mansard"), (shapely.affinity.translate(L_SHAPE, 100, -62), "gambrel")]
+    for outline, shape in skeletons:
+        buildings.append(MapBuilding(len(buildings), f"way/{len(buildings)}", outline, height=15.0, levels=3,
+                                     roof_shape=shape, roof_height=4.0, roof_material="roof_tiles", building_colour=(0.85, 0.8, 0.6)))
+    buildings += [MapBuilding(len(buildings), "way/b1", shapely.box(130, -62, 140, -42), height=12.0),
+                  MapBuilding(len(buildings) + 1, "way/b2", shapely.box(156, -62, 166, -42), height=12.0),
+                  MapBuilding(len(buildings) + 2, "way/bridge", shapely.box(140, -56, 156, -50), height=11.0, min_height=7.0,
+                              building_colour=(0.5, 0.6, 0.75))]
     return masses_of(*buildings)
 
 
 def test_roof_gallery_picture(gl_context, output_dir):
-    """All 13 shapes side by side from the air, daylight (tests/output/roof_shapes.png): every
-    building shows in the id pass."""
+    """All 13 shapes side by side from the air, then skeleton roofs over an L and a courtyard and a
+    bridge floating between two houses, in daylight (tests/output/roof_shapes.png): every building
+    shows in the id pass."""
     from PIL import Image
 
     from cityshade.render import Renderer, RenderSettings
     from cityshade.scene import Camera, City
 
     masses = roof_gallery()
-    city = City("roofs", 0, masses, [], (-20.0, -10.0, 190.0, 50.0))
-    camera = Camera((78.0, 42.0, 78.0), (78.0, 4.0, 12.0), fov_y=62.0)
-    renderer = Renderer((960, 440), RenderSettings(time_of_day=11.0, trees=False, god_rays=False), ctx=gl_context)
+    city = City("roofs", 0, masses, [], (-20.0, -10.0, 190.0, 90.0))
+    camera = Camera((92.0, 72.0, 120.0), (92.0, 0.0, 30.0), fov_y=62.0)
+    renderer = Renderer((960, 600), RenderSettings(time_of_day=11.0, trees=False, god_rays=False), ctx=gl_context)
     renderer.set_city(city)
     try:
         image = renderer.render(camera)
@@ -297,4 +308,17 @@ def test_roof_gallery_picture(gl_context, output_dir):
         renderer.release()
     Image.fromarray(image).save(output_dir / "roof_shapes.png")
     seen = set(np.unique(ids[..., 2]).tolist()) - {0}
-    assert seen == set(range(1, len(ROOF_SHAPES) + 1))
+    assert seen == set(range(1, len(masses) + 1))
+
+
+@pytest.mark.parametrize("shape", ["mansard", "gambrel"])
+def test_mansard_and_gambrel_over_any_outline_break_their_pitch_at_the_knee(shape):
+    mass = one(L_SHAPE, roof_shape=shape)
+    assert_closed_and_outward(mass, L_SHAPE)
+    roof = roof_points(mass)
+    heights = np.unique(np.round(roof[:, 1] - WALL_TOP, 6))
+    knee = {"mansard": 0.75, "gambrel": 0.6}[shape] * RISE
+    assert heights.min() == 0.0 and heights.max() == pytest.approx(RISE) and np.isclose(heights, knee).any()
+    _, normals = triangles(mass, SURFACE_ROOF)
+    slopes = np.unique(np.round(np.degrees(np.arccos(np.clip(normals[:, 1], -1, 1))), 3))
+    assert len(slopes) == 2  # a steep lower and a shallow upper pitch

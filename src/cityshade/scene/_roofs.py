@@ -275,17 +275,34 @@ POINTED_PROFILES = {
 }
 
 
+# the skeleton roofs' height profiles: (share of the largest distance from the eaves, share of the rise)
+SKELETON_PROFILES = {
+    "hipped": [(0.0, 0.0), (1.0, 1.0)],
+    "gabled": [(0.0, 0.0), (1.0, 1.0)],
+    "mansard": [(0.0, 0.0), (MANSARD_KNEE, MANSARD_RISE), (1.0, 1.0)],
+    "gambrel": [(0.0, 0.0), (GAMBREL_KNEE, GAMBREL_RISE), (1.0, 1.0)],
+}
+GABLED = ("gabled", "gambrel")
+
+
 def _skeleton_roof(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles] | None:
-    """Hipped (or gabled) roofs over any outline, courtyards included: each outline edge's face of
-    the straight skeleton, at the pitch that makes the highest point `roof.height` above the walls,
-    with gable ends where a hip would close with a single triangle. None if CGAL fails."""
+    """Hipped, gabled, mansard and gambrel roofs over any outline, courtyards included: each outline
+    edge's face of the straight skeleton, its height a profile of the distance from the eaves that
+    reaches `roof.height` at the top (mansard and gambrel faces are cut where the pitch changes, the
+    offsets of the outline at the knee), with gable ends where a hip would close with a single
+    triangle. None if CGAL fails."""
     tris = skeleton_triangles(polygon)
     if tris is None or not len(tris):
         return None
     edges = ring_edges(polygon)
-    if roof.shape == "gabled":
+    if roof.shape in GABLED:
         tris = _gable_ends(tris, edges)
-    tris = tris * np.array([1.0, 1.0, roof.height / tris[:, :, 2].max()])
+    deepest = tris[:, :, 2].max()
+    profile = np.array(SKELETON_PROFILES[roof.shape]) * np.array([deepest, roof.height])
+    if len(profile) > 2:
+        tris = _cut_at(tris, profile[1:-1, 0])
+    tris = tris.copy()
+    tris[:, :, 2] = np.interp(tris[:, :, 2], profile[:, 0], profile[:, 1])
     positions = np.stack([tris[:, :, 0], top + tris[:, :, 2], tris[:, :, 1]], axis=2)
     normals = np.cross(positions[:, 1] - positions[:, 0], positions[:, 2] - positions[:, 0])
     length = np.linalg.norm(normals, axis=1)
@@ -296,6 +313,39 @@ def _skeleton_roof(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
     positions[flip], normals[flip] = positions[flip][:, ::-1], -normals[flip]
     roof_tris = Triangles(positions[~upright].reshape(-1, 3), np.repeat(normals[~upright], 3, axis=0))
     return roof_tris, _gable_walls(positions[upright], edges)
+
+
+def _cut_at(tris: np.ndarray, levels: np.ndarray) -> np.ndarray:
+    """Triangles of (x, z, d) cut along the lines where d crosses `levels`, so that a profile with
+    kinks at those levels maps each piece onto one plane."""
+    bounds = np.concatenate([[-np.inf], levels, [np.inf]])
+    out = []
+    for tri in tris:
+        low, high = tri[:, 2].min(), tri[:, 2].max()
+        for lo, hi in zip(bounds[:-1], bounds[1:]):
+            if hi <= low or lo >= high:
+                continue
+            piece = tri
+            if lo > low:
+                piece = _clip3(piece, lo, above=True)
+            if hi < high:
+                piece = _clip3(piece, hi, above=False)
+            out += [np.stack([piece[0], piece[i], piece[i + 1]]) for i in range(1, len(piece) - 1)]
+    return np.asarray(out).reshape(-1, 3, 3)
+
+
+def _clip3(points: np.ndarray, level: float, above: bool) -> np.ndarray:
+    """The part of a convex polygon of (x, z, d) points with d above (or below) `level`."""
+    sign = 1.0 if above else -1.0
+    value = sign * (points[:, 2] - level)
+    out = []
+    for i in range(len(points)):
+        p, q, vp, vq = points[i], points[(i + 1) % len(points)], value[i], value[(i + 1) % len(points)]
+        if vp >= 0:
+            out.append(p)
+        if (vp < 0) != (vq < 0):
+            out.append(p + (q - p) * vp / (vp - vq))
+    return np.asarray(out).reshape(-1, 3)
 
 
 def _gable_walls(tris: np.ndarray, edges) -> Triangles:
@@ -348,18 +398,19 @@ def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
 def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
     """(roof surfaces, wall pieces between the walls' top and the roof) over `polygon` at `top`.
 
-    Ridged shapes over outlines that fill their bounding rectangle use the exact profiles; hipped and
-    gabled roofs over other outlines, and any ridged roof over a courtyard, follow the straight
-    skeleton (a hipped one where the shape has no skeleton form). Pointed shapes over a courtyard
-    are flat."""
+    Ridged shapes over outlines that fill their bounding rectangle use the exact profiles; hipped,
+    gabled, mansard and gambrel roofs over other outlines, and any ridged roof over a courtyard
+    (hipped where the shape has no skeleton form), follow the straight skeleton; other ridged shapes
+    span the outline's extent across the ridge. Pointed shapes over a courtyard are flat."""
     if roof.shape == "flat" or roof.height <= 0:
         return flat(polygon, top), Triangles.empty()
     if roof.shape in POINTED_PROFILES:
         return _pointed(polygon, top, roof) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
     x0, z0, x1, z1 = polygon.bounds
     rectangular = not polygon.interiors and polygon.area >= RECTANGULAR * (x1 - x0) * (z1 - z0)
-    if polygon.interiors or (not rectangular and roof.shape in ("gabled", "hipped")):
-        mesh = _skeleton_roof(polygon, top, roof if roof.shape == "gabled" else replace(roof, shape="hipped"))
+    if polygon.interiors or (not rectangular and roof.shape in SKELETON_PROFILES):
+        shape = roof.shape if roof.shape in SKELETON_PROFILES else "hipped"
+        mesh = _skeleton_roof(polygon, top, replace(roof, shape=shape))
         if mesh is not None:
             return mesh
     return _ridged(polygon, top, roof)
