@@ -273,3 +273,58 @@ def test_tiled_extract_repeats_every_building_on_a_grid(helsinki_pbf, tmp_path):
     assert len(tiled.buildings) == 2 * len(single)
     assert sum(b.footprint_area for b in tiled.buildings) == pytest.approx(
         2 * sum(b.footprint_area for b in single), rel=0.01)
+
+
+@pytest.mark.parametrize("tags, kind", [
+    ({"natural": "water"}, "water"), ({"waterway": "riverbank"}, "water"), ({"leisure": "park"}, "park"),
+    ({"landuse": "grass"}, "grass"), ({"landuse": "forest"}, "forest"), ({"natural": "wood"}, "forest"),
+    ({"landuse": "meadow"}, "meadow"), ({"landuse": "farmland"}, "farmland"), ({"natural": "beach"}, "sand"),
+    ({"highway": "pedestrian", "area": "yes"}, "pavement"),
+])
+def test_land_use_kinds(tmp_path, tags, kind):
+    path = tmp_path / "area.geojson"
+    path.write_text(json.dumps(_feature({"type": "Polygon", "coordinates": [_square(24.0, 60.0)]}, **tags)))
+    (area,) = load_map(path).areas
+    assert area.kind == kind
+
+
+def test_coastline_makes_the_sea_on_its_right(tmp_path):
+    # the coastline runs west to east: land (with the buildings) to the north, sea to the south
+    coast = {"type": "LineString", "coordinates": [[24.0, 60.001], [24.004, 60.001]]}
+    features = [_feature(coast, natural="coastline"),
+                _feature({"type": "Polygon", "coordinates": [_square(24.0, 60.002)]}),
+                _feature({"type": "Polygon", "coordinates": [_square(24.004, 60.0)]}, leisure="park")]
+    path = tmp_path / "coast.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": features}))
+    data = load_map(path)
+    (sea,) = [a for a in data.areas if a.kind == "water"]
+    x0, y0, _, _ = data.buildings[0].outline.bounds
+    coast_y = y0 - 111.3  # 0.001 degrees of latitude below the building's south-west corner
+    assert sea.polygon.contains(shapely.Point(x0, coast_y - 3.0))
+    assert not sea.polygon.contains(shapely.Point(x0, coast_y + 3.0))
+    assert not sea.polygon.intersects(data.buildings[0].outline)
+
+
+@pytest.mark.parametrize("tags, use", [
+    ({"building": "yes", "shop": "bakery"}, "retail"), ({"building": "yes", "office": "company"}, "office"),
+    ({"building": "yes", "amenity": "school"}, "school"), ({"building": "church", "amenity": "place_of_worship"},
+                                                            "church"),
+    ({"building:part": "yes"}, None), ({"building": "yes"}, None),
+])
+def test_building_use(tags, use):
+    from cityshade.maps._tags import use_of
+
+    assert use_of(tags) == use
+
+
+def test_tunnel_roads_and_unknown_lines(tmp_path):
+    features = [_feature({"type": "LineString", "coordinates": [[24.0, 60.0], [24.001, 60.0]]},
+                         highway="secondary", tunnel="yes", layer="-1", width="wide"),
+                _feature({"type": "LineString", "coordinates": [[24.0, 60.001], [24.001, 60.001]]}, barrier="fence")]
+    path = tmp_path / "lines.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": features}))
+    data = load_map(path)
+    (road,) = data.roads
+    assert road.tunnel and road.layer == -1 and road.width == 9.0  # 'wide' is no width: the class's
+    assert data.report.fallbacks == {("width", "not a width of 0.5..100 m"): 1}
+    assert data.report.examples[("feature", "a line that is no road, railway or tree row")] == "feature/1"
