@@ -85,7 +85,7 @@ def test_osm_errors_name_line_and_column(tmp_path):
     path = tmp_path / "bad.osm"
     path.write_text('<osm>\n  <node id="1" lat="1" lon="2">\n</osm>\n')
     path.write_text('<osm version="0.6">\n  <node id="1" lat="1" lon="2">\n</osm>\n')
-    with pytest.raises(CityshadeError, match=r"bad.osm:3:2: not a readable OpenStreetMap file \(XML parsing error"):
+    with pytest.raises(CityshadeError, match=r"bad.osm:3:3: not a readable OpenStreetMap file \(XML parsing error"):
         load_footprints(path)
     shapefile = tmp_path / "city.shp"
     shapefile.write_bytes(b"\x00\x00\x27\x0a")

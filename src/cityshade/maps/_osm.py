@@ -24,7 +24,7 @@ from ._model import MapData, ReadReport
 PROLOG_BYTES = 65536
 SNIFF = 64
 SCAN_BYTES = 1 << 24
-_EXPONENT = re.compile(rb'\bl(?:at|on)="[^"]*[eE][^"]*"')
+_EXPONENT = re.compile(rb'\bl(?:at|on)="\s*[-+]?[0-9.]*[eE][-+]?[0-9]+\s*"')
 LINE_KEYS = ("highway", "railway", "natural")
 
 
@@ -174,8 +174,8 @@ def _where(path: Path, message: str) -> str:
     """`path:LINE:COLUMN` of an XML syntax error, `path:LINE: node/ID` for libosmium's "wrong format
     for coordinate: 'X'" in XML, else `path`."""
     position = re.search(r"at line (\d+), column (\d+)", message)
-    if position:
-        return f"{path}:{position.group(1)}:{position.group(2)}"
+    if position:  # expat counts columns from 0, editors from 1
+        return f"{path}:{position.group(1)}:{int(position.group(2)) + 1}"
     match = re.search(r"coordinate: '([^']*)'", message)
     if not match or path.suffix.lower() != ".osm":
         return str(path)
