@@ -14,6 +14,7 @@ from ._defaults import defaults_for
 from ._model import MapBuilding, MapData, to_scene
 from ._roofs import building_roof
 
+MIN_THICKNESS = 0.05  # metres between a mass's bottom and top
 MIN_AREA = 1.0  # square metres; smaller outlines are slivers, not buildings
 FLOOR_HEIGHT_RANGE = (2.5, 6.0)
 CANOPY_MIN_HEIGHT = 2.5  # building=roof with nothing tagged: a roof on pillars this high
@@ -81,6 +82,8 @@ def _polygons(outline) -> list[shapely.Polygon]:
 def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMass | None:
     """One building (or part) standing on one scene-space polygon; None if it has no volume."""
     base, height, floor = heights(building)
+    if height - base <= MIN_THICKNESS:
+        return None  # a part whose bottom is at or above its top: nothing to draw
     polygon = shapely.orient_polygons(polygon)  # positive area in (x, z): walls face out
     yaw, _ = _frame(polygon)
     exterior = _to_local(np.asarray(polygon.exterior.coords)[:-1], yaw)
@@ -91,7 +94,7 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
     origin = (float(c * low[0] + s * low[1]), float(-s * low[0] + c * low[1]))
     local = shapely.Polygon(exterior, [np.asarray(h) for h in holes])
     roof = building_roof(building, local, yaw, height - base)
-    if height - roof.height - base <= 0.05 and building.has_walls:
+    if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
         return None
     return BuildingMass(
         "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,

@@ -101,23 +101,6 @@ def _lift(tris: np.ndarray, plane: np.ndarray, top: float) -> Triangles:
     return Triangles(positions, np.broadcast_to(normal, positions.shape).copy())
 
 
-def _upright(a: np.ndarray, b: np.ndarray, outline: np.ndarray, top: float) -> Triangles:
-    """A wall piece standing on the edge a -> b (outward to its right) up to a concave `outline` of
-    (along, rise) points from along 0 to the edge's length: a convex polygon, fanned from a's foot."""
-    length = float(np.linalg.norm(b - a))
-    if length < 1e-9 or outline[:, 1].max() < 1e-6:
-        return Triangles.empty()
-    ring = np.vstack([[length, 0.0], outline[::-1]])  # from b's foot up and back toward a
-    tris = np.stack([np.zeros_like(ring[:-1]), ring[1:], ring[:-1]], axis=1)  # clockwise in (along, rise): facing out
-    cross = (tris[:, 1, 0] - tris[:, 0, 0]) * (tris[:, 2, 1] - tris[:, 0, 1]) - (tris[:, 1, 1] - tris[:, 0, 1]) * (tris[:, 2, 0] - tris[:, 0, 0])
-    tris = tris[cross < -1e-9]
-    along, rise = tris.reshape(-1, 2).T
-    e = (b - a) / length
-    positions = np.column_stack([a[0] + along * e[0], top + rise, a[1] + along * e[1]])
-    normal = np.array([e[1], 0.0, -e[0]])
-    return Triangles(positions, np.broadcast_to(normal, positions.shape).copy(), along, np.full(len(along), length))
-
-
 def _rings(polygon: shapely.Polygon) -> list[np.ndarray]:
     return [np.asarray(r.coords) for r in (polygon.exterior, *polygon.interiors)]
 
@@ -163,23 +146,44 @@ def plane_roof(polygon: shapely.Polygon, top: float, planes: np.ndarray, regions
         for piece in getattr(part, "geoms", [part]):
             if isinstance(piece, shapely.Polygon) and piece.area > 1e-9:
                 roofs.append(_lift(polygon_triangles(piece), plane, top))
-    walls = []
-    for ring in _rings(polygon):
-        for a, b in zip(ring[:-1], ring[1:]):
-            walls.append(_upright(a, b, _envelope(planes, a, b), top))
-    return Triangles.join(roofs), Triangles.join(walls)
+    return Triangles.join(roofs), Triangles.join([_walls_under(planes, ring, top) for ring in _rings(polygon)])
 
 
-def _envelope(planes: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(along, height) of the lowest plane over the edge a -> b, at every kink."""
-    slope = planes[:, :2] @ (b - a)
-    start = planes[:, :2] @ a + planes[:, 2]
-    ds, dv = slope[:, None] - slope[None, :], start[None, :] - start[:, None]
+def _walls_under(planes: np.ndarray, ring: np.ndarray, top: float) -> Triangles:
+    """Wall pieces on every edge of a closed ring (outward to the edges' right) up to the lowest of
+    `planes`: under a concave envelope each piece is convex, fanned from its edge's start."""
+    a, b = ring[:-1], ring[1:]
+    length = np.linalg.norm(b - a, axis=1)
+    a, b, length = a[length > 1e-9], b[length > 1e-9], length[length > 1e-9]
+    slope = (b - a) @ planes[:, :2].T  # (edges, planes): height gained over the edge
+    start = a @ planes[:, :2].T + planes[:, 2]
     with np.errstate(divide="ignore", invalid="ignore"):
-        crossings = dv / ds
-    t = np.unique(np.concatenate([[0.0, 1.0], crossings[np.isfinite(crossings) & (crossings > 0) & (crossings < 1)]]))
-    height = np.maximum((start[None, :] + t[:, None] * slope[None, :]).min(axis=1), 0.0)
-    return np.column_stack([t * np.linalg.norm(b - a), height])
+        crossings = (start[:, None, :] - start[:, :, None]) / (slope[:, :, None] - slope[:, None, :])
+    t = np.nan_to_num(crossings.reshape(len(a), -1), nan=0.0, posinf=0.0, neginf=0.0).clip(0.0, 1.0)
+    t = np.sort(np.column_stack([np.zeros(len(a)), t, np.ones(len(a))]), axis=1)
+
+    def envelope(at):
+        return np.maximum((start[:, None, :] + at[:, :, None] * slope[:, None, :]).min(axis=2), 0.0)
+
+    height = envelope(t)
+    # only the kinks matter: every other point takes the last kink's place (its triangle vanishes)
+    bend = np.abs(envelope(t + 1e-6) + envelope(t - 1e-6) - 2 * height) > 1e-9
+    bend[:, [0, -1]] = True
+    last = np.maximum.accumulate(np.where(bend, np.arange(t.shape[1]), 0), axis=1)
+    t, height = np.take_along_axis(t, last, axis=1), np.take_along_axis(height, last, axis=1)
+    chain = np.concatenate([np.stack([length, np.zeros(len(a))], axis=1)[:, None],
+                            np.stack([t * length[:, None], height], axis=2)[:, ::-1]], axis=1)
+    tris = np.stack([np.zeros_like(chain[:, 1:]), chain[:, 1:], chain[:, :-1]], axis=2)  # clockwise: facing out
+    u, v = tris[..., 0], tris[..., 1]
+    cross = (u[..., 1] - u[..., 0]) * (v[..., 2] - v[..., 0]) - (v[..., 1] - v[..., 0]) * (u[..., 2] - u[..., 0])
+    edge, keep = np.nonzero(cross < -1e-9)
+    tris = tris[edge, keep]  # (n, 3, 2) of (along, rise)
+    e = ((b - a) / length[:, None])[edge]
+    along = tris[..., 0]
+    positions = np.stack([a[edge, 0, None] + along * e[:, 0, None], top + tris[..., 1],
+                          a[edge, 1, None] + along * e[:, 1, None]], axis=2).reshape(-1, 3)
+    normals = np.repeat(np.column_stack([e[:, 1], np.zeros(len(e)), -e[:, 0]]), 3, axis=0)
+    return Triangles(positions, normals, along.ravel(), np.repeat(length[edge], 3))
 
 
 def _profile_planes(axis: np.ndarray, points) -> list[np.ndarray]:
@@ -350,21 +354,23 @@ def _clip3(points: np.ndarray, level: float, above: bool) -> np.ndarray:
 
 def _gable_walls(tris: np.ndarray, edges) -> Triangles:
     """Upright skeleton triangles as wall pieces of the outline edge each stands on, facing out."""
-    walls = []
-    for tri in tris:
-        ground = tri[:, [0, 2]]
-        for a, b in edges:
-            length = float(np.linalg.norm(b - a))
-            e = (b - a) / length
-            offset = (ground - a) @ np.array([e[1], -e[0]])
-            along = (ground - a) @ e
-            if np.abs(offset).max() < 1e-3 and along.min() > -1e-3 and along.max() < length + 1e-3:
-                normal = np.array([e[1], 0.0, -e[0]])
-                if np.cross(tri[1] - tri[0], tri[2] - tri[0]) @ normal < 0:
-                    tri, along = tri[::-1], along[::-1]
-                walls.append(Triangles(tri, np.tile(normal, (3, 1)), along, np.full(3, length)))
-                break
-    return Triangles.join(walls)
+    if not len(tris):
+        return Triangles.empty()
+    a = np.array([e[0] for e in edges])
+    b = np.array([e[1] for e in edges])
+    length = np.linalg.norm(b - a, axis=1)
+    e = (b - a) / length[:, None]
+    ground = tris[:, :, [0, 2]][:, :, None, :] - a[None, None]  # (triangles, 3, edges, 2)
+    offset = np.einsum("tvek,ek->tve", ground, np.stack([e[:, 1], -e[:, 0]], axis=1))
+    along = np.einsum("tvek,ek->tve", ground, e)
+    on = (np.abs(offset).max(axis=1) < 1e-3) & (along.min(axis=1) > -1e-3) & (along.max(axis=1) < length + 1e-3)
+    found = on.any(axis=1)
+    tri, edge = np.nonzero(found)[0], on.argmax(axis=1)[found]
+    tris, along = tris[tri], along[tri, :, edge]
+    normal = np.column_stack([e[edge, 1], np.zeros(len(edge)), -e[edge, 0]])
+    inward = np.einsum("ij,ij->i", np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), normal) < 0
+    tris[inward], along[inward] = tris[inward][:, ::-1], along[inward][:, ::-1]
+    return Triangles(tris.reshape(-1, 3), np.repeat(normal, 3, axis=0), along.ravel(), np.repeat(length[edge], 3))
 
 
 def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
