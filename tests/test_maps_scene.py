@@ -144,3 +144,14 @@ def test_video_and_viewer_take_a_map(helsinki_pbf, tmp_path):
         viewer.on_render(0.0, 0.016)
     finally:
         viewer.wnd.destroy()
+
+
+def test_bench_osm_json_carries_methods_and_timing():
+    from cityshade.bench.osm import OsmResult
+
+    result = OsmResult("device", methods={"helsinki_load_seconds": "how"}, timing={"samples_per_point": 4,
+                                                                                   "interleaved": True})
+    result.ratios["helsinki_load_seconds"] = 1.5
+    payload = result.to_json()
+    assert payload["timing"] == {"samples_per_point": 4, "interleaved": True}
+    assert payload["methods"]["helsinki_load_seconds"] == "how" and payload["ratios"]["helsinki_load_seconds"] == 1.5

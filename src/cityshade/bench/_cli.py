@@ -14,6 +14,7 @@ BENCHMARKS = {
     "facades": "cityshade.bench.facades",
     "trees": "cityshade.bench.trees",
     "guesses": "cityshade.bench.guesses",
+    "osm": "cityshade.bench.osm",
 }
 
 

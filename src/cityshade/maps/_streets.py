@@ -97,19 +97,16 @@ def junction_zones(roads) -> shapely.Geometry:
     reach = np.zeros(len(first))
     np.maximum.at(reach, inverse, widths)
     shared = roads_at >= 2
-    return _union(shapely.buffer(shapely.points(points[first][shared]), reach[shared] * 0.6 + 1.0))
+    return _union(shapely.buffer(shapely.points(points[first][shared]), reach[shared] * 0.6 + 1.0, quad_segs=3))
 
 
-def _outside(pieces: np.ndarray, holes: np.ndarray) -> np.ndarray:
-    """`pieces` with `holes` cut out, testing each piece only against the holes it touches."""
-    pieces = np.asarray(pieces, dtype=object)
-    if not len(pieces) or not len(holes):
-        return pieces
-    piece, hole = shapely.STRtree(holes).query(pieces, predicate="intersects")
-    out = pieces.copy()
-    for index in np.unique(piece):
-        out[index] = shapely.difference(pieces[index], shapely.union_all(holes[hole[piece == index]]))
-    return out
+def paint_outside(junctions: shapely.Geometry, solid, dashed) -> np.ndarray:
+    """Marking polygons: solid lines cut at the crossings, dashes that touch a crossing left out."""
+    shapely.prepare(junctions)
+    solid = shapely.difference(np.asarray(solid, dtype=object), junctions) if len(solid) else np.zeros(0, object)
+    strokes = dashes(np.asarray(dashed, dtype=object))
+    strokes = strokes[~shapely.intersects(junctions, strokes)] if len(strokes) else strokes
+    return shapely.buffer(np.concatenate([solid, strokes]), MARKING_WIDTH / 2, cap_style="flat")
 
 
 def street_surfaces(map_data: MapData) -> StreetSurfaces:
@@ -126,7 +123,7 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
             return np.zeros(0, dtype=object)
         lines = np.array([r.line for r in selection], dtype=object)
         half = np.array([width[id(r)] / 2 + extra for r in selection])
-        return shapely.buffer(lines, half, quad_segs=4, cap_style=cap)
+        return shapely.buffer(lines, half, quad_segs=2, cap_style=cap)
 
     driven = [r for r in ground if r.kind in DRIVEN]
     walked = [r for r in ground if r.kind not in DRIVEN]
@@ -144,9 +141,7 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
             pavement = shapely.difference(pavement, blocked)
     junctions = junction_zones(driven)
     solid, dashed = lane_lines(driven)
-    paint = np.concatenate([shapely.buffer(np.array(solid, dtype=object), MARKING_WIDTH / 2, cap_style="flat"),
-                            shapely.buffer(dashes(np.array(dashed, dtype=object)), MARKING_WIDTH / 2, cap_style="flat")])
-    markings = _union(_outside(paint, shapely.get_parts(junctions)))
+    markings = shapely.GeometryCollection(list(paint_outside(junctions, solid, dashed)))
 
     railways = [r for r in map_data.railways if not r.tunnel]
     on_ground = [r for r in railways if not r.bridge]
