@@ -50,3 +50,49 @@ def wall_tint(colour, material: str | None):
     if colour is not None:
         return tuple(colour)
     return WALL_MATERIALS.get(material)
+
+
+ROOF_TILES, ROOF_METAL, ROOF_SLATE, ROOF_COPPER, ROOF_CONCRETE, ROOF_GLASS, ROOF_GRASS, ROOF_WOOD = range(1, 9)
+
+
+def _smoothstep(e0: float, e1: float, x: np.ndarray) -> np.ndarray:
+    t = np.clip((x - np.float32(e0)) / np.float32(e1 - e0), 0, 1).astype(np.float32)
+    return t * t * (np.float32(3) - np.float32(2) * t)
+
+
+def _fract(x: np.ndarray) -> np.ndarray:
+    return x - np.floor(x)
+
+
+def roof_pattern(material: int, local: np.ndarray, normal) -> np.ndarray:
+    """numpy twin of roof_pattern() in shaders/city/roof.glsl, in float32: (n, 4) of the albedo
+    factor (rgb) and the sky reflectance f0 (a) at object-space points `local` (n, 3) of a roof
+    facing the unit `normal`."""
+    f = np.float32
+    local = np.asarray(local, dtype=f)
+    n = np.asarray(normal, dtype=f)
+    slope = np.sqrt(n[0] * n[0] + n[2] * n[2])
+    down = np.array([n[0], n[2]], dtype=f) / slope if slope > 1e-3 else np.array([0, 1], dtype=f)
+    s = (local[:, 0] * down[0] + local[:, 2] * down[1]) / max(n[1], f(0.2))
+    t = local[:, 0] * -down[1] + local[:, 2] * down[0]
+    cx, cy = np.floor(s / f(0.3)).astype(np.int64), np.floor(t / f(0.3)).astype(np.int64)
+    cell = ((cx * 7 + cy * 13 + 500000) % 5).astype(f) / f(4)
+    out = np.zeros((len(local), 4), dtype=f)
+    if material == ROOF_TILES:
+        row = _fract((s + f(0.5) * np.floor(t / f(0.25))) / f(0.33))
+        out[:, :3] = (f(0.7) + f(0.3) * _smoothstep(0.0, 0.25, row) + f(0.08) * (cell - f(0.5)))[:, None]
+    elif material == ROOF_SLATE:
+        row = _fract(s / f(0.22))
+        out[:, :3] = (f(0.8) + f(0.2) * _smoothstep(0.0, 0.15, row) + f(0.12) * (cell - f(0.5)))[:, None]
+        out[:, 3] = 0.04
+    elif material in (ROOF_METAL, ROOF_COPPER):
+        seam = _smoothstep(0.0, 0.04, np.abs(_fract(t / f(0.55)) - f(0.5)) - f(0.44))
+        out[:, :3] = (f(1) - f(0.35) * seam)[:, None]
+        out[:, 3] = 0.25 if material == ROOF_METAL else 0.1
+    elif material == ROOF_GLASS:
+        out[:] = (0.6, 0.6, 0.6, 0.5)
+    elif material in (ROOF_GRASS, ROOF_CONCRETE, ROOF_WOOD):
+        out[:, :3] = (f(0.85) + f(0.3) * (cell - f(0.5)))[:, None]
+    else:
+        out[:, :3] = 1.0
+    return out

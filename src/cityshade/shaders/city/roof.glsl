@@ -1,8 +1,12 @@
 // Roof materials of map buildings: the id in Building.roof.w and the colour in its rgb
-// (cityshade/scene/_materials.py). Courses of tiles and slates run across the slope, metal seams
-// down it; metal, copper and glass reflect the sky.
+// (cityshade/scene/_materials.py, whose roof_pattern is the numpy twin of roof_pattern here).
+// Courses of tiles and slates run across the slope, metal seams down it; metal, copper and glass
+// reflect the sky.
 #ifndef CITY_ROOF_GLSL
 #define CITY_ROOF_GLSL
+
+#include "common/buildings.glsl"
+#include "common/lighting.glsl"
 
 #define ROOF_PLAIN 0
 #define ROOF_TILES 1
@@ -26,7 +30,8 @@ vec4 roof_pattern(int material, vec3 local, vec3 n) {
     down = slope > 1e-3 ? down / slope : vec2(0.0, 1.0);
     float s = dot(local.xz, down) / max(n.y, 0.2);  // metres down the slope
     float t = dot(local.xz, vec2(-down.y, down.x));   // metres across it
-    float cell = float(pcg_hash(uint(floor(s / 0.3) + 4096.0) * 1973u + uint(floor(t / 0.3) + 4096.0)) & 255u) / 255.0;
+    ivec2 c = ivec2(floor(vec2(s, t) / 0.3));
+    float cell = float((c.x * 7 + c.y * 13 + 500000) % 5) / 4.0;  // a tile's own shade, 0..1
     if (material == ROOF_TILES) {
         float row = roof_course(s + 0.5 * floor(t / 0.25), 0.33);
         return vec4(vec3(0.7 + 0.3 * smoothstep(0.0, 0.25, row) + 0.08 * (cell - 0.5)), 0.0);
