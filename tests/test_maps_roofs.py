@@ -357,3 +357,11 @@ def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, material):
     finally:
         vao.release()
         target.release()
+
+
+def test_a_guessed_direction_leaves_the_ridge_to_the_orientation():
+    building = MapBuilding(0, "way/1", shapely.box(0, 0, 20, 10), height=14.0, roof_shape="gabled", roof_height=RISE,
+                           roof_direction=90.0, roof_orientation="along", guessed={"roof_direction", "roof_orientation"})
+    (mass,) = masses_of(building)
+    points = ridge(mass)
+    assert np.ptp(points[:, 0]) == pytest.approx(20.0) and np.ptp(points[:, 1]) == pytest.approx(0.0, abs=1e-6)

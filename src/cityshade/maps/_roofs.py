@@ -19,8 +19,12 @@ DOME_RISE = {"dome": 1.0, "onion": 1.6}
 
 
 def _direction(building: MapBuilding, yaw: float) -> float:
-    """The direction (object space, radians from +x toward +z) the main roof face looks, downhill."""
-    if building.roof_direction is not None:
+    """The direction (object space, radians from +x toward +z) the main roof face looks, downhill.
+
+    A tagged `roof:direction` means that (as in OpenStreetMap's Simple 3D Buildings: a gabled
+    roof's ridge runs across it, a skillion falls toward it). A guessed one only restates the
+    orientation it was guessed from, so the orientation decides."""
+    if building.roof_direction is not None and "roof_direction" not in building.guessed:
         compass = math.radians(building.roof_direction)
         wx, wz = math.sin(compass), -math.cos(compass)  # east is +x, north is -z
         c, s = math.cos(yaw), math.sin(yaw)
