@@ -213,12 +213,20 @@ def test_floating_parts_have_an_underside_and_no_wall_below_min_height():
     assert volume(tris) == pytest.approx(600.0)
 
 
-def test_building_roof_is_a_canopy_with_a_roof_and_no_walls():
-    mass = one(shapely.box(0, 0, 10, 6), kind="roof", has_walls=False, height=4.0)
+@pytest.mark.parametrize("min_height", [None, 0.0])
+def test_building_roof_is_a_canopy_with_a_roof_and_no_walls(min_height):
+    mass = one(shapely.box(0, 0, 10, 6), kind="roof", has_walls=False, height=4.0, min_height=min_height)
     tris, normals = triangles(mass)
     assert not np.any(np.abs(normals[:, 1]) < 0.5), "no walls"
-    assert np.all(tris[..., 1] > 2.0)
-    assert (normals[:, 1] > 0).sum() and (normals[:, 1] < 0).sum()  # a top and an underside
+    assert np.allclose(tris[..., 1], 4.0)  # a roof and its underside, up where the roof is
+    assert area_vectors(tris)[:, 1].sum() == pytest.approx(0.0) and (normals[:, 1] > 0).sum() == (normals[:, 1] < 0).sum()
+
+
+def test_a_pitched_canopy_keeps_its_eaves_above_head_height():
+    mass = one(shapely.box(0, 0, 10, 6), kind="roof", has_walls=False, height=5.0, roof_shape="gabled", roof_height=4.0)
+    tris, normals = triangles(mass)
+    assert tris[..., 1].min() == pytest.approx(2.5) and tris[..., 1].max() == pytest.approx(5.0)
+    assert (normals[:, 1] < -0.99).sum() > 0  # the underside under the eaves
 
 
 def test_outlines_replaced_by_parts_are_not_drawn_and_parts_are():

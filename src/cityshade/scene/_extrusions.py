@@ -66,7 +66,9 @@ def outline_rows(mass, outline: np.ndarray, room: np.ndarray):
     holes = [np.asarray(ring.coords)[:-1] for ring in polygon.interiors]
     top = mass.wall_top
     roof, gables = roof_triangles(polygon, top, mass.roof)
-    if mass.base > 0 or not mass.walls:
+    if not mass.walls:  # a canopy: the roof's underside at its eaves
+        roof = Triangles.join([roof, flat(polygon, top, up=False)])
+    elif mass.base > 0:
         roof = Triangles.join([roof, flat(polygon, mass.base, up=False)])
     walls = [_ring_walls(ring, room, mass.base, top) for ring in [outline, *holes]] if mass.walls else []
     return _join([*walls, _gable_rows(gables, room)]), _roof_rows(roof)
