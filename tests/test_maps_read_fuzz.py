@@ -81,3 +81,35 @@ def test_generated_geojson(tmp_path, features):
     path = tmp_path / "generated.geojson"
     path.write_text(json.dumps({"type": "FeatureCollection", "features": features}))
     _loads_or_one_line(path)
+
+
+_indices = st.recursive(st.integers(-2, 12), lambda inner: st.lists(inner, max_size=6), max_leaves=40)
+_city_geometry = st.fixed_dictionaries({
+    "type": st.sampled_from(["Solid", "MultiSurface", "CompositeSurface", "MultiSolid", "CompositeSolid", "Point"]),
+    "lod": st.one_of(st.sampled_from(["1", "2.2", 2]), _values),
+    "boundaries": st.one_of(_indices, _values),
+}, optional={"semantics": st.fixed_dictionaries({
+    "surfaces": st.lists(st.fixed_dictionaries({"type": st.sampled_from(["RoofSurface", "WallSurface",
+                                                                           "GroundSurface"])}), max_size=3),
+    "values": st.one_of(_indices, _values)})})
+_city_object = st.fixed_dictionaries({
+    "type": st.sampled_from(["Building", "BuildingPart", "Road"]),
+    "geometry": st.one_of(st.lists(_city_geometry, max_size=2), _values),
+}, optional={"children": st.lists(st.sampled_from(["a", "b", "c"]), max_size=2),
+             "parents": st.lists(st.sampled_from(["a", "b", "c"]), max_size=2),
+             "attributes": _properties})
+_vertices = st.one_of(st.lists(st.tuples(_numbers, _numbers, _numbers), min_size=1, max_size=12), _values,
+                      st.just([[0, 0, 0], [10, 0, 0], [10, 8, 0], [0, 8, 0], [0, 0, 6], [10, 0, 6], [10, 8, 6],
+                               [0, 8, 6], [5, 4, 9]]))
+
+
+@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(objects=st.dictionaries(st.sampled_from(["a", "b", "c"]), _city_object, max_size=3), vertices=_vertices,
+       transform=st.one_of(st.none(), st.fixed_dictionaries({"scale": _values, "translate": _values})))
+def test_generated_cityjson(tmp_path, objects, vertices, transform):
+    document = {"type": "CityJSON", "version": "2.0", "CityObjects": objects, "vertices": vertices}
+    if transform is not None:
+        document["transform"] = transform
+    path = tmp_path / "generated.city.json"
+    path.write_text(json.dumps(document))
+    _loads_or_one_line(path)

@@ -66,8 +66,17 @@ def _faces(geometry: dict) -> list[tuple[list, object]]:
             for shell, face_values in zip(shells, shell_values) for i, face in enumerate(shell)]
 
 
+def _listed(value) -> list:
+    return value if isinstance(value, list) else []
+
+
+def _names(value, known: dict) -> list[str]:
+    """The object names in a `children` or `parents` list that the file defines."""
+    return [name for name in _listed(value) if isinstance(name, str) and name in known]
+
+
 def _best_geometry(obj: dict) -> dict | None:
-    geometries = [g for g in obj.get("geometry") or [] if isinstance(g, dict) and g.get("boundaries")]
+    geometries = [g for g in _listed(obj.get("geometry")) if isinstance(g, dict) and g.get("boundaries")]
     if not geometries:
         return None
 
@@ -89,6 +98,8 @@ def _surfaces(geometry: dict, vertices: np.ndarray) -> dict[str, list[np.ndarray
         if indices.ndim != 1 or len(indices) < 3 or indices.min() < 0:
             raise ValueError("a face's ring is not a list of at least 3 vertex indices")
         surfaces.setdefault(name, []).append(vertices[indices])
+    if not surfaces:
+        raise ValueError("no faces")
     return surfaces
 
 
@@ -135,7 +146,7 @@ def read_cityjson(path: Path, text: str) -> MapData:
             continue  # a building made only of parts: its outline is the union of theirs (below)
         try:
             surfaces = _surfaces(geometry, vertices)
-        except (IndexError, TypeError, ValueError, KeyError) as exc:
+        except (IndexError, TypeError, ValueError, KeyError, AttributeError, OverflowError) as exc:
             report.skip("building", f"malformed geometry ({str(exc)[:60]})", element)
             continue
         points = np.vstack([ring for rings in surfaces.values() for ring in rings])
@@ -147,16 +158,14 @@ def read_cityjson(path: Path, text: str) -> MapData:
     for name, obj in objects.items():
         if not isinstance(obj, dict) or obj.get("type") not in BUILDING_TYPES:
             continue
-        family = [name] + [c for c in obj.get("children") or [] if c in read]
-        parents = [p for p in obj.get("parents") or [] if p in objects]
-        ground_family = ([parents[0]] + list(objects[parents[0]].get("children") or [])) if parents else family
+        family = [name] + _names(obj.get("children"), read)
+        parents = [p for p in _names(obj.get("parents"), objects) if isinstance(objects[p], dict)]
+        ground_family = [parents[0]] + _names(objects[parents[0]].get("children"), objects) if parents else family
         lows = [read[n][1][:, 2].min() for n in ground_family if n in read]
-        if not lows or (name not in read and len(family) == 1):
-            if name not in read and obj.get("geometry"):
-                continue  # counted above
-            if name not in read:
+        if name not in read and len(family) == 1:
+            if _best_geometry(obj) is None:
                 report.skip("building", "no geometry and no parts with geometry", f"CityObject/{name}")
-            continue
+            continue  # a malformed geometry is counted above
         ground = float(min(lows))
         members = [name] if name in read else family[1:]
         surfaces = {}
