@@ -113,3 +113,34 @@ def test_generated_cityjson(tmp_path, objects, vertices, transform):
     path = tmp_path / "generated.city.json"
     path.write_text(json.dumps(document))
     _loads_or_one_line(path)
+
+
+_coordinate = st.one_of(st.floats(-100, 100).map(lambda v: f"{v:.7f}"),
+                        st.sampled_from(["60.0", "60.0002", "24.0", "24.0004", "", "nan", "1e5", "-0", "+1"]))
+_tag = st.tuples(st.sampled_from(["building", "building:part", "height", "natural", "highway", "type", "roof:shape",
+                                  "landuse", "building:levels", "area", "railway", "roof:direction"]),
+                 st.sampled_from(["yes", "multipolygon", "tree", "water", "coastline", "tree_row", "primary",
+                                  "street_lamp", "roof", "12", "-5", "tall", "N", "gabled", "grass", "tram", "&amp;"]))
+
+
+def _tags_xml(tags) -> str:
+    return "".join(f'<tag k="{k}" v="{v}"/>' for k, v in tags)
+
+
+@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(nodes=st.lists(st.tuples(st.integers(1, 8), _coordinate, _coordinate, st.lists(_tag, max_size=2)),
+                      max_size=10),
+       ways=st.lists(st.tuples(st.integers(1, 4), st.lists(st.integers(1, 9), max_size=8), st.lists(_tag, max_size=3)),
+                     max_size=4),
+       relations=st.lists(st.tuples(st.lists(st.tuples(st.integers(1, 5), st.sampled_from(["outer", "inner", ""])),
+                                             max_size=4), st.lists(_tag, max_size=3)), max_size=2))
+def test_generated_osm_xml(tmp_path, nodes, ways, relations):
+    body = [f'<node id="{i}" lat="{lat}" lon="{lon}">{_tags_xml(tags)}</node>' for i, lat, lon, tags in nodes]
+    body += [f'<way id="{i}">' + "".join(f'<nd ref="{r}"/>' for r in refs) + _tags_xml(tags) + "</way>"
+             for i, refs, tags in ways]
+    body += [f'<relation id="{i + 1}">' + "".join(f'<member type="way" ref="{r}" role="{role}"/>'
+                                                  for r, role in members) + _tags_xml(tags) + "</relation>"
+             for i, (members, tags) in enumerate(relations)]
+    path = tmp_path / "generated.osm"
+    path.write_text('<?xml version="1.0" encoding="UTF-8"?>\n<osm version="0.6">\n' + "\n".join(body) + "\n</osm>\n")
+    _loads_or_one_line(path)
