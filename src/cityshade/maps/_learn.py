@@ -28,6 +28,7 @@ from ._model import ROOF_SHAPES, MapBuilding
 RADIUS = 250.0  # metres: tagged buildings this close inform a guess
 HALF_WEIGHT = 120.0  # metres at which a neighbour's weight halves
 TOUCHING = 1.0  # metres: outlines this close share a wall (the same block)
+CELL = 20.0  # metres: the grid on which the surroundings are summed
 DENSITY_CELL = 100.0  # metres: the grid on which built-up share is measured
 RIDGE = 8.0  # penalty on the regression weights, in units of training buildings
 PRIOR_VOTES = 3.0  # the regional default roof counts as this many tagged neighbours
@@ -55,30 +56,53 @@ def estimate(buildings: list[MapBuilding], shape) -> Estimates:
     storey = _storeys(buildings, kinds, np.array([d.storey for d in defaults], float))
     roofs = _roof_shapes(buildings, kinds, defaults, neighbours)
     heights = np.array([b.height if "height" in b.tagged and b.height is not None else 0.0 for b in buildings], float)
-    block_height, weight = neighbours.mean(heights, heights > 0, neighbours.touching)
+    block_height, weight = neighbours.block_mean(heights, heights > 0)
     return Estimates(levels, storey, roofs, np.where(weight > 0, block_height, np.nan))
 
 
 class _Neighbours:
-    """Pairs (building, other building) within RADIUS, with distance weights, from one bulk query."""
+    """Distance-weighted sums over the tagged buildings around each building, the building itself left out.
+
+    The surroundings (within RADIUS) are summed on a CELL grid by one FFT convolution per quantity, so the
+    cost does not grow with how many tagged buildings stand near each other; the block (outlines within
+    TOUCHING) comes from one bulk STRtree query.
+    """
 
     def __init__(self, buildings: list[MapBuilding], centres: np.ndarray):
-        outlines = np.array([b.outline for b in buildings], dtype=object)
-        tree = shapely.STRtree(outlines)
-        i, j = tree.query(outlines, predicate="dwithin", distance=RADIUS)
-        keep = i != j
-        self.i, self.j = i[keep], j[keep]
-        self.gap = shapely.distance(outlines[self.i], outlines[self.j])
-        self.weight = 1.0 / (1.0 + (np.hypot(*(centres[self.i] - centres[self.j]).T) / HALF_WEIGHT) ** 2)
-        self.touching = self.gap <= TOUCHING
         self.count = len(buildings)
+        reach = int(np.ceil(RADIUS / CELL))
+        self.cells = np.floor((centres - centres.min(axis=0)) / CELL).astype(np.int64) + reach
+        self.shape = tuple(self.cells.max(axis=0) + reach + 1)
+        d = np.hypot(*np.meshgrid(np.arange(-reach, reach + 1), np.arange(-reach, reach + 1), indexing="ij")) * CELL
+        kernel = np.where(d <= RADIUS, 1.0 / (1.0 + (d / HALF_WEIGHT) ** 2), 0.0)
+        self.own = kernel[reach, reach]
+        size = tuple(n + 2 * reach for n in self.shape)
+        padded = np.zeros(size)
+        padded[:kernel.shape[0], :kernel.shape[1]] = kernel
+        self.kernel = np.fft.rfft2(np.roll(padded, (-reach, -reach), axis=(0, 1)))
+        self.fft_size = size
+        outlines = np.array([b.outline for b in buildings], dtype=object)
+        i, j = shapely.STRtree(outlines).query(outlines, predicate="dwithin", distance=TOUCHING)
+        self.block_i, self.block_j = i[i != j], j[i != j]
 
-    def mean(self, values: np.ndarray, known: np.ndarray, pairs: np.ndarray | None = None):
-        """Weighted mean of `values` over the known neighbours of each building, and the weight summed."""
-        use = known[self.j] if pairs is None else known[self.j] & pairs
-        w = self.weight[use]
-        total = np.bincount(self.i[use], w, self.count)
-        summed = np.bincount(self.i[use], w * values[self.j[use]], self.count)
+    def sum_around(self, values: np.ndarray) -> np.ndarray:
+        """Sum over the surroundings of every building of kernel weight x `values` (zero where unknown)."""
+        grid = np.zeros(self.fft_size)
+        np.add.at(grid, (self.cells[:, 0], self.cells[:, 1]), values)
+        smooth = np.fft.irfft2(np.fft.rfft2(grid) * self.kernel, s=self.fft_size)
+        return smooth[self.cells[:, 0], self.cells[:, 1]] - self.own * values
+
+    def mean(self, values: np.ndarray, known: np.ndarray):
+        """Weighted mean of `values` over the known buildings around each one, and the weight summed."""
+        total = np.maximum(self.sum_around(known.astype(float)), 0.0)
+        summed = self.sum_around(np.where(known, values, 0.0))
+        return np.divide(summed, total, out=np.zeros(self.count), where=total > 1e-6), total
+
+    def block_mean(self, values: np.ndarray, known: np.ndarray):
+        """Mean of `values` over the known buildings sharing a wall with each one, and their number."""
+        use = known[self.block_j]
+        total = np.bincount(self.block_i[use], None, self.count).astype(float)
+        summed = np.bincount(self.block_i[use], values[self.block_j[use]], self.count)
         return np.divide(summed, total, out=np.zeros(self.count), where=total > 0), total
 
 
@@ -101,7 +125,7 @@ def _levels(buildings, shape, centres, default_levels, neighbours: _Neighbours) 
     residual = np.log(np.maximum(known_levels, 1.0) / default_levels)
     typical = residual[tagged].mean()
     around, around_weight = neighbours.mean(residual, tagged)
-    block, block_weight = neighbours.mean(residual, tagged, neighbours.touching)
+    block, block_weight = neighbours.block_mean(residual, tagged)
     around = np.where(around_weight > 0, around, typical)
     features = np.column_stack([
         around,
@@ -142,17 +166,14 @@ def _roof_shapes(buildings, kinds, defaults, neighbours: _Neighbours) -> np.ndar
     shapes = np.array([b.roof_shape if "roof_shape" in b.tagged and b.roof_shape in ROOF_SHAPES else "" for b in buildings],
                       dtype=object)
     known = shapes != ""
-    votes = np.zeros((len(buildings), len(ROOF_SHAPES)))
     code = {s: n for n, s in enumerate(ROOF_SHAPES)}
-    # The map's own mix per building type, then the regional default, as the prior.
-    mix = Counter((k, s) for k, s, t in zip(kinds, shapes, known) if t)
-    per_kind = Counter(k for k, t in zip(kinds, known) if t)
-    for n, (kind, d) in enumerate(zip(kinds, defaults)):
-        votes[n, code[d.roof_shape]] += PRIOR_VOTES
-        if per_kind[kind]:
-            for s, c in enumerate(ROOF_SHAPES):
-                votes[n, s] += PRIOR_VOTES * mix[(kind, c)] / per_kind[kind]
-    use = known[neighbours.j]
-    codes = np.array([code.get(s, 0) for s in shapes])
-    np.add.at(votes, (neighbours.i[use], codes[neighbours.j[use]]), neighbours.weight[use] * 4.0)
+    # The prior: the regional default, plus the map's own mix of roofs for the building's type.
+    votes = np.zeros((len(buildings), len(ROOF_SHAPES)))
+    votes[np.arange(len(buildings)), [code[d.roof_shape] for d in defaults]] = PRIOR_VOTES
+    names, kind_index = np.unique(np.array(kinds, dtype=object), return_inverse=True)
+    mix = np.zeros((len(names), len(ROOF_SHAPES)))
+    np.add.at(mix, (kind_index[known], [code[s] for s in shapes[known]]), 1.0)
+    votes += PRIOR_VOTES * mix[kind_index] / np.maximum(mix.sum(axis=1, keepdims=True), 1.0)[kind_index]
+    for shape in set(shapes[known]):
+        votes[:, code[shape]] += 4.0 * neighbours.sum_around((shapes == shape).astype(float))
     return np.array(ROOF_SHAPES, dtype=object)[votes.argmax(axis=1)]
