@@ -17,6 +17,7 @@ COMMAND_MODULES = (
     "cityshade.grammar._cli",
     "cityshade.relief._cli",
     "cityshade.maps._info",
+    "cityshade.export._cli",
 )
 
 

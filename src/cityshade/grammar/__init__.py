@@ -31,7 +31,15 @@ def load_library() -> dict[str, Grammar]:
     return {style: load(library_path(f"{style}.grammar")) for style in LIBRARY_STYLES}
 
 
+# after load_library: the city's facade assignment uses it
+from ._city import BUILDING_STYLES, GRAMMAR_SHAPES, library_texture  # noqa: E402
+from ._gpu import GrammarTextures, shader_defines  # noqa: E402
+from ._random import seed_cells, seed_vector  # noqa: E402
+from ._reference import evaluate  # noqa: E402
+
 __all__ = [
+    "BUILDING_STYLES", "GRAMMAR_SHAPES", "library_texture", "GrammarTextures", "shader_defines", "seed_cells",
+    "seed_vector", "evaluate",
     "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
     "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
     "load_source", "parse_string",
