@@ -32,6 +32,7 @@ FLAT_ROOF = Roof()
 
 ROUND_SEGMENTS = 8  # chords of a round (barrel) roof's arc
 DOME_RINGS = 8
+SMOOTH_TURN = np.cos(np.radians(30.0))  # curved roofs are shaded smooth around outline corners gentler than this
 SALTBOX_RIDGE = 0.3  # where the ridge stands across the outline, from the back
 GAMBREL_KNEE, GAMBREL_RISE = 0.3, 0.6  # the steep lower slopes run this share of the half width, rise this share
 MANSARD_KNEE, MANSARD_RISE = 0.2, 0.75
@@ -247,26 +248,39 @@ def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles
 
 def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
     """Pyramids, cones, domes and onions: the outline shrunk toward its centre ring by ring along a
-    profile of (scale, height fraction) points."""
-    profile = POINTED_PROFILES[roof.shape]
+    profile of (scale, height fraction) points; all but pyramids shaded smooth."""
+    profile = np.asarray(POINTED_PROFILES[roof.shape])
     ring = np.asarray(polygon.exterior.coords)
     centre = np.asarray(polygon.centroid.coords)[0]
     if not polygon.contains(shapely.Point(centre)):
         centre = np.asarray(polygon.representative_point().coords)[0]
-    rings = [(centre + (ring - centre) * scale, top + roof.height * rise) for scale, rise in profile]
-    tris = []
-    for (low, y0), (high, y1) in zip(rings[:-1], rings[1:]):
-        a0 = np.column_stack([low[:-1, 0], np.full(len(low) - 1, y0), low[:-1, 1]])
-        b0 = np.column_stack([low[1:, 0], np.full(len(low) - 1, y0), low[1:, 1]])
-        a1 = np.column_stack([high[:-1, 0], np.full(len(high) - 1, y1), high[:-1, 1]])
-        b1 = np.column_stack([high[1:, 0], np.full(len(high) - 1, y1), high[1:, 1]])
-        tris += [np.stack([a0, b1, b0], axis=1), np.stack([a0, a1, b1], axis=1)]
-    tris = np.concatenate(tris)
-    normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
-    length = np.linalg.norm(normals, axis=1)
-    keep = length > 1e-9  # the quads that meet at the apex are triangles
-    tris, normals = tris[keep], normals[keep] / length[keep, None]
-    return Triangles(tris.reshape(-1, 3), np.repeat(normals, 3, axis=0)), Triangles.empty()
+    flat_grid = centre + (ring[None] - centre) * profile[:, 0, None, None]  # (rings, points + 1, 2)
+    grid = np.stack([flat_grid[..., 0], np.broadcast_to(top + roof.height * profile[:, 1, None], flat_grid.shape[:2]),
+                     flat_grid[..., 1]], axis=2)
+    a0, b0, a1, b1 = grid[:-1, :-1], grid[:-1, 1:], grid[1:, :-1], grid[1:, 1:]
+    first, second = np.cross(b1 - a0, b0 - a0), np.cross(a1 - a0, b1 - a0)  # area-weighted, outward
+    if roof.shape == "pyramidal":
+        n0 = n1 = n2 = first
+        m0 = m1 = m2 = second
+    else:  # smooth up the profile, and around the ring where the outline turns gently
+        quad = first + second  # (rings - 1, points)
+        rows = np.zeros((len(grid), quad.shape[1], 3))
+        rows[:-1] += quad
+        rows[1:] += quad
+        edge = np.diff(ring, axis=0)
+        edge /= np.maximum(np.linalg.norm(edge, axis=1, keepdims=True), 1e-12)
+        gentle = (np.einsum("ij,ij->i", edge, np.roll(edge, 1, axis=0)) > SMOOTH_TURN)[None, :, None]
+        left = rows + gentle * np.roll(rows, 1, axis=1)  # at each quad's first corner
+        right = rows + np.roll(gentle, -1, axis=1) * np.roll(rows, -1, axis=1)  # at its second
+        n0, n1, n2 = left[:-1], right[1:], right[:-1]
+        m0, m1, m2 = left[:-1], left[1:], right[1:]
+    tris = np.concatenate([np.stack([a0, b1, b0], axis=2).reshape(-1, 3, 3), np.stack([a0, a1, b1], axis=2).reshape(-1, 3, 3)])
+    normals = np.concatenate([np.stack([n0, n1, n2], axis=2).reshape(-1, 3, 3), np.stack([m0, m1, m2], axis=2).reshape(-1, 3, 3)])
+    area = np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), axis=1)
+    keep = area > 1e-9  # the quads that meet at the apex are triangles
+    normals = normals[keep].reshape(-1, 3)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+    return Triangles(tris[keep].reshape(-1, 3), normals), Triangles.empty()
 
 
 POINTED_PROFILES = {
