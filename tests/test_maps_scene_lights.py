@@ -86,3 +86,18 @@ def test_lamps_light_the_night_near_them_and_not_the_day(square_city):
     # by day the lamps are off: only the posts differ
     day_difference = np.abs(render(square_city, NOON, camera).astype(float) - render(dark, NOON, camera)).mean(axis=-1)
     assert (day_difference > 20).mean() < 0.01
+
+
+def test_lit_roads_get_lamps_on_the_kerb_except_near_mapped_ones():
+    from cityshade.maps import Road
+    from cityshade.maps._lamps import KERB_OFFSET, LIT_ROAD_SPACING, MAPPED_NEARBY, lit_road_lamps
+
+    lit = Road("way/1", shapely.LineString([(0, 0), (350, 0)]), "residential", 8.0, lit=True)
+    dark = Road("way/2", shapely.LineString([(0, 50), (350, 50)]), "residential", 8.0)
+    mapped = Lamp("node/9", (52.0, -5.0))
+    placed = lit_road_lamps(MapData(Path("lit.osm"), (24.94, 60.17), "EPSG:32635", roads=[lit, dark], lamps=[mapped]))
+    xy = np.array([lamp.position for lamp in placed])
+    assert np.allclose(xy[:, 1], -(4.0 + KERB_OFFSET))  # the right-hand kerb of an eastbound road
+    assert np.allclose((xy[:, 0] - LIT_ROAD_SPACING / 2) % LIT_ROAD_SPACING, 0)  # evenly spaced along it
+    assert len(placed) == 350 // LIT_ROAD_SPACING - 1  # one gives way to the mapped lamp
+    assert np.all(np.hypot(xy[:, 0] - 52.0, xy[:, 1] + 5.0) >= MAPPED_NEARBY)

@@ -13,7 +13,7 @@ from ._model import MapData, to_scene
 AERIAL_FOV = 50.0
 AERIAL_ASPECT = 16 / 9  # the default image size; narrower images see a little less at the sides
 AERIAL_PITCH = 45.0  # degrees below the horizon
-AERIAL_HEADING = 30.0  # the camera looks toward north-north-east
+AERIAL_HEADING = 0.0  # the first heading tried: the camera looks north
 STREET_FOV = 66.0
 EYE_HEIGHT = 1.7
 DRIVEN = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential",
@@ -40,13 +40,13 @@ def _fits(corners: np.ndarray, eye: np.ndarray, forward: np.ndarray, fov: float,
 def aerial_camera(bounds: tuple[float, float, float, float], top: float, aspect: float = AERIAL_ASPECT) -> Camera:
     """Looks at the middle of the scene rectangle `bounds` (x0, z0, x1, z1) from above, at AERIAL_PITCH,
     from just far enough that the box up to height `top` lies in the frustum; of the headings
-    AERIAL_HEADING + k * 90 degrees, the one that can stand closest (the long side across the picture)."""
+    AERIAL_HEADING + k * 45 degrees, the one that can stand closest (the long side across the picture)."""
     x0, z0, x1, z1 = bounds
     corners = np.array([(x, y, z) for x in (x0, x1) for y in (0.0, top) for z in (z0, z1)], float)
     centre = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2])
     best = None
-    for turn in range(4):
-        forward = heading_vector(AERIAL_HEADING + 90.0 * turn, -AERIAL_PITCH)
+    for turn in range(8):
+        forward = heading_vector(AERIAL_HEADING + 45.0 * turn, -AERIAL_PITCH)
         distance = _fit_distance(corners, centre, forward, aspect)
         if best is None or distance < best[0] - 1e-6:
             best = (distance, forward)

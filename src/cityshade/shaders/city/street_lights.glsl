@@ -12,7 +12,7 @@ uniform float u_lamp_cell_size;
 uniform float u_street_lights;  // 0 by day, 1 when the lamps are on
 
 const vec3 LAMP_COLOR = vec3(1.0, 0.72, 0.42);  // sodium-warm white
-const float LAMP_INTENSITY = 40.0;  // radiant intensity: about 1.1 of irradiance 6 m below
+const float LAMP_INTENSITY = 14.0;  // radiant intensity: irradiance about 0.4 six metres below
 
 // The grid cell of a point, -1 outside; float32 arithmetic as in LightGrid.cell_of.
 int lamp_cell(vec3 world) {
