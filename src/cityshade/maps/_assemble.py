@@ -175,8 +175,10 @@ def _polygons(raw: Raw, report: ReadReport) -> list[shapely.Polygon]:
         reason = shapely.is_valid_reason(geometry).split("[")[0].strip().lower()
         geometry = shapely.make_valid(geometry)
         report.repair(what, f"invalid outline ({reason}), made valid", raw.source_id)
-    polygons = [part for part in shapely.get_parts(geometry) if shapely.get_type_id(part) in (3, 6)]
-    polygons = [p for multi in polygons for p in shapely.get_parts(multi)]
+        polygons = [part for part in shapely.get_parts(geometry) if shapely.get_type_id(part) in (3, 6)]
+        polygons = [p for multi in polygons for p in shapely.get_parts(multi)]
+    else:
+        polygons = list(shapely.get_parts(geometry))
     kept = [p for p in polygons if p.area >= MIN_AREA]
     if not kept:
         report.skip(what, f"zero area (under {MIN_AREA} m²)", raw.source_id)

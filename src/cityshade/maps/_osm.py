@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import osmium
 import shapely
 
@@ -23,6 +24,7 @@ from ._model import MapData, ReadReport
 
 PROLOG_BYTES = 65536
 SNIFF = 64
+_WKB = osmium.geom.WKBFactory()
 SCAN_BYTES = 1 << 24
 _EXPONENT = re.compile(rb'\bl(?:at|on)="\s*[-+]?[0-9.]*[eE][-+]?[0-9]+\s*"')
 LINE_KEYS = ("highway", "railway", "natural")
@@ -49,6 +51,16 @@ def check_xml(path: Path) -> None:
                 raise UsageError(f"{where}: coordinate {match.group(0).decode('ascii', 'replace')[:40]} has an "
                                  "exponent; write latitude and longitude as plain decimals within ±90 and ±180")
             line += chunk.count(b"\n")
+
+
+def _coordinates(way) -> np.ndarray | None:
+    """(n, 2) lon/lat of a way's nodes (repeated nodes once) built by libosmium; None if a node is
+    missing or has a bad location, or fewer than two distinct nodes remain. (libosmium passes over
+    missing nodes at the very start of a way, so the caller checks the first node itself.)"""
+    try:
+        return shapely.get_coordinates(shapely.from_wkb(_WKB.create_linestring(way)))
+    except (osmium.InvalidLocationError, RuntimeError):
+        return None
 
 
 def _ring(nodes) -> list[tuple[float, float] | None]:
@@ -117,26 +129,27 @@ class _Collector:
         if not polygon and not _wanted_line(tags):
             return
         element = f"way/{way.id}"
-        ring = _ring(way.nodes)
-        valid = [point is not None for point in ring]
+        coords = _coordinates(way)
+        missing = ((coords is None or not way.nodes[0].location.valid())
+                   and any(point is None for point in _ring(way.nodes)))
         if polygon:
             # closed ways are built here rather than by the assembler, which drops a self-intersecting
             # ring without a word; `assemble` repairs it with make_valid and counts it
             what = "building" if building else "area"
-            if not all(valid):
+            if missing:
                 self.report.skip(what, "refers to a missing node or a bad location", element)
-            elif len(way.nodes) < 4:
+            elif coords is None or len(coords) < 4:
                 self.report.skip(what, "fewer than 3 corners", element)
             elif not way.is_closed():
                 self.report.skip(what, "way is not closed", element)
             else:
-                self.raws.append(Raw(element, shapely.Polygon(ring), dict(tags)))
+                self.raws.append(Raw(element, shapely.polygons(coords), dict(tags)))
             if building or not _wanted_line(tags):
                 return
         if way.is_closed() and tags.get("area") == "yes":
             return
-        runs = _runs(ring)
-        if not all(valid):
+        runs = _runs(_ring(way.nodes)) if missing else [coords] if coords is not None else []
+        if missing:
             self.report.repair(_line_kind(tags), "cut where it refers to missing nodes (the extract's edge)", element)
         if not runs:
             self.report.skip(_line_kind(tags), "fewer than 2 nodes with a location", element)
