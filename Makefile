@@ -7,7 +7,7 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
 BENCHES := interior facades relief trees
 
-.PHONY: setup data demo test bench bench-quick clean
+.PHONY: setup data demo demo-osm test bench bench-quick clean
 
 setup: $(STAMP)
 
@@ -24,6 +24,11 @@ data:  # the script fetches only what is missing
 
 demo: setup
 	$(BIN)/cityshade render --out out/city.png
+
+# Helsinki from OpenStreetMap (© OpenStreetMap contributors, ODbL 1.0) from the air and the street
+demo-osm: setup data
+	$(BIN)/cityshade render --map data/Helsinki.osm.pbf --camera aerial --date 2025-06-21 --time 14:00 --samples 0 --out out/helsinki-aerial.png
+	$(BIN)/cityshade render --map data/Helsinki.osm.pbf --camera street --date 2025-06-21 --time 14:00 --samples 0 --out out/helsinki-street.png
 
 test: setup data
 	$(BIN)/python -m pytest -n 2 -q
