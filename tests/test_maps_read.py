@@ -328,3 +328,14 @@ def test_tunnel_roads_and_unknown_lines(tmp_path):
     assert road.tunnel and road.layer == -1 and road.width == 9.0  # 'wide' is no width: the class's
     assert data.report.fallbacks == {("width", "not a width of 0.5..100 m"): 1}
     assert data.report.examples[("feature", "a line that is no road, railway or tree row")] == "feature/1"
+
+
+def test_measure_load_runs_the_reader_in_a_fresh_process(tmp_path):
+    from cityshade.errors import CityshadeError
+    from cityshade.maps import measure_load
+
+    result = measure_load(DATA / "tagged.osm")
+    assert result["buildings"] == 5 and result["trees"] == 9 and result["peak_bytes"] > 10 * 2**20
+    assert result["bytes_per_building"] == pytest.approx(result["peak_bytes"] / 5)
+    with pytest.raises(CityshadeError, match="is a directory"):
+        measure_load(tmp_path)
