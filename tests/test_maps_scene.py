@@ -155,3 +155,19 @@ def test_bench_osm_json_carries_methods_and_timing():
     payload = result.to_json()
     assert payload["timing"] == {"samples_per_point": 4, "interleaved": True}
     assert payload["methods"]["helsinki_load_seconds"] == "how" and payload["ratios"]["helsinki_load_seconds"] == 1.5
+
+
+def test_helsinki_views_frame_the_city_and_stand_on_a_street(helsinki_pbf):
+    from cityshade.maps import load_map
+
+    map_data = load_map(helsinki_pbf)
+    city = map_city(map_data)
+    aerial = city.viewpoints["aerial"].view_projection(16 / 9)
+    drawn = [b for b in map_data.buildings if b.drawn]
+    corners = np.array([(x, 0.0, -y) for b in drawn for x, y in np.asarray(b.outline.exterior.coords)])
+    clip = np.c_[corners, np.ones(len(corners))] @ aerial.T
+    assert np.all(np.abs(clip[:, :3] / clip[:, 3:4]) <= 1.0)
+    street = city.viewpoints["street"]
+    eye = shapely.Point(street.eye[0], -street.eye[2])
+    assert any(r.line.buffer(r.width / 2).contains(eye) for r in map_data.roads)
+    assert not any(b.outline.contains(eye) for b in drawn)
