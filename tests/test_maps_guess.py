@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -243,3 +244,32 @@ def test_regression_trained_on_the_map_beats_no_learning():
     error = np.abs(np.array([b.levels for b in data.buildings[:40]]) - truth).mean()
     constant = np.abs(3 - np.array(truth)).mean()
     assert error < 0.5 * constant, (error, constant)
+
+
+def test_info_counts_tagged_and_guessed_per_attribute(helsinki_pbf, capsys):
+    """`cityshade info --json`: per attribute, the tagged and guessed counts add up to the buildings."""
+    from cityshade.cli import main
+
+    assert main(["info", str(helsinki_pbf), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    data = load_map(helsinki_pbf)
+    tagged_levels = sum("levels" in b.tagged for b in data.buildings)
+    counts = info["building_attributes"]
+    for name in BUILDING_ATTRIBUTES:
+        assert counts[name]["tagged"] + counts[name]["guessed"] == len(data.buildings), name
+    guess_missing(data)
+    assert counts["levels"]["tagged"] == sum("levels" in b.tagged for b in data.buildings)
+    # Only the contradiction rules move a tagged value to the guesses.
+    moved = sum(n for (what, why), n in data.report.repaired.items()
+                if why.startswith("levels") or "levels read as counted" in why)
+    assert counts["levels"]["tagged"] == tagged_levels - moved and counts["levels"]["tagged"] > 200
+
+
+def test_a_dome_does_not_spread_to_the_ordinary_buildings_around():
+    church = building(0, "church", size=(20.0, 20.0), roof_shape="dome")
+    around = [building(i, "yes", size=(20.0, 14.0), at=(30.0 * i, 0.0)) for i in range(1, 4)]
+    turret = building(4, "yes", size=(4.0, 4.0), at=(20.0, 20.0))  # shares a corner with the church
+    turret.is_part = True
+    data = guessed(church, *around, turret)
+    assert [b.roof_shape for b in data.buildings[1:4]] == ["flat"] * 3
+    assert data.buildings[4].roof_shape == "dome"

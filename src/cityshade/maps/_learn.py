@@ -8,8 +8,9 @@ penalty keeps the estimate near the regional default; with none it is the defaul
 
 Height: where tagged buildings share a wall with it (the block), their height; else levels x storey.
 Storey height: the mean of tagged height / levels per type, shrunk toward the regional default.
-Roof shape: a vote of the tagged roofs nearby (closer counts more), on top of the map's own mix per
-building type and the regional default as a prior.
+Roof shape: a vote of the tagged roofs nearby (closer counts more; domes, onions, cones, round and
+pyramidal roofs only among the parts of one building and buildings of the same named type), on top of the map's own mix per building type
+and the regional default as a prior.
 
 Everything is vectorised (shapely STRtree bulk queries, numpy), so 100,000 buildings take seconds.
 """
@@ -22,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ._defaults import SMALL_FOOTPRINT, defaults_for
+from ._defaults import GENERIC, SMALL_FOOTPRINT, defaults_for
 from ._model import ROOF_SHAPES, MapBuilding
 
 RADIUS = 250.0  # metres: tagged buildings this close inform a guess
@@ -31,6 +32,7 @@ TOUCHING = 1.0  # metres: outlines this close share a wall (the same block)
 CELL = 20.0  # metres: the grid on which the surroundings are summed
 DENSITY_CELL = 100.0  # metres: the grid on which built-up share is measured
 RIDGE = 8.0  # penalty on the regression weights, in units of training buildings
+LANDMARK_ROOFS = {"dome", "onion", "round", "cone", "pyramidal"}  # not spread to the buildings around
 PRIOR_VOTES = 3.0  # the regional default roof counts as this many tagged neighbours
 STOREY_PRIOR = 4.0  # the regional storey height counts as this many tagged buildings
 
@@ -174,6 +176,15 @@ def _roof_shapes(buildings, kinds, defaults, neighbours: _Neighbours) -> np.ndar
     mix = np.zeros((len(names), len(ROOF_SHAPES)))
     np.add.at(mix, (kind_index[known], [code[s] for s in shapes[known]]), 1.0)
     votes += PRIOR_VOTES * mix[kind_index] / np.maximum(mix.sum(axis=1, keepdims=True), 1.0)[kind_index]
-    for shape in set(shapes[known]):
-        votes[:, code[shape]] += 4.0 * neighbours.sum_around((shapes == shape).astype(float))
+    kinds = np.array(kinds, dtype=object)
+    for shape in sorted(set(shapes[known])):
+        if shape not in LANDMARK_ROOFS:
+            votes[:, code[shape]] += 4.0 * neighbours.sum_around((shapes == shape).astype(float))
+            continue
+        # A dome belongs to its building: the parts it shares a wall with, and nearby buildings of the
+        # same named type (the chapels of one monastery), take it; ordinary buildings around do not.
+        votes[:, code[shape]] += 4.0 * neighbours.block_mean(np.ones(len(buildings)), shapes == shape)[1]
+        for kind in sorted(set(kinds[shapes == shape]) - GENERIC):
+            same = kinds == kind
+            votes[same, code[shape]] += 4.0 * neighbours.sum_around(((shapes == shape) & same).astype(float))[same]
     return np.array(ROOF_SHAPES, dtype=object)[votes.argmax(axis=1)]
