@@ -36,7 +36,7 @@ SMOOTH_TURN = np.cos(np.radians(30.0))  # curved roofs are shaded smooth around 
 SALTBOX_RIDGE = 0.3  # where the ridge stands across the outline, from the back
 GAMBREL_KNEE, GAMBREL_RISE = 0.3, 0.6  # the steep lower slopes run this share of the half width, rise this share
 MANSARD_KNEE, MANSARD_RISE = 0.2, 0.75
-RECTANGULAR = 0.9  # outlines filling this share of their bounding rectangle take the exact ridged profiles
+RECTANGULAR = 0.85  # outlines filling this share of their bounding rectangle take the exact ridged profiles
 EPS = 1e-6
 HALF_HIP = 0.4  # the share of the roof height (and of the half width) the hips of a half-hipped roof take
 
