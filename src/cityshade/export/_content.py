@@ -33,6 +33,7 @@ class Stats:
     tree_instances: int = 0
     facade_area: float = 0.0  # square metres of wall
     atlas_sizes: list = field(default_factory=list)  # (cols, rows) per page
+    leaf: bool = False  # a 3D Tiles leaf: full detail
 
     @property
     def atlas_texels(self) -> int:

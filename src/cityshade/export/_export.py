@@ -74,6 +74,9 @@ def write_directory(out: Path, fill) -> None:
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.absolute().parent))
     try:
         fill(tmp)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)
         if out.exists():
             old = out.with_name(f".{out.name}.old")
             os.replace(out, old)
@@ -94,21 +97,27 @@ def export_city(export: ExportCity, out: Path, fmt: str = "glb", texel: float = 
     if lod < 0:
         raise UsageError(f"--lod {lod}: must be 0 (full detail) or more")
     began = time.perf_counter()
-    if fmt == "3dtiles":
-        from ._tiles import write_tileset
-
-        summary = write_tileset(export, out, texel, lod)
-    else:
-        gltf, stats = city_document(export, texel, lod)
-        with atomic_output(out) as tmp:
-            if fmt == "glb":
-                tmp.write_bytes(glb_bytes(gltf))
-            else:
-                tmp.write_text(gltf_text(gltf), encoding="utf-8")
-        summary = summary_of(stats)
+    try:
+        summary = _write(export, out, fmt, texel, lod)
+    except OSError as exc:  # the temporary file or directory beside `out` (nothing is left behind)
+        raise UsageError(f"cannot write {str(out)!r}: {exc.strerror or exc}; choose another --out") from None
     summary.update(format=fmt, out=str(out), seconds=round(time.perf_counter() - began, 3),
                    bytes=size_of(out), texel=texel, lod=lod)
     return summary
+
+
+def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int) -> dict:
+    if fmt == "3dtiles":
+        from ._tiles import write_tileset
+
+        return write_tileset(export, out, texel, lod)
+    gltf, stats = city_document(export, texel, lod)
+    with atomic_output(out) as tmp:
+        if fmt == "glb":
+            tmp.write_bytes(glb_bytes(gltf))
+        else:
+            tmp.write_text(gltf_text(gltf), encoding="utf-8")
+    return summary_of(stats)
 
 
 def summary_of(stats: Stats) -> dict:

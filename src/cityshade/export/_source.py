@@ -36,9 +36,10 @@ def parse_region(text: str) -> tuple[float, float, float, float]:
     return values
 
 
-def _map_metadata(building) -> dict:
+def _map_metadata(building, buildings) -> dict:
+    parent = buildings[building.parent].source_id if building.parent is not None else None
     return {
-        "source_id": building.source_id, "kind": building.kind, "part": building.is_part,
+        "source_id": building.source_id, "kind": building.kind, "part": building.is_part, "part_of": parent,
         "tags": dict(building.tags), "height": building.height, "min_height": building.min_height,
         "levels": building.levels, "roof_shape": building.roof_shape,
         "tagged": sorted(building.tagged), "guessed": sorted(building.guessed),
@@ -48,7 +49,7 @@ def _map_metadata(building) -> dict:
 def _layout_metadata(city: City, index: int, mass) -> dict:
     walls = mass.wall_top - mass.base
     return {
-        "source_id": f"{city.name}/{index}", "kind": "yes", "part": False, "tags": {}, "height": float(mass.height),
+        "source_id": f"{city.name}/{index}", "kind": "yes", "part": False, "part_of": None, "tags": {}, "height": float(mass.height),
         "min_height": float(mass.base), "levels": max(1, round(walls / mass.floor_height)),
         "roof_shape": mass.roof.shape, "tagged": [], "guessed": sorted(mass.guessed),
     }
@@ -59,8 +60,9 @@ def map_export_city(path: Path) -> ExportCity:
 
     map_data = load_map(path)
     city = map_city(map_data)
+    city.ground_mesh = clip_ground(city.ground_mesh, city.bounds)
     # map masses carry their building's index as their seed (maps.building_masses)
-    metadata = [_map_metadata(map_data.buildings[mass.seed]) for mass in city.masses]
+    metadata = [_map_metadata(map_data.buildings[mass.seed], map_data.buildings) for mass in city.masses]
     return ExportCity(city, metadata, city.origin, city.crs)
 
 
@@ -89,6 +91,34 @@ def _inside(points: np.ndarray, box) -> np.ndarray:
     return (points[:, 0] >= x0) & (points[:, 0] <= x1) & (points[:, 1] >= z0) & (points[:, 1] <= z1)
 
 
+def clip_ground(ground: np.ndarray, box) -> np.ndarray:
+    """Ground triangles (N*3, 4: x, y, z, material) cut to a scene box: the map's land plane reaches
+    the horizon, which an exported model has no use for."""
+    import shapely
+
+    if ground is None or not len(ground):
+        return ground
+    tris = ground.reshape(-1, 3, 4)
+    x0, z0, x1, z1 = box
+    inside = np.all(_inside(tris[:, :, [0, 2]].reshape(-1, 2), box).reshape(-1, 3), axis=1)
+    cut = tris[~inside]
+    pieces = [tris[inside].reshape(-1, 4)]
+    if len(cut):
+        polygons = shapely.polygons(np.concatenate([cut[:, :, [0, 2]], cut[:, :1, [0, 2]]], axis=1))
+        clipped = shapely.clip_by_rect(shapely.make_valid(polygons), x0, z0, x1, z1)
+        for k in np.flatnonzero(~shapely.is_empty(clipped)):
+            parts = shapely.get_parts(shapely.constrained_delaunay_triangles(clipped[k]))
+            parts = parts[shapely.get_type_id(parts) == 3]
+            if not len(parts):
+                continue
+            corners = shapely.get_coordinates(parts).reshape(-1, 4, 2)[:, :3].reshape(-1, 2)
+            flat = np.empty((len(corners), 4), np.float32)
+            flat[:, 0], flat[:, 2] = corners[:, 0], corners[:, 1]
+            flat[:, 1], flat[:, 3] = cut[k, 0, 1], cut[k, 0, 3]  # ground triangles are level
+            pieces.append(flat)
+    return np.concatenate(pieces).astype(np.float32)
+
+
 def mass_centres(masses) -> np.ndarray:
     """(n, 2) scene x, z of each mass's vertex centroid."""
     if not masses:
@@ -104,10 +134,7 @@ def crop(export: ExportCity, region, region_text: str) -> ExportCity:
     if not len(keep):
         raise UsageError(f"--region {region_text}: no building of {city.name} lies in it; "
                          f"the data's buildings lie around lon,lat {export.origin[0]:.5f},{export.origin[1]:.5f}")
-    ground = city.ground_mesh
-    if ground is not None and len(ground):
-        centres = ground[:, [0, 2]].reshape(-1, 3, 2).mean(axis=1)
-        ground = ground.reshape(-1, 3, 4)[_inside(centres, box)].reshape(-1, 4)
+    ground = clip_ground(city.ground_mesh, box)
     trees = city.trees
     if trees is not None and len(trees):
         trees = trees[_inside(trees["position"][:, [0, 2]].astype(np.float64), box)]

@@ -95,6 +95,7 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
             error = max(diagonal / 30.0, roof, 4 * texel * 2 ** level)
         else:
             error = 0.0
+            stats.leaf = True
             totals["buildings_in_leaves"] += stats.buildings
         entry = {"boundingVolume": {"box": box(node_lo, node_hi)}, "geometricError": round(error, 3),
                  "refine": "REPLACE", "content": {"uri": name}}
@@ -125,7 +126,11 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
         (folder / "tileset.json").write_text(json.dumps(tileset, indent=1), encoding="utf-8")
 
     write_directory(out, fill)
-    summary = summary_of(stats_all[-1])  # ground and trees
+    leaves, ground = stats_all[:-1], stats_all[-1]
+    summary = summary_of(ground)
     summary.update(totals, buildings=totals["buildings_in_leaves"],
+                   facade_m2=round(sum(s.facade_area for s in leaves if s.leaf), 1),
+                   triangles=ground.triangles + sum(s.triangles for s in leaves if s.leaf),
+                   atlas_pages=[list(p) for s in stats_all for p in s.atlas_sizes],
                    atlas_texels=sum(s.atlas_texels for s in stats_all))
     return summary
