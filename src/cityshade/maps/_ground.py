@@ -3,12 +3,13 @@ roads, tracks and paint, split so that no two surfaces overlap (nothing to z-fig
 that reaches the horizon.
 
 Surfaces are decided in priority order (a road crossing a park is road, a park by a river keeps
-its bank): each layer is its geometry minus every layer above it, and the whole is triangulated
-with GEOS's constrained Delaunay triangulation, polygon by polygon, in vectorised shapely calls.
+its bank): each layer is its geometry minus every layer above it (vectorised shapely), and every
+polygon is triangulated with its holes by earcut (mapbox_earcut).
 """
 
 from __future__ import annotations
 
+import mapbox_earcut as earcut
 import numpy as np
 import shapely
 
@@ -25,17 +26,21 @@ BASE_DEPTH = 0.3  # the land plane lies this far below the map's surfaces, so th
 PAINT_LIFT = 0.03  # markings and rails over the carriageway
 
 
-def triangles(geometry, y: float | np.ndarray, material: int) -> np.ndarray:
+def _earcut(polygon: shapely.Polygon) -> np.ndarray:
+    """(K*3, 2) corners of the triangles of one polygon with its holes (mapbox earcut)."""
+    rings = [shapely.get_coordinates(ring)[:-1] for ring in (polygon.exterior, *polygon.interiors)]
+    corners = np.concatenate(rings)
+    ends = np.cumsum([len(ring) for ring in rings]).astype(np.uint32)
+    return corners[earcut.triangulate_float64(corners, ends)]
+
+
+def triangles(geometry, y: float, material: int) -> np.ndarray:
     """(N*3, 4) float32 vertices (x, y, z, material) of a map-space polygonal geometry, triangulated."""
     parts = shapely.get_parts(shapely.get_parts(geometry))
-    parts = parts[shapely.get_type_id(parts) == 3] if len(parts) else parts  # polygons only
+    parts = parts[(shapely.get_type_id(parts) == 3) & ~shapely.is_empty(parts)] if len(parts) else parts
     if not len(parts):
         return np.zeros((0, 4), np.float32)
-    parts = shapely.make_valid(parts[~shapely.is_empty(parts)])
-    pieces = shapely.get_parts(shapely.constrained_delaunay_triangles(parts))
-    pieces = pieces[shapely.get_type_id(pieces) == 3]
-    corners = shapely.get_coordinates(pieces).reshape(-1, 4, 2)[:, :3].reshape(-1, 2)
-    scene = to_scene(corners)
+    scene = to_scene(np.concatenate([_earcut(p) for p in parts]))
     out = np.empty((len(scene), 4), np.float32)
     out[:, 0], out[:, 1], out[:, 2], out[:, 3] = scene[:, 0], y, scene[:, 1], material
     return out
