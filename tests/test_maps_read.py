@@ -339,3 +339,16 @@ def test_measure_load_runs_the_reader_in_a_fresh_process(tmp_path):
     assert result["bytes_per_building"] == pytest.approx(result["peak_bytes"] / 5)
     with pytest.raises(CityshadeError, match="is a directory"):
         measure_load(tmp_path)
+
+
+def test_a_building_way_that_is_also_a_relations_outer_ring_is_drawn_once(tmp_path):
+    text = (DATA / "tagged.osm").read_text().replace(
+        '<way id="110"><nd ref="11"/><nd ref="12"/><nd ref="13"/><nd ref="14"/><nd ref="11"/></way>',
+        '<way id="110"><nd ref="11"/><nd ref="12"/><nd ref="13"/><nd ref="14"/><nd ref="11"/>'
+        '<tag k="building" v="yes"/></way>')
+    path = tmp_path / "twice.osm"
+    path.write_text(text)
+    data = load_map(path)
+    assert not _by_id(data, "way/110") and len(_by_id(data, "relation/200")) == 1
+    key = ("building", "outer ring of a building relation, which is drawn instead")
+    assert data.report.skipped[key] == 1 and data.report.examples[key] == "way/110"

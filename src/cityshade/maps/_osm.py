@@ -109,6 +109,7 @@ class _Collector:
         self.last_node = None
         self.areas_from_relations: set[int] = set()
         self.area_relations: dict[int, str] = {}
+        self.outer_ways: dict[int, int] = {}  # way id -> the building relation it is an outer ring of
 
     def node(self, node) -> None:
         if self.last_node is not None and node.id <= self.last_node:
@@ -161,6 +162,10 @@ class _Collector:
         tags = relation.tags
         if tags.get("type") == "multipolygon" and (is_building(tags) or area_kind(dict(tags))):
             self.area_relations[relation.id] = "building" if is_building(tags) else "area"
+            if is_building(tags):
+                for member in relation.members:
+                    if member.type == "w" and member.role in ("outer", ""):
+                        self.outer_ways[member.ref] = relation.id
 
     def area(self, area) -> None:
         if area.from_way():
@@ -181,6 +186,18 @@ class _Collector:
             if relation not in self.areas_from_relations:
                 self.report.skip(what, "multipolygon could not be assembled (open or missing members)",
                                  f"relation/{relation}")
+        self.raws = [raw for raw in self.raws if not self._drawn_by_relation(raw)]
+
+    def _drawn_by_relation(self, raw: Raw) -> bool:
+        """A building way that is also the outer ring of a building relation (old-style tagging on
+        both): the relation, which has the courtyards, is kept."""
+        kind, _, number = raw.source_id.partition("/")
+        outline = kind == "way" and raw.tags.get("building", "no") != "no"  # parts stay: they are drawn
+        relation = self.outer_ways.get(int(number)) if outline else None
+        if relation is None or relation not in self.areas_from_relations:
+            return False
+        self.report.skip("building", "outer ring of a building relation, which is drawn instead", raw.source_id)
+        return True
 
 
 def _where(path: Path, message: str) -> str:
