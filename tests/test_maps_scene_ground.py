@@ -115,3 +115,18 @@ def test_forest_is_filled_deterministically_and_capped():
     assert len(first) > 100 and wood.polygon.contains(shapely.MultiPoint(np.c_[xz[:, 0], -xz[:, 1]]))
     huge = Area("way/6", shapely.box(0, 0, 5000, 5000), "forest")
     assert len(map_trees(make_map(areas=[huge]))) <= MAX_FOREST_TREES
+
+
+def test_railways_two_rails_a_gauge_apart_ballast_for_trains_none_in_tunnels():
+    from cityshade.maps import Railway
+    from cityshade.maps._streets import RAIL_WIDTH
+
+    train = Railway("way/1", shapely.LineString([(0, 0), (100, 0)]), "rail", gauge=1.524)
+    tram = Railway("way/2", shapely.LineString([(0, 30), (100, 30)]), "tram", gauge=1.0)
+    metro = Railway("way/3", shapely.LineString([(0, 60), (100, 60)]), "subway", tunnel=True)
+    surfaces = street_surfaces(make_map(railways=[train, tram, metro]))
+    across = surfaces.rails.intersection(shapely.LineString([(50, -5), (50, 65)]))
+    ys = sorted(p.centroid.y for p in shapely.get_parts(across))
+    assert ys == pytest.approx([-0.762, 0.762, 29.5, 30.5], abs=1e-6)
+    assert all(p.length == pytest.approx(RAIL_WIDTH) for p in shapely.get_parts(across))
+    assert surfaces.ballast.contains(shapely.Point(50, 0)) and not surfaces.ballast.intersects(shapely.Point(50, 30))

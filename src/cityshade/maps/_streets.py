@@ -109,6 +109,15 @@ def paint_outside(junctions: shapely.Geometry, solid, dashed) -> np.ndarray:
     return shapely.buffer(np.concatenate([solid, strokes]), MARKING_WIDTH / 2, cap_style="flat")
 
 
+def rail_strips(railways) -> np.ndarray:
+    """Two thin strips per railway, its gauge apart."""
+    if not railways:
+        return np.zeros(0, dtype=object)
+    lines = np.array([r.line for r in railways for _ in (0, 1)], dtype=object)
+    offsets = np.array([side * r.gauge / 2 for r in railways for side in (-1, 1)])
+    return shapely.buffer(shapely.offset_curve(lines, offsets), RAIL_WIDTH / 2, cap_style="flat")
+
+
 def street_surfaces(map_data: MapData) -> StreetSurfaces:
     """The surfaces of every road and railway of the map (see the module docstring)."""
     from ._ground import GROUND_ASPHALT, GROUND_BALLAST, GROUND_PAVEMENT, GROUND_RAIL, triangles
@@ -147,8 +156,7 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
     on_ground = [r for r in railways if not r.bridge]
     ballast = _union(shapely.buffer(np.array([r.line for r in on_ground if r.kind not in ("tram",)] +
                                              [shapely.LineString()], dtype=object)[:-1], BALLAST_WIDTH / 2, quad_segs=2))
-    rails = _union([shapely.buffer(shapely.offset_curve(r.line, side * r.gauge / 2), RAIL_WIDTH / 2, cap_style="flat")
-                    for r in on_ground for side in (-1, 1)])
+    rails = shapely.GeometryCollection(list(rail_strips(on_ground)))  # overlaps at switches: same paint, no union
 
     decks = []
     for road in bridges:
@@ -158,7 +166,5 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
     for railway in (r for r in railways if r.bridge):
         lift = BRIDGE_STOREY * max(railway.layer, 1)
         decks.append(triangles(shapely.buffer(railway.line, BALLAST_WIDTH / 2, cap_style="flat"), lift, GROUND_BALLAST))
-        rails_up = [shapely.buffer(shapely.offset_curve(railway.line, s * railway.gauge / 2), RAIL_WIDTH / 2,
-                                   cap_style="flat") for s in (-1, 1)]
-        decks.append(triangles(_union(rails_up), lift + 0.03, GROUND_RAIL))
+        decks.append(triangles(shapely.GeometryCollection(list(rail_strips([railway]))), lift + 0.03, GROUND_RAIL))
     return StreetSurfaces(carriageway, pavement, ballast, markings, rails, decks, junctions)
