@@ -278,3 +278,11 @@ def test_cityjson_with_broken_boundaries_skips_the_object(tmp_path):
                                 "CityObjects": {"a": {"type": "Building", "geometry": [
                                     {"type": "MultiSurface", "lod": "1", "boundaries": [[[0, 1, 99]]]}]}}}))
     _refused(path, "nothing usable", "CityObject/a", "malformed geometry")
+
+
+def test_the_content_decides_the_format_not_the_name(tmp_path, silent_pbf):
+    xml = tmp_path / "really_xml.pbf"
+    xml.write_bytes((Path(__file__).parent / "data" / "maps" / "tagged.osm").read_bytes())
+    pbf = tmp_path / "really_pbf.osm"
+    pbf.write_bytes(silent_pbf.read_bytes())
+    assert len(load_map(xml).buildings) == 5 and len(load_map(pbf).buildings) > 2000

@@ -207,7 +207,7 @@ def _where(path: Path, message: str) -> str:
     if position:  # expat counts columns from 0, editors from 1
         return f"{path}:{position.group(1)}:{int(position.group(2)) + 1}"
     match = re.search(r"coordinate: '([^']*)'", message)
-    if not match or path.suffix.lower() != ".osm":
+    if not match:
         return str(path)
     value = f'"{match.group(1)}"'
     with open(path, "rb") as stream:
@@ -229,7 +229,9 @@ def read_osm(path: Path) -> MapData:
     collector = _Collector(report)
     dispatch = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
     try:
-        processor = osmium.FileProcessor(str(path)).with_areas().with_locations()
+        # the format by content, not by name (libosmium would go by the file's extension)
+        source = osmium.io.File(str(path), "osm" if xml else "pbf")
+        processor = osmium.FileProcessor(source).with_areas().with_locations()
         if not xml:  # PBF writers sort and deduplicate nodes; skipping untagged ones saves half the time
             processor.with_filter(osmium.filter.EmptyTagFilter())
         for item in processor:
