@@ -171,3 +171,8 @@ def test_helsinki_views_frame_the_city_and_stand_on_a_street(helsinki_pbf):
     eye = shapely.Point(street.eye[0], -street.eye[2])
     assert any(r.line.buffer(r.width / 2).contains(eye) for r in map_data.roads)
     assert not any(b.outline.contains(eye) for b in drawn)
+
+
+def test_date_without_a_map_is_refused(tmp_path):
+    code, text = run_cli("render", "--date", "2025-06-21", "--size", "32x18", "--out", str(tmp_path / "x.png"))
+    assert code == 2 and "--map" in text and len(text.strip().splitlines()) == 1, text

@@ -180,6 +180,9 @@ def register(subparsers):
 
 def _run(args) -> int:
     settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples)
+    from .maps import require_map_for_date
+
+    require_map_for_date(args.date, args.map)
     city, camera, sky = args.city, args.camera, None
     if args.map is not None:
         from .maps import city_from_map, sky_clock

@@ -25,6 +25,13 @@ def parse_date(text: str) -> dt.date:
         raise UsageError(f"invalid --date {text!r}; use YYYY-MM-DD, e.g. 2025-06-21") from None
 
 
+def require_map_for_date(date: str | None, map_path) -> None:
+    """--date places the sun over a map's longitude and latitude: without --map it has nothing to do."""
+    if date is not None and map_path is None:
+        raise UsageError(f"--date {date} needs --map FILE: the date places the sun over the map's place; "
+                         "for the built-in cities use --time alone")
+
+
 def utc_time(origin: tuple[float, float], date: dt.date, hours: float) -> dt.datetime:
     """The UTC instant of clock time `hours` on `date` at the map's longitude."""
     offset = round(origin[0] / 15.0)

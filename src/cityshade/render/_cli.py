@@ -112,6 +112,9 @@ def run(args) -> int:
         return SCENES[args.scene](args)
     if args.aov is not None and args.map is None:
         raise UsageError(f"--aov {args.aov} shows what a map gave and what was guessed; it needs --map FILE")
+    from ..maps import require_map_for_date
+
+    require_map_for_date(args.date, args.map)
     city, sky = args.city, {}
     if args.map is not None:
         from ..maps import city_from_map

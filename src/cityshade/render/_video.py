@@ -72,6 +72,9 @@ def _run(args) -> int:
     if args.until:
         parse_time(args.until)
     check_writable(args.out)
+    from ..maps import require_map_for_date
+
+    require_map_for_date(args.date, args.map)
     city, sky = args.city, None
     if args.map is not None:
         from ..maps import city_from_map, sky_clock
