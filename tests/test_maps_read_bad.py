@@ -286,3 +286,20 @@ def test_the_content_decides_the_format_not_the_name(tmp_path, silent_pbf):
     pbf = tmp_path / "really_pbf.osm"
     pbf.write_bytes(silent_pbf.read_bytes())
     assert len(load_map(xml).buildings) == 5 and len(load_map(pbf).buildings) > 2000
+
+
+@pytest.mark.parametrize("module, suffix", [("gzip", ".osm.gz"), ("bz2", ".osm.bz2")])
+def test_compressed_xml_is_read_and_checked_like_plain_xml(tmp_path, module, suffix):
+    import importlib
+
+    compress = importlib.import_module(module).compress
+    plain = (Path(__file__).parent / "data" / "maps" / "tagged.osm").read_bytes()
+    path = tmp_path / f"tagged{suffix}"
+    path.write_bytes(compress(plain))
+    assert len(load_map(path).buildings) == 5
+    bomb = tmp_path / f"bomb{suffix}"
+    bomb.write_bytes(compress(b'<?xml version="1.0"?>\n<!DOCTYPE osm [<!ENTITY a "aaaa">]>\n<osm version="0.6"/>'))
+    _refused(bomb, "declares a document type or entities")
+    cut = tmp_path / f"cut{suffix}"
+    cut.write_bytes(compress(plain)[:200])
+    _refused(cut, "not a readable OpenStreetMap file")

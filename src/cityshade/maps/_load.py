@@ -12,10 +12,11 @@ from pathlib import Path
 
 from ..errors import UsageError
 from ._model import MapData
+from ._osm import osm_format, read_osm
 
 MAX_JSON_BYTES = 1 << 30  # 1 GiB of JSON is millions of buildings; more is a mistake or an attack
 SNIFF_BYTES = 4096
-FORMATS = ".osm.pbf, .pbf, .osm, .geojson, .json, .city.json"
+FORMATS = ".osm.pbf, .pbf, .osm (or .osm.gz, .osm.bz2), .geojson, .json, .city.json"
 
 
 def _checked(path: Path) -> int:
@@ -34,18 +35,16 @@ def _checked(path: Path) -> int:
 
 
 def _format(path: Path) -> str:
-    """'pbf', 'xml', 'cityjson' or 'geojson', from the content where it tells, else the extension."""
+    """'osm', 'cityjson' or 'geojson', from the content where it tells, else the extension."""
+    if osm_format(path) is not None:
+        return "osm"
     with open(path, "rb") as stream:
         head = stream.read(SNIFF_BYTES)
     text = head.lstrip(b"\xef\xbb\xbf \t\r\n")
-    if b"OSMHeader" in head[:32]:
-        return "pbf"
-    if text.startswith(b"<"):
-        return "xml"
     if text.startswith(b"{"):
         return "cityjson" if b'"CityJSON"' in head or path.name.lower().endswith(".city.json") else "geojson"
     name = path.name.lower()
-    for ending, kind in ((".pbf", "pbf"), (".osm", "xml"), (".city.json", "cityjson"),
+    for ending, kind in ((".pbf", "osm"), (".osm", "osm"), (".city.json", "cityjson"),
                          (".geojson", "geojson"), (".json", "geojson")):
         if name.endswith(ending):
             return kind
@@ -67,9 +66,7 @@ def load_map(path: Path | str) -> MapData:
     path = Path(path)
     size = _checked(path)
     kind = _format(path)
-    if kind in ("pbf", "xml"):
-        from ._osm import read_osm
-
+    if kind == "osm":
         data = read_osm(path)
     elif kind == "cityjson":
         from ._cityjson import read_cityjson

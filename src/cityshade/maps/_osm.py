@@ -1,4 +1,5 @@
-"""OpenStreetMap `.osm.pbf` and `.osm` XML through pyosmium: its area assembler builds multipolygons.
+"""OpenStreetMap `.osm.pbf` and `.osm` XML (also gzip or bzip2 compressed) through pyosmium: its area
+assembler builds multipolygons.
 
 One streaming pass: nodes give trees and street lamps, ways give roads, railways, tree rows and the
 coastline, and the area assembler gives building outlines, `building:part`s and land use (closed
@@ -11,7 +12,10 @@ and external entities) is refused outright, so nothing is expanded and no local 
 
 from __future__ import annotations
 
+import bz2
+import gzip
 import re
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -25,32 +29,68 @@ from ._model import MapData, ReadReport
 PROLOG_BYTES = 65536
 SNIFF = 64
 _WKB = osmium.geom.WKBFactory()
+OPENERS = {"gz": gzip.open, "bz2": bz2.open}
 SCAN_BYTES = 1 << 24
 _EXPONENT = re.compile(rb'\bl(?:at|on)="\s*[-+]?[0-9.]*[eE][-+]?[0-9]+\s*"')
 LINE_KEYS = ("highway", "railway", "natural")
 
 
-def check_xml(path: Path) -> None:
+def osm_format(path: Path) -> str | None:
+    """libosmium's name for the file's format by its first bytes: 'pbf', 'osm' (XML), 'osm.gz',
+    'osm.bz2'; None if it is none of them."""
+    with open(path, "rb") as stream:
+        head = stream.read(SNIFF)
+    for magic, compression in ((b"\x1f\x8b", "gz"), (b"BZh", "bz2")):
+        if head.startswith(magic):
+            try:
+                with OPENERS[compression](path) as stream:
+                    head = stream.read(SNIFF)
+            except (OSError, EOFError, ValueError):
+                return f"osm.{compression}"  # damaged: reading it says so
+            return f"osm.{compression}" if _is_xml(head) else None
+    if _is_xml(head):
+        return "osm"
+    return "pbf" if b"OSMHeader" in head[:32] else None
+
+
+def _is_xml(head: bytes) -> bool:
+    return head.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<")
+
+
+def _open(path: Path, kind: str):
+    return OPENERS[kind.rpartition(".")[2]](path) if "." in kind else open(path, "rb")
+
+
+def check_xml(path: Path, kind: str = "osm") -> None:
     """Refuse XML that declares a document type (entities) before its first element, or that writes a
     coordinate with an exponent (libosmium reads an overflowing `lat="1e308"` as 0 without a word)."""
-    with open(path, "rb") as stream:
-        head = stream.read(PROLOG_BYTES)
-        start = head.find(b"<osm")
-        prolog = head if start < 0 else head[:start]
-        if b"<!DOCTYPE" in prolog.upper() or b"<!ENTITY" in prolog.upper():
-            raise UsageError(f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
-                             "never need; refusing it (entities could expand without bound or read local files)")
-        stream.seek(0)
-        line = 1
-        while chunk := stream.read(SCAN_BYTES) + stream.readline():
-            match = _EXPONENT.search(chunk)
-            if match:
-                node = re.search(rb'id="(-?\d+)"', chunk[chunk.rfind(b"<", 0, match.start()):match.start()])
-                at = line + chunk.count(b"\n", 0, match.start())
-                where = f"{path}:{at}" + (f": node/{node.group(1).decode()}" if node else "")
-                raise UsageError(f"{where}: coordinate {match.group(0).decode('ascii', 'replace')[:40]} has an "
-                                 "exponent; write latitude and longitude as plain decimals within ±90 and ±180")
-            line += chunk.count(b"\n")
+    try:
+        with _open(path, kind) as stream:
+            _scan_xml(path, stream)
+    except (OSError, EOFError, zlib.error) as exc:
+        raise UsageError(f"{path}: not a readable OpenStreetMap file ({kind} data damaged or cut short: "
+                         f"{str(exc)[:80] or type(exc).__name__}); check that the download is complete") from None
+
+
+def _scan_xml(path: Path, stream) -> None:
+    """The checks of `check_xml` on an open stream of the file."""
+    head = stream.read(PROLOG_BYTES)
+    start = head.find(b"<osm")
+    prolog = head if start < 0 else head[:start]
+    if b"<!DOCTYPE" in prolog.upper() or b"<!ENTITY" in prolog.upper():
+        raise UsageError(f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
+                         "never need; refusing it (entities could expand without bound or read local files)")
+    stream.seek(0)
+    line = 1
+    while chunk := stream.read(SCAN_BYTES) + stream.readline():
+        match = _EXPONENT.search(chunk)
+        if match:
+            node = re.search(rb'id="(-?\d+)"', chunk[chunk.rfind(b"<", 0, match.start()):match.start()])
+            at = line + chunk.count(b"\n", 0, match.start())
+            where = f"{path}:{at}" + (f": node/{node.group(1).decode()}" if node else "")
+            raise UsageError(f"{where}: coordinate {match.group(0).decode('ascii', 'replace')[:40]} has an "
+                             "exponent; write latitude and longitude as plain decimals within ±90 and ±180")
+        line += chunk.count(b"\n")
 
 
 def _coordinates(way) -> np.ndarray | None:
@@ -200,7 +240,7 @@ class _Collector:
         return True
 
 
-def _where(path: Path, message: str) -> str:
+def _where(path: Path, kind: str, message: str) -> str:
     """`path:LINE:COLUMN` of an XML syntax error, `path:LINE: node/ID` for libosmium's "wrong format
     for coordinate: 'X'" in XML, else `path`."""
     position = re.search(r"at line (\d+), column (\d+)", message)
@@ -210,7 +250,7 @@ def _where(path: Path, message: str) -> str:
     if not match:
         return str(path)
     value = f'"{match.group(1)}"'
-    with open(path, "rb") as stream:
+    with _open(path, kind) as stream:
         for number, line in enumerate(stream, 1):
             text = line.decode("utf-8", "replace")
             if value in text:
@@ -220,17 +260,17 @@ def _where(path: Path, message: str) -> str:
 
 
 def read_osm(path: Path) -> MapData:
-    """MapData of an OpenStreetMap extract (.osm.pbf or .osm XML)."""
-    with open(path, "rb") as stream:
-        xml = stream.read(SNIFF).lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<")
+    """MapData of an OpenStreetMap extract (.osm.pbf, or .osm XML, also gzip or bzip2 compressed)."""
+    kind = osm_format(path) or "pbf"  # not recognisably anything: let libosmium say what is wrong
+    xml = kind != "pbf"
     if xml:
-        check_xml(path)
+        check_xml(path, kind)
     report = ReadReport()
     collector = _Collector(report)
     dispatch = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
     try:
         # the format by content, not by name (libosmium would go by the file's extension)
-        source = osmium.io.File(str(path), "osm" if xml else "pbf")
+        source = osmium.io.File(str(path), kind)
         processor = osmium.FileProcessor(source).with_areas().with_locations()
         if not xml:  # PBF writers sort and deduplicate nodes; skipping untagged ones saves half the time
             processor.with_filter(osmium.filter.EmptyTagFilter())
@@ -238,7 +278,7 @@ def read_osm(path: Path) -> MapData:
             dispatch[item.type_str()](item)
     except (RuntimeError, ValueError, osmium.InvalidLocationError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise UsageError(f"{_where(path, message)}: not a readable OpenStreetMap file ({message}); "
+        raise UsageError(f"{_where(path, kind, message)}: not a readable OpenStreetMap file ({message}); "
                          "check that it is a complete .osm.pbf or .osm XML export") from None
     collector.finish()
     return assemble(path, collector.raws, report)
