@@ -1,13 +1,14 @@
 """OpenStreetMap `.osm.pbf` and `.osm` XML (also gzip or bzip2 compressed) through pyosmium: its area
 assembler builds multipolygons.
 
-One streaming pass: nodes give trees and street lamps, ways give roads, railways, tree rows and the
-coastline, and the area assembler gives building outlines, `building:part`s and land use (closed
-ways and multipolygon relations with their inner rings). What the assembler cannot build (an
-unclosed building way, a way with a missing node, a broken relation) is counted and skipped.
+One streaming pass: nodes give trees and street lamps; ways give roads, railways, tree rows, the
+coastline, and (closed) building outlines, `building:part`s and land use; the area assembler gives
+multipolygon relations with their inner rings. What cannot be built (an unclosed building way, a
+way with a missing node, a relation with open rings) is counted and skipped.
 
 XML is checked before libosmium sees it: a document type declaration (the carrier of entity bombs
-and external entities) is refused outright, so nothing is expanded and no local file is read.
+and external entities) is refused outright, so nothing is expanded and no local file is read
+(libosmium refuses entities too: "XML entities are not supported").
 """
 
 from __future__ import annotations
