@@ -303,3 +303,19 @@ def test_compressed_xml_is_read_and_checked_like_plain_xml(tmp_path, module, suf
     cut = tmp_path / f"cut{suffix}"
     cut.write_bytes(compress(plain)[:200])
     _refused(cut, "not a readable OpenStreetMap file")
+
+
+def test_a_file_that_cannot_be_opened_is_one_line(tmp_path, monkeypatch):
+    import builtins
+
+    path = tmp_path / "locked.osm"
+    path.write_text("<osm/>")
+    real_open = builtins.open
+
+    def denied(file, *args, **kwargs):  # what chmod 000 does for anyone but root
+        if str(file) == str(path):
+            raise PermissionError(13, "Permission denied")
+        return real_open(file, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", denied)
+    _refused(path, "cannot read the map (Permission denied)")

@@ -57,6 +57,8 @@ def read_json_text(path: Path, size: int) -> str:
                          "split the file or convert it to .osm.pbf")
     try:
         return path.read_bytes().decode("utf-8-sig")
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot read the map ({exc.strerror or exc})") from None
     except UnicodeDecodeError as exc:
         raise UsageError(f"{path}: byte {exc.start}: not UTF-8 text") from None
 
@@ -65,7 +67,10 @@ def load_map(path: Path | str) -> MapData:
     """The map at `path` (OpenStreetMap .osm.pbf/.osm, GeoJSON, CityJSON) in local metres."""
     path = Path(path)
     size = _checked(path)
-    kind = _format(path)
+    try:
+        kind = _format(path)
+    except OSError as exc:  # e.g. no permission to read it
+        raise UsageError(f"{path}: cannot read the map ({exc.strerror or exc})") from None
     if kind == "osm":
         data = read_osm(path)
     elif kind == "cityjson":
