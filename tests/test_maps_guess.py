@@ -273,3 +273,18 @@ def test_a_dome_does_not_spread_to_the_ordinary_buildings_around():
     data = guessed(church, *around, turret)
     assert [b.roof_shape for b in data.buildings[1:4]] == ["flat"] * 3
     assert data.buildings[4].roof_shape == "dome"
+
+
+def test_guessing_twice_changes_nothing():
+    data = guessed(*_neighbourhood(6.0), building(30, "yes", at=(900.0, 0.0), levels=2.0, height=60.0),
+                   building(31, "yes", at=(0.0, 900.0), height=10.0, min_height=12.0),
+                   building(32, "apartments", size=(40.0, 24.0), at=(900.0, 900.0), height=18.0, levels=6.0,
+                            roof_shape="gabled"),
+                   building(33, "yes", size=(30.0, 20.0), at=(-900.0, 0.0), levels=2.7, min_level=2.5))
+    gabled = data.buildings[-2]
+    assert gabled.height - gabled.roof_height >= 6 * 2.5 and "roof_height" in gabled.guessed
+    before = [[getattr(b, n) for n in NUMERIC + BUILDING_ATTRIBUTES] for b in data.buildings]
+    repairs = dict(data.report.repaired)
+    guess_missing(data)
+    assert [[getattr(b, n) for n in NUMERIC + BUILDING_ATTRIBUTES] for b in data.buildings] == before
+    assert dict(data.report.repaired) == repairs

@@ -122,40 +122,52 @@ def _retag(building: MapBuilding, name: str, value: float, report: ReadReport, w
     report.repair("building", why, building.source_id)
 
 
+def _tag(building: MapBuilding, name: str):
+    """The value the data gave, or None: the rules judge tags, never earlier guesses."""
+    return getattr(building, name) if name in building.tagged else None
+
+
 def settle_top(building: MapBuilding, report: ReadReport):
     """A top not above the bottom is almost always measured from the bottom (a part's own size)."""
-    if building.height is not None and building.min_height is not None and building.height <= building.min_height:
-        _retag(building, "height", building.min_height + building.height, report,
+    height = _tag(building, "height")
+    if height is not None and building.min_height is not None and height <= building.min_height:
+        _retag(building, "height", building.min_height + height, report,
                "height not above min_height: read as measured from min_height")
 
 
 def resolve_contradictions(building: MapBuilding, report: ReadReport):
     """Settles impossible or contradictory tags before any guessing (rules in docs/guesses.md)."""
     for name in ("height", "min_height", "levels", "min_level", "roof_height", "roof_levels"):
-        value = getattr(building, name)
+        value = _tag(building, name)
         if value is not None and (not math.isfinite(value) or value < 0):
             _reject(building, name, report, f"{name} below zero or not a number: ignored")
-    if building.levels is not None and building.levels > MAX_LEVELS:
+    levels = _tag(building, "levels")
+    if levels is not None and levels > MAX_LEVELS:
         _reject(building, "levels", report, f"levels above {MAX_LEVELS}: ignored")
-    if building.height is not None and building.height < 1.0:
+    height = _tag(building, "height")
+    if height is not None and height < 1.0:
         _reject(building, "height", report, "height below 1 m: ignored")
-    if building.levels is not None and building.levels < 1.0 and building.has_walls:
+    levels = _tag(building, "levels")
+    if levels is not None and levels < 1.0 and building.has_walls:
         _reject(building, "levels", report, "levels below 1 on a building with walls: ignored")
-    settle_top(building, report)
-    if building.levels is not None and building.min_level is not None and building.levels <= building.min_level:
-        _retag(building, "levels", building.min_level + building.levels, report,
+    if _tag(building, "min_height") is not None:
+        settle_top(building, report)
+    levels, min_level = _tag(building, "levels"), _tag(building, "min_level")
+    if levels is not None and min_level is not None and levels <= min_level:
+        _retag(building, "levels", min_level + levels, report,
                "min_level not below levels: levels read as counted from min_level")
-    if building.height is not None and building.roof_height is not None:
-        walls_from = building.min_height or 0.0
-        if building.roof_height > building.height - walls_from:
-            _retag(building, "roof_height", building.height - walls_from, report,
-                   "roof_height above the building: cut to the building's height")
-    if building.height is not None and building.levels and building.kind not in TALL_STOREYS:
-        walls = building.height - (building.roof_height or 0.0) - (building.min_height or 0.0)
-        storeys = building.levels - (building.min_level or 0.0)
+    height, roof_height = _tag(building, "height"), _tag(building, "roof_height")
+    bottom = _tag(building, "min_height") or 0.0
+    if height is not None and roof_height is not None and roof_height > height - bottom:
+        _retag(building, "roof_height", height - bottom, report,
+               "roof_height above the building: cut to the building's height")
+    levels = _tag(building, "levels")
+    if height is not None and levels and building.kind not in TALL_STOREYS:
+        walls = height - (_tag(building, "roof_height") or 0.0) - bottom
+        storeys = levels - (_tag(building, "min_level") or 0.0)
         storey = walls / storeys if storeys > 0 else 0.0
         if not STOREY_RANGE[0] <= storey <= STOREY_RANGE[1]:
             # The height is a measurement; the level count is re-derived from it.
             storey = defaults_for(building.kind, building.footprint_area, building.is_part).storey
-            levels = (building.min_level or 0.0) + max(1.0, round(walls / storey))
+            levels = (_tag(building, "min_level") or 0.0) + max(1.0, round(walls / storey))
             _retag(building, "levels", levels, report, "levels contradict height: levels derived from the height")

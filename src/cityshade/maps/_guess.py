@@ -22,6 +22,7 @@ from ._model import MapBuilding, MapData, MapTree, ReadReport
 
 ROOF_ANGLES = {"skillion": 15.0, "gambrel": 45.0, "mansard": 50.0, "cone": 45.0, "onion": 60.0}
 ATTIC = 2.2  # metres of roof height a person can stand in: one roof level
+LOWEST_STOREY = 2.5  # metres: a guessed roof leaves at least this much to each tagged storey
 
 NEEDLELEAVED = {"Pinus", "Picea", "Abies", "Larix", "Juniperus", "Taxus", "Thuja", "Pseudotsuga", "Cedrus"}
 TREE_DEFAULTS = {  # leaf type -> (genus, height m, crown diameter / height)
@@ -92,7 +93,13 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
     if building.roof_height is None and building.roof_levels is not None:
         _set(building, "roof_height", building.roof_levels * storey)
     if building.roof_height is None:
-        _set(building, "roof_height", _roof_height(building, shape.short_side[i]))
+        roof_height = _roof_height(building, shape.short_side[i])
+        if building.height is not None and building.levels is not None:
+            # The tagged storeys keep at least LOWEST_STOREY each under a guessed roof.
+            storeys = building.levels - (building.min_level or 0.0)
+            room = building.height - (building.min_height or 0.0) - storeys * LOWEST_STOREY
+            roof_height = min(roof_height, max(room, 0.0))
+        _set(building, "roof_height", roof_height)
     if building.min_level is None:
         min_level = float(round(building.min_height / storey)) if building.min_height else 0.0
         if building.levels is not None:
