@@ -130,3 +130,16 @@ def test_railways_two_rails_a_gauge_apart_ballast_for_trains_none_in_tunnels():
     assert ys == pytest.approx([-0.762, 0.762, 29.5, 30.5], abs=1e-6)
     assert all(p.length == pytest.approx(RAIL_WIDTH) for p in shapely.get_parts(across))
     assert surfaces.ballast.contains(shapely.Point(50, 0)) and not surfaces.ballast.intersects(shapely.Point(50, 30))
+
+
+def test_shader_material_ids_match_the_ground_mesh():
+    import re
+    from importlib.resources import files
+
+    import cityshade.maps._ground as ground
+
+    defines = {}
+    for name in ("city/ground.glsl", "city/map_ground.glsl"):
+        text = (files("cityshade") / "shaders" / name).read_text()
+        defines.update({k: int(v) for k, v in re.findall(r"#define (GROUND_\w+) (\d+)", text)})
+    assert defines == {k: getattr(ground, k) for k in defines} and len(defines) == 11

@@ -13,11 +13,12 @@ import mapbox_earcut as earcut
 import numpy as np
 import shapely
 
+from ..scene import GROUND_ASPHALT, GROUND_GRASS, GROUND_PAVEMENT
 from ._model import MapData, to_scene
 from ._streets import StreetSurfaces, street_surfaces
 
-# Material ids read by shaders/city/ground.glsl (0-2 are the built-in city's, the rest shaders/city/map_ground.glsl).
-GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
+# Material ids read by shaders/city/ground.glsl: the built-in city's three, then those of
+# shaders/city/map_ground.glsl.
 GROUND_WATER, GROUND_MARKING, GROUND_RAIL, GROUND_BALLAST, GROUND_LAND, GROUND_SAND, GROUND_POST, GROUND_BULB = range(3, 11)
 AREA_MATERIALS = {"water": GROUND_WATER, "grass": GROUND_GRASS, "park": GROUND_GRASS, "forest": GROUND_GRASS,
                   "meadow": GROUND_GRASS, "farmland": GROUND_GRASS, "pavement": GROUND_PAVEMENT, "sand": GROUND_SAND}
