@@ -7,7 +7,7 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
 BENCHES := interior facades relief trees
 
-.PHONY: setup data demo demo-osm test bench bench-quick clean
+.PHONY: setup data demo demo-osm test bench bench-quick validate-export clean
 
 setup: $(STAMP)
 
@@ -38,6 +38,15 @@ bench: setup
 
 bench-quick: setup
 	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --quick --json bench-results/$$b-quick.json || exit 1; done
+
+# The Khronos glTF validator (npm gltf-validator, in ./node_modules) on exported Helsinki (GLB and
+# 3D Tiles; © OpenStreetMap contributors, ODbL 1.0) and the built-in district: fails on any error
+validate-export: setup data
+	npm install --no-save --no-package-lock --no-audit --no-fund gltf-validator@2.0.0-dev.3.10
+	$(BIN)/cityshade export --city default --out out/export/default.glb --texel 0.25
+	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki.glb --texel 0.25
+	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-tiles --format 3dtiles --texel 0.25
+	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles
 
 clean:
 	rm -rf $(VENV) out bench-results

@@ -94,6 +94,23 @@ def test_glb_round_trip_with_trimesh(tmp_path, capsys):
     assert gltf.asset.extras["origin"]["longitude"] == pytest.approx(24.94, abs=0.01)
     assert gltf.asset.extras["crs"].startswith("EPSG:")
     assert "EXT_mesh_gpu_instancing" in gltf.extensionsUsed
+    assert _property_strings(gltf, "source_id") == [n.extras["source_id"] for n in gltf.nodes
+                                                     if n.name.startswith("building ")]
+
+
+def _property_strings(gltf, name: str) -> list[str]:
+    """A STRING property of the EXT_structural_metadata table, decoded from the binary buffer."""
+    table = gltf.extensions["EXT_structural_metadata"]["propertyTables"][0]
+    blob = gltf.binary_blob()
+
+    def view(index):
+        v = gltf.bufferViews[index]
+        return blob[v.byteOffset:v.byteOffset + v.byteLength]
+
+    prop = table["properties"][name]
+    offsets = np.frombuffer(view(prop["stringOffsets"]), np.uint32)
+    data = view(prop["values"])
+    return [data[a:b].decode("utf-8") for a, b in zip(offsets[:-1], offsets[1:])]
 
 
 def test_tileset_hierarchy_and_earth_position(tmp_path, capsys):

@@ -15,6 +15,7 @@ BENCHMARKS = {
     "trees": "cityshade.bench.trees",
     "guesses": "cityshade.bench.guesses",
     "osm": "cityshade.bench.osm",
+    "export": "cityshade.bench.export",
 }
 
 

@@ -116,8 +116,9 @@ class BuildingWriter:
         self.stats.buildings += 1
         self.stats.triangles += len(verts) // 3
         style = BUILDING_STYLES[mass.style] if i in self.canvases else "window bays"
-        self.doc.node(f"building {self.metadata[i]['source_id']}", primitives,
-                      extras=dict(self.metadata[i], facade=style))
+        metadata = dict(self.metadata[i], facade=style)
+        self.doc.feature(metadata, primitives, [self.doc.gltf.accessors[p.attributes.POSITION].count for p in primitives])
+        self.doc.node(f"building {metadata['source_id']}", primitives, extras=metadata)
 
 
 def ground_triangles(city) -> np.ndarray:

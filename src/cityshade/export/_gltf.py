@@ -4,11 +4,21 @@ inside the buffer, and nodes carrying their metadata in `extras`."""
 from __future__ import annotations
 
 import io
+import json
 
 import numpy as np
 import pygltflib as gl
 
 INSTANCING = "EXT_mesh_gpu_instancing"
+FEATURES, METADATA = "EXT_mesh_features", "EXT_structural_metadata"
+# The building class of EXT_structural_metadata: property -> (type, from a metadata dict)
+BUILDING_PROPERTIES = {
+    "source_id": "STRING", "kind": "STRING", "part_of": "STRING", "height": "FLOAT32", "min_height": "FLOAT32",
+    "levels": "FLOAT32", "roof_shape": "STRING", "facade": "STRING",
+    "tags": "STRING",  # JSON object text
+    "tagged": "STRING", "guessed": "STRING",  # comma-separated attribute names
+}
+NO_DATA = -1.0
 _COMPONENTS = {np.dtype(np.float32): gl.FLOAT, np.dtype(np.uint32): gl.UNSIGNED_INT,
                np.dtype(np.uint16): gl.UNSIGNED_SHORT}
 _TYPES = {1: gl.SCALAR, 2: gl.VEC2, 3: gl.VEC3, 4: gl.VEC4}
@@ -31,9 +41,10 @@ class Document:
         self.gltf.scene = 0
         self.blob = bytearray()
         self.samplers: dict[tuple, int] = {}
+        self.features: list[dict] = []  # one metadata row per building (EXT_structural_metadata)
 
     def _view(self, data: bytes, target: int | None = None) -> int:
-        self.blob.extend(b"\0" * (-len(self.blob) % 4))
+        self.blob.extend(b"\0" * (-len(self.blob) % 8))  # EXT_structural_metadata wants 8-byte alignment
         self.gltf.bufferViews.append(gl.BufferView(buffer=0, byteOffset=len(self.blob), byteLength=len(data),
                                                    target=target))
         self.blob.extend(data)
@@ -100,6 +111,43 @@ class Document:
         return gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES,
                             indices=self.accessor(indices.astype(np.uint32), target=gl.ELEMENT_ARRAY_BUFFER))
 
+    def feature(self, metadata: dict, primitives: list[gl.Primitive], vertices: list[int]) -> int:
+        """Makes the primitives one feature (EXT_mesh_features) whose row of the building property
+        table (EXT_structural_metadata) is `metadata`."""
+        row = len(self.features)
+        self.features.append(metadata)
+        for primitive, count in zip(primitives, vertices):
+            primitive.attributes._FEATURE_ID_0 = self.accessor(np.full(count, row, np.float32))
+            primitive.extensions = {FEATURES: {"featureIds": [{"attribute": 0, "propertyTable": 0,
+                                                                "featureCount": 0}]}}
+        return row
+
+    def _property_table(self):
+        rows = self.features
+        properties, schema = {}, {}
+        for name, kind in BUILDING_PROPERTIES.items():
+            values = [row.get(name) for row in rows]
+            if kind == "FLOAT32":
+                data = np.array([NO_DATA if v is None else float(v) for v in values], np.float32)
+                properties[name] = {"values": self._view(data.tobytes())}
+                schema[name] = {"type": "SCALAR", "componentType": "FLOAT32", "noData": NO_DATA}
+                continue
+            texts = [_text(v) for v in values]
+            encoded = [t.encode("utf-8") for t in texts]
+            offsets = np.concatenate([[0], np.cumsum([len(e) for e in encoded])]).astype(np.uint32)
+            properties[name] = {"values": self._view(b"".join(encoded) or b"\0"), "stringOffsets": self._view(offsets.tobytes()),
+                                "stringOffsetType": "UINT32"}
+            schema[name] = {"type": "STRING"}
+        self.gltf.extensions[METADATA] = {
+            "schema": {"id": "cityshade", "classes": {"building": {"properties": schema}}},
+            "propertyTables": [{"class": "building", "count": len(rows), "properties": properties}],
+        }
+        for mesh in self.gltf.meshes:
+            for primitive in mesh.primitives:
+                if primitive.extensions and FEATURES in primitive.extensions:
+                    primitive.extensions[FEATURES]["featureIds"][0]["featureCount"] = len(rows)
+        self.gltf.extensionsUsed += [FEATURES, METADATA]
+
     def node(self, name: str, primitives: list[gl.Primitive], extras: dict | None = None,
              extensions: dict | None = None) -> int:
         """A mesh of the primitives and a root node showing it."""
@@ -123,10 +171,22 @@ class Document:
         return self.node(name, primitives, extras, {INSTANCING: extension})
 
     def finish(self) -> gl.GLTF2:
+        if self.features:
+            self._property_table()
         self.blob.extend(b"\0" * (-len(self.blob) % 4))
         self.gltf.buffers = [gl.Buffer(byteLength=len(self.blob))]
         self.gltf.set_binary_blob(bytes(self.blob))
         return self.gltf
+
+
+def _text(value) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, dict):
+        return json.dumps(value, ensure_ascii=False, sort_keys=True)
+    if isinstance(value, (list, tuple)):
+        return ",".join(str(v) for v in value)
+    return str(value)
 
 
 def unit(vectors: np.ndarray) -> np.ndarray:
