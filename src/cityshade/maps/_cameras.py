@@ -19,7 +19,7 @@ EYE_HEIGHT = 1.7
 DRIVEN = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential",
           "living_street", "pedestrian", "motorway_link", "trunk_link", "primary_link", "secondary_link",
           "tertiary_link")
-FAR = 30000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
+FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
 
 
 def heading_vector(heading: float, pitch: float = 0.0) -> np.ndarray:

@@ -22,7 +22,7 @@ from ._streets import StreetSurfaces, street_surfaces
 GROUND_WATER, GROUND_MARKING, GROUND_RAIL, GROUND_BALLAST, GROUND_LAND, GROUND_SAND, GROUND_POST, GROUND_BULB = range(3, 11)
 AREA_MATERIALS = {"water": GROUND_WATER, "grass": GROUND_GRASS, "park": GROUND_GRASS, "forest": GROUND_GRASS,
                   "meadow": GROUND_GRASS, "farmland": GROUND_GRASS, "pavement": GROUND_PAVEMENT, "sand": GROUND_SAND}
-HORIZON = 60_000.0  # metres of land plane around the map: far enough to meet the haze at the horizon
+HORIZON = 400_000.0  # metres of land plane around the map: its edge sinks below the horizon seen from 3 km up
 BASE_DEPTH = 0.3  # the land plane lies this far below the map's surfaces, so they never share a depth
 PAINT_LIFT = 0.03  # markings and rails over the carriageway
 
