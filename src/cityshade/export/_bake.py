@@ -140,7 +140,8 @@ def pack(canvases: list[Canvas]) -> list[tuple[int, int]]:
         shelf = (page, y, height, x + canvas.cols)
         sizes[page][0] = max(sizes[page][0], x + canvas.cols)
         sizes[page][1] = max(sizes[page][1], y + canvas.rows)
-    return [(w, h) for w, h in sizes]
+    # sides a multiple of 4: RGB rows stay 4-byte aligned for loaders that upload them as they are
+    return [(-(-w // 4) * 4, -(-h // 4) * 4) for w, h in sizes]
 
 
 def texel_grid(canvas: Canvas, texel: float) -> np.ndarray:
