@@ -34,6 +34,8 @@ STYLES = 8
 
 def facade_style(building: MapBuilding) -> int:
     """The facade style (0..7) for a building's use or kind; unknown uses get a stable varied one."""
+    if building.small_utility:
+        return STYLE_BY_USE["shed"]  # whatever its tag says, a small outbuilding looks like a shed
     for use in (building.use, building.kind):
         if use in STYLE_BY_USE:
             return STYLE_BY_USE[use]
