@@ -52,8 +52,10 @@ def run(quick: bool = False, out_dir: Path | None = None) -> BenchResult:
             rows.append(_row("Helsinki tiled to 100,000", extract, "glb", 1.0, tmp))
     result.add_table("export: time and size", COLUMNS, rows)
     result.notes.append("Facades are baked on the GPU (llvmpipe on a machine without one); 'read s' is load_map + "
-                        "map_city (guessing, roofs, ground), 'export s' the bake, meshes, PNGs and writing. Atlas "
-                        "texels per m² of wall are below 1/texel² because all walls of one side of a building "
-                        "share one canvas (the grammar's scope is the building's width).")
+                        "map_city (guessing, roofs, ground), 'export s' the bake, meshes, PNGs and writing. Facade "
+                        "m² counts every wall, window-bay walls (one repeated bay texture, no atlas) included; "
+                        "atlas texels per m² stay below 1/texel² also because all walls of one side of a "
+                        "building share one canvas (the grammar's scope is the building's width). 3D Tiles "
+                        "atlases include the coarser levels' smaller ones.")
     result.notes.append("Map data © OpenStreetMap contributors, ODbL 1.0.")
     return result
