@@ -166,3 +166,17 @@ def test_bad_input_one_line_exit_2_nothing_written(tmp_path, capsys):
     err = _fails(base + ["--out", "/proc/cityshade-export.glb", "--texel", "1"], capsys)  # even root cannot
     assert "cannot write" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]  # no partial file, tileset or temporary
+
+
+def test_region_keeps_what_lies_inside_as_gltf(tmp_path, capsys):
+    import pygltflib
+
+    out = tmp_path / "corner.gltf"
+    # around way/400 only (a fuel station canopy at 60.1711-60.1712 N, 24.9400-24.9401 E)
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--region", "24.9399,60.1710,24.9402,60.1713",
+                 "--texel", "0.5"]) == 0
+    assert _summary(capsys)["buildings"] == 1
+    gltf = pygltflib.GLTF2.load(str(out))
+    assert [n.name for n in gltf.nodes] == ["building way/400", "ground"]
+    ground = gltf.accessors[gltf.meshes[gltf.nodes[1].mesh].primitives[0].attributes.POSITION]
+    assert ground.count > 0 and ground.max[0] - ground.min[0] <= 17.7 + 1e-3  # cut to the region's 17.7 m width
