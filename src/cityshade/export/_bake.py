@@ -15,7 +15,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import UsageError
-from ..grammar import BUILDING_STYLES, GRAMMAR_SHAPES, evaluate, library_texture, seed_cells
+from ..grammar import (
+    BUILDING_STYLES,
+    GRAMMAR_SHAPES,
+    evaluate,
+    library_texture,
+    seed_cells,
+)
 
 PAGE = 2048  # texels: the side of an ordinary atlas page
 ATLAS_LIMIT = 8192  # texels: the largest texture side every desktop and web GPU of the last decade loads
@@ -23,7 +29,6 @@ MAX_TEXELS = 1 << 28  # all pages together (about 1 GiB of RGBA): more would not
 STRIP = 512  # rows baked per GPU pass (bounds the render target's memory)
 LIT_SHARE = 0.35  # share of rooms lit at a building's lights = 1
 LIT_COLOUR = np.array([255, 196, 120], np.uint8)
-SIDES = ("x", "z", "round")
 
 
 @dataclass
@@ -31,7 +36,7 @@ class Canvas:
     """One side of one building's facade in an atlas page (positions in texels, GL rows: 0 at the bottom)."""
 
     building: int
-    side: int  # index into SIDES
+    side: int  # 0: walls facing ±z (as wide as the building along x), 1: facing ±x, 2: a round wall
     u0: float  # facade coordinates (metres) at the canvas' lower-left corner
     v0: float
     cols: int
@@ -57,10 +62,6 @@ class Atlas:
     metallic_roughness: list[np.ndarray]
     normal: list[np.ndarray]
     emissive: list[np.ndarray]
-
-    @property
-    def texels(self) -> int:
-        return int(sum(w * h for w, h in self.sizes))
 
 
 def has_grammar(mass) -> bool:

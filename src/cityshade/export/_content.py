@@ -9,9 +9,16 @@ import numpy as np
 
 from ..assets import facade_texture
 from ..grammar import BUILDING_STYLES
-from ..scene import building_record, building_vertices, rotation_y
-from ..scene import Roof
-from ._bake import Atlas, atlas_uv, bake_atlas, canvases_of, check_size, has_grammar, wall_sides
+from ..scene import Roof, building_record, building_vertices, rotation_y
+from ._bake import (
+    Atlas,
+    atlas_uv,
+    bake_atlas,
+    canvases_of,
+    check_size,
+    has_grammar,
+    wall_sides,
+)
 from ._gltf import Document
 
 SURFACE_ROOF = 1  # scene vertex ids[:, 1]: 0 wall, 1 roof (scene/_meshes.py)
@@ -167,7 +174,7 @@ def add_trees(doc: Document, trees, stats: Stats, seed: int = 0):
         return
     bark = doc.material("bark", colour=BARK_COLOUR)
     leaves = doc.material("leaves", colour=LEAF_COLOUR, double_sided=True)
-    for index in sorted(set(int(s) for s in trees["species"])):
+    for index in sorted({int(s) for s in trees["species"]}):
         name = SPECIES_ORDER[index]
         mesh = generate_tree(SPECIES[name], seed + index).lods[0]
         parts = [(bark, mesh.branches[:, 0:3], mesh.branches[:, 3:6], mesh.branch_indices),
@@ -181,5 +188,5 @@ def add_trees(doc: Document, trees, stats: Stats, seed: int = 0):
         rotations = np.column_stack([np.zeros(len(yaw)), np.sin(yaw / 2), np.zeros(len(yaw)), np.cos(yaw / 2)])
         scales = np.repeat(mine["scale"][:, None], 3, axis=1)
         doc.instanced(f"trees {name}", primitives, mine["position"], rotations, scales,
-                      extras={"kind": "trees", "species": name, "count": int(len(mine))})
+                      extras={"kind": "trees", "species": name, "count": len(mine)})
         stats.tree_instances += len(mine)
