@@ -60,6 +60,9 @@ def check_output(out: Path, fmt: str):
         raise UsageError(f"--out {str(out)!r} is a directory; give a file name such as city.{fmt}")
     if fmt == "3dtiles" and out.exists() and not out.is_dir():
         raise UsageError(f"--out {str(out)!r} is a file; a tileset is written to a directory")
+    if fmt == "3dtiles" and out.is_dir() and any(out.iterdir()) and not (out / "tileset.json").is_file():
+        # the directory is replaced as a whole: only ever an earlier tileset
+        raise UsageError(f"--out {str(out)!r} holds files but no tileset.json; give a new directory for the tileset")
     folder = out.absolute().parent
     probe = folder
     while not probe.exists():
