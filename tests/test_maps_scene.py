@@ -69,6 +69,8 @@ def test_aerial_frustum_holds_every_building():
     ndc = clip[:, :3] / clip[:, 3:4]
     assert np.all(clip[:, 3] > 0)
     assert np.all(np.abs(ndc) <= 1.0), np.abs(ndc).max(axis=0)
+    # the cascaded shadows reach every building seen
+    assert camera.shadow_far >= np.linalg.norm(np.array(corners) - camera.eye, axis=1).max()
     # framed, not lost in the picture: the buildings (150 m of the 250 m framed) span half the image or more
     assert np.ptp(ndc[:, 0]) > 0.9 or np.ptp(ndc[:, 1]) > 0.9
 

@@ -52,8 +52,10 @@ def aerial_camera(bounds: tuple[float, float, float, float], top: float, aspect:
             best = (distance, forward)
     distance, forward = best
     eye = centre - forward * distance
-    # the nearest ground is about half the distance away: a large near plane keeps roads apart from the ground
-    return Camera(tuple(eye), tuple(centre), fov_y=AERIAL_FOV, near=max(0.5, distance / 40), far=FAR)
+    # the nearest ground is about half the distance away: a large near plane keeps roads apart from the
+    # ground; the shadows reach the far side of the map
+    return Camera(tuple(eye), tuple(centre), fov_y=AERIAL_FOV, near=max(0.5, distance / 40), far=FAR,
+                  shadow_far=2.0 * distance)
 
 
 def _fit_distance(corners: np.ndarray, centre: np.ndarray, forward: np.ndarray, aspect: float) -> float:
