@@ -18,6 +18,7 @@ COMMAND_MODULES = (
     "cityshade.relief._cli",
     "cityshade.maps._info",
     "cityshade.export._cli",
+    "cityshade.dataset._cli",
 )
 
 

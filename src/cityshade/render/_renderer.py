@@ -135,6 +135,15 @@ class Renderer:
         draw_ids(self._inputs(camera), self._ids)
         return self._ids.read().copy()
 
+    def depth(self, aov: bool = False) -> np.ndarray:
+        """The depth buffer (HxW float32, 0 at `near` .. 1 at `far`, top row first) of the last frame,
+        or with `aov` of the last id AOV. The frame's needs settings.samples == 0 (single-sample)."""
+        target = self._ids if aov else (self._targets[0] if self._targets else None)
+        if target is None or target.samples:
+            raise RuntimeError("no single-sample depth: draw first, with settings.samples = 0 for the frame")
+        data = np.frombuffer(target.depth.read(), dtype=np.float32)
+        return data.reshape(self.size[1], self.size[0])[::-1].copy()
+
     def release(self):
         self._release_targets()
         if self.city is not None:

@@ -51,7 +51,7 @@ float grain(vec2 p) {
 
 void main() {
 #if defined ID_PASS
-    out_ids = uvec4(uint(FACE_GROUND), lamps_listed(v_world), 0u, 0u);  // y: the lamps of its light-grid cell
+    out_ids = uvec4(uint(FACE_GROUND), lamps_listed(v_world), 0u, uint(v_material));  // y: the lamps of its light-grid cell, w: material
 #else
     float shadow = shadow_factor(v_world);
     vec3 albedo, color;

@@ -1,0 +1,15 @@
+"""Labelled renders of cities for training and testing: views sampled along streets and from the
+air, each written as RGB, depth, normals, semantic classes, instance ids and camera JSON, listed in
+a Parquet manifest, rendered by Ray actors (docs/datasets.md)."""
+
+from ._classes import CLASS_COLOURS, CLASSES, IGNORE, class_image, instance_image
+from ._config import DEFAULTS, DatasetConfig, load_config, parse_config
+from ._sample import SampleRenderer, extrinsics, intrinsics, linear_depth, normals_from_depth, sample_files
+from ._source import Source, load_source
+from ._views import KINDS, Streets, View, sample_view
+
+__all__ = [
+    "CLASS_COLOURS", "CLASSES", "IGNORE", "class_image", "instance_image", "DEFAULTS", "DatasetConfig", "load_config",
+    "parse_config", "SampleRenderer", "extrinsics", "intrinsics", "linear_depth", "normals_from_depth",
+    "sample_files", "Source", "load_source", "KINDS", "Streets", "View", "sample_view",
+]
