@@ -53,7 +53,7 @@ class DatasetConfig:
         """The settings that decide the images, as 'section.key' -> value (for --resume checks)."""
         flat = {}
         for section, keys in DEFAULTS.items():
-            for key in keys:
+            for key in keys if section != "run" else ():  # how the work is dealt changes no image
                 value = getattr(self, key)
                 flat[f"{section}.{key}"] = list(value) if isinstance(value, tuple) else value
         return flat
