@@ -16,6 +16,7 @@ BENCHMARKS = {
     "guesses": "cityshade.bench.guesses",
     "osm": "cityshade.bench.osm",
     "export": "cityshade.bench.export",
+    "dataset": "cityshade.bench.dataset",
 }
 
 

@@ -53,7 +53,6 @@ def _start_ray(workers: int, address: str | None) -> bool:
     if ray.is_initialized():
         return False
     if address is not None:
-        check_address(address)
         try:
             ray.init(address=address, logging_level="ERROR", log_to_driver=False)
         except ConnectionError as exc:
@@ -109,6 +108,8 @@ def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | No
     if samples < 1 or workers < 1:
         raise UsageError(f"--samples and --workers must be at least 1 (got {samples} and {workers})")
     check_output(out)
+    if address is not None:
+        check_address(address)
     record = {"source": str(map_path) if map_path is not None else f"city:{city}", "seed": seed, **config.settings()}
     if resume and (out / "dataset.json").exists():
         check_record(out, record, resume=True)
