@@ -188,3 +188,21 @@ def test_grammar_windows_are_window_class(output_dir):
     differ = int(np.count_nonzero(window != labelled_window))
     print(f"closeup: {labelled_window.sum()} grammar window pixels, {differ} differ ({trees.sum()} behind trees)")
     assert differ <= 0.001 * SIZE[0] * SIZE[1]
+
+
+def test_intrinsics_and_extrinsics_project_as_the_renderer_does():
+    from cityshade.dataset import extrinsics, intrinsics
+
+    view = View(0, "vehicle", (12.0, 2.0, -40.0), 237.0, 4.0, 60.0, 0.3, None, 12.0)
+    width, height = 64, 48
+    camera = view.camera()
+    side = np.cross(camera.forward, [0.0, 1.0, 0.0])
+    points = camera.eye + np.outer([20.0, 30.0, 9.0], camera.forward) + np.outer([3.0, -8.0, 0.5], side) \
+        + np.outer([1.0, -1.5, 0.2], [0.0, 1.0, 0.0])
+    clip = np.c_[points, np.ones(3)] @ camera.view_projection(width / height).T
+    ndc = clip[:, :2] / clip[:, 3:4]
+    expected = np.c_[(ndc[:, 0] + 1) / 2 * width - 0.5, (1 - ndc[:, 1]) / 2 * height - 0.5]  # pixel centres at integers
+    cam = (extrinsics(view) @ np.c_[points, np.ones(3)].T)[:3]
+    assert np.all(cam[2] > 0)  # OpenCV: in front of the camera is +z
+    pixels = (intrinsics(view.fov, width, height) @ cam)
+    assert np.allclose((pixels[:2] / pixels[2]).T, expected, atol=1e-6)
