@@ -140,3 +140,31 @@ def test_unwritable_output_is_refused(tmp_path, capsys):
     blocker.write_text("x")
     code = main(["dataset", "--city", "default", "--samples", "1", "--out", str(blocker / "ds")])
     assert code == 2 and "is not a directory" in capsys.readouterr().err
+
+
+def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output_dir):
+    import tarfile
+
+    from cityshade.dataset import write_shards
+
+    config = tmp_path / "tiny.toml"
+    config.write_text("[image]\nwidth = 48\nheight = 32\n")
+    out = tmp_path / "ds"
+    code = main(["dataset", "--city", "default", "--samples", "3", "--out", str(out), "--config", str(config),
+                 "--seed", "2", "--shards", "2", "--preview", str(out)])
+    assert code == 0, capsys.readouterr().err
+    shards = sorted((out / "shards").iterdir())
+    assert [p.name for p in shards] == ["000000.tar", "000001.tar"]
+    names = []
+    for shard in shards:
+        with tarfile.open(shard) as tar:
+            for member in tar.getmembers():
+                names.append(member.name)
+                assert tar.extractfile(member).read() == (out / "samples" / member.name).read_bytes()
+    assert sorted(names) == sorted(p.name for p in (out / "samples").iterdir()) and len(names) == 3 * len(OUTPUTS)
+    first = shards[0].read_bytes()
+    write_shards(out, 2)
+    assert shards[0].read_bytes() == first, "shards are not reproducible"
+    preview = Image.open(out / "preview.png")
+    assert preview.width == 4 * 48 and preview.height > 3 * 32
+    preview.save(output_dir / "dataset_preview_tiny.png")

@@ -20,6 +20,8 @@ def register(subparsers):
                         "starting a local runtime")
     parser.add_argument("--seed", type=int, default=0, metavar="S", help="views, dates and times follow from it")
     parser.add_argument("--resume", action="store_true", help="complete a dataset folder made with the same settings")
+    parser.add_argument("--shards", type=int, default=None, metavar="SAMPLES",
+                        help="also write WebDataset tar shards of SAMPLES samples each to DIR/shards/")
     parser.add_argument("--preview", type=Path, default=None, metavar="DIR",
                         help="write DIR/preview.png: samples of the dataset in DIR with their labels over them")
     parser.set_defaults(run=run)
@@ -34,14 +36,21 @@ def run(args) -> int:
             raise UsageError("give one of --map FILE or --city NAME")
         if args.samples is None or args.out is None:
             raise UsageError("give --samples N and --out DIR")
+        if args.shards is not None and args.shards < 1:
+            raise UsageError(f"--shards {args.shards}: give the number of samples per shard, at least 1")
         config = load_config(args.config)
         from ._run import generate
 
         rows = generate(args.out, args.samples, config, args.map, args.city, args.workers, args.address, args.seed,
                         args.resume)
         print(f"wrote {args.out}: {len(rows)} samples listed in {args.out / 'manifest.parquet'}")
-    elif args.preview is None:
-        raise UsageError("give --map FILE or --city NAME with --samples N --out DIR, or --preview DIR")
+        if args.shards is not None:
+            from ._shards import write_shards
+
+            print(f"wrote {len(write_shards(args.out, args.shards))} shards to {args.out / 'shards'}")
+    elif args.preview is None or args.shards is not None:
+        raise UsageError("give --map FILE or --city NAME with --samples N --out DIR [--shards SAMPLES], "
+                         "or --preview DIR")
     if args.preview is not None:
         from ._preview import write_preview
 
