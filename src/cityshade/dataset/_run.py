@@ -15,7 +15,7 @@ import socket
 import time
 from pathlib import Path
 
-from ..errors import UsageError
+from ..errors import CityshadeError, UsageError
 from ._config import DatasetConfig
 from ._manifest import check_record, read_manifest, write_manifest
 from ._views import sample_view
@@ -100,8 +100,6 @@ def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | No
              progress: bool = True, on_workers=None) -> list[dict]:
     """Renders samples 0..samples-1 into `out`; returns the manifest's rows. `on_workers(pids)` is
     called once the actors run (to watch or stop them)."""
-    from rich.progress import Progress
-
     from ._source import load_source
 
     out = Path(out)
@@ -120,28 +118,41 @@ def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | No
             if all((out / row[name]).exists() for name in ("rgb", "depth", "normal", "class", "instance", "meta"))}
     views = [sample_view(i, seed, config, source.streets, source.has_date) for i in range(samples) if i not in done]
     batches = [views[k:k + config.batch] for k in range(0, len(views), config.batch)]
-    if batches:
-        import ray
-        from ray.util import ActorPool
-
-        started = _start_ray(workers, address)
-        try:
-            threads = max(1, (os.cpu_count() or 1) // workers) if address is None else 1
-            actors = [_worker_class().remote(map_path, city, config, str(out.resolve()), threads) for _ in range(workers)]
-            if on_workers is not None:
-                on_workers(ray.get([a.pid.remote() for a in actors]))
-            last = time.monotonic()
-            with Progress(disable=not progress, transient=True) as bar:
-                task = bar.add_task(f"dataset {out.name}", total=samples, completed=len(done))
-                for rows in ActorPool(actors).map_unordered(lambda actor, batch: actor.write.remote(batch), batches):
-                    done.update({row["index"]: row for row in rows})
-                    bar.advance(task, len(rows))
-                    if time.monotonic() - last > MANIFEST_EVERY:
-                        write_manifest(out, list(done.values()))
-                        last = time.monotonic()
-        finally:
-            if started:
-                ray.shutdown()
-    write_manifest(out, list(done.values()))
-    _remove_temporaries(out)
+    try:
+        if batches:
+            _render(out, batches, samples, done, config, map_path, city, workers, address, progress, on_workers)
+    finally:  # also after an error or Ctrl-C: what is complete stays listed, no temporary file stays
+        write_manifest(out, list(done.values()))
+        _remove_temporaries(out)
     return read_manifest(out)
+
+
+def _render(out: Path, batches, samples: int, done: dict, config: DatasetConfig, map_path, city, workers: int,
+            address, progress: bool, on_workers):
+    """Deals `batches` to the actors; adds each returned manifest row to `done` as it arrives."""
+    import ray
+    from ray.util import ActorPool
+    from rich.progress import Progress
+
+    started = _start_ray(workers, address)
+    try:
+        threads = max(1, (os.cpu_count() or 1) // workers) if address is None else 1
+        actors = [_worker_class().remote(map_path, city, config, str(out.resolve()), threads) for _ in range(workers)]
+        if on_workers is not None:
+            on_workers(ray.get([a.pid.remote() for a in actors]))
+        last = time.monotonic()
+        with Progress(disable=not progress, transient=True) as bar:
+            task = bar.add_task(f"dataset {out.name}", total=samples, completed=len(done))
+            for rows in ActorPool(actors).map_unordered(lambda actor, batch: actor.write.remote(batch), batches):
+                done.update({row["index"]: row for row in rows})
+                bar.advance(task, len(rows))
+                if time.monotonic() - last > MANIFEST_EVERY:
+                    write_manifest(out, list(done.values()))
+                    last = time.monotonic()
+    except ray.exceptions.RayError as exc:  # an actor that cannot start or render: say why, in one line
+        lines = [line for line in str(exc).splitlines() if line.strip()]
+        raise CityshadeError(f"a dataset worker failed: {lines[-1] if lines else type(exc).__name__}; "
+                             f"{len(done)} complete samples are kept, --resume continues") from None
+    finally:
+        if started:
+            ray.shutdown()
