@@ -10,8 +10,8 @@ from PIL import Image
 from cityshade import assets
 from cityshade.assets import LABELS
 from cityshade.dataset import (
-    CLASS_COLOURS, CLASSES, IGNORE, SampleRenderer, Source, Streets, View, class_image, linear_depth, load_source,
-    normals_from_depth, parse_config, sample_view,
+    CLASS_COLOURS, CLASSES, IGNORE, SampleRenderer, Source, Streets, View, class_image, instance_image, linear_depth,
+    load_source, normals_from_depth, parse_config, sample_view,
 )
 from cityshade.errors import UsageError
 from cityshade.interior import InteriorParams, reference_ids
@@ -85,6 +85,9 @@ def test_class_image_maps_faces_labels_and_materials():
     names = ["tree", "wall", "window", "door", None, "lane_marking", "lamp", "shop_front"]
     assert [CLASSES[c] if c != IGNORE else None for c in got[0]] == names
     assert len(CLASS_COLOURS) == len(CLASSES)
+    assert instance_image(ids, trees)[0].tolist() == [0, 3, 3, 3, 3, 0, 0, 3]
+    ids[0, 0] = (1, 0, 5, 0)  # a building behind the tree
+    assert instance_image(ids, trees)[0, 0] == 0 and instance_image(ids)[0, 0] == 5
 
 
 def test_linear_depth_inverts_the_projection():

@@ -62,7 +62,10 @@ def class_image(ids: np.ndarray, trees: np.ndarray | None = None, ignore=()) -> 
     return out
 
 
-def instance_image(ids: np.ndarray) -> np.ndarray:
-    """HxW uint32: building index + 1 on buildings and roofs, 0 elsewhere."""
+def instance_image(ids: np.ndarray, trees: np.ndarray | None = None) -> np.ndarray:
+    """HxW uint32: building index + 1 on buildings and roofs, 0 elsewhere (and in front, on trees)."""
     face = ids[..., 0]
-    return np.where((face >= 1) & (face != FACE_GROUND), ids[..., 2], 0).astype(np.uint32)
+    building = (face >= 1) & (face != FACE_GROUND)
+    if trees is not None:
+        building &= ~trees
+    return np.where(building, ids[..., 2], 0).astype(np.uint32)

@@ -152,7 +152,7 @@ class SampleRenderer:
         trees = frame_z < aov_z - (TREE_GAP + 1e-3 * np.where(np.isfinite(aov_z), aov_z, 0.0))
         k = intrinsics(view.fov, self.config.width, self.config.height)
         arrays.update(depth=frame_z, normal=normals_from_depth(frame_z, k),
-                      **{"class": class_image(ids, trees, self.config.ignore)}, instance=instance_image(ids))
+                      **{"class": class_image(ids, trees, self.config.ignore)}, instance=instance_image(ids, trees))
         return arrays
 
     def write(self, view: View, out: Path) -> dict:
