@@ -168,3 +168,22 @@ def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output
     preview = Image.open(out / "preview.png")
     assert preview.width == 4 * 48 and preview.height > 3 * 32
     preview.save(output_dir / "dataset_preview_tiny.png")
+
+
+def test_video_frames_on_actors_are_the_same_whatever_the_workers(ray_runtime, tmp_path):
+    import imageio.v2 as imageio
+
+    from cityshade.dataset import render_frames
+    from cityshade.render import RenderSettings
+    from cityshade.scene import make_city
+
+    city = make_city("default")
+    jobs = [(city.camera(name), RenderSettings(time_of_day=hours, samples=0))
+            for name, hours in (("street", 12.0), ("aerial", 18.5), ("corner", 20.0))]
+    one = list(render_frames(jobs, (48, 32), city="default", workers=1))
+    two = list(render_frames(jobs, (48, 32), city="default", workers=2, batch=1))
+    assert len(one) == 3 and all(np.array_equal(a, b) for a, b in zip(one, two))
+    assert len({a.tobytes() for a in one}) == 3, "the frames should differ from one another"
+    out = tmp_path / "city.mp4"
+    assert main(["video", "--frames", "4", "--size", "48x32", "--workers", "2", "--out", str(out)]) == 0
+    assert imageio.get_reader(out).count_frames() == 4

@@ -86,6 +86,10 @@ def _worker_class():
         def write(self, views) -> list[dict]:
             return [self.renderer.write(view, self.out) for view in views]
 
+        def frames(self, jobs) -> list:
+            """(index, camera, settings) -> (index, HxWx3 uint8): frames of a video, each drawn afresh."""
+            return [(index, self.renderer.frame(camera, settings)) for index, camera, settings in jobs]
+
     return DatasetWorker
 
 
@@ -112,6 +116,8 @@ def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | No
     if resume and (out / "dataset.json").exists():
         check_record(out, record, resume=True)
     source = load_source(map_path, city)
+    if not len(source.streets.segments):
+        raise UsageError(f"{record['source']} has no streets to stand on; use --city default or a map with roads")
     check_record(out, record, resume)
     (out / "samples").mkdir(parents=True, exist_ok=True)
     done = {row["index"]: row for row in read_manifest(out)
@@ -125,6 +131,38 @@ def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | No
         write_manifest(out, list(done.values()))
         _remove_temporaries(out)
     return read_manifest(out)
+
+
+def render_frames(jobs, size: tuple[int, int], map_path: Path | None = None, city: str | None = None,
+                  workers: int = 1, address: str | None = None, batch: int = 4):
+    """Yields the RGB frames of `jobs` (camera, RenderSettings) in order, rendered by `workers` actors
+    (`cityshade video --workers`); each frame draws every shadow cascade, so any actor gives the same one."""
+    import ray
+    from ray.util import ActorPool
+
+    from ._config import parse_config
+
+    if address is not None:
+        check_address(address)
+    config = parse_config({"image": {"width": size[0], "height": size[1]}})
+    numbered = [(i, camera, settings) for i, (camera, settings) in enumerate(jobs)]
+    batches = [numbered[k:k + batch] for k in range(0, len(numbered), batch)]
+    started = _start_ray(workers, address)
+    try:
+        threads = max(1, (os.cpu_count() or 1) // workers) if address is None else 1
+        actors = [_worker_class().remote(map_path, city, config, "", threads) for _ in range(workers)]
+        waiting, next_index = {}, 0
+        for frames in ActorPool(actors).map_unordered(lambda actor, part: actor.frames.remote(part), batches):
+            waiting.update(frames)
+            while next_index in waiting:
+                yield waiting.pop(next_index)
+                next_index += 1
+    except ray.exceptions.RayError as exc:
+        lines = [line for line in str(exc).splitlines() if line.strip()]
+        raise CityshadeError(f"a video worker failed: {lines[-1] if lines else type(exc).__name__}") from None
+    finally:
+        if started:
+            ray.shutdown()
 
 
 def _render(out: Path, batches, samples: int, done: dict, config: DatasetConfig, map_path, city, workers: int,

@@ -136,6 +136,12 @@ class SampleRenderer:
         return {"lon": lon, "lat": lat, "height_m": y, "heading_deg": view.heading, "pitch_deg": view.pitch,
                 "crs": self.source.city.crs}
 
+    def frame(self, camera, settings: RenderSettings) -> np.ndarray:
+        """One RGB frame with these settings, every shadow cascade drawn afresh."""
+        self.renderer.set_settings(settings)
+        self.renderer.frame_index = 0
+        return self.renderer.render(camera)
+
     def render(self, view: View, outputs: bool = True) -> dict:
         """The view's arrays: rgb, and with `outputs` depth, normal, class, instance."""
         bodies, _ = self.sky(view)

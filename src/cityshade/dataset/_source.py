@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import UsageError
 from ..scene import City, make_city
 from ._views import Streets
 
@@ -45,6 +44,4 @@ def load_source(map_path: Path | None = None, city: str | None = None) -> Source
             raise RuntimeError(f"{map_path}: {len(instances)} source ids for {len(layout.masses)} building masses")
         return Source(str(map_path), layout, Streets.from_map(map_data), instances)
     layout = make_city(city)
-    if not layout.streets:
-        raise UsageError(f"city {city!r} has no streets to stand on; use --city default or --map FILE")
     return Source(city, layout, Streets.from_city(layout), [None] * len(layout.masses))

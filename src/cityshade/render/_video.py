@@ -20,32 +20,53 @@ from ._settings import RenderSettings
 
 def render_video(out: Path, city: str | City = "default", path: str = "orbit", frames: int = 48, fps: int = 24,
                  size: tuple[int, int] = (640, 360), start_time: str = "19:10", end_time: str | None = None,
-                 progress: bool = True, sky=None) -> Path:
+                 progress: bool = True, sky=None, workers: int | None = None, map_path: Path | None = None) -> Path:
     """Renders `frames` frames along a camera path into an H.264 MP4 (written whole or not at all).
     With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up.
-    `sky` (hours -> settings, e.g. `maps.sky_clock`) places the sun and moon for each frame's time."""
+    `sky` (hours -> settings, e.g. `maps.sky_clock`) places the sun and moon for each frame's time.
+    With `workers`, Ray actors render the frames (cityshade.dataset.render_frames); they load the
+    city themselves: from `map_path` when `city` came from that map, else by the name `city`."""
     if frames < 1 or fps < 1:
         raise UsageError(f"frames and fps must be at least 1 (got {frames} frames at {fps} fps)")
     layout = city if isinstance(city, City) else make_city(city)
     move = camera_path(path)
     begin = parse_time(start_time)
     finish = parse_time(end_time) if end_time else begin
-    renderer = Renderer(size, RenderSettings(time_of_day=begin))
-    renderer.set_city(layout)
+    base = RenderSettings(time_of_day=begin)
+
+    def job(i: int):
+        t = i / max(frames - 1, 1)
+        hours = begin + (finish - begin) * t
+        return move(layout, t), replace(base, time_of_day=hours, animation_time=i / fps, **(sky(hours) if sky else {}))
+
+    renderer = None
+    if workers:
+        from ..dataset import render_frames
+
+        pictures = render_frames((job(i) for i in range(frames)), size, map_path,
+                                 None if map_path else layout.name, workers)
+    else:
+        renderer = Renderer(size, base)
+        renderer.set_city(layout)
+
+        def serial():
+            for i in range(frames):
+                camera, settings = job(i)
+                renderer.set_settings(settings)
+                yield renderer.render(camera)
+
+        pictures = serial()
     try:
         with atomic_output(out) as tmp, imageio.get_writer(tmp, fps=fps, codec="libx264", quality=8,
                                                           macro_block_size=1, ffmpeg_log_level="error") as writer, \
                 Progress(disable=not progress) as bar:
             task = bar.add_task(f"rendering {out.name}", total=frames)
-            for i in range(frames):
-                t = i / max(frames - 1, 1)
-                hours = begin + (finish - begin) * t
-                renderer.set_settings(replace(renderer.settings, time_of_day=hours, animation_time=i / fps,
-                                              **(sky(hours) if sky else {})))
-                writer.append_data(renderer.render(move(layout, t)))
+            for picture in pictures:
+                writer.append_data(picture)
                 bar.advance(task)
     finally:
-        renderer.release()
+        if renderer is not None:
+            renderer.release()
     return out
 
 
@@ -62,6 +83,8 @@ def register(subparsers):
     parser.add_argument("--time", default="19:10", help="time of day at the start, HH:MM")
     parser.add_argument("--until", default=None, help="time of day at the end, HH:MM (animates dusk)")
     parser.add_argument("--out", type=Path, default=Path("out/city.mp4"))
+    parser.add_argument("--workers", type=int, default=None, metavar="K",
+                        help="render the frames on K Ray actors (as cityshade dataset does)")
     parser.set_defaults(run=_run)
 
 
@@ -81,6 +104,9 @@ def _run(args) -> int:
 
         city = city_from_map(args.map, "aerial", args.date, args.time)[0]
         sky = sky_clock(city.origin, args.date)
-    render_video(args.out, city, args.path, args.frames, args.fps, size, args.time, args.until, sky=sky)
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers {args.workers}: give at least 1")
+    render_video(args.out, city, args.path, args.frames, args.fps, size, args.time, args.until, sky=sky,
+                 workers=args.workers, map_path=args.map)
     print(f"wrote {args.out} ({args.frames} frames, {size[0]}x{size[1]}, {args.fps} fps)")
     return 0
