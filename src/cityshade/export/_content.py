@@ -9,6 +9,7 @@ import numpy as np
 
 from ..assets import facade_texture
 from ..grammar import BUILDING_STYLES
+from ..interior import pcg_hash
 from ..scene import Roof, building_record, building_vertices, rotation_y
 from ._bake import (
     Atlas,
@@ -50,6 +51,18 @@ class Stats:
 def simplified(mass):
     """A coarse level's building: the same outline as a flat-topped prism to the roof's top."""
     return replace(mass, roof=Roof(colour=mass.roof.colour, material=mass.roof.material)) if mass.shape == "prism" else mass
+
+
+def bay_tint(record) -> np.ndarray:
+    """The linear tint the renderer multiplies the window-bay texture by (shaders/city/building.glsl
+    building_tint): a tagged colour or material brightened 1.6 times, else a per-building variation;
+    clamped to 1 (glTF vertex colours)."""
+    if record["tint"][3] > 0:
+        tint = np.asarray(record["tint"][:3], np.float64) * 1.6
+    else:
+        h = int(pcg_hash(int(record["ids"][0]) ^ 0x9E37))
+        tint = 0.8 + 0.35 * np.array([h & 255, (h >> 8) & 255, (h >> 16) & 255]) / 255.0 - 0.17
+    return np.minimum(tint, 1.0)
 
 
 def _triangle_area(positions: np.ndarray) -> float:
@@ -111,7 +124,7 @@ class BuildingWriter:
             else:
                 facade = walls["facade"]
                 uv = np.column_stack([facade[:, 0] / facade[:, 2], -facade[:, 1] / mass.room_size[1]])
-                tint = record["tint"][:3] if record["tint"][3] > 0 else np.ones(3)
+                tint = bay_tint(record)
                 primitives.append(self.doc.primitive(bays, walls["position"], normals, uv,
                                                      colours=np.tile(np.append(tint, 1.0), (len(walls), 1))))
         if roof.any():

@@ -2,8 +2,9 @@
 polygonised-interiors baseline geometry."""
 
 from ._faces import FACE_NAMES
+from ._hash import pcg_hash
 from ._polygonised import LAYERS as POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
 from ._reference import InteriorParams, find_room, reference_ids, room_id, trace
 
 __all__ = ["FACE_NAMES", "InteriorParams", "POLYGONISED_LAYERS", "find_room", "polygonised_vertices", "quad_counts",
-           "reference_ids", "room_grid", "room_id", "trace"]
+           "reference_ids", "room_grid", "room_id", "trace", "pcg_hash"]
