@@ -15,5 +15,6 @@ from ._views import KINDS, Streets, View, sample_view
 __all__ = [
     "CLASS_COLOURS", "CLASSES", "IGNORE", "class_image", "instance_image", "DEFAULTS", "DatasetConfig", "load_config",
     "parse_config", "SampleRenderer", "extrinsics", "intrinsics", "linear_depth", "normals_from_depth",
-    "sample_files", "read_manifest", "write_preview", "write_shards", "generate", "render_frames", "Source", "load_source", "KINDS", "Streets", "View", "sample_view",
+    "sample_files", "read_manifest", "write_preview", "write_shards", "generate", "render_frames", "Source",
+    "load_source", "KINDS", "Streets", "View", "sample_view",
 ]

@@ -4,7 +4,7 @@ one actor per worker owning a headless renderer and the loaded city, views dealt
 Exactly once: a sample is complete when its files exist and its manifest row is written; only the
 driver writes the manifest, from the rows the actors return. An actor that dies is restarted by Ray
 and its batch retried (the same views give the same bytes); temporary files a killed actor leaves
-are removed at the end.
+are removed at the end. The same actors render the frames of `cityshade video --workers`.
 """
 
 from __future__ import annotations
