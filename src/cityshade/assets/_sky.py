@@ -1,4 +1,6 @@
-"""Environment radiance for window reflections (paper §2.3): a dusk sky over a city.
+"""Environment radiance for window reflections (paper §2.3): the sky alone, from day to dusk.
+
+No distant skyline is painted in: a city seen in reflections has to come from the scene itself.
 
 Radiance is linear HDR (the sun disc is far above 1). The cube map uses the
 OpenGL face order +X, -X, +Y, -Y, +Z, -Z and the standard GL face orientation
@@ -18,7 +20,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ._draw import hash01, value_noise
+from ._draw import value_noise
 
 DEFAULT_SUN = (-0.55, 0.2, -0.81)
 SUN_RADIUS = 0.02  # radians, a little larger than the real sun so it covers texels
@@ -36,24 +38,10 @@ def _normalise(x):
     return x / np.maximum(np.linalg.norm(x, axis=-1, keepdims=True), 1e-12)
 
 
-def _skyline(azimuth, elevation, dusk):
-    """Silhouette of a distant city: building tops by azimuth, lit windows at dusk."""
-    lots = azimuth / (2 * np.pi) * 220
-    lot = np.floor(lots).astype(np.int64) % 220
-    tall = hash01(lot, np.zeros_like(lot), 7)
-    top = 0.012 + 0.1 * tall**3 + 0.015 * hash01(lot // 5, np.ones_like(lot), 7)
-    inside = (elevation > -0.04) & (elevation < top)
-    wx, wy = lots * 4, elevation * 260
-    cell = hash01(np.floor(wx).astype(np.int64), np.floor(wy).astype(np.int64), 11)
-    lit = (cell < 0.08 + 0.3 * dusk) & ((wx % 1) < 0.5) & ((wy % 1) < 0.5) & (elevation < top - 0.004)
-    return inside, lit
-
-
 def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.ndarray:
     """Linear HDR radiance (..., 3) float32 seen along unit-ish `direction` (..., 3).
 
-    y is up. dusk = 0 is day, 1 late dusk. The sun disc (SUN_RADIANCE) is hidden by the
-    skyline when it is that low. Below the horizon is dark ground.
+    y is up. dusk = 0 is day, 1 late dusk. Below the horizon is dark ground.
     """
     dirs = _normalise(direction)
     sun = _normalise(sun_direction)
@@ -91,11 +79,6 @@ def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.nd
 
     ground = _mix(horizon * 0.25, np.broadcast_to(np.float32([0.02, 0.02, 0.025]), horizon.shape), np.clip(-y * 6, 0, 1))
     sky = np.where((y < 0)[..., None], ground, sky)
-
-    building, lit = _skyline(np.arctan2(z, x) + np.pi, y, dusk)
-    silhouette = _mix((0.18, 0.2, 0.24), (0.012, 0.012, 0.018), dusk)
-    sky = np.where(building[..., None], silhouette, sky)
-    sky = np.where((building & lit)[..., None], np.float32([1.0, 0.62, 0.3]) * (0.3 + 0.9 * dusk), sky)
     return sky.astype(np.float32)
 
 

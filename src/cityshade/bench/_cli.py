@@ -14,6 +14,10 @@ BENCHMARKS = {
     "relief": "cityshade.bench.relief",
     "facades": "cityshade.bench.facades",
     "trees": "cityshade.bench.trees",
+    "guesses": "cityshade.bench.guesses",
+    "osm": "cityshade.bench.osm",
+    "export": "cityshade.bench.export",
+    "dataset": "cityshade.bench.dataset",
 }
 
 

@@ -59,7 +59,7 @@ class MapBuilding:
     roof_shape: str | None = None
     roof_height: float | None = None
     roof_levels: float | None = None
-    roof_direction: float | None = None  # degrees clockwise from north, the direction the ridge runs
+    roof_direction: float | None = None  # degrees clockwise from north that the main roof face looks (OSM)
     roof_orientation: str | None = None  # "along" or "across" the longest side
     roof_angle: float | None = None  # degrees
     building_colour: tuple[float, float, float] | None = None  # sRGB 0..1
@@ -67,9 +67,15 @@ class MapBuilding:
     building_material: str | None = None
     roof_material: str | None = None
     use: str | None = None  # what the building is used for (from building=*, shop, amenity, office)
+    # A shed, sauna, garage, kiosk, tank or any footprint under ~30 m² whose size the map does not give:
+    # one storey, no interior rooms, a door and few or no windows (set by the guessing model).
+    small_utility: bool = False
     tags: dict[str, str] = field(default_factory=dict)
     tagged: set[str] = field(default_factory=set)
     guessed: set[str] = field(default_factory=set)
+    # CityJSON only: the solid's faces by semantic type ("RoofSurface", "WallSurface", "GroundSurface", ...;
+    # "unclassified" without semantics), each face's outer ring as (n, 3) map metres, z above the ground.
+    surfaces: dict[str, list[np.ndarray]] | None = None
 
     @property
     def footprint_area(self) -> float:

@@ -11,10 +11,11 @@ from ._culling import boxes_visible, frustum_planes
 from ._daylight import Daylight, parse_time
 from ._facades import FACADE_KINDS, FacadeKind, assign_facades, choose_facade
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
+from ._guessed import guessed_aov
 from ._renderer import Renderer
 from ._settings import RenderSettings
 
-__all__ = ["boxes_visible", "frustum_planes", "Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "GLState", "Pass", "frame_passes", "id_passes", "run_passes", "Renderer",
+__all__ = ["boxes_visible", "frustum_planes", "Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "guessed_aov", "GLState", "Pass", "frame_passes", "id_passes", "run_passes", "Renderer",
            "RenderSettings"]
 
 

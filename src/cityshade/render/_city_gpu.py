@@ -13,6 +13,7 @@ from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._culling import BuildingChunks
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
+from ._street_lights import StreetLightsGPU
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -20,7 +21,10 @@ GROUND_MARGIN = 400.0
 
 
 def ground_vertices(city: City) -> np.ndarray:
-    """Two triangles per ground rectangle, drawn in order (later ones on top, lifted slightly)."""
+    """Two triangles per ground rectangle, drawn in order (later ones on top, lifted slightly);
+    a city from a map brings its own triangles."""
+    if city.ground_mesh is not None:
+        return np.ascontiguousarray(city.ground_mesh, dtype=np.float32)
     x0, z0, x1, z1 = city.bounds
     rects = [(x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN, GROUND_ASPHALT)]
     rects += list(city.ground)
@@ -49,6 +53,7 @@ class CityGPU:
         ground = ground_vertices(city)
         self.ground_vbo = ctx.buffer(ground.tobytes())
         self.ground_vertex_count = len(ground)
+        self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
         self.chunks_drawn = len(self.chunks)
@@ -86,5 +91,6 @@ class CityGPU:
             if buf is not None:
                 buf.release()
         self.relief.release()
+        self.street_lights.release()
         if self._polygonised is not None:
             self._polygonised.release()

@@ -35,18 +35,22 @@ def print_profile(pass_ms: dict[str, float]):
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
-    parser.add_argument("--footprints", type=Path, default=None, metavar="FILE",
-                        help="build the city from footprints: GeoJSON or OpenStreetMap XML (.osm), "
-                             "extruded by height / building:levels tags")
+    parser.add_argument("--map", "--footprints", dest="map", type=Path, default=None, metavar="FILE",
+                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=check_seed, default=None, help="layout seed, 0 to 2^31-1")
-    parser.add_argument("--camera", default="street", help="named viewpoint of the city")
+    parser.add_argument("--camera", default="street",
+                        help="named viewpoint of the city, or lon,lat,height,heading for a city from --map")
+    parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
     parser.add_argument("--lights", default=None, help="share of lit rooms, 0..1 (default: from --time)")
     parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
     parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
     parser.add_argument("--samples", type=int, default=4, choices=(0, 2, 4, 8),
                         help="MSAA samples (0: off; llvmpipe shades every sample, so 0 is about 4x faster there)")
+    parser.add_argument("--aov", choices=("guessed",), default=None,
+                        help="with --map: tint walls whose height and roofs whose shape the map did not give "
+                             "(orange) apart from what it gave (blue)")
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
     parser.add_argument("--profile", action="store_true",
                         help="print each pass's wall time (ctx.finish() around it) and the frame total")
@@ -63,16 +67,19 @@ def run(args) -> int:
         if args.scene not in SCENES:
             raise UsageError(f"unknown scene {args.scene!r}; allowed: {', '.join(SCENES) or 'none'}")
         return SCENES[args.scene](args)
-    city = args.city
-    if args.footprints is not None:
-        from ..scene import load_footprints
+    if args.aov is not None and args.map is None:
+        raise UsageError(f"--aov {args.aov} shows what a map gave and what was guessed; it needs --map FILE")
+    from ..maps import require_map_for_date
 
-        city = load_footprints(args.footprints)
-        if args.camera == "street" and "street" not in city.viewpoints:
-            args.camera = "aerial"
+    require_map_for_date(args.date, args.map)
+    city, sky = args.city, {}
+    if args.map is not None:
+        from ..maps import city_from_map
+
+        city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time)
     image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,
                               time=args.time, interior_mapping=not args.no_interiors, samples=args.samples,
-                              profile=args.profile)
+                              profile=args.profile, aov=args.aov, **sky)
     save_png(image, args.out)
     if args.profile:
         print_profile(info["pass_ms"])

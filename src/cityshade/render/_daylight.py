@@ -26,29 +26,55 @@ def _smoothstep(a: float, b: float, x: float) -> float:
     return t * t * (3 - 2 * t)
 
 
+def compass_direction(elevation: float, azimuth: float) -> np.ndarray:
+    """Unit scene vector toward a body at `elevation` degrees up and `azimuth` degrees clockwise from
+    north (north is -z, east is +x)."""
+    el, az = np.radians(elevation), np.radians(azimuth)
+    return np.array([np.sin(az) * np.cos(el), np.sin(el), -np.cos(az) * np.cos(el)])
+
+
+def _clock_sun(hours: float) -> tuple[float, np.ndarray]:
+    """A sun that rises at SUNRISE in the east and sets at SUNSET in the west, for the built-in cities."""
+    day_phase = (hours - SUNRISE) / (SUNSET - SUNRISE)
+    if 0 <= day_phase <= 1:
+        elevation = MAX_ELEVATION * np.sin(np.pi * day_phase)
+    else:  # the sun sinks about 6 degrees an hour below the horizon
+        hours_dark = min((hours - SUNSET) % 24, (SUNRISE - hours) % 24)
+        elevation = max(-6.0 * hours_dark, -30.0)
+    azimuth = np.pi * np.clip(day_phase, -0.1, 1.1)  # east (+x) through south (+z) to west (-x)
+    el = np.radians(elevation)
+    sun = np.array([np.cos(azimuth) * np.cos(el), np.sin(el), np.sin(azimuth) * np.cos(el)])
+    return float(elevation), sun / np.linalg.norm(sun)
+
+
+MOONLIGHT = np.array([0.55, 0.65, 0.9]) * 0.08  # full moon radiance in the units of sun_color
+
+
 @dataclass(frozen=True)
 class Daylight:
     hours: float
-    sun_direction: np.ndarray   # unit vector toward the sun
+    sun_direction: np.ndarray   # unit vector toward the light that casts shadows (the moon at night)
     sun_color: np.ndarray
     sky_ambient: np.ndarray
     ground_ambient: np.ndarray
     dusk: float                 # 0 = day, 1 = night
     lights: float               # probability c that a room is lit
     exposure: float
+    sky_sun: np.ndarray | None = None  # toward the sun itself, for the sky (None: sun_direction)
+    moon_direction: np.ndarray | None = None  # toward the moon when it is up and the sun is down
+    street_lights: float = 0.0  # 1 when the street lamps are on: the sun is below the horizon
+    moon_lit: float = 0.0  # lit fraction of the moon's disc
+    sun_elevation: float = 0.0  # degrees
 
     @classmethod
-    def at(cls, hours: float) -> "Daylight":
-        day_phase = (hours - SUNRISE) / (SUNSET - SUNRISE)
-        if 0 <= day_phase <= 1:
-            elevation = MAX_ELEVATION * np.sin(np.pi * day_phase)
-        else:  # the sun sinks about 6 degrees an hour below the horizon
-            hours_dark = min((hours - SUNSET) % 24, (SUNRISE - hours) % 24)
-            elevation = max(-6.0 * hours_dark, -30.0)
-        azimuth = np.pi * np.clip(day_phase, -0.1, 1.1)  # east (+x) through south (+z) to west (-x)
-        el = np.radians(elevation)
-        sun = np.array([np.cos(azimuth) * np.cos(el), np.sin(el), np.sin(azimuth) * np.cos(el)])
-        sun /= np.linalg.norm(sun)
+    def at(cls, hours: float, sun: tuple[float, float] | None = None,
+           moon: tuple[float, float, float] | None = None) -> "Daylight":
+        """The light at clock time `hours`; `sun` = (elevation, azimuth) in degrees places the sun
+        (otherwise a clock sun), `moon` = (elevation, azimuth, lit fraction) lights the night."""
+        if sun is None:
+            elevation, direction = _clock_sun(hours)
+        else:
+            elevation, direction = float(sun[0]), compass_direction(*sun)
         high = _smoothstep(0.0, 30.0, elevation)
         above = _smoothstep(-3.0, 1.0, elevation)
         sun_color = above * ((1 - high) * np.array([1.0, 0.5, 0.22]) * 2.2 + high * np.array([1.0, 0.95, 0.86]) * 3.2)
@@ -60,4 +86,14 @@ class Daylight:
         late = _smoothstep(23.0, 26.0, hours if hours >= 12 else hours + 24)
         lights = 0.12 + 0.66 * evening * (1 - 0.6 * late)
         exposure = 0.5 + 0.8 * dusk
-        return cls(hours, sun, sun_color, sky, ground, float(dusk), float(np.clip(lights, 0, 1)), float(exposure))
+        if sun is not None:  # maps are mostly seen from above: pale roofs face a high sun squarely
+            exposure -= 0.15 * high
+        light, moon_direction = direction, None
+        if moon is not None and elevation < -3.0 and moon[0] > 0.0:
+            moon_direction = compass_direction(moon[0], moon[1])
+            light = moon_direction
+            sun_color = MOONLIGHT * moon[2] * _smoothstep(0.0, 10.0, moon[0])
+        return cls(hours, light, sun_color, sky, ground, float(dusk), float(np.clip(lights, 0, 1)), float(exposure),
+                   sky_sun=direction, moon_direction=moon_direction,
+                   street_lights=1.0 - _smoothstep(-2.0, 1.0, elevation),
+                   moon_lit=float(moon[2]) if moon is not None else 0.0, sun_elevation=elevation)

@@ -24,6 +24,7 @@ from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
+from ._night_sky import night_amount
 from ._polygonised import draw_interior_depth, draw_interior_layers
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
@@ -89,6 +90,7 @@ class FrameInputs:
         atlas_size = (t.atlas.width, t.atlas.height)
         return dict(
             u_view_proj=self.view_projection, u_lights=float(d.lights if s.lights is None else s.lights),
+            u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
             u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
@@ -182,6 +184,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     if f.settings.grammar_deferred:
         f.textures.grammar_pass.bind_results(program, UNIT_GRAMMAR_DEFERRED + 4)
     f.city.relief.bind(program, UNIT_RELIEF)
+    f.city.street_lights.bind(program)
     if f.shadows is not None:
         f.shadows.bind(program)
     f.city.draw_buildings(program, f.view_projection)
@@ -209,6 +212,7 @@ def draw_ground(f: FrameInputs, defines: dict | None = None):
     set_uniforms(program, **f.common_uniforms())
     if f.shadows is not None:
         f.shadows.bind(program)
+    f.city.street_lights.bind(program)
     f.city.draw_ground(program)
 
 
@@ -220,7 +224,7 @@ def trees(f: FrameInputs):
 def draw_sky(f: FrameInputs):
     program = f.programs.get("frame/sky.glsl")
     f.env.use(UNIT_ENV)
-    set_uniforms(program, u_env=UNIT_ENV)
+    set_uniforms(program, u_env=UNIT_ENV, u_stars=night_amount(f.daylight.sun_elevation))
     draw_fullscreen(program)
 
 

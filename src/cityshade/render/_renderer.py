@@ -15,6 +15,7 @@ from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._frame import FrameInputs, FrameTargets, frame_passes, id_passes, run_passes
+from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
 from ._textures import CityTextures, cubemap
@@ -74,7 +75,8 @@ class Renderer:
         self.city = CityGPU(self.ctx, city)
         if self.trees is not None:
             self.trees.release()
-        self.trees = TreePass(self.ctx, self.programs, city_trees(city), seed=city.seed)
+        trees = city_trees(city) if city.trees is None else city.trees
+        self.trees = TreePass(self.ctx, self.programs, trees, seed=city.seed)
 
     def set_settings(self, settings: RenderSettings):
         self._current()
@@ -98,13 +100,18 @@ class Renderer:
         self.targets = FrameTargets()
 
     def _daylight(self) -> Daylight:
-        daylight = Daylight.at(self.settings.time_of_day)
-        key = (round(daylight.hours, 3),)
+        s = self.settings
+        daylight = Daylight.at(s.time_of_day, s.sun, s.moon)
+        key = (round(daylight.hours, 3), s.sun, s.moon)
         if key != self._env_key:
             if self.env is not None:
                 self.env.release()
-            self.env = cubemap(self.ctx, assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sun_direction),
-                                                                     dusk=daylight.dusk))
+            radiance = assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sky_sun), dusk=daylight.dusk)
+            night = night_amount(daylight.sun_elevation)
+            if night > 0.0 or daylight.moon_direction is not None:
+                radiance = night_sky(radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction,
+                                     daylight.moon_lit)
+            self.env = cubemap(self.ctx, radiance)
             self._env_key = key
         return daylight
 
@@ -162,6 +169,16 @@ class Renderer:
             self.targets.ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
         run_passes(self._inputs(camera), id_passes(self.settings, room_state))
         return self.targets.ids.read().copy()
+
+    def depth(self, aov: bool = False) -> np.ndarray:
+        """The depth buffer (HxW float32, 0 at `near` .. 1 at `far`, top row first) of the last frame,
+        or with `aov` of the last id AOV. The frame's needs settings.samples == 0 (single-sample)."""
+        self._current()
+        target = self.targets.ids if aov else self.targets.hdr
+        if target is None or target.samples:
+            raise RuntimeError("no single-sample depth: draw first, with settings.samples = 0 for the frame")
+        data = np.frombuffer(target.depth.read(), dtype=np.float32)
+        return data.reshape(self.size[1], self.size[0])[::-1].copy()
 
     def release(self):
         self._current()

@@ -24,6 +24,8 @@ class RenderSettings:
     god_rays: bool = True             # radial blur of bright pixels around the sun (SpeedTree §4.5)
     lights: float | None = None       # probability c; None: from the time of day
     time_of_day: float = 19.17        # hours (19:10, dusk)
+    sun: tuple[float, float] | None = None  # (elevation, azimuth) degrees over a map; None: from time_of_day
+    moon: tuple[float, float, float] | None = None  # (elevation, azimuth, lit fraction): moonlight at night
     animation_time: float = 0.0       # seconds, drives furniture sprites
     grammar_deferred: bool = True     # facade grammars in a deferred pass (Krecklau §4); measured faster
 

@@ -58,7 +58,8 @@ class CascadedShadows:
         self.stats = ShadowStats()
 
     def splits(self, camera: Camera) -> np.ndarray:
-        return split_distances(camera.near, min(self.shadow_far, camera.far), len(self.rates))
+        reach = self.shadow_far if camera.shadow_far is None else camera.shadow_far
+        return split_distances(camera.near, min(reach, camera.far), len(self.rates))
 
     def update(self, frame: int, camera: Camera, aspect: float, sun_dir, draw_casters: DrawCasters) -> ShadowStats:
         """Redraws the cascades due on this frame. Leaves a shadow framebuffer bound: run it before

@@ -10,49 +10,73 @@ from rich.progress import Progress
 
 from .._files import atomic_output, signals_deferred
 from ..errors import UsageError
-from ..scene import make_city
-from ..scene import PATHS, camera_path
+from ..scene import PATHS, City, camera_path, make_city
 from ..arguments import check_writable, parse_size
 from ._daylight import parse_time
 from ._renderer import Renderer
 from ._settings import RenderSettings
 
 
-def render_video(out: Path, city: str = "default", path: str = "orbit", frames: int = 48, fps: int = 24,
+def render_video(out: Path, city: str | City = "default", path: str = "orbit", frames: int = 48, fps: int = 24,
                  size: tuple[int, int] = (640, 360), start_time: str = "19:10", end_time: str | None = None,
-                 progress: bool = True) -> Path:
+                 progress: bool = True, sky=None, workers: int | None = None, map_path: Path | None = None) -> Path:
     """Renders `frames` frames along a camera path into an H.264 MP4 (written whole or not at all).
-    With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up."""
+    With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up.
+    `sky` (hours -> settings, e.g. `maps.sky_clock`) places the sun and moon for each frame's time.
+    With `workers`, Ray actors render the frames (cityshade.dataset.render_frames); they load the
+    city themselves: from `map_path` when `city` came from that map, else by the name `city`."""
     if frames < 1 or fps < 1:
         raise UsageError(f"frames and fps must be at least 1 (got {frames} frames at {fps} fps)")
     _check_mp4(Path(out))
-    layout = make_city(city)
+    layout = city if isinstance(city, City) else make_city(city)
     move = camera_path(path)
     begin = parse_time(start_time)
     finish = parse_time(end_time) if end_time else begin
-    renderer = Renderer(size, RenderSettings(time_of_day=begin))
-    renderer.set_city(layout)
+    base = RenderSettings(time_of_day=begin)
+
+    def job(i: int):
+        t = i / max(frames - 1, 1)
+        hours = begin + (finish - begin) * t
+        return move(layout, t), replace(base, time_of_day=hours, animation_time=i / fps, **(sky(hours) if sky else {}))
+
+    renderer = None
+    if workers:
+        from ..dataset import render_frames
+
+        pictures = render_frames((job(i) for i in range(frames)), size, map_path,
+                                 None if map_path else layout.name, workers)
+    else:
+        renderer = Renderer(size, base)
+        renderer.set_city(layout)
+
+        def serial():
+            for i in range(frames):
+                camera, settings = job(i)
+                renderer.set_settings(settings)
+                yield renderer.render(camera)
+
+        pictures = serial()
     try:
         with atomic_output(out) as tmp, imageio.get_writer(tmp, fps=fps, codec="libx264", quality=8,
                                                           macro_block_size=1, ffmpeg_log_level="error") as writer, \
                 Progress(disable=not progress) as bar:
             task = bar.add_task(f"rendering {out.name}", total=frames)
-            for i in range(frames):
-                t = i / max(frames - 1, 1)
-                renderer.set_settings(replace(renderer.settings, time_of_day=begin + (finish - begin) * t,
-                                              animation_time=i / fps))
-                frame = renderer.render(move(layout, t))
+            for picture in pictures:
                 with signals_deferred():
-                    writer.append_data(frame)
+                    writer.append_data(picture)
                 bar.advance(task)
     finally:
-        renderer.release()
+        if renderer is not None:
+            renderer.release()
     return out
 
 
 def register(subparsers):
     parser = subparsers.add_parser("video", help="render a camera path to MP4")
     parser.add_argument("--city", default="default")
+    parser.add_argument("--map", type=Path, default=None, metavar="FILE",
+                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--path", default="orbit", help=f"camera path: {', '.join(PATHS)}")
     parser.add_argument("--frames", type=int, default=48)
     parser.add_argument("--fps", type=int, default=24)
@@ -60,6 +84,8 @@ def register(subparsers):
     parser.add_argument("--time", default="19:10", help="time of day at the start, HH:MM")
     parser.add_argument("--until", default=None, help="time of day at the end, HH:MM (animates dusk)")
     parser.add_argument("--out", type=Path, default=Path("out/city.mp4"))
+    parser.add_argument("--workers", type=int, default=None, metavar="K",
+                        help="render the frames on K Ray actors (as cityshade dataset does)")
     parser.set_defaults(run=_run)
 
 
@@ -76,6 +102,18 @@ def _run(args) -> int:
     if args.until:
         parse_time(args.until)
     check_writable(args.out)
-    render_video(args.out, args.city, args.path, args.frames, args.fps, size, args.time, args.until)
+    from ..maps import require_map_for_date
+
+    require_map_for_date(args.date, args.map)
+    city, sky = args.city, None
+    if args.map is not None:
+        from ..maps import city_from_map, sky_clock
+
+        city = city_from_map(args.map, "aerial", args.date, args.time)[0]
+        sky = sky_clock(city.origin, args.date)
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers {args.workers}: give at least 1")
+    render_video(args.out, city, args.path, args.frames, args.fps, size, args.time, args.until, sky=sky,
+                 workers=args.workers, map_path=args.map)
     print(f"wrote {args.out} ({args.frames} frames, {size[0]}x{size[1]}, {args.fps} fps)")
     return 0

@@ -7,6 +7,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ._roofs import FLAT_ROOF, Roof
 from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, SHAPES
 
 
@@ -15,7 +16,11 @@ class BuildingMass:
     """A low-poly building. `footprint` is a counter-clockwise polygon (seen from above, x right,
     z toward the viewer) in building-local metres with its bounding box starting at (0, 0);
     the mass stands at `position` (world x, z of the local origin) rotated by `yaw` about +y.
-    Cylinders and domes use the footprint's bounding box as their diameter."""
+    Cylinders and domes use the footprint's bounding box as their diameter.
+
+    Buildings from maps add courtyards (`holes`, clockwise rings in the same frame), walls that
+    start above the ground (`base`, with an underside), a `roof` on top of the walls (walls run
+    up to `height - roof.height`), no walls at all (`walls=False`: a canopy) and tagged tints."""
 
     shape: str
     position: tuple[float, float]
@@ -30,12 +35,25 @@ class BuildingMass:
     wall_jitter: float = 0.25
     furniture: bool = True
     curtains: bool = True
+    holes: tuple[tuple[tuple[float, float], ...], ...] = ()
+    base: float = 0.0
+    roof: Roof = FLAT_ROOF
+    walls: bool = True
+    wall_colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the style's own tint
+    wall_material: str | None = None
+    guessed: frozenset[str] = frozenset()  # map attributes the data did not give ("height", "roof_shape", ...)
 
     def __post_init__(self):
         if self.shape not in SHAPES:
             raise ValueError(f"unknown building shape {self.shape!r}; allowed: {', '.join(SHAPES)}")
         if self.height <= 0:
             raise ValueError(f"building height must be positive, got {self.height}")
+        if not 0 <= self.base <= self.wall_top or (self.walls and self.base == self.wall_top):
+            raise ValueError(f"building walls must run upward from base {self.base} to {self.wall_top}")
+
+    @property
+    def wall_top(self) -> float:
+        return self.height - self.roof.height
 
     @cached_property  # the footprint may have many vertices: scanned once
     def extent(self) -> np.ndarray:

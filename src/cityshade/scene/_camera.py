@@ -39,6 +39,7 @@ class Camera:
     near: float = 0.5
     far: float = 4000.0
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    shadow_far: float | None = None  # metres of cascaded shadows ahead; None: the renderer's default
 
     @property
     def eye(self) -> np.ndarray:

@@ -25,6 +25,12 @@ class City:
     viewpoints: dict[str, Camera] = field(default_factory=dict)
     parks: list[tuple[float, float, float, float]] = field(default_factory=list)
     streets: list[tuple[float, float, float, float]] = field(default_factory=list)
+    # cities from maps: ground triangles (N, 4: x, y, z, material) drawn over the ground plane
+    ground_mesh: np.ndarray | None = None
+    trees: np.ndarray | None = None  # tree records (trees.TREE_DTYPE) instead of groves and street rows
+    lamps: np.ndarray | None = None  # street lights (N, 4: x, y, z of the bulb, reach in metres)
+    origin: tuple[float, float] | None = None  # longitude, latitude of scene (0, 0)
+    crs: str | None = None  # the projection from longitude/latitude to scene metres
 
     def camera(self, name: str) -> Camera:
         if name not in self.viewpoints:

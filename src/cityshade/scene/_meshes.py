@@ -12,6 +12,8 @@ import shapely
 
 from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES, rotation_y
+from ._extrusions import outline_rows
+from ._materials import linear, roof_material, wall_tint
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
 SURFACE_CODES = {"SURFACE_WALL": SURFACE_WALL, "SURFACE_ROOF": SURFACE_ROOF}
@@ -81,31 +83,20 @@ def _prism_triangles(mass: BuildingMass, room: np.ndarray, smooth: bool):
     pts = pts[np.any(np.roll(pts, -1, axis=0) != pts, axis=1)]  # a repeated corner has no wall (or normal)
     if _signed_area(pts) < 0:
         pts = pts[::-1]
+    if not smooth:
+        return outline_rows(mass, pts, room)  # walls (courtyards, gables) and the roof's shape
     height = mass.extent[1]
-    if smooth:
-        centre = pts.mean(axis=0)
-        radius = pts.max(axis=0)[0] / 2
-        angles = np.linspace(0, 2 * np.pi, CURVE_SEGMENTS + 1)
-        ring = centre + radius * np.stack([np.cos(-angles), np.sin(-angles)], axis=1)
-        ring = ring[::-1]
-        normal = (ring - centre) / radius
-        normals = (normal[:-1], normal[1:])
-        circumference = 2 * np.pi * radius
-        bay = np.full(CURVE_SEGMENTS, circumference / max(1, round(circumference / mass.room_width)))
-    else:
-        ring = np.vstack([pts, pts[:1]])
-        d = ring[1:] - ring[:-1]
-        n = np.stack([d[:, 1], -d[:, 0]], axis=1)
-        n /= np.linalg.norm(n, axis=1, keepdims=True)
-        normals = (n, n)
-        # whole bays per facade, a room wide where the facade runs along a room axis: windows sit
-        # in rooms and never touch a corner
-        along_x = np.abs(d[:, 0]) >= np.abs(d[:, 1])
-        nominal = np.where(along_x, room[0], room[2])
-        length = np.linalg.norm(d, axis=1)
-        bay = length / np.maximum(1, np.round(length / nominal))
+    centre = pts.mean(axis=0)
+    radius = pts.max(axis=0)[0] / 2
+    angles = np.linspace(0, 2 * np.pi, CURVE_SEGMENTS + 1)
+    ring = centre + radius * np.stack([np.cos(-angles), np.sin(-angles)], axis=1)
+    ring = ring[::-1]
+    normal = (ring - centre) / radius
+    normals = (normal[:-1], normal[1:])
+    circumference = 2 * np.pi * radius
+    bay = np.full(CURVE_SEGMENTS, circumference / max(1, round(circumference / mass.room_width)))
     edge_len = np.linalg.norm(ring[1:] - ring[:-1], axis=1)
-    u0 = np.concatenate([[0.0], np.cumsum(edge_len)[:-1]]) if smooth else np.zeros(len(edge_len))
+    u0 = np.concatenate([[0.0], np.cumsum(edge_len)[:-1]])
     walls = _walls(ring, normals, height, bay, u0)
     top = _roof_triangles(ring[:-1])
     roof = (np.stack([top[:, 0], np.full(len(top), height), top[:, 1]], axis=1),
@@ -174,6 +165,11 @@ def building_record(mass: BuildingMass) -> np.ndarray:
     rec["extent"][:3] = mass.extent
     rec["extent"][3] = mass.lights
     rec["ids"] = (mass.seed, mass.style, mass.flags, SHAPES[mass.shape])
+    tint = wall_tint(mass.wall_colour, mass.wall_material)
+    if tint is not None:
+        rec["tint"] = (*linear(tint), 1.0)
+    material, colour = roof_material(mass.roof.material)
+    rec["roof"] = (*linear(mass.roof.colour if mass.roof.colour is not None else colour), material)
     return rec
 
 

@@ -16,7 +16,9 @@ def orbit(city: City, t: float) -> Camera:
     radius = 0.75 * max(x1 - x0, z1 - z0)
     angle = 2 * np.pi * t
     eye = centre + np.array([radius * np.cos(angle), 0.35 * radius, radius * np.sin(angle)])
-    return Camera(tuple(eye), tuple(centre + np.array([0.0, 20.0, 0.0])), fov_y=55.0)
+    # far enough for a map's ground to reach the horizon; the near plane grows with the distance
+    return Camera(tuple(eye), tuple(centre + np.array([0.0, 20.0, 0.0])), fov_y=55.0, near=max(0.5, radius / 40),
+                  far=1_000_000.0)
 
 
 def walk(city: City, t: float) -> Camera:
@@ -28,7 +30,7 @@ def walk(city: City, t: float) -> Camera:
     ahead = np.zeros(3)
     ahead[axis] = np.sign(view[axis])
     eye = start.eye + ahead * 60.0 * t
-    return Camera(tuple(eye), tuple(eye + view), fov_y=start.fov_y)
+    return Camera(tuple(eye), tuple(eye + view), fov_y=start.fov_y, near=start.near, far=start.far)
 
 
 def still(city: City, t: float) -> Camera:

@@ -23,6 +23,8 @@ BUILDING_DTYPE = np.dtype(
         ("extent", "<f4", 4),
         ("ids", "<i4", 4),
         ("facade", "<i4", 4),  # x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed
+        ("tint", "<f4", 4),  # rgb: linear facade tint; w: 1 if tinted (tagged colour or material), 0: the style's own
+        ("roof", "<f4", 4),  # rgb: linear roof colour; w: roof material id (ROOF_* in shaders/city/roof.glsl)
     ]
 )
 assert BUILDING_DTYPE.itemsize % 16 == 0

@@ -21,6 +21,9 @@ void main() {}
 #endif
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
+#include "city/roof.glsl"
+#include "city/street_lights.glsl"
+const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
@@ -39,6 +42,7 @@ layout(location = 0) out vec4 out_color;
 #endif
 
 vec3 building_tint(Building b) {
+    if (b.tint.w > 0.0) return b.tint.rgb * 1.6;  // a tagged colour or material over the (grey) bay texture
     uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);
     return vec3(0.8) + 0.35 * vec3(float(h & 255u), float((h >> 8u) & 255u), float((h >> 16u) & 255u)) / 255.0 - 0.17;
 }
@@ -64,7 +68,7 @@ void main() {
 #if defined POLYGONISED_WINDOWS
         discard;
 #endif
-        color = lit_surface(vec3(0.32, 0.31, 0.30), n_world, shadow_factor(v_world));
+        color = roof_color(b, v_local, n, n_world, rot * d, shadow_factor(v_world));
     } else {
         float glass;
         if (has_grammar_facade(b)) {
@@ -140,7 +144,7 @@ void main() {
 #elif defined ID_PASS
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), label);
 #else
-    out_color = vec4(color, 1.0);
+    out_color = vec4(color + STREET_LIT_ALBEDO * street_light(v_world, n_world), 1.0);
 #endif
 }
 #endif

@@ -1,4 +1,5 @@
-// Streets, pavements and parks: flat quads with a material id, procedurally textured.
+// Streets, pavements and parks: flat quads with a material id, procedurally textured; for cities
+// from maps also water, paint, tracks and lamp posts (city/map_ground.glsl).
 // Defines: DEPTH_ONLY, ID_PASS.
 #if defined VERTEX_SHADER
 uniform mat4 u_view_proj;
@@ -21,6 +22,7 @@ void main() {}
 #include "common/lighting.glsl"
 #include "common/hash.glsl"
 #include "shadow/csm.glsl"
+#include "city/map_ground.glsl"
 in vec3 v_world;
 flat in int v_material;
 #if defined ID_PASS
@@ -44,19 +46,26 @@ float grain(vec2 p) {
 
 void main() {
 #if defined ID_PASS
-    out_ids = uvec4(uint(FACE_GROUND), 0u, 0u, 0u);
+    out_ids = uvec4(uint(FACE_GROUND), lamps_listed(v_world), 0u, uint(v_material));  // y: the lamps of its light-grid cell, w: material
 #else
-    vec3 albedo;
+    float shadow = shadow_factor(v_world);
+    vec3 albedo, color;
+    vec3 n = vec3(0.0, 1.0, 0.0);
     if (v_material == GROUND_PAVEMENT) {
         vec2 slab = fract(v_world.xz / 1.5);
         float joint = step(0.04, slab.x) * step(0.04, slab.y);
         albedo = vec3(0.42, 0.41, 0.39) * mix(0.7, 1.0, joint) * (0.92 + 0.08 * grain(v_world.xz / 1.5));
     } else if (v_material == GROUND_GRASS) {
         albedo = vec3(0.10, 0.20, 0.06) * (0.8 + 0.4 * grain(v_world.xz * 3.0));
-    } else {
+    } else if (v_material == GROUND_ASPHALT) {
         albedo = vec3(0.085, 0.085, 0.09) * (0.85 + 0.3 * grain(v_world.xz * 8.0));
+    } else {
+        albedo = map_albedo(v_material, v_world, grain(v_world.xz * 4.0));
+        n = map_normal(v_material, v_world);
     }
-    out_color = vec4(lit_surface(albedo, vec3(0.0, 1.0, 0.0), shadow_factor(v_world)), 1.0);
+    color = v_material == GROUND_WATER ? water_surface(v_world, shadow)
+                                       : lit_surface(albedo, n, shadow) + albedo * street_light(v_world, n);
+    out_color = vec4(ground_haze(color + map_emission(v_material), v_world), 1.0);
 #endif
 }
 #endif

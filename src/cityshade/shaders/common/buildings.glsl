@@ -9,6 +9,8 @@ struct Building {
     vec4 extent;       // xyz: object-space size of the mass; w: light probability multiplier
     ivec4 ids;         // x: seed, y: facade style, z: flags, w: shape
     ivec4 facade;      // x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed (1/8 m)
+    vec4 tint;         // rgb: linear facade tint; w: 1 if tinted (a tagged colour or material), 0: the style's own
+    vec4 roof;         // rgb: linear roof colour; w: roof material id (ROOF_* in city/roof.glsl)
 };
 
 layout(std430, binding = 0) readonly buffer Buildings {

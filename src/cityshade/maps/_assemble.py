@@ -1,0 +1,373 @@
+"""Features as a reader found them (source coordinates + OpenStreetMap-style tags) -> MapData in local metres.
+
+Every reader produces the same raw features, so every format shares one set of rules:
+
+- geometry: coordinates that are not finite (or not on the Earth, for longitude/latitude) drop the
+  feature; invalid polygons are repaired with `shapely.make_valid`, keeping the polygonal parts
+  (each becomes its own record); outlines under MIN_AREA are skipped; outlines with more than
+  MAX_VERTICES corners are simplified to SIMPLIFY_TOLERANCE (a 16,000-corner outline adds nothing
+  a 10 cm tolerance does not keep). All of it is counted in `MapData.report` with the element id.
+- buildings: `building=*` is an outline, `building:part=*` a part; a part's parent is the outline
+  that holds its inner point, and an outline whose parts cover at least PARTS_COVER of its area is
+  `replaced_by_parts`. `building=roof` (or `building:part=roof`) has no walls.
+- roads: `highway=*` lines; width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class.
+- areas: see AREA_TAGS; the coastline (land on its left) splits the data's bounds into land and
+  sea, and the sea faces become water areas. A coastline the extract cuts off inside the bounds is
+  carried on straight from its last segment to the edge; where pieces still leave a face unclosed,
+  the side of the nearest coastline decides the whole face.
+- trees: `natural=tree` points, and `natural=tree_row` lines planted every TREE_ROW_SPACING metres.
+- lamps: `highway=street_lamp` points (height from `height`, else 6 m).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from ._model import BUILDING_ATTRIBUTES, Area, Lamp, MapBuilding, MapData, MapTree, Railway, ReadReport, Road
+from ._projection import LOCAL, LocalMetres, Projection, in_range
+from ._tags import building_attributes, length, number
+
+MIN_AREA = 0.5  # square metres
+MAX_VERTICES = 4096
+SIMPLIFY_TOLERANCE = 0.1  # metres
+PARTS_COVER = 0.9
+LANE_WIDTH = 3.0
+TREE_ROW_SPACING = 8.0
+LAMP_HEIGHT = 6.0
+# Carriageway width in metres by highway class when neither `width` nor `lanes` is tagged.
+ROAD_WIDTHS = {
+    "motorway": 14.0, "trunk": 12.0, "primary": 10.0, "secondary": 9.0, "tertiary": 8.0,
+    "unclassified": 6.0, "residential": 6.5, "service": 4.0, "living_street": 5.0, "pedestrian": 6.0,
+    "motorway_link": 5.0, "trunk_link": 5.0, "primary_link": 5.0, "secondary_link": 5.0, "tertiary_link": 5.0,
+    "track": 3.0, "busway": 3.5, "footway": 2.0, "cycleway": 2.0, "path": 1.5, "steps": 2.0,
+    "bridleway": 2.0, "corridor": 2.0,
+}
+DEFAULT_ROAD_WIDTH = 5.0
+NOT_ROADS = {"proposed", "construction", "abandoned", "razed", "disused", "platform", "elevator", "no"}
+RAILWAYS = {"rail", "tram", "light_rail", "subway", "narrow_gauge", "monorail", "funicular", "preserved"}
+# (key, value) -> area kind; the first matching key of a feature decides.
+AREA_TAGS = {
+    ("natural", "water"): "water", ("waterway", "riverbank"): "water", ("landuse", "reservoir"): "water",
+    ("landuse", "basin"): "water", ("leisure", "swimming_pool"): "water",
+    ("leisure", "park"): "park", ("leisure", "garden"): "park", ("leisure", "playground"): "park",
+    ("landuse", "grass"): "grass", ("landuse", "village_green"): "grass", ("landuse", "recreation_ground"): "grass",
+    ("leisure", "pitch"): "grass", ("landuse", "cemetery"): "grass", ("natural", "grassland"): "meadow",
+    ("landuse", "meadow"): "meadow", ("natural", "heath"): "meadow", ("natural", "scrub"): "meadow",
+    ("landuse", "forest"): "forest", ("natural", "wood"): "forest",
+    ("landuse", "farmland"): "farmland", ("landuse", "orchard"): "farmland", ("landuse", "allotments"): "farmland",
+    ("natural", "beach"): "sand", ("natural", "sand"): "sand",
+    ("place", "square"): "pavement", ("amenity", "parking"): "pavement", ("highway", "pedestrian"): "pavement",
+}
+
+
+@dataclass
+class Raw:
+    """One feature in source coordinates: a (Multi)Polygon, LineString or Point, and its tags."""
+
+    source_id: str
+    geometry: shapely.Geometry
+    tags: dict[str, str]
+    fixed: dict = field(default_factory=dict)  # attributes a reader measured from geometry (CityJSON heights)
+    parent: str | None = None  # a part's outline when the format names it (CityJSON); else found by position
+
+
+def is_building(tags: dict[str, str]) -> bool:
+    return tags.get("building", "no") != "no" or tags.get("building:part", "no") != "no"
+
+
+def area_kind(tags: dict[str, str]) -> str | None:
+    if tags.get("highway") and tags.get("area") != "yes":
+        return None
+    for key, value in tags.items():
+        kind = AREA_TAGS.get((key, value))
+        if kind is not None:
+            return kind
+    return None
+
+
+def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -> MapData:
+    """Project `raws` about their centre and sort them into buildings, roads, areas, trees and lamps.
+
+    `source_crs` None means longitude/latitude (WGS 84); "local" means metres kept as they are.
+    """
+    raws = _finite(raws, report, geographic=source_crs is None)
+    if not raws:
+        return MapData(path, (0.0, 0.0), LOCAL, report=report)
+    geometries = np.asarray([raw.geometry for raw in raws], dtype=object)
+    x0, y0, x1, y1 = shapely.total_bounds(geometries)
+    centre = ((x0 + x1) / 2.0, (y0 + y1) / 2.0)
+    local = isinstance(source_crs, str) and source_crs == LOCAL
+    projection = LocalMetres(centre) if local else Projection(centre, source_crs or "EPSG:4326")
+    with np.errstate(invalid="ignore", over="ignore"):
+        projected = projection.geometries(geometries)
+    for raw, geometry in zip(raws, projected):
+        raw.geometry = geometry
+        if "surfaces" in raw.fixed:  # CityJSON's semantic surfaces: plan position to map metres, z kept
+            raw.fixed["surfaces"] = {kind: [np.column_stack([projection.points(ring[:, :2]), ring[:, 2]])
+                                            for ring in rings] for kind, rings in raw.fixed["surfaces"].items()}
+    raws = _finite(raws, report, geographic=False)  # points the projection cannot reach from the centre
+    data = MapData(path, projection.origin, projection.crs, report=report)
+    coast, named_parents = [], []
+    for raw in raws:
+        kind = shapely.get_type_id(raw.geometry)
+        if kind in (3, 6):  # Polygon, MultiPolygon
+            if is_building(raw.tags):
+                records = _add_buildings(data, raw)
+                if raw.parent is not None:
+                    named_parents += [(record, raw.parent) for record in records]
+            else:
+                _add_area(data, raw)
+        elif kind in (1, 5):  # LineString, MultiLineString
+            if raw.tags.get("natural") == "coastline":
+                coast.append(raw.geometry)
+            else:
+                _add_line(data, raw)
+        elif kind == 0:
+            _add_point(data, raw)
+    _link_parts(data.buildings, named_parents)
+    if coast:
+        _add_sea(data, coast)
+    return data
+
+
+def _finite(raws: list[Raw], report: ReadReport, geographic: bool) -> list[Raw]:
+    """Drop features with a coordinate that is NaN, infinite or (for lon/lat) off the Earth."""
+    if not raws:
+        return raws
+    coords, owner = shapely.get_coordinates([raw.geometry for raw in raws], return_index=True)
+    bad = ~np.isfinite(coords).all(axis=1)
+    if geographic:
+        bad |= ~in_range(coords[:, 0], coords[:, 1])
+    else:
+        bad |= (np.abs(coords) > 1e8).any(axis=1)  # metres beyond a thousand Earth radii
+    dropped = set(np.unique(owner[bad]).tolist())
+    empty = [i for i, raw in enumerate(raws) if shapely.is_empty(raw.geometry)]
+    why = "longitude/latitude not finite or out of range" if geographic else "coordinate not finite or beyond 1e8 m"
+    for i in sorted(dropped):
+        report.skip(_what(raws[i].tags), why, raws[i].source_id)
+    for i in empty:
+        report.skip(_what(raws[i].tags), "no coordinates", raws[i].source_id)
+    dropped.update(empty)
+    return [raw for i, raw in enumerate(raws) if i not in dropped]
+
+
+def _what(tags: dict[str, str]) -> str:
+    if is_building(tags):
+        return "building"
+    for key in ("highway", "railway", "natural", "waterway", "landuse", "leisure"):
+        if key in tags:
+            return key
+    return "feature"
+
+
+def _polygons(raw: Raw, report: ReadReport) -> list[shapely.Polygon]:
+    """The valid polygons of a (Multi)Polygon: repaired when invalid, tiny ones skipped."""
+    geometry = raw.geometry
+    what = _what(raw.tags)
+    if shapely.get_num_coordinates(geometry) > MAX_VERTICES:
+        geometry = shapely.simplify(geometry, SIMPLIFY_TOLERANCE, preserve_topology=True)
+        report.repair(what, f"more than {MAX_VERTICES} corners, simplified to {SIMPLIFY_TOLERANCE} m", raw.source_id)
+    if not geometry.is_valid:
+        reason = shapely.is_valid_reason(geometry).split("[")[0].strip().lower()
+        geometry = shapely.make_valid(geometry)
+        report.repair(what, f"invalid outline ({reason}), made valid", raw.source_id)
+        polygons = [part for part in shapely.get_parts(geometry) if shapely.get_type_id(part) in (3, 6)]
+        polygons = [p for multi in polygons for p in shapely.get_parts(multi)]
+    else:
+        polygons = list(shapely.get_parts(geometry))
+    kept = [p for p in polygons if p.area >= MIN_AREA]
+    if not kept:
+        report.skip(what, f"zero area (under {MIN_AREA} m²)", raw.source_id)
+    return list(shapely.orient_polygons(kept)) if kept else []
+
+
+def _add_buildings(data: MapData, raw: Raw) -> list[MapBuilding]:
+    tags = raw.tags
+    is_part = tags.get("building", "no") == "no"
+    kind = tags.get("building:part" if is_part else "building", "yes")
+    records = []
+    for outline in _polygons(raw, data.report):
+        building = MapBuilding(index=len(data.buildings), source_id=raw.source_id, outline=outline, kind=kind,
+                               is_part=is_part, has_walls=kind != "roof", tags=tags)
+        building_attributes(building, tags, data.report)
+        for name, value in raw.fixed.items():
+            setattr(building, name, value)
+            if name in BUILDING_ATTRIBUTES:
+                building.tagged.add(name)
+        data.buildings.append(building)
+        records.append(building)
+    return records
+
+
+def _add_area(data: MapData, raw: Raw) -> None:
+    kind = area_kind(raw.tags)
+    if kind is None:
+        if not raw.tags:
+            data.report.skip("feature", "polygon without tags", raw.source_id)
+        return
+    for polygon in _polygons(raw, data.report):
+        data.areas.append(Area(raw.source_id, polygon, kind, raw.tags))
+
+
+def _add_line(data: MapData, raw: Raw) -> None:
+    tags = raw.tags
+    lines = [line for line in shapely.get_parts(raw.geometry) if line.length > 0.0]
+    highway, railway = tags.get("highway"), tags.get("railway")
+    if highway and highway not in NOT_ROADS and tags.get("area") != "yes":
+        for line in lines:
+            data.roads.append(_road(raw.source_id, line, tags, data.report))
+    elif railway in RAILWAYS:
+        gauge = number(tags.get("gauge", "").split(";")[0])  # millimetres
+        tagged_gauge = {"gauge": gauge / 1000.0} if gauge and 300.0 <= gauge <= 3000.0 else {}
+        for line in lines:
+            data.railways.append(Railway(raw.source_id, line, railway, layer=_layer(tags), bridge=_yes(tags, "bridge"),
+                                         tunnel=_yes(tags, "tunnel"), tags=tags, **tagged_gauge))
+    elif tags.get("natural") == "tree_row":
+        for line in lines:
+            count = max(2, int(round(line.length / TREE_ROW_SPACING)) + 1)
+            for i, point in enumerate(shapely.line_interpolate_point(line, np.linspace(0.0, 1.0, count),
+                                                                     normalized=True)):
+                tree = _tree(f"{raw.source_id}#{i}", (point.x, point.y), tags, data.report)
+                data.trees.append(tree)
+    elif not (highway or railway):
+        data.report.skip("feature", "a line that is no road, railway or tree row", raw.source_id)
+
+
+def _yes(tags: dict[str, str], key: str) -> bool:
+    return tags.get(key, "no") not in ("no", "false", "0")
+
+
+def _layer(tags: dict[str, str]) -> int:
+    try:
+        return max(-5, min(5, int(tags.get("layer", "0"))))
+    except ValueError:
+        return 0
+
+
+def _road(source_id: str, line, tags: dict[str, str], report: ReadReport) -> Road:
+    kind = tags["highway"]
+    lanes = number(tags.get("lanes", "").split(";")[0])
+    lanes = int(lanes) if lanes and 1 <= lanes <= 20 else None
+    width = length(tags["width"]) if "width" in tags else None
+    if "width" in tags and (width is None or not 0.5 <= width <= 100.0):
+        report.fallback("width", "not a width of 0.5..100 m", f"{source_id} width={tags['width'][:40]}")
+        width = None
+    if width is None:
+        width = lanes * LANE_WIDTH if lanes else ROAD_WIDTHS.get(kind, DEFAULT_ROAD_WIDTH)
+    return Road(source_id, line, kind, float(width), lanes=lanes, layer=_layer(tags),
+                bridge=_yes(tags, "bridge"), tunnel=_yes(tags, "tunnel"), lit=_yes(tags, "lit"),
+                oneway=tags.get("oneway", "no") in ("yes", "1", "true", "-1") or kind == "motorway",
+                sidewalk=tags.get("sidewalk"), tags=tags)
+
+
+def _tree(source_id: str, position, tags: dict[str, str], report: ReadReport) -> MapTree:
+    tree = MapTree(source_id, (float(position[0]), float(position[1])))
+    for name, key, high in (("height", "height", 150.0), ("crown_diameter", "diameter_crown", 60.0)):
+        if key not in tags:
+            continue
+        value = length(tags[key])
+        if value is None or not 0.0 < value <= high:
+            report.fallback(key, f"not a length of 0..{high:g} m", f"{source_id} {key}={tags[key][:40]}")
+            continue
+        setattr(tree, name, value)
+        tree.tagged.add(name)
+    leaf = tags.get("leaf_type")
+    if leaf in ("broadleaved", "needleleaved"):
+        tree.leaf_type = leaf
+        tree.tagged.add("leaf_type")
+    elif leaf is not None:
+        report.fallback("leaf_type", "unknown value", f"{source_id} leaf_type={leaf[:40]}")
+    species = tags.get("species") or tags.get("taxon")
+    genus = tags.get("genus") or (species.split()[0] if species else None)
+    if genus:
+        tree.genus = genus.strip().capitalize()
+        tree.tagged.add("genus")
+    tree.species = species
+    return tree
+
+
+def _add_point(data: MapData, raw: Raw) -> None:
+    point = (raw.geometry.x, raw.geometry.y)
+    if raw.tags.get("natural") == "tree":
+        data.trees.append(_tree(raw.source_id, point, raw.tags, data.report))
+    elif raw.tags.get("highway") == "street_lamp":
+        height = length(raw.tags.get("height", ""))
+        data.lamps.append(Lamp(raw.source_id, (float(point[0]), float(point[1])),
+                               height=height if height and 1.0 <= height <= 30.0 else LAMP_HEIGHT))
+
+
+def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str]]) -> None:
+    """Give each part its named outline or the smallest one holding its inner point; mark outlines their
+    parts cover."""
+    first = {}
+    for building in buildings:
+        if not building.is_part:
+            first.setdefault(building.source_id, building.index)
+    for part, parent in named:
+        part.parent = first.get(parent)
+    outlines = [b for b in buildings if not b.is_part]
+    parts = [b for b in buildings if b.is_part and b.parent is None]
+    if not outlines or not parts:
+        _mark_replaced(buildings)
+        return
+    tree = shapely.STRtree([b.outline for b in outlines])
+    inner = shapely.point_on_surface([p.outline for p in parts])
+    part_index, outline_index = tree.query(inner, predicate="within")
+    best: dict[int, int] = {}
+    for p, o in zip(part_index.tolist(), outline_index.tolist()):
+        if p not in best or outlines[o].footprint_area < outlines[best[p]].footprint_area:
+            best[p] = o
+    for p, o in best.items():
+        parts[p].parent = outlines[o].index
+    _mark_replaced(buildings)
+
+
+def _mark_replaced(buildings: list[MapBuilding]) -> None:
+    children: dict[int, list] = {}
+    for part in buildings:
+        if part.is_part and part.parent is not None:
+            children.setdefault(part.parent, []).append(part.outline)
+    for index, covering in children.items():
+        outline = buildings[index].outline
+        covered = shapely.intersection(shapely.union_all(covering), outline).area
+        buildings[index].replaced_by_parts = covered >= PARTS_COVER * outline.area
+
+
+def _extended(line: shapely.LineString, reach: float) -> shapely.LineString:
+    """An open coastline cut at the extract's edge, carried straight on past the data's bounds."""
+    if line.is_closed:
+        return line
+    points = np.asarray(line.coords)
+    head, tail = points[0] - points[1], points[-1] - points[-2]
+    head *= reach / max(np.linalg.norm(head), 1e-9)
+    tail *= reach / max(np.linalg.norm(tail), 1e-9)
+    return shapely.LineString(np.vstack([points[0] + head, points, points[-1] + tail]))
+
+
+def _add_sea(data: MapData, coast: list) -> None:
+    """Split the data's bounds along the coastline; faces on the coastline's right (sea) become water."""
+    x0, y0, x1, y1 = data.bounds()
+    bounds = shapely.box(x0 - 50.0, y0 - 50.0, x1 + 50.0, y1 + 50.0)
+    reach = 2.0 * float(np.hypot(x1 - x0, y1 - y0)) + 200.0
+    merged = shapely.get_parts(shapely.line_merge(shapely.union_all(coast)))
+    lines = shapely.union_all([_extended(line, reach) for line in merged])
+    clipped = shapely.intersection(lines, bounds)
+    faces = shapely.get_parts(shapely.polygonize([shapely.union(bounds.boundary, clipped)]))
+    segments = [line for line in shapely.get_parts(clipped) if line.length > 0.0]
+    if not segments:
+        return
+    tree = shapely.STRtree(segments)
+    for face in faces:
+        inside = shapely.point_on_surface(face)
+        line = segments[int(tree.nearest(inside))]
+        along = line.project(inside)
+        a = line.interpolate(max(along - 0.01, 0.0))
+        b = line.interpolate(min(along + 0.01, line.length))
+        c = line.interpolate(along)
+        cross = (b.x - a.x) * (inside.y - c.y) - (b.y - a.y) * (inside.x - c.x)
+        if cross < 0.0:  # right of the coastline's direction: the sea
+            data.areas.append(Area("coastline", face, "water", {"natural": "coastline"}))

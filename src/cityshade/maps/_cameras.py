@@ -1,0 +1,143 @@
+"""Viewpoints framed from the map: the whole extract from the air, a real street at eye height,
+and any spot given as longitude, latitude, height and heading."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from ..errors import UsageError
+from ..scene import Camera
+from ._model import MapData, to_scene
+
+AERIAL_FOV = 50.0
+AERIAL_ASPECT = 16 / 9  # the default image size; narrower images see a little less at the sides
+AERIAL_PITCH = 45.0  # degrees below the horizon
+AERIAL_HEADING = 0.0  # the first heading tried: the camera looks north
+STREET_FOV = 66.0
+EYE_HEIGHT = 1.7
+DRIVEN = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential",
+          "living_street", "pedestrian", "motorway_link", "trunk_link", "primary_link", "secondary_link",
+          "tertiary_link")
+FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
+
+
+def heading_vector(heading: float, pitch: float = 0.0) -> np.ndarray:
+    """Scene direction for a compass heading (degrees clockwise from north) and a pitch (degrees up)."""
+    h, p = np.radians(heading), np.radians(pitch)
+    return np.array([np.sin(h) * np.cos(p), np.sin(p), -np.cos(h) * np.cos(p)])
+
+
+def _fits(corners: np.ndarray, eye: np.ndarray, forward: np.ndarray, fov: float, aspect: float) -> bool:
+    camera = Camera(tuple(eye), tuple(eye + forward), fov_y=fov, near=0.5, far=FAR)
+    clip = np.c_[corners, np.ones(len(corners))] @ camera.view_projection(aspect).T
+    if np.any(clip[:, 3] <= 0):
+        return False
+    ndc = clip[:, :2] / clip[:, 3:4]
+    return bool(np.all(np.abs(ndc) <= 0.96))
+
+
+def aerial_camera(bounds: tuple[float, float, float, float], top: float, aspect: float = AERIAL_ASPECT) -> Camera:
+    """Looks at the middle of the scene rectangle `bounds` (x0, z0, x1, z1) from above, at AERIAL_PITCH,
+    from just far enough that the box up to height `top` lies in the frustum; of the headings
+    AERIAL_HEADING + k * 45 degrees, the one that can stand closest (the long side across the picture)."""
+    x0, z0, x1, z1 = bounds
+    corners = np.array([(x, y, z) for x in (x0, x1) for y in (0.0, top) for z in (z0, z1)], float)
+    centre = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2])
+    best = None
+    for turn in range(8):
+        forward = heading_vector(AERIAL_HEADING + 45.0 * turn, -AERIAL_PITCH)
+        distance = _fit_distance(corners, centre, forward, aspect)
+        if best is None or distance < best[0] - 1e-6:
+            best = (distance, forward)
+    distance, forward = best
+    eye = centre - forward * distance
+    # the nearest ground is about half the distance away: a large near plane keeps roads apart from the
+    # ground; the shadows reach the far side of the map
+    return Camera(tuple(eye), tuple(centre), fov_y=AERIAL_FOV, near=max(0.5, distance / 40), far=FAR,
+                  shadow_far=2.0 * distance)
+
+
+def _fit_distance(corners: np.ndarray, centre: np.ndarray, forward: np.ndarray, aspect: float) -> float:
+    """The smallest distance from `centre` back along `forward` at which every corner is in view (bisection)."""
+    near, far = 0.0, 1.0
+    while not _fits(corners, centre - forward * far, forward, AERIAL_FOV, aspect):
+        near, far = far, far * 1.5
+    for _ in range(30):
+        middle = (near + far) / 2
+        near, far = (near, middle) if _fits(corners, centre - forward * middle, forward, AERIAL_FOV, aspect) else (middle, far)
+    return far
+
+
+def street_segment(map_data: MapData, outlines=()):
+    """(start, end) in map metres of the driven road segment that scores best on length times width,
+    discounted by distance from the middle of the map, whose eye point is inside none of `outlines`."""
+    x0, y0, x1, y1 = map_data.bounds()
+    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+    radius = max(x1 - x0, y1 - y0, 1.0) / 2
+    candidates = []
+    for road in map_data.roads:
+        if road.kind not in DRIVEN or road.tunnel or road.bridge:
+            continue
+        points = np.asarray(road.line.coords)[:, :2]
+        for a, b in zip(points[:-1], points[1:]):
+            length = float(np.linalg.norm(b - a))
+            if length >= 25.0:
+                distance = float(np.linalg.norm((a + b) / 2 - centre))
+                score = min(length, 200.0) * road.width / (1.0 + (distance / (0.35 * radius)) ** 2)
+                candidates.append((score, a, b))
+    candidates.sort(key=lambda c: -c[0])
+    inside = shapely.STRtree(list(outlines))
+    for _, a, b in candidates:
+        if not len(inside.query(shapely.Point(*_eye_point(a, b)), predicate="intersects")):
+            return a, b
+    return None
+
+
+def _eye_point(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a + 0.1 * (b - a)
+
+
+def street_camera(map_data: MapData, outlines=()) -> Camera | None:
+    """Stands on `street_segment` at eye height, a tenth of the way along, looking along it."""
+    segment = street_segment(map_data, outlines)
+    if segment is None:
+        return None
+    a, b = segment
+    eye = _eye_point(a, b)
+    target = eye + (b - a) / np.linalg.norm(b - a) * 60.0
+    (ex, ez), (tx, tz) = to_scene([eye, target])
+    return Camera((float(ex), EYE_HEIGHT, float(ez)), (float(tx), EYE_HEIGHT + 6.0, float(tz)), fov_y=STREET_FOV,
+                  near=0.3, far=FAR)
+
+
+def parse_camera_spot(text: str) -> tuple[float, float, float, float] | None:
+    """'lon,lat,height,heading' -> numbers; None when `text` is a viewpoint name (no comma)."""
+    if "," not in text:
+        return None
+    parts = text.split(",")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(values) != 4 or not all(np.isfinite(values)) or not (-180 <= values[0] <= 180 and -90 <= values[1] <= 90) \
+            or values[2] < 0:
+        raise UsageError(f"invalid --camera {text!r}; use lon,lat,height,heading (degrees, degrees, metres above "
+                         "the ground, degrees clockwise from north), e.g. 24.9449,60.1699,1.7,90")
+    return tuple(values)
+
+
+def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float, float, float]) -> Camera:
+    """A camera at a longitude/latitude `height` metres above the ground, facing `heading`; above
+    street level it tilts down so the ground ahead fills the lower half of the picture."""
+    from pyproj import Transformer
+
+    lon, lat, height, heading = spot
+    project = Transformer.from_crs("EPSG:4326", crs, always_xy=True)
+    east, north = project.transform(lon, lat)
+    east0, north0 = project.transform(*origin)
+    x, z = to_scene([east - east0, north - north0])
+    pitch = -min(45.0, float(np.degrees(np.arctan2(max(height - 20.0, 0.0), 300.0))))
+    eye = np.array([x, max(height, 0.3), z])
+    return Camera(tuple(eye), tuple(eye + heading_vector(heading, pitch) * 50.0), fov_y=STREET_FOV,
+                  near=max(0.3, height / 100), far=FAR)

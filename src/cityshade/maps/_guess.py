@@ -1,0 +1,180 @@
+"""`guess_missing(map_data)`: fill every attribute the map left out, and flag it as guessed.
+
+Kept apart from the readers so it can be replaced: it only reads the records' tagged values and
+outlines. Order: settle contradictory tags (`_defaults.resolve_contradictions`), estimate levels,
+storey height and roof shape per building (the learned model in `_learn.py`, which falls back to
+the regional defaults where the map tags nothing), then derive the rest from the outline's shape.
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+
+import numpy as np
+import shapely
+
+from ._defaults import (
+    DEFAULT_ROOF_ANGLE, HOUSE, MATERIAL_COLOURS, SMALL_FOOTPRINT, defaults_for, resolve_contradictions, settle_top,
+)
+from ._learn import Estimates, estimate
+from ._model import MapBuilding, MapData, MapTree, ReadReport
+
+ROOF_ANGLES = {"skillion": 15.0, "gambrel": 45.0, "mansard": 50.0, "cone": 45.0, "onion": 60.0}
+ATTIC = 2.2  # metres of roof height a person can stand in: one roof level
+LOWEST_STOREY = 2.5  # metres: a guessed roof leaves at least this much to each tagged storey
+
+NEEDLELEAVED = {"Pinus", "Picea", "Abies", "Larix", "Juniperus", "Taxus", "Thuja", "Pseudotsuga", "Cedrus"}
+TREE_DEFAULTS = {  # leaf type -> (genus, height m, crown diameter / height)
+    "broadleaved": ("Tilia", 12.0, 0.6),
+    "needleleaved": ("Picea", 15.0, 0.4),
+}
+
+
+def guess_missing(map_data: MapData) -> None:
+    """Fills every attribute of every building and tree that is still None, adding its name to `guessed`.
+
+    Contradictory tags are settled first by the documented rules and counted in `map_data.report`.
+    Deterministic: the same map gives the same guesses.
+    """
+    for building in map_data.buildings:
+        resolve_contradictions(building, map_data.report)
+    if map_data.buildings:
+        shape = OutlineShape(map_data.buildings)
+        estimates = estimate(map_data.buildings, shape)
+        for i, building in enumerate(map_data.buildings):
+            _fill_building(building, estimates, shape, i, map_data.report)
+    _guess_trees(map_data.trees)
+
+
+class OutlineShape:
+    """Per-building geometry the guesses use, computed once for all outlines (vectorised)."""
+
+    def __init__(self, buildings: list[MapBuilding]):
+        outlines = np.array([b.outline for b in buildings], dtype=object)
+        self.area = shapely.area(outlines)
+        perimeter = np.maximum(shapely.length(shapely.get_exterior_ring(outlines)), 1e-9)
+        self.compactness = 4 * np.pi * self.area / perimeter**2  # 1 for a circle, small for thin or ragged
+        box = shapely.oriented_envelope(outlines)
+        corners = shapely.get_coordinates(shapely.get_exterior_ring(box), return_index=False)
+        ring_sizes = shapely.get_num_coordinates(shapely.get_exterior_ring(box))
+        starts = np.concatenate([[0], np.cumsum(ring_sizes)[:-1]])
+        ok = ring_sizes >= 4
+        a = corners[np.where(ok, starts, 0)]
+        b = corners[np.where(ok, starts + 1, 0)]
+        c = corners[np.where(ok, starts + 2, 0)]
+        first, second = b - a, c - b
+        len1, len2 = np.hypot(*first.T), np.hypot(*second.T)
+        along = np.where((len1 >= len2)[:, None], first, second)
+        self.long_side = np.where(ok, np.maximum(len1, len2), np.sqrt(self.area))
+        self.short_side = np.where(ok, np.minimum(len1, len2), np.sqrt(self.area))
+        self.elongation = self.long_side / np.maximum(self.short_side, 1e-6)
+        # Degrees clockwise from north of the long side, folded to [0, 180).
+        self.long_bearing = np.where(ok, np.degrees(np.arctan2(along[:, 0], along[:, 1])) % 180.0, 0.0)
+
+
+def _set(building: MapBuilding, name: str, value):
+    setattr(building, name, value)
+    building.guessed.add(name)
+
+
+def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineShape, i: int, report: ReadReport):
+    defaults = defaults_for(building.kind, shape.area[i], building.is_part)
+    small = defaults.small or (shape.area[i] < SMALL_FOOTPRINT and not building.is_part)  # small parts are turrets
+    storey = float(estimates.storey[i])
+    if small and "levels" not in building.tagged and "height" not in building.tagged:
+        building.small_utility = True
+    if building.roof_shape is None:
+        roof = str(estimates.roof_shape[i])
+        if roof == "flat" and (building.roof_height or building.roof_levels):
+            roof = "gabled"  # a tagged roof height says the roof is not flat
+        _set(building, "roof_shape", roof)
+    pitched = building.roof_shape != "flat"
+    if building.roof_height is None and building.roof_levels is not None:
+        _set(building, "roof_height", building.roof_levels * storey)
+    if building.roof_height is None:
+        roof_height = _roof_height(building, shape.short_side[i])
+        if building.height is not None and building.levels is not None:
+            # The tagged storeys keep at least LOWEST_STOREY each under a guessed roof.
+            storeys = building.levels - (building.min_level or 0.0)
+            room = building.height - (building.min_height or 0.0) - storeys * LOWEST_STOREY
+            roof_height = min(roof_height, max(room, 0.0))
+        _set(building, "roof_height", roof_height)
+    if building.min_level is None:
+        min_level = float(round(building.min_height / storey)) if building.min_height else 0.0
+        if building.levels is not None:
+            min_level = min(min_level, building.levels - 1.0)  # the guess yields to tagged levels
+        _set(building, "min_level", max(min_level, 0.0))
+    if building.min_height is None:
+        _set(building, "min_height", building.min_level * storey)
+        settle_top(building, report)
+    if building.height is None and building.levels is None and not small and np.isfinite(estimates.block_height[i]):
+        _set(building, "height", max(float(estimates.block_height[i]), building.min_height + building.roof_height + 2.0))
+    if building.levels is None:
+        if building.height is not None:
+            walls = max(building.height - building.roof_height - building.min_height, 0.0)
+            levels = building.min_level + max(1.0, float(round(walls / storey)))
+        elif building.small_utility:
+            levels = 1.0
+        elif defaults is HOUSE and not pitched:
+            levels = 2.0  # a flat-roofed house has its second storey under the flat roof
+        else:
+            levels = max(1.0, float(estimates.levels[i]))
+        _set(building, "levels", max(levels, building.min_level + 1.0))
+    if building.height is None:
+        wall_height = max(building.levels - building.min_level, 1.0) * storey
+        _set(building, "height", building.min_height + wall_height + building.roof_height)
+    # Never a negative or empty volume: the roof fits between the bottom and the top.
+    building.roof_height = min(building.roof_height, max(building.height - building.min_height, 0.0))
+    if building.roof_levels is None:
+        _set(building, "roof_levels", 1.0 if pitched and building.roof_height >= ATTIC else 0.0)
+    if building.roof_angle is None:
+        half_width = max(shape.short_side[i] / 2, 0.5)
+        _set(building, "roof_angle", math.degrees(math.atan2(building.roof_height, half_width)) if pitched else 0.0)
+    if building.roof_orientation is None:
+        _set(building, "roof_orientation", "along")
+    if building.roof_direction is None:
+        # roof:direction is where the main face looks: across the ridge, which runs along the
+        # longest side unless the orientation says across
+        facing = 0.0 if building.roof_orientation == "across" else 90.0
+        _set(building, "roof_direction", float((shape.long_bearing[i] + facing) % 360.0))
+    if building.building_material is None:
+        _set(building, "building_material", defaults.material)
+    if building.roof_material is None:
+        _set(building, "roof_material", defaults.roof_material if pitched else "roofing_felt")
+    if building.building_colour is None:
+        _set(building, "building_colour", _palette(building.building_material, building.source_id))
+    if building.roof_colour is None:
+        _set(building, "roof_colour", _palette(building.roof_material, building.source_id + "/roof"))
+
+
+def _roof_height(building: MapBuilding, short_side: float) -> float:
+    if building.roof_shape == "flat":
+        return 0.0
+    half_width = short_side / 2
+    if building.roof_shape in ("dome", "round"):
+        return float(min(half_width, 12.0))
+    angle = building.roof_angle if building.roof_angle is not None else ROOF_ANGLES.get(building.roof_shape, DEFAULT_ROOF_ANGLE)
+    rise = half_width * math.tan(math.radians(min(angle, 75.0)))
+    if building.roof_shape == "skillion":
+        rise *= 2  # one slope across the whole width
+    return float(min(rise, 12.0))
+
+
+def _palette(material: str, key: str) -> tuple[float, float, float]:
+    """A colour for the material, chosen by the element id so neighbours differ but reruns agree."""
+    colours = MATERIAL_COLOURS.get(material, MATERIAL_COLOURS["plaster"])
+    return colours[zlib.crc32(key.encode()) % len(colours)]
+
+
+def _guess_trees(trees: list[MapTree]):
+    for tree in trees:
+        if tree.leaf_type is None:
+            _set(tree, "leaf_type", "needleleaved" if tree.genus in NEEDLELEAVED else "broadleaved")
+        genus, height, crown_ratio = TREE_DEFAULTS.get(tree.leaf_type, TREE_DEFAULTS["broadleaved"])
+        if tree.genus is None:
+            _set(tree, "genus", genus)
+        if tree.height is None:
+            _set(tree, "height", tree.crown_diameter / crown_ratio if tree.crown_diameter else height)
+        if tree.crown_diameter is None:
+            _set(tree, "crown_diameter", tree.height * crown_ratio)

@@ -1,0 +1,80 @@
+"""Street lamps of a map: the mapped ones, and lamps along lit roads where the map has none;
+point lights (bulb position and reach) and their posts as small boxes in the ground mesh (a thin
+post, a lamp head that glows at night)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import shapely
+
+from ._ground import GROUND_BULB, GROUND_POST
+from ._model import Lamp, MapData, to_scene
+from ._streets import DRIVEN
+
+REACH_PER_METRE = 3.5  # a lamp lights the ground out to 3.5 times its height
+POST_HALF, HEAD_HALF, HEAD_DEPTH = 0.07, 0.25, 0.3
+LIT_ROAD_SPACING = 35.0  # metres between lamps placed along a lit road
+LIT_ROAD_HEIGHT = 8.0
+MAPPED_NEARBY = 20.0  # no lamp is placed this close to a mapped one
+KERB_OFFSET = 0.8  # metres beyond the carriageway's edge
+
+# the 12 triangles of a unit box [0, 1]^3 as corner indices (bit 0: x, bit 1: y, bit 2: z)
+_BOX = np.array([(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+                 (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+_CORNERS = np.array([((i >> 0) & 1, (i >> 1) & 1, (i >> 2) & 1) for i in range(8)], float)
+
+
+def lit_road_lamps(map_data: MapData) -> list[Lamp]:
+    """Lamps every LIT_ROAD_SPACING metres beside each lit driven road (`lit=yes`), on its right-hand
+    kerb, except within MAPPED_NEARBY metres of a lamp the map has."""
+    roads = [r for r in map_data.roads if r.lit and r.kind in DRIVEN and not r.tunnel and not r.bridge]
+    if not roads:
+        return []
+    lines = np.array([r.line for r in roads], dtype=object)
+    lengths = shapely.length(lines)
+    counts = np.floor(lengths / LIT_ROAD_SPACING).astype(int)
+    owner = np.repeat(np.arange(len(roads)), counts)
+    along = (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + 0.5) * LIT_ROAD_SPACING
+    ahead = shapely.get_coordinates(shapely.line_interpolate_point(lines[owner], along + 0.5))
+    behind = shapely.get_coordinates(shapely.line_interpolate_point(lines[owner], along - 0.5))
+    tangent = (ahead - behind) / np.maximum(np.linalg.norm(ahead - behind, axis=1, keepdims=True), 1e-9)
+    right = np.c_[tangent[:, 1], -tangent[:, 0]]
+    offset = np.array([r.width / 2 + KERB_OFFSET for r in roads])[owner]
+    points = (ahead + behind) / 2 + right * offset[:, None]
+    if map_data.lamps:
+        mapped = shapely.points([lamp.position for lamp in map_data.lamps])
+        near = shapely.STRtree(mapped).query(shapely.points(points), predicate="dwithin", distance=MAPPED_NEARBY)[0]
+        points = np.delete(points, np.unique(near), axis=0)
+    return [Lamp(f"lit road lamp {i}", (float(x), float(y)), LIT_ROAD_HEIGHT, from_lit_road=True)
+            for i, (x, y) in enumerate(points)]
+
+
+def lamp_lights(map_data: MapData) -> np.ndarray:
+    """(N, 4) float32: scene x, y, z of each bulb (mapped lamps and those of lit roads) and the reach
+    of its light in metres."""
+    lamps = list(map_data.lamps) + lit_road_lamps(map_data)
+    if not lamps:
+        return np.zeros((0, 4), np.float32)
+    xz = to_scene(np.array([lamp.position for lamp in lamps], float))
+    height = np.array([lamp.height for lamp in lamps], float)
+    return np.c_[xz[:, 0], height - HEAD_DEPTH, xz[:, 1], height * REACH_PER_METRE].astype(np.float32)
+
+
+def boxes(low: np.ndarray, high: np.ndarray, material: int) -> np.ndarray:
+    """Triangles (N*36, 4) of axis-aligned boxes from corners `low` to `high` (N, 3)."""
+    corners = low[:, None, :] + _CORNERS[None, :, :] * (high - low)[:, None, :]
+    vertices = corners[:, _BOX.ravel(), :].reshape(-1, 3)
+    return np.c_[vertices, np.full(len(vertices), material)].astype(np.float32)
+
+
+def lamp_posts(lights: np.ndarray) -> np.ndarray:
+    """Posts and glowing heads for lamp lights from `lamp_lights`."""
+    if not len(lights):
+        return np.zeros((0, 4), np.float32)
+    x, bulb, z = lights[:, 0], lights[:, 1], lights[:, 2]
+    top = bulb + HEAD_DEPTH
+    post = boxes(np.c_[x - POST_HALF, np.zeros_like(x), z - POST_HALF], np.c_[x + POST_HALF, bulb, z + POST_HALF],
+                 GROUND_POST)
+    head = boxes(np.c_[x - HEAD_HALF, bulb, z - HEAD_HALF], np.c_[x + HEAD_HALF, top, z + HEAD_HALF], GROUND_BULB)
+    return np.concatenate([post, head])

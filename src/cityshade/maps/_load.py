@@ -1,0 +1,94 @@
+"""`load_map(path)`: pick the reader by the file's first bytes (then its extension) and check the result.
+
+Only regular files are read (a directory, a FIFO or /dev/zero is refused before any byte is read),
+JSON files up to MAX_JSON_BYTES. A file that yields no building, road, area, tree or lamp raises
+a UsageError (exit code 2) that names the file and the commonest reason features were skipped.
+"""
+
+from __future__ import annotations
+
+import stat
+from pathlib import Path
+
+from ..errors import UsageError
+from ._model import MapData
+from ._osm import osm_format, read_osm
+
+MAX_JSON_BYTES = 1 << 30  # 1 GiB of JSON is millions of buildings; more is a mistake or an attack
+SNIFF_BYTES = 4096
+FORMATS = ".osm.pbf, .pbf, .osm (or .osm.gz, .osm.bz2), .geojson, .json, .city.json"
+
+
+def _checked(path: Path) -> int:
+    """The size of `path`, a readable regular file."""
+    try:
+        info = path.stat()
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot read the map ({exc.strerror or exc})") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise UsageError(f"{path}: is a directory; give a map file ({FORMATS})")
+    if not stat.S_ISREG(info.st_mode):
+        raise UsageError(f"{path}: not a regular file (a device, FIFO or socket); give a map file ({FORMATS})")
+    if info.st_size == 0:
+        raise UsageError(f"{path}: the file is empty; give a map file ({FORMATS})")
+    return info.st_size
+
+
+def _format(path: Path) -> str:
+    """'osm', 'cityjson' or 'geojson', from the content where it tells, else the extension."""
+    if osm_format(path) is not None:
+        return "osm"
+    with open(path, "rb") as stream:
+        head = stream.read(SNIFF_BYTES)
+    text = head.lstrip(b"\xef\xbb\xbf \t\r\n")
+    if text.startswith(b"{"):
+        return "cityjson" if b'"CityJSON"' in head or path.name.lower().endswith(".city.json") else "geojson"
+    name = path.name.lower()
+    for ending, kind in ((".pbf", "osm"), (".osm", "osm"), (".city.json", "cityjson"),
+                         (".geojson", "geojson"), (".json", "geojson")):
+        if name.endswith(ending):
+            return kind
+    raise UsageError(f"{path}: not a map file this reader knows; use {FORMATS}")
+
+
+def read_json_text(path: Path, size: int) -> str:
+    if size > MAX_JSON_BYTES:
+        raise UsageError(f"{path}: {size:,} bytes of JSON is above the {MAX_JSON_BYTES:,}-byte limit; "
+                         "split the file or convert it to .osm.pbf")
+    try:
+        return path.read_bytes().decode("utf-8-sig")
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot read the map ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{path}: byte {exc.start}: not UTF-8 text") from None
+
+
+def load_map(path: Path | str) -> MapData:
+    """The map at `path` (OpenStreetMap .osm.pbf/.osm, GeoJSON, CityJSON) in local metres."""
+    path = Path(path)
+    size = _checked(path)
+    try:
+        kind = _format(path)
+    except OSError as exc:  # e.g. no permission to read it
+        raise UsageError(f"{path}: cannot read the map ({exc.strerror or exc})") from None
+    if kind == "osm":
+        data = read_osm(path)
+    elif kind == "cityjson":
+        from ._cityjson import read_cityjson
+
+        data = read_cityjson(path, read_json_text(path, size))
+    else:
+        from ._geojson import read_geojson
+
+        data = read_geojson(path, read_json_text(path, size))
+    if not (data.buildings or data.roads or data.areas or data.trees or data.lamps or data.railways):
+        raise UsageError(f"{path}: nothing usable in the map{_commonest_skip(data)}")
+    return data
+
+
+def _commonest_skip(data: MapData) -> str:
+    if not data.report.skipped:
+        return " (no buildings, roads, areas, trees or street lamps)"
+    (what, why), count = data.report.skipped.most_common(1)[0]
+    example = data.report.examples.get((what, why))
+    return f": {count} {what} skipped, {why}" + (f" (e.g. {example})" if example else "")

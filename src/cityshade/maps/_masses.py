@@ -1,0 +1,121 @@
+"""Map buildings -> building masses: one turned object space per outline, walls between min_height
+and the roof, courtyards, floating parts, roofs, tints and a facade style by use.
+
+Values the map left out are normally filled by the guessing model before this runs; where one is
+still missing, the same documented per-type defaults (`defaults_for`) are used."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from ..scene import BuildingMass
+from ._defaults import defaults_for
+from ._model import MapBuilding, MapData, to_scene
+from ._roofs import building_roof
+
+MIN_THICKNESS = 0.05  # metres between a mass's bottom and top
+MIN_AREA = 1.0  # square metres; smaller outlines are slivers, not buildings
+FLOOR_HEIGHT_RANGE = (2.5, 6.0)
+CANOPY_MIN_HEIGHT = 2.5  # building=roof with nothing tagged: a roof on pillars this high
+
+# facade styles of the window-bay facade (0..7), by what a building is used for
+STYLE_BY_USE = {
+    "residential": 0, "apartments": 0, "house": 1, "detached": 1, "terrace": 1, "dormitory": 0,
+    "commercial": 2, "retail": 2, "shop": 2, "supermarket": 2, "hotel": 3,
+    "office": 4,
+    "industrial": 5, "warehouse": 5, "factory": 5, "garage": 5, "garages": 5, "shed": 5, "hangar": 5,
+    "civic": 6, "public": 6, "government": 6, "school": 6, "university": 6, "college": 6, "hospital": 6,
+    "church": 7, "cathedral": 7, "chapel": 7, "mosque": 7, "synagogue": 7, "temple": 7, "museum": 7,
+    "train_station": 6, "transportation": 6,
+}
+STYLES = 8
+
+
+def facade_style(building: MapBuilding) -> int:
+    """The facade style (0..7) for a building's use or kind; unknown uses get a stable varied one."""
+    if building.small_utility:
+        return STYLE_BY_USE["shed"]  # whatever its tag says, a small outbuilding looks like a shed
+    for use in (building.use, building.kind):
+        if use in STYLE_BY_USE:
+            return STYLE_BY_USE[use]
+    return int(building.index) % STYLES
+
+
+def heights(building: MapBuilding) -> tuple[float, float, float]:
+    """(min height, height, floor height) in metres, with the fallbacks where values are missing."""
+    defaults = defaults_for(building.kind)
+    levels = building.levels
+    height = building.height
+    if height is None:
+        height = (levels if levels is not None else defaults.levels) * defaults.storey + (building.roof_height or 0.0)
+    base = building.min_height
+    if base is None:
+        base = (building.min_level or 0.0) * defaults.storey
+    if not building.has_walls and building.min_height is None:
+        base = min(height, CANOPY_MIN_HEIGHT)
+    walls = height - (building.roof_height or 0.0) - base
+    floor = walls / (levels - (building.min_level or 0.0)) if levels and levels > (building.min_level or 0.0) else defaults.storey
+    return float(base), float(height), float(np.clip(floor, *FLOOR_HEIGHT_RANGE))
+
+
+def _frame(polygon: shapely.Polygon) -> tuple[float, np.ndarray]:
+    """(yaw, offset): the object space turned to the minimum rotated rectangle's longest side."""
+    rectangle = np.asarray(polygon.minimum_rotated_rectangle.exterior.coords)[:4]
+    edges = np.diff(np.vstack([rectangle, rectangle[:1]]), axis=0)
+    longest = edges[np.argmax(np.linalg.norm(edges, axis=1))]
+    return float(np.arctan2(-longest[1], longest[0])), rectangle
+
+
+def _to_local(points: np.ndarray, yaw: float) -> np.ndarray:
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.stack([c * points[:, 0] - s * points[:, 1], s * points[:, 0] + c * points[:, 1]], axis=1)
+
+
+def _polygons(outline) -> list[shapely.Polygon]:
+    """Scene-space polygons of an outline (map metres), repaired where invalid."""
+    scene = shapely.transform(outline, to_scene)
+    if not scene.is_valid:
+        scene = shapely.make_valid(scene)
+    parts = getattr(scene, "geoms", [scene])
+    return [p for p in parts if isinstance(p, shapely.Polygon) and p.area >= MIN_AREA]
+
+
+def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMass | None:
+    """One building (or part) standing on one scene-space polygon; None if it has no volume."""
+    base, height, floor = heights(building)
+    if height - base <= MIN_THICKNESS:
+        return None  # a part whose bottom is at or above its top: nothing to draw
+    polygon = shapely.orient_polygons(polygon)  # positive area in (x, z): walls face out
+    yaw, _ = _frame(polygon)
+    exterior = _to_local(np.asarray(polygon.exterior.coords)[:-1], yaw)
+    low = exterior.min(axis=0)
+    exterior -= low
+    holes = tuple(tuple(map(tuple, (_to_local(np.asarray(r.coords)[:-1], yaw) - low).tolist())) for r in polygon.interiors)
+    c, s = np.cos(yaw), np.sin(yaw)
+    origin = (float(c * low[0] + s * low[1]), float(-s * low[0] + c * low[1]))
+    local = shapely.Polygon(exterior, [np.asarray(h) for h in holes])
+    roof = building_roof(building, local, yaw, height - base)
+    if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
+        return None
+    return BuildingMass(
+        "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,
+        seed=building.index, style=facade_style(building), holes=holes, base=base, roof=roof,
+        walls=building.has_walls, wall_colour=building.building_colour, wall_material=building.building_material,
+        guessed=frozenset(building.guessed),
+        # A shed or sauna: no furnished, curtained or lit rooms behind its few windows.
+        **({"furniture": False, "curtains": False, "lights": 0.0} if building.small_utility else {}),
+    )
+
+
+def building_masses(map_data: MapData) -> list[BuildingMass]:
+    """The masses of every drawn building and part (outlines replaced by their parts are skipped)."""
+    masses = []
+    for building in map_data.buildings:
+        if not building.drawn:
+            continue
+        for polygon in _polygons(building.outline):
+            mass = building_mass(building, polygon)
+            if mass is not None:
+                masses.append(mass)
+    return masses

@@ -1,0 +1,32 @@
+"""From a map file to what a render needs: the City, the camera to use and the sky's settings."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import UsageError
+from ..scene import City
+from ._cameras import parse_camera_spot, spot_camera
+from ._scene import map_city
+
+
+def city_from_map(path: Path, camera: str = "street", date: str | None = None,
+                  time: str = "19:10") -> tuple[City, str, dict]:
+    """(city, camera name, render settings) for `cityshade render/view/video --map FILE`.
+
+    `camera` is a viewpoint name or 'lon,lat,height,heading' (added to the city's viewpoints under
+    that text). The settings place the sun and moon over the map at `date` and `time` (local clock time)."""
+    from . import load_map
+    from ._sun import sky_settings
+
+    spot = parse_camera_spot(camera)
+    sky_settings(date, time)  # bad values fail before the map is read
+    city = map_city(load_map(path))
+    if spot is not None:
+        city.viewpoints[camera] = spot_camera(city.origin, city.crs, spot)
+    elif camera == "street" and "street" not in city.viewpoints:
+        camera = "aerial"  # a map without a driven road
+    elif camera not in city.viewpoints:
+        raise UsageError(f"unknown camera {camera!r} for a map; use {', '.join(city.viewpoints)} "
+                         "or lon,lat,height,heading")
+    return city, camera, sky_settings(date, time, city.origin)

@@ -1,0 +1,42 @@
+"""MapData -> City: the guessed-out buildings, and around them the ground, trees and street lamps,
+with viewpoints framed from the data."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import CityshadeError
+from ..scene import City
+from ._cameras import aerial_camera, street_camera
+from ._ground import ground_mesh
+from ._lamps import lamp_lights, lamp_posts
+from ._model import MapData, to_scene
+from ._trees import map_trees
+
+MARGIN = 30.0  # metres of ground the aerial view keeps around the data
+
+
+def map_city(map_data: MapData) -> City:
+    """The city a map describes. Fills the map's gaps first (`guess_missing`), then builds the
+    buildings (`building_masses`), the ground, trees and lamps, and the 'aerial' and 'street' views."""
+    from ._guess import guess_missing
+    from ._masses import building_masses
+
+    guess_missing(map_data)
+    masses = building_masses(map_data)
+    if not masses:
+        raise CityshadeError(f"{map_data.source}: no building to draw", exit_code=2)
+    x0, y0, x1, y1 = map_data.bounds()
+    (sx0, sz0), (sx1, sz1) = to_scene([(x0, y1), (x1, y0)])  # north (max y) is -z
+    bounds = (float(sx0 - MARGIN), float(sz0 - MARGIN), float(sx1 + MARGIN), float(sz1 + MARGIN))
+    drawn = [b for b in map_data.buildings if b.drawn]
+    top = max((b.height or 0.0) for b in drawn) if drawn else 10.0
+    viewpoints = {"aerial": aerial_camera(bounds, top)}
+    street = street_camera(map_data, [b.outline for b in drawn])
+    if street is not None:
+        viewpoints["street"] = street
+    lights = lamp_lights(map_data)
+    ground = np.concatenate([ground_mesh(map_data), lamp_posts(lights)])
+    return City(map_data.name, 0, masses, [], bounds, viewpoints, ground_mesh=ground, trees=map_trees(map_data),
+                lamps=lights,
+                origin=map_data.origin, crs=map_data.crs)

@@ -1,0 +1,170 @@
+"""Streets, paths and tracks of a map as surfaces: carriageways joined at crossings (the union of
+the roads' buffered centrelines), pavements beside them, lane markings, rails on ballast, and
+bridge decks lifted by their layer. Tunnels are left out; nothing at ground level runs through a
+building. All geometry is in map metres (shapely, vectorised)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+
+from ._model import MapData
+
+DRIVEN = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential", "living_street",
+          "service", "motorway_link", "trunk_link", "primary_link", "secondary_link", "tertiary_link", "road", "busway")
+WITH_PAVEMENT = DRIVEN[:7] + DRIVEN[9:15]  # not service roads
+CENTRE_LINE = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential",
+               "primary_link", "secondary_link", "tertiary_link", "trunk_link")
+SKIPPED = ("corridor", "elevator", "proposed", "construction", "platform", "raceway")  # indoors, not built, not a way
+PAVEMENT_WIDTH = 2.5
+MARKING_WIDTH = 0.15
+DASH, GAP = 3.0, 6.0
+WIDTH_RANGE = (1.0, 30.0)
+BALLAST_WIDTH = 3.2
+RAIL_WIDTH = 0.08
+BRIDGE_STOREY = 5.0  # metres a bridge deck stands above the ground per layer
+
+
+@dataclass
+class StreetSurfaces:
+    carriageway: shapely.Geometry
+    pavement: shapely.Geometry
+    ballast: shapely.Geometry
+    markings: shapely.Geometry
+    rails: shapely.Geometry
+    bridges: list = field(default_factory=list)  # triangle arrays (see _ground.triangles), already lifted
+    junctions: shapely.Geometry = field(default_factory=shapely.Polygon)
+
+
+def _union(geometries) -> shapely.Geometry:
+    geometries = [g for g in np.asarray(geometries, dtype=object).ravel() if g is not None and not g.is_empty]
+    return shapely.union_all(geometries) if geometries else shapely.Polygon()
+
+
+def dashes(lines, dash: float = DASH, gap: float = GAP) -> np.ndarray:
+    """Straight dashes `dash` long every `dash + gap` metres along each line, centred on its length."""
+    lines = np.asarray(lines, dtype=object)
+    if not len(lines):
+        return np.zeros(0, dtype=object)
+    lengths = shapely.length(lines)
+    period = dash + gap
+    counts = np.floor((lengths + gap) / period).astype(int)
+    owner = np.repeat(np.arange(len(lines)), counts)
+    k = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    start = (lengths[owner] - (counts[owner] * period - gap)) / 2 + k * period
+    a = shapely.get_coordinates(shapely.line_interpolate_point(lines[owner], start))
+    b = shapely.get_coordinates(shapely.line_interpolate_point(lines[owner], start + dash))
+    return shapely.linestrings(np.stack([a, b], axis=1))
+
+
+def lane_lines(roads) -> tuple[list, list]:
+    """(solid lines, dashed lines): the centre line of two-way roads (solid on roads of four lanes or
+    more) and the dividers between lanes in the same direction."""
+    solid, dashed = [], []
+    for road in roads:
+        if road.kind not in CENTRE_LINE or road.width < 5.0:
+            continue
+        lanes = road.lanes or (1 if road.oneway else 2)
+        lane = road.width / lanes
+        for k in range(1, lanes):
+            offset = -road.width / 2 + k * lane
+            line = road.line if abs(offset) < 1e-6 else shapely.offset_curve(road.line, offset)
+            if line.is_empty:
+                continue
+            is_centre = not road.oneway and 2 * k == lanes
+            (solid if is_centre and lanes >= 4 else dashed).append(line)
+    return solid, dashed
+
+
+def junction_zones(roads) -> shapely.Geometry:
+    """Discs where two or more driven roads share a node: no lane markings run through a crossing."""
+    points, owners, widths = [], [], []
+    for i, road in enumerate(roads):
+        coords = np.asarray(road.line.coords)[:, :2]
+        points.append(coords)
+        owners.append(np.full(len(coords), i))
+        widths.append(np.full(len(coords), road.width))
+    if not points:
+        return shapely.Polygon()
+    points, owners, widths = np.concatenate(points), np.concatenate(owners), np.concatenate(widths)
+    keys = np.round(points, 2)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    roads_at = np.zeros(len(first), int)
+    np.add.at(roads_at, np.unique(np.c_[inverse, owners], axis=0)[:, 0], 1)
+    reach = np.zeros(len(first))
+    np.maximum.at(reach, inverse, widths)
+    shared = roads_at >= 2
+    return _union(shapely.buffer(shapely.points(points[first][shared]), reach[shared] * 0.6 + 1.0, quad_segs=3))
+
+
+def paint_outside(junctions: shapely.Geometry, solid, dashed) -> np.ndarray:
+    """Marking polygons: solid lines cut at the crossings, dashes that touch a crossing left out."""
+    shapely.prepare(junctions)
+    solid = shapely.difference(np.asarray(solid, dtype=object), junctions) if len(solid) else np.zeros(0, object)
+    strokes = dashes(np.asarray(dashed, dtype=object))
+    strokes = strokes[~shapely.intersects(junctions, strokes)] if len(strokes) else strokes
+    return shapely.buffer(np.concatenate([solid, strokes]), MARKING_WIDTH / 2, cap_style="flat")
+
+
+def rail_strips(railways) -> np.ndarray:
+    """Two thin strips per railway, its gauge apart."""
+    if not railways:
+        return np.zeros(0, dtype=object)
+    lines = np.array([r.line for r in railways for _ in (0, 1)], dtype=object)
+    offsets = np.array([side * r.gauge / 2 for r in railways for side in (-1, 1)])
+    return shapely.buffer(shapely.offset_curve(lines, offsets), RAIL_WIDTH / 2, cap_style="flat")
+
+
+def street_surfaces(map_data: MapData) -> StreetSurfaces:
+    """The surfaces of every road and railway of the map (see the module docstring)."""
+    from ._ground import GROUND_ASPHALT, GROUND_BALLAST, GROUND_PAVEMENT, GROUND_RAIL, triangles
+
+    roads = [r for r in map_data.roads if not r.tunnel and r.kind not in SKIPPED]
+    ground = [r for r in roads if not r.bridge]
+    bridges = [r for r in roads if r.bridge]
+    width = {id(r): float(np.clip(r.width, *WIDTH_RANGE)) for r in roads}
+
+    def ribbons(selection, extra: float = 0.0, cap: str = "round"):
+        if not selection:
+            return np.zeros(0, dtype=object)
+        lines = np.array([r.line for r in selection], dtype=object)
+        half = np.array([width[id(r)] / 2 + extra for r in selection])
+        return shapely.buffer(lines, half, quad_segs=2, cap_style=cap)
+
+    driven = [r for r in ground if r.kind in DRIVEN]
+    walked = [r for r in ground if r.kind not in DRIVEN]
+    sided = [r for r in driven if r.kind in WITH_PAVEMENT and r.sidewalk not in ("no", "none", "separate")]
+    carriageway = _union(ribbons(driven))
+    pavement = _union(np.concatenate([ribbons(sided, PAVEMENT_WIDTH), ribbons(walked)]))
+    # ground-level surfaces stop at walls: subtract the buildings they touch
+    walls = [b.outline for b in map_data.buildings if b.drawn and b.has_walls and not (b.min_height or 0) > 0]
+    if walls and not carriageway.is_empty:
+        tree = shapely.STRtree(walls)
+        touched = np.unique(tree.query(shapely.get_parts(shapely.union(carriageway, pavement)), predicate="intersects")[1])
+        if len(touched):
+            blocked = _union(np.asarray(walls, dtype=object)[touched])
+            carriageway = shapely.difference(carriageway, blocked)
+            pavement = shapely.difference(pavement, blocked)
+    junctions = junction_zones(driven)
+    solid, dashed = lane_lines(driven)
+    markings = shapely.GeometryCollection(list(paint_outside(junctions, solid, dashed)))
+
+    railways = [r for r in map_data.railways if not r.tunnel]
+    on_ground = [r for r in railways if not r.bridge]
+    ballast = _union(shapely.buffer(np.array([r.line for r in on_ground if r.kind not in ("tram",)] +
+                                             [shapely.LineString()], dtype=object)[:-1], BALLAST_WIDTH / 2, quad_segs=2))
+    rails = shapely.GeometryCollection(list(rail_strips(on_ground)))  # overlaps at switches: same paint, no union
+
+    decks = []
+    for road in bridges:
+        lift = BRIDGE_STOREY * max(road.layer, 1)
+        deck = ribbons([road], cap="flat")[0]
+        decks.append(triangles(deck, lift, GROUND_ASPHALT if road.kind in DRIVEN else GROUND_PAVEMENT))
+    for railway in (r for r in railways if r.bridge):
+        lift = BRIDGE_STOREY * max(railway.layer, 1)
+        decks.append(triangles(shapely.buffer(railway.line, BALLAST_WIDTH / 2, cap_style="flat"), lift, GROUND_BALLAST))
+        decks.append(triangles(shapely.GeometryCollection(list(rail_strips([railway]))), lift + 0.03, GROUND_RAIL))
+    return StreetSurfaces(carriageway, pavement, ballast, markings, rails, decks, junctions)

@@ -1,0 +1,80 @@
+"""Trees of a map as tree instances: each MapTree at its place and size with the generator's
+species closest to its genus or leaf type, and woods filled with trees (deterministic, capped)."""
+
+from __future__ import annotations
+
+import zlib
+from functools import lru_cache
+
+import numpy as np
+import shapely
+
+from ..trees import SPECIES, SPECIES_ORDER, TREE_DTYPE, generate_tree, tree_instances
+from ._model import MapData, MapTree, to_scene
+
+NEEDLE_GENERA = ("pinus", "picea", "abies", "larix", "taxus", "juniperus", "thuja", "pseudotsuga", "tsuga", "cedrus")
+SLENDER_GENERA = ("populus", "betula", "salix", "alnus", "fraxinus")  # tall crowns: the poplar model
+FOREST_SPACING = 7.0  # metres between planted trees in a wood
+MAX_FOREST_TREES = 4000  # over all woods of a map: sparser planting beyond this
+SCALE_RANGE = (0.3, 2.5)
+
+
+def species_of(tree: MapTree) -> str:
+    """The generator's species for a tree: fir for conifers, poplar for slender broadleaves, else oak."""
+    genus = (tree.genus or "").strip().lower()
+    if genus in NEEDLE_GENERA or (not genus and (tree.leaf_type or "") == "needleleaved"):
+        return "fir"
+    if genus in SLENDER_GENERA:
+        return "poplar"
+    return "oak"
+
+
+@lru_cache(maxsize=None)
+def model_size(species: str, seed: int) -> tuple[float, float]:
+    """(height, crown diameter) in metres of the model the tree pass draws for `species` (same seed)."""
+    model = generate_tree(SPECIES[species], seed + SPECIES_ORDER.index(species))
+    return model.height, 2.0 * model.crown_radius
+
+
+def _scale(tree: MapTree, species: str, seed: int) -> float:
+    height, crown = model_size(species, seed)
+    if tree.height:
+        return float(np.clip(tree.height / height, *SCALE_RANGE))
+    if tree.crown_diameter:
+        return float(np.clip(tree.crown_diameter / crown, *SCALE_RANGE))
+    return 1.0
+
+
+def forest_points(polygon: shapely.Polygon, spacing: float, source_id: str) -> np.ndarray:
+    """A jittered grid of points inside `polygon`, the same every time for the same wood."""
+    rng = np.random.default_rng(zlib.crc32(source_id.encode()))
+    x0, y0, x1, y1 = polygon.bounds
+    xs, ys = np.meshgrid(np.arange(x0 + spacing / 2, x1, spacing), np.arange(y0 + spacing / 2, y1, spacing))
+    grid = np.c_[xs.ravel(), ys.ravel()] + rng.uniform(-0.35, 0.35, (xs.size, 2)) * spacing
+    return grid[shapely.contains_xy(polygon, grid[:, 0], grid[:, 1])] if len(grid) else grid
+
+
+def forest_trees(map_data: MapData) -> list[MapTree]:
+    """Trees planted in the map's woods, FOREST_SPACING apart or sparser to stay under MAX_FOREST_TREES."""
+    woods = [a for a in map_data.areas if a.kind == "forest"]
+    area = sum(a.polygon.area for a in woods)
+    spacing = max(FOREST_SPACING, float(np.sqrt(area / MAX_FOREST_TREES))) if area else FOREST_SPACING
+    planted = []
+    for wood in woods:
+        leaf = wood.tags.get("leaf_type")
+        for i, (x, y) in enumerate(forest_points(wood.polygon, spacing, wood.source_id)):
+            mixed = leaf if leaf in ("broadleaved", "needleleaved") else ("needleleaved" if i % 3 == 0 else "broadleaved")
+            planted.append(MapTree(f"{wood.source_id}#{i}", (float(x), float(y)), leaf_type=mixed))
+    return planted[:MAX_FOREST_TREES]
+
+
+def map_trees(map_data: MapData, seed: int = 0) -> np.ndarray:
+    """Tree instance records (trees.TREE_DTYPE) for the map's trees and woods."""
+    trees = list(map_data.trees) + forest_trees(map_data)
+    if not trees:
+        return np.zeros(0, TREE_DTYPE)
+    species = [species_of(t) for t in trees]
+    xz = to_scene(np.array([t.position for t in trees], float))
+    records = tree_instances(np.c_[xz[:, 0], np.zeros(len(xz)), xz[:, 1]], species, np.random.default_rng(seed))
+    records["scale"] *= np.array([_scale(t, s, seed) for t, s in zip(trees, species)])
+    return records

@@ -1,0 +1,436 @@
+"""Roofs on top of a building's walls: the roof surfaces and the wall pieces under them (gables).
+
+Every roof is built in the building's object space (x, z metres, y up) from the outline polygon
+(with courtyard holes) and the height of the walls' top.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import shapely
+
+from ._skeleton import ring_edges, skeleton_triangles
+
+
+@dataclass(frozen=True)
+class Roof:
+    """A roof of one of `ROOF_SHAPES` rising `height` metres above the walls' top.
+
+    `direction` (radians, object space, from +x toward +z) is where the main roof face looks,
+    downhill: a gabled roof's ridge runs across it, a skillion falls toward it."""
+
+    shape: str = "flat"
+    height: float = 0.0
+    direction: float = np.pi / 2  # ridge along +x, the footprint's longest side
+    colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the material's colour
+    material: str | None = None
+
+
+FLAT_ROOF = Roof()
+
+ROUND_SEGMENTS = 8  # chords of a round (barrel) roof's arc
+DOME_RINGS = 8
+SMOOTH_TURN = np.cos(np.radians(30.0))  # curved roofs are shaded smooth around outline corners gentler than this
+SALTBOX_RIDGE = 0.3  # where the ridge stands across the outline, from the back
+GAMBREL_KNEE, GAMBREL_RISE = 0.3, 0.6  # the steep lower slopes run this share of the half width, rise this share
+MANSARD_KNEE, MANSARD_RISE = 0.2, 0.75
+RECTANGULAR = 0.85  # outlines filling this share of their bounding rectangle take the exact ridged profiles
+EPS = 1e-6
+HALF_HIP = 0.4  # the share of the roof height (and of the half width) the hips of a half-hipped roof take
+
+
+@dataclass
+class Triangles:
+    """Unindexed triangles (3 rows each) in object space: positions and unit normals; wall
+    triangles also know where they stand on their outline edge (metres from its start, its length)."""
+
+    positions: np.ndarray  # (n, 3)
+    normals: np.ndarray  # (n, 3)
+    along: np.ndarray | None = None  # (n,)
+    edge_length: np.ndarray | None = None  # (n,)
+
+    @staticmethod
+    def empty() -> Triangles:
+        return Triangles(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0))
+
+    @staticmethod
+    def join(parts: list[Triangles]) -> Triangles:
+        parts = [p for p in parts if len(p.positions)]
+        if not parts:
+            return Triangles.empty()
+        walls = all(p.along is not None for p in parts)
+        return Triangles(
+            np.concatenate([p.positions for p in parts]), np.concatenate([p.normals for p in parts]),
+            np.concatenate([p.along for p in parts]) if walls else None,
+            np.concatenate([p.edge_length for p in parts]) if walls else None,
+        )
+
+
+def polygon_triangles(polygon: shapely.Polygon) -> np.ndarray:
+    """(n, 3, 2) triangles covering a polygon with holes, counter-clockwise in (x, z) seen from +y...
+
+    ...meaning their normal (b - a) x (c - a) points up (+y) once lifted to 3D."""
+    tris = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygon)).reshape(-1, 4, 2)[:, :3]
+    if not len(tris):
+        return np.zeros((0, 3, 2))
+    a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    up = cross < 0  # x right, z toward the viewer: up-facing triangles turn clockwise in (x, z)
+    tris[~up] = tris[~up][:, ::-1]
+    return tris[np.abs(cross) > 1e-9]  # slivers where a polygon touches itself
+
+
+def flat(polygon: shapely.Polygon, y: float, up: bool = True) -> Triangles:
+    """The polygon as a horizontal surface at height y, facing up (a roof) or down (an underside)."""
+    tris = polygon_triangles(polygon)
+    if not up:
+        tris = tris[:, ::-1]
+    positions = np.insert(tris.reshape(-1, 2), 1, y, axis=1)
+    normals = np.zeros_like(positions)
+    normals[:, 1] = 1.0 if up else -1.0
+    return Triangles(positions, normals)
+
+
+def _lift(tris: np.ndarray, plane: np.ndarray, top: float) -> Triangles:
+    """2D triangles (n, 3, 2) onto the plane y = top + a x + b z + c, facing up."""
+    a, b, c = plane
+    points = tris.reshape(-1, 2)
+    positions = np.column_stack([points[:, 0], top + a * points[:, 0] + b * points[:, 1] + c, points[:, 1]])
+    normal = np.array([-a, 1.0, -b]) / np.sqrt(a * a + b * b + 1.0)
+    return Triangles(positions, np.broadcast_to(normal, positions.shape).copy())
+
+
+def _rings(polygon: shapely.Polygon) -> list[np.ndarray]:
+    return [np.asarray(r.coords) for r in (polygon.exterior, *polygon.interiors)]
+
+
+def _lowest(planes: np.ndarray, points: np.ndarray) -> np.ndarray:
+    return (points @ planes[:, :2].T + planes[:, 2]).min(axis=1)
+
+
+def _clip(region: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """The part of a convex polygon where g . (x, z, 1) <= 0 (Sutherland-Hodgman, one line)."""
+    if not len(region):
+        return region
+    value = region @ g[:2] + g[2]
+    out = []
+    for i in range(len(region)):
+        p, q, vp, vq = region[i], region[(i + 1) % len(region)], value[i], value[(i + 1) % len(region)]
+        if vp <= 0:
+            out.append(p)
+        if (vp < 0) != (vq < 0) and vp != vq:
+            out.append(p + (q - p) * vp / (vp - vq))
+    return np.asarray(out).reshape(-1, 2)
+
+
+def plane_roof(polygon: shapely.Polygon, top: float, planes: np.ndarray, regions=None) -> tuple[Triangles, Triangles]:
+    """A roof whose height over the outline is the lowest of `planes` (rows a, b, c: a x + b z + c),
+    a concave piecewise-planar surface (gabled, hipped, gambrel, mansard...), with the wall pieces
+    that close it along every outline edge. `regions` (convex polygons where each plane is the
+    lowest) saves finding them when the caller knows them."""
+    x0, z0, x1, z1 = polygon.bounds
+    box = np.array([[x0, z0], [x1, z0], [x1, z1], [x0, z1]]) + np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])
+    roofs = []
+    for k, plane in enumerate(planes):
+        if regions is not None:
+            region = regions[k]
+        else:
+            region = box
+            for j, other in enumerate(planes):
+                if j != k:
+                    region = _clip(region, plane - other)
+        if len(region) < 3:
+            continue
+        part = shapely.intersection(polygon, shapely.Polygon(region))
+        for piece in getattr(part, "geoms", [part]):
+            if isinstance(piece, shapely.Polygon) and piece.area > 1e-9:
+                roofs.append(_lift(polygon_triangles(piece), plane, top))
+    return Triangles.join(roofs), Triangles.join([_walls_under(planes, ring, top) for ring in _rings(polygon)])
+
+
+def _walls_under(planes: np.ndarray, ring: np.ndarray, top: float) -> Triangles:
+    """Wall pieces on every edge of a closed ring (outward to the edges' right) up to the lowest of
+    `planes`: under a concave envelope each piece is convex, fanned from its edge's start."""
+    a, b = ring[:-1], ring[1:]
+    length = np.linalg.norm(b - a, axis=1)
+    a, b, length = a[length > 1e-9], b[length > 1e-9], length[length > 1e-9]
+    slope = (b - a) @ planes[:, :2].T  # (edges, planes): height gained over the edge
+    start = a @ planes[:, :2].T + planes[:, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        crossings = (start[:, None, :] - start[:, :, None]) / (slope[:, :, None] - slope[:, None, :])
+    t = np.nan_to_num(crossings.reshape(len(a), -1), nan=0.0, posinf=0.0, neginf=0.0).clip(0.0, 1.0)
+    t = np.sort(np.column_stack([np.zeros(len(a)), t, np.ones(len(a))]), axis=1)
+
+    def envelope(at):
+        return np.maximum((start[:, None, :] + at[:, :, None] * slope[:, None, :]).min(axis=2), 0.0)
+
+    height = envelope(t)
+    # only the kinks matter: every other point takes the last kink's place (its triangle vanishes)
+    bend = np.abs(envelope(t + 1e-6) + envelope(t - 1e-6) - 2 * height) > 1e-9
+    bend[:, [0, -1]] = True
+    last = np.maximum.accumulate(np.where(bend, np.arange(t.shape[1]), 0), axis=1)
+    t, height = np.take_along_axis(t, last, axis=1), np.take_along_axis(height, last, axis=1)
+    chain = np.concatenate([np.stack([length, np.zeros(len(a))], axis=1)[:, None],
+                            np.stack([t * length[:, None], height], axis=2)[:, ::-1]], axis=1)
+    tris = np.stack([np.zeros_like(chain[:, 1:]), chain[:, 1:], chain[:, :-1]], axis=2)  # clockwise: facing out
+    u, v = tris[..., 0], tris[..., 1]
+    cross = (u[..., 1] - u[..., 0]) * (v[..., 2] - v[..., 0]) - (v[..., 1] - v[..., 0]) * (u[..., 2] - u[..., 0])
+    edge, keep = np.nonzero(cross < -1e-9)
+    tris = tris[edge, keep]  # (n, 3, 2) of (along, rise)
+    e = ((b - a) / length[:, None])[edge]
+    along = tris[..., 0]
+    positions = np.stack([a[edge, 0, None] + along * e[:, 0, None], top + tris[..., 1],
+                          a[edge, 1, None] + along * e[:, 1, None]], axis=2).reshape(-1, 3)
+    normals = np.repeat(np.column_stack([e[:, 1], np.zeros(len(e)), -e[:, 0]]), 3, axis=0)
+    return Triangles(positions, normals, along.ravel(), np.repeat(length[edge], 3))
+
+
+def _profile_planes(axis: np.ndarray, points) -> list[np.ndarray]:
+    """Planes rising along `axis` through a concave profile of (coordinate along axis, height) points."""
+    planes = []
+    for (va, ha), (vb, hb) in zip(points[:-1], points[1:]):
+        slope = (hb - ha) / (vb - va)
+        planes.append(np.array([slope * axis[0], slope * axis[1], ha - slope * va]))
+    return planes
+
+
+def _arc(v0: float, v1: float, h: float, segments: int = ROUND_SEGMENTS) -> list[tuple[float, float]]:
+    angles = np.linspace(np.pi, 0.0, segments + 1)
+    return list(zip((v0 + v1) / 2 + (v1 - v0) / 2 * np.cos(angles), h * np.sin(angles)))
+
+
+def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+    """The shapes with a ridge (or a single slope) across `roof.direction`, from profiles over the
+    outline's extent across the ridge (v) and along it (u, for the hipped ends)."""
+    h = roof.height
+    across = np.array([np.cos(roof.direction), np.sin(roof.direction)])  # downhill, main face
+    along = np.array([-across[1], across[0]])
+    points = np.asarray(polygon.exterior.coords)
+    v0, v1 = (points @ across).min(), (points @ across).max()
+    u0, u1 = (points @ along).min(), (points @ along).max()
+    half = (v1 - v0) / 2
+    mid = v0 + half
+    ends: list = []
+    if roof.shape == "skillion":
+        profile = [(v0, h), (v1, 0.0)]
+    elif roof.shape == "saltbox":  # a short steep back, a long front
+        profile = [(v0, 0.0), (v0 + SALTBOX_RIDGE * 2 * half, h), (v1, 0.0)]
+    elif roof.shape == "gambrel":
+        knee = GAMBREL_KNEE * half
+        profile = [(v0, 0.0), (v0 + knee, GAMBREL_RISE * h), (mid, h), (v1 - knee, GAMBREL_RISE * h), (v1, 0.0)]
+    elif roof.shape == "round":
+        profile = _arc(v0, v1, h)
+    elif roof.shape == "mansard":
+        knee = MANSARD_KNEE * half
+        low = MANSARD_RISE * h
+        profile = [(v0, 0.0), (v0 + knee, low), (mid, h), (v1 - knee, low), (v1, 0.0)]
+        ends = [(u0, 0.0), (u0 + knee, low), (u0 + half, h)], [(u1 - half, h), (u1 - knee, low), (u1, 0.0)]
+    else:  # gabled, hipped, half-hipped
+        profile = [(v0, 0.0), (mid, h), (v1, 0.0)]
+        if roof.shape == "hipped":
+            ends = [(u0, 0.0), (u0 + half, h)], [(u1 - half, h), (u1, 0.0)]
+        elif roof.shape == "half-hipped":  # a gable wall up to the hip, the hip at the pitch of the sides
+            low = (1.0 - HALF_HIP) * h
+            ends = [(u0, low), (u0 + HALF_HIP * half, h)], [(u1 - HALF_HIP * half, h), (u1, low)]
+    planes = _profile_planes(across, profile)
+    if not ends:  # one plane per strip across the ridge
+        cuts = [v for v, _ in profile]
+        cuts[0], cuts[-1] = v0 - 1.0, v1 + 1.0
+        strips = [np.outer([a, b, b, a], across) + np.outer([u0 - 1.0, u0 - 1.0, u1 + 1.0, u1 + 1.0], along)
+                  for a, b in zip(cuts[:-1], cuts[1:])]
+        return plane_roof(polygon, top, np.asarray(planes), strips)
+    for end in ends:
+        planes += _profile_planes(along, end)
+    return plane_roof(polygon, top, np.asarray(planes))
+
+
+def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+    """Pyramids, cones, domes and onions: the outline shrunk toward its centre ring by ring along a
+    profile of (scale, height fraction) points; all but pyramids shaded smooth."""
+    profile = np.asarray(POINTED_PROFILES[roof.shape])
+    ring = np.asarray(polygon.exterior.coords)
+    centre = np.asarray(polygon.centroid.coords)[0]
+    if not polygon.contains(shapely.Point(centre)):
+        centre = np.asarray(polygon.representative_point().coords)[0]
+    flat_grid = centre + (ring[None] - centre) * profile[:, 0, None, None]  # (rings, points + 1, 2)
+    grid = np.stack([flat_grid[..., 0], np.broadcast_to(top + roof.height * profile[:, 1, None], flat_grid.shape[:2]),
+                     flat_grid[..., 1]], axis=2)
+    a0, b0, a1, b1 = grid[:-1, :-1], grid[:-1, 1:], grid[1:, :-1], grid[1:, 1:]
+    first, second = np.cross(b1 - a0, b0 - a0), np.cross(a1 - a0, b1 - a0)  # area-weighted, outward
+    if roof.shape == "pyramidal":
+        n0 = n1 = n2 = first
+        m0 = m1 = m2 = second
+    else:  # smooth up the profile, and around the ring where the outline turns gently
+        quad = first + second  # (rings - 1, points)
+        rows = np.zeros((len(grid), quad.shape[1], 3))
+        rows[:-1] += quad
+        rows[1:] += quad
+        edge = np.diff(ring, axis=0)
+        edge /= np.maximum(np.linalg.norm(edge, axis=1, keepdims=True), 1e-12)
+        gentle = (np.einsum("ij,ij->i", edge, np.roll(edge, 1, axis=0)) > SMOOTH_TURN)[None, :, None]
+        left = rows + gentle * np.roll(rows, 1, axis=1)  # at each quad's first corner
+        right = rows + np.roll(gentle, -1, axis=1) * np.roll(rows, -1, axis=1)  # at its second
+        n0, n1, n2 = left[:-1], right[1:], right[:-1]
+        m0, m1, m2 = left[:-1], left[1:], right[1:]
+    tris = np.concatenate([np.stack([a0, b1, b0], axis=2).reshape(-1, 3, 3), np.stack([a0, a1, b1], axis=2).reshape(-1, 3, 3)])
+    normals = np.concatenate([np.stack([n0, n1, n2], axis=2).reshape(-1, 3, 3), np.stack([m0, m1, m2], axis=2).reshape(-1, 3, 3)])
+    area = np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), axis=1)
+    keep = area > 1e-9  # the quads that meet at the apex are triangles
+    normals = normals[keep].reshape(-1, 3)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+    return Triangles(tris[keep].reshape(-1, 3), normals), Triangles.empty()
+
+
+POINTED_PROFILES = {
+    "pyramidal": [(1.0, 0.0), (0.0, 1.0)],
+    "cone": [(1.0, 0.0), (0.0, 1.0)],
+    "dome": list(zip(np.cos(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)), np.sin(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)))),
+    # a bulb wider than its drum, drawn in to a point
+    "onion": [(1.0, 0.0), (1.18, 0.1), (1.25, 0.22), (1.2, 0.34), (1.0, 0.46), (0.7, 0.58), (0.4, 0.7),
+              (0.2, 0.8), (0.08, 0.9), (0.0, 1.0)],
+}
+
+
+# the skeleton roofs' height profiles: (share of the largest distance from the eaves, share of the rise)
+SKELETON_PROFILES = {
+    "hipped": [(0.0, 0.0), (1.0, 1.0)],
+    "gabled": [(0.0, 0.0), (1.0, 1.0)],
+    "mansard": [(0.0, 0.0), (MANSARD_KNEE, MANSARD_RISE), (1.0, 1.0)],
+    "gambrel": [(0.0, 0.0), (GAMBREL_KNEE, GAMBREL_RISE), (1.0, 1.0)],
+}
+GABLED = ("gabled", "gambrel")
+
+
+def _skeleton_roof(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles] | None:
+    """Hipped, gabled, mansard and gambrel roofs over any outline, courtyards included: each outline
+    edge's face of the straight skeleton, its height a profile of the distance from the eaves that
+    reaches `roof.height` at the top (mansard and gambrel faces are cut where the pitch changes, the
+    offsets of the outline at the knee), with gable ends where a hip would close with a single
+    triangle. None if CGAL fails."""
+    tris = skeleton_triangles(polygon)
+    if tris is None or not len(tris):
+        return None
+    edges = ring_edges(polygon)
+    if roof.shape in GABLED:
+        tris = _gable_ends(tris, edges)
+    deepest = tris[:, :, 2].max()
+    profile = np.array(SKELETON_PROFILES[roof.shape]) * np.array([deepest, roof.height])
+    if len(profile) > 2:
+        tris = _cut_at(tris, profile[1:-1, 0])
+    tris = tris.copy()
+    tris[:, :, 2] = np.interp(tris[:, :, 2], profile[:, 0], profile[:, 1])
+    positions = np.stack([tris[:, :, 0], top + tris[:, :, 2], tris[:, :, 1]], axis=2)
+    normals = np.cross(positions[:, 1] - positions[:, 0], positions[:, 2] - positions[:, 0])
+    length = np.linalg.norm(normals, axis=1)
+    keep = length > EPS
+    positions, normals = positions[keep], normals[keep] / length[keep, None]
+    upright = np.abs(normals[:, 1]) < 1e-4
+    flip = ~upright & (normals[:, 1] < 0)
+    positions[flip], normals[flip] = positions[flip][:, ::-1], -normals[flip]
+    roof_tris = Triangles(positions[~upright].reshape(-1, 3), np.repeat(normals[~upright], 3, axis=0))
+    return roof_tris, _gable_walls(positions[upright], edges)
+
+
+def _cut_at(tris: np.ndarray, levels: np.ndarray) -> np.ndarray:
+    """Triangles of (x, z, d) cut along the lines where d crosses `levels`, so that a profile with
+    kinks at those levels maps each piece onto one plane."""
+    bounds = np.concatenate([[-np.inf], levels, [np.inf]])
+    out = []
+    for tri in tris:
+        low, high = tri[:, 2].min(), tri[:, 2].max()
+        for lo, hi in zip(bounds[:-1], bounds[1:]):
+            if hi <= low or lo >= high:
+                continue
+            piece = tri
+            if lo > low:
+                piece = _clip3(piece, lo, above=True)
+            if hi < high:
+                piece = _clip3(piece, hi, above=False)
+            out += [np.stack([piece[0], piece[i], piece[i + 1]]) for i in range(1, len(piece) - 1)]
+    return np.asarray(out).reshape(-1, 3, 3)
+
+
+def _clip3(points: np.ndarray, level: float, above: bool) -> np.ndarray:
+    """The part of a convex polygon of (x, z, d) points with d above (or below) `level`."""
+    sign = 1.0 if above else -1.0
+    value = sign * (points[:, 2] - level)
+    out = []
+    for i in range(len(points)):
+        p, q, vp, vq = points[i], points[(i + 1) % len(points)], value[i], value[(i + 1) % len(points)]
+        if vp >= 0:
+            out.append(p)
+        if (vp < 0) != (vq < 0):
+            out.append(p + (q - p) * vp / (vp - vq))
+    return np.asarray(out).reshape(-1, 3)
+
+
+def _gable_walls(tris: np.ndarray, edges) -> Triangles:
+    """Upright skeleton triangles as wall pieces of the outline edge each stands on, facing out."""
+    if not len(tris):
+        return Triangles.empty()
+    a = np.array([e[0] for e in edges])
+    b = np.array([e[1] for e in edges])
+    length = np.linalg.norm(b - a, axis=1)
+    e = (b - a) / length[:, None]
+    ground = tris[:, :, [0, 2]][:, :, None, :] - a[None, None]  # (triangles, 3, edges, 2)
+    offset = np.einsum("tvek,ek->tve", ground, np.stack([e[:, 1], -e[:, 0]], axis=1))
+    along = np.einsum("tvek,ek->tve", ground, e)
+    on = (np.abs(offset).max(axis=1) < 1e-3) & (along.min(axis=1) > -1e-3) & (along.max(axis=1) < length + 1e-3)
+    found = on.any(axis=1)
+    tri, edge = np.nonzero(found)[0], on.argmax(axis=1)[found]
+    tris, along = tris[tri], along[tri, :, edge]
+    normal = np.column_stack([e[edge, 1], np.zeros(len(edge)), -e[edge, 0]])
+    inward = np.einsum("ij,ij->i", np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), normal) < 0
+    tris[inward], along[inward] = tris[inward][:, ::-1], along[inward][:, ::-1]
+    return Triangles(tris.reshape(-1, 3), np.repeat(normal, 3, axis=0), along.ravel(), np.repeat(length[edge], 3))
+
+
+def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
+    """A hipped skeleton turned gabled: where an outline edge's face is a single triangle (a hip's
+    end), its top moves out over the edge's middle, so the face stands upright and the ridge runs on
+    to the gable. Hips sharing their top with another end (pyramids) stay."""
+    normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), EPS)
+    keys = np.round(np.column_stack([normals, np.einsum("ij,ij->i", normals, tris[:, 0])]), 3)
+    _, group, count = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    moves = []
+    for tri, g in zip(tris, group.ravel()):
+        ground = tri[:, 2] < EPS
+        if count[g] != 1 or ground.sum() != 2:
+            continue
+        base = tri[ground][:, :2]
+        for a, b in edges:
+            if min(np.abs(base - [a, b]).max(), np.abs(base - [b, a]).max()) < 1e-3:
+                apex = tri[~ground][0]
+                moves.append((apex, np.array([(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, apex[2]])))
+    if len(moves) >= len(edges) - 1:
+        return tris
+    tops = np.array([apex for apex, _ in moves]).reshape(-1, 3)
+    tris = tris.copy()
+    for apex, target in moves:
+        if np.sum(np.all(np.abs(tops - apex) < 1e-6, axis=1)) == 1:
+            tris[np.all(np.abs(tris - apex) < 1e-6, axis=2)] = target
+    return tris
+
+
+def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+    """(roof surfaces, wall pieces between the walls' top and the roof) over `polygon` at `top`.
+
+    Ridged shapes over outlines that fill their bounding rectangle use the exact profiles; hipped,
+    gabled, mansard and gambrel roofs over other outlines, and any ridged roof over a courtyard
+    (hipped where the shape has no skeleton form), follow the straight skeleton; other ridged shapes
+    span the outline's extent across the ridge. Pointed shapes over a courtyard are flat."""
+    if roof.shape == "flat" or roof.height <= 0:
+        return flat(polygon, top), Triangles.empty()
+    if roof.shape in POINTED_PROFILES:
+        return _pointed(polygon, top, roof) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
+    x0, z0, x1, z1 = polygon.bounds
+    rectangular = not polygon.interiors and polygon.area >= RECTANGULAR * (x1 - x0) * (z1 - z0)
+    if polygon.interiors or (not rectangular and roof.shape in SKELETON_PROFILES):
+        shape = roof.shape if roof.shape in SKELETON_PROFILES else "hipped"
+        mesh = _skeleton_roof(polygon, top, replace(roof, shape=shape))
+        if mesh is not None:
+            return mesh
+    return _ridged(polygon, top, roof)

@@ -1,0 +1,56 @@
+// Roof materials of map buildings: the id in Building.roof.w and the colour in its rgb
+// (cityshade/scene/_materials.py, whose roof_pattern is the numpy twin of roof_pattern here).
+// Courses of tiles and slates run across the slope, metal seams down it; metal, copper and glass
+// reflect the sky.
+#ifndef CITY_ROOF_GLSL
+#define CITY_ROOF_GLSL
+
+#include "common/buildings.glsl"
+#include "common/lighting.glsl"
+
+
+// one cell of a pattern: 0 at its lower edge, 1 at its upper one
+float roof_course(float metres, float size) {
+    return fract(metres / size);
+}
+
+// albedo variation and reflectance (f0, 0: none) of a roof material at an object-space point
+vec4 roof_pattern(int material, vec3 local, vec3 n) {
+    vec2 down = n.xz;
+    float slope = length(down);
+    down = slope > 1e-3 ? down / slope : vec2(0.0, 1.0);
+    float s = dot(local.xz, down) / max(n.y, 0.2);  // metres down the slope
+    float t = dot(local.xz, vec2(-down.y, down.x));   // metres across it
+    ivec2 c = ivec2(floor(vec2(s, t) / 0.3));
+    float cell = float((c.x * 7 + c.y * 13 + 500000) % 5) / 4.0;  // a tile's own shade, 0..1
+    if (material == ROOF_TILES) {
+        float row = roof_course(s + 0.5 * floor(t / 0.25), 0.33);
+        return vec4(vec3(0.7 + 0.3 * smoothstep(0.0, 0.25, row) + 0.08 * (cell - 0.5)), 0.0);
+    }
+    if (material == ROOF_SLATE) {
+        float row = roof_course(s, 0.22);
+        return vec4(vec3(0.8 + 0.2 * smoothstep(0.0, 0.15, row) + 0.12 * (cell - 0.5)), 0.04);
+    }
+    if (material == ROOF_METAL || material == ROOF_COPPER) {
+        float seam = smoothstep(0.0, 0.04, abs(roof_course(t, 0.55) - 0.5) - 0.44);
+        return vec4(vec3(1.0 - 0.35 * seam), material == ROOF_METAL ? 0.25 : 0.1);
+    }
+    if (material == ROOF_GLASS) return vec4(vec3(0.6), 0.5);
+    if (material == ROOF_GRASS || material == ROOF_CONCRETE || material == ROOF_WOOD) {
+        return vec4(vec3(0.85 + 0.3 * (cell - 0.5)), 0.0);
+    }
+    return vec4(1.0, 1.0, 1.0, 0.0);
+}
+
+// the lit roof colour seen along `view` (world, unit, toward the surface)
+vec3 roof_color(Building b, vec3 local, vec3 n, vec3 n_world, vec3 view, float shadow) {
+    vec4 pattern = roof_pattern(int(b.roof.w), local, n);
+    vec3 color = lit_surface(b.roof.rgb * pattern.rgb, n_world, shadow);
+    if (pattern.a > 0.0) {
+        float reflectance = fresnel(max(-dot(view, n_world), 0.0), pattern.a);
+        color = mix(color, environment(reflect(view, n_world)) * mix(vec3(1.0), b.roof.rgb * 2.0, 0.5), reflectance);
+    }
+    return color;
+}
+
+#endif

@@ -1,0 +1,212 @@
+"""cityshade dataset without Ray: config, view sampling, class mapping, and the labels and depth of
+rendered samples against the numpy twins (interior ids, triangle ray cast)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from cityshade import assets
+from cityshade.assets import LABELS
+from cityshade.dataset import (
+    CLASS_COLOURS, CLASSES, IGNORE, SampleRenderer, Source, Streets, View, class_image, instance_image, linear_depth,
+    load_source, normals_from_depth, parse_config, sample_view,
+)
+from cityshade.errors import UsageError
+from cityshade.interior import InteriorParams, reference_ids
+from cityshade.render._city_gpu import GROUND_MARGIN
+from cityshade.scene import make_city
+from cityshade.scene._meshes import batch
+from cityshade.scene._raycast import intersect
+
+SIZE = (160, 120)
+WINDOW = CLASSES.index("window")
+
+
+# --- config ---------------------------------------------------------------------------------------
+
+def test_defaults_and_overrides():
+    config = parse_config({"image": {"width": 64, "height": 48}, "classes": {"ignore": ["lamp"]}})
+    assert (config.width, config.height, config.fov) == (64, 48, 66.0)
+    assert config.ignore == ("lamp",) and config.vehicle_height == (1.2, 2.5)
+
+
+@pytest.mark.parametrize("data, words", [
+    ({"classes": {"ignore": ["cloud"]}}, "classes.ignore = 'cloud': unknown class"),
+    ({"image": {"colour": 1}}, "image.colour = 1: unknown key"),
+    ({"camera": {}}, "camera"),
+    ({"time": {"hours": [18.0, 8.0]}}, "low is above high"),
+    ({"time": {"dates": ["2025-13-01", "2025-10-01"]}}, "YYYY-MM-DD"),
+    ({"image": {"width": "big"}}, "expected an integer"),
+])
+def test_bad_config_is_one_line(data, words):
+    with pytest.raises(UsageError, match=None) as info:
+        parse_config(data, "my.toml")
+    message = str(info.value)
+    assert words in message and message.startswith("my.toml: ") and "\n" not in message
+
+
+# --- views ----------------------------------------------------------------------------------------
+
+def test_views_follow_the_seed_and_index_alone():
+    source = load_source(city="default")
+    config = parse_config({})
+    first = [sample_view(i, 11, config, source.streets, source.has_date) for i in range(40)]
+    assert first[7] == sample_view(7, 11, config, source.streets, source.has_date)
+    assert first != [sample_view(i, 12, config, source.streets, source.has_date) for i in range(40)]
+    kinds = {v.kind for v in first}
+    assert kinds == {"pedestrian", "vehicle", "aerial"}
+    for view in first:
+        lo, hi = config.hours
+        assert lo <= view.hours <= hi and view.date is None
+        if view.kind == "pedestrian":
+            assert view.eye[1] == 1.7
+        elif view.kind == "vehicle":
+            assert 1.2 <= view.eye[1] <= 2.5
+        else:
+            assert 60.0 <= view.eye[1] <= 250.0 and -60.0 <= view.pitch <= -30.0
+
+
+# --- classes and depth, numpy only ----------------------------------------------------------------
+
+def test_class_image_maps_faces_labels_and_materials():
+    ids = np.zeros((1, 8, 4), np.uint32)
+    ids[0, 1] = (1, 0, 3, 0)  # bay-texture facade
+    ids[0, 2] = (4, 7, 3, 0)  # a room behind glass
+    ids[0, 3] = (1, 0, 3, LABELS.index("door"))
+    ids[0, 4] = (8, 0, 3, 0)  # roof
+    ids[0, 5] = (9, 0, 0, 4)  # ground: lane marking
+    ids[0, 6] = (9, 0, 0, 10)  # ground: lamp bulb
+    ids[0, 7] = (1, 0, 3, LABELS.index("shop"))
+    trees = np.zeros((1, 8), bool)
+    trees[0, 0] = True
+    got = class_image(ids, trees, ignore=("roof",))
+    names = ["tree", "wall", "window", "door", None, "lane_marking", "lamp", "shop_front"]
+    assert [CLASSES[c] if c != IGNORE else None for c in got[0]] == names
+    assert len(CLASS_COLOURS) == len(CLASSES)
+    assert instance_image(ids, trees)[0].tolist() == [0, 3, 3, 3, 3, 0, 0, 3]
+    ids[0, 0] = (1, 0, 5, 0)  # a building behind the tree
+    assert instance_image(ids, trees)[0, 0] == 0 and instance_image(ids)[0, 0] == 5
+
+
+def test_linear_depth_inverts_the_projection():
+    from cityshade.scene import Camera
+
+    camera = Camera((0, 0, 0), (0, 0, -1), near=0.3, far=1_000_000.0)
+    z = np.array([0.3, 1.0, 12.5, 250.0, 9000.0])
+    clip = camera.projection(1.0) @ np.c_[np.zeros((5, 2)), -z, np.ones(5)].T
+    buffer = (clip[2] / clip[3] + 1) / 2
+    assert np.allclose(linear_depth(buffer, 0.3, 1_000_000.0), z, rtol=1e-5)
+    assert np.isinf(linear_depth(np.array([1.0]), 0.3, 1e6)[0])
+
+
+def test_normals_of_a_tilted_plane():
+    k = np.array([[50.0, 0, 15.5], [0, 50.0, 11.5], [0, 0, 1]])
+    u, v = np.meshgrid(np.arange(32.0), np.arange(24.0))
+    plane = np.array([0.0, -0.6, -0.8])  # n . p = -4: a floor below and ahead, facing the camera
+    rays = np.stack([(u - k[0, 2]) / k[0, 0], (v - k[1, 2]) / k[1, 1], np.ones_like(u)], axis=-1)
+    z = (-4.0 / (rays @ plane)).astype(np.float32)
+    assert np.allclose(normals_from_depth(z, k), plane, atol=1e-3)
+
+
+# --- rendered samples against the numpy twins -----------------------------------------------------
+
+def _view_of(camera, index=0) -> View:
+    f = camera.forward
+    heading = float(np.degrees(np.arctan2(f[0], -f[2])) % 360.0)
+    return View(index, "pedestrian", tuple(camera.eye), heading, float(np.degrees(np.arcsin(f[1]))), camera.fov_y,
+                0.3, None, 12.0)
+
+
+@pytest.fixture(scope="module")
+def interior_sampler():
+    city = make_city("interior")
+    city.trees = np.zeros(0, dtype=__import__("cityshade.trees", fromlist=["TREE_DTYPE"]).TREE_DTYPE)
+    source = Source("interior", city, Streets(np.zeros((0, 2, 2)), np.zeros(0)), [None] * len(city.masses))
+    sampler = SampleRenderer(source, parse_config({"image": {"width": SIZE[0], "height": SIZE[1]}}))
+    yield sampler
+    sampler.release()
+
+
+@pytest.mark.parametrize("name", ["front", "corner", "yawed"])
+def test_window_and_depth_agree_with_numpy_twins(interior_sampler, name, output_dir):
+    city = interior_sampler.source.city
+    view = _view_of(city.viewpoints[name])
+    camera = view.camera()
+    arrays = interior_sampler.render(view)
+    r = interior_sampler.renderer
+    params = InteriorParams(lights=r.settings.lights or 0.5, time=0.0, variants=r.textures.room_variants,
+                            glass_rect=r.textures.glass_rect, sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
+    x0, z0, x1, z1 = city.bounds
+    ref = reference_ids(city.masses, camera, SIZE, params, assets.facade_texture()[0][..., 3] / 255.0,
+                        (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN))
+    ref_window = np.isin(ref[..., 0], [2, 3, 4, 5, 6, 7])
+    window = arrays["class"] == WINDOW
+    differ = int(np.count_nonzero(window != ref_window))
+    total = SIZE[0] * SIZE[1]
+    print(f"{name}: {np.count_nonzero(ref_window)} window pixels, {differ} of {total} differ")
+    assert ref_window.sum() > 200, "the view shows too few windows to test"
+    assert differ <= 0.001 * total
+    # depth: the nearest triangle (or the ground plane) along each pixel ray, as camera-space z
+    vertices, _ = batch(city.masses)
+    dirs = camera.pixel_rays(SIZE).reshape(-1, 3)
+    t, _, _ = intersect(camera.eye, dirs, vertices["position"].astype(np.float64).reshape(-1, 3, 3))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ground = np.where(dirs[:, 1] < 0, -camera.eye[1] / dirs[:, 1], np.inf)
+    z = (np.minimum(t, ground) * (dirs @ camera.forward)).reshape(SIZE[1], SIZE[0])
+    gpu = r.render_ids(camera)
+    drawn = np.isfinite(z) & (z < 500)
+    same_surface = np.all(ref[..., [0, 2]] == gpu[..., [0, 2]], axis=-1) & drawn
+    with np.errstate(invalid="ignore"):  # inf - inf on the sky
+        error = np.abs(arrays["depth"] - z)
+    worst = np.unravel_index(np.argmax(np.where(same_surface, error, 0)), error.shape)
+    print(f"{name}: depth error max {error[same_surface].max() * 100:.3f} cm over {same_surface.sum()} pixels "
+          f"(at {worst}: {z[worst]:.2f} m, ids {gpu[worst]}); 99.9th percentile "
+          f"{np.percentile(error[same_surface], 99.9) * 100:.3f} cm")
+    assert same_surface.sum() >= 0.99 * drawn.sum()
+    near = same_surface & (z < 100.0)
+    assert near.sum() > 0.5 * same_surface.sum() and error[near].max() <= 0.01
+    # beyond, the 24-bit depth buffer's step (z^2 / (near 2^24): 1.9 cm at 300 m) dominates
+    assert np.all(error[same_surface] <= 0.01 + 1e-4 * z[same_surface])
+    palette = CLASS_COLOURS[np.minimum(arrays["class"], len(CLASSES) - 1)]
+    Image.fromarray(np.hstack([arrays["rgb"], palette])).save(output_dir / f"dataset_interior_{name}.png")
+
+
+def test_grammar_windows_are_window_class(output_dir):
+    """On the default city's grammar facades, window pixels of the class image are exactly those
+    the grammar label AOV calls window or room (the room seen through the glass)."""
+    source = load_source(city="default")
+    sampler = SampleRenderer(source, parse_config({"image": {"width": SIZE[0], "height": SIZE[1]}}))
+    try:
+        view = _view_of(source.city.viewpoints["closeup"])
+        arrays = sampler.render(view)
+        ids = sampler.renderer.render_ids(view.camera())
+    finally:
+        sampler.release()
+    trees = arrays["class"] == CLASSES.index("tree")  # in front of the facade: not in the id AOV
+    grammar = (ids[..., 3] > 0) & (ids[..., 0] != 9) & ~trees
+    labelled_window = grammar & np.isin(ids[..., 3], [LABELS.index("window"), LABELS.index("room")])
+    window = (arrays["class"] == WINDOW) & grammar
+    assert labelled_window.sum() > 500
+    differ = int(np.count_nonzero(window != labelled_window))
+    print(f"closeup: {labelled_window.sum()} grammar window pixels, {differ} differ ({trees.sum()} behind trees)")
+    assert differ <= 0.001 * SIZE[0] * SIZE[1]
+
+
+def test_intrinsics_and_extrinsics_project_as_the_renderer_does():
+    from cityshade.dataset import extrinsics, intrinsics
+
+    view = View(0, "vehicle", (12.0, 2.0, -40.0), 237.0, 4.0, 60.0, 0.3, None, 12.0)
+    width, height = 64, 48
+    camera = view.camera()
+    side = np.cross(camera.forward, [0.0, 1.0, 0.0])
+    points = camera.eye + np.outer([20.0, 30.0, 9.0], camera.forward) + np.outer([3.0, -8.0, 0.5], side) \
+        + np.outer([1.0, -1.5, 0.2], [0.0, 1.0, 0.0])
+    clip = np.c_[points, np.ones(3)] @ camera.view_projection(width / height).T
+    ndc = clip[:, :2] / clip[:, 3:4]
+    expected = np.c_[(ndc[:, 0] + 1) / 2 * width - 0.5, (1 - ndc[:, 1]) / 2 * height - 0.5]  # pixel centres at integers
+    cam = (extrinsics(view) @ np.c_[points, np.ones(3)].T)[:3]
+    assert np.all(cam[2] > 0)  # OpenCV: in front of the camera is +z
+    pixels = (intrinsics(view.fov, width, height) @ cam)
+    assert np.allclose((pixels[:2] / pixels[2]).T, expected, atol=1e-6)

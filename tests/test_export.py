@@ -1,0 +1,197 @@
+"""cityshade export: the GPU facade bake against its numpy twin, atlas packing, the GLB read back
+with trimesh, the 3D Tiles tileset, and bad input (one line, exit 2, nothing written)."""
+
+from __future__ import annotations
+
+import itertools
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cityshade.cli import main
+from cityshade.export import Canvas, GpuBaker, bake_reference, pack
+from cityshade.grammar import library_texture, seed_vector
+
+TAGGED = Path(__file__).parent / "data" / "maps" / "tagged.osm"
+
+
+def test_gpu_bake_matches_numpy_twin(gl_context):
+    from cityshade.assets import tile_array
+
+    compiled = library_texture()
+    tiles = tile_array(128)
+    canvases = [Canvas(0, 0, -0.25, -0.25, 60, 80, 14.0, 19.0, compiled.address("classical"), seed_vector(3), (4, 3.2), 1),
+                Canvas(1, 1, -0.3, 2.0, 50, 40, 12.0, 9.0, compiled.address("office"), seed_vector(4), (4, 3.2), 1)]
+    size = pack(canvases)[0]
+    baker = GpuBaker(gl_context, tiles, nearest=True)
+    page = baker.bake_page(canvases, size, 0.25)
+    baker.release()
+    for canvas in canvases:
+        reference = bake_reference(canvas, 0.25, tiles)
+        region = (slice(canvas.y, canvas.y + canvas.rows), slice(canvas.x, canvas.x + canvas.cols))
+        ids = np.any(page["ids"][region] != reference["ids"], axis=-1)
+        assert ids.sum() == 0, f"{ids.sum()} of {ids.size} texels differ in ids"
+        for name in ("colour", "normal"):
+            differ = np.abs(page[name][region] - reference[name]).max(axis=-1) > 2e-3
+            assert differ.sum() == 0, f"{differ.sum()} of {differ.size} {name} texels differ"
+        assert len(np.unique(reference["ids"][..., 1])) > 2  # walls, windows and more: a real facade
+
+
+def test_pack_places_canvases_without_overlap():
+    rng = np.random.default_rng(1)
+    canvases = [Canvas(i, 0, 0, 0, int(w), int(h), 1, 1, 0, (0, 0), (1, 1), 1) for i, (w, h) in
+                enumerate(rng.integers(1, 700, (60, 2)))] + [Canvas(99, 0, 0, 0, 3000, 40, 1, 1, 0, (0, 0), (1, 1), 1)]
+    sizes = pack(canvases)
+    for page, (cols, rows) in enumerate(sizes):
+        used = np.zeros((rows, cols), np.int32)
+        for c in canvases:
+            if c.page == page:
+                used[c.y:c.y + c.rows, c.x:c.x + c.cols] += 1
+        assert used.max() == 1 and used.shape[0] >= max(c.y + c.rows for c in canvases if c.page == page)
+    assert all(c.page >= 0 for c in canvases)
+    assert max(max(size) for size in sizes[:-1]) <= 2048 and sizes[-1] == (3000, 40)  # a wide canvas: its own page
+
+
+def _summary(capsys) -> dict:
+    return json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+
+
+def test_glb_round_trip_with_trimesh(tmp_path, capsys):
+    import pygltflib
+    import trimesh
+
+    from cityshade.maps import load_map, map_city
+    from cityshade.scene import building_vertices
+
+    out = tmp_path / "tagged.glb"
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--texel", "0.25"]) == 0
+    summary = _summary(capsys)
+    city = map_city(load_map(TAGGED))
+    scene = trimesh.load(out, force="scene")
+    buildings = [name for name in scene.graph.nodes_geometry if name.startswith("building ")]
+    # trimesh loads each primitive (walls per atlas side, roof) as a node named after its mesh + "_suffix"
+    assert len({name.split("_")[0] for name in buildings}) == summary["buildings"] == len(city.masses)
+    building_triangles = sum(len(scene.geometry[scene.graph[name][1]].faces) for name in buildings)
+    assert building_triangles == sum(len(building_vertices(m, i)) // 3 for i, m in enumerate(city.masses))
+    total = sum(len(scene.geometry[scene.graph[name][1]].faces) for name in scene.graph.nodes_geometry)
+    assert total == summary["triangles"]  # trees once per species: the instancing extension is read by few
+    gltf = pygltflib.GLTF2.load(str(out))
+    facade_images = [im for im in gltf.images if (im.name or "").startswith("facade colour")]
+    assert len(facade_images) == len(summary["atlas_pages"]) >= 1
+    textures = [m for m in scene.geometry.values() if getattr(m.visual, "material", None) is not None
+                and getattr(m.visual.material, "baseColorTexture", None) is not None]
+    sizes = {tuple(m.visual.material.baseColorTexture.size) for m in textures}
+    assert {tuple(p) for p in summary["atlas_pages"]} <= sizes
+    extras = {n.extras["source_id"]: n.extras for n in gltf.nodes if n.name.startswith("building ")}
+    assert "way/100" not in extras  # the outline is drawn as its parts
+    part = extras["way/101"]
+    assert part["part"] and part["part_of"] == "way/100" and part["tags"]["min_height"] == "3"
+    assert part["height"] == 30 and "height" in part["tagged"] and "height" not in part["guessed"]
+    courtyard = extras["relation/200"]
+    assert courtyard["tags"]["building"] == "apartments" and "height" in courtyard["guessed"]
+    assert gltf.asset.extras["origin"]["longitude"] == pytest.approx(24.94, abs=0.01)
+    assert gltf.asset.extras["crs"].startswith("EPSG:")
+    assert "EXT_mesh_gpu_instancing" in gltf.extensionsUsed
+    assert _property_strings(gltf, "source_id") == [n.extras["source_id"] for n in gltf.nodes
+                                                     if n.name.startswith("building ")]
+
+
+def _property_strings(gltf, name: str) -> list[str]:
+    """A STRING property of the EXT_structural_metadata table, decoded from the binary buffer."""
+    table = gltf.extensions["EXT_structural_metadata"]["propertyTables"][0]
+    blob = gltf.binary_blob()
+
+    def view(index):
+        v = gltf.bufferViews[index]
+        return blob[v.byteOffset:v.byteOffset + v.byteLength]
+
+    prop = table["properties"][name]
+    offsets = np.frombuffer(view(prop["stringOffsets"]), np.uint32)
+    data = view(prop["values"])
+    return [data[a:b].decode("utf-8") for a, b in itertools.pairwise(offsets)]
+
+
+def test_tileset_hierarchy_and_earth_position(tmp_path, capsys):
+    out = tmp_path / "tiles"
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--format", "3dtiles", "--texel", "0.5"]) == 0
+    summary = _summary(capsys)
+    tileset = json.loads((out / "tileset.json").read_text())
+    assert tileset["asset"]["version"] == "1.1"
+    root = tileset["root"]
+    translation = np.asarray(root["transform"][12:15])
+    assert 6.35e6 < np.linalg.norm(translation) < 6.40e6  # on the Earth's surface (metres from its centre)
+    axes = np.asarray(root["transform"]).reshape(4, 4)[:3, :3]
+    assert np.allclose(axes @ axes.T, np.eye(3), atol=1e-9)
+
+    def walk(tile, parent_error):
+        assert tile["geometricError"] <= parent_error
+        assert (out / tile["content"]["uri"]).is_file()
+        children = tile.get("children", [])
+        if not children:
+            assert tile["geometricError"] == 0
+        return 1 + sum(walk(child, tile["geometricError"]) for child in children)
+
+    assert walk(root, tileset["geometricError"]) == summary["tiles"] + 1
+    assert summary["buildings"] == 4
+
+
+def _check_sizes(texel: float):
+    from cityshade.export import map_export_city
+    from cityshade.export._bake import canvases_of, check_size, has_grammar
+    from cityshade.scene import building_vertices
+
+    city = map_export_city(TAGGED).city
+    canvases = []
+    for i, mass in enumerate(city.masses):
+        verts = building_vertices(mass, i)
+        if has_grammar(mass):
+            canvases += canvases_of(i, mass, verts[verts["ids"][:, 1] == 0], texel)
+    assert canvases
+    check_size(canvases, texel)
+
+
+def _fails(args, capsys) -> str:
+    code = main(args)
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "Traceback" not in err
+    return err
+
+
+def test_bad_input_one_line_exit_2_nothing_written(tmp_path, capsys):
+    base = ["export", "--map", str(TAGGED)]
+    out = tmp_path / "city.glb"
+    err = _fails(base + ["--out", str(out), "--region", "10,10,10.1,10.1"], capsys)
+    assert "--region" in err and "no building" in err
+    err = _fails(base + ["--out", str(out), "--texel", "0.0001"], capsys)
+    assert "--texel" in err and "use --texel" in err
+    suggested = float(err.split("use --texel ")[1].split()[0])
+    _check_sizes(suggested)  # the advice holds (without baking the atlas)
+    err = _fails(base + ["--out", str(out), "--format", "obj"], capsys)
+    assert "obj" in err and "glb" in err
+    err = _fails(base + ["--out", str(tmp_path / "t"), "--format", "3dtiles", "--region", "0,0,1,1"], capsys)
+    assert "--region" in err
+    a_file = tmp_path / "notes.txt"
+    a_file.write_text("x")
+    err = _fails(base + ["--out", str(a_file / "city.glb")], capsys)
+    assert "cannot write" in err
+    err = _fails(base + ["--out", "/proc/cityshade-export.glb", "--texel", "1"], capsys)  # even root cannot
+    assert "cannot write" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]  # no partial file, tileset or temporary
+    err = _fails(base + ["--out", str(tmp_path), "--format", "3dtiles"], capsys)  # would replace notes.txt
+    assert "no tileset.json" in err and a_file.read_text() == "x"
+
+
+def test_region_keeps_what_lies_inside_as_gltf(tmp_path, capsys):
+    import pygltflib
+
+    out = tmp_path / "corner.gltf"
+    # around way/400 only (a fuel station canopy at 60.1711-60.1712 N, 24.9400-24.9401 E)
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--region", "24.9399,60.1710,24.9402,60.1713",
+                 "--texel", "0.5"]) == 0
+    assert _summary(capsys)["buildings"] == 1
+    gltf = pygltflib.GLTF2.load(str(out))
+    assert [n.name for n in gltf.nodes] == ["building way/400", "ground"]
+    ground = gltf.accessors[gltf.meshes[gltf.nodes[1].mesh].primitives[0].attributes.POSITION]
+    assert ground.count > 0 and ground.max[0] - ground.min[0] <= 17.7 + 1e-3  # cut to the region's 17.7 m width

@@ -1,0 +1,142 @@
+"""The ground of a map: road ribbons and their joins, markings, bridges and tunnels, water and
+parks, checked on the triangles themselves; and the trees the map plants."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from cityshade.maps import Area, MapBuilding, MapData, MapTree, Road
+from cityshade.maps._ground import (BASE_DEPTH, GROUND_ASPHALT, GROUND_GRASS, GROUND_PAVEMENT,
+                                    GROUND_WATER, ground_mesh)
+from cityshade.maps._streets import street_surfaces
+from cityshade.maps._trees import MAX_FOREST_TREES, map_trees, model_size
+
+HELSINKI = (24.9384, 60.1699)
+
+
+def make_map(**records) -> MapData:
+    return MapData(Path("hand.osm"), HELSINKI, "EPSG:32635", **records)
+
+
+def road(x0, y0, x1, y1, kind="residential", width=8.0, **kwargs) -> Road:
+    return Road(f"way/{x0}{y0}{x1}{y1}{kind}", shapely.LineString([(x0, y0), (x1, y1)]), kind, width, **kwargs)
+
+
+def faces(mesh: np.ndarray, material: int, y: float | None = 0.0) -> list[shapely.Polygon]:
+    """The mesh's triangles of one material (at height y) as map-space polygons (scene z = -north)."""
+    tris = mesh.reshape(-1, 3, 4)
+    keep = (tris[:, 0, 3] == material) & (True if y is None else np.all(np.isclose(tris[:, :, 1], y), axis=1))
+    return [shapely.Polygon(np.c_[t[:, 0], -t[:, 2]]) for t in tris[keep]]
+
+
+def area(polygons) -> float:
+    return float(sum(p.area for p in polygons))
+
+
+def test_ribbon_has_the_road_width():
+    surfaces = street_surfaces(make_map(roads=[road(0, 0, 100, 0, width=8.0, sidewalk="no")]))
+    across = surfaces.carriageway.intersection(shapely.LineString([(50, -20), (50, 20)]))
+    assert across.length == pytest.approx(8.0, abs=1e-6)
+
+
+def test_crossing_roads_join_into_one_surface_and_triangles_do_not_overlap():
+    map_data = make_map(roads=[road(0, 0, 100, 0, width=8.0), road(50, -50, 50, 50, width=6.0)])
+    surfaces = street_surfaces(map_data)
+    assert surfaces.carriageway.geom_type == "Polygon"  # one piece: joined at the crossing
+    asphalt = faces(ground_mesh(map_data), GROUND_ASPHALT)
+    # triangles tile the joined surface exactly: their areas add up to the union's, with no overlap
+    assert area(asphalt) == pytest.approx(surfaces.carriageway.area, rel=1e-6)
+    assert shapely.union_all(asphalt).area == pytest.approx(area(asphalt), rel=1e-6)
+
+
+def test_layers_do_not_overlap_so_nothing_can_z_fight():
+    park = Area("way/1", shapely.box(-30, -30, 30, 30), "park")
+    water = Area("way/2", shapely.box(20, -30, 60, 30), "water")
+    mesh = ground_mesh(make_map(roads=[road(-50, 0, 80, 0)], areas=[park, water]))
+    flat = [p for m in (GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, GROUND_WATER) for p in faces(mesh, m)]
+    assert shapely.union_all(flat).area == pytest.approx(area(flat), rel=1e-6)
+    # the road crosses the park: the park keeps only what the road and its pavements leave
+    assert area(faces(mesh, GROUND_GRASS)) < park.polygon.area - 60 * 8
+    assert area(faces(mesh, GROUND_WATER)) > 0.7 * water.polygon.area
+    assert np.isclose(mesh[:, 1], -BASE_DEPTH).sum() == 6  # the land plane under everything
+
+
+def test_no_ground_road_inside_a_building_bridges_lifted_tunnels_left_out():
+    building = MapBuilding(0, "way/9", shapely.box(40, -20, 60, 20), height=20.0)
+    roads = [road(0, 0, 100, 0, sidewalk="no"), road(0, 50, 100, 50, layer=-1, tunnel=True),
+             road(0, 100, 100, 100, layer=2, bridge=True)]
+    mesh = ground_mesh(make_map(roads=roads, buildings=[building]))
+    ground = faces(mesh, GROUND_ASPHALT)
+    assert ground and all(building.outline.intersection(t).area < 1e-6 for t in ground)
+    deck = faces(mesh, GROUND_ASPHALT, y=10.0)  # 5 m per layer
+    assert area(deck) == pytest.approx(100 * 8.0, rel=1e-6)
+    tunnel = shapely.box(0, 46, 100, 54)
+    assert all(tunnel.intersection(t).area < 1e-6 for t in faces(mesh, GROUND_ASPHALT, y=None))
+
+
+def test_lane_markings_centre_and_dividers_stop_at_crossings():
+    # crossing ways share a node, as in OpenStreetMap
+    avenue = Road("way/1", shapely.LineString([(0, 0), (100, 0), (200, 0)]), "primary", 14.0, lanes=4)
+    side = Road("way/2", shapely.LineString([(100, -60), (100, 0), (100, 60)]), "residential", 6.0)
+    surfaces = street_surfaces(make_map(roads=[avenue, side]))
+    paint = surfaces.markings
+    # four lanes, two-way: a solid centre line and a dashed divider on each side at +-3.5 m
+    for y, solid in ((0.0, True), (3.5, False), (-3.5, False)):
+        stripe = paint.intersection(shapely.LineString([(10, y), (90, y)]).buffer(0.01))
+        covered = stripe.area / (80 * 0.02)
+        assert (covered > 0.95) if solid else (0.2 < covered < 0.5), (y, covered)
+    assert paint.intersection(shapely.Point(100, 0).buffer(6.0)).area == 0  # the crossing has none
+    widths = [shapely.minimum_rotated_rectangle(p) for p in shapely.get_parts(paint)]
+    assert min(min(np.ptp(np.asarray(r.exterior.coords), axis=0)) for r in widths if r.area > 0.1) < 0.2
+
+
+def test_map_trees_size_and_species():
+    trees = [MapTree("node/1", (0.0, 0.0), height=20.0, genus="Picea"),
+             MapTree("node/2", (5.0, 0.0), crown_diameter=8.0, genus="Tilia"),
+             MapTree("node/3", (10.0, 0.0), leaf_type="needleleaved"), MapTree("node/4", (15.0, 0.0), genus="Betula")]
+    records = map_trees(make_map(trees=trees))
+    from cityshade.trees import SPECIES_ORDER
+
+    assert [SPECIES_ORDER[s] for s in records["species"]] == ["fir", "oak", "fir", "poplar"]
+    jitter = records["scale"] / np.array([20.0 / model_size("fir", 0)[0], 8.0 / model_size("oak", 0)[1], 1.0, 1.0])
+    assert np.all((jitter > 0.84) & (jitter < 1.16))  # the instances' own 0.85..1.15 size variation
+    assert np.allclose(records["position"], [(0, 0, 0), (5, 0, 0), (10, 0, 0), (15, 0, 0)])
+
+
+def test_forest_is_filled_deterministically_and_capped():
+    wood = Area("way/5", shapely.Polygon([(0, 0), (200, 0), (0, 200)]), "forest")
+    first = map_trees(make_map(areas=[wood]))
+    assert np.array_equal(first, map_trees(make_map(areas=[wood])))
+    xz = first["position"][:, [0, 2]]
+    assert len(first) > 100 and wood.polygon.contains(shapely.MultiPoint(np.c_[xz[:, 0], -xz[:, 1]]))
+    huge = Area("way/6", shapely.box(0, 0, 5000, 5000), "forest")
+    assert len(map_trees(make_map(areas=[huge]))) <= MAX_FOREST_TREES
+
+
+def test_railways_two_rails_a_gauge_apart_ballast_for_trains_none_in_tunnels():
+    from cityshade.maps import Railway
+    from cityshade.maps._streets import RAIL_WIDTH
+
+    train = Railway("way/1", shapely.LineString([(0, 0), (100, 0)]), "rail", gauge=1.524)
+    tram = Railway("way/2", shapely.LineString([(0, 30), (100, 30)]), "tram", gauge=1.0)
+    metro = Railway("way/3", shapely.LineString([(0, 60), (100, 60)]), "subway", tunnel=True)
+    surfaces = street_surfaces(make_map(railways=[train, tram, metro]))
+    across = surfaces.rails.intersection(shapely.LineString([(50, -5), (50, 65)]))
+    ys = sorted(p.centroid.y for p in shapely.get_parts(across))
+    assert ys == pytest.approx([-0.762, 0.762, 29.5, 30.5], abs=1e-6)
+    assert all(p.length == pytest.approx(RAIL_WIDTH) for p in shapely.get_parts(across))
+    assert surfaces.ballast.contains(shapely.Point(50, 0)) and not surfaces.ballast.intersects(shapely.Point(50, 30))
+
+
+def test_the_shaders_get_the_ground_materials_from_python():
+    """Ground material ids reach the shaders through the generated constants, not by hand."""
+    from cityshade.maps import MAP_GROUND_MATERIALS
+    from cityshade.shader_constants import CONSTANTS
+
+    assert len(MAP_GROUND_MATERIALS) == 8 and all(CONSTANTS[k] == v for k, v in MAP_GROUND_MATERIALS.items())
+    assert sorted({GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, *MAP_GROUND_MATERIALS.values()}) == list(range(11))
+
