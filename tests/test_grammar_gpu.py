@@ -23,6 +23,8 @@ CASES = {
     "split": "S->SplitX(Abs, 2.5, A, Rel, 1, Col, Rel, 2, B, Abs, 1.2, C)\n"
              "Col->SplitY(Rel, 1, D, Abs, 3, E, Rel, 0.5, F)\n" + colours(*"ABCDEF"),
     "repeat": "S->RepeatX(1.7, Col)\nCol->RepeatY(2.3, Cell)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n" + colours("A", "B"),
+    "repeat_ceil": "S->RepeatX(1.7, Col, Ceil)\nCol->RepeatY(2.3, Cell, Ceil)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n"
+                   + colours("A", "B"),
     "rand": "S->RepeatX(2, Col)\nCol->RepeatY(2, R)\nR->Rand(0, 0.2, A, 0.5, B, 0.3, C)\n" + colours(*"ABC"),
     "rand_uni": "S->RepeatY(1.5, Row)\nRow->RepeatX(1.5, R)\nR->RandUni(0, A, B, C, D, E)\n" + colours(*"ABCDE"),
     "rand_stack": "S->RepeatY(3, Floor)\nFloor->RandStack(Win)\nWin->RepeatX(2, Pick)\n"

@@ -44,3 +44,17 @@ def test_seeds_vary_a_style(library):
     images = [evaluate_facade(compiled, compiled.address("brick"), (20.0, 16.0), (60, 48), seed_vector(s),
                               tile_array(32)).terminal for s in range(4)]
     assert len({im.tobytes() for im in images}) > 1
+
+
+def test_fig12_keeps_the_papers_ceil_rounding():
+    """fig12.grammar writes `Ceil`: a 21 m facade has ceil(21 / 2.5) = 9 windows on its ground
+    floor, as in the paper, where the nearest count would give 8."""
+    from cityshade.grammar import library_path, load
+    from cityshade.grammar._reference import evaluate
+
+    compiled = compile_grammars({"f": load(library_path("fig12.grammar"))})
+    u = (np.arange(2100, dtype=np.float32) + 0.5) / 100
+    uv = np.stack([u, np.full_like(u, 1.5)], axis=1)  # through the ground floor's windows
+    result = evaluate(compiled, compiled.address("f"), uv, (21.0, 13.7), seed_vector(1), tile_array(32))
+    window = result.label == LABELS.index("window")
+    assert np.count_nonzero(np.diff(window.astype(int)) == 1) + window[0] == 9

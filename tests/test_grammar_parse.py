@@ -59,7 +59,7 @@ def test_library_uses_namespaces_and_compiles_small():
     ("S->SplitX(Rel, 1, Wal)\nWall->Skip(0)\n", ["bad.grammar:1:19: error: undefined rule 'Wal'", "did you mean the rule 'Wall'?"]),
     ("S->SplitZ(Rel, 1, W)\n" + WALL, ["bad.grammar:1:4: error: unknown operator 'SplitZ'", "did you mean the operator 'Split"]),
     (WALL + "W->Skip(0)\n", ["bad.grammar:2:1: error: rule 'W' is defined twice", "line 1"]),
-    ("S->RepeatX(2)\n", ["bad.grammar:1:4: error: RepeatX takes (size, rule) but got 1 argument"]),
+    ("S->RepeatX(2)\n", ["bad.grammar:1:4: error: RepeatX takes (size, rule, [rounding]) but got 1 argument"]),
     ("S->SplitX(Rel, 1)\n", ["SplitX takes ((policy, size, rule)...) but got 2 arguments"]),
     ("S->RepeatX(W, 2)\n" + WALL, ["1:12: error: RepeatX expects a size in metres > 0 here, not 'W'"]),
     ("S->SplitX(Rell, 1, W)\n" + WALL, ["1:11: error: SplitX expects Abs or Rel here", "'Rel'"]),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -53,13 +54,26 @@ def test_split_widths_follow_equation_1(parts, slack):
 
 
 @settings(max_examples=25, deadline=None)
-@given(size=st.floats(0.5, 5.0), width=st.floats(1.0, 40.0))
-def test_repeat_element_size(size, width):
-    text = "S->RepeatX(%.3f, Cell)\nCell->SplitX(Rel, 1, P0, Rel, 1, P1)\n" % size + colours(2)
+@given(size=st.floats(0.5, 5.0), width=st.floats(1.0, 40.0), rounding=st.sampled_from(["", ", Nearest", ", Ceil"]))
+def test_repeat_element_size(size, width, rounding):
+    text = "S->RepeatX(%.3f, Cell%s)\nCell->SplitX(Rel, 1, P0, Rel, 1, P1)\n" % (size, rounding) + colours(2)
     compiled, terminal = run_along_x(text, width)
-    count = max(np.ceil(np.float32(width) / np.float32(stored(round(size, 3))) - np.float32(1e-4)), 1)
+    ratio = np.float32(width) / np.float32(stored(round(size, 3)))
+    if rounding == ", Ceil":
+        count = max(np.ceil(ratio - np.float32(1e-4)), 1)  # the paper: S_w / ceil(S_w / v)
+    else:
+        count = max(np.floor(ratio + np.float32(0.5)), 1)  # CGA: the nearest whole number of tiles
     changes = np.count_nonzero(np.diff(terminal) != 0) + 1
-    assert changes == 2 * count  # every element split in two halves: S_w / ceil(S_w / v) each
+    assert changes == 2 * count  # every element split in two halves
+
+
+@pytest.mark.parametrize("width, nearest, ceil", [(30.0, 7, 8), (29.0, 7, 7), (31.6, 8, 8), (1.0, 1, 1)])
+def test_repeat_counts_by_hand(width, nearest, ceil):
+    """A 4.2 m window bay on a 30 m facade: 7 bays (7.14 rounds to 7), where ceil gave 8."""
+    for rounding, expected in (("", nearest), (", Ceil", ceil)):
+        text = f"S->RepeatX(4.2, Cell{rounding})\nCell->SplitX(Rel, 1, P0, Rel, 1, P1)\n" + colours(2)
+        _, terminal = run_along_x(text, width)
+        assert np.count_nonzero(np.diff(terminal) != 0) + 1 == 2 * expected
 
 
 def test_rand_uni_spreads_evenly():

@@ -14,7 +14,7 @@ from ..errors import CityshadeError
 from . import _limits as limits
 from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
 from ._loader import SourceGrammar, SourceRule
-from ._operators import OPERATORS, POLICIES, USAGES, Kind
+from ._operators import OPERATORS, POLICIES, ROUNDINGS, USAGES, Kind
 from ._syntax import Arg
 
 
@@ -64,7 +64,7 @@ class Grammar:
 
 def _kinds(operator: str, count: int) -> list[Kind]:
     sig = OPERATORS[operator]
-    kinds = list(sig.head)
+    kinds = list(sig.head) + list(sig.optional)
     while len(kinds) < count and sig.group:
         kinds.extend(sig.group)
     return kinds[:count]
@@ -124,8 +124,8 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
             return fail(f"undefined rule '{arg.text}'", suggest(arg.text, local, "rule") or "define it as "
                         f"{arg.text}->Operator(...)")
         return full
-    if kind in (Kind.POLICY, Kind.USAGE):
-        table = POLICIES if kind is Kind.POLICY else USAGES
+    if kind in (Kind.POLICY, Kind.USAGE, Kind.ROUNDING):
+        table = {Kind.POLICY: POLICIES, Kind.USAGE: USAGES, Kind.ROUNDING: ROUNDINGS}[kind]
         if arg.kind != "name" or arg.text not in table:
             return fail(f"{op} expects {kind.value} here, not {arg.text!r}", suggest(arg.text, table, "constant"))
         return table[arg.text]

@@ -49,7 +49,8 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
     v = rule.values
     name = rule.operator
     if name in ("RepeatX", "RepeatY"):
-        return [[op, v[0], address_of(v[1]), 0]]
+        rounding = v[2] if len(v) > 2 else 0
+        return [[op, v[0], address_of(v[1]), rounding]]
     if name in ("SplitX", "SplitY"):
         parts = [(policy * size, address_of(child)) for policy, size, child in zip(v[0::3], v[1::3], v[2::3])]
         rel = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy > 0)

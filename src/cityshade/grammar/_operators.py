@@ -14,6 +14,7 @@ class Kind(Enum):
     WEIGHT = "a weight in (0, 1]"
     COUNT = "a whole number >= 0"
     POLICY = "Abs or Rel"
+    ROUNDING = "Nearest or Ceil"
     USAGE = "Color, Normal or Specular"
     TEXTURE = "0 or a texture Rep:name / Fit>name"
     MASK = "a mask Fit>name / Rep:name"
@@ -22,19 +23,24 @@ class Kind(Enum):
 
 POLICIES = {"Abs": -1.0, "Rel": 1.0}
 USAGES = {"Color": 1, "Normal": 2, "Specular": 3}
+# Repeat's tile count: the nearest whole number of tiles (CGA's rule, the default) or the
+# paper's ceil(S / v) (eq. in §3.1), which never makes a tile wider than asked.
+ROUNDINGS = {"Nearest": 0, "Ceil": 1}
 
 
 @dataclass(frozen=True)
 class Signature:
-    """`head` arguments, then `group` repeated at least `min_groups` times (no group: fixed arity)."""
+    """`head` arguments, then `group` repeated at least `min_groups` times (no group: fixed arity),
+    or, for fixed arities, the `optional` arguments that may follow the head."""
 
     opcode: int
     head: tuple[Kind, ...]
     group: tuple[Kind, ...] = ()
     min_groups: int = 0
+    optional: tuple[Kind, ...] = ()
 
     def describe(self) -> str:
-        parts = [k.name.lower() for k in self.head]
+        parts = [k.name.lower() for k in self.head] + [f"[{k.name.lower()}]" for k in self.optional]
         if self.group:
             parts.append("(" + ", ".join(k.name.lower() for k in self.group) + ")...")
         return ", ".join(parts)
@@ -42,7 +48,7 @@ class Signature:
     def arity_ok(self, count: int) -> bool:
         rest = count - len(self.head)
         if not self.group:
-            return rest == 0
+            return 0 <= rest <= len(self.optional)
         return rest >= len(self.group) * self.min_groups and rest % len(self.group) == 0
 
 
@@ -50,8 +56,8 @@ _MAT = (Kind.USAGE, Kind.TEXTURE, Kind.NUMBER, Kind.NUMBER, Kind.NUMBER, Kind.NU
 
 # Opcodes are the paper's (fig. 3): the first channel of a rule's first texel.
 OPERATORS: dict[str, Signature] = {
-    "RepeatX": Signature(1, (Kind.SIZE, Kind.RULE)),
-    "RepeatY": Signature(2, (Kind.SIZE, Kind.RULE)),
+    "RepeatX": Signature(1, (Kind.SIZE, Kind.RULE), optional=(Kind.ROUNDING,)),
+    "RepeatY": Signature(2, (Kind.SIZE, Kind.RULE), optional=(Kind.ROUNDING,)),
     "SplitX": Signature(3, (), (Kind.POLICY, Kind.SIZE, Kind.RULE), 1),
     "SplitY": Signature(4, (), (Kind.POLICY, Kind.SIZE, Kind.RULE), 1),
     "Rand": Signature(5, (Kind.COUNT,), (Kind.WEIGHT, Kind.RULE), 1),

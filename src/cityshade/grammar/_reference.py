@@ -25,6 +25,12 @@ WALL_LABEL = LABELS.index("wall")
 REPEAT_SLACK = F(1e-4)  # ceil(S_w / v) must not jump when S_w / v is an integer up to rounding
 
 
+def repeat_count(size, v, ceil_mode):
+    """Repeat's tile count: the nearest whole number (half up), or the paper's ceil; at least 1."""
+    ratio = size / v
+    return np.maximum(np.where(ceil_mode, np.ceil(ratio - REPEAT_SLACK), np.floor(ratio + F(0.5))), F(1))
+
+
 # The evaluator's work arrays take hundreds of bytes per pixel (7.7 GB for 4096x4096 at once);
 # it runs on tiles of this many pixels.
 # What stays per pixel is the Evaluation, the view rays and the 8-bit images.
@@ -139,7 +145,7 @@ class _Evaluator:
         head = self.tex[p.addr[idx]]
         v = head[:, 1]
         size, lb, t = p.size[idx, a], p.lb[idx, a], p.t[idx, a]
-        count = np.maximum(np.ceil(size / v - REPEAT_SLACK), F(1))
+        count = repeat_count(size, v, head[:, 3] > 0)
         w = size / count
         i = np.clip(np.floor((t - lb) / w), F(0), count - F(1))
         p.lb[idx, a] = lb + i * w

@@ -116,7 +116,8 @@ void grammar_end_layer(int skip) {
 
 void grammar_repeat(vec4 head, int a) {
     float size = g_size[a];
-    float count = max(ceil(size / head.y - GRAMMAR_REPEAT_SLACK), 1.0);
+    float ratio = size / head.y;  // nearest count (half up), or the paper's ceil when head.w is 1
+    float count = max(head.w > 0.0 ? ceil(ratio - GRAMMAR_REPEAT_SLACK) : floor(ratio + 0.5), 1.0);
     float w = size / count;
     float i = clamp(floor((g_t[a] - g_lb[a]) / w), 0.0, count - 1.0);
     g_lb[a] = g_lb[a] + i * w;
