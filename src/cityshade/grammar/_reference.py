@@ -181,7 +181,7 @@ class _Evaluator:
     def random(self, p, idx, level):
         slot = np.maximum(p.sp[idx] - level, 0)
         corner = np.where((level == 0)[:, None], p.lb[idx], p.stack[idx, slot])
-        return noise_at(corner)
+        return noise_at(corner, p.addr[idx])
 
     def op_rand(self, p, idx, op):
         addr = p.addr[idx]

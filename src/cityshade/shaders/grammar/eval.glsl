@@ -60,8 +60,13 @@ float grammar_channel(int address, int index) {
     return grammar_texel(address + index / 4)[index % 4];
 }
 
-float grammar_random(vec2 corner) {
-    ivec2 c = ivec2(floor(corner * GRAMMAR_NOISE_DENSITY + 0.5));
+// The noise at a corner in rule `stream`'s own stream (its address hashed to a cell offset,
+// as cityshade.grammar._random.stream_offset).
+float grammar_random(vec2 corner, int stream) {
+    uint h = uint(stream) * 0x9E3779B1u;
+    h ^= h >> 15;
+    h *= 0x85EBCA77u;
+    ivec2 c = ivec2(floor(corner * GRAMMAR_NOISE_DENSITY + 0.5)) + ivec2((h >> 8) & 255u, h >> 24);
     ivec2 p = ivec2((c.x + c.y * 37) & (GRAMMAR_NOISE_SIZE - 1), c.y & (GRAMMAR_NOISE_SIZE - 1));
     return texelFetch(grammar_noise, p, 0).r;
 }
@@ -148,7 +153,7 @@ void grammar_split(vec4 head, int a) {
 
 float grammar_rand_value(int level) {
     int slot = max(g_sp - level, 0);
-    return grammar_random(level == 0 ? g_lb : g_stack[slot]);
+    return grammar_random(level == 0 ? g_lb : g_stack[slot], g_addr);
 }
 
 void grammar_rand(vec4 head) {
