@@ -32,6 +32,15 @@ def test_style_gpu_matches_numpy(ctx, library, style):  # noqa: F811 (fixture)
     compare(ctx, compiled, style, seed=7, facade=(20.0, 16.0), size=(120, 96), min_terminals=3)
 
 
+@pytest.mark.parametrize("style", LIBRARY_STYLES)
+def test_filtered_colour_keeps_exact_labels(ctx, library, style):  # noqa: F811 (fixture)
+    """The mipmapped path: the terminal, label and glass flag come from the nearest texels, equal
+    to the numpy twin's on every pixel, while the colour is filtered."""
+    _, compiled = library
+    compare(ctx, compiled, style, seed=7, facade=(40.0, 32.0), size=(120, 96), min_terminals=3, nearest=False,
+            allowed=0)
+
+
 def test_dusk_shows_rooms_through_holes(library):
     _, compiled = library
     cpu = evaluate_facade(compiled, compiled.address("dusk"), (20.0, 16.0), (120, 96), seed_vector(2), tile_array(32))

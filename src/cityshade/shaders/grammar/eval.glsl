@@ -48,6 +48,7 @@ vec3 f_d[GRAMMAR_MAX_LAYERS];
 bool g_active;
 vec3 g_C, g_N;
 float g_A, g_AN, g_AS, g_best_w;
+float g_AE;  // colour alpha composited from exact (nearest-texel) alphas: it picks the terminal
 vec2 g_S;
 int g_best_addr, g_best_tile;
 ivec2 g_best_texel;
@@ -72,9 +73,12 @@ float grammar_random(vec2 corner, int stream) {
 }
 
 // Mat's sampling: a constant (code 0), a tile fitted to the scope (> 0) or tiled (< 0).
-vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int tile) {
+// exact_alpha is the alpha of the nearest texel: labels and layer decisions use it in both modes,
+// so they equal the numpy twin's, while the returned colour is filtered (mipmapped).
+vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int tile, out float exact_alpha) {
     texel = ivec2(0);
     tile = -1;
+    exact_alpha = params.a;
     if (code == 0) return params;
     tile = abs(code) - 1;
     int r = grammar_tile_size;
@@ -83,8 +87,10 @@ vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int t
     ivec2 ix = ivec2(floor(uv * float(r)));
     texel = fit ? clamp(ix, ivec2(0), ivec2(r - 1)) : (ix & ivec2(r - 1));
     int layer = 3 * tile + usage - 1;
+    vec4 exact = texelFetch(grammar_tiles, ivec3(texel, layer), 0);
+    exact_alpha = exact.a;
 #ifdef GRAMMAR_NEAREST
-    return texelFetch(grammar_tiles, ivec3(texel, layer), 0);
+    return exact;
 #else
     // Derivatives come from the facade uv (taken before any branching) scaled to this mapping.
     vec2 k = fit ? (params.zw - params.xy) / g_size : params.zw;
@@ -208,19 +214,24 @@ void grammar_mat(vec4 head, int op) {
     vec4 params = (op == 12 && head.w == 0.0) ? vec4(0.0, 0.0, 1.0, 1.0) : grammar_texel(g_addr + 1);
     ivec2 texel;
     int tile;
-    vec4 rgba = grammar_sample(code, usage, params, texel, tile);
+    float a_exact;
+    vec4 rgba = grammar_sample(code, usage, params, texel, tile, a_exact);
     if (op == 13) {
         ivec2 unused_texel;
         int unused_tile;
-        rgba.a *= grammar_sample(int(head.w), 1, grammar_texel(g_addr + 2), unused_texel, unused_tile).a;
+        float mask_exact;
+        rgba.a *= grammar_sample(int(head.w), 1, grammar_texel(g_addr + 2), unused_texel, unused_tile, mask_exact).a;
+        a_exact *= mask_exact;
     }
     float a = rgba.a;
     if (usage == 1) {
         float w = (1.0 - g_A) * a;
         g_C += w * rgba.rgb;
         g_A += w;
-        if (w > g_best_w) {
-            g_best_w = w;
+        float w_exact = (1.0 - g_AE) * a_exact;
+        g_AE += w_exact;
+        if (w_exact > g_best_w) {
+            g_best_w = w_exact;
             g_best_addr = g_addr;
             g_best_tile = tile;
             g_best_texel = texel;
@@ -234,7 +245,9 @@ void grammar_mat(vec4 head, int op) {
         g_S += w * rgba.rg;
         g_AS += w;
     }
-    if (g_A >= GRAMMAR_OPAQUE) {
+    // Both alphas must be opaque. The exact one is where the numpy twin stops; once it is opaque,
+    // later Mats weigh at most 0.001 on the exact track and cannot change the terminal.
+    if (g_A >= GRAMMAR_OPAQUE && g_AE >= GRAMMAR_OPAQUE) {
         g_active = false;
     } else {
         grammar_end_layer(0);
@@ -255,7 +268,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_depth = 0;
     g_active = true;
     g_C = vec3(0.0); g_N = vec3(0.0); g_S = vec2(0.0);
-    g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0;
+    g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0; g_AE = 0.0;
     g_best_addr = -1; g_best_tile = -1; g_best_texel = ivec2(0);
 
     for (int step = 0; step < GRAMMAR_MAX_STEPS && g_active; ++step) {
@@ -292,7 +305,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
         } else if (op == 10) {
             ivec2 texel;
             int tile;
-            float bit = grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile).a;
+            float bit;  // the nearest texel's bit, in both modes: holes have the numpy twin's edges
+            grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile, bit);
             grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
         } else if (op == 11) {
             grammar_intrusion(head);
