@@ -127,3 +127,26 @@ def test_missing_include_and_include_cycle(tmp_path):
     (tmp_path / "c.grammar").write_text('use "nope.grammar" as N\nS->Skip(0)\n')
     with pytest.raises(GrammarError, match="included file 'nope.grammar' not found"):
         load(tmp_path / "c.grammar")
+
+
+def test_a_bare_alias_is_its_target():
+    grammar = loads("S -> Front\nFront->SplitX(Rel, 1, A, Rel, 1, W);\nA -> W;\n" + WALL)
+    assert grammar.rules["S"].children == ("Front",) and grammar.rules["A"].children == ("W",)
+    compiled = compile_grammars({"g": grammar})
+    assert compiled.address("g") == compiled.address("g", "Front")
+    assert compiled.address("g", "A") == compiled.address("g", "W")
+    assert compiled.used == 2 + 1  # Front: a head and a texel of parts; W: one texel; aliases: none
+
+
+def test_alias_errors_are_located():
+    assert "bad.grammar:1:1: error: rules form a cycle: S -> T -> S" in error_of("S -> T\nT -> S\n")
+    assert "bad.grammar:2:6: error: undefined rule 'X'" in error_of(WALL + "S -> X\n")
+
+
+def test_an_alias_overrides_a_namespaced_rule(tmp_path):
+    (tmp_path / "base.grammar").write_text("Facade->RepeatX(2, Win)\nWin->Mat(Color, Fit>window1, 0, 0, 1, 1)\n")
+    main = tmp_path / "main.grammar"
+    main.write_text('use "base.grammar" as B\nS->Layer(B.Facade)\nB.Win->Arch\n'
+                    "Arch->Mat(Color, Fit>window3, 0, 0, 1, 1)\n")
+    compiled = compile_grammars({"g": load(main)})
+    assert compiled.address("g", "B.Win") == compiled.address("g", "Arch")

@@ -14,7 +14,7 @@ from ..errors import CityshadeError
 from . import _limits as limits
 from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
 from ._loader import SourceGrammar, SourceRule
-from ._operators import OPERATORS, POLICIES, ROUNDINGS, USAGES, Kind
+from ._operators import ALIAS, OPERATORS, POLICIES, ROUNDINGS, USAGES, Kind
 from ._syntax import Arg
 
 
@@ -93,7 +93,8 @@ def _check_rule(src: SourceRule, names: dict[str, SourceRule], tiles: dict[str, 
     op = definition.operator
     if op not in OPERATORS:
         errors.append(Diagnostic(definition.operator_location, f"unknown operator '{op}'",
-                                 suggest(op, OPERATORS, "operator") or f"operators: {', '.join(OPERATORS)}"))
+                                 suggest(op, OPERATORS, "operator")
+                                 or f"operators: {', '.join(o for o in OPERATORS if o != ALIAS)}"))
         return None
     sig = OPERATORS[op]
     args = definition.args
@@ -242,6 +243,9 @@ def costs(rules: dict[str, Rule]) -> dict[str, Cost]:
         kids = [memo[c] for c in rule.children]
         if not kids:
             memo[name] = Cost(1, 0, 0, 0)
+            continue
+        if rule.operator == ALIAS:
+            memo[name] = kids[0]
             continue
         steps = sum(k.steps for k in kids) if rule.operator == "Layer" else max(k.steps for k in kids)
         memo[name] = Cost(1 + steps,

@@ -17,7 +17,7 @@ import numpy as np
 from . import _limits as limits
 from ._checks import Grammar, Rule, TexRef
 from ._diagnostics import Diagnostic, GrammarError
-from ._operators import OPERATORS
+from ._operators import ALIAS, OPERATORS
 
 _UNIT_RECT = (0.0, 0.0, 1.0, 1.0)
 
@@ -108,6 +108,9 @@ def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
             key = (gname, rule_name)
             if key not in addresses:
                 rule = grammar.rules[rule_name]
+                if rule.operator == ALIAS:
+                    addresses[key] = address_of(rule.values[0])
+                    return addresses[key]
                 code = _encode(rule, address_of)
                 content = tuple(np.float16(x).item() for texel in code for x in texel)
                 if content not in by_content:

@@ -54,6 +54,8 @@ class Signature:
 
 _MAT = (Kind.USAGE, Kind.TEXTURE, Kind.NUMBER, Kind.NUMBER, Kind.NUMBER, Kind.NUMBER)
 
+ALIAS = "->"  # the operator of an alias `A->B`: A is B (it has no texels of its own)
+
 # Opcodes are the paper's (fig. 3): the first channel of a rule's first texel.
 OPERATORS: dict[str, Signature] = {
     "RepeatX": Signature(1, (Kind.SIZE, Kind.RULE), optional=(Kind.ROUNDING,)),
@@ -69,4 +71,5 @@ OPERATORS: dict[str, Signature] = {
     "Intrusion": Signature(11, (Kind.SIZE,) + (Kind.RULE,) * 5),
     "Mat": Signature(12, _MAT),
     "MatAlpha": Signature(13, _MAT + _MAT[1:]),
+    ALIAS: Signature(0, (Kind.RULE,)),
 }

@@ -6,6 +6,7 @@
     Assets->SplitY(Abs, 3.0, BottomFloor,
                    Rel, 1.0, Middle);     # arguments may span lines, ';' is optional
     Wall1->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)
+    Window->Wall1                         # an alias: Window is Wall1
 """
 
 from __future__ import annotations
@@ -16,12 +17,14 @@ from functools import lru_cache
 from lark import Lark, Token, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from ._diagnostics import Diagnostic, GrammarError, Location, shorten
+from ._operators import ALIAS
 
 _LARK_GRAMMAR = r"""
 start: _item*
 _item: rule | use
 use: USE STRING AS NAME ";"?
 rule: NAME ARROW NAME "(" [arg ("," arg)*] ")" ";"?
+    | NAME ARROW NAME ";"? -> alias
 arg: NUMBER -> number
    | TEXREF -> texref
    | NAME -> name
@@ -102,7 +105,11 @@ def parse_text(text: str, path: str) -> SourceFile:
             _, file_tok, _, ns_tok = node.children
             uses.append(UseDef(str(file_tok)[1:-1], str(ns_tok), _loc(path, ns_tok)))
             continue
-        name_tok, _, op_tok, *arg_nodes = node.children
+        name_tok, arrow_tok, op_tok, *arg_nodes = node.children
+        if node.data == "alias":  # A->B: the operator is the arrow, its one argument the target
+            args = (Arg("name", str(op_tok), _loc(path, op_tok)),)
+            rules.append(RuleDef(str(name_tok), ALIAS, args, _loc(path, name_tok), _loc(path, arrow_tok)))
+            continue
         args = tuple(Arg(a.data, str(a.children[0]), _loc(path, a.children[0])) for a in arg_nodes)
         rules.append(RuleDef(str(name_tok), str(op_tok), args, _loc(path, name_tok), _loc(path, op_tok)))
     return SourceFile(path, tuple(rules), tuple(uses))
