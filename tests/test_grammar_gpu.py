@@ -25,6 +25,9 @@ CASES = {
     "repeat": "S->RepeatX(1.7, Col)\nCol->RepeatY(2.3, Cell)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n" + colours("A", "B"),
     "repeat_ceil": "S->RepeatX(1.7, Col, Ceil)\nCol->RepeatY(2.3, Cell, Ceil)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n"
                    + colours("A", "B"),
+    "split_tile": "S->SplitX(Rel, 1, A, Tile, 2.2, Bay, Abs, 1.5, C, Rel, 0.5, D)\n"
+                  "Bay->SplitY(Abs, 2, E, Tile, 1.3, Row, Rel, 1, F)\nRow->SplitX(Rel, 1, G, Rel, 1, H)\n"
+                  + colours(*"ACDEFGH"),
     "rand": "S->RepeatX(2, Col)\nCol->RepeatY(2, R)\nR->Rand(0, 0.2, A, 0.5, B, 0.3, C)\n" + colours(*"ABC"),
     "rand_uni": "S->RepeatY(1.5, Row)\nRow->RepeatX(1.5, R)\nR->RandUni(0, A, B, C, D, E)\n" + colours(*"ABCDE"),
     "rand_stack": "S->RepeatY(3, Floor)\nFloor->RandStack(Win)\nWin->RepeatX(2, Pick)\n"

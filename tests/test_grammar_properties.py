@@ -76,6 +76,45 @@ def test_repeat_counts_by_hand(width, nearest, ceil):
         assert np.count_nonzero(np.diff(terminal) != 0) + 1 == 2 * expected
 
 
+floating = st.lists(st.tuples(st.sampled_from(["Abs", "Rel"]), st.floats(0.5, 3.0)), min_size=0, max_size=4)
+
+
+@settings(max_examples=30, deadline=None)
+@given(before=floating, after=floating, tile=st.floats(0.8, 4.0), slack=st.floats(0.0, 30.0))
+def test_floating_parts_and_tiles_fill_the_scope(before, after, tile, slack):
+    """Relative parts and the Tile's copies float with one scale and fill what the absolute parts
+    leave; the tile count is CGA's nearest count of the space left for it, at least 1."""
+    before = [(p, stored(v)) for p, v in before]
+    after = [(p, stored(v)) for p, v in after]
+    tile = stored(tile)
+    parts = before + [("Tile", tile)] + after
+    absolute = sum(v for p, v in parts if p == "Abs")
+    relative = sum(v for p, v in parts if p == "Rel")
+    width = absolute + slack + 0.5
+    text = "S->SplitX(" + ", ".join(f"{p}, {v!r}, P{i}" for i, (p, v) in enumerate(parts)) + ")\n"
+    compiled, terminal = run_along_x(text + colours(len(parts)), width)
+    count = max(np.floor(np.float32(width - absolute - relative) / np.float32(tile) + np.float32(0.5)), 1)
+    scale = (width - absolute) / (relative + count * tile)
+    step = width / SAMPLES
+    measured_total = 0.0
+    for i, (policy, value) in enumerate(parts):
+        expected = value if policy == "Abs" else value * scale * (count if policy == "Tile" else 1)
+        measured = np.count_nonzero(terminal == compiled.address("g", f"P{i}")) * step
+        measured_total += measured
+        assert abs(measured - expected) <= 2 * step + 0.002 * expected
+    assert abs(measured_total - width) <= step  # the parts fill the scope, nothing left, nothing over
+    tile_runs = np.count_nonzero(np.diff((terminal == compiled.address("g", f"P{len(before)}")).astype(int)) == 1)
+    starts_with_tile = not before
+    assert tile_runs + starts_with_tile == 1  # the copies of one rule lie side by side
+
+
+def test_tile_copies_are_separate_scopes():
+    text = "S->SplitX(Abs, 1.0, P0, Tile, 2.0, Cell, Rel, 1.0, P1)\nCell->SplitX(Rel, 1, P2, Rel, 1, P3)\n" + colours(4)
+    compiled, terminal = run_along_x(text, 12.0)  # (12 - 1 - 1) / 2 = 5 tiles of 2 m, scale 1
+    halves = np.count_nonzero(np.diff(terminal) != 0) + 1 - 2
+    assert halves == 2 * 5
+
+
 def test_rand_uni_spreads_evenly():
     text = "S->RepeatX(0.5, R)\nR->RandUni(0, P0, P1, P2, P3)\n" + colours(4)
     compiled, terminal = run_along_x(text, 400.0)

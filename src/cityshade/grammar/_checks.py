@@ -14,7 +14,7 @@ from ..errors import CityshadeError
 from . import _limits as limits
 from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
 from ._loader import SourceGrammar, SourceRule
-from ._operators import ALIAS, OPERATORS, POLICIES, ROUNDINGS, USAGES, Kind
+from ._operators import ALIAS, OPERATORS, POLICIES, ROUNDINGS, TILE, USAGES, Kind
 from ._syntax import Arg
 
 
@@ -164,8 +164,13 @@ def _operator_checks(rule: Rule, errors: list):
             errors.append(Diagnostic(definition.operator_location, f"Rand weights sum to {total:g}, not 1",
                                      "make the weights add up to 1.0, or use RandUni for equal chances"))
     if rule.operator in ("SplitX", "SplitY"):
+        policies = rule.values[0::3]
+        if policies.count(TILE) > 1:
+            second = [i for i, p in enumerate(policies) if p == TILE][1]
+            errors.append(Diagnostic(definition.args[3 * second].location, "a Split has at most one Tile part",
+                                     "nest a second Split for a second run of tiles"))
         for policy, what in ((1, "relative"), (-1, "absolute")):
-            total = sum(size for p, size in zip(rule.values[0::3], rule.values[1::3]) if p == policy)
+            total = sum(size for p, size in zip(policies, rule.values[1::3]) if p == policy)
             if total > limits.HALF_MAX:
                 errors.append(Diagnostic(definition.operator_location,
                                          f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "

@@ -4,7 +4,7 @@ Each rule occupies consecutive texels from its address; the first channel is the
 Rule references are texel addresses (one channel each; exact integers in half floats below
 2048). Split stores the precomputed sums of its relative and absolute sizes, Rand the
 accumulated weights, and every variable-length operator its part count n, which bounds its
-loop. Rules that compile to the same texels share one address, so styles that vary a few
+loop. A Split with a Tile part keeps the tile's size in a second texel. Rules that compile to the same texels share one address, so styles that vary a few
 rules of another (namespaces) cost only the rules they change.
 """
 
@@ -17,7 +17,7 @@ import numpy as np
 from . import _limits as limits
 from ._checks import Grammar, Rule, TexRef
 from ._diagnostics import Diagnostic, GrammarError
-from ._operators import ALIAS, OPERATORS
+from ._operators import ALIAS, OPERATORS, TILE
 
 _UNIT_RECT = (0.0, 0.0, 1.0, 1.0)
 
@@ -52,9 +52,15 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
         rounding = v[2] if len(v) > 2 else 0
         return [[op, v[0], address_of(v[1]), rounding]]
     if name in ("SplitX", "SplitY"):
-        parts = [(policy * size, address_of(child)) for policy, size, child in zip(v[0::3], v[1::3], v[2::3])]
-        rel = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy > 0)
+        # A part is (size, rule): size < 0 absolute, > 0 floating; a tile's rule is stored as
+        # -(address + 1), and a split with a tile has -n in its head and the tile's size next.
+        parts = [(size if policy == TILE else policy * size, -address_of(child) - 1 if policy == TILE
+                  else address_of(child)) for policy, size, child in zip(v[0::3], v[1::3], v[2::3])]
+        rel = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy == 1)
         absolute = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy < 0)
+        tiles = [size for policy, size in zip(v[0::3], v[1::3]) if policy == TILE]
+        if tiles:
+            return [[op, -len(parts), rel, absolute], [tiles[0], 0, 0, 0]] + _pairs(parts)
         return [[op, len(parts), rel, absolute]] + _pairs(parts)
     if name == "Rand":
         weights = np.cumsum(v[1::2])

@@ -13,7 +13,7 @@ class Kind(Enum):
     SIZE = "a size in metres > 0"
     WEIGHT = "a weight in (0, 1]"
     COUNT = "a whole number >= 0"
-    POLICY = "Abs or Rel"
+    POLICY = "Abs, Rel or Tile"
     ROUNDING = "Nearest or Ceil"
     USAGE = "Color, Normal or Specular"
     TEXTURE = "0 or a texture Rep:name / Fit>name"
@@ -21,7 +21,11 @@ class Kind(Enum):
     NUMBER = "a number"
 
 
-POLICIES = {"Abs": -1.0, "Rel": 1.0}
+# Split's part sizes: absolute metres; relative, i.e. floating (CGA's `~`): these share what the
+# absolute parts leave, scaled by one factor; or a tile repeated the nearest whole number of times,
+# its copies floating with the same factor as the relative parts beside it (CGA's `{~v: R}*`).
+POLICIES = {"Abs": -1.0, "Rel": 1.0, "Tile": 2.0}
+TILE = POLICIES["Tile"]
 USAGES = {"Color": 1, "Normal": 2, "Specular": 3}
 # Repeat's tile count: the nearest whole number of tiles (CGA's rule, the default) or the
 # paper's ceil(S / v) (eq. in §3.1), which never makes a tile wider than asked.

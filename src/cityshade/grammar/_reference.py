@@ -156,24 +156,36 @@ class _Evaluator:
         a = op - 3
         addr = p.addr[idx]
         head = self.tex[addr]
-        n = head[:, 1].astype(np.int32)
+        tiled = head[:, 1] < 0
+        n = np.abs(head[:, 1]).astype(np.int32)
+        first = addr + np.where(tiled, 2, 1)
         size = p.size[idx, a]
-        scale = np.where(head[:, 2] > 0, np.maximum(size - head[:, 3], F(0)) / np.maximum(head[:, 2], F(1e-20)), F(0))
+        tile = np.where(tiled, self.tex[addr + 1, 0], F(0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            count = np.where(tiled, np.maximum(np.floor((size - head[:, 3] - head[:, 2]) / tile + F(0.5)), F(1)),
+                             F(0))
+        floating = head[:, 2] + count * tile
+        scale = np.where(floating > 0, np.maximum(size - head[:, 3], F(0)) / np.where(floating > 0, floating, F(1)),
+                         F(0))
         pos = p.lb[idx, a].copy()
         t = p.t[idx, a]
         chosen_pos, chosen_w = pos.copy(), np.zeros_like(pos)
         target = np.zeros(len(idx), np.int32)
         searching = np.ones(len(idx), bool)
         for i in range(limits.MAX_PARTS):
-            part = self.tex[addr + 1 + i // 2]
+            part = self.tex[first + i // 2]
             sv, ref = part[:, 2 * (i % 2)], part[:, 2 * (i % 2) + 1]
             w = np.where(sv < 0, -sv, sv * scale)
-            hit = searching & (i < n) & ((t < pos + w) | (i == n - 1))
-            chosen_pos = np.where(hit, pos, chosen_pos)
-            chosen_w = np.where(hit, w, chosen_w)
-            target = np.where(hit, ref.astype(np.int32), target)
+            is_tile = ref < 0
+            span = np.where(is_tile, w * count, w)
+            hit = searching & (i < n) & ((t < pos + span) | (i == n - 1))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                k = np.where(is_tile, np.clip(np.floor((t - pos) / w), F(0), count - F(1)), F(0))
+            chosen_pos = np.where(hit, pos + k * w, chosen_pos)
+            chosen_w = np.where(hit, np.where(is_tile, w, span), chosen_w)
+            target = np.where(hit, np.where(is_tile, -ref - F(1), ref).astype(np.int32), target)
             searching &= ~hit
-            pos = pos + w
+            pos = pos + span
         p.lb[idx, a] = chosen_pos
         p.size[idx, a] = chosen_w
         p.addr[idx] = target

@@ -136,24 +136,39 @@ void grammar_repeat(vec4 head, int a) {
     g_addr = int(head.z);
 }
 
+// Split (eq. 1) with floating parts: absolute parts keep their size, relative parts and the
+// copies of the Tile part (if any; -n in head.y, its size in the next texel) share the rest with
+// one scale; the tile is repeated the nearest whole number of times, at least once.
 void grammar_split(vec4 head, int a) {
-    int n = int(head.y);
+    bool tiled = head.y < 0.0;
+    int n = int(abs(head.y));
+    int first = g_addr + (tiled ? 2 : 1);
     float size = g_size[a];
-    float scale = head.z > 0.0 ? max(size - head.w, 0.0) / max(head.z, 1e-20) : 0.0;
+    float tile = tiled ? grammar_texel(g_addr + 1).x : 0.0;
+    float count = tiled ? max(floor((size - head.w - head.z) / tile + 0.5), 1.0) : 0.0;
+    float floating = head.z + count * tile;
+    float scale = floating > 0.0 ? max(size - head.w, 0.0) / floating : 0.0;
     float pos = g_lb[a];
     float t = g_t[a];
     for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
-        vec4 part = grammar_texel(g_addr + 1 + i / 2);
+        vec4 part = grammar_texel(first + i / 2);
         float sv = (i % 2 == 0) ? part.x : part.z;
         float ref = (i % 2 == 0) ? part.y : part.w;
         float w = sv < 0.0 ? -sv : sv * scale;
-        if (t < pos + w || i == n - 1) {
+        bool is_tile = ref < 0.0;
+        float span = is_tile ? w * count : w;
+        if (t < pos + span || i == n - 1) {
+            if (is_tile) {
+                pos += clamp(floor((t - pos) / w), 0.0, count - 1.0) * w;
+            } else {
+                w = span;
+            }
             g_lb[a] = pos;
             g_size[a] = w;
-            g_addr = int(ref);
+            g_addr = int(is_tile ? -ref - 1.0 : ref);
             return;
         }
-        pos = pos + w;
+        pos = pos + span;
     }
 }
 
