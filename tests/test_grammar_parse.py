@@ -62,7 +62,7 @@ def test_library_uses_namespaces_and_compiles_small():
     ("S->RepeatX(2)\n", ["bad.grammar:1:4: error: RepeatX takes (size, rule, [rounding]) but got 1 argument"]),
     ("S->SplitX(Rel, 1)\n", ["SplitX takes ((policy, size, rule)...) but got 2 arguments"]),
     ("S->RepeatX(W, 2)\n" + WALL, ["1:12: error: RepeatX expects a size in metres > 0 here, not 'W'"]),
-    ("S->SplitX(Rell, 1, W)\n" + WALL, ["1:11: error: SplitX expects Abs or Rel here", "'Rel'"]),
+    ("S->SplitX(Rell, 1, W)\n" + WALL, ["1:11: error: SplitX expects Abs, Rel or Tile here", "'Rel'"]),
     ("S->Mat(Colour, Rep:wall1, 0, 0, 1, 1)\n", ["1:8: error: Mat expects Color, Normal or Specular", "'Color'"]),
     ("S->Rand(0, 0.5, W, 0.4, W)\n" + WALL, ["1:4: error: Rand weights sum to 0.9, not 1"]),
     ("S->RepeatX(-2, W)\n" + WALL, ["1:12: error: size must be > 0, got -2"]),
