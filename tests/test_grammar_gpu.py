@@ -28,6 +28,10 @@ CASES = {
     "split_tile": "S->SplitX(Rel, 1, A, Tile, 2.2, Bay, Abs, 1.5, C, Rel, 0.5, D)\n"
                   "Bay->SplitY(Abs, 2, E, Tile, 1.3, Row, Rel, 1, F)\nRow->SplitX(Rel, 1, G, Rel, 1, H)\n"
                   + colours(*"ACDEFGH"),
+    "case": "S->SplitY(Abs, 2, Ground, Tile, 3, Floor, Rel, 1, Roof)\nFloor->RepeatX(2.5, Bay)\n"
+            "Bay->Case(split.first || split.last, A, split.index % 2 == 0 && scope.sx > 2.4, B, !(split.index < 3), C, D)\n"
+            "Ground->Case(facade.width >= 16, E, F)\nRoof->Case(-scope.sy + 1 > 0, G, split.total / 0.5 == 2 * 3, H, A)\n"
+            + colours(*"ABCDEFGH"),
     "rand": "S->RepeatX(2, Col)\nCol->RepeatY(2, R)\nR->Rand(0, 0.2, A, 0.5, B, 0.3, C)\n" + colours(*"ABC"),
     "rand_uni": "S->RepeatY(1.5, Row)\nRow->RepeatX(1.5, R)\nR->RandUni(0, A, B, C, D, E)\n" + colours(*"ABCDE"),
     "rand_stack": "S->RepeatY(3, Floor)\nFloor->RandStack(Win)\nWin->RepeatX(2, Pick)\n"

@@ -13,6 +13,7 @@ import numpy as np
 from ..errors import CityshadeError
 from . import _limits as limits
 from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
+from ._expressions import check_expr, program, stack_depth
 from ._loader import SourceGrammar, SourceRule
 from ._operators import ALIAS, OPERATORS, POLICIES, ROUNDINGS, TILE, USAGES, Kind
 from ._syntax import Arg
@@ -65,9 +66,9 @@ class Grammar:
 def _kinds(operator: str, count: int) -> list[Kind]:
     sig = OPERATORS[operator]
     kinds = list(sig.head) + list(sig.optional)
-    while len(kinds) < count and sig.group:
+    while len(kinds) < count - len(sig.tail) and sig.group:
         kinds.extend(sig.group)
-    return kinds[:count]
+    return (kinds + list(sig.tail))[:count]
 
 
 def check(source: SourceGrammar, tile_names: dict[str, int]) -> Grammar:
@@ -115,6 +116,8 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
     def fail(message: str, hint: str = ""):
         errors.append(Diagnostic(arg.location, message, hint))
 
+    if kind is Kind.CONDITION:
+        return check_expr(arg.expr, errors)  # None, with the reason reported, if it is bad
     if kind is Kind.RULE:
         if arg.kind != "name":
             return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
@@ -179,6 +182,17 @@ def _operator_checks(rule: Rule, errors: list):
         errors.append(Diagnostic(definition.operator_location,
                                  f"{rule.operator} has {len(rule.children)} parts; the GPU limit is {limits.MAX_PARTS}",
                                  "nest two operators instead"))
+    if rule.operator == "Case":
+        conditions = rule.values[0:-1:2]
+        tokens = sum(len(program(c)) + 1 for c in conditions)
+        if tokens > limits.MAX_CASE_TOKENS:
+            errors.append(Diagnostic(definition.operator_location,
+                                     f"the conditions of this Case take {tokens} steps; the GPU limit is "
+                                     f"{limits.MAX_CASE_TOKENS}", "split it into two Cases"))
+        for condition, arg in zip(conditions, definition.args[0::2]):
+            if stack_depth(condition) > limits.MAX_EXPR_STACK:
+                errors.append(Diagnostic(arg.location, f"this condition nests deeper than {limits.MAX_EXPR_STACK} "
+                                                       "values", "write it with fewer parentheses"))
     if rule.operator in ("Mat", "MatAlpha"):
         for start in range(1, len(rule.values), 5):
             tex, params = rule.values[start], rule.values[start + 1:start + 5]

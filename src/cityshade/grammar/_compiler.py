@@ -4,7 +4,7 @@ Each rule occupies consecutive texels from its address; the first channel is the
 Rule references are texel addresses (one channel each; exact integers in half floats below
 2048). Split stores the precomputed sums of its relative and absolute sizes, Rand the
 accumulated weights, and every variable-length operator its part count n, which bounds its
-loop. A Split with a Tile part keeps the tile's size in a second texel. Rules that compile to the same texels share one address, so styles that vary a few
+loop. Case stores its conditions as postfix (code, value) tokens. A Split with a Tile part keeps the tile's size in a second texel. Rules that compile to the same texels share one address, so styles that vary a few
 rules of another (namespaces) cost only the rules they change.
 """
 
@@ -17,6 +17,7 @@ import numpy as np
 from . import _limits as limits
 from ._checks import Grammar, Rule, TexRef
 from ._diagnostics import Diagnostic, GrammarError
+from ._expressions import CASE, program
 from ._operators import ALIAS, OPERATORS, TILE
 
 _UNIT_RECT = (0.0, 0.0, 1.0, 1.0)
@@ -62,6 +63,13 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
         if tiles:
             return [[op, -len(parts), rel, absolute], [tiles[0], 0, 0, 0]] + _pairs(parts)
         return [[op, len(parts), rel, absolute]] + _pairs(parts)
+    if name == "Case":
+        # Each condition's postfix tokens, then (CASE, its rule): the first true one is taken,
+        # else the last rule (in the head).
+        tokens = []
+        for condition, child in zip(v[0:-1:2], v[1:-1:2]):
+            tokens += program(condition) + [(CASE, address_of(child))]
+        return [[op, len(tokens), address_of(v[-1]), 0]] + _pairs(tokens)
     if name == "Rand":
         weights = np.cumsum(v[1::2])
         weights[-1] = 1.0

@@ -6,6 +6,8 @@ MAX_LAYER_DEPTH = 4  # nested Layer operators
 MAX_STACK = 8  # random-seed stack entries (entry 0 is the facade's seed)
 MAX_PARTS = 16  # parts of one Split or Rand
 MAX_INTRUSIONS = 3  # nested Intrusion operators
+MAX_CASE_TOKENS = 32  # postfix tokens of one Case (all its conditions): its loop's bound
+MAX_EXPR_STACK = 8  # stack slots a condition may use
 MAX_TEXELS = 2048  # rule addresses are exact integers in a 16-bit float channel up to 2048
 TEXTURE_WIDTH = 256
 HALF_MAX = 65504.0  # the largest 16-bit float: every number of a rule, and Split's sums, are stored as one
@@ -16,4 +18,6 @@ DEFINES = {
     "GRAMMAR_MAX_STACK": MAX_STACK,
     "GRAMMAR_MAX_PARTS": MAX_PARTS,
     "GRAMMAR_WIDTH": TEXTURE_WIDTH,
+    "GRAMMAR_MAX_CASE_TOKENS": MAX_CASE_TOKENS,
+    "GRAMMAR_MAX_EXPR_STACK": MAX_EXPR_STACK,
 }

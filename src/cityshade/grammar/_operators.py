@@ -19,6 +19,7 @@ class Kind(Enum):
     TEXTURE = "0 or a texture Rep:name / Fit>name"
     MASK = "a mask Fit>name / Rep:name"
     NUMBER = "a number"
+    CONDITION = "a condition"
 
 
 # Split's part sizes: absolute metres; relative, i.e. floating (CGA's `~`): these share what the
@@ -35,22 +36,24 @@ ROUNDINGS = {"Nearest": 0, "Ceil": 1}
 @dataclass(frozen=True)
 class Signature:
     """`head` arguments, then `group` repeated at least `min_groups` times (no group: fixed arity),
-    or, for fixed arities, the `optional` arguments that may follow the head."""
+    or, for fixed arities, the `optional` arguments that may follow the head; `tail` follows the groups."""
 
     opcode: int
     head: tuple[Kind, ...]
     group: tuple[Kind, ...] = ()
     min_groups: int = 0
     optional: tuple[Kind, ...] = ()
+    tail: tuple[Kind, ...] = ()
 
     def describe(self) -> str:
         parts = [k.name.lower() for k in self.head] + [f"[{k.name.lower()}]" for k in self.optional]
         if self.group:
             parts.append("(" + ", ".join(k.name.lower() for k in self.group) + ")...")
+        parts += [k.name.lower() for k in self.tail]
         return ", ".join(parts)
 
     def arity_ok(self, count: int) -> bool:
-        rest = count - len(self.head)
+        rest = count - len(self.head) - len(self.tail)
         if not self.group:
             return 0 <= rest <= len(self.optional)
         return rest >= len(self.group) * self.min_groups and rest % len(self.group) == 0
@@ -75,5 +78,6 @@ OPERATORS: dict[str, Signature] = {
     "Intrusion": Signature(11, (Kind.SIZE,) + (Kind.RULE,) * 5),
     "Mat": Signature(12, _MAT),
     "MatAlpha": Signature(13, _MAT + _MAT[1:]),
+    "Case": Signature(14, (), (Kind.CONDITION, Kind.RULE), 1, tail=(Kind.RULE,)),
     ALIAS: Signature(0, (Kind.RULE,)),
 }

@@ -14,6 +14,7 @@ import numpy as np
 from ..assets._tiles import LABELS, TileArray
 from . import _limits as limits
 from ._compiler import CompiledGrammars
+from ._expressions import BINARY, CASE, NEG, NOT, PUSH, VARIABLE, apply
 from ._random import noise_at
 
 F = np.float32
@@ -62,6 +63,8 @@ class _Pixels:
         self.lb = np.broadcast_to(s, (n, 2)).astype(F)
         self.size = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.t = uv.astype(F) + s
+        self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
+        self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
         self.d = directions.astype(F)
         self.stack = np.zeros((n, limits.MAX_STACK, 2), F)
         self.stack[:, 0] = s
@@ -73,6 +76,7 @@ class _Pixels:
         self.f_lb = np.zeros((n, L, 2), F)
         self.f_size = np.zeros((n, L, 2), F)
         self.f_t = np.zeros((n, L, 2), F)
+        self.f_split = np.zeros((n, L, 2), F)
         self.f_d = np.zeros((n, L, 3), F)
         self.f_sp = np.zeros((n, L), np.int32)
         self.C = np.zeros((n, 3), F)
@@ -150,6 +154,7 @@ class _Evaluator:
         i = np.clip(np.floor((t - lb) / w), F(0), count - F(1))
         p.lb[idx, a] = lb + i * w
         p.size[idx, a] = w
+        p.split[idx] = np.stack([i, count], axis=1)
         p.addr[idx] = head[:, 2].astype(np.int32)
 
     def op_split(self, p, idx, op):
@@ -170,6 +175,8 @@ class _Evaluator:
         pos = p.lb[idx, a].copy()
         t = p.t[idx, a]
         chosen_pos, chosen_w = pos.copy(), np.zeros_like(pos)
+        chosen_index = np.zeros_like(pos)
+        after_tile = np.zeros(len(idx), bool)
         target = np.zeros(len(idx), np.int32)
         searching = np.ones(len(idx), bool)
         for i in range(limits.MAX_PARTS):
@@ -183,11 +190,58 @@ class _Evaluator:
                 k = np.where(is_tile, np.clip(np.floor((t - pos) / w), F(0), count - F(1)), F(0))
             chosen_pos = np.where(hit, pos + k * w, chosen_pos)
             chosen_w = np.where(hit, np.where(is_tile, w, span), chosen_w)
+            chosen_index = np.where(hit, F(i) + k + np.where(after_tile, count - F(1), F(0)), chosen_index)
+            after_tile |= is_tile
             target = np.where(hit, np.where(is_tile, -ref - F(1), ref).astype(np.int32), target)
             searching &= ~hit
             pos = pos + span
         p.lb[idx, a] = chosen_pos
         p.size[idx, a] = chosen_w
+        p.split[idx] = np.stack([chosen_index, n.astype(F) + np.maximum(count - F(1), F(0))], axis=1)
+        p.addr[idx] = target
+
+    def op_case(self, p, idx, op):
+        """The conditions' postfix tokens on a per-pixel stack, as eval.glsl grammar_case."""
+        addr = p.addr[idx]
+        head = self.tex[addr]
+        n = head[:, 1].astype(np.int32)
+        rows = np.arange(len(idx))
+        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx]], axis=1)
+        stack = np.zeros((len(idx), limits.MAX_EXPR_STACK), F)
+        sp = np.zeros(len(idx), np.int32)
+        target = head[:, 2].astype(np.int32)
+        deciding = np.ones(len(idx), bool)
+        for i in range(limits.MAX_CASE_TOKENS):
+            live = deciding & (i < n)
+            if not live.any():
+                break
+            pair = self.tex[np.where(live, addr + 1 + i // 2, addr)]
+            code = np.where(live, pair[:, 2 * (i % 2)].astype(np.int32), -1)
+            value = pair[:, 2 * (i % 2) + 1]
+            push = (code == PUSH) | (code == VARIABLE)
+            pushed = np.where(code == PUSH, value, variables[rows, np.clip(value.astype(np.int32), 0, 5)])
+            slot = np.minimum(sp, limits.MAX_EXPR_STACK - 1)
+            stack[rows[push], slot[push]] = pushed[push]
+            sp = np.where(push, np.minimum(sp + 1, limits.MAX_EXPR_STACK), sp)
+            test = code == CASE
+            sp = np.where(test, np.maximum(sp - 1, 0), sp)
+            taken = test & (stack[rows, np.minimum(sp, limits.MAX_EXPR_STACK - 1)] != 0)
+            target = np.where(taken, value.astype(np.int32), target)
+            deciding &= ~taken
+            top = np.maximum(sp - 1, 0)
+            x = stack[rows, top]
+            for code_value, name in ((NOT, "not"), (NEG, "neg")):
+                unary = code == code_value
+                stack[rows[unary], top[unary]] = apply(name, x[unary])
+            binary = code >= min(BINARY.values())
+            binary &= code <= max(BINARY.values())
+            sp = np.where(binary, np.maximum(sp - 1, 1), sp)
+            top = sp - 1
+            a = stack[rows, top]
+            for name, code_value in BINARY.items():
+                mask = binary & (code == code_value)
+                if mask.any():
+                    stack[rows[mask], top[mask]] = apply(name, a[mask], x[mask])
         p.addr[idx] = target
 
     def random(self, p, idx, level):
@@ -231,6 +285,7 @@ class _Evaluator:
         p.f_index[idx, top] = n
         p.f_lb[idx, top] = p.lb[idx]
         p.f_size[idx, top] = p.size[idx]
+        p.f_split[idx, top] = p.split[idx]
         p.f_t[idx, top] = p.t[idx]
         p.f_d[idx, top] = p.d[idx]
         p.f_sp[idx, top] = p.sp[idx]
@@ -255,6 +310,7 @@ class _Evaluator:
             p.lb[er] = p.f_lb[er, et] + offset
             p.t[er] = p.f_t[er, et] + offset
             p.size[er] = p.f_size[er, et]
+            p.split[er] = p.f_split[er, et]
             p.d[er] = p.f_d[er, et]
             p.sp[er] = p.f_sp[er, et]
             p.addr[er] = self.channel(p.f_addr[er, et], 2 + ei).astype(np.int32)
@@ -360,7 +416,7 @@ class _Evaluator:
 
 _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",
              7: "op_rand_stack", 8: "op_layer", 9: "op_skip", 10: "op_skip_mask", 11: "op_intrusion",
-             12: "op_mat", 13: "op_mat"}
+             12: "op_mat", 13: "op_mat", 14: "op_case"}
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,

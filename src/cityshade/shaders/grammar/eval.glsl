@@ -37,13 +37,15 @@ struct GrammarResult {
 // ---- evaluation state (private to the invocation) -------------------------------------------
 int g_addr;
 vec2 g_lb, g_size, g_t, g_s;
+vec2 g_split;   // split.index and split.total of the last Split or Repeat (0, 1 at the start)
+vec2 g_facade;  // the start scope's size: facade.width, facade.height
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
 vec2 g_stack[GRAMMAR_MAX_STACK];
 int g_sp;
 int g_depth;
 int f_addr[GRAMMAR_MAX_LAYERS], f_index[GRAMMAR_MAX_LAYERS], f_sp[GRAMMAR_MAX_LAYERS];
-vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS];
+vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS], f_split[GRAMMAR_MAX_LAYERS];
 vec3 f_d[GRAMMAR_MAX_LAYERS];
 bool g_active;
 vec3 g_C, g_N;
@@ -115,6 +117,7 @@ void grammar_end_layer(int skip) {
             g_lb = f_lb[top] + offset;
             g_t = f_t[top] + offset;
             g_size = f_size[top];
+            g_split = f_split[top];
             g_d = f_d[top];
             g_sp = f_sp[top];
             g_addr = int(grammar_channel(f_addr[top], 2 + index));
@@ -132,6 +135,7 @@ void grammar_repeat(vec4 head, int a) {
     float w = size / count;
     float i = clamp(floor((g_t[a] - g_lb[a]) / w), 0.0, count - 1.0);
     g_lb[a] = g_lb[a] + i * w;
+    g_split = vec2(i, count);
     g_size[a] = w;
     g_addr = int(head.z);
 }
@@ -150,6 +154,7 @@ void grammar_split(vec4 head, int a) {
     float scale = floating > 0.0 ? max(size - head.w, 0.0) / floating : 0.0;
     float pos = g_lb[a];
     float t = g_t[a];
+    bool after_tile = false;
     for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
         vec4 part = grammar_texel(first + i / 2);
         float sv = (i % 2 == 0) ? part.x : part.z;
@@ -158,18 +163,85 @@ void grammar_split(vec4 head, int a) {
         bool is_tile = ref < 0.0;
         float span = is_tile ? w * count : w;
         if (t < pos + span || i == n - 1) {
+            float k = 0.0;  // the copy of the tile
             if (is_tile) {
-                pos += clamp(floor((t - pos) / w), 0.0, count - 1.0) * w;
+                k = clamp(floor((t - pos) / w), 0.0, count - 1.0);
+                pos += k * w;
             } else {
                 w = span;
             }
+            // Parts after the tile count its copies: CGA's split.index over all elements made.
+            g_split = vec2(float(i) + k + (after_tile ? count - 1.0 : 0.0), float(n) + max(count - 1.0, 0.0));
             g_lb[a] = pos;
             g_size[a] = w;
             g_addr = int(is_tile ? -ref - 1.0 : ref);
             return;
         }
+        after_tile = after_tile || is_tile;
         pos = pos + span;
     }
+}
+
+float grammar_variable(int index) {
+    vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : g_facade);
+    return pair[index % 2];
+}
+
+// Case: runs the postfix tokens (code, value) of its conditions on a small stack; the token
+// (2, rule) takes the rule if the value on top is not 0. At most GRAMMAR_MAX_CASE_TOKENS tokens,
+// so a Case's work is bounded. Division and modulo by 0 give 0 (as _expressions.apply).
+void grammar_case(vec4 head) {
+    int n = int(head.y);
+    float stack[GRAMMAR_MAX_EXPR_STACK];
+    int sp = 0;
+    for (int i = 0; i < GRAMMAR_MAX_CASE_TOKENS && i < n; ++i) {
+        vec4 pair = grammar_texel(g_addr + 1 + i / 2);
+        int code = int(i % 2 == 0 ? pair.x : pair.z);
+        float value = i % 2 == 0 ? pair.y : pair.w;
+        if (code == 0 || code == 1) {
+            stack[min(sp, GRAMMAR_MAX_EXPR_STACK - 1)] = code == 0 ? value : grammar_variable(int(value));
+            sp = min(sp + 1, GRAMMAR_MAX_EXPR_STACK);
+            continue;
+        }
+        if (code == 2) {
+            sp = max(sp - 1, 0);
+            if (stack[sp] != 0.0) {
+                g_addr = int(value);
+                return;
+            }
+            continue;
+        }
+        int top = max(sp - 1, 0);
+        float x = stack[top];
+        if (code == 16) {
+            stack[top] = x == 0.0 ? 1.0 : 0.0;
+            continue;
+        }
+        if (code == 17) {
+            stack[top] = -x;
+            continue;
+        }
+        sp = max(sp - 1, 1);
+        top = sp - 1;
+        float a = stack[top];
+        float b = x;
+        float r;
+        if (code == 3) r = a + b;
+        else if (code == 4) r = a - b;
+        else if (code == 5) r = a * b;
+        else if (code == 6) r = b == 0.0 ? 0.0 : a / b;
+        else if (code == 7) r = b == 0.0 ? 0.0 : a - b * floor(a / b);
+        else if (code == 8) r = float(a == b);
+        else if (code == 9) r = float(a != b);
+        else if (code == 10) r = float(a < b);
+        else if (code == 11) r = float(a <= b);
+        else if (code == 12) r = float(a > b);
+        else if (code == 13) r = float(a >= b);
+        else if (code == 14) r = float(a != 0.0 && b != 0.0);
+        else r = float(a != 0.0 || b != 0.0);
+        stack[top] = r;
+    }
+    g_addr = int(head.z);
 }
 
 float grammar_rand_value(int level) {
@@ -274,6 +346,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_s = seed;
     g_lb = seed;
     g_size = facade;
+    g_facade = facade;
+    g_split = vec2(0.0, 1.0);
     g_t = uv + seed;
     g_d = dir;
     g_dtdx = duv_dx;
@@ -310,6 +384,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             f_index[top] = int(head.y);
             f_lb[top] = g_lb;
             f_size[top] = g_size;
+            f_split[top] = g_split;
             f_t[top] = g_t;
             f_d[top] = g_d;
             f_sp[top] = g_sp;
@@ -325,6 +400,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
         } else if (op == 11) {
             grammar_intrusion(head);
+        } else if (op == 14) {
+            grammar_case(head);
         } else {
             grammar_mat(head, op);
         }
