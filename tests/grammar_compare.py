@@ -24,15 +24,16 @@ def ctx():
     context.release()
 
 
-def compare(ctx, compiled, name, seed=3, facade=FACADE, size=SIZE, min_terminals=2, nearest=True, allowed=0.001):
+def compare(ctx, compiled, name, seed=3, facade=FACADE, size=SIZE, min_terminals=2, nearest=True, allowed=0.001,
+            building=(0, 0)):
     """GPU ids against the numpy twin's; `allowed` is the share of pixels that may differ.
     With nearest=False the GPU filters colours (mipmaps) and ids must still be exact."""
     tiles = tile_array(32)
     textures = GrammarTextures(ctx, compiled, tiles)
     start = compiled.address(name)
-    colour, ids = FacadeRenderer(ctx, textures, nearest=nearest).render(start, facade, size, seed_vector(seed))
+    colour, ids = FacadeRenderer(ctx, textures, nearest=nearest).render(start, facade, size, seed_vector(seed), building)
     textures.release()
-    cpu = evaluate_facade(compiled, start, facade, size, seed_vector(seed), tiles)
+    cpu = evaluate_facade(compiled, start, facade, size, seed_vector(seed), tiles, building)
     Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(f"{OUTPUT}/grammar_{name}.png")
     terminal_diff = ids[..., 0].astype(np.int64) - 1 != cpu.terminal
     label_diff = ids[..., 1] != cpu.label

@@ -65,6 +65,19 @@ def test_operator_gpu_matches_numpy(ctx, name):
     compare(ctx, compiled, name)
 
 
+def test_building_attributes_gpu_matches_numpy(ctx):
+    text = ("S->RepeatY(3, Floor)\nFloor->Case(split.index >= building.levels - 1, A, "
+            "building.style == 4 && split.index % 2 == 1, B, C)\n" + colours(*"ABC"))
+    compiled = compile_grammars({"attributes": loads(text)})
+    for building in ((3, 4), (2, 1)):
+        cpu, _ = compare(ctx, compiled, "attributes", building=building)
+        rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first
+        picked = [int(np.unique(r)[0]) for r in rows]
+        names = {compiled.address("attributes", n): n for n in "ABC"}
+        want = [("A" if i >= building[0] - 1 else "B" if building[1] == 4 and i % 2 else "C") for i in range(4)]
+        assert [names[p] for p in picked] == want
+
+
 def test_fig12_gpu_matches_numpy(ctx):
     compiled = compile_grammars({"fig12": load(library_path("fig12.grammar"))})
     cpu, _ = compare(ctx, compiled, "fig12", facade=(20.0, 16.0), size=(160, 128))

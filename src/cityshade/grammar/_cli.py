@@ -14,7 +14,7 @@ def register(subparsers):
     check = commands.add_parser("check", help="check grammar files; errors as FILE:LINE:COL: error: ...")
     check.add_argument("files", nargs="+", type=Path, metavar="FILE")
     check.set_defaults(run=_check)
-    from .._values import check_seed, parse_size
+    from .._values import check_count, check_seed, parse_size
     from ..render._cli import parse_metres
 
     render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
@@ -22,6 +22,10 @@ def register(subparsers):
     render.add_argument("--rule", default=None, help="start rule (default: the file's first rule)")
     render.add_argument("--facade", type=parse_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres")
     render.add_argument("--seed", type=check_seed, default=0, help="the facade's random seed, 0 to 2^31-1")
+    render.add_argument("--levels", type=lambda v: check_count(v, "--levels"), default=None, metavar="N",
+                        help="building.levels for conditions (default: the facade height / 3.2 m, rounded)")
+    render.add_argument("--style", type=lambda v: check_count(v, "--style"), default=0, metavar="N",
+                        help="building.style for conditions")
     render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
     render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
     render.add_argument("--out", type=Path, default=Path("out/facade.png"), metavar="PNG")
@@ -68,17 +72,20 @@ def _render(args) -> int:
         return exc.exit_code
     start = compiled.address("g", args.rule)
     seed = seed_vector(args.seed)
+    levels = args.levels if args.levels is not None else max(1, round(args.facade[1] / 3.2))
+    building = (levels, args.style)
     tiles = tile_array(128)
     if args.cpu:
         check_image_memory(args.size, CPU_BYTES_PER_PIXEL, "grammar render --cpu")
-        result = evaluate_facade(compiled, start, args.facade, args.size, seed, tiles)
+        result = evaluate_facade(compiled, start, args.facade, args.size, seed, tiles, building)
         colour, labels = result.color, result.label
     else:
         from ..gl import create_context
         from ._gpu import FacadeRenderer, GrammarTextures
 
         ctx = create_context()
-        colour, ids = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles)).render(start, args.facade, args.size, seed)
+        renderer = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles))
+        colour, ids = renderer.render(start, args.facade, args.size, seed, building)
         colour, labels = colour[..., :3], ids[..., 1]
     save_png((np.clip(colour, 0, 1) * 255 + 0.5).astype(np.uint8), args.out)
     if args.labels is not None:

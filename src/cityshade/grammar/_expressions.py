@@ -1,5 +1,5 @@
-"""Conditions of `Case`: arithmetic and comparisons on the split index and count, the scope's size
-and the facade's size, checked, folded and compiled to a short postfix program for the GPU.
+"""Conditions of `Case`: arithmetic and comparisons on the split index and count, the scope's size,
+the facade's size and the building's attributes (storeys, style number), checked, folded and compiled to a short postfix program for the GPU.
 
     Floor->Case(split.first, Ground, split.index % 2 == 0 && scope.sx > 2, Even, Odd)
 
@@ -16,7 +16,7 @@ from ._diagnostics import Diagnostic, Location, suggest
 
 # Variable -> slot in the evaluator's variable vector (eval.glsl grammar_variable()).
 VARIABLES = {"split.index": 0, "split.total": 1, "scope.sx": 2, "scope.sy": 3,
-             "facade.width": 4, "facade.height": 5}
+             "facade.width": 4, "facade.height": 5, "building.levels": 6, "building.style": 7}
 # Shorthands written as other expressions.
 DERIVED = {"split.first": "split.index == 0", "split.last": "split.index == split.total - 1"}
 

@@ -69,7 +69,7 @@ class FacadeRenderer:
         self.program = ProgramCache(ctx).get("grammar/facade.glsl", shader_defines(nearest))
         self.vao = ctx.vertex_array(self.program, [])
 
-    def render(self, start: int, facade, size, seed) -> tuple[np.ndarray, np.ndarray]:
+    def render(self, start: int, facade, size, seed, building=(0, 0)) -> tuple[np.ndarray, np.ndarray]:
         """(colour HxWx4 float, ids HxWx4 uint32), top row first."""
         target = RenderTarget(self.ctx, tuple(size), colors=(("f2", 4), ("u4", 4)))
         try:
@@ -79,6 +79,7 @@ class FacadeRenderer:
             self.program["facade_size"] = tuple(float(x) for x in facade)
             self.program["viewport_size"] = tuple(float(x) for x in size)
             self.program["facade_seed"] = tuple(float(x) for x in seed)
+            self.program["facade_building"] = tuple(float(x) for x in building)
             self.program["start_rule"] = int(start)
             light = np.array(FACADE_LIGHT)
             self.program["light_dir"] = tuple(light / np.linalg.norm(light))

@@ -56,7 +56,7 @@ class Evaluation:
 class _Pixels:
     """The evaluation state of n pixels (one row each)."""
 
-    def __init__(self, n: int, start: int, facade, seed, uv, directions):
+    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0)):
         s = np.asarray(seed, F)
         self.s = s
         self.addr = np.full(n, start, np.int32)
@@ -64,6 +64,7 @@ class _Pixels:
         self.size = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.t = uv.astype(F) + s
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
+        self.building = np.broadcast_to(np.asarray(building, F), (n, 2)).astype(F)  # levels, style
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
         self.d = directions.astype(F)
         self.stack = np.zeros((n, limits.MAX_STACK, 2), F)
@@ -206,7 +207,7 @@ class _Evaluator:
         head = self.tex[addr]
         n = head[:, 1].astype(np.int32)
         rows = np.arange(len(idx))
-        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx]], axis=1)
+        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx]], axis=1)
         stack = np.zeros((len(idx), limits.MAX_EXPR_STACK), F)
         sp = np.zeros(len(idx), np.int32)
         target = head[:, 2].astype(np.int32)
@@ -219,7 +220,7 @@ class _Evaluator:
             code = np.where(live, pair[:, 2 * (i % 2)].astype(np.int32), -1)
             value = pair[:, 2 * (i % 2) + 1]
             push = (code == PUSH) | (code == VARIABLE)
-            pushed = np.where(code == PUSH, value, variables[rows, np.clip(value.astype(np.int32), 0, 5)])
+            pushed = np.where(code == PUSH, value, variables[rows, np.clip(value.astype(np.int32), 0, 7)])
             slot = np.minimum(sp, limits.MAX_EXPR_STACK - 1)
             stack[rows[push], slot[push]] = pushed[push]
             sp = np.where(push, np.minimum(sp + 1, limits.MAX_EXPR_STACK), sp)
@@ -420,12 +421,13 @@ _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "o
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,
-             directions: np.ndarray | None = None) -> Evaluation:
-    """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres."""
+             directions: np.ndarray | None = None, building=(0, 0)) -> Evaluation:
+    """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
+    `building` is (building.levels, building.style) for conditions."""
     n = len(uv)
     if directions is None:
         directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
-    pixels = _Pixels(n, start, facade, seed, uv, directions)
+    pixels = _Pixels(n, start, facade, seed, uv, directions, building)
     evaluator = _Evaluator(compiled, tiles)
     evaluator.run(pixels)
     return evaluator.finish(pixels)
@@ -460,13 +462,14 @@ def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarra
     return result.color * (F(0.35) + F(0.65) * diffuse)[..., None] + spec[..., None]
 
 
-def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray) -> Evaluation:
+def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray,
+                    building=(0, 0)) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
     parts = []
     for first in range(0, len(uv), CHUNK_PIXELS):  # pixels are independent: tiles bound the work arrays
         part = evaluate(compiled, start, uv[first:first + CHUNK_PIXELS], facade, seed, tiles,
-                        rays[first:first + CHUNK_PIXELS])
+                        rays[first:first + CHUNK_PIXELS], building)
         part.color = shade(part, rays[first:first + CHUNK_PIXELS])
         parts.append(part)
     result = Evaluation(**{name: np.concatenate([vars(p)[name] for p in parts]) for name in vars(parts[0])})

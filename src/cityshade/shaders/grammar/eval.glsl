@@ -39,6 +39,8 @@ int g_addr;
 vec2 g_lb, g_size, g_t, g_s;
 vec2 g_split;   // split.index and split.total of the last Split or Repeat (0, 1 at the start)
 vec2 g_facade;  // the start scope's size: facade.width, facade.height
+// building.levels and building.style for conditions: set by the caller before grammar_evaluate.
+vec2 grammar_building = vec2(0.0);
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
 vec2 g_stack[GRAMMAR_MAX_STACK];
@@ -183,7 +185,7 @@ void grammar_split(vec4 head, int a) {
 }
 
 float grammar_variable(int index) {
-    vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : g_facade);
+    vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : (index < 6 ? g_facade : grammar_building));
     return pair[index % 2];
 }
 

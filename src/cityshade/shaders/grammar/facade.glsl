@@ -10,6 +10,7 @@ uniform vec2 facade_size;     // metres
 uniform vec2 viewport_size;   // pixels
 uniform vec2 facade_seed;     // the seed vector s
 uniform int start_rule;
+uniform vec2 facade_building; // building.levels, building.style
 uniform vec3 light_dir;       // towards the light; tangent space with z out of the wall (as normals)
 
 layout(location = 0) out vec4 out_color;
@@ -18,6 +19,7 @@ layout(location = 1) out uvec4 out_ids;  // terminal + 1, label, tile + 1, glass
 void main() {
     vec2 uv = gl_FragCoord.xy / viewport_size * facade_size;
     vec3 ray = normalize(vec3(uv - facade_size * 0.5, max(facade_size.x, facade_size.y)));
+    grammar_building = facade_building;
     GrammarResult g = grammar_evaluate(start_rule, uv, facade_size, facade_seed, ray, dFdx(uv), dFdy(uv));
     float diffuse = max(dot(g.normal, light_dir), 0.0);
     vec3 half_vector = normalize(light_dir + vec3(-ray.xy, ray.z));  // the ray's z points into the wall
