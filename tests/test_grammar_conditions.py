@@ -94,3 +94,14 @@ def test_bad_conditions_are_located(text, message):
     with pytest.raises(GrammarError) as info:
         loads(text + "A->Mat(Color, 0, 1, 0, 0, 1)\n", "bad.grammar")
     assert message in str(info.value)
+
+
+def test_an_index_no_split_can_reach_is_refused():
+    text = ("S->SplitY(Rel, 1, Row, Rel, 1, Row, Rel, 1, Row)\nRow->Layer(Pick)\n"
+            "Pick->Case(split.index == 1, A, 3 == split.index, A, A)\nA->Mat(Color, 0, 1, 0, 0, 1)\n")
+    with pytest.raises(GrammarError) as info:
+        loads(text, "bad.grammar")
+    message = str(info.value)
+    assert "bad.grammar:3:35: error: split.index is never 3 here: it runs from 0 to 2" in message
+    assert "3:23" not in message  # index 1 exists
+    loads(text.replace("S->SplitY(", "S->SplitY(Tile, 2, Row, "))  # a Tile: the total is only known at run time

@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import CityshadeError
 from . import _limits as limits
 from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
-from ._expressions import check_expr, program, stack_depth
+from ._expressions import Expr, check_expr, program, stack_depth
 from ._loader import SourceGrammar, SourceRule
 from ._operators import ALIAS, OPERATORS, POLICIES, ROUNDINGS, TILE, USAGES, Kind
 from ._syntax import Arg
@@ -82,7 +82,7 @@ def check(source: SourceGrammar, tile_names: dict[str, int]) -> Grammar:
     if not errors:
         errors += _walk(rules)[1]
     if not errors:
-        errors += _limit_errors(rules)
+        errors += _limit_errors(rules) + _index_errors(rules)
     if errors:
         errors.sort(key=lambda e: (e.location.path, e.location.line, e.location.column))
         raise GrammarError(errors, source.sources)
@@ -201,6 +201,58 @@ def _operator_checks(rule: Rule, errors: list):
                 arg = definition.args[start + 1 + outside[0]]
                 what = "a constant colour" if tex.tile < 0 else "a fitted texture's rectangle"
                 errors.append(Diagnostic(arg.location, f"{what} needs four values in [0, 1]"))
+
+
+def _split_totals(rules: dict[str, Rule]) -> dict[str, set]:
+    """The values split.total may have when each rule is reached (None: not known before run time,
+    after a Repeat or a Tile); the facade's start scope has total 1."""
+    referenced = {c for r in rules.values() for c in r.children}
+    totals: dict[str, set] = {name: {1} for name in rules if name not in referenced}
+    pending = list(totals)
+    while pending:
+        name = pending.pop()
+        rule = rules[name]
+        if rule.operator in ("SplitX", "SplitY"):
+            handed = {None} if TILE in rule.values[0::3] else {len(rule.children)}
+        elif rule.operator in ("RepeatX", "RepeatY"):
+            handed = {None}
+        else:
+            handed = totals[name]
+        for child in rule.children:
+            known = totals.setdefault(child, set())
+            if not handed <= known:
+                known |= handed
+                pending.append(child)
+    return totals
+
+
+def _index_errors(rules: dict[str, Rule]) -> list[Diagnostic]:
+    """`split.index == k` in a Case where every Split that leads there has fewer than k + 1 parts."""
+    found = []
+    totals = _split_totals(rules)
+    for name, rule in rules.items():
+        possible = totals.get(name, set())
+        if rule.operator != "Case" or not possible or None in possible:
+            continue
+        largest = max(possible)
+        for condition in rule.values[0:-1:2]:
+            for k, where in _index_equalities(condition):
+                if not (k == int(k) and 0 <= k < largest):
+                    found.append(Diagnostic(where, f"split.index is never {k:g} here: it runs from 0 to {largest - 1} "
+                                                   f"(the Splits that lead here have at most {largest} parts)",
+                                            "count parts from 0, or test split.last"))
+    return found
+
+
+def _index_equalities(expr: Expr):
+    """(k, location) of every `split.index == k` (either way round) in a condition."""
+    if expr.op == "==":
+        a, b = expr.args
+        for var, num in ((a, b), (b, a)):
+            if var.op == "var" and var.name == "split.index" and num.op == "num":
+                yield num.value, expr.location
+    for arg in expr.args:
+        yield from _index_equalities(arg)
 
 
 def _walk(rules: dict[str, Rule]) -> tuple[list[str], list[Diagnostic]]:
