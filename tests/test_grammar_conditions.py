@@ -88,6 +88,8 @@ def test_case_picks_the_branch_python_would(condition, tile, width):
     ("S->Case(split.first, A)\n", "Case takes ((condition, rule)..., rule) but got 2 arguments"),
     ("S->Case(split.first, 1 + 2, A)\n", "1:22: error: Case expects a rule name here"),
     ("S->Case(" + " + ".join(["split.index"] * 20) + " > 0, A, A)\n", "take 42 steps; the GPU limit is 32"),
+    ("S->Color(0.2, 0.3, 0.4, windw)\n", "1:25: error: Color expects a label here, not 'windw'"),
+    ("S->Color(0.2, 1.3, 0.4)\n", "1:15: error: a colour channel is in [0, 1], got 1.3"),
     ("S->SplitX(Tile, 1, A, Rel, 1, A, Tile, 2, A)\n", "1:34: error: a Split has at most one Tile part"),
 ])
 def test_bad_conditions_are_located(text, message):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from grammar_compare import FACADE, SIZE, compare, ctx  # noqa: F401  (ctx is a fixture)
 
-from cityshade.assets import tile_array
+from cityshade.assets import LABELS, tile_array
 from cityshade.grammar import compile_grammars, library_path, load, loads
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._reference import evaluate_facade
@@ -63,6 +63,15 @@ CASES = {
 def test_operator_gpu_matches_numpy(ctx, name):
     compiled = compile_grammars({name: loads(CASES[name], f"{name}.grammar")})
     compare(ctx, compiled, name)
+
+
+def test_labelled_colours_gpu_matches_numpy(ctx):
+    text = ("S->Layer(Wall, Front)\nWall->Color(0.8, 0.7, 0.6)\nFront->RepeatX(3, Bay)\n"
+            "Bay->SplitX(Rel, 1, Skip, Abs, 1.2, Col, Rel, 1, Skip)\nCol->SplitY(Abs, 1, Skip, Abs, 1.5, Glass, "
+            "Rel, 1, Rail)\nGlass->Color(0.2, 0.3, 0.4, window)\nRail->Color(0.1, 0.1, 0.1, balcony)\nSkip->Skip(0)\n")
+    compiled = compile_grammars({"colours": loads(text)})
+    cpu, _ = compare(ctx, compiled, "colours", nearest=False, allowed=0)
+    assert set(np.unique(cpu.label).tolist()) == {LABELS.index(n) for n in ("wall", "window", "balcony")}
 
 
 def test_building_attributes_gpu_matches_numpy(ctx):

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..assets import LABELS
 from ..errors import CityshadeError
 from . import _limits as limits
 from ._diagnostics import Diagnostic, GrammarError, shorten, suggest
@@ -116,6 +117,11 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
     def fail(message: str, hint: str = ""):
         errors.append(Diagnostic(arg.location, message, hint))
 
+    if kind is Kind.LABEL:
+        if arg.kind != "name" or arg.text not in LABELS[1:]:
+            return fail(f"{op} expects a label here, not {arg.text!r}",
+                        suggest(arg.text, LABELS[1:], "label") or "labels: " + ", ".join(LABELS[1:]))
+        return LABELS.index(arg.text)
     if kind is Kind.CONDITION:
         return check_expr(arg.expr, errors)  # None, with the reason reported, if it is bad
     if kind is Kind.RULE:
@@ -150,6 +156,8 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
                     f"numbers of a grammar are at most {limits.HALF_MAX:g} in magnitude")
     if kind is Kind.SIZE and not np.float16(value) > 0:
         return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number of at least 1e-7")
+    if kind is Kind.FRACTION and not 0 <= value <= 1:
+        return fail(f"a colour channel is in [0, 1], got {arg.text}")
     if kind is Kind.WEIGHT and not 0 < value <= 1:
         return fail(f"weight must be in (0, 1], got {arg.text}")
     if kind is Kind.COUNT:

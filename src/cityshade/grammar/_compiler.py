@@ -63,6 +63,9 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
         if tiles:
             return [[op, -len(parts), rel, absolute], [tiles[0], 0, 0, 0]] + _pairs(parts)
         return [[op, len(parts), rel, absolute]] + _pairs(parts)
+    if name == "Color":  # a constant Mat whose head.w, above 1, is 1 + its label
+        label = v[3] if len(v) > 3 else 0
+        return [[op, 1, 0, 1 + label], [v[0], v[1], v[2], 1.0]]
     if name == "Case":
         # Each condition's postfix tokens, then (CASE, its rule): the first true one is taken,
         # else the last rule (in the head).

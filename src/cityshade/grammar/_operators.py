@@ -20,6 +20,8 @@ class Kind(Enum):
     MASK = "a mask Fit>name / Rep:name"
     NUMBER = "a number"
     CONDITION = "a condition"
+    FRACTION = "a number in [0, 1]"
+    LABEL = "a label"
 
 
 # Split's part sizes: absolute metres; relative, i.e. floating (CGA's `~`): these share what the
@@ -78,6 +80,8 @@ OPERATORS: dict[str, Signature] = {
     "Intrusion": Signature(11, (Kind.SIZE,) + (Kind.RULE,) * 5),
     "Mat": Signature(12, _MAT),
     "MatAlpha": Signature(13, _MAT + _MAT[1:]),
+    # A constant opaque colour with a semantic label: compiled as a constant Mat (opcode 12).
+    "Color": Signature(12, (Kind.FRACTION, Kind.FRACTION, Kind.FRACTION), optional=(Kind.LABEL,)),
     "Case": Signature(14, (), (Kind.CONDITION, Kind.RULE), 1, tail=(Kind.RULE,)),
     ALIAS: Signature(0, (Kind.RULE,)),
 }

@@ -410,8 +410,10 @@ class _Evaluator:
         has_tile = tile >= 0
         glass_plane = 3 * np.maximum(tile, 0) + 2
         glass = has_tile & (self.tiles.layers[glass_plane, p.best_texel[:, 1], p.best_texel[:, 0], 2] > 127)
-        label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)],
-                         np.where(p.best_addr >= 0, WALL_LABEL, 0))
+        head = self.tex[np.maximum(p.best_addr, 0)]
+        written = (head[:, 0] == 12) & (head[:, 2] == 0) & (head[:, 3] >= 2)  # Color(r, g, b, label)
+        constant = np.where(written, head[:, 3].astype(np.int32) - 1, WALL_LABEL)
+        label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)], np.where(p.best_addr >= 0, constant, 0))
         return Evaluation(p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass)
 
 

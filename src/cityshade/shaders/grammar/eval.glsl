@@ -419,6 +419,9 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     result.tile = g_best_tile;
     bool has_tile = g_best_tile >= 0;
     result.glass = has_tile && texelFetch(grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
-    result.label = has_tile ? grammar_tile_labels[g_best_tile] : (g_best_addr >= 0 ? GRAMMAR_WALL_LABEL : 0);
+    // A constant colour is a wall unless written Color(r, g, b, label): then head.w is 1 + label.
+    vec4 best = grammar_texel(max(g_best_addr, 0));
+    int constant = (best.x == 12.0 && best.z == 0.0 && best.w >= 2.0) ? int(best.w) - 1 : GRAMMAR_WALL_LABEL;
+    result.label = has_tile ? grammar_tile_labels[g_best_tile] : (g_best_addr >= 0 ? constant : 0);
     return result;
 }
