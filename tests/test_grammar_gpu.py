@@ -32,6 +32,9 @@ CASES = {
             "Bay->Case(split.first || split.last, A, split.index % 2 == 0 && scope.sx > 2.4, B, !(split.index < 3), C, D)\n"
             "Ground->Case(facade.width >= 16, E, F)\nRoof->Case(-scope.sy + 1 > 0, G, split.total / 0.5 == 2 * 3, H, A)\n"
             + colours(*"ABCDEFGH"),
+    "rand_sizes": "S->SplitY(Abs, rand(2, 4), Ground, Rel, 1, Upper)\nUpper->RepeatY(rand(2.5, 3.5), Floor)\n"
+                  "Floor->SplitX(Rel, rand(1, 3), A, Abs, rand(0.5, 2), B, Rel, 1, C, Tile, 2, D)\n" + colours(*"ABCD")
+                  + "Ground->RepeatX(rand(1, 4), Shop, Ceil)\nShop->SplitX(Rel, 1, E, Rel, 1, F)\n" + colours("E", "F"),
     "rand": "S->RepeatX(2, Col)\nCol->RepeatY(2, R)\nR->Rand(0, 0.2, A, 0.5, B, 0.3, C)\n" + colours(*"ABC"),
     "rand_uni": "S->RepeatY(1.5, Row)\nRow->RepeatX(1.5, R)\nR->RandUni(0, A, B, C, D, E)\n" + colours(*"ABCDE"),
     "rand_stack": "S->RepeatY(3, Floor)\nFloor->RandStack(Win)\nWin->RepeatX(2, Pick)\n"

@@ -36,6 +36,14 @@ class TexRef:
 
 
 @dataclass(frozen=True)
+class RandomSize:
+    """rand(low, high): a size drawn per scope (stable for a facade and seed), in metres."""
+
+    low: float
+    high: float
+
+
+@dataclass(frozen=True)
 class Rule:
     name: str
     operator: str
@@ -148,6 +156,8 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
         if name not in tiles:
             return fail(f"unknown texture '{name}'", suggest(name, tiles, "texture"))
         return TexRef(tiles[name], arg.text.startswith("Fit>"))
+    if kind is Kind.SIZE and arg.kind == "expr" and arg.expr.op == "call":
+        return _random_size(arg, op, fail)
     if arg.kind != "number":
         return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
     value = arg.value
@@ -167,6 +177,21 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
     return value
 
 
+def _random_size(arg: Arg, op: str, fail):
+    call = arg.expr
+    if call.name != "rand":
+        return fail(f"unknown function '{call.name}'", "sizes may be rand(low, high)")
+    if op not in ("RepeatX", "RepeatY", "SplitX", "SplitY"):
+        return fail(f"{op} takes a fixed size; rand(low, high) is for Repeat and Split sizes")
+    bounds = [a.value for a in call.args if a.op == "num"]
+    if len(call.args) != 2 or len(bounds) != 2:
+        return fail("rand takes two numbers: rand(low, high)")
+    low, high = bounds
+    if not (np.float16(low) > 0 and low <= high <= limits.HALF_MAX):
+        return fail(f"rand({low:g}, {high:g}) needs 0 < low <= high <= {limits.HALF_MAX:g}")
+    return RandomSize(low, high)
+
+
 def _operator_checks(rule: Rule, errors: list):
     definition = rule.source.definition
     if rule.operator == "Rand":
@@ -176,12 +201,15 @@ def _operator_checks(rule: Rule, errors: list):
                                      "make the weights add up to 1.0, or use RandUni for equal chances"))
     if rule.operator in ("SplitX", "SplitY"):
         policies = rule.values[0::3]
+        for policy, size, arg in zip(policies, rule.values[1::3], definition.args[1::3]):
+            if policy == TILE and isinstance(size, RandomSize):
+                errors.append(Diagnostic(arg.location, "a Tile's size is fixed", "use rand for Abs or Rel parts"))
         if policies.count(TILE) > 1:
             second = [i for i, p in enumerate(policies) if p == TILE][1]
             errors.append(Diagnostic(definition.args[3 * second].location, "a Split has at most one Tile part",
                                      "nest a second Split for a second run of tiles"))
         for policy, what in ((1, "relative"), (-1, "absolute")):
-            total = sum(size for p, size in zip(policies, rule.values[1::3]) if p == policy)
+            total = sum(getattr(size, "high", size) for p, size in zip(policies, rule.values[1::3]) if p == policy)
             if total > limits.HALF_MAX:
                 errors.append(Diagnostic(definition.operator_location,
                                          f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "

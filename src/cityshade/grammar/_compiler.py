@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _limits as limits
-from ._checks import Grammar, Rule, TexRef
+from ._checks import Grammar, RandomSize, Rule, TexRef
 from ._diagnostics import Diagnostic, GrammarError
 from ._expressions import CASE, program
 from ._operators import ALIAS, OPERATORS, TILE
@@ -51,18 +51,26 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
     name = rule.operator
     if name in ("RepeatX", "RepeatY"):
         rounding = v[2] if len(v) > 2 else 0
+        if isinstance(v[0], RandomSize):  # head.w + 2 flags rand(low, high): high in the next texel
+            return [[op, v[0].low, address_of(v[1]), rounding + 2], [v[0].high, 0, 0, 0]]
         return [[op, v[0], address_of(v[1]), rounding]]
     if name in ("SplitX", "SplitY"):
         # A part is (size, rule): size < 0 absolute, > 0 floating; a tile's rule is stored as
         # -(address + 1), and a split with a tile has -n in its head and the tile's size next.
+        # With rand sizes, n + RANDOM_PARTS in the head, each part's low in its pair and the highs
+        # in texels after the pairs; the sums are then made per scope by the evaluators.
+        policies, sizes, children = v[0::3], v[1::3], v[2::3]
+        low = [getattr(size, "low", size) for size in sizes]
         parts = [(size if policy == TILE else policy * size, -address_of(child) - 1 if policy == TILE
-                  else address_of(child)) for policy, size, child in zip(v[0::3], v[1::3], v[2::3])]
-        rel = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy == 1)
-        absolute = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy < 0)
-        tiles = [size for policy, size in zip(v[0::3], v[1::3]) if policy == TILE]
-        if tiles:
-            return [[op, -len(parts), rel, absolute], [tiles[0], 0, 0, 0]] + _pairs(parts)
-        return [[op, len(parts), rel, absolute]] + _pairs(parts)
+                  else address_of(child)) for policy, size, child in zip(policies, low, children)]
+        rel = sum(size for policy, size in zip(policies, low) if policy == 1)
+        absolute = sum(size for policy, size in zip(policies, low) if policy < 0)
+        tiles = [size for policy, size in zip(policies, low) if policy == TILE]
+        random = any(isinstance(size, RandomSize) for size in sizes)
+        count = len(parts) + (limits.RANDOM_PARTS if random else 0)
+        head = [[op, -count if tiles else count, rel, absolute]] + ([[tiles[0], 0, 0, 0]] if tiles else [])
+        highs = _packed([], [getattr(size, "high", size) for size in sizes]) if random else []
+        return head + _pairs(parts) + highs
     if name == "Color":  # a constant Mat whose head.w, above 1, is 1 + its label
         label = v[3] if len(v) > 3 else 0
         return [[op, 1, 0, 1 + label], [v[0], v[1], v[2], 1.0]]

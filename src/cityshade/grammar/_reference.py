@@ -95,9 +95,10 @@ class _Pixels:
 
 class _Evaluator:
     def __init__(self, compiled: CompiledGrammars, tiles: TileArray):
-        # Split and Rand read all MAX_PARTS part slots and mask those past n, as the shader's
-        # loop does; zero texels after the last rule keep those reads inside the array.
-        self.tex = np.concatenate([compiled.flat(), np.zeros((limits.MAX_PARTS // 2 + 1, 4), F)])
+        # Split and Rand read all MAX_PARTS part slots (and a Split its rand highs) and mask those
+        # past n, as the shader's loop does; zero texels after the last rule keep those reads inside.
+        padding = 2 + limits.MAX_PARTS // 2 + limits.MAX_PARTS // 4
+        self.tex = np.concatenate([compiled.flat(), np.zeros((padding, 4), F)])
         self.tiles = tiles
 
     def channel(self, addr, index):
@@ -148,9 +149,10 @@ class _Evaluator:
     def op_repeat(self, p, idx, op):
         a = op - 1
         head = self.tex[p.addr[idx]]
-        v = head[:, 1]
+        random = head[:, 3] >= 2
+        v = np.where(random, self.drawn(p, idx, head[:, 1], self.tex[p.addr[idx] + 1, 0], 0), head[:, 1])
         size, lb, t = p.size[idx, a], p.lb[idx, a], p.t[idx, a]
-        count = repeat_count(size, v, head[:, 3] > 0)
+        count = repeat_count(size, v, np.mod(head[:, 3], F(2)) == 1)
         w = size / count
         i = np.clip(np.floor((t - lb) / w), F(0), count - F(1))
         p.lb[idx, a] = lb + i * w
@@ -158,20 +160,41 @@ class _Evaluator:
         p.split[idx] = np.stack([i, count], axis=1)
         p.addr[idx] = head[:, 2].astype(np.int32)
 
+    def drawn(self, p, idx, low, high, part):
+        """A size from rand(low, high) for each pixel's scope, part `part` of its rule (eval.glsl grammar_drawn)."""
+        r = noise_at(p.lb[idx], p.addr[idx] + limits.PART_STREAMS * (part + 1))
+        return low + (high - low) * r
+
+    def part_sizes(self, p, idx, first, highs, random, i):
+        """Part i's sign-carrying stored size and its drawn (or fixed) size."""
+        part = self.tex[first + i // 2]
+        sv, ref = part[:, 2 * (i % 2)], part[:, 2 * (i % 2) + 1]
+        high = self.channel(highs, np.full(len(idx), i))
+        size = np.where(random & (ref >= 0), self.drawn(p, idx, np.abs(sv), high, i), np.abs(sv))
+        return sv, ref, size
+
     def op_split(self, p, idx, op):
         a = op - 3
         addr = p.addr[idx]
         head = self.tex[addr]
         tiled = head[:, 1] < 0
         n = np.abs(head[:, 1]).astype(np.int32)
+        random = n >= limits.RANDOM_PARTS
+        n = n - np.where(random, limits.RANDOM_PARTS, 0)
         first = addr + np.where(tiled, 2, 1)
+        highs = first + (n + 1) // 2
         size = p.size[idx, a]
+        absolute, relative = np.where(random, F(0), head[:, 3]), np.where(random, F(0), head[:, 2])
+        for i in range(limits.MAX_PARTS):
+            sv, ref, drawn = self.part_sizes(p, idx, first, highs, random, i)
+            used = random & (i < n)
+            absolute = absolute + np.where(used & (sv < 0), drawn, F(0))
+            relative = relative + np.where(used & (sv > 0) & (ref >= 0), drawn, F(0))
         tile = np.where(tiled, self.tex[addr + 1, 0], F(0))
         with np.errstate(divide="ignore", invalid="ignore"):
-            count = np.where(tiled, np.maximum(np.floor((size - head[:, 3] - head[:, 2]) / tile + F(0.5)), F(1)),
-                             F(0))
-        floating = head[:, 2] + count * tile
-        scale = np.where(floating > 0, np.maximum(size - head[:, 3], F(0)) / np.where(floating > 0, floating, F(1)),
+            count = np.where(tiled, np.maximum(np.floor((size - absolute - relative) / tile + F(0.5)), F(1)), F(0))
+        floating = relative + count * tile
+        scale = np.where(floating > 0, np.maximum(size - absolute, F(0)) / np.where(floating > 0, floating, F(1)),
                          F(0))
         pos = p.lb[idx, a].copy()
         t = p.t[idx, a]
@@ -181,9 +204,8 @@ class _Evaluator:
         target = np.zeros(len(idx), np.int32)
         searching = np.ones(len(idx), bool)
         for i in range(limits.MAX_PARTS):
-            part = self.tex[first + i // 2]
-            sv, ref = part[:, 2 * (i % 2)], part[:, 2 * (i % 2) + 1]
-            w = np.where(sv < 0, -sv, sv * scale)
+            sv, ref, drawn = self.part_sizes(p, idx, first, highs, random, i)
+            w = np.where(sv < 0, drawn, drawn * scale)
             is_tile = ref < 0
             span = np.where(is_tile, w * count, w)
             hit = searching & (i < n) & ((t < pos + span) | (i == n - 1))

@@ -42,6 +42,7 @@ rule: NAME ARROW NAME "(" [expr ("," expr)*] ")" ";"?
 ?atom: NUMBER -> number
      | TEXREF -> texref
      | NAME -> name
+     | NAME "(" [expr ("," expr)*] ")" -> call
      | "(" expr ")"
 OROR: "||"
 ANDAND: "&&"
@@ -123,6 +124,9 @@ def _expr(path: str, node) -> Expr:
         if node.data == "number":
             return Expr("num", _loc(path, token), value=float(token))
         return Expr("var", _loc(path, token), name=str(token))
+    if node.data == "call":
+        name, *args = node.children
+        return Expr("call", _loc(path, name), name=str(name), args=tuple(_expr(path, a) for a in args))
     if node.data == "binary":
         left, op, right = node.children
         return Expr(str(op), _loc(path, op), args=(_expr(path, left), _expr(path, right)))

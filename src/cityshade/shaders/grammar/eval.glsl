@@ -130,10 +130,17 @@ void grammar_end_layer(int skip) {
     }
 }
 
+// A size drawn from rand(low, high) for this scope: the rule's part `part` has its own stream.
+float grammar_drawn(float low, float high, int part) {
+    return low + (high - low) * grammar_random(g_lb, g_addr + GRAMMAR_PART_STREAMS * (part + 1));
+}
+
 void grammar_repeat(vec4 head, int a) {
     float size = g_size[a];
-    float ratio = size / head.y;  // nearest count (half up), or the paper's ceil when head.w is 1
-    float count = max(head.w > 0.0 ? ceil(ratio - GRAMMAR_REPEAT_SLACK) : floor(ratio + 0.5), 1.0);
+    // head.w: 1 (or 3) the paper's ceil, else the nearest count (half up); 2 (or 3) a rand size.
+    float v = head.w >= 2.0 ? grammar_drawn(head.y, grammar_texel(g_addr + 1).x, 0) : head.y;
+    float ratio = size / v;
+    float count = max(mod(head.w, 2.0) == 1.0 ? ceil(ratio - GRAMMAR_REPEAT_SLACK) : floor(ratio + 0.5), 1.0);
     float w = size / count;
     float i = clamp(floor((g_t[a] - g_lb[a]) / w), 0.0, count - 1.0);
     g_lb[a] = g_lb[a] + i * w;
@@ -145,15 +152,38 @@ void grammar_repeat(vec4 head, int a) {
 // Split (eq. 1) with floating parts: absolute parts keep their size, relative parts and the
 // copies of the Tile part (if any; -n in head.y, its size in the next texel) share the rest with
 // one scale; the tile is repeated the nearest whole number of times, at least once.
+// With rand sizes (GRAMMAR_RANDOM_PARTS added to n) each part's size is drawn per scope and the
+// sums of the absolute and floating sizes are made here, in a first loop over the parts.
+float grammar_part_size(float sv, bool random, int highs, int i) {
+    return random ? grammar_drawn(abs(sv), grammar_channel(highs, i), i) : abs(sv);
+}
+
 void grammar_split(vec4 head, int a) {
     bool tiled = head.y < 0.0;
     int n = int(abs(head.y));
+    bool random = n >= GRAMMAR_RANDOM_PARTS;
+    n -= random ? GRAMMAR_RANDOM_PARTS : 0;
     int first = g_addr + (tiled ? 2 : 1);
+    int highs = first + (n + 1) / 2;
     float size = g_size[a];
+    float absolute = head.w;
+    float relative = head.z;
+    if (random) {
+        absolute = 0.0;
+        relative = 0.0;
+        for (int i = 0; i < GRAMMAR_MAX_PARTS && i < n; ++i) {
+            vec4 part = grammar_texel(first + i / 2);
+            float sv = (i % 2 == 0) ? part.x : part.z;
+            float ref = (i % 2 == 0) ? part.y : part.w;
+            float drawn = grammar_part_size(sv, true, highs, i);
+            absolute += sv < 0.0 ? drawn : 0.0;
+            relative += (sv > 0.0 && ref >= 0.0) ? drawn : 0.0;
+        }
+    }
     float tile = tiled ? grammar_texel(g_addr + 1).x : 0.0;
-    float count = tiled ? max(floor((size - head.w - head.z) / tile + 0.5), 1.0) : 0.0;
-    float floating = head.z + count * tile;
-    float scale = floating > 0.0 ? max(size - head.w, 0.0) / floating : 0.0;
+    float count = tiled ? max(floor((size - absolute - relative) / tile + 0.5), 1.0) : 0.0;
+    float floating = relative + count * tile;
+    float scale = floating > 0.0 ? max(size - absolute, 0.0) / floating : 0.0;
     float pos = g_lb[a];
     float t = g_t[a];
     bool after_tile = false;
@@ -161,7 +191,8 @@ void grammar_split(vec4 head, int a) {
         vec4 part = grammar_texel(first + i / 2);
         float sv = (i % 2 == 0) ? part.x : part.z;
         float ref = (i % 2 == 0) ? part.y : part.w;
-        float w = sv < 0.0 ? -sv : sv * scale;
+        float drawn = grammar_part_size(sv, random && ref >= 0.0, highs, i);
+        float w = sv < 0.0 ? drawn : drawn * scale;
         bool is_tile = ref < 0.0;
         float span = is_tile ? w * count : w;
         if (t < pos + span || i == n - 1) {
