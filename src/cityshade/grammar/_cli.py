@@ -32,6 +32,12 @@ def register(subparsers):
     render.add_argument("--labels", type=Path, default=None, metavar="PNG", help="also write the label image")
     render.set_defaults(run=_render)
 
+    imports = commands.add_parser("import", help="translate a CityEngine CGA rule file (its facade subset)")
+    imports.add_argument("file", type=Path, metavar="FILE.cga")
+    imports.add_argument("--out", type=Path, default=None, metavar="FILE.grammar",
+                         help="write the grammar here (default: print it)")
+    imports.set_defaults(run=_import)
+
 
 def _check(args) -> int:
     from . import compile_grammars, load
@@ -48,6 +54,40 @@ def _check(args) -> int:
         print(f"{path}: ok, {len(grammar.rules)} rules, {compiled.used} texels ({compiled.nbytes} bytes), "
               f"start rule {grammar.start}")
     return 1 if failed else 0
+
+
+def _import(args) -> int:
+    """Translates, lists what was not translated (FILE:LINE: what: instead) and checks the result."""
+    from .._files import atomic_output, read_input_bytes
+    from ..render._cli import check_writable
+    from . import loads
+    from ._cga import CgaError, translate
+
+    if args.out is not None:
+        check_writable(args.out)
+    data = read_input_bytes(args.file, 1 << 20, "CGA file")
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise CgaError(f"{args.file}: error: the file is not UTF-8 text; save the rules as UTF-8") from None
+    if "\0" in text:
+        raise CgaError(f"{args.file}: error: this is a binary file, not CGA rules")
+    translation = translate(text, str(args.file))
+    name = args.out.name if args.out is not None else args.file.with_suffix(".grammar").name
+    header = f"# Translated from {args.file.name} by cityshade grammar import.\n"
+    grammar_text = header + translation.text
+    loads(grammar_text, name)  # a translation that does not check is reported, and not written
+    for note in translation.notes:
+        print(note.format(str(args.file)), file=sys.stderr)
+    print(f"{args.file}: {len(translation.notes)} construct{'s' * (len(translation.notes) != 1)} not translated "
+          "as written (listed above)", file=sys.stderr)
+    if args.out is None:
+        sys.stdout.write(grammar_text)
+        return 0
+    with atomic_output(args.out) as tmp:
+        tmp.write_text(grammar_text, encoding="utf-8")
+    print(f"wrote {args.out}", file=sys.stderr)
+    return 0
 
 
 def _render(args) -> int:
