@@ -35,6 +35,10 @@ CASES = {
     "rand_sizes": "S->SplitY(Abs, rand(2, 4), Ground, Rel, 1, Upper)\nUpper->RepeatY(rand(2.5, 3.5), Floor)\n"
                   "Floor->SplitX(Rel, rand(1, 3), A, Abs, rand(0.5, 2), B, Rel, 1, C, Tile, 2, D)\n" + colours(*"ABCD")
                   + "Ground->RepeatX(rand(1, 4), Shop, Ceil)\nShop->SplitX(Rel, 1, E, Rel, 1, F)\n" + colours("E", "F"),
+    "params": "S->RepeatY(3, Floor(split.index, split.total))\nFloor(level, count)->RepeatX(2.5, Bay(level, split.index))\n"
+              "Bay(level, column)->Case(level == 0, E, (level + column) % 2 == 0, A, Upper(level))\n"
+              "Upper(l)->Layer(B, Top(l, -l))\nTop(l, m)->Case(l + m != 0, D, l >= 3, C, Skip)\nSkip->Skip(0)\n"
+              + colours(*"ABCDE"),
     "rand": "S->RepeatX(2, Col)\nCol->RepeatY(2, R)\nR->Rand(0, 0.2, A, 0.5, B, 0.3, C)\n" + colours(*"ABC"),
     "rand_uni": "S->RepeatY(1.5, Row)\nRow->RepeatX(1.5, R)\nR->RandUni(0, A, B, C, D, E)\n" + colours(*"ABCDE"),
     "rand_stack": "S->RepeatY(3, Floor)\nFloor->RandStack(Win)\nWin->RepeatX(2, Pick)\n"

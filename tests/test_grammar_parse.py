@@ -71,9 +71,9 @@ def test_library_uses_namespaces_and_compiles_small():
     ("S->Mat(Color, Fit>window1, 0, 0, 2, 1)\n", ["1:34: error: a fitted texture's rectangle needs four values"]),
     ("S->Skip(1.5)\n", ["1:9: error: Skip expects a whole number >= 0 here, got 1.5"]),
     ("A->RepeatX(1, B)\nB->RepeatY(1, C)\nC->Layer(A, W)\n" + WALL, ["rules form a cycle: A -> B -> C -> A"]),
-    ("S->Layer(W S)", ["1:12: error: unexpected 'S'; expected ')' or ','", "^", "is a ',' missing"]),
+    ("S->Layer(W S)", ["1:12: error: unexpected 'S'; expected '(' or ')' or ','", "^", "is a ',' missing"]),
     ("S->Layer(W", ["the file ends in the middle of a rule"]),
-    ("S Layer(W)", ["1:3: error: unexpected 'Layer'; expected '->'"]),
+    ("S Layer(W)", ["1:3: error: unexpected 'Layer'; expected '(' or '->'"]),
     ("", ["bad.grammar:1:1: error: the grammar is empty"]),
     ("# only a comment\n", ["the grammar is empty"]),
 ])

@@ -155,3 +155,15 @@ def test_rand_sizes_vary_with_the_seed():
     widths = {np.count_nonzero(evaluate(compiled, compiled.address("g"), uv, (8.0, 1.0), seed_vector(s),
                                         tile_array(16)).terminal == compiled.address("g", "P0")) for s in range(6)}
     assert len(widths) >= 4
+
+
+@settings(max_examples=20, deadline=None)
+@given(tile=st.sampled_from([0.75, 1.0, 1.5]), k=st.integers(1, 4), offset=st.integers(-3, 3))
+def test_parameters_carry_each_elements_value(tile, k, offset):
+    """Cell(split.index + offset) passes each element's own value: Case picks by it."""
+    text = (f"S->RepeatX({tile}, Cell(split.index + {offset}))\nCell(i)->Case(i % {k} == 0, P0, P1)\n" + colours(2))
+    compiled, terminal = run_along_x(text, 9.0)
+    count = max(int(np.floor(9.0 / tile + 0.5)), 1)
+    centres = ((np.arange(count) + 0.5) * (9.0 / count) / 9.0 * SAMPLES).astype(int)
+    want = [compiled.address("g", "P0" if (i + offset) % k == 0 else "P1") for i in range(count)]
+    assert terminal[centres].tolist() == want

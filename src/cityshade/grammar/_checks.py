@@ -6,7 +6,7 @@ reference evaluator.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -44,6 +44,14 @@ class RandomSize:
 
 
 @dataclass(frozen=True)
+class Bound:
+    """A reference with arguments, Floor(split.index): the values are set, then `name` runs."""
+
+    name: str
+    args: tuple
+
+
+@dataclass(frozen=True)
 class Rule:
     name: str
     operator: str
@@ -53,7 +61,12 @@ class Rule:
     @property
     def children(self) -> tuple[str, ...]:
         kinds = _kinds(self.operator, len(self.values))
-        return tuple(v for v, k in zip(self.values, kinds) if k is Kind.RULE)
+        return tuple(getattr(v, "name", v) for v, k in zip(self.values, kinds) if k is Kind.RULE)
+
+    @property
+    def binds(self) -> bool:
+        """Some reference passes arguments (one more operator step on its path)."""
+        return any(isinstance(v, Bound) for v in self.values)
 
 
 @dataclass
@@ -101,6 +114,11 @@ def check(source: SourceGrammar, tile_names: dict[str, int]) -> Grammar:
 def _check_rule(src: SourceRule, names: dict[str, SourceRule], tiles: dict[str, int], errors: list) -> Rule | None:
     definition = src.definition
     op = definition.operator
+    if op not in OPERATORS and src.resolve(op) in names:  # Floor(split.index) as a whole rule: an alias
+        call = Arg("expr", "a reference", definition.operator_location,
+                   Expr("call", definition.operator_location, name=op, args=tuple(a.expr for a in definition.args)))
+        target = _value(call, Kind.RULE, src, names, tiles, errors, op)
+        return None if target is None else Rule(src.name, ALIAS, (target,), src)
     if op not in OPERATORS:
         errors.append(Diagnostic(definition.operator_location, f"unknown operator '{op}'",
                                  suggest(op, OPERATORS, "operator")
@@ -130,8 +148,11 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
             return fail(f"{op} expects a label here, not {arg.text!r}",
                         suggest(arg.text, LABELS[1:], "label") or "labels: " + ", ".join(LABELS[1:]))
         return LABELS.index(arg.text)
+    params = src.definition.params
     if kind is Kind.CONDITION:
-        return check_expr(arg.expr, errors)  # None, with the reason reported, if it is bad
+        return check_expr(arg.expr, errors, params)  # None, with the reason reported, if it is bad
+    if kind is Kind.RULE and arg.kind == "expr" and arg.expr.op == "call":
+        return _bound(arg, src, names, errors, fail)
     if kind is Kind.RULE:
         if arg.kind != "name":
             return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
@@ -141,6 +162,10 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
                      if not src.namespace or n.startswith(src.namespace + ".")]
             return fail(f"undefined rule '{arg.text}'", suggest(arg.text, local, "rule") or "define it as "
                         f"{arg.text}->Operator(...)")
+        wanted = names[full].definition.params
+        if wanted:
+            return fail(f"rule '{arg.text}' takes {len(wanted)} parameter{'s' * (len(wanted) > 1)} "
+                        f"({', '.join(wanted)})", f"write {arg.text}({', '.join(wanted)})")
         return full
     if kind in (Kind.POLICY, Kind.USAGE, Kind.ROUNDING):
         table = {Kind.POLICY: POLICIES, Kind.USAGE: USAGES, Kind.ROUNDING: ROUNDINGS}[kind]
@@ -175,6 +200,29 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
             return fail(f"{op} expects {kind.value} here, got {arg.text}")
         return int(value)
     return value
+
+
+def _bound(arg: Arg, src: SourceRule, names, errors, fail):
+    call = arg.expr
+    full = src.resolve(call.name)
+    if full not in names:
+        return fail(f"undefined rule '{call.name}'", suggest(call.name, names, "rule"))
+    wanted = names[full].definition.params
+    if len(call.args) != len(wanted):
+        return fail(f"rule '{call.name}' takes {len(wanted)} argument{'s' * (len(wanted) != 1)}, "
+                    f"got {len(call.args)}", f"it is defined as {call.name}({', '.join(wanted)})")
+    if len(wanted) > limits.MAX_PARAMS:
+        return fail(f"rule '{call.name}' has {len(wanted)} parameters; the GPU limit is {limits.MAX_PARAMS}")
+    count_before = len(errors)
+    values = tuple(check_expr(a, errors, src.definition.params) for a in call.args)
+    if len(errors) > count_before:
+        return None
+    depth = max(i + stack_depth(v) for i, v in enumerate(values))
+    tokens = sum(len(program(v)) for v in values)
+    if depth > limits.MAX_EXPR_STACK or tokens > limits.MAX_CASE_TOKENS:
+        return fail(f"the arguments of {call.name}(...) need {tokens} steps and {depth} stack values; "
+                    f"the GPU limits are {limits.MAX_CASE_TOKENS} and {limits.MAX_EXPR_STACK}")
+    return Bound(full, values)
 
 
 def _random_size(arg: Arg, op: str, fail):
@@ -352,10 +400,10 @@ def costs(rules: dict[str, Rule]) -> dict[str, Cost]:
             memo[name] = Cost(1, 0, 0, 0)
             continue
         if rule.operator == ALIAS:
-            memo[name] = kids[0]
+            memo[name] = replace(kids[0], steps=kids[0].steps + rule.binds)  # a Bind is one step
             continue
         steps = sum(k.steps for k in kids) if rule.operator == "Layer" else max(k.steps for k in kids)
-        memo[name] = Cost(1 + steps,
+        memo[name] = Cost(1 + steps + rule.binds * (len(kids) if rule.operator == "Layer" else 1),
                           max(k.layers for k in kids) + (rule.operator == "Layer"),
                           max(k.stack for k in kids) + (rule.operator == "RandStack"),
                           max(k.intrusions for k in kids) + (rule.operator == "Intrusion"))

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _limits as limits
-from ._checks import Grammar, RandomSize, Rule, TexRef
+from ._checks import Bound, Grammar, RandomSize, Rule, TexRef
 from ._diagnostics import Diagnostic, GrammarError
 from ._expressions import CASE, program
 from ._operators import ALIAS, OPERATORS, TILE
@@ -128,20 +128,26 @@ def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
     by_content: dict[tuple, int] = {}
     addresses: dict[tuple[str, str], int] = {}
 
+    def place(code: list[list[float]]) -> int:
+        content = tuple(np.float16(x).item() for texel in code for x in texel)
+        if content not in by_content:
+            by_content[content] = len(texels)
+            texels.extend(code)
+        return by_content[content]
+
     for gname, grammar in grammars.items():
-        def address_of(rule_name: str, grammar=grammar, gname=gname) -> int:
+        def address_of(rule_name, grammar=grammar, gname=gname) -> int:
+            if isinstance(rule_name, Bound):  # the Bind texels: the arguments' tokens, then the rule
+                tokens = [t for value in rule_name.args for t in program(value)]
+                head = [OPERATORS["Bind"].opcode, len(tokens), address_of(rule_name.name), len(rule_name.args)]
+                return place([head] + _pairs(tokens))
             key = (gname, rule_name)
             if key not in addresses:
                 rule = grammar.rules[rule_name]
                 if rule.operator == ALIAS:
                     addresses[key] = address_of(rule.values[0])
                     return addresses[key]
-                code = _encode(rule, address_of)
-                content = tuple(np.float16(x).item() for texel in code for x in texel)
-                if content not in by_content:
-                    by_content[content] = len(texels)
-                    texels.extend(code)
-                addresses[key] = by_content[content]
+                addresses[key] = place(_encode(rule, address_of))
             return addresses[key]
 
         for rule_name in grammar.rules:

@@ -17,6 +17,7 @@ from ._diagnostics import Diagnostic, Location, suggest
 # Variable -> slot in the evaluator's variable vector (eval.glsl grammar_variable()).
 VARIABLES = {"split.index": 0, "split.total": 1, "scope.sx": 2, "scope.sy": 3,
              "facade.width": 4, "facade.height": 5, "building.levels": 6, "building.style": 7}
+PARAMETER = len(VARIABLES)  # rule parameter k is variable PARAMETER + k
 # Shorthands written as other expressions.
 DERIVED = {"split.first": "split.index == 0", "split.last": "split.index == split.total - 1"}
 
@@ -38,26 +39,33 @@ class Expr:
     args: tuple["Expr", ...] = ()
 
 
-def check_expr(expr: Expr, errors: list[Diagnostic]) -> Expr | None:
-    """Resolves variables and folds constants; a bad name or a constant zero divisor is an error."""
+def check_expr(expr: Expr, errors: list[Diagnostic], params: tuple[str, ...] = ()) -> Expr | None:
+    """Resolves variables (and the rule's parameters) and folds constants; a bad name or a
+    constant zero divisor is an error."""
     if expr.op == "num":
         return expr
     if expr.op == "var":
         if expr.name in DERIVED:
             from ._syntax import parse_expression
             return check_expr(parse_expression(DERIVED[expr.name], expr.location), errors)
+        if expr.name in params:
+            return Expr("var", expr.location, name=expr.name, value=PARAMETER + params.index(expr.name))
         if expr.name not in VARIABLES:
-            names = list(VARIABLES) + list(DERIVED)
+            names = list(VARIABLES) + list(DERIVED) + list(params)
             errors.append(Diagnostic(expr.location, f"unknown variable '{expr.name}' in a condition",
                                      suggest(expr.name, names, "variable") or "variables: " + ", ".join(names)))
             return None
         return expr
-    args = [check_expr(a, errors) for a in expr.args]
+    if expr.op == "call":
+        errors.append(Diagnostic(expr.location, f"'{expr.name}(...)' cannot be used in a condition",
+                                 "conditions use numbers, variables and operators"))
+        return None
+    args = [check_expr(a, errors, params) for a in expr.args]
     if any(a is None for a in args):
         return None
     if expr.op in ("/", "%") and args[1].op == "num" and args[1].value == 0:
         errors.append(Diagnostic(expr.location, f"'{expr.op}' by zero",
-                                 "a condition divides by a number that is not 0"))
+                                 "divide by a number that is not 0"))
         return None
     folded = Expr(expr.op, expr.location, args=tuple(args))
     if all(a.op == "num" for a in args):
@@ -97,7 +105,7 @@ def program(expr: Expr) -> list[tuple[float, float]]:
     if expr.op == "num":
         return [(PUSH, expr.value)]
     if expr.op == "var":
-        return [(VARIABLE, VARIABLES[expr.name])]
+        return [(VARIABLE, VARIABLES.get(expr.name, expr.value))]
     tokens = [t for a in expr.args for t in program(a)]
     code = {"not": NOT, "neg": NEG}.get(expr.op) or BINARY[expr.op]
     return tokens + [(code, 0.0)]

@@ -84,4 +84,7 @@ OPERATORS: dict[str, Signature] = {
     "Color": Signature(12, (Kind.FRACTION, Kind.FRACTION, Kind.FRACTION), optional=(Kind.LABEL,)),
     "Case": Signature(14, (), (Kind.CONDITION, Kind.RULE), 1, tail=(Kind.RULE,)),
     ALIAS: Signature(0, (Kind.RULE,)),
+    # Floor(split.index) as a reference: computes the arguments into the parameters, then goes on
+    # to the rule. Made by the compiler, not written.
+    "Bind": Signature(15, ()),
 }

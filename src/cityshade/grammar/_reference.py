@@ -66,6 +66,7 @@ class _Pixels:
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.building = np.broadcast_to(np.asarray(building, F), (n, 2)).astype(F)  # levels, style
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
+        self.params = np.zeros((n, limits.MAX_PARAMS), F)  # the parameters of the rule being evaluated
         self.d = directions.astype(F)
         self.stack = np.zeros((n, limits.MAX_STACK, 2), F)
         self.stack[:, 0] = s
@@ -78,6 +79,7 @@ class _Pixels:
         self.f_size = np.zeros((n, L, 2), F)
         self.f_t = np.zeros((n, L, 2), F)
         self.f_split = np.zeros((n, L, 2), F)
+        self.f_params = np.zeros((n, L, limits.MAX_PARAMS), F)
         self.f_d = np.zeros((n, L, 3), F)
         self.f_sp = np.zeros((n, L), np.int32)
         self.C = np.zeros((n, 3), F)
@@ -223,26 +225,26 @@ class _Evaluator:
         p.split[idx] = np.stack([chosen_index, n.astype(F) + np.maximum(count - F(1), F(0))], axis=1)
         p.addr[idx] = target
 
-    def op_case(self, p, idx, op):
-        """The conditions' postfix tokens on a per-pixel stack, as eval.glsl grammar_case."""
-        addr = p.addr[idx]
-        head = self.tex[addr]
-        n = head[:, 1].astype(np.int32)
+    def program(self, p, idx, first, n):
+        """Runs postfix tokens per pixel (eval.glsl grammar_program): the rule of the first test
+        taken (-1 if none) and the value stack."""
         rows = np.arange(len(idx))
-        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx]], axis=1)
+        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.params[idx]],
+                                   axis=1)
         stack = np.zeros((len(idx), limits.MAX_EXPR_STACK), F)
         sp = np.zeros(len(idx), np.int32)
-        target = head[:, 2].astype(np.int32)
+        target = np.full(len(idx), -1, np.int32)
         deciding = np.ones(len(idx), bool)
         for i in range(limits.MAX_CASE_TOKENS):
             live = deciding & (i < n)
             if not live.any():
                 break
-            pair = self.tex[np.where(live, addr + 1 + i // 2, addr)]
+            pair = self.tex[np.where(live, first + i // 2, first)]
             code = np.where(live, pair[:, 2 * (i % 2)].astype(np.int32), -1)
             value = pair[:, 2 * (i % 2) + 1]
             push = (code == PUSH) | (code == VARIABLE)
-            pushed = np.where(code == PUSH, value, variables[rows, np.clip(value.astype(np.int32), 0, 7)])
+            index = np.clip(value.astype(np.int32), 0, variables.shape[1] - 1)
+            pushed = np.where(code == PUSH, value, variables[rows, index])
             slot = np.minimum(sp, limits.MAX_EXPR_STACK - 1)
             stack[rows[push], slot[push]] = pushed[push]
             sp = np.where(push, np.minimum(sp + 1, limits.MAX_EXPR_STACK), sp)
@@ -256,8 +258,7 @@ class _Evaluator:
             for code_value, name in ((NOT, "not"), (NEG, "neg")):
                 unary = code == code_value
                 stack[rows[unary], top[unary]] = apply(name, x[unary])
-            binary = code >= min(BINARY.values())
-            binary &= code <= max(BINARY.values())
+            binary = (code >= min(BINARY.values())) & (code <= max(BINARY.values()))
             sp = np.where(binary, np.maximum(sp - 1, 1), sp)
             top = sp - 1
             a = stack[rows, top]
@@ -265,7 +266,20 @@ class _Evaluator:
                 mask = binary & (code == code_value)
                 if mask.any():
                     stack[rows[mask], top[mask]] = apply(name, a[mask], x[mask])
-        p.addr[idx] = target
+        return target, stack
+
+    def op_case(self, p, idx, op):
+        head = self.tex[p.addr[idx]]
+        taken, _ = self.program(p, idx, p.addr[idx] + 1, head[:, 1].astype(np.int32))
+        p.addr[idx] = np.where(taken >= 0, taken, head[:, 2].astype(np.int32))
+
+    def op_bind(self, p, idx, op):
+        head = self.tex[p.addr[idx]]
+        _, values = self.program(p, idx, p.addr[idx] + 1, head[:, 1].astype(np.int32))
+        count = head[:, 3].astype(np.int32)
+        for k in range(limits.MAX_PARAMS):
+            p.params[idx, k] = np.where(k < count, values[:, k], p.params[idx, k])
+        p.addr[idx] = head[:, 2].astype(np.int32)
 
     def random(self, p, idx, level):
         slot = np.maximum(p.sp[idx] - level, 0)
@@ -309,6 +323,7 @@ class _Evaluator:
         p.f_lb[idx, top] = p.lb[idx]
         p.f_size[idx, top] = p.size[idx]
         p.f_split[idx, top] = p.split[idx]
+        p.f_params[idx, top] = p.params[idx]
         p.f_t[idx, top] = p.t[idx]
         p.f_d[idx, top] = p.d[idx]
         p.f_sp[idx, top] = p.sp[idx]
@@ -334,6 +349,7 @@ class _Evaluator:
             p.t[er] = p.f_t[er, et] + offset
             p.size[er] = p.f_size[er, et]
             p.split[er] = p.f_split[er, et]
+            p.params[er] = p.f_params[er, et]
             p.d[er] = p.f_d[er, et]
             p.sp[er] = p.f_sp[er, et]
             p.addr[er] = self.channel(p.f_addr[er, et], 2 + ei).astype(np.int32)
@@ -441,7 +457,7 @@ class _Evaluator:
 
 _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",
              7: "op_rand_stack", 8: "op_layer", 9: "op_skip", 10: "op_skip_mask", 11: "op_intrusion",
-             12: "op_mat", 13: "op_mat", 14: "op_case"}
+             12: "op_mat", 13: "op_mat", 14: "op_case", 15: "op_bind"}
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 
-from lark import Lark, Token, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark import Lark, Token, Tree, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from ._diagnostics import Diagnostic, GrammarError, Location, shorten
 from ._expressions import Expr
@@ -24,8 +24,9 @@ _LARK_GRAMMAR = r"""
 start: _item*
 _item: rule | use
 use: USE STRING AS NAME ";"?
-rule: NAME ARROW NAME "(" [expr ("," expr)*] ")" ";"?
-    | NAME ARROW NAME ";"? -> alias
+rule: NAME [params] ARROW NAME "(" [expr ("," expr)*] ")" ";"?
+    | NAME [params] ARROW NAME ";"? -> alias
+params: "(" NAME ("," NAME)* ")"
 ?expr: expr OROR conj -> binary
      | conj
 ?conj: conj ANDAND comparison -> binary
@@ -94,6 +95,7 @@ class RuleDef:
     args: tuple[Arg, ...]
     location: Location  # of the rule name
     operator_location: Location
+    params: tuple[str, ...] = ()  # Floor(i)->...: the names its conditions may read
 
 
 @dataclass(frozen=True)
@@ -171,13 +173,17 @@ def parse_text(text: str, path: str) -> SourceFile:
             _, file_tok, _, ns_tok = node.children
             uses.append(UseDef(str(file_tok)[1:-1], str(ns_tok), _loc(path, ns_tok)))
             continue
-        name_tok, arrow_tok, op_tok, *arg_nodes = node.children
+        name_tok, *rest = node.children
+        params = ()
+        if rest and isinstance(rest[0], Tree):
+            params = tuple(str(t) for t in rest.pop(0).children)
+        arrow_tok, op_tok, *arg_nodes = rest
         if node.data == "alias":  # A->B: the operator is the arrow, its one argument the target
             args = (Arg("name", str(op_tok), _loc(path, op_tok)),)
-            rules.append(RuleDef(str(name_tok), ALIAS, args, _loc(path, name_tok), _loc(path, arrow_tok)))
+            rules.append(RuleDef(str(name_tok), ALIAS, args, _loc(path, name_tok), _loc(path, arrow_tok), params))
             continue
         args = tuple(_arg(path, a) for a in arg_nodes)
-        rules.append(RuleDef(str(name_tok), str(op_tok), args, _loc(path, name_tok), _loc(path, op_tok)))
+        rules.append(RuleDef(str(name_tok), str(op_tok), args, _loc(path, name_tok), _loc(path, op_tok), params))
     return SourceFile(path, tuple(rules), tuple(uses))
 
 

@@ -9,6 +9,10 @@
 #error "GRAMMAR_MAX_* defines come from cityshade.grammar._limits.DEFINES"
 #endif
 
+#if GRAMMAR_MAX_PARAMS != 4
+#error "layer frames keep the parameters in a vec4"
+#endif
+
 #define GRAMMAR_NOISE_SIZE 256
 #define GRAMMAR_NOISE_DENSITY 8.0
 #define GRAMMAR_OPAQUE 0.999
@@ -39,6 +43,7 @@ int g_addr;
 vec2 g_lb, g_size, g_t, g_s;
 vec2 g_split;   // split.index and split.total of the last Split or Repeat (0, 1 at the start)
 vec2 g_facade;  // the start scope's size: facade.width, facade.height
+float g_params[GRAMMAR_MAX_PARAMS];  // the parameters of the rule being evaluated (0 unless passed)
 // building.levels and building.style for conditions: set by the caller before grammar_evaluate.
 vec2 grammar_building = vec2(0.0);
 vec3 g_d;
@@ -49,6 +54,7 @@ int g_depth;
 int f_addr[GRAMMAR_MAX_LAYERS], f_index[GRAMMAR_MAX_LAYERS], f_sp[GRAMMAR_MAX_LAYERS];
 vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS], f_split[GRAMMAR_MAX_LAYERS];
 vec3 f_d[GRAMMAR_MAX_LAYERS];
+vec4 f_params[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
 bool g_active;
 vec3 g_C, g_N;
 float g_A, g_AN, g_AS, g_best_w;
@@ -120,6 +126,7 @@ void grammar_end_layer(int skip) {
             g_t = f_t[top] + offset;
             g_size = f_size[top];
             g_split = f_split[top];
+            for (int k = 0; k < GRAMMAR_MAX_PARAMS; ++k) g_params[k] = f_params[top][k];
             g_d = f_d[top];
             g_sp = f_sp[top];
             g_addr = int(grammar_channel(f_addr[top], 2 + index));
@@ -216,47 +223,46 @@ void grammar_split(vec4 head, int a) {
 }
 
 float grammar_variable(int index) {
+    if (index >= 8) return g_params[min(index - 8, GRAMMAR_MAX_PARAMS - 1)];
     vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : (index < 6 ? g_facade : grammar_building));
     return pair[index % 2];
 }
 
-// Case: runs the postfix tokens (code, value) of its conditions on a small stack; the token
-// (2, rule) takes the rule if the value on top is not 0. At most GRAMMAR_MAX_CASE_TOKENS tokens,
-// so a Case's work is bounded. Division and modulo by 0 give 0 (as _expressions.apply).
-void grammar_case(vec4 head) {
-    int n = int(head.y);
-    float stack[GRAMMAR_MAX_EXPR_STACK];
+// The postfix tokens (code, value) of conditions and arguments, run on a small stack: push a
+// number (0), a variable (1), apply an operator (3-17); the token (2, rule) returns the rule if
+// the value on top is not 0. At most GRAMMAR_MAX_CASE_TOKENS tokens: the work is bounded.
+// Division and modulo by 0 give 0 (as _expressions.apply). Returns -1 when no test was taken.
+float g_values[GRAMMAR_MAX_EXPR_STACK];
+
+int grammar_program(int first, int n) {
     int sp = 0;
     for (int i = 0; i < GRAMMAR_MAX_CASE_TOKENS && i < n; ++i) {
-        vec4 pair = grammar_texel(g_addr + 1 + i / 2);
+        vec4 pair = grammar_texel(first + i / 2);
         int code = int(i % 2 == 0 ? pair.x : pair.z);
         float value = i % 2 == 0 ? pair.y : pair.w;
         if (code == 0 || code == 1) {
-            stack[min(sp, GRAMMAR_MAX_EXPR_STACK - 1)] = code == 0 ? value : grammar_variable(int(value));
+            g_values[min(sp, GRAMMAR_MAX_EXPR_STACK - 1)] = code == 0 ? value : grammar_variable(int(value));
             sp = min(sp + 1, GRAMMAR_MAX_EXPR_STACK);
             continue;
         }
         if (code == 2) {
             sp = max(sp - 1, 0);
-            if (stack[sp] != 0.0) {
-                g_addr = int(value);
-                return;
-            }
+            if (g_values[sp] != 0.0) return int(value);
             continue;
         }
         int top = max(sp - 1, 0);
-        float x = stack[top];
+        float x = g_values[top];
         if (code == 16) {
-            stack[top] = x == 0.0 ? 1.0 : 0.0;
+            g_values[top] = x == 0.0 ? 1.0 : 0.0;
             continue;
         }
         if (code == 17) {
-            stack[top] = -x;
+            g_values[top] = -x;
             continue;
         }
         sp = max(sp - 1, 1);
         top = sp - 1;
-        float a = stack[top];
+        float a = g_values[top];
         float b = x;
         float r;
         if (code == 3) r = a + b;
@@ -272,7 +278,22 @@ void grammar_case(vec4 head) {
         else if (code == 13) r = float(a >= b);
         else if (code == 14) r = float(a != 0.0 && b != 0.0);
         else r = float(a != 0.0 || b != 0.0);
-        stack[top] = r;
+        g_values[top] = r;
+    }
+    return -1;
+}
+
+// Case: the first condition that holds picks its rule, else the last rule (head.z).
+void grammar_case(vec4 head) {
+    int taken = grammar_program(g_addr + 1, int(head.y));
+    g_addr = taken >= 0 ? taken : int(head.z);
+}
+
+// Bind, a reference with arguments: each argument's value becomes a parameter, then the rule.
+void grammar_bind(vec4 head) {
+    grammar_program(g_addr + 1, int(head.y));
+    for (int k = 0; k < GRAMMAR_MAX_PARAMS; ++k) {
+        if (k < int(head.w)) g_params[k] = g_values[k];
     }
     g_addr = int(head.z);
 }
@@ -381,6 +402,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_size = facade;
     g_facade = facade;
     g_split = vec2(0.0, 1.0);
+    for (int k = 0; k < GRAMMAR_MAX_PARAMS; ++k) g_params[k] = 0.0;
     g_t = uv + seed;
     g_d = dir;
     g_dtdx = duv_dx;
@@ -418,6 +440,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             f_lb[top] = g_lb;
             f_size[top] = g_size;
             f_split[top] = g_split;
+            f_params[top] = vec4(g_params[0], g_params[1], g_params[2], g_params[3]);
             f_t[top] = g_t;
             f_d[top] = g_d;
             f_sp[top] = g_sp;
@@ -435,6 +458,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             grammar_intrusion(head);
         } else if (op == 14) {
             grammar_case(head);
+        } else if (op == 15) {
+            grammar_bind(head);
         } else {
             grammar_mat(head, op);
         }
