@@ -41,6 +41,15 @@ def test_filtered_colour_keeps_exact_labels(ctx, library, style):  # noqa: F811 
             allowed=0)
 
 
+@pytest.mark.parametrize("nearest", [True, False])
+def test_the_benchmarks_conditions_facade_matches_numpy(ctx, nearest):  # noqa: F811 (fixture)
+    from cityshade.grammar import library_path, load
+
+    compiled = compile_grammars({"conditions": load(library_path("conditions.grammar"))})
+    cpu, _ = compare(ctx, compiled, "conditions", facade=(20.0, 16.0), size=(120, 96), nearest=nearest, allowed=0)
+    assert len(np.unique(cpu.terminal)) >= 4  # wall and the three windows
+
+
 def test_dusk_shows_rooms_through_holes(library):
     _, compiled = library
     cpu = evaluate_facade(compiled, compiled.address("dusk"), (20.0, 16.0), (120, 96), seed_vector(2), tile_array(32))
