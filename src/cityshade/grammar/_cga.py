@@ -3,9 +3,9 @@
 Translated: rules, `attr`/`const` values (evaluated and written in as numbers: attributes become
 fixed parameters), `split(x|y)` with absolute, floating (`~`) and relative (`'`) sizes, repeats
 `{...}*` (alone: Repeat; beside other parts: a Tile), `case`/`else` (Case, with split.index,
-split.total, scope.sx/sy), `%` choices (Rand), `rand(a, b)` sizes, `color("#rrggbb")` (a Color
-layer under the successors), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
-Everything else (comp, extrude, roofs, transformations, occlusion queries, rule parameters...)
+split.total, scope.sx/sy), rule parameters (`Floor(i)`, `Floor(split.index)`), `%` choices
+(Rand), `rand(a, b)` sizes, `color("#rrggbb")` (a Color layer under the successors), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
+Everything else (comp, extrude, roofs, transformations, occlusion queries, string values...)
 is listed by line with what was done instead.
 """
 
@@ -17,6 +17,7 @@ import re
 from dataclasses import dataclass, field
 
 from ..errors import UsageError
+from ._limits import MAX_PARAMS
 
 _TOKEN = re.compile(r"""
     (?P<ws>\s+) | (?P<comment>//[^\n]*|\#[^\n]*|/\*.*?\*/) | (?P<arrow>-->)
@@ -94,6 +95,18 @@ def _partner(tokens: list[_Tok], i: int, opening: str, closing: str) -> int:
     return len(tokens)
 
 
+def _single_layer(op: str) -> str | None:
+    """X for the operator text Layer(X) of one successor (X may carry arguments), else None."""
+    if not op.startswith("Layer(") or not op.endswith(")"):
+        return None
+    inner, depth = op[len("Layer("):-1], 0
+    for char in inner:
+        depth += (char == "(") - (char == ")")
+        if char == "," and depth == 0:
+            return None
+    return inner
+
+
 _BINARY = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv, "%": operator.mod}
 
 
@@ -125,6 +138,9 @@ class _Importer:
         self.notes: list[Note] = []
         self.aux = 0
         self.referenced: dict[str, int] = {}  # successor -> first line naming it
+        self.params: dict[str, tuple[str, ...]] = {}  # rule -> its parameters
+        self.current: tuple[str, ...] = ()  # the parameters of the rule being translated
+        self.arity: dict[str, int] = {}  # successor -> arguments it was first given
 
     # ---------------------------------------------------------------- tokens
     def peek(self, offset: int = 0) -> _Tok | None:
@@ -227,11 +243,13 @@ class _Importer:
     # ---------------------------------------------------------------- rules
     def rule(self):
         head = self.next()
+        params: tuple[str, ...] = ()
         if self.at("("):
-            params = self.balanced("(", ")")
-            if params:
-                self.note(head.line, f"rule parameters of {head.text}", "dropped: the rule is translated once, "
-                          "for all arguments (pass values as attributes instead)")
+            params = tuple(t.text for t in self.balanced("(", ")") if t.kind == "name")
+            if len(params) > MAX_PARAMS:
+                self.note(head.line, f"{len(params)} parameters of {head.text}",
+                          f"only the first {MAX_PARAMS} are kept (the GPU's limit)")
+                params = params[:MAX_PARAMS]
         self.next()  # -->
         body = self.body_tokens()
         name = self.rule_name(head.text)
@@ -240,6 +258,8 @@ class _Importer:
             return
         self.order.append(name)  # before its helper rules: the first rule stays the start rule
         self.rules[name] = "Skip(0)"
+        self.params[name] = params
+        self.current = params
         self.rules[name] = self.translate_body(body, head.line, name)
 
     def rule_name(self, name: str) -> str:
@@ -328,10 +348,11 @@ class _Importer:
         return "NIL"
 
     def condition(self, tokens: list[_Tok], line: int) -> str:
+        """A CGA expression in cityshade's condition language ('0', and a note, if it cannot be)."""
         words = []
         for tok in tokens:
             value = self.values.get(tok.text) if tok.kind == "name" else None
-            if tok.kind == "name" and tok.text in _CONDITION_NAMES:
+            if tok.kind == "name" and (tok.text in _CONDITION_NAMES or tok.text in self.current):
                 words.append(tok.text)
             elif tok.kind == "name" and tok.text in ("true", "false"):
                 words.append("1" if tok.text == "true" else "0")
@@ -384,9 +405,8 @@ class _Importer:
                         i = self.skip_braces(tokens, i)
                     else:
                         self.note(tok.line, f"{what}(...)", "dropped: cityshade draws one flat facade scope")
-                else:  # a successor with arguments
-                    self.note(tok.line, f"arguments of {tok.text}(...)", "dropped (no rule parameters)")
-                    layers.append(("rule", self.successor(tok)))
+                else:  # a successor with arguments: Floor(split.index)
+                    layers.append(("rule", self.successor(tok, args)))
             elif tok.kind == "name" and tok.text == "NIL":
                 layers.append(("rule", self.skip()))
                 i += 1
@@ -411,14 +431,25 @@ class _Importer:
     def target(self, tokens: list[_Tok], line: int, name: str) -> str:
         """The rule a split part or a branch goes to: a successor itself, or a new helper rule."""
         op = self.sequence(tokens, line, name)
-        if op.startswith("Layer(") and "," not in op:
-            return op[len("Layer("):-1]
-        return self.fresh(name, op)
+        return _single_layer(op) or self.fresh(name, op)
 
-    def successor(self, tok: _Tok) -> str:
+    def successor(self, tok: _Tok, args: list[_Tok] | None = None) -> str:
         name = self.rule_name(tok.text)
         self.referenced.setdefault(name, tok.line)
-        return name
+        if not args:
+            self.arity.setdefault(name, 0)
+            return name
+        values, depth, start = [], 0, 0
+        for k, t in enumerate(args + [_Tok("op", ",", tok.line)]):
+            if t.kind == "op" and t.text in "([{":
+                depth += 1
+            elif t.kind == "op" and t.text in ")]}":
+                depth -= 1
+            elif depth == 0 and t.text == "," and t.kind == "op":
+                values.append(self.condition(args[start:k], tok.line))
+                start = k + 1
+        self.arity.setdefault(name, len(values))
+        return f"{name}({', '.join(values[:MAX_PARAMS])})"
 
     def skip_braces(self, tokens, i):
         """The index after the brace group that opens at i."""
@@ -496,6 +527,9 @@ class _Importer:
             return f"Repeat{axis}({value}, {self.target(successor, line, name)})"
         if repeat:
             parts = [(None, None, parts_tokens, True)]
+        if not parts:
+            self.note(line, "a split without parts", "drawn transparent")
+            return "Skip(0)"
         out, fractions, tiles = [], [], 0
         for sizes, successor, group, repeated in parts:
             if group is not None:
@@ -513,7 +547,7 @@ class _Importer:
                 else:
                     total = sum(float(self.size(p[0], line)[1].split("(")[-1].split(",")[0].rstrip(")"))
                                 for p in inner if p[0] is not None)
-                    value = repr(total)
+                    value = repr(total if total > 0 else 1.0)
                     target = self.fresh(name, self.split(args, group, False, line, name))
                     self.note(line, "a repeated group of several parts",
                               "one Tile of their summed size holding a Split of the parts")
@@ -559,13 +593,14 @@ class _Importer:
             if name not in self.rules:
                 self.note(line, f"shape {name} has no rule (a leaf)", "drawn transparent: Skip(0)")
                 self.rules[name] = "Skip(0)"
+                self.params[name] = tuple(f"p{k}" for k in range(min(self.arity.get(name, 0), MAX_PARAMS)))
                 self.order.append(name)
         lines = []
         for name in self.order:
             op = self.rules[name]
-            if op.startswith("Layer(") and "," not in op:  # one successor: an alias
-                op = op[len("Layer("):-1]
-            lines.append(f"{name}->{op}")
+            op = _single_layer(op) or op  # one successor: an alias
+            params = self.params.get(name, ())
+            lines.append(f"{name}({', '.join(params)})->{op}" if params else f"{name}->{op}")
         return "\n".join(lines) + "\n"
 
 

@@ -211,6 +211,8 @@ def _bound(arg: Arg, src: SourceRule, names, errors, fail):
     if len(call.args) != len(wanted):
         return fail(f"rule '{call.name}' takes {len(wanted)} argument{'s' * (len(wanted) != 1)}, "
                     f"got {len(call.args)}", f"it is defined as {call.name}({', '.join(wanted)})")
+    if not wanted:  # B() is B
+        return full
     if len(wanted) > limits.MAX_PARAMS:
         return fail(f"rule '{call.name}' has {len(wanted)} parameters; the GPU limit is {limits.MAX_PARAMS}")
     count_before = len(errors)

@@ -76,9 +76,14 @@ def _import(args) -> int:
     name = args.out.name if args.out is not None else args.file.with_suffix(".grammar").name
     header = f"# Translated from {args.file.name} by cityshade grammar import.\n"
     grammar_text = header + translation.text
-    loads(grammar_text, name)  # a translation that does not check is reported, and not written
     for note in translation.notes:
         print(note.format(str(args.file)), file=sys.stderr)
+    try:
+        loads(grammar_text, name)  # a translation that does not check is reported, and not written
+    except GrammarError as exc:
+        raise CgaError(f"{args.file}: error: the translation does not check (recursive rules, or arguments "
+                       f"that do not match a rule's parameters, cannot be translated); nothing was written:\n"
+                       f"{exc}") from None
     print(f"{args.file}: {len(translation.notes)} construct{'s' * (len(translation.notes) != 1)} not translated "
           "as written (listed above)", file=sys.stderr)
     if args.out is None:
