@@ -144,6 +144,12 @@ class _Evaluator:
             if live.size == 0:
                 break
             ops = self.tex[p.addr[live], 0].astype(np.int32)
+            for _ in range(limits.MAX_STEPS):  # Binds and Cases lead straight on to the next rule (eval.glsl)
+                if not np.any(ops >= 14):
+                    break
+                for op in (14, 15):
+                    getattr(self, _HANDLERS[op])(p, live[ops == op], op)
+                ops = self.tex[p.addr[live], 0].astype(np.int32)
             for op in np.unique(ops):
                 idx = live[ops == op]
                 getattr(self, _HANDLERS[op])(p, idx, op)
@@ -277,8 +283,8 @@ class _Evaluator:
         head = self.tex[p.addr[idx]]
         _, values = self.program(p, idx, p.addr[idx] + 1, head[:, 1].astype(np.int32))
         count = head[:, 3].astype(np.int32)
-        for k in range(limits.MAX_PARAMS):
-            p.params[idx, k] = np.where(k < count, values[:, k], p.params[idx, k])
+        for k in range(limits.MAX_PARAMS):  # the rule's parameters; the others are 0
+            p.params[idx, k] = np.where(k < count, values[:, k], F(0))
         p.addr[idx] = head[:, 2].astype(np.int32)
 
     def random(self, p, idx, level):

@@ -10,7 +10,7 @@
 #endif
 
 #if GRAMMAR_MAX_PARAMS != 4
-#error "layer frames keep the parameters in a vec4"
+#error "the parameters are kept in a vec4"
 #endif
 
 #define GRAMMAR_NOISE_SIZE 256
@@ -43,7 +43,7 @@ int g_addr;
 vec2 g_lb, g_size, g_t, g_s;
 vec2 g_split;   // split.index and split.total of the last Split or Repeat (0, 1 at the start)
 vec2 g_facade;  // the start scope's size: facade.width, facade.height
-float g_params[GRAMMAR_MAX_PARAMS];  // the parameters of the rule being evaluated (0 unless passed)
+vec4 g_params;  // the parameters of the rule being evaluated (0 unless passed; GRAMMAR_MAX_PARAMS is 4)
 // building.levels and building.style for conditions: set by the caller before grammar_evaluate.
 vec2 grammar_building = vec2(0.0);
 vec3 g_d;
@@ -126,7 +126,7 @@ void grammar_end_layer(int skip) {
             g_t = f_t[top] + offset;
             g_size = f_size[top];
             g_split = f_split[top];
-            for (int k = 0; k < GRAMMAR_MAX_PARAMS; ++k) g_params[k] = f_params[top][k];
+            g_params = f_params[top];
             g_d = f_d[top];
             g_sp = f_sp[top];
             g_addr = int(grammar_channel(f_addr[top], 2 + index));
@@ -223,7 +223,7 @@ void grammar_split(vec4 head, int a) {
 }
 
 float grammar_variable(int index) {
-    if (index >= 8) return g_params[min(index - 8, GRAMMAR_MAX_PARAMS - 1)];
+    if (index >= 8) return g_params[min(index - 8, 3)];
     vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : (index < 6 ? g_facade : grammar_building));
     return pair[index % 2];
 }
@@ -289,12 +289,26 @@ void grammar_case(vec4 head) {
     g_addr = taken >= 0 ? taken : int(head.z);
 }
 
-// Bind, a reference with arguments: each argument's value becomes a parameter, then the rule.
+float grammar_token(vec2 token) {
+    return token.x == 0.0 ? token.y : grammar_variable(int(token.y));
+}
+
+// Bind, a reference with arguments: each argument's value becomes a parameter (the others 0),
+// then the rule. Arguments of one token each (a number or a variable, the common case) are
+// read directly; others run as a program.
 void grammar_bind(vec4 head) {
-    grammar_program(g_addr + 1, int(head.y));
-    for (int k = 0; k < GRAMMAR_MAX_PARAMS; ++k) {
-        if (k < int(head.w)) g_params[k] = g_values[k];
+    int n = int(head.y);
+    int count = int(head.w);
+    vec4 values;
+    if (n == count) {
+        vec4 a = grammar_texel(g_addr + 1);
+        vec4 b = count > 2 ? grammar_texel(g_addr + 2) : vec4(0.0);
+        values = vec4(grammar_token(a.xy), grammar_token(a.zw), grammar_token(b.xy), grammar_token(b.zw));
+    } else {
+        grammar_program(g_addr + 1, n);
+        values = vec4(g_values[0], g_values[1], g_values[2], g_values[3]);
     }
+    g_params = values * vec4(greaterThan(vec4(float(count)), vec4(0.0, 1.0, 2.0, 3.0)));
     g_addr = int(head.z);
 }
 
@@ -402,7 +416,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_size = facade;
     g_facade = facade;
     g_split = vec2(0.0, 1.0);
-    for (int k = 0; k < GRAMMAR_MAX_PARAMS; ++k) g_params[k] = 0.0;
+    g_params = vec4(0.0);
     g_t = uv + seed;
     g_d = dir;
     g_dtdx = duv_dx;
@@ -417,7 +431,18 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
 
     for (int step = 0; step < GRAMMAR_MAX_STEPS && g_active; ++step) {
         vec4 head = grammar_texel(g_addr);
+        // Binds (a reference's arguments) and Cases lead straight on to the next rule: they take
+        // steps of the same budget without the operator dispatch below.
+        for (; head.x >= 14.0 && step < GRAMMAR_MAX_STEPS - 1; ++step) {
+            if (head.x == 15.0) {
+                grammar_bind(head);
+            } else {
+                grammar_case(head);
+            }
+            head = grammar_texel(g_addr);
+        }
         int op = int(head.x);
+        if (op >= 14) break;  // the budget ran out on a chain of them (the checks refuse such grammars)
         if (op == 1 || op == 2) {
             grammar_repeat(head, op - 1);
         } else if (op == 3 || op == 4) {
@@ -440,7 +465,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             f_lb[top] = g_lb;
             f_size[top] = g_size;
             f_split[top] = g_split;
-            f_params[top] = vec4(g_params[0], g_params[1], g_params[2], g_params[3]);
+            f_params[top] = g_params;
             f_t[top] = g_t;
             f_d[top] = g_d;
             f_sp[top] = g_sp;
@@ -456,10 +481,6 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
         } else if (op == 11) {
             grammar_intrusion(head);
-        } else if (op == 14) {
-            grammar_case(head);
-        } else if (op == 15) {
-            grammar_bind(head);
         } else {
             grammar_mat(head, op);
         }
