@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+
+# Uniform names that no variant of a program declares are errors, not silence (cityshade.gl.set_uniforms).
+os.environ.setdefault("CITYSHADE_STRICT_UNIFORMS", "1")
 
 OUTPUT = Path(__file__).parent / "output"
 
@@ -16,6 +20,15 @@ def gl_context():
     ctx = create_context(headless=True)
     yield ctx
     ctx.release()
+
+
+@pytest.fixture(autouse=True)
+def _session_context_current(request):
+    """Tests that make contexts of their own (Renderer() without ctx, cityshade.render_image) leave
+    them current; the session context's objects must be used with the session context current."""
+    if "gl_context" in request.fixturenames:
+        request.getfixturevalue("gl_context").__enter__()
+    yield
 
 
 @pytest.fixture(scope="session")

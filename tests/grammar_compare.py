@@ -7,25 +7,23 @@ import pytest
 from PIL import Image
 
 from cityshade.assets import tile_array
-from cityshade.gl import create_context
 from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._reference import evaluate_facade
+from render_checks import assert_finite
 
 SIZE = (128, 96)
 FACADE = (16.0, 12.0)
-OUTPUT = "tests/output"
 
 
 @pytest.fixture(scope="module")
-def ctx():
-    context = create_context()
-    yield context
-    context.release()
+def ctx(gl_context):
+    # the session's context: objects of one context used while another is current would be wrong
+    return gl_context
 
 
-def compare(ctx, compiled, name, seed=3, facade=FACADE, size=SIZE, min_terminals=2, nearest=True, allowed=0.001,
-            building=(0, 0)):
+def compare(ctx, compiled, name, output_dir, seed=3, facade=FACADE, size=SIZE, min_terminals=2, nearest=True,
+            allowed=0.001, building=(0, 0)):
     """GPU ids against the numpy twin's; `allowed` is the share of pixels that may differ.
     With nearest=False the GPU filters colours (mipmaps) and ids must still be exact."""
     tiles = tile_array(32)
@@ -34,7 +32,8 @@ def compare(ctx, compiled, name, seed=3, facade=FACADE, size=SIZE, min_terminals
     colour, ids = FacadeRenderer(ctx, textures, nearest=nearest).render(start, facade, size, seed_vector(seed), building)
     textures.release()
     cpu = evaluate_facade(compiled, start, facade, size, seed_vector(seed), tiles, building)
-    Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(f"{OUTPUT}/grammar_{name}.png")
+    assert_finite(colour, f"grammar {name} colour")
+    Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(output_dir / f"grammar_{name}.png")
     terminal_diff = ids[..., 0].astype(np.int64) - 1 != cpu.terminal
     label_diff = ids[..., 1] != cpu.label
     glass_diff = ids[..., 3].astype(bool) != cpu.glass

@@ -20,14 +20,14 @@ from cityshade.assets import (
 )
 from cityshade.assets._facade import _facade
 
-OUT = Path(__file__).parent / "output" / "assets"
 SUNS = [(-0.55, 0.2, -0.81), (0.3, 0.6, 0.2), (0.9, 0.15, 0.1), (0.0, 0.95, -0.3)]
 
 
-def save(name: str, image: np.ndarray) -> None:
+def save(folder: Path, name: str, image: np.ndarray) -> Path:
     """Write a bottom-row-first image as a PNG the right way up."""
-    OUT.mkdir(parents=True, exist_ok=True)
-    Image.fromarray(np.ascontiguousarray(image[::-1])).save(OUT / f"{name}.png")
+    folder.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(np.ascontiguousarray(image[::-1])).save(folder / f"{name}.png")
+    return folder / f"{name}.png"
 
 
 def tonemap(radiance: np.ndarray) -> np.ndarray:
@@ -193,23 +193,24 @@ def test_curtain_has_vertical_folds_and_tiles():
 # --------------------------------------------------------------------------- pictures
 
 
-def test_write_pngs_for_inspection():
+def test_write_pngs_for_inspection(output_dir):
+    folder, written = output_dir / "assets", []
     rooms = room_textures()
     for face in FACES:
-        save(f"rooms_{face}", np.concatenate(list(rooms[face]), axis=1))
+        written.append(save(folder, f"rooms_{face}", np.concatenate(list(rooms[face]), axis=1)))
     atlas, _ = room_atlas(rooms)
-    save("room_atlas", atlas)
-    save("facades", np.concatenate([np.tile(facade_texture(seed=s)[0], (2, 3, 1)) for s in range(2)], axis=1))
+    written.append(save(folder, "room_atlas", atlas))
+    written.append(save(folder, "facades", np.concatenate([np.tile(facade_texture(seed=s)[0], (2, 3, 1)) for s in range(2)], axis=1)))
     sprites = furniture_sprites(kinds=len(SPRITE_KINDS))
     backdrop = np.array([60, 70, 80, 255], np.uint8)
     rows = [np.where(s[..., 3:] > 0, s, backdrop) for s in sprites]
-    save("sprites", np.concatenate([np.concatenate(list(r), axis=1) for r in rows[::-1]], axis=0))
-    save("curtain", np.tile(curtain_texture(), (1, 3, 1)))
+    written.append(save(folder, "sprites", np.concatenate([np.concatenate(list(r), axis=1) for r in rows[::-1]], axis=0)))
+    written.append(save(folder, "curtain", np.tile(curtain_texture(), (1, 3, 1))))
     cube = environment_cubemap()
     # Cube faces as uploaded: row 0 (t = 0) is the top of the face as seen from inside.
-    save("cubemap_faces", tonemap(np.concatenate(list(cube[:, ::-1]), axis=1)))
+    written.append(save(folder, "cubemap_faces", tonemap(np.concatenate(list(cube[:, ::-1]), axis=1))))
     azimuth, elevation = np.meshgrid(np.linspace(-np.pi, np.pi, 512), np.linspace(-0.3, np.pi / 2, 160))
     pano = np.stack([np.cos(elevation) * np.cos(azimuth), np.sin(elevation), np.cos(elevation) * np.sin(azimuth)], -1)
     for dusk in (0.0, 0.7, 1.0):
-        save(f"sky_dusk{dusk:.1f}", tonemap(sky_colour(pano, dusk=dusk)))
-    assert len(list(OUT.glob("*.png"))) >= 12
+        written.append(save(folder, f"sky_dusk{dusk:.1f}", tonemap(sky_colour(pano, dusk=dusk))))
+    assert len(written) >= 12 and all(path.stat().st_size > 0 for path in written)

@@ -17,6 +17,9 @@ FIG12 = str(library_path("fig12.grammar"))
     (["render", "--seed", "2147483648"], "invalid --seed '2147483648'"),
     (["render", "--seed", "1e3"], "invalid --seed '1e3'"),
     (["render", "--samples", "3"], "argument --samples: invalid choice: 3"),
+    (["render", "--seed", "x"], "invalid --seed 'x'"),
+    (["render", "--footprints", "missing.geojson"], "missing.geojson: cannot read GeoJSON"),
+    (["view", "--camera", "nowhere"], "unknown camera 'nowhere'"),
     (["render", "--bogus"], "unrecognized arguments: --bogus"),
     (["bench"], "the following arguments are required: name"),
     (["teleport"], "invalid choice: 'teleport'"),
@@ -26,6 +29,7 @@ FIG12 = str(library_path("fig12.grammar"))
     (["grammar", "render", FIG12, "--facade", "nanx5"], "invalid --facade 'nanx5'"),
     (["grammar", "render", FIG12, "--seed", "4294967296"], "invalid --seed '4294967296'"),
     (["grammar", "render", FIG12, "--rule", "Nowhere", "--cpu"], "no rule named 'Nowhere'"),
+    (["grammar", "render", FIG12, "--rule", "Nope"], "no rule named 'Nope'"),
     (["compress", "--layout", "F1", "--texel", "nan"], "invalid --texel nan"),
     (["compress", "--layout", "F1", "--texel", "inf"], "invalid --texel inf"),
     (["compress", "--layout", "F1", "--depth-unit", "-1"], "invalid --depth-unit -1"),
@@ -57,7 +61,7 @@ def test_bad_arguments_are_one_line_and_exit_2(tmp_path, monkeypatch, capsys, ar
 ])
 def test_the_api_raises_the_cli_error(kwargs, message):
     with pytest.raises(UsageError) as info:
-        cityshade.render("default", **kwargs)
+        cityshade.render_image("default", **kwargs)
     assert message in str(info.value) and info.value.exit_code == 2
 
 
@@ -79,3 +83,19 @@ def test_grammar_numbers_beyond_half_floats_are_refused_with_a_location(text, me
 def test_the_api_checks_frames():
     with pytest.raises(UsageError, match="invalid frames -1"):
         cityshade.render_city("default", frames=-1)
+
+
+@pytest.mark.parametrize("json_path", ["/proc/cityshade-bench.json", "blocker/trees.json"])
+def test_bench_json_that_cannot_be_written_fails_before_measuring(tmp_path, monkeypatch, capsys, json_path):
+    import cityshade.bench.trees
+
+    def measure(**_):
+        raise AssertionError("the benchmark ran although its JSON cannot be written")
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "blocker").write_text("a file, not a folder")
+    monkeypatch.setattr(cityshade.bench.trees, "run", measure)
+    assert main(["bench", "trees", "--quick", "--json", json_path]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("cityshade: error: cannot write") and json_path in lines[0], lines
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["blocker"]

@@ -7,6 +7,7 @@ import numpy as np
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._culling import BuildingChunks, boxes_visible, frustum_planes
 from cityshade.scene import Camera, batch, make_city
+from render_checks import render_finite
 
 
 def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
@@ -36,11 +37,11 @@ def test_culled_frame_equals_unculled_frame(gl_context):
     renderer = Renderer((128, 72), RenderSettings(samples=0), ctx=gl_context)
     renderer.set_city(city)
     try:
-        culled = renderer.render(camera)
+        culled = render_finite(renderer, camera)
         drawn = renderer.city.chunks_drawn
         chunks = renderer.city.chunks
         chunks.visible = lambda view_projection: np.ones(len(chunks), dtype=bool)
-        full = renderer.render(camera)
+        full = render_finite(renderer, camera)
     finally:
         renderer.release()
     assert drawn < len(chunks), "a street-level view leaves chunks behind the camera"

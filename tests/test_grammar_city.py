@@ -8,10 +8,11 @@ import pytest
 from PIL import Image
 
 from cityshade.assets import LABELS
-from cityshade.grammar._city import BUILDING_STYLES, assign_facades, library_texture
+from cityshade.grammar import BUILDING_STYLES, library_texture
 from cityshade.interior._faces import FACE_EXTERIOR
-from cityshade.render import Renderer, RenderSettings
+from cityshade.render import Renderer, RenderSettings, assign_facades
 from cityshade.scene import Camera, City, batch, box, make_city
+from render_checks import render_finite
 
 SIZE = (128, 96)
 STYLE = {name: number for number, name in BUILDING_STYLES.items()}
@@ -30,7 +31,7 @@ def renderer(gl_context):
 def test_records_carry_start_rule_and_seed():
     masses = [box((0.0, 0.0), 10.0, 10.0, 9.0, seed=3, style=STYLE["dusk"]), box((20.0, 0.0), 10.0, 10.0, 9.0)]
     _, records = batch(masses)
-    assert assign_facades(records, masses) == 1
+    assert assign_facades(records, masses)["grammar dusk"] == 1
     assert records["facade"][0, 0] == 1 and records["facade"][0, 1] == library_texture().address("dusk")
     assert not records["facade"][1].any()  # the default style keeps the window bays
 
@@ -38,7 +39,7 @@ def test_records_carry_start_rule_and_seed():
 def test_label_aov_shows_grammar_labels_and_rooms(renderer, output_dir):
     camera = Camera((10.0, 6.0, -18.0), (16.0, 8.0, 7.0), fov_y=60.0)
     ids = renderer.render_ids(camera)
-    colour = renderer.render(camera)
+    colour = render_finite(renderer, camera)
     Image.fromarray(colour).save(output_dir / "grammar_city.png")
     grammar_pixels = ids[..., 2] == 1
     labels = {LABELS[v] for v in np.unique(ids[..., 3][grammar_pixels])}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 from PIL import Image
 
 from cityshade.cli import main
@@ -40,3 +41,15 @@ def test_render_bad_grammar_writes_nothing(tmp_path, capsys):
     assert main(["grammar", "render", str(bad), "--cpu", "--out", str(out)]) == 2
     assert "this is a binary file" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_render_on_the_gpu_matches_cpu_and_rule_picks_the_start(tmp_path):
+    labels = {}
+    for name, extra in (("gpu", []), ("cpu", ["--cpu"]), ("assets", ["--rule", "Assets"])):
+        out, label = tmp_path / f"{name}.png", tmp_path / f"{name}_labels.png"
+        assert main(["grammar", "render", FIG12, *extra, "--size", "80x64", "--seed", "2",
+                     "--out", str(out), "--labels", str(label)]) == 0
+        labels[name] = np.asarray(Image.open(label)).astype(int)
+    same = np.all(labels["gpu"] == labels["cpu"], axis=-1) if labels["gpu"].ndim == 3 else labels["gpu"] == labels["cpu"]
+    assert same.mean() > 0.999, f"{(~same).sum()} label pixels differ between the GPU and the numpy evaluator"
+    assert np.any(labels["assets"] != labels["gpu"]), "--rule Assets drew the same as the start rule"

@@ -9,12 +9,6 @@ from cityshade.grammar import GrammarError, compile_grammars, loads
 from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 
 
-
-@pytest.fixture(autouse=True)
-def _pictures(output_dir):
-    """compare() saves each facade for a look; output_dir makes sure the folder exists."""
-
-
 LEAVES = "A->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)\nB->Mat(Color, Rep:wall3, 0.0, 0.0, 1.0, 1.0)\n"
 
 
@@ -35,11 +29,11 @@ def _at_the_end(last_rule: str, texels: int = 256) -> str:
     ("Z->Rand(0, 0.5, A, 0.5, B)\n", 1),  # one choice per facade
     ("Z->SplitY(Abs, 2.0, A, Rel, 1.0, B, Abs, 3.0, A)\n", 2),
 ])
-def test_rules_in_the_last_texels_evaluate_alike(ctx, rule, terminals):  # noqa: F811
+def test_rules_in_the_last_texels_evaluate_alike(ctx, rule, terminals, output_dir):  # noqa: F811
     compiled = compile_grammars({"g": loads(_at_the_end(rule))})
     assert compiled.used == 256 and compiled.address("g", "Z") + 4 > 256, "Z is not in the last texels"
     compiled.starts["g"] = "Z"
-    compare(ctx, compiled, "g", size=(64, 48), min_terminals=terminals)
+    compare(ctx, compiled, "g", output_dir, size=(64, 48), min_terminals=terminals)
 
 
 def _nest(depth: int) -> str:
@@ -47,9 +41,9 @@ def _nest(depth: int) -> str:
     return "\n".join(rules) + f"\nR{depth}->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)\n" + LEAVES
 
 
-def test_a_nest_as_deep_as_the_step_limit_evaluates_alike(ctx):  # noqa: F811
+def test_a_nest_as_deep_as_the_step_limit_evaluates_alike(ctx, output_dir):  # noqa: F811
     compiled = compile_grammars({"g": loads(_nest(126))})
-    compare(ctx, compiled, "g", size=(64, 48))
+    compare(ctx, compiled, "g", output_dir, size=(64, 48))
 
 
 @pytest.mark.parametrize("depth", [128, 500, 5000])

@@ -67,26 +67,26 @@ CASES = {
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
-def test_operator_gpu_matches_numpy(ctx, name):
+def test_operator_gpu_matches_numpy(ctx, name, output_dir):
     compiled = compile_grammars({name: loads(CASES[name], f"{name}.grammar")})
-    compare(ctx, compiled, name)
+    compare(ctx, compiled, name, output_dir)
 
 
-def test_labelled_colours_gpu_matches_numpy(ctx):
+def test_labelled_colours_gpu_matches_numpy(ctx, output_dir):
     text = ("S->Layer(Wall, Front)\nWall->Color(0.8, 0.7, 0.6)\nFront->RepeatX(3, Bay)\n"
             "Bay->SplitX(Rel, 1, Skip, Abs, 1.2, Col, Rel, 1, Skip)\nCol->SplitY(Abs, 1, Skip, Abs, 1.5, Glass, "
             "Rel, 1, Rail)\nGlass->Color(0.2, 0.3, 0.4, window)\nRail->Color(0.1, 0.1, 0.1, balcony)\nSkip->Skip(0)\n")
     compiled = compile_grammars({"colours": loads(text)})
-    cpu, _ = compare(ctx, compiled, "colours", nearest=False, allowed=0)
+    cpu, _ = compare(ctx, compiled, "colours", output_dir, nearest=False, allowed=0)
     assert set(np.unique(cpu.label).tolist()) == {LABELS.index(n) for n in ("wall", "window", "balcony")}
 
 
-def test_building_attributes_gpu_matches_numpy(ctx):
+def test_building_attributes_gpu_matches_numpy(ctx, output_dir):
     text = ("S->RepeatY(3, Floor)\nFloor->Case(split.index >= building.levels - 1, A, "
             "building.style == 4 && split.index % 2 == 1, B, C)\n" + colours(*"ABC"))
     compiled = compile_grammars({"attributes": loads(text)})
     for building in ((3, 4), (2, 1)):
-        cpu, _ = compare(ctx, compiled, "attributes", building=building)
+        cpu, _ = compare(ctx, compiled, "attributes", output_dir, building=building)
         rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first
         picked = [int(np.unique(r)[0]) for r in rows]
         names = {compiled.address("attributes", n): n for n in "ABC"}
@@ -94,9 +94,9 @@ def test_building_attributes_gpu_matches_numpy(ctx):
         assert [names[p] for p in picked] == want
 
 
-def test_fig12_gpu_matches_numpy(ctx):
+def test_fig12_gpu_matches_numpy(ctx, output_dir):
     compiled = compile_grammars({"fig12": load(library_path("fig12.grammar"))})
-    cpu, _ = compare(ctx, compiled, "fig12", facade=(20.0, 16.0), size=(160, 128))
+    cpu, _ = compare(ctx, compiled, "fig12", output_dir, facade=(20.0, 16.0), size=(160, 128))
     labels = set(np.unique(cpu.label).tolist())
     assert labels == {1, 2} and cpu.glass.any()  # wall and window, with glass panes
 

@@ -17,20 +17,16 @@ from cityshade.grammar._cga import CgaError, translate
 DATA = Path(__file__).parent / "data" / "cga"
 
 
-@pytest.fixture(autouse=True)
-def _pictures(output_dir):
-    """compare() saves each facade for a look; output_dir makes sure the folder exists."""
-
-
 @pytest.mark.parametrize("name, notes", [
     ("tutorial_facade", [18, 22, 51, 52, 53, 54, 57, 60, 61, 64]),
     ("conditions_facade", [18, 19, 32, 37, 42, 44]),
 ])
-def test_cga_files_translate_check_and_render_alike(ctx, name, notes):  # noqa: F811
+def test_cga_files_translate_check_and_render_alike(ctx, name, notes, output_dir):  # noqa: F811
     translation = translate((DATA / f"{name}.cga").read_text(), name)
     assert sorted({n.line for n in translation.notes}) == sorted(set(notes))
     compiled = compile_grammars({name: loads(translation.text, f"{name}.grammar")})
-    compare(ctx, compiled, name, facade=(30.0, 16.0), size=(150, 80), min_terminals=3, nearest=False, allowed=0)
+    compare(ctx, compiled, name, output_dir, facade=(30.0, 16.0), size=(150, 80), min_terminals=3, nearest=False,
+            allowed=0)
 
 
 def test_translation_keeps_the_structure():

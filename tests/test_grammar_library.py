@@ -27,26 +27,26 @@ def test_library_has_six_styles_in_one_small_texture(library):
 
 
 @pytest.mark.parametrize("style", LIBRARY_STYLES)
-def test_style_gpu_matches_numpy(ctx, library, style):  # noqa: F811 (fixture)
+def test_style_gpu_matches_numpy(ctx, library, style, output_dir):  # noqa: F811 (fixture)
     _, compiled = library
-    compare(ctx, compiled, style, seed=7, facade=(20.0, 16.0), size=(120, 96), min_terminals=3)
+    compare(ctx, compiled, style, output_dir, seed=7, facade=(20.0, 16.0), size=(120, 96), min_terminals=3)
 
 
 @pytest.mark.parametrize("style", LIBRARY_STYLES)
-def test_filtered_colour_keeps_exact_labels(ctx, library, style):  # noqa: F811 (fixture)
+def test_filtered_colour_keeps_exact_labels(ctx, library, style, output_dir):  # noqa: F811 (fixture)
     """The mipmapped path: the terminal, label and glass flag come from the nearest texels, equal
     to the numpy twin's on every pixel, while the colour is filtered."""
     _, compiled = library
-    compare(ctx, compiled, style, seed=7, facade=(40.0, 32.0), size=(120, 96), min_terminals=3, nearest=False,
-            allowed=0)
+    compare(ctx, compiled, style, output_dir, seed=7, facade=(40.0, 32.0), size=(120, 96), min_terminals=3,
+            nearest=False, allowed=0)
 
 
 @pytest.mark.parametrize("nearest", [True, False])
-def test_the_benchmarks_conditions_facade_matches_numpy(ctx, nearest):  # noqa: F811 (fixture)
+def test_the_benchmarks_conditions_facade_matches_numpy(ctx, nearest, output_dir):  # noqa: F811 (fixture)
     from cityshade.grammar import library_path, load
 
     compiled = compile_grammars({"conditions": load(library_path("conditions.grammar"))})
-    cpu, _ = compare(ctx, compiled, "conditions", facade=(20.0, 16.0), size=(120, 96), nearest=nearest, allowed=0)
+    cpu, _ = compare(ctx, compiled, "conditions", output_dir, facade=(20.0, 16.0), size=(120, 96), nearest=nearest, allowed=0)
     assert len(np.unique(cpu.terminal)) >= 4  # wall and the three windows
 
 

@@ -9,15 +9,14 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.bench._harness import write
-from cityshade.bench.interior import (SETTINGS, TARGETS, Plan, comparison_camera, comparison_picture, run_plan,
+from cityshade.bench._harness import MIN_TIMED_FRAMES, write
+from cityshade.bench.interior import (FULL, QUICK, SETTINGS, TARGETS, Plan, comparison_camera, comparison_picture, run_plan,
                                       scaled_rooms)
 from cityshade.interior import POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer
 from cityshade.scene import cylinder, grid_city
-
-OUTPUT = "tests/output"
+from render_checks import render_finite
 
 
 def test_apartment_block_counts():
@@ -60,13 +59,13 @@ def test_scaled_rooms_keep_the_mass():
         assert np.allclose(scaled.masses[0].extent, city.masses[0].extent)
 
 
-def test_polygonised_picture_matches_interior_mapping():
+def test_polygonised_picture_matches_interior_mapping(output_dir):
     """Same rooms, variants and lights: the pictures differ along window edges only (alpha-tested
     glass against blended glass), which at this size are a good share of the pixels."""
     renderer = Renderer((160, 120), SETTINGS)
     picture = comparison_picture(renderer, grid_city(4), comparison_camera())
     renderer.release()
-    Image.fromarray(picture).save(f"{OUTPUT}/interior_vs_polygonised.png")
+    Image.fromarray(picture).save(output_dir / "interior_vs_polygonised.png")
     left, right = picture[:, :160].astype(int), picture[:, -160:].astype(int)
     differing = np.abs(left - right).max(axis=-1) > 40
     assert differing.mean() < 0.15, f"{differing.mean():.1%} of pixels differ"
@@ -83,3 +82,26 @@ def test_tiny_run_writes_the_ratios(tmp_path):
         assert key in data["targets"]
     assert (tmp_path / "interior_fig9.png").exists() and (tmp_path / "interior_vs_polygonised.png").exists()
     assert [len(t["rows"]) for t in data["tables"]] == [2, 3, 3, 2, 4]
+    assert data["timing"]["samples_per_point"] == 1 and data["timing"]["interleaved"] is True
+    poly, im = data["methods"]["polygonised interiors"], data["methods"]["interior mapping (paper's version)"]
+    assert poly["cull_back_faces"] and poly["depth_prepass"] and poly["frustum_culling"]
+    assert im["depth_prepass"] and im["msaa"] == poly["msaa"] == 0 and im["size"] == poly["size"] == [64, 48]
+
+
+def test_cli_plans_time_enough_frames():
+    assert QUICK.rounds >= MIN_TIMED_FRAMES and FULL.rounds >= MIN_TIMED_FRAMES
+
+
+@pytest.mark.parametrize("polygonised", [False, True])
+def test_depth_prepass_leaves_the_picture_unchanged(gl_context, polygonised):
+    """The prepass only saves shading work: both methods draw the same picture with and without it."""
+    city = grid_city(4)
+    renderer = Renderer((128, 96), SETTINGS.with_(polygonised_interiors=polygonised), ctx=gl_context)
+    renderer.set_city(city)
+    with_prepass = render_finite(renderer, comparison_camera()).astype(int)
+    renderer.set_settings(renderer.settings.with_(depth_prepass=False))
+    without = render_finite(renderer, comparison_camera()).astype(int)
+    renderer.release()
+    differing = np.abs(with_prepass - without).max(axis=-1) > 2
+    print(f"prepass on vs off: {differing.sum()} of {differing.size} pixels differ by more than 2/255")
+    assert with_prepass.std() > 10 and differing.mean() < 0.001

@@ -9,6 +9,7 @@ from PIL import Image
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import Camera, City, box
+from render_checks import render_finite
 
 SIZE = (192, 144)
 MASSES = [box((0.0, 0.0), 24.0, 16.0, 18.0, seed=5, room_width=4.0, floor_height=3.0)]
@@ -20,7 +21,7 @@ def _render(ctx, **settings) -> tuple[np.ndarray, np.ndarray]:
     r = Renderer(SIZE, RenderSettings(**{"samples": 0, "lights": 0.5, **settings}), ctx=ctx)
     r.set_city(City("features", 0, MASSES, [], (-40.0, -40.0, 40.0, 40.0)))
     try:
-        return r.render(CAMERA).astype(np.float64), r.render_ids(CAMERA)
+        return render_finite(r, CAMERA).astype(np.float64), r.render_ids(CAMERA)
     finally:
         r.release()
 

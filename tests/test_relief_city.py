@@ -1,22 +1,35 @@
 """Relief in the city: the repeating window bay traced on the GPU matches the reference on the
-repeated maps, and a share of the default city's buildings gets relief facades."""
+repeated maps, a share of the default city's buildings gets relief facades, the rooms behind a
+relief building's glass match the interior twin traced through the reference relief, and the
+fly-over's chunk culling keeps its picture."""
 
 import numpy as np
+import pytest
+from PIL import Image
 
-from cityshade.gl import ProgramCache, create_context
+from cityshade import assets
+from cityshade.bench.relief import CityChunks, city_frames, flyover_camera
+from cityshade.gl import programs as gl_programs
 from cityshade.relief import (DetailMaps, FacadeView, GpuFacade, compress, draw_facades, facade_camera, generate_bay,
-                              slab_faces, trace_view)
-from cityshade.relief._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, assign_relief
+                              paper_facade, slab_faces, trace_view)
+from cityshade.relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES
+from cityshade.render import assign_facades
 from cityshade.relief._reference import MISS
 from cityshade.relief._view import SINGLE_FACADE
-from cityshade.scene import batch, default_city
+from cityshade.interior import InteriorParams, reference_ids
+from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
+from cityshade.render import Renderer, RenderSettings
+from cityshade.render._city_gpu import GROUND_MARGIN
+from cityshade.scene import Camera, City, batch, box, default_city
+from render_checks import hit_edges, id_edges, render_finite
 
 SIZE = (96, 96)
+ROOM_FACES = [FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z, FACE_FURNITURE, FACE_CURTAIN]
 
 
-def test_repeated_bay_matches_reference():
-    ctx = create_context()
-    programs = ProgramCache(ctx)
+def test_repeated_bay_matches_reference(gl_context):
+    ctx = gl_context
+    programs = gl_programs(ctx)
     bay = generate_bay(texel=0.1)
     wall = DetailMaps(np.tile(bay.depth, (2, 3)), np.tile(bay.material, (2, 3)), bay.texel, bay.depth_unit)
     gpu = GpuFacade(ctx, bay, {"bmf": compress(bay, "bmf")})
@@ -33,17 +46,94 @@ def test_repeated_bay_matches_reference():
     inner = (ref.material != MISS) & (x > 2) & (x < cols - 2) & (y > 2) & (y < rows - 2)
     assert inner.mean() > 0.5
     differ = inner & ((out.material != ref.material) | (out.face != ref.face))
-    on_edge = np.linalg.norm(np.nan_to_num(out.point - ref.point, nan=1e9), axis=-1) < 0.05
     print(f"repeated bay: {differ.sum()} of {inner.sum()} inner pixels differ")
-    assert not (differ & ~on_edge).any()
+    assert not (differ & ~hit_edges(ref)).any(), "pixels differ away from any edge of the reference's picture"
     view.release()
     gpu.release()
 
 
-def test_a_share_of_the_city_gets_relief():
+def test_a_quarter_of_the_box_buildings_gets_relief():
     city = default_city()
     _, records = batch(city.masses)
-    count = assign_relief(records, city.masses)
+    count = assign_facades(records, city.masses)["relief bay"]
     marked = np.flatnonzero(records["facade"][:, 0] == FACADE_RELIEF)
-    assert count == len(marked) and 0.1 < count / len(city.masses) < 0.4
-    assert all(city.masses[i].style in RELIEF_STYLES and city.masses[i].shape in RELIEF_SHAPES for i in marked)
+    boxes = [i for i, m in enumerate(city.masses) if m.shape in RELIEF_SHAPES]
+    due = [i for i in boxes if city.masses[i].style in RELIEF_STYLES]
+    assert count == len(marked) and list(marked) == due  # every box building of a relief style, nothing else
+    print(f"relief on {count} of {len(boxes)} box buildings ({count / len(boxes):.3f})")
+    assert 0.2 < count / len(boxes) < 0.3  # styles are uniform over 0..7: two of eight
+
+
+def test_flyover_chunk_culling_keeps_the_picture(gl_context):
+    """`bench relief` Table 3 draws only the chunks inside the frustum: the same picture, fewer facades."""
+    ctx = gl_context
+    programs = gl_programs(ctx)
+    maps = paper_facade("F1")
+    gpu = GpuFacade(ctx, maps, {"bmf": compress(maps, "bmf")})
+    width, height = maps.size_m
+    buildings, size = 400, (128, 96)
+    frames = city_frames(buildings, width, width + 8.0)
+    chunks = CityChunks(buildings, width, width + 8.0, height, side=4)
+    camera = flyover_camera(20 * (width + 8.0), 5)
+    view = FacadeView(ctx, size, programs)
+    quad = slab_faces(maps.shape[1], maps.shape[0], gpu.slab_depth, sides=False)
+    pictures, drawn = [], []
+    for shown in (frames, chunks.visible(frames, camera.view_projection(size[0] / size[1]))):
+        view.target.use()
+        ctx.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, shown, size[0] / size[1])
+        pictures.append(view.read())
+        drawn.append(len(shown))
+    print(f"chunk culling drew {drawn[1]} of {drawn[0]} facades")
+    assert drawn[1] < 0.9 * drawn[0]
+    assert (pictures[0].material != MISS).mean() > 0.2
+    assert np.array_equal(pictures[0].material, pictures[1].material) and np.array_equal(pictures[0].face, pictures[1].face)
+    view.release()
+    gpu.release()
+
+
+RELIEF_STREET = City("relief street", 0, [
+    box((0.0, 0.0), 18.0, 12.0, 16.0, style=2, seed=21, room_width=4.5, floor_height=3.2),  # relief
+    box((24.0, 0.0), 12.0, 12.0, 16.0, seed=22, room_width=4.0),                               # window bay
+], [], (-30.0, -30.0, 50.0, 30.0), {
+    "oblique": Camera((-3.0, 5.5, -9.0), (12.0, 7.0, 2.0), fov_y=60.0),
+    "grazing": Camera((-4.0, 2.0, -3.0), (18.0, 6.0, -0.5), fov_y=50.0),
+})
+CITY_SIZE = (160, 120)
+
+
+@pytest.mark.parametrize("view", sorted(RELIEF_STREET.viewpoints))
+def test_city_relief_glass_leads_into_the_rooms_as_the_twin_says(gl_context, view, output_dir):
+    """Behind a relief facade's glass the rooms continue from where the ray meets the recessed
+    pane: the id AOV (face, room, building, light and variant) against the interior twin with the
+    reference relief tracer (cityshade.interior.reference_ids with `relief`)."""
+    renderer = Renderer(CITY_SIZE, RenderSettings(lights=0.6, animation_time=1.3), ctx=gl_context)
+    renderer.set_city(RELIEF_STREET)
+    assert renderer.city.facades["relief bay"] == 1
+    camera = RELIEF_STREET.viewpoints[view]
+    gpu = renderer.render_ids(camera, room_state=True)
+    colour = render_finite(renderer, camera)
+    textures = renderer.textures
+    params = InteriorParams(lights=0.6, time=1.3, variants=textures.room_variants, glass_rect=textures.glass_rect,
+                            sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
+    alpha = assets.facade_texture()[0][..., 3] / 255.0
+    x0, z0, x1, z1 = RELIEF_STREET.bounds
+    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
+    ref = reference_ids(RELIEF_STREET.masses, camera, CITY_SIZE, params, alpha, ground, relief={0: generate_bay()})
+    flat = reference_ids(RELIEF_STREET.masses, camera, CITY_SIZE, params, alpha, ground)  # glass by the wall point
+    renderer.release()
+    Image.fromarray(colour).save(output_dir / f"relief_city_{view}.png")
+    on_relief = (gpu[..., 2] == 1) | (ref[..., 2] == 1)
+    rooms = np.isin(ref[..., 0], ROOM_FACES) & (ref[..., 2] == 1)
+    differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
+    state_differ = ~differ & (gpu[..., 3] != ref[..., 3])
+    moved = rooms & np.any(ref[..., :2] != flat[..., :2], axis=-1)  # what the recess changes
+    print(f"{view}: {(differ & on_relief).sum()} of {on_relief.sum()} relief-building pixels differ "
+          f"({(differ & ~on_relief).sum()} elsewhere), {state_differ.sum()} differ in light or variant; "
+          f"{rooms.sum()} room pixels through relief glass, {moved.sum()} of them another face or room than "
+          f"at the wall point")
+    assert rooms.sum() > 300, "the view must look through relief glass into rooms"
+    assert moved.sum() > 0.05 * rooms.sum(), "the view must show rooms entered from the recessed pane"
+    assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"
+    assert (differ & on_relief).sum() <= 0.005 * on_relief.sum()
+    assert not state_differ.any()

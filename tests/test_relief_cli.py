@@ -76,3 +76,47 @@ def test_compress_a_grammar_file(tmp_path, capsys):
     assert main(["compress", str(bad), "--out", str(tmp_path / "x.cfdm")]) == 2
     assert "bad.grammar" in capsys.readouterr().err
     assert not (tmp_path / "x.cfdm").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    ([], "compress needs --out FILE (or --stats FILE / --verify FILE)"),
+    (["--out", "x.cfdm"], "give a source: GRAMMAR_FILE, --layout NAME, or --height PNG --material PNG"),
+    (["--layout", "F1", "--height", "h.png", "--material", "m.png", "--out", "x.cfdm"], "give one source"),
+    (["brick.grammar", "--layout", "F1", "--out", "x.cfdm"], "give one source"),
+    (["--height", "h.png", "--out", "x.cfdm"], "--height and --material go together"),
+    (["--material", "m.png", "--out", "x.cfdm"], "--height and --material go together"),
+    (["--stats", "a.cfdm", "--verify", "a.cfdm"], "--stats and --verify cannot be combined"),
+    (["--layout", "F1", "--out", "x.cfdm", "--stats", "a.cfdm"], "--out and --stats cannot be combined"),
+    (["--out", "x.cfdm", "--verify", "a.cfdm"], "--out and --verify cannot be combined"),
+    (["--stats", "a.cfdm", "--layout", "F1"], "--stats reads only its file; drop --layout"),
+    (["--stats", "a.cfdm", "--method", "svd", "--texel", "0.1"], "--stats reads only its file; drop --texel, --method"),
+    (["--verify", "a.cfdm", "--method", "svd"], "--verify decompresses the file as it was made"),
+    (["--verify", "a.cfdm", "--max-terms", "10"], "--verify decompresses the file as it was made"),
+    (["--layout", "F1", "--rule", "Facade", "--out", "x.cfdm"], "--rule go with GRAMMAR_FILE"),
+    (["--layout", "F1", "--seed", "3", "--out", "x.cfdm"], "--seed go with GRAMMAR_FILE"),
+    (["--height", "h.png", "--material", "m.png", "--facade", "6x8", "--out", "x.cfdm"],
+     "--facade sizes a GRAMMAR_FILE or --layout facade"),
+    (["--layout", "F1", "--depth-unit", "0.02", "--out", "x.cfdm"], "--depth-unit goes with --height and --material"),
+])
+def test_bad_combinations_are_one_line_and_exit_2(tmp_path, monkeypatch, capsys, args, message):
+    """Each option belongs to one use of the command: one that would do nothing is refused, before
+    anything is read or written."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["compress", *args]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("cityshade: error: ") and message in err[0], err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_verify_against_a_layout_and_a_grammar_seed(tmp_path, capsys):
+    """The good combinations: --verify with a source compares with it; --seed with GRAMMAR_FILE."""
+    from cityshade.grammar import library_path
+
+    out = tmp_path / "f1.cfdm"
+    assert main(["compress", "--layout", "F1", "--facade", "2x3", "--texel", "0.1", "--out", str(out)]) == 0
+    assert main(["compress", "--verify", str(out), "--layout", "F1", "--facade", "2x3", "--texel", "0.1"]) == 0
+    assert "decompress exactly to the given images" in capsys.readouterr().out
+    assert main(["compress", "--verify", str(out), "--layout", "F3", "--facade", "2x3", "--texel", "0.1"]) == 1
+    seeded = tmp_path / "seeded.cfdm"
+    assert main(["compress", str(library_path("brick.grammar")), "--seed", "5", "--facade", "4x4", "--texel", "0.2",
+                 "--out", str(seeded)]) == 0

@@ -4,11 +4,12 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.gl import ProgramCache, create_context
+from cityshade.gl import programs
 from cityshade.relief import detail_matrices, generate_facade, paper_facade
 from cityshade.relief._gpu import RENDERERS, GpuFacade, decode_on_gpu
 from cityshade.relief._reference import MISS
 from cityshade.relief._view import SINGLE_FACADE, FacadeView, MeshFacade, facade_camera, trace_view
+from render_checks import assert_finite, hit_edges
 
 SIZE = (96, 96)
 VIEWS = {  # azimuth, elevation, distance, target
@@ -19,9 +20,8 @@ VIEWS = {  # azimuth, elevation, distance, target
 
 
 @pytest.fixture(scope="module")
-def gl():
-    ctx = create_context()
-    return ctx, ProgramCache(ctx)
+def gl(gl_context):
+    return gl_context, programs(gl_context)
 
 
 @pytest.fixture(scope="module")
@@ -41,24 +41,19 @@ def test_gpu_decodes_every_texel_exactly(gl, codec, mod37):
     gpu.release()
 
 
-def edge_pixels(gpu, ref):
-    """Pixels where two surfaces meet under the ray (both hit the same point, on an edge) or at the
-    facade's outline (a miss next to the pixel): the only places a mismatch is allowed."""
-    same_point = np.linalg.norm(np.nan_to_num(gpu.point - ref.point, nan=1e9), axis=-1) < 0.05
-    miss = np.pad((ref.material == MISS) | (gpu.material == MISS), 1, mode="edge")
-    near_miss = np.zeros_like(ref.material, bool)
-    for dy in range(3):
-        for dx in range(3):
-            near_miss |= miss[dy:dy + SIZE[1], dx:dx + SIZE[0]]
-    return same_point | near_miss
+def read(view, what):
+    """The view's images, after checking that the colour is finite."""
+    images = view.read()
+    assert_finite(images.color, what)
+    return images
 
 
-def save(name, image):
-    Image.fromarray((np.clip(image.color, 0, 1) * 255).astype(np.uint8)).save(f"tests/output/relief_{name}.png")
+def save(output_dir, name, image):
+    Image.fromarray((np.clip(image.color, 0, 1) * 255).astype(np.uint8)).save(output_dir / f"relief_{name}.png")
 
 
 @pytest.mark.parametrize("view", sorted(VIEWS))
-def test_fdm_matches_reference(gl, facade, view):
+def test_fdm_matches_reference(gl, facade, view, output_dir):
     ctx, programs = gl
     camera = facade_camera(facade.maps, *VIEWS[view])
     ref = trace_view(facade.maps, camera, SIZE)
@@ -66,10 +61,10 @@ def test_fdm_matches_reference(gl, facade, view):
     renderer = FacadeView(ctx, SIZE, programs)
     for name in ("fdm", "cfdm", "bcfdm"):
         renderer.draw(facade, camera, name)
-        gpu = renderer.read()
-        save(f"{name}_{view}", gpu)
+        gpu = read(renderer, f"{name} {view}")
+        save(output_dir, f"{name}_{view}", gpu)
         differ = (gpu.material != ref.material) | (gpu.face != ref.face)
-        edges = edge_pixels(gpu, ref)
+        edges = hit_edges(ref)
         print(f"{name} {view}: {differ.sum()} of {differ.size} pixels differ, all on edges: {not (differ & ~edges).any()}")
         assert not (differ & ~edges).any(), f"{name}: off-edge mismatches at {np.argwhere(differ & ~edges)[:5]}"
         assert differ.mean() < 0.005
@@ -78,7 +73,7 @@ def test_fdm_matches_reference(gl, facade, view):
     renderer.release()
 
 
-def test_rm_errors_are_counted(gl, facade):
+def test_rm_errors_are_counted(gl, facade, output_dir):
     ctx, programs = gl
     camera = facade_camera(facade.maps, *VIEWS["grazing"])
     ref = trace_view(facade.maps, camera, SIZE)
@@ -86,8 +81,8 @@ def test_rm_errors_are_counted(gl, facade):
     counts = {}
     for name in ("rm", "crm", "bcrm"):
         renderer.draw(facade, camera, name)
-        gpu = renderer.read()
-        save(f"{name}_grazing", gpu)
+        gpu = read(renderer, f"{name} grazing")
+        save(output_dir, f"{name}_grazing", gpu)
         counts[name] = int((gpu.material != ref.material).sum())
     print("relief mapping material mismatches (grazing view):", counts)
     assert counts["rm"] == counts["crm"] == counts["bcrm"], "compression must not change what RM hits"
@@ -101,11 +96,11 @@ def test_all_six_renderers_draw(gl, facade):
     camera = facade_camera(facade.maps, *VIEWS["oblique"])
     for name in RENDERERS:
         renderer.draw(facade, camera, name)
-        assert (renderer.read().material != MISS).mean() > 0.3, name
+        assert (read(renderer, name).material != MISS).mean() > 0.3, name
     renderer.release()
 
 
-def test_triangulated_relief_matches_reference(gl, facade):
+def test_triangulated_relief_matches_reference(gl, facade, output_dir):
     ctx, programs = gl
     camera = facade_camera(facade.maps, *VIEWS["oblique"])
     ref = trace_view(facade.maps, camera, SIZE)
@@ -114,8 +109,8 @@ def test_triangulated_relief_matches_reference(gl, facade):
     view.target.use()
     ctx.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
     mesh.draw(ctx, programs, camera, SINGLE_FACADE, 1.0)
-    gpu = view.read()
-    save("mesh_oblique", gpu)
+    gpu = read(view, "mesh")
+    save(output_dir, "mesh_oblique", gpu)
     differ = (gpu.material != ref.material) | (gpu.face != ref.face)
     print(f"mesh: {differ.sum()} of {differ.size} pixels differ ({mesh.triangles} triangles)")
     assert differ.mean() < 0.01, "the geometry baseline shows the same relief"

@@ -1,6 +1,7 @@
 """Cascade scheduling (§4.3.2) and cascade fitting."""
 
 import numpy as np
+import pytest
 
 from cityshade.scene import Camera
 from cityshade.trees import EVERY_FRAME, cascade_view_projection, cascades_due, split_distances, texture_matrix
@@ -40,3 +41,39 @@ def test_each_cascade_covers_its_slice_of_the_view():
         mid = (splits[i] + splits[i + 1]) / 2
         point = m @ np.array([0.0, 2.0, -mid, 1.0])
         assert np.all((point[:3] > 0) & (point[:3] < 1))
+
+
+@pytest.mark.slow  # about 6 s on two cores, most of it the city's GPU set-up
+def test_the_frame_redraws_each_cascade_at_its_rate(gl_context):
+    """Inside the renderer's frames 0-4 (the camera moving; every rate skips a frame): the shadow pass redraws exactly the
+    cascades `cascades_due` names, with draw calls for their casters; a cascade not due keeps its
+    depth map and light matrix untouched, one redrawn takes the moved camera's matrix."""
+    from cityshade.render import Renderer, RenderSettings, parse_time
+    from cityshade.trees import SCENE_TIME, park_scene
+
+    city = park_scene()
+    start = city.camera("park")
+    renderer = Renderer((64, 48), RenderSettings(samples=0, god_rays=False, time_of_day=parse_time(SCENE_TIME)),
+                        ctx=gl_context)
+    renderer.set_city(city)
+    for frame in range(5):
+        step = np.array([0.7 * frame, 0.0, 0.0])
+        camera = Camera(tuple(start.eye + step), tuple(np.asarray(start.target) + step),
+                        fov_y=start.fov_y, near=start.near, far=start.far)
+        shadows = renderer.shadows
+        before = None if shadows is None else ([m.read() for m in shadows.maps], [m.copy() for m in shadows.matrices])
+        renderer.render(camera)
+        shadows = renderer.shadows
+        redrawn = [(index, casters) for index, casters, _ in shadows.stats.redrawn]
+        due = [(index, tuple(sorted(casters))) for index, casters in cascades_due(frame)]
+        assert redrawn == due, f"frame {frame}: redrew {redrawn}, due {due}"
+        assert all(calls > 0 for _, _, calls in shadows.stats.redrawn)
+        if before is not None:
+            for index in range(3):
+                kept = np.array_equal(shadows.matrices[index], before[1][index])
+                same_map = shadows.maps[index].read() == before[0][index]
+                if index in dict(redrawn):
+                    assert not kept, f"frame {frame}: cascade {index} redrawn with the old camera's matrix"
+                else:
+                    assert kept and same_map, f"frame {frame}: cascade {index} changed although not due"
+    renderer.release()

@@ -3,14 +3,16 @@
 Images are small; every test that renders writes its picture to tests/output/ to be looked at.
 """
 
+from dataclasses import replace
+
 import moderngl
 import numpy as np
 import pytest
 
-from cityshade.gl import ProgramCache, RenderTarget
+from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, set_uniforms
 from cityshade.render._shadows import CascadedShadows
 from cityshade.render._trees import PARTS
-from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, set_uniforms
+from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL
 from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas
 from trees_scene import SIZE, one_tree, render, save
@@ -25,7 +27,7 @@ def programs(ctx):
     return ProgramCache(ctx)
 
 
-def capture_fins(ctx, programs, positions, normals, eye, depth):
+def capture_fins(ctx, programs, positions, normals, eye, depth, fade=(1e6, 2e6)):
     """Runs the fin geometry shader with transform feedback; returns the emitted world positions."""
     program = programs.get("trees/fins.glsl", {"NO_SHADOWS": True}, varyings=("g_world", "g_w"))
     verts = np.zeros((len(positions) * 3, 13), np.float32)
@@ -39,8 +41,11 @@ def capture_fins(ctx, programs, positions, normals, eye, depth):
     fmt = " ".join(f if a in program else f"{int(f[:-1]) * 4}x" for f, a in zip(layout.split(), attributes))
     vao = ctx.vertex_array(program, [(vbo, fmt, *[a for a in attributes if a in program]),
                                      (ibo, "4f 4f/i", "in_place", "in_params")])
-    set_uniforms(program, u_camera=np.asarray(eye, float), u_view_proj=np.identity(4), u_relief_depth=depth,
-                 u_fin_fade=np.array([1e6, 2e6]), u_time=0.0, u_wind=np.zeros(3),
+    FRAME_BLOCK.write(ctx, u_inv_view_proj=np.identity(4), u_camera=np.asarray(eye, float), u_time=0.0,
+                      u_sun_dir=np.zeros(3), u_exposure=1.0, u_sun_color=np.zeros(3), u_sky_ambient=np.zeros(3),
+                      u_ground_ambient=np.zeros(3))
+    set_uniforms(program, u_view_proj=np.identity(4), u_relief_depth=depth, u_fin_fade=np.array(fade, float),
+                 u_wind=np.zeros(3),
                  u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL)  # samplers of two types may not share a unit
     out = ctx.buffer(np.full(len(positions) * 6 * 4, np.nan, np.float32).tobytes())
     target = RenderTarget(ctx, (4, 4))  # transform feedback still wants a complete framebuffer bound
@@ -54,27 +59,47 @@ def capture_fins(ctx, programs, positions, normals, eye, depth):
     return data
 
 
-def test_fins_match_the_numpy_reference_on_a_trunk(ctx, programs):
+def trunk_triangles():
     mesh = generate_tree(OAK, 3).lods[1]
     tri = mesh.branch_indices.reshape(-1, 3)
-    positions, normals = mesh.branches[tri, 0:3], mesh.branches[tri, 3:6]
+    return mesh.branches[tri, 0:3], mesh.branches[tri, 3:6]
+
+
+def fade_band(positions, eye):
+    """A fade band across the middle of the trunk's distances: some fins full, some narrowed, some gone."""
+    d = np.linalg.norm(positions.reshape(-1, 3) - eye, axis=1)
+    lo, hi = np.percentile(d, [30, 70])
+    return float(lo), float(hi)
+
+
+@pytest.mark.parametrize("faded", [False, True])
+def test_fins_match_the_numpy_reference_on_a_trunk(ctx, programs, faded):
+    positions, normals = trunk_triangles()
     eye = np.array([3.0, 2.0, 9.0])
-    triangles, quads = extrude_fins(positions, normals, eye, 0.05)
-    captured = capture_fins(ctx, programs, positions, normals, eye, 0.05)
-    assert len(quads) > 50
+    fade = fade_band(positions, eye) if faded else (1e6, 2e6)
+    triangles, quads = extrude_fins(positions, normals, eye, 0.05, fade)
+    captured = capture_fins(ctx, programs, positions, normals, eye, 0.05, fade)
+    assert len(quads) > 50 if not faded else len(quads) > 20
+    if faded:  # the band narrows fins and drops the far ones
+        _, unfaded = extrude_fins(positions, normals, eye, 0.05)
+        widths = np.linalg.norm(quads[:, 3] - quads[:, 0], axis=1)
+        assert len(quads) < len(unfaded) and widths.min() < 0.04 and np.isclose(widths.max(), 0.05, atol=1e-4)
     assert len(captured) == len(quads) * 6  # two triangles per fin, none for the other triangles
     # Strip order V0, V3, V1, V2 as triangles (V0 V3 V1) (V1 V3 V2) -> compare as point sets.
     for k, quad in enumerate(quads):
         fin = captured[6 * k: 6 * k + 6]
         expected = np.array([quad[0], quad[3], quad[1], quad[2]])
         got = np.unique(np.round(fin[:, :3], 4), axis=0)
-        assert len(got) == 4
-        for point, w in zip(expected, (0, 1, 0, 1)):
+        assert len(got) == len(np.unique(np.round(expected, 4), axis=0))  # a fin faded to 0 at one end is a triangle
+        for k, (point, w) in enumerate(zip(expected, (0, 1, 0, 1))):
             nearest = np.argmin(np.linalg.norm(fin[:, :3] - point, axis=1))
             assert np.linalg.norm(fin[nearest, :3] - point) < 1e-4
-            assert fin[nearest, 3] == w
+            if w == 0 or np.linalg.norm(point - expected[k - 1]) > 1e-4:  # a zero-width end has both w
+                assert fin[nearest, 3] == w
         # Silhouette points lie where N.V = 0 (the interpolated normal is perpendicular to the view).
         for point, top in ((quad[0], quad[3]), (quad[1], quad[2])):
+            if np.linalg.norm(top - point) < 1e-6:
+                continue  # faded to nothing at this end
             n = (top - point) / np.linalg.norm(top - point)
             assert abs(np.dot(n, (eye - point) / np.linalg.norm(eye - point))) < 0.2
 
@@ -114,15 +139,15 @@ def test_alpha_to_coverage_turns_alpha_into_coverage(ctx, programs):
     assert kept[True] > 0.99 and kept[False] == pytest.approx(0.5, abs=0.1)
 
 
-def test_alpha_test_edges_are_hard_and_coverage_edges_soft(ctx, programs):
+def test_alpha_test_edges_are_hard_and_coverage_edges_soft(ctx, programs, output_dir):
     camera = Camera((0, 5.0, 9.0), (0, 5.0, 0), fov_y=50, near=0.1, far=80)
     images = {}
     for a2c, samples in ((False, 4), (False, 0), (True, 4)):
         tree = one_tree(ctx, programs, alpha_to_coverage=a2c, shadows=False)
         images[a2c, samples] = render(ctx, tree, camera, samples=samples, parts=("leaves",))
         tree.release()
-    save(images[True, 4], "trees_leaves_a2c")
-    save(images[False, 4], "trees_leaves_alpha_test")
+    save(images[True, 4], "trees_leaves_a2c", output_dir)
+    save(images[False, 4], "trees_leaves_alpha_test", output_dir)
     # Alpha test: multisampling adds nothing inside a card, so the 4x image equals the 1x image.
     hard = np.abs(images[False, 4] - images[False, 0]).max(axis=2) > 1e-3
     soft = np.abs(images[True, 4] - images[False, 0]).max(axis=2) > 1e-3
@@ -140,14 +165,14 @@ def test_lod_fade_curves_are_offset():
     assert both.any() and np.all(np.maximum(near, far)[both] >= 0.74)  # never both half transparent
 
 
-def test_leaves_shadow_leaves(ctx, programs):
+def test_leaves_shadow_leaves(ctx, programs, output_dir):
     camera = Camera((0, 5.0, 9.0), (0, 5.0, 0), fov_y=50, near=0.1, far=80)
     lit_tree = one_tree(ctx, programs, shadows=False)
     tree = one_tree(ctx, programs)
     shadows = CascadedShadows(ctx, 512, shadow_far=40.0)
     lit = render(ctx, lit_tree, camera, parts=("leaves",))
     shaded = render(ctx, tree, camera, shadows=shadows, parts=("leaves",))
-    save(shaded, "trees_leaf_self_shadow")
+    save(shaded, "trees_leaf_self_shadow", output_dir)
     leaf = lit.sum(axis=2) > 0.02
     darker = (shaded.sum(axis=2) < 0.8 * lit.sum(axis=2)) & leaf
     assert 0.1 < darker.sum() / leaf.sum() < 0.85  # some leaves in the shade of others, not all
@@ -156,13 +181,13 @@ def test_leaves_shadow_leaves(ctx, programs):
 
 
 @pytest.mark.parametrize("species", ["oak", "fir", "poplar"])
-def test_single_tree_picture(ctx, programs, species):
+def test_single_tree_picture(ctx, programs, species, output_dir):
     tree = one_tree(ctx, programs, species)
     height = tree.models[next(iter(tree.models))].height
     camera = Camera((0, height * 0.45, height * 1.3), (0, height * 0.45, 0), fov_y=55, near=0.1, far=200)
     shadows = CascadedShadows(ctx, 512, shadow_far=60.0)
     image = render(ctx, tree, camera, shadows=shadows, background=(0.45, 0.6, 0.8))
-    save(image, f"trees_single_{species}")
+    save(image, f"trees_single_{species}", output_dir)
     sky = np.abs(image - np.array([0.45, 0.6, 0.8])).max(axis=2) < 0.01
     assert 0.05 < 1 - sky.mean() < 0.8  # the tree is there and fits the frame
     tree.release()
@@ -178,3 +203,35 @@ def test_wind_sways_the_crown_and_not_the_trunk_base(ctx, programs):
     rows = SIZE[1]
     assert moved[: rows // 2].mean() > 0.01  # leaves and upper branches move
     assert moved[-rows // 8:].mean() < 0.002  # the trunk's foot stays put
+
+
+def test_lod_cross_fade_has_no_pop_along_a_path(ctx, programs, output_dir):
+    """A tree passing through the LOD band in 20 steps (the band slid past it, so only the LOD
+    changes, not the view): no step between consecutive frames carries more than 40% of the whole
+    change from the near to the far LOD. The control, a band narrower than a step (a hard switch),
+    puts all of it into one step."""
+    tree = one_tree(ctx, programs, "oak", shadows=False, fins=False)
+    distance, band, steps = 50.0, 30.0, 20
+    camera = Camera((0, 6.0, distance), (0, 6.0, 0), fov_y=16, near=0.5, far=200)
+
+    def path(width: float) -> list[np.ndarray]:
+        frames = []
+        for k in range(steps + 1):
+            start = distance - k / steps * band + (band - width) / 2 * (width < band)
+            tree.settings = replace(tree.settings, lod_band=(start, start + width))
+            frames.append(render(ctx, tree, camera))
+        return frames
+
+    jumps = {}
+    for name, width in (("cross-fade", band), ("hard switch", 0.5)):
+        frames = path(width)
+        total = np.abs(frames[-1] - frames[0]).mean()
+        steps_taken = [np.abs(b - a).mean() / total for a, b in zip(frames, frames[1:])]
+        jumps[name] = max(steps_taken)
+        assert total > 1e-3, "the two LODs must look different"
+        if name == "cross-fade":
+            save(np.hstack([frames[0], frames[steps // 2], frames[-1]]), "trees_lod_path", output_dir)
+    tree.release()
+    print("largest step between frames, share of the whole LOD change:", {k: round(v, 3) for k, v in jumps.items()})
+    assert jumps["cross-fade"] < 0.4
+    assert jumps["hard switch"] > 0.9

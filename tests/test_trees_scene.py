@@ -4,10 +4,12 @@ import numpy as np
 from PIL import Image
 
 from cityshade.cli import main
-from cityshade.render import Daylight, Renderer, RenderSettings
+from cityshade.render import Daylight, Renderer, RenderSettings, parse_time
+from cityshade.render._godrays import god_ray_uniforms
 from cityshade.scene import Camera, City, box
 from cityshade.scene._city import GROUND_PAVEMENT
-from cityshade.trees import city_trees, park_scene
+from cityshade.trees import SCENE_TIME, city_trees, park_scene
+from render_checks import render_finite
 
 SIZE = (160, 120)
 
@@ -25,7 +27,7 @@ def test_a_tower_shades_the_ground_and_a_roof_on_its_far_side_from_the_sun(outpu
     for shadows in (True, False):
         renderer = Renderer(SIZE, RenderSettings(time_of_day=15.0, shadows=shadows, samples=0, god_rays=False))
         renderer.set_city(city)
-        shots[shadows] = renderer.render(camera).astype(float).sum(axis=2)
+        shots[shadows] = render_finite(renderer, camera).astype(float).sum(axis=2)
         renderer.release()
     Image.fromarray(np.clip(shots[True] / 3, 0, 255).astype(np.uint8)).save(output_dir / "trees_tower_shadow.png")
     view_projection = camera.view_projection(SIZE[0] / SIZE[1])
@@ -56,3 +58,25 @@ def test_render_scene_trees_from_the_cli(tmp_path, output_dir):
     image = np.asarray(Image.open(out))
     assert image.shape == (90, 160, 3) and image.std() > 10
     Image.fromarray(image).save(output_dir / "trees_scene_cli.png")
+
+
+def test_god_rays_brighten_toward_the_sun_only():
+    """SpeedTree §4.5: a radial blur of bright pixels around the sun adds light; nothing else changes
+    colour much. Rendered with and without, looking toward the low sun of the tree scene."""
+    city = park_scene()
+    camera = city.camera("park")
+    images = {}
+    for rays in (True, False):
+        renderer = Renderer(SIZE, RenderSettings(time_of_day=parse_time(SCENE_TIME), samples=0, god_rays=rays))
+        renderer.set_city(city)
+        images[rays] = render_finite(renderer, camera).astype(float).mean(axis=2)
+        renderer.release()
+    daylight, aspect = Daylight.at(parse_time(SCENE_TIME)), SIZE[0] / SIZE[1]
+    sun = god_ray_uniforms(camera.view_projection(aspect), camera.eye, daylight.sun_direction,
+                           daylight.sun_color)["u_sun_screen"]
+    added = images[True] - images[False]
+    y, x = np.mgrid[0:SIZE[1], 0:SIZE[0]]
+    near = np.hypot(x / SIZE[0] - sun[0], (1 - y / SIZE[1]) - sun[1]) < 0.25
+    print(f"god rays add {added[near].mean():.1f}/255 near the sun, {added[~near].mean():.1f}/255 elsewhere")
+    assert near.any() and added[near].mean() > 3 and added[near].mean() > 2 * added[~near].mean()
+    assert (added > -2).mean() > 0.99, "god rays only add light"

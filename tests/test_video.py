@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import imageio.v2 as imageio
 import numpy as np
 import pytest
@@ -36,3 +39,11 @@ def test_bad_path_name_writes_nothing(tmp_path):
     with pytest.raises(UsageError, match="unknown camera path 'zigzag'; allowed: orbit, walk, still"):
         render_video(tmp_path / "x.mp4", path="zigzag", frames=1)
     assert not list(tmp_path.iterdir())
+
+
+def test_zero_frames_is_one_line_exit_2_and_no_file(tmp_path):
+    out = tmp_path / "none.mp4"
+    result = subprocess.run([sys.executable, "-m", "cityshade", "video", "--frames", "0", "--out", str(out)],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert "frames and fps must be at least 1" in result.stderr and not out.exists()

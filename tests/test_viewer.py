@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from moderngl_window.context.base.keys import BaseKeys
 
 from cityshade.render import RenderSettings
-from cityshade.viewer import open_viewer
+from cityshade.viewer import KEY_NAMES, open_viewer
 
 
 @pytest.fixture(scope="module")
@@ -61,3 +62,84 @@ def test_mouse_drag_turns_the_view(viewer):
     yaw = viewer.fly.yaw
     viewer.on_mouse_drag_event(0, 0, 40, 0)
     assert viewer.fly.yaw != yaw
+
+
+@pytest.mark.parametrize("key, direction", [("S", "back"), ("A", "left"), ("D", "right"), ("Q", "down"), ("E", "up")])
+def test_every_movement_key_moves_its_way(viewer, key, direction):
+    viewer.fly.position = viewer.fly.position + np.array([0.0, 20.0, 0.0])  # room to go down
+    start, forward = viewer.fly.position.copy(), viewer.fly.forward
+    right = np.cross(forward, [0.0, 1.0, 0.0])
+    right /= np.linalg.norm(right)
+    viewer.press(key)
+    viewer.fly.move(("W" in viewer.held) - ("S" in viewer.held), ("D" in viewer.held) - ("A" in viewer.held),
+                    ("E" in viewer.held) - ("Q" in viewer.held), 0.1)
+    viewer.release(key)
+    moved = viewer.fly.position - start
+    axis = {"back": -forward, "left": -right, "right": right, "down": np.array([0.0, -1.0, 0.0]),
+            "up": np.array([0.0, 1.0, 0.0])}[direction]
+    assert np.dot(moved, axis) > 1.0 and np.linalg.norm(moved - axis * np.dot(moved, axis)) < 1e-6
+
+
+@pytest.mark.parametrize("key, setting", [("F", "furniture"), ("L", "lod"), ("C", "curtains"), ("P", "depth_prepass")])
+def test_toggle_keys_flip_their_setting_and_back(viewer, key, setting):
+    before = getattr(viewer.renderer.settings, setting)
+    viewer.press(key)
+    viewer.release(key)
+    assert getattr(viewer.renderer.settings, setting) is (not before)
+    viewer.press(key)
+    viewer.release(key)
+    assert getattr(viewer.renderer.settings, setting) is before
+
+
+def test_bracket_keys_step_the_lit_share_within_0_and_1(viewer):
+    viewer.renderer.set_settings(viewer.renderer.settings.with_(lights=0.1))
+    viewer.press("LEFT_BRACKET")
+    assert viewer.renderer.settings.lights == 0.0
+    viewer.press("LEFT_BRACKET")
+    assert viewer.renderer.settings.lights == 0.0, "never below 0"
+    for _ in range(12):
+        viewer.press("RIGHT_BRACKET")
+    assert viewer.renderer.settings.lights == 1.0, "never above 1"
+    assert "c=1.00" in viewer.status()
+
+
+def test_time_keys_move_the_sun_and_change_the_picture(viewer):
+    viewer.renderer.set_settings(viewer.renderer.settings.with_(time_of_day=12.0, lights=0.5))
+    noon = _frame(viewer)
+    for _ in range(24):  # six hours later: 18:00
+        viewer.press("T")
+    assert viewer.renderer.settings.time_of_day == pytest.approx(18.0) and "18:00" in viewer.status()
+    evening = _frame(viewer)
+    assert np.abs(noon.astype(int) - evening.astype(int)).mean() > 5, "the light changes with the hour"
+    viewer.press("G")
+    assert viewer.renderer.settings.time_of_day == pytest.approx(17.75)
+    viewer.renderer.set_settings(viewer.renderer.settings.with_(time_of_day=0.0))
+    viewer.press("G")
+    assert viewer.renderer.settings.time_of_day == pytest.approx(23.75), "the clock wraps around midnight"
+
+
+def test_window_key_events_reach_the_actions(viewer, monkeypatch):
+    """Keys arrive as the window backend's codes (here a table of distinct ones: the headless
+    backend has no keyboard); press and release map to the same actions."""
+    codes = {name: 100 + i for i, name in enumerate(KEY_NAMES + ("Z",))}
+    monkeypatch.setattr(viewer.wnd, "keys", type("Codes", (BaseKeys,), codes))
+    keys = viewer.wnd.keys
+    before = viewer.renderer.settings.curtains
+    viewer.on_key_event(keys.C, keys.ACTION_PRESS, None)
+    assert viewer.renderer.settings.curtains is (not before) and "C" in viewer.held
+    viewer.on_key_event(keys.C, keys.ACTION_RELEASE, None)
+    assert "C" not in viewer.held
+    viewer.on_key_event(keys.C, keys.ACTION_PRESS, None)
+    viewer.on_key_event(keys.C, keys.ACTION_RELEASE, None)
+    assert viewer.renderer.settings.curtains is before
+    viewer.on_key_event(keys.Z, keys.ACTION_PRESS, None)  # not bound: nothing happens
+    assert "Z" not in viewer.held
+
+
+def test_escape_closes_the_window():
+    v = open_viewer(settings=RenderSettings(samples=0), window="headless", size=(32, 24))
+    assert not v.wnd.is_closing
+    v.press("ESCAPE")
+    assert v.wnd.is_closing
+    v.renderer.release()
+    v.wnd.destroy()

@@ -3,12 +3,12 @@
 import numpy as np
 from PIL import Image
 
-from cityshade.gl import RenderTarget
+from cityshade.gl import FRAME_BLOCK, RenderTarget
 from cityshade.render._daylight import Daylight
 from cityshade.render._trees import TreePass, TreeSettings
 from cityshade.trees import tree_instances
+from render_checks import assert_finite
 
-OUTPUT = "tests/output"
 SIZE = (128, 128)
 
 
@@ -18,16 +18,18 @@ def one_tree(ctx, programs, species="oak", **settings):
     return TreePass(ctx, programs, trees, TreeSettings(**settings))
 
 
-def frame_uniforms(camera, daylight, aspect=1.0):
-    return dict(u_view_proj=camera.view_projection(aspect), u_camera=camera.eye, u_sun_dir=daylight.sun_direction,
-                u_sun_color=daylight.sun_color, u_sky_ambient=daylight.sky_ambient,
-                u_ground_ambient=daylight.ground_ambient)
+def write_frame_block(ctx, camera, daylight, time=0.0, aspect=1.0):
+    FRAME_BLOCK.write(ctx, u_inv_view_proj=np.linalg.inv(camera.view_projection(aspect)), u_camera=camera.eye,
+                      u_time=time, u_sun_dir=daylight.sun_direction, u_exposure=daylight.exposure,
+                      u_sun_color=daylight.sun_color, u_sky_ambient=daylight.sky_ambient,
+                      u_ground_ambient=daylight.ground_ambient)
 
 
 def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
            background=(0.0, 0.0, 0.0), fade=None, time=0.0):
     daylight = Daylight.at(16.0)
     tree_pass.prepare(camera.eye)
+    write_frame_block(ctx, camera, daylight, time)
     if fade is not None:  # only the near LOD, at this alpha
         for (species, lod), (buffer, count) in tree_pass.instances.items():
             data = np.frombuffer(buffer.read(), np.float32).reshape(-1, 8)[:count].copy()
@@ -40,9 +42,10 @@ def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fi
     out = RenderTarget(ctx, SIZE, (("f2", 4),))
     hdr.use()
     ctx.clear(*background, 1.0, depth=1.0)
-    tree_pass.draw(frame_uniforms(camera, daylight), camera.view(), shadows, time=time, parts=parts)
+    tree_pass.draw({"u_view_proj": camera.view_projection(1.0)}, camera.view(), shadows, parts=parts)
     ctx.copy_framebuffer(out.fbo, hdr.fbo)
     image = out.read()[..., :3].astype(np.float32)
+    assert_finite(image, "tree HDR colour")
     hdr.release()
     out.release()
     return image
@@ -55,5 +58,5 @@ def display(image):
     return (x * 255).astype(np.uint8)
 
 
-def save(image, name):
-    Image.fromarray(display(image)).save(f"{OUTPUT}/{name}.png")
+def save(image, name, output_dir):
+    Image.fromarray(display(image)).save(output_dir / f"{name}.png")

@@ -1,8 +1,10 @@
 """cityshade: real-time rendering of large virtual cities, facades, interiors, relief and trees per pixel."""
 
-from .api import render, render_city
+from . import shader_constants  # noqa: F401  (declares the constants every shader program gets)
+from . import render  # the package; calling it still renders, with a DeprecationWarning
+from .api import render_city, render_image
 from .render import Renderer, RenderSettings
 from .scene import Camera, City, make_city
 
-__all__ = ["render", "render_city", "Renderer", "RenderSettings", "Camera", "City", "make_city"]
+__all__ = ["render", "render_image", "render_city", "Renderer", "RenderSettings", "Camera", "City", "make_city"]
 __version__ = "0.1.0"

@@ -1,4 +1,4 @@
-"""The Python API: `cityshade.render(...)` and friends."""
+"""The Python API: `cityshade.render_image(...)` and `cityshade.render_city(...)`."""
 
 from __future__ import annotations
 
@@ -14,9 +14,11 @@ from .scene import City, make_city
 
 def render_city(city: str | City = "default", seed: int | None = None, camera: str = "street",
                 size: tuple[int, int] = (1280, 720), lights: float | None = None, time: str = "19:10",
-                interior_mapping: bool = True, frames: int = 3, **settings) -> tuple[np.ndarray, dict]:
+                interior_mapping: bool = True, frames: int = 3, profile: bool = False,
+                **settings) -> tuple[np.ndarray, dict]:
     """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame
-    (its median time over `frames` frames after a first one that compiles and uploads).
+    (its median time over `frames` frames after a first one that compiles and uploads). With
+    `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run.
     Bad arguments raise UsageError with the message the command line prints."""
     size, lights = check_size(size), check_lights(lights)
     seed = None if seed is None else check_seed(seed)
@@ -34,18 +36,21 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
     try:
         renderer.set_city(layout)
         image = renderer.render(view)  # the first frame compiles shaders and uploads: not timed
-        times = []
+        times, passes = [], {}
         for _ in range(frames):
-            image = renderer.render(view)
+            image = renderer.draw(view, profile=profile).read()[..., :3].copy()
             times.append(renderer.last_frame_seconds)
+            for name, seconds in renderer.last_pass_seconds.items():
+                passes.setdefault(name, []).append(seconds)
         info = {"frame_ms": statistics.median(times) * 1000 if times else float("nan"), "frames": frames,
                 "device": renderer.device, "buildings": len(layout.masses), "samples": renderer.samples,
-                "trees": len(renderer.trees.trees) if renderer.trees is not None else 0}
+                "trees": len(renderer.trees.trees) if renderer.trees is not None else 0,
+                "pass_ms": {name: statistics.median(s) * 1000 for name, s in passes.items()}}
     finally:
         renderer.release()
     return image, info
 
 
-def render(city: str | City = "default", **kwargs) -> np.ndarray:
+def render_image(city: str | City = "default", **kwargs) -> np.ndarray:
     """The city as an HxWx3 uint8 numpy array. Keywords as `render_city`."""
     return render_city(city, frames=0, **kwargs)[0]

@@ -11,10 +11,11 @@ from ._facade import facade_texture
 from ._rooms import FACES, ROOM_STYLES, room_textures
 from ._sky import cube_directions, environment_cubemap, sky_colour
 from ._sprites import SPRITE_KINDS, furniture_sprites
-from ._tiles import LABELS, TILE_INDEX, TILES, TileArray, tile_array
+from ._tiles import LABEL_COLOURS, LABELS, TILE_INDEX, TILES, TileArray, tile_array
 
 __all__ = [
     "FACES",
+    "LABEL_COLOURS",
     "LABELS",
     "ROOM_STYLES",
     "SPRITE_KINDS",

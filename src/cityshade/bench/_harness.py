@@ -1,7 +1,11 @@
-"""One benchmark harness: warm-up, median of many frames, side-by-side ratios, one output format.
+"""One benchmark harness: one timer, side-by-side ratios, one output format.
 
-Every benchmark returns a BenchResult; `write` prints its table beside the paper's figures and
-writes JSON, Markdown and (optionally) a PNG plot to the output folder.
+`time_interleaved` times every method of a comparison in one loop, taking turns frame by frame,
+so a change in the load of a shared machine falls on all of them alike; each point keeps every
+timed frame, and tables show the median and the interquartile range. Every benchmark returns a
+BenchResult that records how it timed (`timing`) and what each method ran with (`methods`);
+`write` prints its tables beside the paper's figures and writes JSON, Markdown and (optionally) a
+PNG plot to the output folder.
 """
 
 from __future__ import annotations
@@ -9,8 +13,12 @@ from __future__ import annotations
 import json
 import os
 import platform
+import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from rich.console import Console
 from rich.table import Table
@@ -18,10 +26,66 @@ from rich.table import Table
 from .._files import output_folder, write_text
 
 
+MIN_TIMED_FRAMES = 9  # per point, after warm-up: enough for a median and quartiles
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Seconds per frame of one method at one point: every timed frame."""
+
+    samples: tuple[float, ...]
+
+    @property
+    def median(self) -> float:
+        return float(np.median(self.samples))
+
+    @property
+    def iqr(self) -> float:
+        q1, q3 = np.percentile(self.samples, [25, 75])
+        return float(q3 - q1)
+
+    def ms(self) -> list[float]:
+        """[median, interquartile range] in milliseconds, for a table row."""
+        return [round(self.median * 1e3, 2), round(self.iqr * 1e3, 2)]
+
+
+def time_interleaved(ctx, draws: dict[str, Callable[[int], None]], frames: int, warmup: int = 1) -> dict[str, Timing]:
+    """Calls every draw(frame_index) `warmup` times, then `frames` timed times, the draws taking
+    turns frame by frame; each frame ends with ctx.finish() (GPU timer queries mean little on a
+    software rasteriser)."""
+    for i in range(warmup):
+        for draw in draws.values():
+            draw(i)
+    ctx.finish()
+    samples: dict[str, list[float]] = {name: [] for name in draws}
+    for k in range(frames):
+        for name, draw in draws.items():
+            start = time.perf_counter()
+            draw(warmup + k)
+            ctx.finish()
+            samples[name].append(time.perf_counter() - start)
+    return {name: Timing(tuple(values)) for name, values in samples.items()}
+
+
+def timing_record(frames: int, warmup: int = 1) -> dict:
+    """The `timing` entry of a result timed with time_interleaved."""
+    return {"samples_per_point": frames, "interleaved": True, "warmup_frames": warmup,
+            "statistic": "median; spread: interquartile range (q3 - q1)"}
+
+
+def method_record(*, cull_back_faces: bool, depth_prepass: bool, frustum_culling: bool, msaa: int,
+                  size: tuple[int, int], **more) -> dict:
+    """What one compared method ran with, for the result's `methods`."""
+    return {"cull_back_faces": cull_back_faces, "depth_prepass": depth_prepass, "frustum_culling": frustum_culling,
+            "msaa": int(msaa), "size": [int(size[0]), int(size[1])], **more}
+
+
 @dataclass
 class BenchResult:
     name: str
     device: str
+    timing: dict = field(default_factory=dict)   # timing_record(...)
+    methods: dict[str, dict] = field(default_factory=dict)  # method name -> method_record(...)
     tables: list[dict] = field(default_factory=list)  # {"title", "columns", "rows"}
     ratios: dict[str, float] = field(default_factory=dict)
     targets: dict[str, str] = field(default_factory=dict)  # ratio name -> target text, e.g. "<= 1.02"
@@ -36,6 +100,8 @@ class BenchResult:
             "benchmark": self.name,
             "device": self.device,
             "machine": {"platform": platform.platform(), "cpus": os.cpu_count()},
+            "timing": self.timing,
+            "methods": self.methods,
             "tables": self.tables,
             "ratios": self.ratios,
             "targets": self.targets,
@@ -44,7 +110,8 @@ class BenchResult:
         }
 
     def to_markdown(self) -> str:
-        out = [f"# bench {self.name}", "", f"Device: {self.device}", ""]
+        out = [f"# bench {self.name}", "", f"Device: {self.device}", "", f"Timing: {json.dumps(self.timing)}", "",
+               "## Methods", ""] + [f"- {name}: {json.dumps(record)}" for name, record in self.methods.items()] + [""]
         for table in self.tables:
             out += [f"## {table['title']}", "", "| " + " | ".join(table["columns"]) + " |",
                     "|" + "---|" * len(table["columns"])]
@@ -80,6 +147,9 @@ def write(result: BenchResult, out_dir: Path, json_path: Path | None = None, con
     console.print(ratios)
     for note in result.notes:
         console.print(f"- {note}")
+    console.print(f"timing: {json.dumps(result.timing)}")
+    for name, record in result.methods.items():
+        console.print(f"method {name}: {json.dumps(record)}")
     output_folder(out_dir).mkdir(parents=True, exist_ok=True)
     payload = json.dumps(result.to_json(), indent=2)
     write_text(out_dir / f"{result.name}.json", payload)

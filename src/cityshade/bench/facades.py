@@ -11,7 +11,6 @@ close-up; each by the forward (depth prepass) and the deferred path. Median fram
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 
 import numpy as np
@@ -21,10 +20,10 @@ from ..assets import tile_array
 from .._files import write_figure, write_png
 from ..gl import create_context, describe_context
 from ..grammar import compile_grammars, library_path, load, load_library
-from ..grammar._city_render import PATHS, FacadeCityRenderer
+from ..grammar import PATHS, FacadeCityRenderer
 from ..render import Renderer, RenderSettings
 from ..scene import Camera, box, make_city
-from ._harness import BenchResult
+from ._harness import BenchResult, Timing, method_record, time_interleaved, timing_record
 
 GRAMMARS = {"simple": "simple", "random": "fig12", "full": "dusk", "conditions": "conditions"}
 # Fig. 11: frames per second / ms per frame at 1024x768 on a GeForce GTX 470.
@@ -39,6 +38,7 @@ TARGETS = {"random_over_simple": "<= 1.1 (paper ~1.2)", "full_over_simple": "<= 
            "bytes_per_rule": "<= 16 (paper 18)", "deferred_over_forward": "report (< 1: deferred is faster)",
            "city_deferred_over_forward": "report (the city's default follows the faster)"}
 PITCH = 32.0
+CITY_SIZE = (640, 360)
 
 
 def city_masses(count: int, seed: int = 11):
@@ -65,23 +65,7 @@ def views(side: int) -> dict[str, Camera]:
     }
 
 
-def interleaved_ms(ctx, draws: dict, frames: int) -> dict[str, float]:
-    """Median ms per frame of each draw after one warm-up, the draws taking turns frame by frame so
-    that a change in the load of a shared machine falls on all of them alike."""
-    for draw in draws.values():
-        draw()  # warm-up: compiles, uploads
-    ctx.finish()
-    times: dict[str, list[float]] = {name: [] for name in draws}
-    for _ in range(frames):
-        for name, draw in draws.items():
-            start = time.perf_counter()
-            draw()
-            ctx.finish()
-            times[name].append(time.perf_counter() - start)
-    return {name: 1000.0 * float(np.median(t)) for name, t in times.items()}
-
-
-def city_frame_ms(ctx, size, frames: int) -> dict[str, float]:
+def city_frame_ms(ctx, size, frames: int) -> dict[str, Timing]:
     """The whole frame of the default city with the grammar facades forward or deferred."""
     city = make_city("default")
     camera = city.camera("street")
@@ -89,7 +73,7 @@ def city_frame_ms(ctx, size, frames: int) -> dict[str, float]:
     for renderer in renderers.values():
         renderer.set_city(city)
     try:
-        return interleaved_ms(ctx, {p: (lambda r=r: r.draw(camera)) for p, r in renderers.items()}, frames)
+        return time_interleaved(ctx, {p: (lambda i, r=r: r.draw(camera)) for p, r in renderers.items()}, frames)
     finally:
         for renderer in renderers.values():
             renderer.release()
@@ -110,34 +94,46 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     ctx = create_context()
     count = 2_000 if quick else 20_000
     size = (512, 384) if quick else (1024, 768)
-    frames = 3 if quick else 5
+    frames = 9 if quick else 11
     masses, side = city_masses(count)
     grammars = {name: load(library_path(f"{file}.grammar")) for name, file in GRAMMARS.items()}
     compiled = compile_grammars(grammars)
     renderer = FacadeCityRenderer(ctx, masses, compiled, tile_array(128), size)
     cameras = views(side)
     ms: dict[tuple[str, str, str], float] = {}
+    iqr: dict[tuple[str, str, str], float] = {}
     try:
         for view, camera in cameras.items():
             for grammar in GRAMMARS:
                 renderer.set_grammar(compiled.address(grammar))
-                timed = interleaved_ms(ctx, {path: (lambda p=path: renderer.draw(camera, p)) for path in PATHS}, frames)
+                timed = time_interleaved(ctx, {path: (lambda i, p=path: renderer.draw(camera, p)) for path in PATHS},
+                                         frames)
                 for path, value in timed.items():
-                    ms[(view, grammar, path)] = value
+                    ms[(view, grammar, path)], iqr[(view, grammar, path)] = value.ms()
                 _save(renderer, out_dir / f"facades_{view}_{grammar}.png")
     finally:
         renderer.release()
 
-    city_ms = city_frame_ms(ctx, (640, 360), frames)
-    result = BenchResult("facades", describe_context(ctx))
+    city_ms = city_frame_ms(ctx, CITY_SIZE, frames)
+    result = BenchResult("facades", describe_context(ctx), timing=timing_record(frames))
+    for path in PATHS:
+        result.methods[f"fig. 11 {path}"] = method_record(
+            cull_back_faces=False, depth_prepass=path == "forward", frustum_culling=False, msaa=0, size=size,
+            note="forward: depth prepass, then the grammar where the depth test passes; deferred: G-buffer, grammar "
+                 "once per pixel")
+        result.methods[f"city frame, grammar {path}"] = method_record(
+            cull_back_faces=False, depth_prepass=True, frustum_culling=True, msaa=RenderSettings().samples,
+            size=CITY_SIZE, grammar_deferred=path == "deferred")
     rows = []
     for view in cameras:
         for grammar in GRAMMARS:
             fps, paper_ms = PAPER_FIG11[view].get(grammar, ("-", "-"))  # the paper has no conditions
             fwd, dfr = ms[(view, grammar, "forward")], ms[(view, grammar, "deferred")]
-            rows.append([view, grammar, round(fwd, 1), round(dfr, 1), round(dfr / fwd, 3), paper_ms, fps])
+            rows.append([view, grammar, fwd, iqr[(view, grammar, "forward")], dfr, iqr[(view, grammar, "deferred")],
+                         round(dfr / fwd, 3), paper_ms, fps])
     result.add_table(f"Fig. 11: ms per frame, {count} buildings at {size[0]}x{size[1]} (paper: GTX 470, 1024x768)",
-                     ["view", "grammar", "forward ms", "deferred ms", "deferred/forward", "paper ms", "paper fps"],
+                     ["view", "grammar", "forward ms", "forward IQR ms", "deferred ms", "deferred IQR ms",
+                      "deferred/forward", "paper ms", "paper fps"],
                      rows)
     best = {key[:2]: min(ms[(*key[:2], p)] for p in PATHS) for key in ms}
 
@@ -145,7 +141,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         return _geomean([best[(v, grammar)] / best[(v, "simple")] for v in cameras])
 
     result.add_table("The city's frame (default city, street camera, 640x360, interiors on): grammar facades "
-                     "by path", ["path", "ms per frame"], [[p, round(v, 1)] for p, v in city_ms.items()])
+                     "by path", ["path", "ms per frame", "IQR ms"], [[p, *v.ms()] for p, v in city_ms.items()])
     rules, nbytes, per_rule = library_bytes_per_rule()
     result.add_table("§6: grammar texture of the whole library", ["", "rules", "bytes", "bytes per rule"],
                      [["ours", rules, nbytes, round(per_rule, 2)],
@@ -157,7 +153,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         "bytes_per_rule": round(per_rule, 2),
         "deferred_over_forward": round(_geomean([ms[(v, g, "deferred")] / ms[(v, g, "forward")]
                                                  for v in cameras for g in GRAMMARS]), 3),
-        "city_deferred_over_forward": round(city_ms["deferred"] / city_ms["forward"], 3),
+        "city_deferred_over_forward": round(city_ms["deferred"].median / city_ms["forward"].median, 3),
     }
     result.targets = dict(TARGETS)
     faster = "deferred" if result.ratios["deferred_over_forward"] < 1 else "forward"
@@ -166,8 +162,8 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         f"The faster path on this device: {faster} (deferred/forward = {result.ratios['deferred_over_forward']}).",
         "The paper's bytes count the 330 rules of fig. 10's grammar; ours count every rule written in the library "
         "files (rules reused through namespaces share texels and are counted once).",
-        f"Frame times are medians of {frames} frames after one warm-up, with ctx.finish(); the two paths "
-        "take turns frame by frame.",
+        f"Frame times are medians (and interquartile ranges) of {frames} frames after one warm-up, with "
+        "ctx.finish(); the two paths take turns frame by frame.",
     ]
     result.plots.append(str(_plot(ms, cameras, out_dir)))
     return result

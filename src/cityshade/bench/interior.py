@@ -7,15 +7,16 @@
 (d) §3.2 rooms per building from 1,000 to 4,000,000 (same masses, smaller rooms);
 (e) §3.2 interior mapping against reflective-only windows.
 
-Every comparison alternates its variants frame by frame in one run, so load on the machine hits
-them alike; times are medians (ctx.finish() after each frame). All variants draw at the same
-size without MSAA, with the paper's interior version (four textures, no furniture, no distance
-LOD) and without shadows, trees and god rays, which the paper's scenes did not have.
+Every comparison alternates its variants frame by frame in one run (the harness's
+time_interleaved), so load on the machine hits them alike; times are medians with their
+interquartile range. All variants draw at the same size without MSAA, with the paper's interior
+version (four textures, no furniture, no distance LOD) and without shadows, trees and god rays,
+which the paper's scenes did not have. The polygonised baseline culls back faces and has its own
+depth prepass for the rooms (render/_frame.py); the result's `methods` records both.
 """
 
 from __future__ import annotations
 
-import statistics
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -23,10 +24,9 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._files import write_figure, write_png
-from ..gl import FrameTimer
 from ..render import Renderer, RenderSettings
 from ..scene import Camera, City, grid_city
-from ._harness import BenchResult
+from ._harness import MIN_TIMED_FRAMES, BenchResult, Timing, method_record, time_interleaved, timing_record
 
 SETTINGS = RenderSettings(samples=0, furniture=False, curtains=False, lod=False, shadows=False, trees=False,
                           god_rays=False, grammar_deferred=False)
@@ -50,17 +50,26 @@ def frames_in(seconds_per_frame: float) -> float:
     return PAPER_SECONDS / seconds_per_frame
 
 
-def interleaved(ctx, draws: dict, rounds: int, warmup: int = 1) -> dict[str, float]:
-    """Median seconds per frame of each draw(), the variants taking turns frame by frame."""
-    timers = {name: FrameTimer(ctx, warmup=warmup, frames=1) for name in draws}
-    times: dict[str, list[float]] = {name: [] for name in draws}
-    for k in range(rounds):
-        for name, draw in draws.items():
-            timer = timers[name]
-            timer.warmup = warmup if k == 0 else 0
-            timer.run(lambda i: draw())
-            times[name] += timer.times
-    return {name: statistics.median(t) for name, t in times.items()}
+def method(settings: RenderSettings, size) -> dict:
+    """What a variant runs with: the polygonised path culls back faces (render/_frame.py), interior
+    mapping draws them without (its depth prepass rejects back faces before shading); both are culled
+    by chunk against the frustum."""
+    return method_record(cull_back_faces=settings.polygonised_interiors, depth_prepass=settings.depth_prepass,
+                         frustum_culling=True, msaa=settings.samples, size=size,
+                         interior=("polygonised" if settings.polygonised_interiors else
+                                   "interior mapping" if settings.interior_mapping else "reflective only"),
+                         furniture=settings.furniture and settings.interior_mapping,
+                         room_texture_size=settings.room_texture_size)
+
+
+def timed(renderer: Renderer, camera: Camera, variants: dict[str, RenderSettings], frames: int) -> dict[str, Timing]:
+    """The variants' frames on one renderer, taking turns frame by frame."""
+
+    def draw(settings):
+        renderer.set_settings(settings)
+        renderer.draw(camera)
+
+    return time_interleaved(renderer.ctx, {k: (lambda i, s=s: draw(s)) for k, s in variants.items()}, frames)
 
 
 def _renderer_for(base: Renderer, settings: RenderSettings, city: City) -> Renderer:
@@ -103,20 +112,14 @@ def _fig9(result: BenchResult, renderer: Renderer, rounds: int, counts) -> dict[
     for n in counts:
         city = grid_city(n)
         renderer.set_city(city)
-        camera = overview_camera(city)
-
-        def draw(settings):
-            renderer.set_settings(settings)
-            renderer.draw(camera)
-
-        t = interleaved(renderer.ctx, {"im": lambda: draw(im), "poly": lambda: draw(poly)}, rounds)
-        times[n] = t
+        timing = timed(renderer, overview_camera(city), {"im": im, "poly": poly}, rounds)
+        t = times[n] = {k: v.median for k, v in timing.items()}
         im_triangles = renderer.city.building_vertex_count // 3
-        rows.append([n, round(t["im"] * 1e3, 2), round(t["poly"] * 1e3, 2), round(frames_in(t["im"])),
+        rows.append([n, *timing["im"].ms(), *timing["poly"].ms(), round(frames_in(t["im"])),
                      round(frames_in(t["poly"])), round(t["poly"] / t["im"], 2),
                      im_triangles, im_triangles + renderer.city.polygonised().triangle_count, 10 * n, 158 * n])
     result.add_table("(a) fig. 9: buildings vs frame time, interior mapping (IM) vs polygonised interiors (P)",
-                     ["buildings", "IM ms", "P ms", "IM frames/5 s", "P frames/5 s", "P / IM time",
+                     ["buildings", "IM ms", "IM IQR ms", "P ms", "P IQR ms", "IM frames/5 s", "P frames/5 s", "P / IM time",
                       "IM triangles", "P triangles", "paper IM polys", "paper P polys"], rows)
     for n in (10, 1000):
         if n in times:
@@ -150,31 +153,28 @@ def _prepass(result: BenchResult, renderer: Renderer, rounds: int, angles, build
     on, off = SETTINGS, SETTINGS.with_(depth_prepass=False)
     rows, sums = [], {"on": 0.0, "off": 0.0}
     for angle in angles:
-        camera = orbit.orbit(angle)
-
-        def draw(settings):
-            renderer.set_settings(settings)
-            renderer.draw(camera)
-
-        t = interleaved(renderer.ctx, {"off": lambda: draw(off), "on": lambda: draw(on)}, rounds)
+        timing = timed(renderer, orbit.orbit(angle), {"off": off, "on": on}, rounds)
+        t = {k: v.median for k, v in timing.items()}
         sums["on"] += t["on"]
         sums["off"] += t["off"]
-        rows.append([angle, round(t["off"] * 1e3, 2), round(t["on"] * 1e3, 2), round(t["off"] / t["on"], 2)])
+        rows.append([angle, *timing["off"].ms(), *timing["on"].ms(), round(t["off"] / t["on"], 2)])
     speedup = sums["off"] / sums["on"]
-    rows.append(["sum", round(sums["off"] * 1e3, 2), round(sums["on"] * 1e3, 2), round(speedup, 2)])
-    rows.append(["paper (frames/5 s)", PAPER["zcull_off"], PAPER["zcull_on"], round(PAPER["zcull_on"] / PAPER["zcull_off"], 2)])
+    rows.append(["sum", round(sums["off"] * 1e3, 2), "", round(sums["on"] * 1e3, 2), "", round(speedup, 2)])
+    rows.append(["paper (frames/5 s)", PAPER["zcull_off"], "", PAPER["zcull_on"], "",
+                 round(PAPER["zcull_on"] / PAPER["zcull_off"], 2)])
     result.add_table(f"(b) z-cull: depth prepass off vs on, camera orbiting a grid of {buildings} buildings",
-                     ["orbit angle", "off ms", "on ms", "speed-up"], rows)
+                     ["orbit angle", "off ms", "off IQR ms", "on ms", "on IQR ms", "speed-up"], rows)
     result.ratios["prepass_speedup"] = speedup
 
 
 def _textures(result: BenchResult, base: Renderer, city: City, camera: Camera, rounds: int):
     renderers = {size: _renderer_for(base, SETTINGS.with_(room_texture_size=size), city) for size in TEXTURE_SIZES}
-    t = interleaved(base.ctx, {size: (lambda r=r: r.draw(camera)) for size, r in renderers.items()}, rounds)
-    rows = [[size, round(t[size] * 1e3, 2), round(frames_in(t[size])), round(t[256] / t[size], 3),
+    timing = time_interleaved(base.ctx, {size: (lambda i, r=r: r.draw(camera)) for size, r in renderers.items()}, rounds)
+    t = {k: v.median for k, v in timing.items()}
+    rows = [[size, *timing[size].ms(), round(frames_in(t[size])), round(t[256] / t[size], 3),
              PAPER["textures"][size], round(PAPER["textures"][size] / PAPER["textures"][256], 3)] for size in TEXTURE_SIZES]
     result.add_table("(c) room texture resolution (four textures)",
-                     ["texels", "ms", "frames/5 s", "speed vs 256", "paper frames/5 s", "paper speed vs 256"], rows)
+                     ["texels", "ms", "IQR ms", "frames/5 s", "speed vs 256", "paper frames/5 s", "paper speed vs 256"], rows)
     result.ratios["texture16_speedup"] = t[256] / t[16]
     for r in renderers.values():
         r.release()
@@ -185,11 +185,12 @@ def _rooms_table(result: BenchResult, base: Renderer, city: City, camera: Camera
     for rooms in counts:
         scaled = scaled_rooms(city, rooms)
         renderers[_rooms(scaled)] = _renderer_for(base, SETTINGS, scaled)
-    t = interleaved(base.ctx, {k: (lambda r=r: r.draw(camera)) for k, r in renderers.items()}, rounds)
+    timing = time_interleaved(base.ctx, {k: (lambda i, r=r: r.draw(camera)) for k, r in renderers.items()}, rounds)
+    t = {k: v.median for k, v in timing.items()}
     first, last = min(t), max(t)
-    rows = [[rooms, round(t[rooms] * 1e3, 2), round(frames_in(t[rooms])), round(t[rooms] / t[first], 3)] for rooms in t]
+    rows = [[rooms, *timing[rooms].ms(), round(frames_in(t[rooms])), round(t[rooms] / t[first], 3)] for rooms in t]
     result.add_table("(d) rooms per building (paper: no change from 1,000 to 4,000,000)",
-                     ["rooms per building", "ms", "frames/5 s", f"time / {first} rooms"], rows)
+                     ["rooms per building", "ms", "IQR ms", "frames/5 s", f"time / {first} rooms"], rows)
     result.ratios["rooms_4m_over_1k"] = t[last] / t[first]
     for r in renderers.values():
         r.release()
@@ -197,25 +198,23 @@ def _rooms_table(result: BenchResult, base: Renderer, city: City, camera: Camera
 
 def _reflective(result: BenchResult, renderer: Renderer, city: City, camera: Camera, rounds: int):
     renderer.set_city(city)
-    variants = {"reflective-only windows": SETTINGS.with_(interior_mapping=False),
-                "interior mapping (paper's version)": SETTINGS,
-                "interior mapping, furniture + curtains": SETTINGS.with_(furniture=True, curtains=True),
-                "polygonised interiors": SETTINGS.with_(polygonised_interiors=True)}
-
-    def draw(settings):
-        renderer.set_settings(settings)
-        renderer.draw(camera)
-
-    t = interleaved(renderer.ctx, {k: (lambda s=s: draw(s)) for k, s in variants.items()}, rounds)
+    timing = timed(renderer, camera, VARIANTS, rounds)
+    t = {k: v.median for k, v in timing.items()}
     base = t["reflective-only windows"]
     paper = {"reflective-only windows": PAPER["reflective"], "interior mapping (paper's version)": PAPER["interior_mapping"]}
-    rows = [[k, round(v * 1e3, 2), round(frames_in(v)), round(v / base, 2), paper.get(k, ""),
+    rows = [[k, *timing[k].ms(), round(frames_in(v)), round(v / base, 2), paper.get(k, ""),
              round(PAPER["reflective"] / paper[k], 2) if k in paper else ""] for k, v in t.items()]
     result.add_table("(e) cost of interior mapping against reflective-only windows (street view)",
-                     ["windows", "ms", "frames/5 s", "time / reflective", "paper frames/5 s", "paper time / reflective"],
+                     ["windows", "ms", "IQR ms", "frames/5 s", "time / reflective", "paper frames/5 s", "paper time / reflective"],
                      rows)
     result.ratios["im_over_reflective"] = t["interior mapping (paper's version)"] / base
     renderer.set_settings(SETTINGS)
+
+
+VARIANTS = {"reflective-only windows": SETTINGS.with_(interior_mapping=False),
+            "interior mapping (paper's version)": SETTINGS,
+            "interior mapping, furniture + curtains": SETTINGS.with_(furniture=True, curtains=True),
+            "polygonised interiors": SETTINGS.with_(polygonised_interiors=True)}
 
 
 def comparison_picture(renderer: Renderer, city: City, camera: Camera) -> np.ndarray:
@@ -248,8 +247,8 @@ class Plan:
     room_counts: tuple[int, ...]
 
 
-FULL = Plan((1024, 768), 7, BUILDING_COUNTS, tuple(range(0, 360, 45)), 100, 36, ROOM_COUNTS)
-QUICK = Plan((320, 240), 3, BUILDING_COUNTS, (0, 90, 180, 270), 64, 16, (ROOM_COUNTS[0], ROOM_COUNTS[-1]))
+FULL = Plan((1024, 768), 11, BUILDING_COUNTS, tuple(range(0, 360, 45)), 100, 36, ROOM_COUNTS)
+QUICK = Plan((320, 240), MIN_TIMED_FRAMES, BUILDING_COUNTS, (0, 90, 180, 270), 64, 16, (ROOM_COUNTS[0], ROOM_COUNTS[-1]))
 
 
 def run(quick: bool, out_dir: Path) -> BenchResult:
@@ -258,7 +257,9 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
 
 def run_plan(plan: Plan, out_dir: Path) -> BenchResult:
     renderer = Renderer(plan.size, SETTINGS)
-    result = BenchResult("interior", renderer.device, targets=dict(TARGETS))
+    result = BenchResult("interior", renderer.device, targets=dict(TARGETS), timing=timing_record(plan.rounds))
+    result.methods = {name: method(settings, plan.size) for name, settings in
+                      {**VARIANTS, "interior mapping without prepass": SETTINGS.with_(depth_prepass=False)}.items()}
     out_dir.mkdir(parents=True, exist_ok=True)
     picture = comparison_picture(renderer, grid_city(4), comparison_camera())
     path = out_dir / "interior_vs_polygonised.png"
@@ -274,13 +275,14 @@ def run_plan(plan: Plan, out_dir: Path) -> BenchResult:
     _rooms_table(result, renderer, street, camera, plan.rounds, plan.room_counts)
     _reflective(result, renderer, street, camera, plan.rounds)
     result.notes += [
-        f"{plan.size[0]}x{plan.size[1]}, no MSAA, median of {plan.rounds} frames per variant, variants alternating "
-        "frame by frame.",
+        f"{plan.size[0]}x{plan.size[1]}, no MSAA, median (and interquartile range) of {plan.rounds} frames per "
+        "variant after one warm-up frame, variants alternating frame by frame.",
         "Paper: frames rendered in 5 s at 1024x768 on a GeForce 6600GT; ours: 5 s / median frame time.",
         "Polygonised interiors: per building one floor and one ceiling quad per storey and a full-height quad on "
         "each side of every room wall line; exteriors drawn first with the glass cut out, then floors, ceilings, "
-        "walls, then the glass's reflection blended: five draw calls for the whole city, frustum-culled in the "
-        "same chunks as interior mapping.",
+        "walls (after a depth-only pass of the same three layers), then the glass's reflection blended; back "
+        "faces culled throughout, frustum-culled in the same chunks as interior mapping; its fragments find their "
+        "room as the cell of the regular room grid (no wall search).",
         "Interior mapping as in the paper's tests: four textures, no furniture or curtains, no distance LOD.",
     ]
     renderer.release()

@@ -2,7 +2,10 @@
 
 Table 1: KB per map (D, M, A) of the four test facades, uncompressed, zlib and lzma (standing in
 for WinRAR), SVD and BMF. Table 2: frame time of the six renderers per facade. Table 3: a
-fly-over of a city of boxes with BCFDM facades against the same relief as instanced triangles.
+fly-over of a city of boxes with BCFDM facades against the same relief as instanced triangles
+(wound consistently and drawn with back faces culled); both draw only the buildings of the
+chunks inside the view frustum. Renderers compared with each other are timed frame by frame in
+turn (the harness's time_interleaved); the result's `methods` records what each ran with.
 """
 
 from __future__ import annotations
@@ -11,17 +14,19 @@ import lzma
 import math
 import time
 import zlib
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from .._files import write_figure
-from ..gl import FrameTimer, ProgramCache, RenderTarget, create_context, describe_context
+from ..gl import ProgramCache, RenderTarget, create_context, describe_context
 from ..relief import (FRAME_DTYPE, MAP_NAMES, PAPER_FACADES, RENDERERS, FacadeView, GpuFacade, MeshFacade, compress,
                       detail_matrices, draw_facades, facade_camera, paper_facade, slab_faces, trace_view)
+from ..render import boxes_visible, frustum_planes
 from ..scene import Camera
-from ._harness import BenchResult
+from ._harness import BenchResult, method_record, time_interleaved, timing_record
 
 # Paper Table 1 (KB): NOCOMP, WINRAR, SVD, BIN for heightfield, material, acceleration, total.
 PAPER_TABLE1 = {
@@ -37,6 +42,7 @@ PAPER_TABLE2 = {"rm": (443, 94, 360, 209), "fdm": (730, 387, 712, 369), "crm": (
 PAPER_TABLE3 = {"1600x1200": (21.5, 0.5), "1200x900": (30.2, 0.6), "800x600": (46, 0.6)}
 PAPER_MEMORY_GB = {"uncompressed": (138, 23.93), "compressed": (1.62, None)}
 
+FRAMES = {True: 9, False: 11}  # timed frames per point, --quick or not
 TARGETS = {"bmf_over_svd_size": "<= 0.35", "fdm_speed_over_rm": ">= 2", "bcfdm_speed_over_crm": ">= 4",
            "geometry_over_bcfdm_time": ">= 40", "fdm_mismatch_fraction": "== 0 (edges only)",
            "f2_bmf_factorisation_s": "< 10"}
@@ -96,26 +102,36 @@ def _orbit_camera(maps, frame: int, frames: int) -> Camera:
 
 def _table2(result: BenchResult, ctx, programs, facades: dict, quick: bool) -> dict:
     size = (320, 240) if quick else (1600, 1200)
-    frames = 3 if quick else 10
+    frames = FRAMES[quick]
     view = FacadeView(ctx, size, programs)
     times: dict[str, dict[str, float]] = {r: {} for r in [*RENDERERS, "bcfdm (mod 37)"]}
+    spreads: dict[str, dict[str, float]] = {r: {} for r in times}
     for name, (maps, compressed) in facades.items():
         gpu = GpuFacade(ctx, maps, compressed)
-        for renderer in times:
+
+        def draw(renderer: str) -> Callable[[int], None]:
             base, mod37 = renderer.split(" ")[0], renderer.endswith("(mod 37)")
-            timer = FrameTimer(ctx, warmup=1, frames=frames)
-            times[renderer][name] = timer.run(
-                lambda i: view.draw(gpu, _orbit_camera(maps, i, frames), base, lsb_mod37=mod37))
+            return lambda i: view.draw(gpu, _orbit_camera(maps, i, frames), base, lsb_mod37=mod37)
+
+        timing = time_interleaved(ctx, {renderer: draw(renderer) for renderer in times}, frames)
+        for renderer, t in timing.items():
+            times[renderer][name], spreads[renderer][name] = t.median, t.iqr
         gpu.release()
     view.release()
+    for renderer in times:
+        result.methods[f"table 2 {renderer}"] = method_record(
+            cull_back_faces=True, depth_prepass=False, frustum_culling=False, msaa=0, size=size,
+            note="one facade in view; the traced volume's faces facing away from the eye are dropped")
     names = list(facades)
     rows = []
     for renderer, per in times.items():
         paper = PAPER_TABLE2.get(renderer.split(" ")[0]) if " " not in renderer else None
-        rows.append([renderer.upper()] + [round(per[n] * 1000, 2) for n in names] + [round(1 / per[n], 1) for n in names]
+        rows.append([renderer.upper()] + [round(per[n] * 1000, 2) for n in names]
+                    + [round(spreads[renderer][n] * 1000, 2) for n in names] + [round(1 / per[n], 1) for n in names]
                     + (list(paper) if paper else ["", "", "", ""]))
     result.add_table(f"Table 2: ms per frame at {size[0]}x{size[1]} (ours), fps (ours; paper F1-F4 fps at 1600x1200)",
-                     ["renderer"] + [f"{n} ms" for n in names] + [f"{n} fps" for n in names]
+                     ["renderer"] + [f"{n} ms" for n in names] + [f"{n} IQR ms" for n in names]
+                     + [f"{n} fps" for n in names]
                      + [f"paper {n} fps" for n in ("F1", "F2", "F3", "F4")], rows)
 
     def gmean(a, b):
@@ -125,7 +141,8 @@ def _table2(result: BenchResult, ctx, programs, facades: dict, quick: bool) -> d
     result.ratios["bcfdm_speed_over_crm"] = gmean("crm", "bcfdm")
     result.ratios["bcfdm_findlsb_speed_over_mod37"] = gmean("bcfdm (mod 37)", "bcfdm")
     result.notes.append("Table 2 ratios are geometric means over the four facades of per-facade time ratios; the camera "
-                        f"orbits the facade (azimuth -35..35 degrees) over {frames} frames, median frame time.")
+                        f"orbits the facade (azimuth -35..35 degrees) over {frames} frames, the seven renderers taking "
+                        "turns frame by frame; median frame time and interquartile range.")
     return times
 
 
@@ -173,7 +190,28 @@ def city_frames(count: int, width: float, spacing: float) -> np.ndarray:
     return frames.reshape(-1)
 
 
-def _flyover_camera(extent: float, frame: int) -> Camera:
+class CityChunks:
+    """The fly-over city's buildings grouped into square chunks of `side` x `side` buildings, each
+    with its bounding box, so a frame draws only the facades of the chunks inside the frustum."""
+
+    def __init__(self, count: int, width: float, spacing: float, height: float, side: int = 8):
+        grid = math.ceil(math.sqrt(count))
+        gx, gz = np.divmod(np.arange(count), grid)
+        key = (gx // side) * grid + gz // side
+        self.facades = [np.flatnonzero(np.repeat(key == k, 4)) for k in np.unique(key)]
+        members = [np.flatnonzero(key == k) for k in np.unique(key)]
+        margin = 2.0  # metres: relief and rounding stay inside the box
+        self.lo = np.array([[gx[m].min() * spacing - margin, 0.0, gz[m].min() * spacing - margin] for m in members])
+        self.hi = np.array([[gx[m].max() * spacing + width + margin, height + margin, gz[m].max() * spacing + width + margin]
+                            for m in members])
+
+    def visible(self, frames: np.ndarray, view_projection: np.ndarray) -> np.ndarray:
+        keep = boxes_visible(frustum_planes(view_projection), self.lo, self.hi)
+        chosen = [f for f, k in zip(self.facades, keep) if k]
+        return frames[np.concatenate(chosen)] if chosen else frames[:0]
+
+
+def flyover_camera(extent: float, frame: int) -> Camera:
     t = 0.15 + 0.05 * frame
     eye = np.array([t * extent, 70.0, t * extent])
     return Camera(tuple(eye), tuple(eye + np.array([60.0, -40.0, 60.0])), fov_y=60.0, near=1.0, far=4000.0)
@@ -192,26 +230,42 @@ def _table3(result: BenchResult, ctx, programs, facades: dict, quick: bool):
     quad = slab_faces(maps.shape[1], maps.shape[0], gpu.slab_depth, sides=False)
     aspect = size[0] / size[1]
 
+    chunks = CityChunks(buildings, width, width + 8.0, height)
+    drawn = []
+
+    def visible(camera: Camera) -> np.ndarray:
+        shown = chunks.visible(frames, camera.view_projection(aspect))
+        drawn.append(len(shown))
+        return shown
+
     def draw_relief(i):
         target.use()
         ctx.clear(0.5, 0.6, 0.7, 1.0, depth=1.0)
-        camera = _flyover_camera(extent, i)
+        camera = flyover_camera(extent, i)
+        shown = visible(camera)
         ctx.depth_func = "<"
-        draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, frames, aspect, depth_only=True)
+        draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, shown, aspect, depth_only=True)
         ctx.depth_func = "<="  # the prepass leaves only the visible facade's fragments to trace
         target.fbo.depth_mask = False
-        draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, frames, aspect, after_prepass=True)
+        draw_facades(ctx, programs, gpu, camera, "bcfdm", quad, shown, aspect, after_prepass=True)
         target.fbo.depth_mask = True
         ctx.depth_func = "<"
 
     def draw_mesh(i):
         target.use()
         ctx.clear(0.5, 0.6, 0.7, 1.0, depth=1.0)
-        mesh.draw(ctx, programs, _flyover_camera(extent, i), frames, aspect)
+        camera = flyover_camera(extent, i)
+        mesh.draw(ctx, programs, camera, visible(camera), aspect)
 
-    n = 2 if quick else 3
-    t_relief = FrameTimer(ctx, warmup=1, frames=n).run(draw_relief)
-    t_mesh = FrameTimer(ctx, warmup=1, frames=n).run(draw_mesh)
+    n = FRAMES[quick]
+    timing = time_interleaved(ctx, {"bcfdm": draw_relief, "geometry": draw_mesh}, n)
+    t_relief, t_mesh = timing["bcfdm"].median, timing["geometry"].median
+    result.methods["table 3 bcfdm"] = method_record(
+        cull_back_faces=True, depth_prepass=True, frustum_culling=True, msaa=0, size=size,
+        note="facade quads; the traced volume's faces facing away from the eye are dropped")
+    result.methods["table 3 geometry"] = method_record(
+        cull_back_faces=True, depth_prepass=False, frustum_culling=True, msaa=0, size=size,
+        note="instanced triangles, wound counter-clockwise seen from outside; drawn once with the depth test")
     facades_n = len(frames)
     bcfdm_bytes = sum(compressed["bmf"].nbytes().values()) + frames.nbytes + quad.nbytes
     mesh_bytes = mesh.nbytes + frames.nbytes
@@ -221,8 +275,10 @@ def _table3(result: BenchResult, ctx, programs, facades: dict, quick: bool):
         f"Table 3: fly-over of {buildings} buildings ({facades_n} facades) at {size[0]}x{size[1]}",
         ["", "BCFDM", "geometry (instanced)", "paper ours", "paper geometry"],
         [["ms per frame", round(t_relief * 1000, 1), round(t_mesh * 1000, 1), "", ""],
+         ["IQR ms", round(timing["bcfdm"].iqr * 1000, 1), round(timing["geometry"].iqr * 1000, 1), "", ""],
+         ["facades drawn per frame (mean; chunks in the frustum)", *[round(float(np.mean(drawn)))] * 2, "", ""],
          ["fps", round(1 / t_relief, 2), round(1 / t_mesh, 2), *PAPER_TABLE3["800x600"]],
-         ["triangles per frame", 2 * facades_n, mesh.triangles * facades_n, "", "180 million"],
+         ["triangles in the city", 2 * facades_n, mesh.triangles * facades_n, "", "180 million"],
          ["GPU memory, shared facade (MB)", round(bcfdm_bytes / 2 ** 20, 2), round(mesh_bytes / 2 ** 20, 2), "", ""],
          ["every facade its own maps/mesh (GB)", round(sum(compressed["bmf"].nbytes().values()) * facades_n / gb, 2),
           round(mesh.nbytes * facades_n / gb, 2), PAPER_MEMORY_GB["compressed"][0], PAPER_MEMORY_GB["uncompressed"][1]],
@@ -230,9 +286,11 @@ def _table3(result: BenchResult, ctx, programs, facades: dict, quick: bool):
           PAPER_MEMORY_GB["uncompressed"][0], ""]])
     result.ratios["geometry_over_bcfdm_time"] = t_mesh / t_relief
     result.notes.append(f"Table 3 uses facade F1 ({mesh.triangles} triangles as geometry) on every wall; both draw one "
-                        "instanced call, with the same procedural materials and lighting; roofs and ground are not "
-                        "drawn. BCFDM first draws the facade quads' depth (the paper's z-buffer initialisation), so "
-                        "only visible pixels are traced; the geometry is drawn once with the depth test.")
+                        "instanced call of the facades of the chunks (8 x 8 buildings) inside the view frustum, with "
+                        "the same procedural materials and lighting; roofs and ground are not drawn. BCFDM first "
+                        "draws the facade quads' depth (the paper's z-buffer initialisation), so only visible pixels "
+                        "are traced; the geometry, wound consistently, is drawn once with back faces culled and the "
+                        f"depth test. The two take turns frame by frame over {n} frames.")
     gpu.release()
     mesh.release()
     target.release()
@@ -243,6 +301,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     programs = ProgramCache(ctx)
     result = BenchResult("relief", describe_context(ctx), targets=dict(TARGETS))
     facades = {name: paper_facade(name) for name in PAPER_FACADES}
+    result.timing = timing_record(FRAMES[quick])
     _table1(result, facades)
     _table2(result, ctx, programs, facades, quick)
     _mismatch(result, ctx, programs, facades, quick)

@@ -1,8 +1,33 @@
-"""Everything that talks to OpenGL: context creation, shader programs, render targets, timing."""
+"""The GL toolkit, the only code that creates OpenGL objects: the context, programs (one cache per
+context), vertex arrays, texture uploads with an explicit colour space, full-screen passes, render
+targets and timing."""
 
+from ._generated import declare_constants
+from ._blocks import FRAME_BLOCK, UniformBlock
+from ._colour import linear_to_srgb, srgb_to_linear
 from ._context import create_context, describe_context
+from ._fullscreen import draw_fullscreen
 from ._programs import ProgramCache, shader_source
+from ._resources import programs
 from ._targets import RenderTarget
-from ._timing import FrameTimer
+from ._textures import upload_texture
+from ._uniforms import set_uniforms
+from ._vertex_arrays import VertexArrays
 
-__all__ = ["create_context", "describe_context", "ProgramCache", "shader_source", "RenderTarget", "FrameTimer"]
+__all__ = [
+    "FRAME_BLOCK",
+    "UniformBlock",
+    "declare_constants",
+    "create_context",
+    "describe_context",
+    "draw_fullscreen",
+    "linear_to_srgb",
+    "programs",
+    "ProgramCache",
+    "shader_source",
+    "srgb_to_linear",
+    "RenderTarget",
+    "upload_texture",
+    "set_uniforms",
+    "VertexArrays",
+]

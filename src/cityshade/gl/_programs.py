@@ -3,11 +3,14 @@
 A program is one file whose stages are selected with `#if defined VERTEX_SHADER` /
 `GEOMETRY_SHADER` / `FRAGMENT_SHADER` / `COMPUTE_SHADER`. `#include "common/x.glsl"` pastes
 a file (once per stage) and `#line` directives keep every line traceable to its file, so a
-compile error names the file and line it came from.
+compile error names the file and line it came from. `generated/NAME.glsl` includes are text made
+from Python definitions (gl/_generated.py); those in PRELUDE (the frame block, the shared
+constants) go into every stage of every program.
 """
 
 from __future__ import annotations
 
+import functools
 import re
 from importlib import resources
 
@@ -22,13 +25,20 @@ STAGES = {
     "fragment_shader": "FRAGMENT_SHADER",
 }
 _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
+_UNIFORM = re.compile(r"^\s*uniform\s+\w+\s+([^;{]+);", re.M)  # uniform TYPE a, b[3];
 # Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error ..."
 _MESA_LOC = re.compile(r"(\d+):(\d+)\((\d+)\)")
 _NV_LOC = re.compile(r"(\d+)\((\d+)\)")
 
 
+GENERATED: dict[str, str] = {}  # "generated/NAME.glsl" -> text made from Python definitions
+PRELUDE: list[str] = []  # generated includes that every program gets, in every stage
+
+
 def shader_source(path: str) -> str:
-    """The text of a shader file, path relative to cityshade/shaders."""
+    """The text of a shader file, path relative to cityshade/shaders (or a generated include)."""
+    if path in GENERATED:
+        return GENERATED[path]
     try:
         return resources.files("cityshade").joinpath("shaders", path).read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -87,6 +97,7 @@ def _define_block(stage: str, defines: dict[str, object]) -> str:
         if value is False or value is None:
             continue
         lines.append(f"#define {name}" if value is True else f"#define {name} {value}")
+    lines += [GENERATED[path] for path in PRELUDE]
     return "\n".join(lines) + "\n"
 
 
@@ -120,3 +131,22 @@ class ProgramCache:
             return self.ctx.program(**stages, varyings=varyings)
         except moderngl.Error as exc:
             raise ShaderError(f"{path}: {assembler.locate(str(exc)).strip()}") from None
+
+
+@functools.cache
+def declared_uniforms() -> frozenset[str]:
+    """Every uniform name some shader file of cityshade/shaders declares (see gl.set_uniforms)."""
+    files = resources.files("cityshade").joinpath("shaders")
+    names = set()
+    for path in _glsl_files(files):
+        for match in _UNIFORM.finditer(path.read_text(encoding="utf-8")):
+            names.update(name.split("[")[0].strip() for name in match.group(1).split(","))
+    return frozenset(names)
+
+
+def _glsl_files(folder):
+    for entry in folder.iterdir():
+        if entry.is_dir():
+            yield from _glsl_files(entry)
+        elif entry.name.endswith(".glsl"):
+            yield entry

@@ -29,8 +29,12 @@ class RenderTarget:
     def read(self, attachment: int = 0) -> np.ndarray:
         """The attachment as an HxWxC array, top row first."""
         tex = self.colors[attachment]
-        dtype = {"f1": np.uint8, "f2": np.float16, "f4": np.float32, "u4": np.uint32, "i4": np.int32, "u1": np.uint8}[tex.dtype]
-        data = np.frombuffer(self.fbo.read(components=tex.components, attachment=attachment, dtype=tex.dtype), dtype=dtype)
+        dtype = {"f1": np.uint8, "f2": np.float16, "f4": np.float32, "u4": np.uint32, "i4": np.int32, "u1": np.uint8}[
+            tex.dtype
+        ]
+        data = np.frombuffer(
+            self.fbo.read(components=tex.components, attachment=attachment, dtype=tex.dtype), dtype=dtype
+        )
         return data.reshape(self.size[1], self.size[0], tex.components)[::-1]
 
     def release(self):

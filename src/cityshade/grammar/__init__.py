@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..assets._tiles import TILE_INDEX
+from ..assets import TILE_INDEX
 from ._checks import Grammar, Rule, TexRef, check, costs
 from ._compiler import CompiledGrammars, compile_grammars
 from ._diagnostics import Diagnostic, GrammarError, Location
@@ -31,8 +31,16 @@ def load_library() -> dict[str, Grammar]:
     return {style: load(library_path(f"{style}.grammar")) for style in LIBRARY_STYLES}
 
 
+from ._city import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_texture  # noqa: E402 (needs load_library)
+from ._city_render import PATHS, FacadeCityRenderer  # noqa: E402
+from ._frame_pass import DeferredGrammarPass  # noqa: E402
+from ._gpu import GrammarTextures, shader_defines  # noqa: E402
+from ._random import seed_cells, seed_vector  # noqa: E402
+from ._reference import evaluate  # noqa: E402
+
 __all__ = [
-    "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
+    "BUILDING_STYLES", "FACADE_GRAMMAR", "GRAMMAR_SHAPES", "library_texture", "seed_cells", "seed_vector", "evaluate",
+    "PATHS", "FacadeCityRenderer", "DeferredGrammarPass", "GrammarTextures", "shader_defines", "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
     "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
     "load_source", "parse_string",
 ]

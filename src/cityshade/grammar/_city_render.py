@@ -13,8 +13,9 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..assets._tiles import TileArray
-from ..gl import ProgramCache, RenderTarget
+from ..assets import TileArray
+from ..gl import FRAME_BLOCK, RenderTarget, VertexArrays, draw_fullscreen, set_uniforms
+from ..gl import programs as gl_programs
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, Camera, batch
 from ._city import FACADE_GRAMMAR
 from ._compiler import CompiledGrammars
@@ -44,7 +45,7 @@ class FacadeCityRenderer:
         self.vbo = ctx.buffer(vertices.tobytes())
         self.ssbo = ctx.buffer(records.tobytes())
         self.textures = GrammarTextures(ctx, compiled, tiles)
-        programs = ProgramCache(ctx)
+        programs = gl_programs(ctx)
         defines = shader_defines()
         self.programs = {
             "depth": programs.get("grammar/city.glsl", {**defines, "DEPTH_ONLY": True}),
@@ -53,18 +54,14 @@ class FacadeCityRenderer:
             "deferred": programs.get("grammar/deferred.glsl", {**defines, "NO_SHADOWS": True}),
             "ssao": programs.get("grammar/ssao.glsl"),
         }
-        self.vaos = {name: self._vao(self.programs[name]) for name in ("depth", "forward", "gbuffer")}
-        self.screen = {name: ctx.vertex_array(self.programs[name], []) for name in ("deferred", "ssao")}
+        self.vaos = VertexArrays(ctx)
         self.lit = RenderTarget(ctx, self.size, (("f2", 4),))
         self.gbuffer = RenderTarget(ctx, self.size, (("f4", 4), ("f4", 4), ("f2", 4)))
         self.output = RenderTarget(ctx, self.size, (("f1", 4),))
         self.start = -1
 
-    def _vao(self, program):
-        names = [a for a in VERTEX_ATTRIBUTES if a in program]
-        fmt = " ".join(f if a in program else f"{int(f[:-1] or 1) * 4}x"
-                       for f, a in zip(VERTEX_FORMAT.split(), VERTEX_ATTRIBUTES))
-        return self.ctx.vertex_array(program, [(self.vbo, fmt, *names)])
+    def _vao(self, name: str):
+        return self.vaos.get(name, self.programs[name], [(self.vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)])
 
     def set_grammar(self, start: int):
         if start != self.start:
@@ -72,26 +69,29 @@ class FacadeCityRenderer:
             self.ssbo.write(self.records.tobytes())
             self.start = start
 
+    def _frame_block(self, camera: Camera):
+        FRAME_BLOCK.write(self.ctx, u_inv_view_proj=np.linalg.inv(self._view_projection(camera)), u_camera=camera.eye,
+                          u_time=0.0, u_sun_dir=SUN / np.linalg.norm(SUN), u_exposure=1.0,
+                          u_sun_color=np.array([2.6, 2.4, 2.1]), u_sky_ambient=np.array([0.45, 0.5, 0.6]),
+                          u_ground_ambient=np.array([0.2, 0.18, 0.16]))
+
+    def _view_projection(self, camera: Camera) -> np.ndarray:
+        return camera.view_projection(self.size[0] / self.size[1])
+
     def _uniforms(self, program, camera: Camera):
-        values = {"u_view_proj": camera.view_projection(self.size[0] / self.size[1]), "u_camera": camera.eye,
-                  "u_sun_dir": SUN / np.linalg.norm(SUN), "u_sun_color": np.array([2.6, 2.4, 2.1]),
-                  "u_sky_ambient": np.array([0.45, 0.5, 0.6]), "u_ground_ambient": np.array([0.2, 0.18, 0.16])}
-        for name, value in values.items():
-            if name not in program:
-                continue
-            value = np.asarray(value, dtype="f4")
-            program[name].write(value.T.tobytes() if value.shape == (4, 4) else value.tobytes())
+        set_uniforms(program, u_view_proj=self._view_projection(camera))
         self.textures.bind(program, UNITS["grammar"])
 
     def _buildings(self, name: str, camera: Camera):
         program = self.programs[name]
         self._uniforms(program, camera)
         self.ssbo.bind_to_storage_buffer(0)
-        self.vaos[name].render(moderngl.TRIANGLES)
+        self._vao(name).render(moderngl.TRIANGLES)
 
     def draw(self, camera: Camera, path: str = DEFAULT_PATH):
         """One frame by `path`; the tone-mapped result is in self.output."""
         ctx = self.ctx
+        self._frame_block(camera)
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE)
         if path == "forward":
@@ -119,10 +119,8 @@ class FacadeCityRenderer:
                 program[f"u_{name}"] = UNITS[name]
             self.gbuffer.depth.use(UNITS["depth"])
             program["u_depth"] = UNITS["depth"]
-            program["u_inv_view_proj"].write(np.linalg.inv(camera.view_projection(self.size[0] / self.size[1]))
-                                             .T.astype("f4").tobytes())
             program["u_viewport"] = tuple(float(x) for x in self.size)
-            self.screen["deferred"].render(moderngl.TRIANGLES, vertices=3)
+            draw_fullscreen(self.programs["deferred"])
             depth = self.gbuffer.depth
         self._ssao(camera, depth)
 
@@ -137,7 +135,7 @@ class FacadeCityRenderer:
         program["u_depth"] = UNITS["depth"]
         program["u_near_far"] = (camera.near, camera.far)
         program["u_pixels_per_metre"] = self.size[1] / (2 * np.tan(np.radians(camera.fov_y) / 2))
-        self.screen["ssao"].render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(self.programs["ssao"])
 
     def read(self) -> np.ndarray:
         return self.output.read(0)[..., :3].copy()
@@ -145,8 +143,7 @@ class FacadeCityRenderer:
     def release(self):
         for target in (self.lit, self.gbuffer, self.output):
             target.release()
-        for vao in (*self.vaos.values(), *self.screen.values()):
-            vao.release()
+        self.vaos.release()
         self.vbo.release()
         self.ssbo.release()
         self.textures.release()

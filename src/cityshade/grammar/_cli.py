@@ -14,8 +14,7 @@ def register(subparsers):
     check = commands.add_parser("check", help="check grammar files; errors as FILE:LINE:COL: error: ...")
     check.add_argument("files", nargs="+", type=Path, metavar="FILE")
     check.set_defaults(run=_check)
-    from .._values import check_count, check_seed, parse_size
-    from ..render._cli import parse_metres
+    from ..arguments import check_count, check_seed, parse_metres, parse_size
 
     render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
     render.add_argument("file", type=Path, metavar="FILE")
@@ -59,7 +58,7 @@ def _check(args) -> int:
 def _import(args) -> int:
     """Translates, lists what was not translated (FILE:LINE: what: instead) and checks the result."""
     from .._files import atomic_output, read_input_bytes
-    from ..render._cli import check_writable
+    from ..arguments import check_writable
     from . import loads
     from ._cga import CgaError, translate
 
@@ -98,8 +97,8 @@ def _import(args) -> int:
 def _render(args) -> int:
     import numpy as np
 
-    from ..assets._tiles import LABEL_COLOURS, tile_array
-    from ..render._cli import check_writable, save_png
+    from ..assets import LABEL_COLOURS, tile_array
+    from ..arguments import check_writable, save_png
     from . import compile_grammars, load
     from ._random import seed_vector
     from .._budget import check_image_memory

@@ -11,7 +11,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget
+from ..gl import RenderTarget, draw_fullscreen
 from ._gpu import GrammarTextures, shader_defines
 
 G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, facade flag; normal
@@ -34,28 +34,20 @@ class DeferredGrammarPass:
             self.size = size
         return self.gbuffer, self.result
 
-    def run(self, f, grammar: GrammarTextures, set_uniforms, grammar_unit: int, first_unit: int):
-        """Fills the result targets for frame `f` (render._frame.FrameInputs); the G-buffer's
-        textures go on units first_unit..first_unit + 3."""
-        ctx = self.ctx
-        programs, size, view_projection = f.programs, f.size, f.view_projection
-        gbuffer, result = self.targets(tuple(size))
-        gbuffer.use()
-        gbuffer.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        ctx.enable(moderngl.DEPTH_TEST)
-        ctx.depth_func = "<"
-        program = programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
-        set_uniforms(program, u_view_proj=view_projection)
+    def draw_gbuffer(self, f, grammar: GrammarTextures, set_uniforms, grammar_unit: int):
+        """The cheap first step for frame `f` (render._frame.FrameInputs), into the bound G-buffer."""
+        program = f.programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
+        set_uniforms(program, u_view_proj=f.view_projection)
         grammar.bind(program, grammar_unit)
-        f.city.draw_buildings(program, view_projection)  # frustum-culled like the buildings pass
+        f.city.draw_buildings(program, f.view_projection)  # frustum-culled like the buildings pass
 
-        result.use()
-        result.fbo.clear(0.0, 0.0, 0.0, 0.0)
-        ctx.disable(moderngl.DEPTH_TEST)
-        program = programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
-                                                         "NO_SHADOWS": f.shadows is None})
-        set_uniforms(program, **f.common_uniforms(), u_inv_view_proj=np.linalg.inv(view_projection),
-                     u_viewport=np.array(size, dtype=float))
+    def evaluate(self, f, grammar: GrammarTextures, set_uniforms, grammar_unit: int, first_unit: int):
+        """The full-screen evaluation into the bound result target; the G-buffer's textures go on
+        units first_unit..first_unit + 3."""
+        gbuffer = self.gbuffer
+        program = f.programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
+                                                           "NO_SHADOWS": f.shadows is None})
+        set_uniforms(program, **f.common_uniforms(), u_viewport=np.array(f.size, dtype=float))
         if f.shadows is not None:
             f.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program, grammar_unit)
@@ -63,15 +55,14 @@ class DeferredGrammarPass:
                                                      (*gbuffer.colors, gbuffer.depth))):
             texture.use(first_unit + offset)
             program[name] = first_unit + offset
-        ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
-        ctx.enable(moderngl.DEPTH_TEST)
+        draw_fullscreen(program)
 
     def bind_results(self, program, first_unit: int):
         """The building pass's inputs: lit colour and (glass, label) on first_unit, first_unit + 1.
         Nothing before the pass first ran (the id pass evaluates the grammar itself)."""
         if self.result is None:
             return
-        for offset, (name, texture) in enumerate(zip(("grammar_deferred_color", "grammar_deferred_ids"),
+        for offset, (name, texture) in enumerate(zip(("u_grammar_deferred_color", "u_grammar_deferred_ids"),
                                                      self.result.colors)):
             texture.use(first_unit + offset)
             if name in program:

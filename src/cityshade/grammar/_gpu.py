@@ -5,14 +5,14 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..assets._tiles import TileArray
-from ..gl import ProgramCache, RenderTarget
+from ..assets import TileArray
+from ..gl import RenderTarget, draw_fullscreen, programs, upload_texture
 from . import _limits as limits
 from ._compiler import CompiledGrammars
 from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
-MAX_TILES = 64  # size of grammar_tile_labels[] in eval.glsl
+MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
 
 
 def shader_defines(nearest: bool = False) -> dict[str, object]:
@@ -27,15 +27,10 @@ class GrammarTextures:
         self.compiled = compiled
         self.tiles = tiles
         rows, width, _ = compiled.texels.shape
-        self.rules = ctx.texture((width, rows), 4, compiled.texels.tobytes(), dtype="f2")
-        self.rules.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        noise = noise_texture()
-        self.noise = ctx.texture(noise.shape[::-1], 1, noise.tobytes(), dtype="f4")
-        self.noise.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        layers = tiles.layers
-        self.tile_array = ctx.texture_array((tiles.size, tiles.size, len(layers)), 4, layers.tobytes())
-        self.tile_array.build_mipmaps()
-        self.tile_array.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        self.rules = upload_texture(ctx, compiled.texels, "stored", mipmaps=False, dtype="f2")
+        self.noise = upload_texture(ctx, noise_texture(), "stored", mipmaps=False, dtype="f4")
+        # sRGB tiles, decoded by the shader (common/srgb.glsl) after the grammar picks and filters them
+        self.tile_array = upload_texture(ctx, tiles.layers, "stored")
         if len(tiles.labels) > MAX_TILES:
             raise ValueError(f"{len(tiles.labels)} tiles; eval.glsl holds labels for {MAX_TILES}")
         self.labels = np.zeros(MAX_TILES, np.int32)
@@ -44,15 +39,15 @@ class GrammarTextures:
     def bind(self, program, first_unit: int = 0) -> int:
         """Binds the three textures from `first_unit` on; returns the next free unit."""
         for offset, (name, texture) in enumerate(
-            (("grammar_rules", self.rules), ("grammar_noise", self.noise), ("grammar_tiles", self.tile_array))
+            (("u_grammar_rules", self.rules), ("u_grammar_noise", self.noise), ("u_grammar_tiles", self.tile_array))
         ):
             texture.use(first_unit + offset)
             if name in program:
                 program[name] = first_unit + offset
-        if "grammar_tile_size" in program:
-            program["grammar_tile_size"] = self.tiles.size
-        if "grammar_tile_labels" in program:
-            program["grammar_tile_labels"].write(self.labels.tobytes())
+        if "u_grammar_tile_size" in program:
+            program["u_grammar_tile_size"] = self.tiles.size
+        if "u_grammar_tile_labels" in program:
+            program["u_grammar_tile_labels"].write(self.labels.tobytes())
         return first_unit + 3
 
     def release(self):
@@ -66,8 +61,7 @@ class FacadeRenderer:
     def __init__(self, ctx: moderngl.Context, textures: GrammarTextures, nearest: bool = False):
         self.ctx = ctx
         self.textures = textures
-        self.program = ProgramCache(ctx).get("grammar/facade.glsl", shader_defines(nearest))
-        self.vao = ctx.vertex_array(self.program, [])
+        self.program = programs(ctx).get("grammar/facade.glsl", shader_defines(nearest))
 
     def render(self, start: int, facade, size, seed, building=(0, 0)) -> tuple[np.ndarray, np.ndarray]:
         """(colour HxWx4 float, ids HxWx4 uint32), top row first."""
@@ -76,15 +70,15 @@ class FacadeRenderer:
             target.use()
             self.ctx.viewport = (0, 0, *size)
             self.textures.bind(self.program)
-            self.program["facade_size"] = tuple(float(x) for x in facade)
-            self.program["viewport_size"] = tuple(float(x) for x in size)
-            self.program["facade_seed"] = tuple(float(x) for x in seed)
-            self.program["facade_building"] = tuple(float(x) for x in building)
-            self.program["start_rule"] = int(start)
+            self.program["u_facade_size"] = tuple(float(x) for x in facade)
+            self.program["u_viewport_size"] = tuple(float(x) for x in size)
+            self.program["u_facade_seed"] = tuple(float(x) for x in seed)
+            self.program["u_facade_building"] = tuple(float(x) for x in building)
+            self.program["u_start_rule"] = int(start)
             light = np.array(FACADE_LIGHT)
-            self.program["light_dir"] = tuple(light / np.linalg.norm(light))
+            self.program["u_light_dir"] = tuple(light / np.linalg.norm(light))
             self.ctx.disable(moderngl.DEPTH_TEST)
-            self.vao.render(moderngl.TRIANGLES, vertices=3)
+            draw_fullscreen(self.program)
             return target.read(0).astype(np.float32), target.read(1)
         finally:
             target.release()

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..assets._tiles import LABELS, TileArray
+from ..assets import LABELS, TileArray
 from . import _limits as limits
 from ._compiler import CompiledGrammars
 from ._expressions import BINARY, CASE, NEG, NOT, PUSH, VARIABLE, apply

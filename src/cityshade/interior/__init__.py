@@ -1,9 +1,10 @@
 """Interior mapping (van Dongen 2008): parameters, the numpy twin of the shader, and the
 polygonised-interiors baseline geometry."""
 
-from ._faces import FACE_NAMES
+from ._faces import FACE_CODES, FACE_NAMES, room_state
 from ._polygonised import LAYERS as POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
 from ._reference import InteriorParams, find_room, reference_ids, room_id, trace
+from ._solids import cast_masses
 
-__all__ = ["FACE_NAMES", "InteriorParams", "POLYGONISED_LAYERS", "find_room", "polygonised_vertices", "quad_counts",
-           "reference_ids", "room_grid", "room_id", "trace"]
+__all__ = ["FACE_CODES", "FACE_NAMES", "InteriorParams", "POLYGONISED_LAYERS", "cast_masses", "find_room", "polygonised_vertices",
+           "quad_counts", "reference_ids", "room_grid", "room_id", "room_state", "trace"]

@@ -1,4 +1,6 @@
-"""Face codes of the id AOV; mirrors shaders/interior/faces.glsl."""
+"""Face codes of the id AOV, the shaders' FACE_* (through cityshade.shader_constants)."""
+
+import numpy as np
 
 FACE_NONE = 0
 FACE_EXTERIOR = 1
@@ -16,3 +18,10 @@ FACE_NAMES = {
     FACE_WALL_X: "wall x", FACE_WALL_Z: "wall z", FACE_FURNITURE: "furniture", FACE_CURTAIN: "curtain",
     FACE_ROOF: "roof", FACE_GROUND: "ground",
 }
+
+FACE_CODES = {f"FACE_{name.upper().replace(' ', '_')}": code for code, name in FACE_NAMES.items()}
+
+def room_state(lit, variant):
+    """The id AOV's fourth channel with ID_ROOM_STATE (building.glsl) where a room is seen:
+    1 | lit << 1 | texture variant << 2 (0 where no room is seen)."""
+    return 1 | (np.asarray(lit).astype(np.uint32) << 1) | (np.asarray(variant).astype(np.uint32) << 2)

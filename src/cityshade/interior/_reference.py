@@ -1,5 +1,6 @@
-"""numpy twin of interior mapping (shaders/interior/interior.glsl): the same rooms, faces and room
-ids per pixel, vectorised over pixels, in float64. Used by tests to check the GPU pixel by pixel."""
+"""numpy twin of interior mapping (shaders/interior/interior.glsl): the same rooms, faces, room
+ids, lights and texture variants per pixel, vectorised over pixels, in float64, from the building
+masses themselves (their own solids, _solids.py). Used by tests to check the GPU pixel by pixel."""
 
 from __future__ import annotations
 
@@ -7,9 +8,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, rotation_y
-from ._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
+from ..relief import GLASS, DetailMaps, trace_reference
+from ..scene import BuildingMass
+from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
+                     FACE_WALL_X, FACE_WALL_Z, room_state)
 from ._hash import hash3, unit_float
+from ._solids import cast_masses
 
 SALT_LIGHT, SALT_VARIANT, SALT_FURNITURE, SALT_PHASE, SALT_CURTAIN, SALT_WALL_X, SALT_WALL_Z = (
     0x1000, 0x2000, 0x3000, 0x4000, 0x5000, 0x6000, 0x7000)
@@ -30,12 +34,14 @@ class InteriorParams:
     variants: int
     glass_rect: tuple[float, float, float, float]
     sprite_alpha: np.ndarray      # (kinds, frames, H, W) alpha, row 0 at the bottom
-    feature_mask: int = FLAG_FURNITURE | FLAG_CURTAINS | FLAG_ROOM_VARIATION
+    furniture: bool = True
+    curtains: bool = True
+    room_variation: bool = True
 
 
 def room_id(cx, cy, cz) -> np.ndarray:
-    u = lambda v: np.asarray(v).astype(np.int64) & 0xFFFFFFFF
-    return (u(cx) & 0x7FF) | ((u(cz) & 0x7FF) << 11) | ((u(cy) & 0x3FF) << 22)
+    cx, cy, cz = (np.asarray(v).astype(np.int64) & 0xFFFFFFFF for v in (cx, cy, cz))
+    return (cx & 0x7FF) | ((cz & 0x7FF) << 11) | ((cy & 0x3FF) << 22)
 
 
 def _wall_offset(k, floor_index, lines, salt, jitter):
@@ -55,28 +61,28 @@ def _room_interval(x, size, lines, floor_index, salt, jitter):
     return k, lo, hi
 
 
-def find_room(p: np.ndarray, n: np.ndarray, record, params: InteriorParams) -> dict:
+def find_room(p: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> dict:
     """The room entered at facade points p (N, 3) with normals n: cell, box, id, lit, variant."""
-    size = record["room"][:3].astype(np.float64)
-    seed = int(record["ids"][0])
-    flags = int(record["ids"][2]) & params.feature_mask
-    jitter = float(record["room"][3]) if flags & FLAG_ROOM_VARIATION else 0.0
-    lines = np.round(record["extent"][:3].astype(np.float64) / size).astype(np.int64)
+    size = mass.room_size
+    seed = mass.seed
+    jitter = mass.wall_jitter if params.room_variation else 0.0
+    lines = np.round(mass.extent / size).astype(np.int64)
     q = p - n * (1e-3 * size.min())
     cy = np.floor(q[:, 1] / size[1]).astype(np.int64)
     cx, x0, x1 = _room_interval(q[:, 0], size[0], lines[0], cy, seed ^ SALT_WALL_X, jitter)
     cz, z0, z1 = _room_interval(q[:, 2], size[2], lines[2], cy, seed ^ SALT_WALL_Z, jitter)
     lo = np.stack([x0, cy * size[1], z0], axis=1)
     hi = np.stack([x1, (cy + 1) * size[1], z1], axis=1)
-    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < params.lights * float(record["extent"][3])
+    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < params.lights * mass.lights
     variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 
 
-def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per ray (facade point p, unit direction d, normal n; object space): face code, room id and
-    distance t from the facade, exactly as the interior shader decides them."""
-    room = find_room(p, n, record, params)
+def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> tuple[np.ndarray, ...]:
+    """Per ray (facade point p, unit direction d, normal n; object space): face code, room id,
+    distance t from the facade, whether the room is lit and its texture variant, as the interior
+    shader decides them."""
+    room = find_room(p, n, mass, params)
     lo, hi = room["lo"], room["hi"]
     size = hi - lo
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -87,11 +93,10 @@ def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorP
     face = np.where(ty_wins, np.where(d[:, 1] > 0, FACE_CEILING, FACE_FLOOR), np.where(tx_wins, FACE_WALL_X, FACE_WALL_Z))
     t = np.where(ty_wins, tt[:, 1], np.where(tx_wins, tt[:, 0], tt[:, 2]))
 
-    seed = int(record["ids"][0])
-    flags = int(record["ids"][2]) & params.feature_mask
+    seed = mass.seed
     cx, cy, cz = room["cell"]
     facing = np.maximum(-np.sum(n * d, axis=1), 1e-4)
-    if flags & FLAG_FURNITURE:
+    if params.furniture and mass.furniture and mass.shape != "dome":  # domes have no furniture
         kind_pick = unit_float(hash3(cx, cy, cz, seed ^ SALT_FURNITURE))
         depth = FURNITURE_DEPTH * np.sum(np.abs(n) * size, axis=1)
         tf = depth / facing
@@ -113,7 +118,7 @@ def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorP
         hit = inside & opaque
         face = np.where(hit, FACE_FURNITURE, face)
         t = np.where(hit, tf, t)
-    if flags & FLAG_CURTAINS:
+    if params.curtains and mass.curtains:
         pick = unit_float(hash3(cx, cy, cz, seed ^ SALT_CURTAIN))
         closed = 0.15 + 0.8 * pick / CURTAIN_SHARE
         tc = CURTAIN_DEPTH / facing
@@ -122,62 +127,74 @@ def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, record, params: InteriorP
         hit = (pick < CURTAIN_SHARE) & (v >= g[3] - closed * (g[3] - g[1]))
         face = np.where(hit, FACE_CURTAIN, face)
         t = np.where(hit, tc, t)
-    return face, room["id"], t
+    return face, room["id"], t, room["lit"], room["variant"]
 
 
-def reference_ids(masses, camera, size: tuple[int, int], params: InteriorParams, facade_alpha: np.ndarray,
-                  ground_bounds: tuple[float, float, float, float]) -> np.ndarray:
-    """The id AOV (face, room, building + 1, 0) of the building and ground passes, per pixel centre:
-    triangles ray-cast, attributes interpolated as the rasteriser does, glass decided by the facade
-    texel, rooms by `trace`. The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1)."""
-    from ..scene._meshes import SURFACE_ROOF, batch
-    from ..scene._raycast import intersect
-    from ._faces import FACE_EXTERIOR, FACE_GROUND, FACE_ROOF
+def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: np.ndarray, floor_height: float):
+    """Relief facades (docs/relief.md, the city): the window bay `maps` repeats across the wall, one
+    bay (facade[:, 2] metres) wide and one floor high; each ray is traced through it by the
+    reference tracer. Returns, per ray, whether it meets glass and where (object space): the
+    point from which it continues into the room."""
+    rows, cols = maps.shape
+    up = np.array([0.0, 1.0, 0.0])
+    along = np.stack([-n[:, 2], np.zeros(len(n)), n[:, 0]], axis=1)  # the way facade u grows: n x up
+    scale = np.stack([cols / facade[:, 2], np.full(len(n), rows / floor_height), np.full(len(n), 1 / maps.depth_unit)], axis=1)
+    start = np.stack([facade[:, 0], facade[:, 1], np.zeros(len(n))], axis=1) * scale
+    direction = np.stack([np.sum(d * along, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1) * scale
+    # The bay tiled over the wall, with a bay and a floor to spare on every side: a ray entering
+    # near a corner or the roof line meets the repeat the GPU samples there.
+    bays = int(np.ceil(np.max(start[:, 0]) / cols)) + 3
+    floors = int(np.ceil(np.max(start[:, 1]) / rows)) + 3
+    wall = DetailMaps(np.tile(maps.depth, (floors, bays)), np.tile(maps.material, (floors, bays)), maps.texel, maps.depth_unit)
+    margin = np.array([cols, rows, 0.0])
+    hits = trace_reference(wall, start + margin, direction)
+    offset = np.nan_to_num(hits.point - margin - start) / scale
+    point = local + along * offset[:, :1] + up * offset[:, 1:2] - n * offset[:, 2:]
+    return hits.material == GLASS, point
 
-    vertices, records = batch(masses)
+
+def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], params: InteriorParams,
+                  facade_alpha: np.ndarray, ground_bounds: tuple[float, float, float, float],
+                  relief: dict | None = None) -> np.ndarray:
+    """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
+    building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
+    glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
+    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace`. The ground is the
+    plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
+    relief = relief or {}
     width, height = size
     dirs = camera.pixel_rays(size).reshape(-1, 3)
     eye = camera.eye
-    tris = vertices["position"].astype(np.float64).reshape(-1, 3, 3)
-    t, tri, bary = intersect(eye, dirs, tris)
+    hits = cast_masses(masses, eye, dirs)
     out = np.zeros((len(dirs), 4), dtype=np.uint32)
-    # ground plane y = 0 where no building is nearer
     with np.errstate(divide="ignore", invalid="ignore"):
         tg = -eye[1] / dirs[:, 1]
     gp = eye + dirs * tg[:, None]
     x0, z0, x1, z1 = ground_bounds
-    ground = (tg > 0) & (gp[:, 0] > x0) & (gp[:, 0] < x1) & (gp[:, 2] > z0) & (gp[:, 2] < z1) & (tg < t)
-    ground &= tg * np.abs(dirs @ camera.forward) < camera.far  # the far clipping plane
+    ground = (tg > 0) & (gp[:, 0] > x0) & (gp[:, 0] < x1) & (gp[:, 2] > z0) & (gp[:, 2] < z1) & (tg < hits.t)
+    ground &= tg * np.abs(dirs @ camera.forward) < camera.far
     out[ground, 0] = FACE_GROUND
-    hit = (tri >= 0) & ~ground
-    corners = vertices.reshape(-1, 3)
-    for b, record in enumerate(records):
-        sel = hit & (corners[np.maximum(tri, 0), 0]["ids"][:, 0] == b)
-        if not sel.any():
+    th, tw = facade_alpha.shape
+    for b, mass in enumerate(masses):
+        sel = np.nonzero((hits.building == b) & ~ground)[0]
+        if not len(sel):
             continue
-        verts = corners[tri[sel]]
-        w = bary[sel][:, :, None]
-        local = np.sum(verts["local"].astype(np.float64) * w, axis=1)
-        normal = np.sum(verts["normal"].astype(np.float64) * w, axis=1)
-        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-        facade = np.sum(verts["facade"].astype(np.float64) * w, axis=1)
-        roof = verts["ids"][:, 0, 1] == SURFACE_ROOF
-        rot = rotation_y(float(record["origin_yaw"][3]))
-        cam_local = rot.T @ (eye - record["origin_yaw"][:3].astype(np.float64))
-        d = local - cam_local
-        d /= np.linalg.norm(d, axis=1, keepdims=True)
-        bay = np.stack([facade[:, 0] / facade[:, 2], facade[:, 1] / float(record["room"][1])], axis=1)
-        th, tw = facade_alpha.shape
-        col = (np.mod(bay[:, 0], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
-        row = (np.mod(bay[:, 1], 1.0) * th).astype(np.int64).clip(0, th - 1)
-        glass = ~roof & (facade_alpha[row, col] < 0.5)
-        face = np.where(roof, FACE_ROOF, FACE_EXTERIOR).astype(np.int64)
-        room = np.zeros(len(face), dtype=np.int64)
+        facade, roof = hits.facade[sel], hits.roof[sel]
+        entry = hits.local.copy()
+        if b in relief:
+            glass = np.zeros(len(sel), dtype=bool)
+            walls = sel[~roof]
+            if len(walls):
+                glass[~roof], entry[walls] = relief_entry(relief[b], hits.local[walls], hits.direction[walls],
+                                                          hits.normal[walls], hits.facade[walls], mass.room_size[1])
+        else:
+            col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
+            row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
+            glass = ~roof & (facade_alpha[row, col] < 0.5)
+        out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
+        out[sel, 2] = b + 1
         if glass.any():
-            gface, groom, _ = trace(local[glass], d[glass], normal[glass], record, params)
-            face[glass], room[glass] = gface, groom
-        idx = np.nonzero(sel)[0]
-        out[idx, 0] = face
-        out[idx, 1] = room
-        out[idx, 2] = b + 1
+            rays = sel[glass]
+            face, room, _, lit, variant = trace(entry[rays], hits.direction[rays], hits.normal[rays], mass, params)
+            out[rays, 0], out[rays, 1], out[rays, 3] = face, room, room_state(lit, variant)
     return out.reshape(height, width, 4)

@@ -5,6 +5,7 @@ binary factorisations, bit packing, the .cfdm file format and a numpy reference 
 """
 
 from ._boxes import free_boxes
+from ._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, CityRelief
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
 from ._factor import METHODS, Factors, factorize, greedy_biclique
 from ._format import VERSION, from_bytes, read_compressed, to_bytes, write_compressed
@@ -12,17 +13,18 @@ from ._layout import PAPER_FACADES, FacadeLayout, generate_bay, generate_facade,
 from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
 from ._gpu import RENDERERS, GpuFacade, decode_on_gpu, renderer_defines
 from ._pack import pack_bits, unpack_bits
-from ._reference import Hits, trace_reference
+from ._reference import RELIEF_FACE_CODES, Hits, trace_reference
 from ._mesh import relief_mesh
 from ._view import FRAME_DTYPE, FacadeImages, FacadeView, MeshFacade, draw_facades, facade_camera, slab_faces, trace_view
 
 __all__ = [
+    "FACADE_RELIEF", "RELIEF_SHAPES", "RELIEF_STYLES", "CityRelief",
     "free_boxes", "MAP_NAMES", "CompressedFacade", "compress", "detail_matrices", "digest",
     "METHODS", "Factors", "factorize", "greedy_biclique",
     "VERSION", "from_bytes", "read_compressed", "to_bytes", "write_compressed",
     "PAPER_FACADES", "FacadeLayout", "generate_bay", "generate_facade", "paper_facade",
     "GLASS", "MATERIALS", "DetailMaps", "load_png_maps", "save_png_maps",
     "pack_bits", "unpack_bits", "RENDERERS", "GpuFacade", "decode_on_gpu", "renderer_defines",
-    "Hits", "trace_reference", "relief_mesh", "FRAME_DTYPE", "FacadeImages", "FacadeView", "MeshFacade", "draw_facades",
+    "RELIEF_FACE_CODES", "Hits", "trace_reference", "relief_mesh", "FRAME_DTYPE", "FacadeImages", "FacadeView", "MeshFacade", "draw_facades",
     "facade_camera", "slab_faces", "trace_view",
 ]

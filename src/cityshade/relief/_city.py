@@ -1,25 +1,16 @@
-"""Relief facades in the city: which buildings get them, and the shared window bay on the GPU."""
+"""Relief facades in the city: the buildings that can take them, and the shared window bay on the GPU."""
 
 from __future__ import annotations
 
 import moderngl
-import numpy as np
 
 from ._compress import compress
 from ._gpu import GpuFacade
 from ._layout import generate_bay
 
 FACADE_RELIEF = 2  # the record's facade.x for relief facades (shaders/relief/building.glsl)
-RELIEF_STYLES = (2, 7)  # building styles drawn with relief: about a quarter of a random city
+RELIEF_STYLES = (2, 7)  # building styles drawn with relief: two of eight, a quarter of the box buildings
 RELIEF_SHAPES = ("prism",)  # flat walls only
-
-
-def assign_relief(records: np.ndarray, masses) -> int:
-    """Marks buildings of RELIEF_STYLES without another facade technique; returns how many."""
-    rows = [i for i, m in enumerate(masses)
-            if m.style in RELIEF_STYLES and m.shape in RELIEF_SHAPES and records["facade"][i, 0] == 0]
-    records["facade"][rows, 0] = FACADE_RELIEF
-    return len(rows)
 
 
 class CityRelief:
@@ -30,8 +21,8 @@ class CityRelief:
         self.facade = GpuFacade(ctx, maps, {"bmf": compress(maps, "bmf", source="city window bay")})
 
     def bind(self, program: moderngl.Program, first_unit: int) -> int:
-        if "uReliefDepthUnit" in program:
-            program["uReliefDepthUnit"].value = self.facade.maps.depth_unit
+        if "u_relief_depth_unit" in program:
+            program["u_relief_depth_unit"].value = self.facade.maps.depth_unit
         return self.facade.bind(program, "bmf", first_unit)
 
     def release(self):

@@ -11,9 +11,8 @@ from rich.console import Console
 from rich.progress import Progress
 
 from .._files import output_target
-from .._values import check_seed
+from ..arguments import check_seed, parse_metres
 from ..errors import CityshadeError, Finding, UsageError
-from ..render._cli import parse_metres
 from ._compress import MAP_NAMES, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS
 from ._format import read_compressed, write_compressed
@@ -37,15 +36,14 @@ def register(subparsers):
                         help="16- or 8-bit greyscale PNG of depth steps behind the outermost surface")
     source.add_argument("--material", type=Path, metavar="PNG", help="8- or 16-bit greyscale PNG of material indices")
     parser.add_argument("--rule", help="with GRAMMAR_FILE: the start rule (default: the file's first)")
-    parser.add_argument("--seed", type=check_seed, default=1, help="with GRAMMAR_FILE: the facade's random seed")
+    parser.add_argument("--seed", type=check_seed, help="with GRAMMAR_FILE: the facade's random seed (default 1)")
     parser.add_argument("--facade", metavar="WxH",
                         help="facade size in metres (GRAMMAR_FILE: default 12x16; --layout: default the paper's)")
-    parser.add_argument("--texel", type=float, default=PAPER_TEXEL, metavar="METRES", help="texel size (default 0.02)")
-    parser.add_argument("--depth-unit", type=float, default=DEPTH_UNIT, metavar="METRES",
-                        help="metres per depth step of the height image (default 0.01)")
-    parser.add_argument("--method", choices=METHODS, default="bmf", help="factorisation (default bmf)")
-    parser.add_argument("--max-terms", type=int, default=MAX_TERMS,
-                        help=f"refuse maps needing more terms than this (default {MAX_TERMS})")
+    parser.add_argument("--texel", type=float, metavar="METRES", help=f"texel size (default {PAPER_TEXEL})")
+    parser.add_argument("--depth-unit", type=float, metavar="METRES",
+                        help=f"with --height: metres per depth step of the height image (default {DEPTH_UNIT})")
+    parser.add_argument("--method", choices=METHODS, help="factorisation (default bmf)")
+    parser.add_argument("--max-terms", type=int, help=f"refuse maps needing more terms than this (default {MAX_TERMS})")
     parser.add_argument("--out", type=Path, metavar="FILE", help="the .cfdm file to write")
     parser.add_argument("--stats", type=Path, metavar="FILE", help="print sizes, terms and bytes of a .cfdm file")
     parser.add_argument("--verify", type=Path, metavar="FILE",
@@ -54,7 +52,45 @@ def register(subparsers):
     parser.set_defaults(run=_run)
 
 
+# Options that only some uses of the command read; given anywhere else they would do nothing.
+SOURCE_OPTIONS = (("GRAMMAR_FILE", "grammar"), ("--layout", "layout"), ("--height", "height"), ("--material", "material"))
+MAKING_OPTIONS = (("--rule", "rule"), ("--seed", "seed"), ("--facade", "facade"), ("--texel", "texel"),
+                  ("--depth-unit", "depth_unit"), ("--method", "method"), ("--max-terms", "max_terms"))
+DEFAULTS = {"seed": 1, "texel": PAPER_TEXEL, "depth_unit": DEPTH_UNIT, "method": "bmf", "max_terms": MAX_TERMS}
+
+
+def _check_arguments(args):
+    """Refuses values out of range and options given where they would do nothing, then fills in
+    the defaults."""
+    for option, value in (("--texel", args.texel), ("--depth-unit", args.depth_unit)):
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise UsageError(f"invalid {option} {value:g}; it must be a positive number of metres")
+    if args.max_terms is not None and not 1 <= args.max_terms <= MAX_TERMS:
+        raise UsageError(f"invalid --max-terms {args.max_terms}; it must be from 1 to {MAX_TERMS}")
+    def given(options):
+        return [name for name, field in options if getattr(args, field) is not None]
+
+    uses = given((("--out", "out"), ("--stats", "stats"), ("--verify", "verify")))
+    if len(uses) > 1:
+        raise UsageError(f"{' and '.join(uses)} cannot be combined; give one of --out, --stats or --verify")
+    if args.stats is not None and given(SOURCE_OPTIONS + MAKING_OPTIONS):
+        raise UsageError(f"--stats reads only its file; drop {', '.join(given(SOURCE_OPTIONS + MAKING_OPTIONS))}")
+    if args.verify is not None and given((("--method", "method"), ("--max-terms", "max_terms"))):
+        raise UsageError("--verify decompresses the file as it was made; drop --method and --max-terms")
+    if args.grammar is None and given((("--rule", "rule"), ("--seed", "seed"))):
+        raise UsageError(f"{' and '.join(given((('--rule', 'rule'), ('--seed', 'seed'))))} go with GRAMMAR_FILE")
+    images = args.height is not None or args.material is not None
+    if images and args.facade is not None:
+        raise UsageError("--facade sizes a GRAMMAR_FILE or --layout facade; the images give their own size")
+    if args.depth_unit is not None and not images:
+        raise UsageError("--depth-unit goes with --height and --material (the depth steps of the height image)")
+    for field, value in DEFAULTS.items():
+        if getattr(args, field) is None:
+            setattr(args, field, value)
+
+
 def _run(args) -> int:
+    _check_arguments(args)
     if args.stats:
         return _stats(args.stats)
     if args.verify:
@@ -78,11 +114,6 @@ def _run(args) -> int:
 
 
 def _source_maps(args, required: bool) -> DetailMaps | None:
-    for option, value in (("--texel", args.texel), ("--depth-unit", args.depth_unit)):
-        if not (math.isfinite(value) and value > 0):
-            raise UsageError(f"invalid {option} {value:g}; it must be a positive number of metres")
-    if not 1 <= args.max_terms <= MAX_TERMS:
-        raise UsageError(f"invalid --max-terms {args.max_terms}; it must be from 1 to {MAX_TERMS}")
     images = args.height is not None or args.material is not None
     if sum((args.grammar is not None, args.layout is not None, images)) > 1:
         raise UsageError("give one source: GRAMMAR_FILE, --layout NAME, or --height and --material")

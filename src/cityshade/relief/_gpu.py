@@ -8,7 +8,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget
+from ..gl import ProgramCache, RenderTarget, draw_fullscreen, upload_texture
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices
 from ._maps import DetailMaps
 from ._pack import pack_bits
@@ -34,10 +34,8 @@ def _texture(ctx: moderngl.Context, array: np.ndarray, dtype: str) -> moderngl.T
     """A one-channel texture of a (rows, columns) array; empty arrays become one zero texel."""
     if array.size == 0:
         array = np.zeros((1, 1), array.dtype)
-    data = np.ascontiguousarray(array.astype({"u2": np.uint16, "u4": np.uint32, "f4": np.float32}[dtype]))
-    tex = ctx.texture((array.shape[1], array.shape[0]), 1, data.tobytes(), dtype=dtype)
-    tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
-    return tex
+    data = array.astype({"u2": np.uint16, "u4": np.uint32, "f4": np.float32}[dtype])
+    return upload_texture(ctx, data, "stored", mipmaps=False, dtype=dtype)
 
 
 def _set_array(program: moderngl.Program, name: str, values: list[int]):
@@ -62,20 +60,20 @@ class GpuFacade:
         words = np.column_stack([packed_boxes[:, 0] | packed_boxes[:, 1] << 16,
                                  packed_boxes[:, 2] | packed_boxes[:, 3] << 16]).astype(np.uint32)
         self.boxes = ctx.buffer(words.tobytes() if len(words) else bytes(8))
-        self.codec_textures = {"raw": {"uRaw": self.raw}}
+        self.codec_textures = {"raw": {"u_raw": self.raw}}
         for method, facade in self.compressed.items():
             fs = [facade.factors[name] for name in MAP_NAMES]
             if method == "svd":
                 self.codec_textures["svd"] = {
-                    "uSvdX": [_texture(ctx, f.x, "f4") for f in fs],
-                    "uSvdY": [_texture(ctx, f.y, "f4") for f in fs],
-                    "uSvdS": [_texture(ctx, f.s[None, :], "f4") for f in fs],
+                    "u_svd_x": [_texture(ctx, f.x, "f4") for f in fs],
+                    "u_svd_y": [_texture(ctx, f.y, "f4") for f in fs],
+                    "u_svd_s": [_texture(ctx, f.s[None, :], "f4") for f in fs],
                 }
             else:
                 self.codec_textures["bmf"] = {
-                    "uBmfX": [_texture(ctx, pack_bits(f.x), "u4") for f in fs],
-                    "uBmfY": [_texture(ctx, pack_bits(f.y), "u4") for f in fs],
-                    "uBmfS": [_texture(ctx, f.s[None, :], "f4") for f in fs],
+                    "u_bmf_x": [_texture(ctx, pack_bits(f.x), "u4") for f in fs],
+                    "u_bmf_y": [_texture(ctx, pack_bits(f.y), "u4") for f in fs],
+                    "u_bmf_s": [_texture(ctx, f.s[None, :], "f4") for f in fs],
                 }
         # Per map: SVD terms, or BMF words of 32 terms.
         self.counts = {method: [f.terms if method == "svd" else -(-f.terms // 32) for f in facade.factors.values()]
@@ -95,11 +93,11 @@ class GpuFacade:
                 units.append(unit)
                 unit += 1
             _set_array(program, name, units)
-        count_name = {"svd": "uTerms", "bmf": "uWords"}.get(codec)
+        count_name = {"svd": "u_terms", "bmf": "u_words"}.get(codec)
         if count_name:
             _set_array(program, count_name, self.counts[codec])
         rows, cols = self.maps.shape
-        for name, value in (("uMapSize", (cols, rows)), ("uSlabDepth", self.slab_depth)):
+        for name, value in (("u_map_size", (cols, rows)), ("u_slab_depth", self.slab_depth)):
             if name in program:
                 program[name].value = value
         self.boxes.bind_to_storage_buffer(BOXES_BINDING)
@@ -121,9 +119,8 @@ def decode_on_gpu(ctx: moderngl.Context, facade: GpuFacade, codec: str, programs
     target = RenderTarget(ctx, (cols, rows), colors=(("u4", 4),))
     facade.bind(program, codec)
     target.use()
-    vao = ctx.vertex_array(program, [])
-    vao.render(moderngl.TRIANGLES, vertices=3)
+    ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE | moderngl.BLEND)  # every texel, whatever was drawn before
+    draw_fullscreen(program)
     decoded = target.read(0)[::-1]  # read() is top row first; maps have row 0 at the bottom
-    vao.release()
     target.release()
     return {name: decoded[..., k] for k, name in enumerate(MAP_NAMES)}

@@ -9,10 +9,9 @@ from typing import Callable
 
 import numpy as np
 
-from ..assets._tiles import LABELS, tile_array
+from ..assets import LABELS, tile_array
 from ..grammar import compile_grammars, load
-from ..grammar._random import seed_vector
-from ..grammar._reference import evaluate
+from ..grammar import evaluate, seed_vector
 from ._layout import CORNICE, DEPTH_UNIT, DOOR_D, FRAME, FRAME_D, GLASS, GLASS_D, SILL, STONE, WALL, WALL_D, WOOD
 from ._maps import DetailMaps
 

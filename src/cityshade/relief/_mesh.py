@@ -3,7 +3,8 @@
 Front faces are the rectangles of equal depth and material (texel runs merged along rows, then
 equal runs merged across consecutive rows); side walls stand wherever neighbouring texels differ
 in depth and take the material of the higher one, as the tracers texture them. Coordinates are in
-map space, like the traced facades, so both draw with the same facade frames.
+map space, like the traced facades, so both draw with the same facade frames. Every quad is wound
+counter-clockwise seen from outside in world space, so the mesh can be drawn with back faces culled.
 """
 
 from __future__ import annotations
@@ -14,6 +15,18 @@ from ._maps import DetailMaps
 from ._reference import FACE_FRONT, FACE_NEG_X, FACE_NEG_Y, FACE_POS_X, FACE_POS_Y
 
 MESH_VERTEX = np.dtype([("pos", "<f4", 3), ("face", "<i4"), ("material", "<i4")])
+# Outward normal of each face in map space (x along, y up, z depth into the wall).
+OUTWARD = {FACE_FRONT: (0, 0, -1), FACE_NEG_X: (-1, 0, 0), FACE_POS_X: (1, 0, 0), FACE_NEG_Y: (0, -1, 0),
+           FACE_POS_Y: (0, 1, 0)}
+
+
+def _wound(corners: tuple, face: int) -> tuple:
+    """The corners in the order that is counter-clockwise seen from outside in world space. Map
+    space goes to world as (along, up, -out), a mirror, so that is clockwise seen from outside in
+    map space."""
+    a, b, c = (np.asarray(p, float) for p in corners[:3])
+    clockwise = np.dot(np.cross(b - a, c - a), OUTWARD[face]) < 0
+    return corners if clockwise else corners[::-1]
 
 
 def _merge_rows(rows: list[list[tuple]]) -> list[tuple]:
@@ -69,7 +82,7 @@ def relief_mesh(maps: DetailMaps) -> tuple[np.ndarray, np.ndarray]:
             quads.append(((x0, r, min(db, da)), (x1, r, min(db, da)), (x1, r, max(db, da)), (x0, r, max(db, da)), face, m))
     vertices = np.zeros(4 * len(quads), MESH_VERTEX)
     for q, (*corners, face, m) in enumerate(quads):
-        for k, corner in enumerate(corners):
+        for k, corner in enumerate(_wound(tuple(corners), face)):
             vertices[4 * q + k] = (corner, face, m)
     base = 4 * np.arange(len(quads), dtype=np.uint32)[:, None]
     indices = (base + np.array([0, 1, 2, 0, 2, 3], np.uint32)).reshape(-1)

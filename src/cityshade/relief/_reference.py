@@ -18,6 +18,8 @@ from ._maps import DetailMaps
 
 # Hit faces by outward normal in map space; the shaders use the same numbers (trace.glsl).
 FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y, FACE_POS_Y = range(5)
+RELIEF_FACE_CODES = {"FACE_FRONT": FACE_FRONT, "FACE_NEG_X": FACE_NEG_X, "FACE_POS_X": FACE_POS_X,
+                     "FACE_NEG_Y": FACE_NEG_Y, "FACE_POS_Y": FACE_POS_Y}  # the shaders' FACE_* of relief
 MISS = -1
 
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget
+from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, set_uniforms
 from ..scene import Camera
 from ._gpu import RENDERERS, GpuFacade, renderer_defines
 from ._maps import DetailMaps
@@ -109,6 +109,13 @@ def trace_view(maps: DetailMaps, camera: Camera, size: tuple[int, int]) -> Hits:
     return trace_reference(maps, origins, directions)
 
 
+def write_frame_block(ctx: moderngl.Context, camera: Camera, aspect: float):
+    """The camera and the sun of the relief views; no ambient light, time or exposure."""
+    FRAME_BLOCK.write(ctx, u_inv_view_proj=np.linalg.inv(camera.view_projection(aspect)), u_camera=camera.eye,
+                      u_time=0.0, u_sun_dir=SUN, u_exposure=1.0, u_sun_color=np.ones(3), u_sky_ambient=np.zeros(3),
+                      u_ground_ambient=np.zeros(3))
+
+
 def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacade, camera: Camera, renderer: str,
                  vertices: np.ndarray, frames: np.ndarray, aspect: float, lsb_mod37: bool = False,
                  depth_only: bool = False, tiled: bool = False, after_prepass: bool = False):
@@ -121,11 +128,8 @@ def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacad
     vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(np.ascontiguousarray(frames, FRAME_DTYPE).tobytes())
     vao = ctx.vertex_array(program, [(vbo, "3f4 i4", "in_position", "in_face"), (ibo, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")])
     facade.bind(program, RENDERERS[renderer][1])
-    program["uViewProj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
-    for name, value in (("uCamera", tuple(camera.eye)), ("uMapScale", tuple(np.abs(map_scale(facade.maps)))),
-                        ("uSunDir", SUN)):
-        if name in program:
-            program[name].value = value
+    write_frame_block(ctx, camera, aspect)
+    set_uniforms(program, u_view_proj=camera.view_projection(aspect), u_map_scale=np.abs(map_scale(facade.maps)))
     ctx.enable(moderngl.DEPTH_TEST)
     vao.render(moderngl.TRIANGLES, instances=len(frames))
     vao.release()
@@ -149,11 +153,12 @@ class MeshFacade:
         vao = ctx.vertex_array(program, [(self.vbo, "3f4 i4 i4", "in_position", "in_face", "in_material"),
                                          (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")],
                                index_buffer=self.ibo)
-        program["uViewProj"].write(camera.view_projection(aspect).T.astype("f4").tobytes())
-        program["uMapScale"].value = tuple(np.abs(map_scale(self.maps)))
-        program["uSunDir"].value = SUN
+        write_frame_block(ctx, camera, aspect)
+        set_uniforms(program, u_view_proj=camera.view_projection(aspect), u_map_scale=np.abs(map_scale(self.maps)))
         ctx.enable(moderngl.DEPTH_TEST)
+        ctx.enable(moderngl.CULL_FACE)  # every quad wound counter-clockwise seen from outside
         vao.render(moderngl.TRIANGLES, instances=len(frames))
+        ctx.disable(moderngl.CULL_FACE)
         vao.release()
         instances.release()
 

@@ -1,7 +1,30 @@
-"""The frame: passes in order (see _frame.py), the Renderer that runs them, and their settings."""
+"""The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings.
 
+`cityshade.render` is this package. It used to be a function as well; calling the package still
+works for now, with a DeprecationWarning: use `cityshade.render_image(...)`."""
+
+import sys
+import types
+import warnings
+
+from ._culling import boxes_visible, frustum_planes
 from ._daylight import Daylight, parse_time
+from ._facades import FACADE_KINDS, FacadeKind, assign_facades, choose_facade
+from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._renderer import Renderer
 from ._settings import RenderSettings
 
-__all__ = ["Daylight", "parse_time", "Renderer", "RenderSettings"]
+__all__ = ["boxes_visible", "frustum_planes", "Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "GLState", "Pass", "frame_passes", "id_passes", "run_passes", "Renderer",
+           "RenderSettings"]
+
+
+class _DeprecatedCall(types.ModuleType):
+    def __call__(self, *args, **kwargs):
+        warnings.warn("cityshade.render(...) is deprecated; use cityshade.render_image(...)", DeprecationWarning,
+                      stacklevel=2)
+        from ..api import render_image
+
+        return render_image(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _DeprecatedCall

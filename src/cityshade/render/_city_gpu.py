@@ -6,11 +6,12 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..grammar._city import assign_facades
-from ..relief._city import CityRelief, assign_relief
+from ..gl import VertexArrays
+from ..relief import CityRelief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
-from ..scene._city import GROUND_ASPHALT, GROUND_GRASS
+from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._culling import BuildingChunks
+from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
 
 GROUND_FORMAT = "3f 1f"
@@ -37,8 +38,7 @@ class CityGPU:
         self.ctx = ctx
         self.city = city
         vertices, records = batch(city.masses)
-        self.grammar_buildings = assign_facades(records, city.masses)
-        self.relief_buildings = assign_relief(records, city.masses)
+        self.facades = assign_facades(records, city.masses)  # buildings per facade kind
         self.relief = CityRelief(ctx)
         self.chunks = BuildingChunks(vertices)
         vertices = self.chunks.vertices
@@ -49,20 +49,12 @@ class CityGPU:
         ground = ground_vertices(city)
         self.ground_vbo = ctx.buffer(ground.tobytes())
         self.ground_vertex_count = len(ground)
-        self._vaos: dict[int, moderngl.VertexArray] = {}
+        self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
         self.chunks_drawn = len(self.chunks)
 
     def _vao(self, program, vbo, fmt, attributes):
-        key = (id(program), id(vbo))
-        vao = self._vaos.get(key)
-        if vao is None:
-            names = [a for a in attributes if a in program]
-            if len(names) < len(attributes):  # the depth-only variant reads just the position
-                fmt = " ".join(f if a in program else _skip(f) for f, a in zip(fmt.split(), attributes))
-            vao = self.ctx.vertex_array(program, [(vbo, fmt, *names)])
-            self._vaos[key] = vao
-        return vao
+        return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
 
     def draw_buildings(self, program, view_projection: np.ndarray | None = None):
         """All buildings in one call; with a view-projection, only the chunks inside its frustum
@@ -89,17 +81,10 @@ class CityGPU:
         self._vao(program, self.ground_vbo, GROUND_FORMAT, GROUND_ATTRIBUTES).render(moderngl.TRIANGLES)
 
     def release(self):
-        for vao in self._vaos.values():
-            vao.release()
+        self._vaos.release()
         for buf in (self.building_vbo, self.records, self.ground_vbo):
             if buf is not None:
                 buf.release()
         self.relief.release()
         if self._polygonised is not None:
             self._polygonised.release()
-
-
-def _skip(fmt: str) -> str:
-    """A moderngl format that skips an attribute's bytes, e.g. '3f' -> '12x'."""
-    count = int(fmt[:-1] or 1)
-    return f"{count * 4}x"

@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .._files import output_target, write_png
-from .._values import check_lights as parse_lights
-from .._values import check_seed, parse_size
+from ..arguments import check_seed, check_writable, parse_lights, parse_size, save_png
 from ..errors import UsageError
 from ..scene import CITIES
 
@@ -26,24 +24,12 @@ def _trees_scene(args) -> int:
 SCENES = {"trees": _trees_scene}  # a technique's own scene: name -> callable(args) -> exit code
 
 
-def parse_metres(text: str, option: str = "--facade", limit: float = 4096.0) -> tuple[float, float]:
-    """'20x16' -> (20.0, 16.0) metres, each side in (0, limit]."""
-    try:
-        width, height = (float(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise UsageError(f"invalid {option} {text!r}; use WIDTHxHEIGHT in metres, e.g. 20x16") from None
-    if not (0 < width <= limit and 0 < height <= limit):
-        raise UsageError(f"invalid {option} {text!r}; each side must be in (0, {limit:g}] metres")
-    return width, height
-
-
-def check_writable(path: Path) -> Path:
-    """Fails early, with one line, if the output cannot be written (nothing is created)."""
-    output_target(path)
-    return path
-
-
-save_png = write_png  # a finished PNG or nothing
+def print_profile(pass_ms: dict[str, float]):
+    """Each pass's median wall time and their sum, in the order the passes run (docs/frame.md)."""
+    width = max(len(name) for name in (*pass_ms, "frame total"))
+    for name, ms in pass_ms.items():
+        print(f"  {name:<{width}}  {ms:8.2f} ms")
+    print(f"  {'frame total':<{width}}  {sum(pass_ms.values()):8.2f} ms")
 
 
 def register(subparsers):
@@ -62,6 +48,8 @@ def register(subparsers):
     parser.add_argument("--samples", type=int, default=4, choices=(0, 2, 4, 8),
                         help="MSAA samples (0: off; llvmpipe shades every sample, so 0 is about 4x faster there)")
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
+    parser.add_argument("--profile", action="store_true",
+                        help="print each pass's wall time (ctx.finish() around it) and the frame total")
     parser.set_defaults(run=run)
 
 
@@ -83,8 +71,11 @@ def run(args) -> int:
         if args.camera == "street" and "street" not in city.viewpoints:
             args.camera = "aerial"
     image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,
-                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples)
+                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples,
+                              profile=args.profile)
     save_png(image, args.out)
+    if args.profile:
+        print_profile(info["pass_ms"])
     msaa = f"{info['samples']}x MSAA" if info["samples"] else "no MSAA"
     print(f"wrote {args.out} ({size[0]}x{size[1]}, {msaa}): {info['buildings']} buildings, "
           f"frame {info['frame_ms']:.1f} ms (median of {info['frames']}) on {info['device']}")

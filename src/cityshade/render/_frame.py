@@ -1,47 +1,58 @@
-"""The frame: its passes, listed in the order they run.
+"""The frame: an ordered list of passes, built from the settings (docs/frame.md lists them).
 
-    0. shadows           cascaded shadow maps of buildings and trees, each cascade at its own
-                         rate (SpeedTree §4.3.2; _shadows.py)
-    1. facade grammar    only with settings.grammar_deferred: G-buffer + one full-screen grammar
-                         evaluation per pixel (Krecklau §4), shadowed, read back by the buildings pass
-    2. depth prepass     all opaque geometry into the z-buffer (interior-mapping §3.1 "z-cull")
-    3. buildings         facades; behind the glass, interior-mapped rooms (or the polygonised-
-                         rooms baseline: exteriors, floors, ceilings, walls, blended glass)
-    4. ground            streets, pavements, parks; receives the shadows
-    5. trees             trunks, fins, leaf cards, fronds with alpha to coverage (_trees.py)
-    6. sky               environment map where nothing was drawn
-    7. resolve           multisampled HDR -> single-sample HDR
-    8. tone map          god rays around the sun (SpeedTree §4.5), then HDR -> sRGB 8-bit
+Each pass has a name, says what it reads and which target it writes, and sets every piece of GL
+state it relies on (GLState) before it draws, so no pass depends on what an earlier one left.
+`frame_passes` below reads top to bottom in the order the passes run; `run_passes` runs them and,
+when asked, times each one with ctx.finish() around it.
 
-`draw_ids` renders the id AOV (face, room, building) used by tests and datasets.
+`id_passes` render the id AOV (face, room, building) used by tests and datasets.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
+from typing import Callable
 
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget
-from ..grammar._gpu import shader_defines as grammar_defines
+from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, draw_fullscreen, set_uniforms
+from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
-from ..scene._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
+from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
-from ._polygonised import draw_interior_layers
+from ._polygonised import draw_interior_depth, draw_interior_layers
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
 from ._trees import TreePass, draw_trees
 from ._uniforms import (
     UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
-    UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z, set_uniforms,
+    UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z,
 )
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
 ROOM_DARK = np.array([0.018, 0.02, 0.03])
+
+
+@dataclass
+class FrameTargets:
+    """Where passes draw: the multisampled HDR target, its resolve, the 8-bit display image, the
+    id AOV and the deferred grammar's G-buffer and results (None until a pass needs them)."""
+
+    hdr: RenderTarget | None = None
+    resolved: RenderTarget | None = None
+    display: RenderTarget | None = None
+    ids: RenderTarget | None = None
+    grammar_gbuffer: RenderTarget | None = None
+    grammar_result: RenderTarget | None = None
+
+    def get(self, name: str) -> RenderTarget | None:
+        """The target called `name`; None for what a pass binds itself (the shadow maps)."""
+        return getattr(self, name, None)
 
 
 @dataclass
@@ -57,6 +68,7 @@ class FrameInputs:
     settings: RenderSettings
     daylight: Daylight
     size: tuple[int, int]
+    targets: FrameTargets = field(default_factory=FrameTargets)
     shadows: CascadedShadows | None = None
     trees: TreePass | None = None
     frame_index: int = 0
@@ -76,9 +88,7 @@ class FrameInputs:
         layout = t.atlas_layout
         atlas_size = (t.atlas.width, t.atlas.height)
         return dict(
-            u_view_proj=self.view_projection, u_camera=self.camera.eye, u_sun_dir=d.sun_direction,
-            u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient,
-            u_lights=float(d.lights if s.lights is None else s.lights), u_time=float(s.animation_time),
+            u_view_proj=self.view_projection, u_lights=float(d.lights if s.lights is None else s.lights),
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
             u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
@@ -86,6 +96,13 @@ class FrameInputs:
             u_env=UNIT_ENV, u_facade=UNIT_FACADE, u_ceiling=UNIT_CEILING, u_floor=UNIT_FLOOR, u_wall_x=UNIT_WALL_X,
             u_wall_z=UNIT_WALL_Z, u_room_atlas=UNIT_ATLAS, u_sprites=UNIT_SPRITES, u_curtain=UNIT_CURTAIN,
         )
+
+    def write_frame_block(self):
+        """The values every program shares, once per frame (cityshade.gl.FRAME_BLOCK)."""
+        d = self.daylight
+        FRAME_BLOCK.write(self.ctx, u_inv_view_proj=np.linalg.inv(self.view_projection), u_camera=self.camera.eye,
+                          u_time=self.settings.animation_time, u_sun_dir=d.sun_direction, u_exposure=d.exposure,
+                          u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient)
 
     def bind_textures(self):
         t = self.textures
@@ -98,27 +115,68 @@ class FrameInputs:
         t.curtain.use(UNIT_CURTAIN)
 
 
+@dataclass(frozen=True)
+class GLState:
+    """Every piece of fixed-function state a pass relies on; applied in full before it draws."""
+
+    depth_test: bool = True
+    depth_func: str = "<"
+    depth_write: bool = True
+    colour_write: bool = True
+    blend: tuple[int, int] | None = None  # (source, destination) factors; None: off
+    cull: bool = False  # back faces
+
+    def apply(self, ctx: moderngl.Context):
+        ctx.enable(moderngl.DEPTH_TEST) if self.depth_test else ctx.disable(moderngl.DEPTH_TEST)
+        ctx.depth_func = self.depth_func
+        ctx.depth_mask = self.depth_write
+        ctx.color_mask = (self.colour_write,) * 4
+        if self.blend is None:
+            ctx.disable(moderngl.BLEND)
+        else:
+            ctx.enable(moderngl.BLEND)
+            ctx.blend_func = self.blend
+        ctx.enable(moderngl.CULL_FACE) if self.cull else ctx.disable(moderngl.CULL_FACE)
+
+
+@dataclass(frozen=True)
+class Pass:
+    """One step of the frame. `writes` names what it draws into: a FrameTargets field, which the
+    runner binds (and clears to `clear` if given) before `draw`, or the shadow maps, which the
+    shadow pass binds cascade by cascade."""
+
+    name: str
+    draw: Callable[[FrameInputs], None]
+    reads: tuple[str, ...]
+    writes: str
+    state: GLState = GLState()
+    clear: tuple[float, float, float, float] | None = None
+
+
+# -- what the passes draw ---------------------------------------------------------------------------
+
+def grammar_gbuffer(f: FrameInputs):
+    f.textures.grammar_pass.draw_gbuffer(f, f.textures.grammar, set_uniforms, UNIT_GRAMMAR)
+
+
+def grammar_evaluation(f: FrameInputs):
+    """Facade grammars evaluated once per pixel from the G-buffer (Krecklau §4); see grammar._frame_pass."""
+    f.textures.grammar_pass.evaluate(f, f.textures.grammar, set_uniforms, UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED)
+
+
 def depth_prepass(f: FrameInputs):
-    f.ctx.depth_func = "<"
-    f.ctx.color_mask = (False, False, False, False)
     buildings = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
     set_uniforms(buildings, u_view_proj=f.view_projection)
     f.city.draw_buildings(buildings, f.view_projection)
     ground = f.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
     set_uniforms(ground, u_view_proj=f.view_projection)
     f.city.draw_ground(ground)
-    f.ctx.color_mask = (True, True, True, True)
-    f.ctx.depth_func = "<="  # shading passes now touch only the visible surface
-
-
-def grammar_deferred_pass(f: FrameInputs):
-    """Facade grammars evaluated once per pixel from a G-buffer (Krecklau §4); see grammar._frame_pass."""
-    f.textures.grammar_pass.run(f, f.textures.grammar, set_uniforms, UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED)
 
 
 def draw_buildings(f: FrameInputs, defines: dict | None = None):
     defines = {**grammar_defines(), "GRAMMAR_DEFERRED": f.settings.grammar_deferred, **(defines or {})}
     program = f.programs.get("city/building.glsl", f.building_defines(**defines))
+    f.bind_textures()
     set_uniforms(program, **f.common_uniforms())
     f.textures.grammar.bind(program, UNIT_GRAMMAR)
     if f.settings.grammar_deferred:
@@ -129,78 +187,151 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     f.city.draw_buildings(program, f.view_projection)
 
 
-def draw_polygonised_buildings(f: FrameInputs):
-    """The polygonised-interiors baseline (interior-mapping §3.1): the exterior walls with the glass
-    cut out first (they hide most of the rooms' geometry, so no prepass is needed), then the real
-    floors, ceilings and walls, then the glass's reflection blended over them: five draw calls."""
-    f.ctx.depth_func = "<"
+def polygonised_exteriors(f: FrameInputs):
+    """The polygonised-interiors baseline (interior-mapping §3.1), with what a competent
+    implementation has (back faces culled throughout, a depth prepass for the rooms), starts with
+    the exterior walls, the glass cut out: they hide most of the rooms' geometry."""
     draw_buildings(f, {"INTERIOR_MAPPING": False, "POLYGONISED_EXTERIOR": True})
+
+
+def polygonised_rooms(f: FrameInputs):
+    f.bind_textures()
     draw_interior_layers(f)
-    f.ctx.enable(moderngl.BLEND)
-    f.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-    f.ctx.depth_mask = False
+
+
+def polygonised_glass(f: FrameInputs):
     draw_buildings(f, {"INTERIOR_MAPPING": False, "POLYGONISED_WINDOWS": True})
-    f.ctx.depth_mask = True
-    f.ctx.disable(moderngl.BLEND)
 
 
 def draw_ground(f: FrameInputs, defines: dict | None = None):
     program = f.programs.get("city/ground.glsl", {"NO_SHADOWS": f.shadows is None, **(defines or {})})
+    f.bind_textures()
     set_uniforms(program, **f.common_uniforms())
     if f.shadows is not None:
         f.shadows.bind(program)
     f.city.draw_ground(program)
 
 
+def trees(f: FrameInputs):
+    f.bind_textures()  # the environment, for the leaves' sky light
+    draw_trees(f)
+
+
 def draw_sky(f: FrameInputs):
     program = f.programs.get("frame/sky.glsl")
-    set_uniforms(program, u_inv_view_proj=np.linalg.inv(f.view_projection), u_camera=f.camera.eye, u_env=UNIT_ENV)
-    f.ctx.depth_func = "<="
-    f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+    f.env.use(UNIT_ENV)
+    set_uniforms(program, u_env=UNIT_ENV)
+    draw_fullscreen(program)
 
 
-def tone_map(f: FrameInputs, hdr: moderngl.Texture, target: RenderTarget):
-    target.use()
-    f.ctx.disable(moderngl.DEPTH_TEST)
+def resolve(f: FrameInputs):
+    f.ctx.copy_framebuffer(f.targets.resolved.fbo, f.targets.hdr.fbo)
+
+
+def tone_map(f: FrameInputs):
     program = f.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.settings.god_rays})
-    hdr.use(UNIT_HDR)
-    set_uniforms(program, u_hdr=UNIT_HDR, u_exposure=f.daylight.exposure,
+    f.targets.resolved.colors[0].use(UNIT_HDR)
+    set_uniforms(program, u_hdr=UNIT_HDR,
                  **god_ray_uniforms(f.view_projection, f.camera.eye, f.daylight.sun_direction, f.daylight.sun_color))
-    f.ctx.vertex_array(program, []).render(moderngl.TRIANGLES, vertices=3)
+    draw_fullscreen(program)
 
 
-def draw_frame(f: FrameInputs, hdr: RenderTarget, resolved: RenderTarget, display: RenderTarget):
-    """Runs the passes in order; the tone-mapped image ends in `display`."""
-    ctx = f.ctx
-    shadow_pass(f)
-    if f.settings.grammar_deferred:
-        grammar_deferred_pass(f)
-    hdr.use()
-    ctx.enable(moderngl.DEPTH_TEST)
-    ctx.disable(moderngl.CULL_FACE)
-    ctx.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
-    f.bind_textures()
-    ctx.depth_func = "<"
-    if f.settings.polygonised_interiors:
-        draw_polygonised_buildings(f)
-    else:
-        if f.settings.depth_prepass:
-            depth_prepass(f)
-        draw_buildings(f)
-    draw_ground(f)
-    draw_trees(f)
-    draw_sky(f)
-    ctx.copy_framebuffer(resolved.fbo, hdr.fbo)
-    tone_map(f, resolved.colors[0], display)
-
-
-def draw_ids(f: FrameInputs, target: RenderTarget):
-    """The id AOV: per pixel (face, room id, building index + 1, 0) as uint32."""
-    ctx = f.ctx
-    target.use()
-    ctx.enable(moderngl.DEPTH_TEST)
-    ctx.depth_func = "<"
-    target.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-    f.bind_textures()
-    draw_buildings(f, {"ID_PASS": True, "INTERIOR_LOD": False})
+def id_ground(f: FrameInputs):
     draw_ground(f, {"ID_PASS": True})
+
+
+# -- the frame --------------------------------------------------------------------------------------
+
+CITY = ("city geometry", "building records")
+ROOM_TEXTURES = ("room textures", "facade texture", "sprites", "curtain", "environment")
+SHADING = ("shadow maps",)
+OFF = GLState(depth_test=False)
+
+
+def frame_passes(settings: RenderSettings) -> list[Pass]:
+    """The passes of one frame, in the order they run."""
+    shadows = SHADING if settings.shadows else ()
+    grammar = ("grammar textures",)
+    passes = []
+    if settings.shadows:
+        # cascaded shadow maps of buildings and trees, each cascade at its own rate (SpeedTree §4.3.2)
+        passes.append(Pass("shadows", shadow_pass, (*CITY, "trees"), "shadow maps"))
+    if settings.grammar_deferred:
+        # Krecklau §4: a G-buffer, then one full-screen grammar evaluation per pixel, shadowed
+        passes.append(Pass("grammar g-buffer", grammar_gbuffer, (*CITY, *grammar), "grammar_gbuffer",
+                           clear=(0.0, 0.0, 0.0, 0.0)))
+        passes.append(Pass("grammar evaluation", grammar_evaluation, ("grammar_gbuffer", *grammar, *shadows),
+                           "grammar_result", OFF, clear=(0.0, 0.0, 0.0, 0.0)))
+    facade_inputs = (*CITY, *ROOM_TEXTURES, *grammar, "relief maps", *shadows,
+                     *(("grammar_result",) if settings.grammar_deferred else ()))
+    black = (0.0, 0.0, 0.0, 1.0)
+    if settings.polygonised_interiors:
+        # interior-mapping §3.1's baseline: exteriors with the glass cut out, real floors, ceilings
+        # and walls (a floor and the ceiling below it share a plane: back faces culled), then the
+        # glass's reflection blended over them
+        passes.append(Pass("exteriors", polygonised_exteriors, facade_inputs, "hdr", GLState(cull=True), clear=black))
+        room_depth = "<"
+        if settings.depth_prepass:  # the rooms' own z-cull: each visible room pixel shaded once
+            passes.append(Pass("room depth prepass", draw_interior_depth, ("room geometry",), "hdr",
+                               GLState(colour_write=False, cull=True)))
+            room_depth = "<="
+        passes.append(Pass("rooms", polygonised_rooms, ("room geometry", *ROOM_TEXTURES), "hdr",
+                           GLState(depth_func=room_depth, cull=True)))
+        passes.append(Pass("window glass", polygonised_glass, facade_inputs, "hdr",
+                           GLState(depth_write=False, cull=True, blend=(moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA))))
+        shading_depth = "<"
+    elif settings.depth_prepass:
+        # interior-mapping §3.1 "z-cull": every opaque surface into the z-buffer first, so the
+        # shading passes touch only the visible one
+        passes.append(Pass("depth prepass", depth_prepass, CITY, "hdr", GLState(colour_write=False), clear=black))
+        shading_depth = "<="
+    else:
+        shading_depth = "<"
+    # facades; behind the glass, interior-mapped rooms
+    if not settings.polygonised_interiors:
+        passes.append(Pass("buildings", draw_buildings, facade_inputs, "hdr", GLState(depth_func=shading_depth),
+                           clear=None if settings.depth_prepass else black))
+    # streets, pavements, parks; they receive the shadows
+    passes.append(Pass("ground", draw_ground, (*CITY, "environment", *shadows), "hdr", GLState(depth_func=shading_depth)))
+    if settings.trees:
+        # trunks, fins, leaf cards, fronds with alpha to coverage (render/_trees.py sets cull per part)
+        passes.append(Pass("trees", trees, ("trees", "tree textures", "environment", *shadows), "hdr",
+                           GLState(depth_func="<=")))
+    passes.append(Pass("sky", draw_sky, ("environment",), "hdr", GLState(depth_func="<=")))  # where nothing was drawn
+    passes.append(Pass("resolve", resolve, ("hdr",), "resolved", OFF))  # multisampled HDR -> single-sample HDR
+    # god rays around the sun (SpeedTree §4.5), then HDR -> sRGB 8-bit
+    passes.append(Pass("tone map", tone_map, ("resolved",), "display", OFF))
+    return passes
+
+
+def id_passes(settings: RenderSettings, room_state: bool = False) -> list[Pass]:
+    """The id AOV: per pixel (face, room id, building index + 1, grammar label) as uint32; with
+    `room_state` the fourth channel is the room seen instead (1 | lit << 1 | variant << 2, 0: none)."""
+
+    def id_buildings(f: FrameInputs):
+        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "INTERIOR_LOD": False})
+
+    inputs = (*CITY, "grammar textures", "relief maps")
+    return [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
+            Pass("ground ids", id_ground, CITY, "ids")]
+
+
+def run_passes(f: FrameInputs, passes: list[Pass], times: dict[str, float] | None = None):
+    """Runs the passes in order. With `times`, each pass's wall time in seconds is stored under its
+    name, measured with ctx.finish() before and after it."""
+    f.write_frame_block()
+    for p in passes:
+        if times is not None:
+            f.ctx.finish()
+            start = time.perf_counter()
+        target = f.targets.get(p.writes)
+        if target is not None:
+            target.use()
+            if p.clear is not None:
+                f.ctx.color_mask, f.ctx.depth_mask = (True,) * 4, True  # a clear writes only through the masks
+                target.fbo.clear(*p.clear, depth=1.0)
+        p.state.apply(f.ctx)
+        p.draw(f)
+        if times is not None:
+            f.ctx.finish()
+            times[p.name] = time.perf_counter() - start

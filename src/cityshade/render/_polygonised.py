@@ -7,10 +7,10 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from ..gl import VertexArrays, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
 from ._culling import BuildingChunks
-from ._uniforms import set_uniforms
 
 
 class PolygonisedGPU:
@@ -21,7 +21,7 @@ class PolygonisedGPU:
             if len(vertices):
                 chunks = BuildingChunks(vertices)
                 self.layers[name] = (chunks, ctx.buffer(chunks.vertices.tobytes()))
-        self._vaos: dict[tuple[int, str], moderngl.VertexArray] = {}
+        self._vaos = VertexArrays(ctx)
 
     @property
     def triangle_count(self) -> int:
@@ -31,27 +31,29 @@ class PolygonisedGPU:
         if layer not in self.layers:
             return
         chunks, vbo = self.layers[layer]
-        key = (id(program), layer)
-        if key not in self._vaos:
-            self._vaos[key] = self.ctx.vertex_array(program, [(vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)],
-                                                    skip_errors=True)
+        vao = self._vaos.get((program.glo, layer), program, [(vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)])
         for first, count in chunks.visible_runs(chunks.visible(view_projection)):
-            self._vaos[key].render(moderngl.TRIANGLES, vertices=count, first=first)
+            vao.render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def release(self):
-        for vao in self._vaos.values():
-            vao.release()
+        self._vaos.release()
         for _, vbo in self.layers.values():
             vbo.release()
 
 
+def draw_interior_depth(f):
+    """The rooms' depth only (the baseline's own prepass): floors, ceilings and walls."""
+    program = f.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(program, u_view_proj=f.view_projection)
+    for layer in POLYGONISED_LAYERS:
+        f.city.polygonised().draw(program, layer, f.view_projection)
+
+
 def draw_interior_layers(f):
-    """Floors, ceilings, then walls: three draw calls, each layer its own texture kind, back faces
-    culled (a floor and the ceiling below it share a plane)."""
+    """Floors, ceilings, then walls: three draw calls, each layer its own texture kind (the frame's
+    pass culls back faces: a floor and the ceiling below it share a plane)."""
     program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
     set_uniforms(program, **f.common_uniforms())
     f.city.records.bind_to_storage_buffer(0)
-    f.ctx.enable(moderngl.CULL_FACE)
     for layer in POLYGONISED_LAYERS:
         f.city.polygonised().draw(program, layer, f.view_projection)
-    f.ctx.disable(moderngl.CULL_FACE)

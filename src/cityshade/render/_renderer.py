@@ -10,11 +10,11 @@ import numpy as np
 from .. import assets
 from .._budget import check_image_memory
 from .._values import check_size
-from ..gl import ProgramCache, RenderTarget, create_context, describe_context
+from ..gl import RenderTarget, create_context, describe_context, programs
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
-from ._frame import FrameInputs, draw_frame, draw_ids
+from ._frame import FrameInputs, FrameTargets, frame_passes, id_passes, run_passes
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
 from ._textures import CityTextures, cubemap
@@ -40,7 +40,8 @@ class Renderer:
         self.settings = settings or RenderSettings()
         check_image_memory(self.size, frame_bytes_per_pixel(self.settings.samples), "a render")
         self.ctx = ctx or create_context(headless=True)
-        self.programs = ProgramCache(self.ctx)
+        self._current()
+        self.programs = programs(self.ctx)
         self.textures = CityTextures.create(self.ctx, self.settings.room_texture_size, self.settings.room_variants)
         self.city: CityGPU | None = None
         self.trees: TreePass | None = None
@@ -48,9 +49,14 @@ class Renderer:
         self.frame_index = 0  # drives the shadow cascades' update rates
         self._env_key = None
         self.env = None
-        self._targets = None
-        self._ids = None
+        self.targets = FrameTargets()
         self.last_frame_seconds = float("nan")
+        self.last_pass_seconds: dict[str, float] = {}  # by pass name, from draw(..., profile=True)
+
+    def _current(self):
+        """Makes this renderer's context the current one: GL calls go to the current context, and
+        a process may hold several (each cityshade.render_image call makes its own)."""
+        self.ctx.__enter__()
 
     @property
     def samples(self) -> int:
@@ -62,6 +68,7 @@ class Renderer:
         return describe_context(self.ctx)
 
     def set_city(self, city: City):
+        self._current()
         if self.city is not None:
             self.city.release()
         self.city = CityGPU(self.ctx, city)
@@ -70,6 +77,7 @@ class Renderer:
         self.trees = TreePass(self.ctx, self.programs, city_trees(city), seed=city.seed)
 
     def set_settings(self, settings: RenderSettings):
+        self._current()
         if settings.room_texture_size != self.settings.room_texture_size or settings.room_variants != self.settings.room_variants:
             self.textures.release()
             self.textures = CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants)
@@ -83,10 +91,11 @@ class Renderer:
             self._release_targets()
 
     def _release_targets(self):
-        for group in (self._targets or ()), ((self._ids,) if self._ids else ()):
-            for target in group:
+        for name in ("hdr", "resolved", "display", "ids"):  # the grammar's targets belong to its pass
+            target = self.targets.get(name)
+            if target is not None:
                 target.release()
-        self._targets = self._ids = None
+        self.targets = FrameTargets()
 
     def _daylight(self) -> Daylight:
         daylight = Daylight.at(self.settings.time_of_day)
@@ -106,39 +115,56 @@ class Renderer:
         if self.settings.shadows and self.shadows is None:
             self.shadows = CascadedShadows(self.ctx)
         self.frame_index += 1
+        if self.settings.grammar_deferred:
+            self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
         return FrameInputs(self.ctx, self.programs, self.city, self.textures, self.env, camera, self.settings,
-                           daylight, self.size, shadows=self.shadows if self.settings.shadows else None,
+                           daylight, self.size, self.targets, shadows=self.shadows if self.settings.shadows else None,
                            trees=self.trees if self.settings.trees else None, frame_index=self.frame_index - 1)
 
-    def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None) -> RenderTarget:
-        """Draws one frame; returns the display target (also blitted to `framebuffer` if given)."""
-        if self._targets is None:
-            self._targets = (
-                RenderTarget(self.ctx, self.size, (("f2", 4),), samples=self.settings.samples),
-                RenderTarget(self.ctx, self.size, (("f2", 4),)),
-                RenderTarget(self.ctx, self.size, (("f1", 4),)),
-            )
+    def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None,
+             profile: bool = False) -> RenderTarget:
+        """Draws one frame; returns the display target (also blitted to `framebuffer` if given).
+        With `profile`, each pass is timed on its own (ctx.finish() around it) into last_pass_seconds."""
+        self._current()
+        t = self.targets
+        if t.hdr is None:
+            t.hdr = RenderTarget(self.ctx, self.size, (("f2", 4),), samples=self.settings.samples)
+            t.resolved = RenderTarget(self.ctx, self.size, (("f2", 4),))
+            t.display = RenderTarget(self.ctx, self.size, (("f1", 4),))
         inputs = self._inputs(camera)
+        times = {} if profile else None
         start = time.perf_counter()
-        draw_frame(inputs, *self._targets)
+        run_passes(inputs, frame_passes(self.settings), times)
         if framebuffer is not None:
-            self.ctx.copy_framebuffer(framebuffer, self._targets[2].fbo)
+            self.ctx.copy_framebuffer(framebuffer, t.display.fbo)
         self.ctx.finish()
         self.last_frame_seconds = time.perf_counter() - start
-        return self._targets[2]
+        if times is not None:
+            self.last_pass_seconds = times
+        return t.display
 
     def render(self, camera: Camera) -> np.ndarray:
         """One frame as an HxWx3 uint8 sRGB array."""
         return self.draw(camera).read()[..., :3].copy()
 
-    def render_ids(self, camera: Camera) -> np.ndarray:
-        """The id AOV as HxWx4 uint32: face code, room id, building index + 1, 0."""
-        if self._ids is None:
-            self._ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
-        draw_ids(self._inputs(camera), self._ids)
-        return self._ids.read().copy()
+    def read_hdr(self) -> np.ndarray:
+        """The last frame's linear HDR colour before tone mapping, HxWx3 float32 (to check it is finite)."""
+        if self.targets.resolved is None:
+            raise RuntimeError("no frame drawn yet: call draw() or render() first")
+        self._current()
+        return self.targets.resolved.read()[..., :3].astype(np.float32)
+
+    def render_ids(self, camera: Camera, room_state: bool = False) -> np.ndarray:
+        """The id AOV as HxWx4 uint32: face code, room id, building index + 1, grammar label (with
+        `room_state`: the room seen, 1 | lit << 1 | texture variant << 2, 0 where none)."""
+        self._current()
+        if self.targets.ids is None:
+            self.targets.ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
+        run_passes(self._inputs(camera), id_passes(self.settings, room_state))
+        return self.targets.ids.read().copy()
 
     def release(self):
+        self._current()
         self._release_targets()
         if self.city is not None:
             self.city.release()

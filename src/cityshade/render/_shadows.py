@@ -16,7 +16,8 @@ import numpy as np
 
 from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
-from ._uniforms import UNIT_SHADOW, set_uniforms
+from ..gl import set_uniforms
+from ._uniforms import UNIT_SHADOW
 
 # Until a cascade is first drawn, its matrix sends every point outside [0, 1]: no shadow from it.
 _OUTSIDE = np.array([[0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, 1.0]])
@@ -113,7 +114,7 @@ def shadow_pass(f):
             calls += 1
         if f.trees is not None:
             f.trees.prepare(f.camera.eye)
-            calls += f.trees.draw_shadow(view_proj, sun, casters, time=f.settings.animation_time)
+            calls += f.trees.draw_shadow(view_proj, sun, casters)
         return calls
 
     aspect = f.size[0] / f.size[1]

@@ -8,42 +8,10 @@ import moderngl
 import numpy as np
 
 from .. import assets
-from ..grammar._city import library_texture
-from ..grammar._frame_pass import DeferredGrammarPass
-from ..grammar._gpu import GrammarTextures
+from ..gl import upload_texture
+from ..grammar import DeferredGrammarPass, GrammarTextures, library_texture
 
 ROOM_FACES = ("ceiling", "floor", "wall_x", "wall_z")
-
-
-def linear(image: np.ndarray) -> np.ndarray:
-    """sRGB-encoded uint8 -> linear float16 (alpha stays linear), so shading and filtering are linear."""
-    x = image.astype(np.float32) / 255.0
-    rgb = x[..., :3]
-    x[..., :3] = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-    return x.astype(np.float16)
-
-
-def _mipmapped(tex):
-    # trilinear, not anisotropic: llvmpipe's anisotropic filtering costs seconds per frame
-    tex.build_mipmaps()
-    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-    return tex
-
-
-def texture_2d(ctx: moderngl.Context, image: np.ndarray, repeat: bool = True):
-    image = np.ascontiguousarray(linear(image))
-    h, w, c = image.shape
-    tex = _mipmapped(ctx.texture((w, h), c, image.tobytes(), dtype="f2"))
-    tex.repeat_x = tex.repeat_y = repeat
-    return tex
-
-
-def texture_array(ctx: moderngl.Context, layers: np.ndarray, repeat: bool = False):
-    layers = np.ascontiguousarray(linear(layers))
-    n, h, w, c = layers.shape
-    tex = _mipmapped(ctx.texture_array((w, h, n), c, layers.tobytes(), dtype="f2"))
-    tex.repeat_x = tex.repeat_y = repeat
-    return tex
 
 
 def cubemap(ctx: moderngl.Context, faces: np.ndarray):
@@ -73,16 +41,16 @@ class CityTextures:
     @classmethod
     def create(cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8) -> "CityTextures":
         rooms_np = assets.room_textures(size=room_size, variants=variants)
-        rooms = {face: texture_array(ctx, rooms_np[face]) for face in ROOM_FACES}
+        rooms = {face: upload_texture(ctx, rooms_np[face], "srgb", repeat=False) for face in ROOM_FACES}
         atlas_np, layout = assets.room_atlas(rooms_np)
-        atlas = texture_2d(ctx, atlas_np, repeat=False)
+        atlas = upload_texture(ctx, atlas_np, "srgb", repeat=False)
         facade_np, glass = assets.facade_texture()
         sprites_np = assets.furniture_sprites()
         kinds, frames = sprites_np.shape[:2]
-        sprites = texture_array(ctx, sprites_np.reshape(kinds * frames, *sprites_np.shape[2:]))
-        curtain = texture_2d(ctx, assets.curtain_texture())
+        sprites = upload_texture(ctx, sprites_np.reshape(kinds * frames, *sprites_np.shape[2:]), "srgb", repeat=False)
+        curtain = upload_texture(ctx, assets.curtain_texture(), "srgb")
         grammar = GrammarTextures(ctx, library_texture(), assets.tile_array())
-        return cls(rooms, atlas, layout, texture_2d(ctx, facade_np), tuple(float(g) for g in glass), sprites,
+        return cls(rooms, atlas, layout, upload_texture(ctx, facade_np, "srgb"), tuple(float(g) for g in glass), sprites,
                    kinds, frames, curtain, variants, grammar, DeferredGrammarPass(ctx))
 
     def release(self):

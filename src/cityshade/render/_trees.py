@@ -14,8 +14,8 @@ import numpy as np
 
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
-from ._textures import linear
-from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL, set_uniforms
+from ..gl import VertexArrays, set_uniforms, upload_texture
+from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
 INSTANCE_LAYOUT = "4f 4f/i"
@@ -49,23 +49,6 @@ class TreeSettings:
 
     def with_(self, **changes) -> "TreeSettings":
         return replace(self, **changes)
-
-
-def _upload(ctx, data: np.ndarray, colour: bool):
-    """A mipmapped 2D texture (HxWxC) or texture array (NxHxWxC). Colour is sRGB, filtered in
-    linear space (alpha stays linear); anything else (heights, normals, offsets) goes as stored."""
-    data = np.ascontiguousarray(linear(data) if colour else data)
-    dtype = "f2" if colour else "f1"
-    if data.ndim == 4:
-        n, h, w, c = data.shape
-        tex = ctx.texture_array((w, h, n), c, data.tobytes(), dtype=dtype)
-    else:
-        h, w, c = data.shape
-        tex = ctx.texture((w, h), c, data.tobytes(), dtype=dtype)
-    tex.build_mipmaps()
-    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-    # no anisotropic filtering: on llvmpipe it made the relief-mapped trunks ~800x slower
-    return tex
 
 
 class _Part:
@@ -102,18 +85,16 @@ class TreePass:
                 self.parts[index, lod, "fronds"] = _Part(ctx, mesh.fronds, mesh.frond_indices)
         bark, leaves = bark_textures(), leaf_textures()
         self.textures = {
-            UNIT_BARK_COLOR: _upload(ctx, bark.color_height, colour=True),
-            UNIT_BARK_NORMAL: _upload(ctx, bark.normal, colour=False),
-            UNIT_LEAF_COLOR: _upload(ctx, leaves.color, colour=True),
-            UNIT_LEAF_DETAIL: _upload(ctx, leaves.detail, colour=False),
+            UNIT_BARK_COLOR: upload_texture(ctx, bark.color_height, "srgb"),
+            UNIT_BARK_NORMAL: upload_texture(ctx, bark.normal, "stored", dtype="f1"),
+            UNIT_LEAF_COLOR: upload_texture(ctx, leaves.color, "srgb", repeat=False),
+            UNIT_LEAF_DETAIL: upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
-        for tex in (self.textures[UNIT_LEAF_COLOR], self.textures[UNIT_LEAF_DETAIL]):
-            tex.repeat_x = tex.repeat_y = False
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
         self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
                           for index in self.models for lod in (0, 1)}
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
-        self._vaos = {}
+        self._vaos = VertexArrays(ctx)
 
     # -- per frame -------------------------------------------------------------------------------
     def prepare(self, eye):
@@ -141,19 +122,12 @@ class TreePass:
                 self.instances[index, lod] = (buffer, len(t))
 
     def _vao(self, program, species: int, lod: int, part: str):
-        key = (program.glo, species, lod, part)
-        vao = self._vaos.get(key)
-        if vao is None:
-            _, layout, attributes, _ = PARTS[part]
-            gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
-            fmt = " ".join(f if a in program else f"{int(f[:-1]) * 4}x" for f, a in zip(layout.split(), attributes))
-            names = [a for a in attributes if a in program]
-            instances = self.instances[species, lod][0]
-            vao = self.ctx.vertex_array(program, [(gpu.vbo, fmt, *names),
-                                                  (instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
-                                        index_buffer=gpu.ibo, index_element_size=4)
-            self._vaos[key] = vao
-        return vao
+        _, layout, attributes, _ = PARTS[part]
+        gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
+        instances = self.instances[species, lod][0]
+        return self._vaos.get((program.glo, species, lod, part), program,
+                              [(gpu.vbo, layout, *attributes), (instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
+                              index_buffer=gpu.ibo)
 
     def _draw_part(self, program, part: str, mode=moderngl.TRIANGLES) -> int:
         calls = 0
@@ -174,8 +148,8 @@ class TreePass:
         path, _, _, extra = PARTS[part]
         return self.programs.get(path, {**extra, **{k: v for k, v in defines.items() if v}})
 
-    def _common(self, time: float) -> dict:
-        return dict(u_time=float(time), u_wind=np.array(self.settings.wind, float),
+    def _common(self) -> dict:
+        return dict(u_wind=np.array(self.settings.wind, float),
                     u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL,
                     u_leaf_color=UNIT_LEAF_COLOR, u_leaf_detail=UNIT_LEAF_DETAIL)
 
@@ -183,15 +157,15 @@ class TreePass:
         for unit, tex in self.textures.items():
             tex.use(unit)
 
-    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, time: float = 0.0,
-             parts=("trunks", "fins", "leaves", "fronds")) -> int:
-        """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj,
-        u_camera and the sun/sky uniforms of common/lighting.glsl; `view` is the camera's view
-        matrix (its rows give the axes the leaf cards span). Returns the number of draw calls."""
+    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds")) -> int:
+        """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj; the
+        camera, sun, sky and time come from the frame block (cityshade.gl.FRAME_BLOCK), which the
+        caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
+        span). Returns the number of draw calls."""
         s, ctx = self.settings, self.ctx
         self.bind_textures()
         base = dict(ALPHA_TO_COVERAGE=s.alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None))
-        values = {**uniforms, **self._common(time), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
+        values = {**uniforms, **self._common(), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
                   "u_card_shift": np.zeros(3), "u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach,
                   "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
                   "u_normal_bias": s.normal_bias}
@@ -220,10 +194,10 @@ class TreePass:
         ctx.disable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
         return calls
 
-    def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters, time: float = 0.0) -> int:
+    def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters) -> int:
         """The trees' casters of one cascade; leaf cards face the light and move toward it."""
         right, up = light_basis(sun_dir)
-        values = {**self._common(time), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
+        values = {**self._common(), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
                   "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
         self.bind_textures()
         calls = 0
@@ -236,8 +210,7 @@ class TreePass:
         return calls
 
     def release(self):
-        for vao in self._vaos.values():
-            vao.release()
+        self._vaos.release()
         for part in self.parts.values():
             part.release()
         for buffer, _ in self.instances.values():
@@ -251,6 +224,4 @@ def draw_trees(f) -> int:
     if f.trees is None:
         return 0
     f.trees.prepare(f.camera.eye)
-    calls = f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows, time=f.settings.animation_time)
-    f.bind_textures()  # the tree textures took units of their own; restore the city's for later passes
-    return calls
+    return f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows)

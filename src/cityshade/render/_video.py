@@ -11,8 +11,8 @@ from rich.progress import Progress
 from .._files import atomic_output, signals_deferred
 from ..errors import UsageError
 from ..scene import make_city
-from ..scene._paths import PATHS, camera_path
-from ._cli import check_writable, parse_size
+from ..scene import PATHS, camera_path
+from ..arguments import check_writable, parse_size
 from ._daylight import parse_time
 from ._renderer import Renderer
 from ._settings import RenderSettings

@@ -1,14 +1,19 @@
 """What is drawn: cameras, building masses, city layouts and their meshes. No GL here."""
 
-from ._buildings import BuildingMass, box, cylinder, dome
+from ._buildings import SHAPES, BuildingMass, box, cylinder, dome
 from ._camera import Camera, look_at, perspective
-from ._city import CITIES, City, default_city, grid_city, make_city
+from ._city import CITIES, GROUND_ASPHALT, GROUND_GRASS, GROUND_MATERIALS, GROUND_PAVEMENT, City, default_city, grid_city, make_city
 from ._footprints import load_footprints, load_geojson, load_osm
-from ._meshes import VERTEX_ATTRIBUTES, VERTEX_DTYPE, VERTEX_FORMAT, batch, building_record, building_vertices
-from ._records import BUILDING_DTYPE, rotation_y
+from ._meshes import SURFACE_CODES, SURFACE_ROOF, VERTEX_ATTRIBUTES, VERTEX_DTYPE, VERTEX_FORMAT, batch, building_record, building_vertices
+from ._paths import PATHS, camera_path
+from ._raycast import intersect
+from ._records import (BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES,
+                       rotation_y)
 
 __all__ = [
-    "BuildingMass", "box", "cylinder", "dome", "Camera", "look_at", "perspective", "CITIES", "City",
+    "SHAPES", "BuildingMass", "box", "cylinder", "dome", "Camera", "look_at", "perspective", "CITIES", "City",
     "default_city", "grid_city", "make_city", "load_footprints", "load_geojson", "load_osm", "VERTEX_ATTRIBUTES", "VERTEX_DTYPE", "VERTEX_FORMAT",
-    "batch", "building_record", "building_vertices", "BUILDING_DTYPE", "rotation_y",
+    "batch", "building_record", "building_vertices", "BUILDING_DTYPE", "rotation_y", "PATHS", "camera_path",
+    "intersect", "SURFACE_ROOF", "GROUND_ASPHALT", "GROUND_GRASS", "GROUND_PAVEMENT", "FLAG_CURTAINS", "FLAG_FURNITURE",
+    "FLAG_ROOM_VARIATION", "FLAGS", "SHAPE_CODES", "SURFACE_CODES", "GROUND_MATERIALS",
 ]

@@ -11,6 +11,7 @@ from ._buildings import BuildingMass, box, cylinder, dome
 from ._camera import Camera
 
 GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
+GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_PAVEMENT, "GROUND_GRASS": GROUND_GRASS}
 
 
 @dataclass

@@ -14,6 +14,7 @@ from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES, rotation_y
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
+SURFACE_CODES = {"SURFACE_WALL": SURFACE_WALL, "SURFACE_ROOF": SURFACE_ROOF}
 
 VERTEX_DTYPE = np.dtype(
     [

@@ -1,4 +1,5 @@
-"""The per-building record uploaded as a std430 SSBO; mirrors shaders/common/buildings.glsl."""
+"""The per-building record uploaded as a std430 SSBO; mirrors shaders/common/buildings.glsl, whose
+shape and flag codes come from here (cityshade.shader_constants)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,10 @@ SHAPES = {"prism": SHAPE_PRISM, "cylinder": SHAPE_CYLINDER, "dome": SHAPE_DOME}
 FLAG_FURNITURE = 1
 FLAG_CURTAINS = 2
 FLAG_ROOM_VARIATION = 4
+
+# for the shaders (cityshade.shader_constants)
+SHAPE_CODES = {f"SHAPE_{name.upper()}": code for name, code in SHAPES.items()}
+FLAGS = {"FLAG_FURNITURE": FLAG_FURNITURE, "FLAG_CURTAINS": FLAG_CURTAINS, "FLAG_ROOM_VARIATION": FLAG_ROOM_VARIATION}
 
 BUILDING_DTYPE = np.dtype(
     [

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene._camera import look_at
+from ..scene import look_at
 
 SHADOW_CASTERS = ("buildings", "trunks", "fronds", "leaves")
 

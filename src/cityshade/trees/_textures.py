@@ -31,6 +31,11 @@ class LeafTextures:
     detail: np.ndarray  # (H, W, 4) uint8: rg V-shaped normal, b depth offset, a leaf id / 255
 
 
+def _to_uint8(values) -> np.ndarray:
+    """[0, 1] floats -> uint8, rounded."""
+    return np.round(np.clip(np.asarray(values), 0, 1) * 255).astype(np.uint8)
+
+
 def periodic_noise(shape, rng, power: float, stretch=(1.0, 1.0)) -> np.ndarray:
     """Tileable noise in [0, 1]: a random spectrum with 1/f^power falloff; stretch > 1 along an
     axis (rows, columns) makes the noise smoother along it."""
@@ -78,8 +83,7 @@ def bark_textures() -> BarkTextures:
         colors.append(np.concatenate([rgb, height[..., None]], axis=-1))
         normals.append(np.concatenate([height_to_normal(height, 6.0) * 0.5 + 0.5,
                                        np.ones_like(height)[..., None]], axis=-1))
-    to8 = lambda a: np.round(np.clip(np.array(a), 0, 1) * 255).astype(np.uint8)
-    return BarkTextures(to8(colors), to8(normals))
+    return BarkTextures(_to_uint8(colors), _to_uint8(normals))
 
 
 def _paint_leaf(cell, detail, ids, leaf_id, base, axis, length, width, color, depth):
@@ -165,5 +169,4 @@ def leaf_textures() -> LeafTextures:
         row, col = divmod(index, n)
         color[row * s:(row + 1) * s, col * s:(col + 1) * s] = c
         detail[row * s:(row + 1) * s, col * s:(col + 1) * s] = d
-    to8 = lambda a: np.round(np.clip(a, 0, 1) * 255).astype(np.uint8)
-    return LeafTextures(to8(color), to8(detail))
+    return LeafTextures(_to_uint8(color), _to_uint8(detail))

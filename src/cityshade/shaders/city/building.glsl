@@ -1,6 +1,7 @@
 // Buildings: one draw call for the whole city. Exterior bay texture whose alpha marks the glass
 // (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
-// Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids), INTERIOR_MAPPING (off: the
+// Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids; the fourth channel is the grammar
+// label, or with ID_ROOM_STATE the room seen), INTERIOR_MAPPING (off: the
 // reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD; the polygonised-interiors
 // baseline draws the buildings twice: POLYGONISED_EXTERIOR (glass cut out) before its real rooms,
 // POLYGONISED_WINDOWS (only the glass's reflection, alpha = Fresnel, for blending) after them.
@@ -14,7 +15,6 @@ void main() {}
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
 #include "common/lighting.glsl"
-#include "interior/faces.glsl"
 #include "shadow/csm.glsl"
 #if defined INTERIOR_MAPPING
 #include "interior/interior.glsl"
@@ -22,7 +22,6 @@ void main() {}
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
 
-uniform vec3 u_camera;          // world
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
 uniform vec3 u_window_tint;
@@ -38,8 +37,6 @@ layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar l
 #else
 layout(location = 0) out vec4 out_color;
 #endif
-
-#define SURFACE_ROOF 1
 
 vec3 building_tint(Building b) {
     uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);
@@ -59,6 +56,7 @@ void main() {
     int face = FACE_EXTERIOR;
     uint room = 0u;
     uint label = 0u;
+    uint room_state = 0u;  // the room seen: 1 | lit << 1 | variant << 2
     vec3 color;
     vec3 surface = v_local;  // where a ray through the glass enters the building
     if (v_ids.y == SURFACE_ROOF) {
@@ -115,6 +113,7 @@ void main() {
                 InteriorHit hit = interior_trace(surface, d, n, b, dFdx(v_local), dFdy(v_local), s);
                 face = hit.face;
                 room = hit.room;
+                room_state = 1u | (hit.lit ? 2u : 0u) | (uint(hit.variant) << 2u);
                 inside = hit.color;
             }
 #if defined INTERIOR_LOD
@@ -136,7 +135,9 @@ void main() {
 #endif
         }
     }
-#if defined ID_PASS
+#if defined ID_PASS && defined ID_ROOM_STATE
+    out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), room_state);
+#elif defined ID_PASS
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), label);
 #else
     out_color = vec4(color, 1.0);

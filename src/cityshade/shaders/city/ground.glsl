@@ -20,7 +20,6 @@ void main() {}
 #else
 #include "common/lighting.glsl"
 #include "common/hash.glsl"
-#include "interior/faces.glsl"
 #include "shadow/csm.glsl"
 in vec3 v_world;
 flat in int v_material;
@@ -29,10 +28,6 @@ layout(location = 0) out uvec4 out_ids;
 #else
 layout(location = 0) out vec4 out_color;
 #endif
-
-#define GROUND_ASPHALT 0
-#define GROUND_PAVEMENT 1
-#define GROUND_GRASS 2
 
 float lattice(ivec2 c) {
     return unit_float(pcg_hash(uint(c.x * 7919) ^ pcg_hash(uint(c.y))));

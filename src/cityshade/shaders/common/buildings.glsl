@@ -1,14 +1,7 @@
-// Per-building records, mirrored by cityshade/scene/_records.py (BUILDING_DTYPE, std430).
+// Per-building records, mirrored by cityshade/scene/_records.py (BUILDING_DTYPE, std430). The
+// SHAPE_* and FLAG_* codes come from the generated constants (cityshade.shader_constants).
 #ifndef COMMON_BUILDINGS_GLSL
 #define COMMON_BUILDINGS_GLSL
-
-#define SHAPE_PRISM 0     // extruded footprint (boxes included)
-#define SHAPE_CYLINDER 1
-#define SHAPE_DOME 2
-
-#define FLAG_FURNITURE 1
-#define FLAG_CURTAINS 2
-#define FLAG_ROOM_VARIATION 4
 
 struct Building {
     vec4 origin_yaw;   // xyz: world position of the object-space origin; w: yaw (radians)

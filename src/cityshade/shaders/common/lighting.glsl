@@ -2,10 +2,7 @@
 #ifndef COMMON_LIGHTING_GLSL
 #define COMMON_LIGHTING_GLSL
 
-uniform vec3 u_sun_dir;       // unit vector toward the sun (world)
-uniform vec3 u_sun_color;     // sun radiance
-uniform vec3 u_sky_ambient;   // sky irradiance from above
-uniform vec3 u_ground_ambient;// bounce light from below
+// u_sun_dir, u_sun_color, u_sky_ambient, u_ground_ambient: the frame block (cityshade.gl.FRAME_BLOCK)
 uniform samplerCube u_env;    // environment (sky) radiance, HDR
 
 vec3 ambient_light(vec3 n) {

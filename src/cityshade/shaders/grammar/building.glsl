@@ -5,9 +5,8 @@
 
 #include "common/buildings.glsl"
 #include "common/lighting.glsl"
+#include "common/srgb.glsl"
 #include "grammar/eval.glsl"
-
-#define FACADE_GRAMMAR 1
 
 bool has_grammar_facade(Building b) {
     return b.facade.x == FACADE_GRAMMAR;
@@ -53,7 +52,7 @@ vec3 grammar_normal(vec3 tangent_normal, vec3 n) {
 // `shadow`: 1 where the sun reaches the facade (shadow/csm.glsl), 0 in shadow.
 vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d, float shadow) {
     vec3 n_world = rot * grammar_normal(g.normal, n);
-    vec3 albedo = pow(max(g.color, vec3(0.0)), vec3(2.2));
+    vec3 albedo = srgb_to_linear(g.color);
     vec3 half_vector = normalize(u_sun_dir - rot * d);
     float shininess = 1.0 + 128.0 * g.specular.y;
     float highlight = g.specular.x * pow(max(dot(n_world, half_vector), 0.0), shininess) * max(dot(n_world, u_sun_dir), 0.0);
@@ -65,18 +64,18 @@ vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d, float shadow) {
 // full-screen evaluation of this pixel (cityshade/grammar/_frame_pass.py). The id pass always
 // evaluates, so ids stay exact.
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
-uniform sampler2D grammar_deferred_color;
-uniform usampler2D grammar_deferred_ids;
+uniform sampler2D u_grammar_deferred_color;
+uniform usampler2D u_grammar_deferred_ids;
 #endif
 
 vec3 grammar_building_color(Building b, vec3 n, vec2 facade_uv, vec3 d, mat3 rot, float shadow, out float glass,
                             out uint label) {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    uvec4 ids = texelFetch(grammar_deferred_ids, pixel, 0);
+    uvec4 ids = texelFetch(u_grammar_deferred_ids, pixel, 0);
     glass = float(ids.x);
     label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
-    return texelFetch(grammar_deferred_color, pixel, 0).rgb;
+    return texelFetch(u_grammar_deferred_color, pixel, 0).rgb;
 #else
     GrammarResult g = grammar_facade(b, n, facade_uv, d, dFdx(facade_uv), dFdy(facade_uv));
     glass = g.glass ? 1.0 : 0.0;

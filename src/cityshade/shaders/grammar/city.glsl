@@ -12,13 +12,11 @@ void main() {}
 #else
 #include "grammar/building.glsl"
 
-uniform vec3 u_camera;
 in vec3 v_local;
 in vec3 v_normal;
 in vec3 v_facade;
 flat in ivec2 v_ids;
 
-#define SURFACE_ROOF 1
 const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
 
 #if defined GBUFFER

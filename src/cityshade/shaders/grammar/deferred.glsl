@@ -12,8 +12,6 @@ uniform sampler2D u_scope;
 uniform sampler2D u_rule;
 uniform sampler2D u_normal;
 uniform sampler2D u_depth;
-uniform mat4 u_inv_view_proj;
-uniform vec3 u_camera;
 uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;

@@ -18,14 +18,12 @@
 #define GRAMMAR_OPAQUE 0.999
 #define GRAMMAR_BIG 1e30
 #define GRAMMAR_REPEAT_SLACK 1e-4
-#define GRAMMAR_WALL_LABEL 1
-#define GRAMMAR_ROOM_LABEL 7
 
-uniform sampler2D grammar_rules;      // RGBA16F, GRAMMAR_WIDTH texels per row
-uniform sampler2D grammar_noise;      // R32F uniform noise
-uniform sampler2DArray grammar_tiles; // RGBA8, layer = 3 * tile + usage - 1
-uniform int grammar_tile_size;        // texels per tile side (a power of two)
-uniform int grammar_tile_labels[64];
+uniform sampler2D u_grammar_rules;      // RGBA16F, GRAMMAR_WIDTH texels per row
+uniform sampler2D u_grammar_noise;      // R32F uniform noise
+uniform sampler2DArray u_grammar_tiles; // RGBA8, layer = 3 * tile + usage - 1
+uniform int u_grammar_tile_size;        // texels per tile side (a power of two)
+uniform int u_grammar_tile_labels[64];
 
 struct GrammarResult {
     vec3 color;
@@ -64,7 +62,7 @@ int g_best_addr, g_best_tile;
 ivec2 g_best_texel;
 
 vec4 grammar_texel(int address) {
-    return texelFetch(grammar_rules, ivec2(address % GRAMMAR_WIDTH, address / GRAMMAR_WIDTH), 0);
+    return texelFetch(u_grammar_rules, ivec2(address % GRAMMAR_WIDTH, address / GRAMMAR_WIDTH), 0);
 }
 
 float grammar_channel(int address, int index) {
@@ -79,7 +77,7 @@ float grammar_random(vec2 corner, int stream) {
     h *= 0x85EBCA77u;
     ivec2 c = ivec2(floor(corner * GRAMMAR_NOISE_DENSITY + 0.5)) + ivec2((h >> 8) & 255u, h >> 24);
     ivec2 p = ivec2((c.x + c.y * 37) & (GRAMMAR_NOISE_SIZE - 1), c.y & (GRAMMAR_NOISE_SIZE - 1));
-    return texelFetch(grammar_noise, p, 0).r;
+    return texelFetch(u_grammar_noise, p, 0).r;
 }
 
 // Mat's sampling: a constant (code 0), a tile fitted to the scope (> 0) or tiled (< 0).
@@ -91,13 +89,13 @@ vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int t
     exact_alpha = params.a;
     if (code == 0) return params;
     tile = abs(code) - 1;
-    int r = grammar_tile_size;
+    int r = u_grammar_tile_size;
     bool fit = code > 0;
     vec2 uv = fit ? params.xy + (g_t - g_lb) / g_size * (params.zw - params.xy) : g_t * params.zw + params.xy;
     ivec2 ix = ivec2(floor(uv * float(r)));
     texel = fit ? clamp(ix, ivec2(0), ivec2(r - 1)) : (ix & ivec2(r - 1));
     int layer = 3 * tile + usage - 1;
-    vec4 exact = texelFetch(grammar_tiles, ivec3(texel, layer), 0);
+    vec4 exact = texelFetch(u_grammar_tiles, ivec3(texel, layer), 0);
     exact_alpha = exact.a;
 #ifdef GRAMMAR_NEAREST
     return exact;
@@ -106,7 +104,7 @@ vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int t
     vec2 k = fit ? (params.zw - params.xy) / g_size : params.zw;
     float half_texel = 0.5 / float(r);
     vec2 st = fit ? clamp(uv, vec2(half_texel), vec2(1.0 - half_texel)) : uv;
-    return textureGrad(grammar_tiles, vec3(st, float(layer)), g_dtdx * k, g_dtdy * k);
+    return textureGrad(u_grammar_tiles, vec3(st, float(layer)), g_dtdx * k, g_dtdy * k);
 #endif
 }
 
@@ -495,10 +493,10 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     result.terminal = g_best_addr;
     result.tile = g_best_tile;
     bool has_tile = g_best_tile >= 0;
-    result.glass = has_tile && texelFetch(grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
+    result.glass = has_tile && texelFetch(u_grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
     // A constant colour is a wall unless written Color(r, g, b, label): then head.w is 1 + label.
     vec4 best = grammar_texel(max(g_best_addr, 0));
     int constant = (best.x == 12.0 && best.z == 0.0 && best.w >= 2.0) ? int(best.w) - 1 : GRAMMAR_WALL_LABEL;
-    result.label = has_tile ? grammar_tile_labels[g_best_tile] : (g_best_addr >= 0 ? constant : 0);
+    result.label = has_tile ? u_grammar_tile_labels[g_best_tile] : (g_best_addr >= 0 ? constant : 0);
     return result;
 }

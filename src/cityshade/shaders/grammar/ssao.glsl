@@ -6,6 +6,7 @@
 #include "common/fullscreen.glsl"
 
 #if defined FRAGMENT_SHADER
+#include "common/srgb.glsl"
 uniform sampler2D u_color;
 uniform sampler2D u_depth;
 uniform vec2 u_near_far;
@@ -26,7 +27,7 @@ void main() {
     vec4 color = texelFetch(u_color, pixel, 0);
     float raw = texelFetch(u_depth, pixel, 0).r;
     if (raw >= 1.0) {
-        out_color = vec4(pow(color.rgb, vec3(1.0 / 2.2)), color.a);
+        out_color = vec4(linear_to_srgb(color.rgb), color.a);
         return;
     }
     float z = linear_depth(raw);
@@ -42,6 +43,6 @@ void main() {
         occlusion += (dz > 0.05 && dz < SSAO_RADIUS * 2.0) ? 1.0 - dz / (SSAO_RADIUS * 2.0) : 0.0;
     }
     vec3 shaded = color.rgb * (1.0 - 0.6 * occlusion / float(SSAO_SAMPLES));
-    out_color = vec4(pow(shaded, vec3(1.0 / 2.2)), color.a);
+    out_color = vec4(linear_to_srgb(shaded), color.a);
 }
 #endif

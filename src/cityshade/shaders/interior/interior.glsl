@@ -5,7 +5,6 @@
 
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
-#include "interior/faces.glsl"
 
 #define SALT_LIGHT 0x1000u
 #define SALT_VARIANT 0x2000u
@@ -24,7 +23,6 @@
 #define CURTAIN_SHARE 0.55
 
 uniform float u_lights;          // probability c that a room's light is on (paper §4.1)
-uniform float u_time;            // seconds, drives the furniture sprites' animation
 uniform int u_room_variants;     // rooms in the atlas (paper §4.2)
 uniform int u_sprite_kinds;
 uniform int u_sprite_frames;
@@ -59,6 +57,8 @@ struct InteriorHit {
     int face;
     uint room;
     float t;       // distance from the facade along the ray
+    bool lit;
+    int variant;
 };
 
 uint room_id(ivec3 cell) {
@@ -147,6 +147,8 @@ InteriorHit interior_trace(vec3 p, vec3 d, vec3 n, Building b, vec3 dpdx, vec3 d
     vec3 tt = (far_planes - p) / d;
     InteriorHit hit;
     hit.room = r.id;
+    hit.lit = r.lit;
+    hit.variant = r.variant;
     vec2 uv;
     if (tt.y <= tt.x && tt.y <= tt.z) {
         hit.t = tt.y;

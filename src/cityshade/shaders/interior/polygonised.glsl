@@ -1,14 +1,16 @@
 // The polygonised-interiors baseline (interior-mapping §3.1, fig. 9): real floors, ceilings and walls
 // behind the windows (cityshade/interior/_polygonised.py). Each fragment finds its room with the
-// interior-mapping code, so rooms, texture variants and lights are the same as in the ray-cast
-// version; only the geometry differs. Defines: IM_SINGLE_ATLAS.
+// room grid cell directly (the baseline's walls are not displaced, so no wall search), with interior
+// mapping's hashes, so texture variants and lights are the same as in the ray-cast version; only
+// the geometry differs. Defines: DEPTH_ONLY (the rooms' z prepass), IM_SINGLE_ATLAS.
 
 #include "common/building_vertex.glsl"
 
-#if defined FRAGMENT_SHADER
+#if defined FRAGMENT_SHADER && defined DEPTH_ONLY
+void main() {}
+#elif defined FRAGMENT_SHADER
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
-#include "interior/faces.glsl"
 #include "interior/interior.glsl"
 
 in vec3 v_local;
@@ -18,11 +20,25 @@ flat in ivec2 v_ids; // building, face code
 
 layout(location = 0) out vec4 out_color;
 
+// The room behind a quad: the cell of the building's regular room grid just behind it (n: the
+// quad's normal, pointing into the room).
+Room grid_room(vec3 p, vec3 n, Building b) {
+    vec3 size = b.room.xyz;
+    Room r;
+    r.cell = ivec3(floor((p + n * (1e-3 * min(size.x, min(size.y, size.z)))) / size));
+    r.lo = vec3(r.cell) * size;
+    r.hi = r.lo + size;
+    uint seed = uint(b.ids.x);
+    r.id = room_id(r.cell);
+    r.lit = unit_float(hash3(r.cell, seed ^ SALT_LIGHT)) < u_lights * b.extent.w;
+    r.variant = int(hash3(r.cell, seed ^ SALT_VARIANT) % uint(u_room_variants));
+    return r;
+}
+
 void main() {
     Building b = buildings[v_ids.x];
     int face = v_ids.y;
-    // find_room looks just behind a facade whose normal points out of the room
-    Room r = find_room(v_local, -v_normal, b);
+    Room r = grid_room(v_local, v_normal, b);
     vec3 size = r.hi - r.lo;
     vec3 rl = (v_local - r.lo) / size;
     vec3 dx = dFdx(v_local) / size;

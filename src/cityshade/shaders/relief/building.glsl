@@ -9,14 +9,12 @@
 #define TRACER_FDM
 #define RELIEF_TILED
 #include "common/buildings.glsl"
+#include "common/srgb.glsl"
 #include "relief/maps.glsl"
 #include "relief/trace.glsl"
 #include "relief/materials.glsl"
 
-#define FACADE_RELIEF 2
-#define RELIEF_GLASS 1u  // cityshade.relief.GLASS
-
-uniform float uReliefDepthUnit;  // metres per depth step
+uniform float u_relief_depth_unit;  // metres per depth step
 
 bool has_relief_facade(Building b) { return b.facade.x == FACADE_RELIEF; }
 
@@ -32,13 +30,13 @@ struct ReliefSurface {
 ReliefSurface relief_building(Building b, vec3 n, vec3 wall, vec3 facade, vec3 d) {
     vec3 up = vec3(0.0, 1.0, 0.0);
     vec3 along = normalize(cross(n, up));  // the direction mesh u grows (right to left seen from outside)
-    vec3 scale = vec3(vec2(uMapSize) / vec2(facade.z, b.room.y), 1.0 / uReliefDepthUnit);  // map units per metre
+    vec3 scale = vec3(vec2(u_map_size) / vec2(facade.z, b.room.y), 1.0 / u_relief_depth_unit);  // map units per metre
     vec3 start = vec3(facade.xy, 0.0) * scale;
     ReliefHit h = relief_trace(start, vec3(dot(d, along), d.y, -dot(d, n)) * scale, FACE_FRONT);
     vec3 offset = (h.point - start) / scale;
     vec3 normal = h.face == FACE_NEG_X ? -along : h.face == FACE_POS_X ? along
                 : h.face == FACE_NEG_Y ? -up : h.face == FACE_POS_Y ? up : n;
-    vec3 albedo = pow(relief_albedo(h.material, h.point.xy / scale.xy, h.face), vec3(2.2));
+    vec3 albedo = srgb_to_linear(relief_albedo(h.material, h.point.xy / scale.xy, h.face));
     return ReliefSurface(wall + along * offset.x + up * offset.y - n * offset.z, normal, albedo,
                          h.hit && h.material == RELIEF_GLASS);
 }

@@ -6,7 +6,6 @@
 // same quads lets early depth testing skip the rays of hidden facades (paper §7).
 
 #include "relief/frame.glsl"
-#include "relief/faces.glsl"
 
 #if defined VERTEX_SHADER
 in vec3 in_position;  // map space
@@ -14,8 +13,7 @@ in int in_face;
 in vec3 in_origin;    // per instance: the facade's frame
 in vec3 in_along;
 in vec3 in_out;
-uniform mat4 uViewProj;
-uniform vec3 uCamera;  // world
+uniform mat4 u_view_proj;
 out vec3 vPosition;
 flat out int vFace;
 flat out vec3 vEye;    // map space
@@ -35,11 +33,11 @@ void main() {
     FacadeFrame f = FacadeFrame(in_origin, in_along, in_out);
     vPosition = in_position;
     vFace = in_face;
-    vEye = world_to_map(f, uCamera);
+    vEye = world_to_map(f, u_camera);
     vOrigin = in_origin;
     vAlong = in_along;
     vOut = in_out;
-    gl_Position = uViewProj * vec4(facade_to_world(f, in_position), 1.0);
+    gl_Position = u_view_proj * vec4(facade_to_world(f, in_position), 1.0);
     if (!faces_eye(in_face, vEye, in_position)) gl_Position = vec4(0.0, 0.0, 2.0, 1.0);  // all corners alike: culled
 }
 #endif
@@ -63,7 +61,6 @@ flat in vec3 vEye;
 flat in vec3 vOrigin;
 flat in vec3 vAlong;
 flat in vec3 vOut;
-uniform vec3 uSunDir;  // world, towards the sun
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out uvec4 outIds;
 layout(location = 2) out vec4 outPoint;
@@ -72,8 +69,8 @@ void main() {
     FacadeFrame f = FacadeFrame(vOrigin, vAlong, vOut);
     ReliefHit h = relief_trace(vPosition, vPosition - vEye, vFace);
     if (!h.hit) discard;
-    vec3 albedo = relief_albedo(h.material, h.point.xy * uMapScale.xy, h.face);
-    float light = 0.35 + 0.65 * max(dot(relief_normal(h.face), world_to_facade_dir(f, normalize(uSunDir))), 0.0);
+    vec3 albedo = relief_albedo(h.material, h.point.xy * u_map_scale.xy, h.face);
+    float light = 0.35 + 0.65 * max(dot(relief_normal(h.face), world_to_facade_dir(f, normalize(u_sun_dir))), 0.0);
     outColor = vec4(albedo * light, 1.0);
     outIds = uvec4(h.material + 1u, uint(h.face), uint(h.steps), 0u);
     outPoint = vec4(h.point, 1.0);

@@ -11,32 +11,32 @@
 #define MAP_BOXES 2
 
 #if defined CODEC_RAW
-uniform usampler2D uRaw[3];
+uniform usampler2D u_raw[3];
 
 uint relief_fetch(int map, ivec2 cell) {
-    return texelFetch(uRaw[map], cell, 0).r;
+    return texelFetch(u_raw[map], cell, 0).r;
 }
 
 #elif defined CODEC_SVD
-uniform sampler2D uSvdX[3];  // (terms, rows)
-uniform sampler2D uSvdY[3];  // (terms, columns)
-uniform sampler2D uSvdS[3];  // (terms, 1)
-uniform int uTerms[3];
+uniform sampler2D u_svd_x[3];  // (terms, rows)
+uniform sampler2D u_svd_y[3];  // (terms, columns)
+uniform sampler2D u_svd_s[3];  // (terms, 1)
+uniform int u_terms[3];
 
 uint relief_fetch(int map, ivec2 cell) {
     float sum = 0.0;
-    for (int k = 0; k < uTerms[map]; k++) {
-        sum += texelFetch(uSvdX[map], ivec2(k, cell.y), 0).r * texelFetch(uSvdS[map], ivec2(k, 0), 0).r
-             * texelFetch(uSvdY[map], ivec2(k, cell.x), 0).r;
+    for (int k = 0; k < u_terms[map]; k++) {
+        sum += texelFetch(u_svd_x[map], ivec2(k, cell.y), 0).r * texelFetch(u_svd_s[map], ivec2(k, 0), 0).r
+             * texelFetch(u_svd_y[map], ivec2(k, cell.x), 0).r;
     }
     return uint(max(round(sum), 0.0));
 }
 
 #elif defined CODEC_BMF
-uniform usampler2D uBmfX[3];  // (ceil(terms / 32), rows), term k in bit k % 32 of word k / 32
-uniform usampler2D uBmfY[3];  // (ceil(terms / 32), columns)
-uniform sampler2D uBmfS[3];   // (terms, 1)
-uniform int uWords[3];
+uniform usampler2D u_bmf_x[3];  // (ceil(terms / 32), rows), term k in bit k % 32 of word k / 32
+uniform usampler2D u_bmf_y[3];  // (ceil(terms / 32), columns)
+uniform sampler2D u_bmf_s[3];   // (terms, 1)
+uniform int u_words[3];
 
 #if defined BMF_LSB_MOD37
 // 2 is a primitive root modulo 37, so (1 << k) % 37 is distinct for k < 32: a table inverts it.
@@ -49,12 +49,12 @@ int lowest_set_bit(uint bits) { return findLSB(bits); }
 
 uint relief_fetch(int map, ivec2 cell) {
     float sum = 0.0;
-    for (int w = 0; w < uWords[map]; w++) {
-        uint bits = texelFetch(uBmfX[map], ivec2(w, cell.y), 0).r & texelFetch(uBmfY[map], ivec2(w, cell.x), 0).r;
+    for (int w = 0; w < u_words[map]; w++) {
+        uint bits = texelFetch(u_bmf_x[map], ivec2(w, cell.y), 0).r & texelFetch(u_bmf_y[map], ivec2(w, cell.x), 0).r;
         // At most 32 rounds: each clears one bit. (A `b < 32` counter makes compilers unroll all
         // 32 rounds, several times slower on llvmpipe.)
         while (bits != 0u) {
-            sum += texelFetch(uBmfS[map], ivec2(w * 32 + lowest_set_bit(bits), 0), 0).r;
+            sum += texelFetch(u_bmf_s[map], ivec2(w * 32 + lowest_set_bit(bits), 0), 0).r;
             bits &= bits - 1u;  // knock out the bit just used
         }
     }

@@ -1,8 +1,6 @@
 // The relief tile library, in the order of cityshade.relief.MATERIALS:
 // wall, glass, frame, stone, wood, brick. Procedural so no texture files are needed.
 
-#include "relief/faces.glsl"
-
 vec3 relief_normal(int face) {
     if (face == FACE_NEG_X) return vec3(-1.0, 0.0, 0.0);
     if (face == FACE_POS_X) return vec3(1.0, 0.0, 0.0);

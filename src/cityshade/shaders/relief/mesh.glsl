@@ -2,7 +2,6 @@
 // with the same materials and light as the traced facades, with the same outputs as facade.glsl.
 
 #include "relief/frame.glsl"
-#include "relief/faces.glsl"
 
 #if defined VERTEX_SHADER
 in vec3 in_position;  // map space
@@ -11,19 +10,18 @@ in int in_material;
 in vec3 in_origin;    // per instance: the facade's frame
 in vec3 in_along;
 in vec3 in_out;
-uniform mat4 uViewProj;
+uniform mat4 u_view_proj;
 out vec3 vPosition;
 flat out int vFace;
 flat out int vMaterial;
 flat out vec3 vSun;   // facade space
-uniform vec3 uSunDir;
 void main() {
     FacadeFrame f = FacadeFrame(in_origin, in_along, in_out);
     vPosition = in_position;
     vFace = in_face;
     vMaterial = in_material;
-    vSun = world_to_facade_dir(f, normalize(uSunDir));
-    gl_Position = uViewProj * vec4(facade_to_world(f, in_position), 1.0);
+    vSun = world_to_facade_dir(f, normalize(u_sun_dir));
+    gl_Position = u_view_proj * vec4(facade_to_world(f, in_position), 1.0);
 }
 #endif
 
@@ -37,7 +35,7 @@ layout(location = 0) out vec4 outColor;
 layout(location = 1) out uvec4 outIds;
 layout(location = 2) out vec4 outPoint;
 void main() {
-    vec3 albedo = relief_albedo(uint(vMaterial), vPosition.xy * uMapScale.xy, vFace);
+    vec3 albedo = relief_albedo(uint(vMaterial), vPosition.xy * u_map_scale.xy, vFace);
     float light = 0.35 + 0.65 * max(dot(relief_normal(vFace), vSun), 0.0);
     outColor = vec4(albedo * light, 1.0);
     outIds = uvec4(uint(vMaterial) + 1u, uint(vFace), 0u, 0u);

@@ -5,8 +5,6 @@
 // free boxes, which never leave the map, are shifted to the repeat the ray is in.
 // Needs relief/maps.glsl.
 
-#include "relief/faces.glsl"
-
 #ifndef FDM_MAX_STEPS
 #define FDM_MAX_STEPS 256
 #endif
@@ -20,8 +18,8 @@
 // Free boxes, x0 | y0 << 16 and x1 | y1 << 16 in texels (half-open).
 layout(std430, binding = 5) readonly buffer ReliefBoxes { uvec2 uBoxes[]; };
 
-uniform ivec2 uMapSize;     // columns, rows
-uniform float uSlabDepth;   // deepest texel + 1: the bottom of the traced volume
+uniform ivec2 u_map_size;     // columns, rows
+uniform float u_slab_depth;   // deepest texel + 1: the bottom of the traced volume
 
 struct ReliefHit {
     bool hit;
@@ -34,11 +32,11 @@ struct ReliefHit {
 ivec2 relief_cell(vec3 p) { return ivec2(floor(p.xy)); }
 
 #if defined RELIEF_TILED
-ivec2 relief_texel(ivec2 cell) { return ivec2(mod(vec2(cell), vec2(uMapSize))); }  // exact: small integers
+ivec2 relief_texel(ivec2 cell) { return ivec2(mod(vec2(cell), vec2(u_map_size))); }  // exact: small integers
 bool relief_inside(ivec2 cell) { return true; }
 #else
 ivec2 relief_texel(ivec2 cell) { return cell; }
-bool relief_inside(ivec2 cell) { return all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, uMapSize)); }
+bool relief_inside(ivec2 cell) { return all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, u_map_size)); }
 #endif
 
 ReliefHit relief_result(bool hit, vec3 p, int face, ivec2 cell, int steps) {
@@ -54,8 +52,8 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
     int face = entry_face;
     const float inf = 1e30;
     ivec2 cell = relief_cell(p);
-    if (entry_face == FACE_POS_X) cell.x = uMapSize.x - 1;
-    if (entry_face == FACE_POS_Y) cell.y = uMapSize.y - 1;
+    if (entry_face == FACE_POS_X) cell.x = u_map_size.x - 1;
+    if (entry_face == FACE_POS_Y) cell.y = u_map_size.y - 1;
     bool hit = false;
     int steps = 0;
     for (; steps < FDM_MAX_STEPS; steps++) {
@@ -99,7 +97,7 @@ bool relief_below_surface(vec3 p) {
 #if defined RELIEF_TILED
     ivec2 texel = relief_texel(relief_cell(p));
 #else
-    ivec2 texel = clamp(relief_cell(p), ivec2(0), uMapSize - 1);
+    ivec2 texel = clamp(relief_cell(p), ivec2(0), u_map_size - 1);
 #endif
     return p.z >= float(relief_fetch(MAP_DEPTH, texel));
 }
@@ -107,7 +105,7 @@ bool relief_below_surface(vec3 p) {
 // Linear search along the segment from p to the volume's bottom, then binary search between the
 // last point above and the first point below the surface; the normal is always the front one.
 ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
-    vec3 segment = d * ((uSlabDepth - p.z) / d.z);
+    vec3 segment = d * ((u_slab_depth - p.z) / d.z);
     vec3 step = segment / float(RM_LINEAR);
     vec3 above = p, below = p + segment;
     for (int i = 0; i < RM_LINEAR; i++) {

@@ -7,7 +7,6 @@
 
 #if defined VERTEX_SHADER
 #include "trees/instance.glsl"
-uniform vec3 u_camera;
 #include "trees/branch_inputs.glsl"
 out vec3 vs_world;
 out vec3 vs_normal;
@@ -31,7 +30,6 @@ void main() {
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 4) out;
 uniform mat4 u_view_proj;
-uniform vec3 u_camera;
 uniform float u_relief_depth;  // fin width near the camera, metres
 uniform vec2 u_fin_fade;       // fin width falls from full to zero between these distances
 in vec3 vs_world[];
@@ -96,7 +94,6 @@ void main() {
 #include "trees/bark.glsl"
 #define FIN_LINEAR_STEPS 16
 #define FIN_BINARY_STEPS 4
-uniform vec3 u_camera;
 uniform float u_bark_tile;
 uniform float u_fin_reach;  // clamp of the traced distance along the view ray, metres
 in vec3 g_world;

@@ -6,7 +6,6 @@
 in vec4 in_place;   // world xyz of the trunk base, yaw (radians)
 in vec4 in_params;  // scale, LOD fade alpha, wind phase, unused
 
-uniform float u_time;
 uniform vec3 u_wind;  // direction * strength (metres of sway at weight 1)
 
 vec3 tree_dir_to_world(vec3 d) {

@@ -88,7 +88,6 @@ void main() {
 #include "trees/fade.glsl"
 #include "shadow/csm.glsl"
 uniform sampler2D u_leaf_detail;  // rg V-shaped normal, b per-leaf depth offset
-uniform vec3 u_camera;
 uniform float u_normal_bias;      // mip bias of the leaf normal fetch (§4.4.2)
 uniform float u_leaf_depth;       // shift toward the eye at depth offset 1, in card half-sizes
 layout(location = 0) out vec4 out_color;

@@ -34,7 +34,6 @@ void main() {}
 #else
 #include "trees/relief.glsl"
 #include "trees/fade.glsl"
-uniform vec3 u_camera;
 layout(location = 0) out vec4 out_color;
 void main() {
     mat3 frame = bark_frame(v_normal, v_tangent);

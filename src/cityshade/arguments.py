@@ -1,0 +1,33 @@
+"""Command-line arguments shared by every command: sizes, metres, shares and seeds, and checking and
+writing output files. Technique packages import these from here, not from each other. The checks
+themselves live in `_values` (shared with the Python API) and `_files` (the one atomic writer)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._files import output_target, write_png
+from ._values import check_count, check_lights, check_seed, parse_size
+from .errors import UsageError
+
+__all__ = ["check_count", "check_lights", "check_seed", "check_writable", "parse_lights", "parse_metres", "parse_size", "save_png"]
+
+parse_lights = check_lights  # '0.4' -> 0.4; the command line and the API take the same values
+save_png = write_png  # a finished PNG or nothing
+
+
+def parse_metres(text: str, option: str = "--facade", limit: float = 4096.0) -> tuple[float, float]:
+    """'20x16' -> (20.0, 16.0) metres, each side in (0, limit]."""
+    try:
+        width, height = (float(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise UsageError(f"invalid {option} {text!r}; use WIDTHxHEIGHT in metres, e.g. 20x16") from None
+    if not (0 < width <= limit and 0 < height <= limit):
+        raise UsageError(f"invalid {option} {text!r}; each side must be in (0, {limit:g}] metres")
+    return width, height
+
+
+def check_writable(path: Path) -> Path:
+    """Fails early, with one line, if the output cannot be written (nothing is created)."""
+    output_target(path)
+    return path

@@ -1,0 +1,87 @@
+"""Uniform blocks (std140): one field list gives both the GLSL declaration, emitted as a generated
+include, and the packing of the values written into the block's buffer."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+# std140: (alignment, size) in bytes of the types the blocks use
+_STD140 = {"float": (4, 4), "int": (4, 4), "vec2": (8, 8), "vec3": (16, 12), "vec4": (16, 16), "mat4": (16, 64)}
+
+
+@dataclass(frozen=True)
+class UniformBlock:
+    name: str
+    binding: int
+    fields: tuple[tuple[str, str, str], ...]  # (GLSL name, GLSL type, comment)
+
+    @property
+    def include(self) -> str:
+        """The path programs #include to declare the block."""
+        return f"generated/{self.name}.glsl"
+
+    def glsl(self) -> str:
+        lines = [
+            f"// Generated from cityshade.gl ({self.name}): do not edit.",
+            f"layout(std140, binding = {self.binding}) uniform {self.name} {{",
+        ]
+        lines += [f"    {kind} {name};  // {comment}" for name, kind, comment in self.fields]
+        return "\n".join(lines + ["};", ""])
+
+    def offsets(self) -> tuple[dict[str, int], int]:
+        offsets, offset = {}, 0
+        for name, kind, _ in self.fields:
+            align, size = _STD140[kind]
+            offset = -(-offset // align) * align
+            offsets[name] = offset
+            offset += size
+        return offsets, -(-offset // 16) * 16
+
+    def pack(self, values: dict) -> bytes:
+        """The block's bytes; every field must be given, and nothing else."""
+        names = {name for name, _, _ in self.fields}
+        if set(values) != names:
+            raise ValueError(
+                f"{self.name}: missing {sorted(names - set(values))}, unknown {sorted(set(values) - names)}"
+            )
+        offsets, size = self.offsets()
+        data = bytearray(size)
+        for name, kind, _ in self.fields:
+            value = np.asarray(values[name], dtype=np.int32 if kind == "int" else np.float32)
+            if kind == "mat4":
+                value = value.T  # GLSL matrices are column-major
+            raw = value.tobytes()
+            data[offsets[name] : offsets[name] + len(raw)] = raw
+        return bytes(data)
+
+    def write(self, ctx: moderngl.Context, **values):
+        """Writes the values into this context's buffer of the block and binds it to its binding."""
+        from ._resources import resources  # the per-context buffers live with the context's resources
+
+        buffers = resources(ctx).block_buffers
+        data = self.pack(values)
+        if self.name not in buffers:
+            buffers[self.name] = ctx.buffer(reserve=len(data))
+        buffers[self.name].write(data)
+        buffers[self.name].bind_to_uniform_block(self.binding)
+
+
+# The per-frame values every program shares: written once per frame (cityshade.render), or by
+# any code that draws with the city's shaders on its own.
+FRAME_BLOCK = UniformBlock(
+    "FrameBlock",
+    0,
+    (
+        ("u_inv_view_proj", "mat4", "the camera's clip space -> world"),
+        ("u_camera", "vec3", "the eye, world"),
+        ("u_time", "float", "seconds: furniture sprites, wind"),
+        ("u_sun_dir", "vec3", "unit vector toward the sun (world)"),
+        ("u_exposure", "float", "HDR scale before tone mapping"),
+        ("u_sun_color", "vec3", "sun radiance"),
+        ("u_sky_ambient", "vec3", "sky irradiance from above"),
+        ("u_ground_ambient", "vec3", "bounce light from below"),
+    ),
+)

@@ -1,0 +1,21 @@
+"""The generated GLSL includes: text made from Python definitions when programs are built, so a
+value or layout is written once (in Python) and never copied into a shader by hand."""
+
+from __future__ import annotations
+
+from ._blocks import FRAME_BLOCK
+from ._programs import GENERATED, PRELUDE
+
+
+def declare_constants(name: str, values: dict[str, object]):
+    """`#define NAME value` for each value, in a generated include that every program gets."""
+    path = f"generated/{name}.glsl"
+    lines = [f"// Generated from Python ({name}): do not edit."]
+    lines += [f"#define {key} {value}" for key, value in values.items()]
+    GENERATED[path] = "\n".join(lines) + "\n"
+    if path not in PRELUDE:
+        PRELUDE.append(path)
+
+
+GENERATED[FRAME_BLOCK.include] = FRAME_BLOCK.glsl()
+PRELUDE.append(FRAME_BLOCK.include)  # shared by all programs: declared in every one

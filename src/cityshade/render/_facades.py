@@ -1,0 +1,68 @@
+"""The one facade registry: every facade technique of the city registered once, with an explicit
+precedence, and `choose_facade` picking one per building from the building's own data.
+
+Today the choice reads the building's style number and shape; later choosers (OpenStreetMap tags,
+for instance) replace `accepts` without touching the frame. The polygonised-interiors baseline is
+not a kind of facade but a frame mode (RenderSettings.polygonised_interiors): it replaces the
+interior mapping of every window-bay facade at once.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_texture, seed_cells
+from ..relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES
+from ..scene import SHAPES, BuildingMass
+
+WINDOW_BAY = 0  # the record's facade.x of the textured window bay with interior-mapped rooms
+
+
+@dataclass(frozen=True)
+class FacadeKind:
+    name: str
+    precedence: int  # the lowest accepting kind wins
+    code: int  # the record's facade.x, read by shaders/city/building.glsl
+    styles: frozenset[int] | None  # building style numbers it takes; None: any
+    shapes: tuple[str, ...]
+    grammar_style: str | None = None  # the library style of a grammar facade
+
+    def accepts(self, mass: BuildingMass) -> bool:
+        return (self.styles is None or mass.style in self.styles) and mass.shape in self.shapes
+
+
+FACADE_KINDS = tuple(
+    sorted(
+        (
+            # relief first: its styles are a quarter of the style numbers, so a quarter of the box buildings
+            FacadeKind("relief bay", 10, FACADE_RELIEF, frozenset(RELIEF_STYLES), RELIEF_SHAPES),
+            *(
+                FacadeKind(f"grammar {style}", 20, FACADE_GRAMMAR, frozenset({number}), GRAMMAR_SHAPES, style)
+                for number, style in BUILDING_STYLES.items()
+            ),
+            FacadeKind("window bay", 100, WINDOW_BAY, None, SHAPES),
+        ),
+        key=lambda kind: kind.precedence,
+    )
+)
+
+
+def choose_facade(mass: BuildingMass) -> FacadeKind:
+    """The facade of one building: the accepting kind of lowest precedence."""
+    return next(kind for kind in FACADE_KINDS if kind.accepts(mass))
+
+
+def assign_facades(records: np.ndarray, masses) -> Counter:
+    """Writes each building's facade into records['facade'] (code, grammar start rule, seed cells);
+    returns how many buildings each kind got."""
+    kinds = [choose_facade(m) for m in masses]
+    records["facade"][:, 0] = [kind.code for kind in kinds]
+    grammar = [i for i, kind in enumerate(kinds) if kind.grammar_style is not None]
+    if grammar:
+        compiled = library_texture()
+        records["facade"][grammar, 1] = [compiled.address(kinds[i].grammar_style) for i in grammar]
+        records["facade"][grammar, 2:] = seed_cells([masses[i].seed for i in grammar])
+    return Counter(kind.name for kind in kinds)

@@ -1,0 +1,29 @@
+"""The constants that Python and GLSL share - face codes, building shapes and flags, surfaces,
+ground materials, facade techniques, grammar labels, relief materials and faces - each defined once,
+in Python, and emitted as the generated include that every program gets (`#define NAME value`).
+A shader that defines one of these names itself fails tests/test_constants.py."""
+
+from __future__ import annotations
+
+from .assets import LABELS
+from .gl import declare_constants
+from .grammar import FACADE_GRAMMAR
+from .interior import FACE_CODES
+from .relief import FACADE_RELIEF, GLASS, RELIEF_FACE_CODES
+from .scene import FLAGS, GROUND_MATERIALS, SHAPE_CODES, SURFACE_CODES
+
+CONSTANTS: dict[str, int | str] = {
+    **FACE_CODES,  # id AOV faces: FACE_NONE ... FACE_GROUND
+    **SHAPE_CODES,  # SHAPE_PRISM, SHAPE_CYLINDER, SHAPE_DOME
+    **FLAGS,  # FLAG_FURNITURE, FLAG_CURTAINS, FLAG_ROOM_VARIATION
+    **SURFACE_CODES,  # SURFACE_WALL, SURFACE_ROOF
+    **GROUND_MATERIALS,  # GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS
+    "FACADE_GRAMMAR": FACADE_GRAMMAR,
+    "FACADE_RELIEF": FACADE_RELIEF,
+    "GRAMMAR_WALL_LABEL": LABELS.index("wall"),
+    "GRAMMAR_ROOM_LABEL": LABELS.index("room"),
+    "RELIEF_GLASS": f"{GLASS}u",  # compared with the uint materials of the relief maps
+    **RELIEF_FACE_CODES,  # FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y, FACE_POS_Y
+}
+
+declare_constants("constants", CONSTANTS)

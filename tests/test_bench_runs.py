@@ -1,0 +1,32 @@
+"""`cityshade bench NAME --quick` for every benchmark: the JSON records how it timed and what each
+compared method ran with. Marked slow (minutes each on two cores: `make test-slow`); speed itself
+is never asserted."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from cityshade.bench._cli import BENCHMARKS
+from cityshade.bench._harness import MIN_TIMED_FRAMES
+from cityshade.cli import main
+
+pytestmark = pytest.mark.slow
+METHOD_KEYS = {"cull_back_faces": bool, "depth_prepass": bool, "frustum_culling": bool, "msaa": int, "size": list}
+
+
+@pytest.mark.parametrize("name", sorted(BENCHMARKS))
+def test_quick_run_records_timing_and_methods(tmp_path, name):
+    path = tmp_path / f"{name}.json"
+    assert main(["bench", name, "--quick", "--out-dir", str(tmp_path / "out"), "--json", str(path)]) == 0
+    data = json.loads(path.read_text())
+    assert data["timing"]["interleaved"] is True and data["timing"]["samples_per_point"] >= MIN_TIMED_FRAMES
+    assert len(data["methods"]) >= 2
+    for method, record in data["methods"].items():
+        for key, kind in METHOD_KEYS.items():
+            assert isinstance(record[key], kind), f"{method}: {key}"
+        assert len(record["size"]) == 2
+    assert all(np.isfinite(v) for v in data["ratios"].values() if isinstance(v, float))
+    assert any("IQR" in column for table in data["tables"] for column in table["columns"])

@@ -1,0 +1,148 @@
+"""The frame as a whole: its passes, their GL state, and GL objects that do not pile up."""
+
+from __future__ import annotations
+
+from dataclasses import fields
+
+import moderngl
+import pytest
+
+from cityshade.errors import ShaderError
+from cityshade.gl import programs, set_uniforms
+from cityshade.render import FrameTargets, Renderer, RenderSettings, frame_passes
+from cityshade.scene import make_city
+
+# Every Context method that creates a GL object.
+CREATORS = (
+    "buffer",
+    "texture",
+    "texture_array",
+    "texture_cube",
+    "depth_texture",
+    "framebuffer",
+    "renderbuffer",
+    "depth_renderbuffer",
+    "vertex_array",
+    "program",
+    "compute_shader",
+    "sampler",
+    "query",
+)
+
+
+class ObjectCounter:
+    """Wraps a context's creating methods and counts the objects made through them that are not
+    released yet."""
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self.made = []
+        for name in CREATORS:
+            setattr(ctx, name, self._wrap(getattr(ctx, name)))
+
+    def detach(self):
+        for name in CREATORS:
+            delattr(self.ctx, name)  # the class's methods again
+
+    def _wrap(self, create):
+        def wrapped(*args, **kwargs):
+            obj = create(*args, **kwargs)
+            self.made.append(obj)
+            return obj
+
+        return wrapped
+
+    def live(self) -> dict[str, int]:
+        counts: dict[str, int] = {}
+        for obj in self.made:
+            if not isinstance(obj.mglo, moderngl.InvalidObject):
+                counts[type(obj).__name__] = counts.get(type(obj).__name__, 0) + 1
+        return counts
+
+
+@pytest.fixture(scope="module")
+def counted_renderer(gl_context):
+    counter = ObjectCounter(gl_context)
+    renderer = Renderer((48, 32), RenderSettings(samples=2), ctx=gl_context)
+    renderer.set_city(make_city("interior", None))
+    yield renderer, counter
+    renderer.release()
+    counter.detach()
+
+
+def test_live_gl_objects_stay_flat_over_200_frames(counted_renderer):
+    renderer, counter = counted_renderer
+    camera = renderer.city.city.camera("front")
+    for _ in range(3):  # the first frames compile programs and make targets and vertex arrays
+        renderer.render(camera)
+    before = counter.live()
+    for _ in range(200):
+        renderer.draw(camera)
+    after = counter.live()
+    assert sum(before.values()) > 0, "the counter sees the objects the renderer made"
+    assert after == before, f"live GL objects grew over 200 frames: {before} -> {after}"
+
+
+def test_passes_set_the_state_they_rely_on(counted_renderer):
+    """A frame drawn after some other code left odd GL state looks the same as one drawn after a frame."""
+    renderer, _ = counted_renderer
+    camera = renderer.city.city.camera("corner")
+    clean = renderer.render(camera)
+    ctx = renderer.ctx
+    ctx.enable(moderngl.BLEND | moderngl.CULL_FACE)
+    ctx.blend_func = moderngl.ONE, moderngl.ONE
+    ctx.depth_func = ">"
+    ctx.disable(moderngl.DEPTH_TEST)
+    ctx.color_mask = (False, True, False, True)
+    ctx.depth_mask = False
+    after_mess = renderer.render(camera)
+    assert (after_mess != clean).any(axis=-1).sum() == 0
+
+
+@pytest.mark.parametrize(
+    "changes",
+    [
+        {},
+        {"depth_prepass": False},
+        {"polygonised_interiors": True},
+        {"grammar_deferred": False, "shadows": False, "trees": False},
+    ],
+)
+def test_every_pass_reads_targets_written_before_it(changes):
+    passes = frame_passes(RenderSettings().with_(**changes))
+    targets = {f.name for f in fields(FrameTargets)} | {"shadow maps"}
+    written: set[str] = set()
+    for p in passes:
+        missing = [name for name in p.reads if name in targets and name not in written]
+        assert not missing, f"pass {p.name!r} reads {missing} before any pass writes them"
+        written.add(p.writes)
+    assert passes[-1].name == "tone map" and passes[-1].writes == "display"
+    assert len({p.name for p in passes}) == len(passes), "pass names are unique"
+
+
+def test_profile_times_every_pass(counted_renderer):
+    renderer, _ = counted_renderer
+    renderer.draw(renderer.city.city.camera("front"), profile=True)
+    assert list(renderer.last_pass_seconds) == [p.name for p in frame_passes(renderer.settings)]
+    assert all(seconds > 0 for seconds in renderer.last_pass_seconds.values())
+
+
+def test_a_misspelt_uniform_is_an_error_in_strict_mode(gl_context):
+    program = programs(gl_context).get("frame/tonemap.glsl")
+    set_uniforms(program, u_hdr=0, u_god_rays=0.5)  # u_god_rays: compiled away without GOD_RAYS
+    with pytest.raises(ShaderError, match="u_exposure"):
+        set_uniforms(program, u_exposure=1.0)  # in the frame block, not a uniform of its own
+    with pytest.raises(ShaderError, match="u_hrd"):
+        set_uniforms(program, u_hrd=0)
+
+
+def test_one_registry_chooses_each_building_facade():
+    from cityshade.render import FACADE_KINDS, choose_facade
+    from cityshade.scene import box, cylinder
+
+    assert [k.precedence for k in FACADE_KINDS] == sorted(k.precedence for k in FACADE_KINDS)
+    assert len({k.name for k in FACADE_KINDS}) == len(FACADE_KINDS), "each kind registered once"
+    assert choose_facade(box((0, 0), 10, 10, 9, style=7)).name == "relief bay"  # relief wins on boxes
+    assert choose_facade(cylinder((0, 0), 6, 9, style=7)).name == "grammar fig12"  # no relief on curved walls
+    assert choose_facade(box((0, 0), 10, 10, 9, style=4)).name == "grammar brick"
+    assert choose_facade(box((0, 0), 10, 10, 9, style=0)).name == "window bay"
