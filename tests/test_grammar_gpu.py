@@ -9,7 +9,8 @@ from grammar_compare import FACADE, SIZE, compare, ctx  # noqa: F401  (ctx is a 
 from cityshade.assets import LABELS, tile_array
 from cityshade.grammar import compile_grammars, library_path, load, loads
 from cityshade.grammar._random import seed_vector
-from cityshade.grammar._reference import evaluate_facade
+from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
+from cityshade.grammar._reference import evaluate, evaluate_facade
 
 
 def colours(*names: str) -> str:
@@ -121,3 +122,20 @@ def test_rand_stack_groups_a_floor():
         assert all(len(f) == 1 for f in floors)
         kinds.add(tuple(int(f[0]) for f in floors))
     assert any(len(set(k)) > 1 for k in kinds)  # but floors differ
+
+
+def test_tint_multiplies_the_colour_below_it(ctx, output_dir):
+    """Tint(r, g, b, Rule): the colour Mats below it are multiplied, on the GPU as in numpy; ids unchanged."""
+    plain = "S->SplitX(Rel, 1, Wall, Rel, 1, Tinted)\nTinted->Tint(0.5, 0.8, 1, Wall)\nWall->Mat(Color, Rep:wall1, 0, 0, 1, 1)\n"
+    compiled = compile_grammars({"tint": loads(plain)})
+    cpu, _ = compare(ctx, compiled, "tint", output_dir, min_terminals=1)
+    start = compiled.address("tint")
+    uv = np.array([[2.0, 3.0], [10.0, 3.0]], np.float32)  # the same wall texel on both halves
+    result = evaluate(compiled, start, uv, (16.0, 12.0), (0.0, 0.0), tile_array(32))
+    assert result.terminal[0] == result.terminal[1]
+    np.testing.assert_allclose(result.color[1], result.color[0] * np.array([0.5, 0.8, 1.0]), rtol=1e-3)
+    textures = GrammarTextures(ctx, compiled, tile_array(32))
+    colour, _ = FacadeRenderer(ctx, textures, nearest=True).render(start, FACADE, SIZE, seed_vector(3))
+    textures.release()
+    lit = evaluate_facade(compiled, start, FACADE, SIZE, seed_vector(3), tile_array(32)).color
+    assert np.abs(colour[..., :3] - lit).max() < 0.02  # colours agree within a small tolerance

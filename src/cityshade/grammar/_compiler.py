@@ -74,6 +74,8 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
     if name == "Color":  # a constant Mat whose head.w, above 1, is 1 + its label
         label = v[3] if len(v) > 3 else 0
         return [[op, 1, 0, 1 + label], [v[0], v[1], v[2], 1.0]]
+    if name == "Tint":
+        return [[op, address_of(v[3]), 0, 0], [v[0], v[1], v[2], 0]]
     if name == "Case":
         # Each condition's postfix tokens, then (CASE, its rule): the first true one is taken,
         # else the last rule (in the head).

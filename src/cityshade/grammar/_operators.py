@@ -82,6 +82,8 @@ OPERATORS: dict[str, Signature] = {
     "MatAlpha": Signature(13, _MAT + _MAT[1:]),
     # A constant opaque colour with a semantic label: compiled as a constant Mat (opcode 12).
     "Color": Signature(12, (Kind.FRACTION, Kind.FRACTION, Kind.FRACTION), optional=(Kind.LABEL,)),
+    # Multiplies the colour of every colour Mat below it by (r, g, b): a tinted texture.
+    "Tint": Signature(16, (Kind.FRACTION, Kind.FRACTION, Kind.FRACTION, Kind.RULE)),
     "Case": Signature(14, (), (Kind.CONDITION, Kind.RULE), 1, tail=(Kind.RULE,)),
     ALIAS: Signature(0, (Kind.RULE,)),
     # Floor(split.index) as a reference: computes the arguments into the parameters, then goes on

@@ -84,6 +84,8 @@ class _Pixels:
         self.f_sp = np.zeros((n, L), np.int32)
         self.C = np.zeros((n, 3), F)
         self.A = np.zeros(n, F)
+        self.tint = np.ones((n, 3), F)  # Tint's factor for colour Mats
+        self.f_tint = np.ones((n, L, 3), F)
         self.N = np.zeros((n, 3), F)
         self.AN = np.zeros(n, F)
         self.S = np.zeros((n, 2), F)
@@ -145,7 +147,7 @@ class _Evaluator:
                 break
             ops = self.tex[p.addr[live], 0].astype(np.int32)
             for _ in range(limits.MAX_STEPS):  # Binds and Cases lead straight on to the next rule (eval.glsl)
-                if not np.any(ops >= 14):
+                if not np.any((ops == 14) | (ops == 15)):
                     break
                 for op in (14, 15):
                     getattr(self, _HANDLERS[op])(p, live[ops == op], op)
@@ -279,6 +281,10 @@ class _Evaluator:
         taken, _ = self.program(p, idx, p.addr[idx] + 1, head[:, 1].astype(np.int32))
         p.addr[idx] = np.where(taken >= 0, taken, head[:, 2].astype(np.int32))
 
+    def op_tint(self, p, idx, op):
+        p.tint[idx] *= self.tex[p.addr[idx] + 1, :3]
+        p.addr[idx] = self.tex[p.addr[idx], 1].astype(np.int32)
+
     def op_bind(self, p, idx, op):
         head = self.tex[p.addr[idx]]
         _, values = self.program(p, idx, p.addr[idx] + 1, head[:, 1].astype(np.int32))
@@ -333,6 +339,7 @@ class _Evaluator:
         p.f_t[idx, top] = p.t[idx]
         p.f_d[idx, top] = p.d[idx]
         p.f_sp[idx, top] = p.sp[idx]
+        p.f_tint[idx, top] = p.tint[idx]
         p.depth[idx] = top + 1
         self.end_layer(p, idx, np.zeros(len(idx), np.int32))
 
@@ -358,6 +365,7 @@ class _Evaluator:
             p.params[er] = p.f_params[er, et]
             p.d[er] = p.f_d[er, et]
             p.sp[er] = p.f_sp[er, et]
+            p.tint[er] = p.f_tint[er, et]
             p.addr[er] = self.channel(p.f_addr[er, et], 2 + ei).astype(np.int32)
             rows = rows[~enter]  # this Layer is exhausted: continue below it in the enclosing one
             p.depth[rows] -= 1
@@ -426,7 +434,7 @@ class _Evaluator:
         a = rgba[:, 3]
         colour, normal, spec = usage == 1, usage == 2, usage == 3
         w = (F(1) - p.A[idx]) * a
-        p.C[idx] += np.where(colour[:, None], w[:, None] * rgba[:, :3], F(0))
+        p.C[idx] += np.where(colour[:, None], w[:, None] * rgba[:, :3] * p.tint[idx], F(0))
         p.A[idx] += np.where(colour, w, F(0))
         better = colour & (w > p.best_w[idx])
         rows = idx[better]
@@ -463,7 +471,7 @@ class _Evaluator:
 
 _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",
              7: "op_rand_stack", 8: "op_layer", 9: "op_skip", 10: "op_skip_mask", 11: "op_intrusion",
-             12: "op_mat", 13: "op_mat", 14: "op_case", 15: "op_bind"}
+             12: "op_mat", 13: "op_mat", 14: "op_case", 15: "op_bind", 16: "op_tint"}
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,

@@ -41,6 +41,7 @@ int g_addr;
 vec2 g_lb, g_size, g_t, g_s;
 vec2 g_split;   // split.index and split.total of the last Split or Repeat (0, 1 at the start)
 vec2 g_facade;  // the start scope's size: facade.width, facade.height
+vec3 g_tint;  // Tint's factor for colour Mats (1 unless tinted)
 vec4 g_params;  // the parameters of the rule being evaluated (0 unless passed; GRAMMAR_MAX_PARAMS is 4)
 // building.levels and building.style for conditions: set by the caller before grammar_evaluate.
 vec2 grammar_building = vec2(0.0);
@@ -52,7 +53,8 @@ int g_depth;
 int f_addr[GRAMMAR_MAX_LAYERS], f_index[GRAMMAR_MAX_LAYERS], f_sp[GRAMMAR_MAX_LAYERS];
 vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS], f_split[GRAMMAR_MAX_LAYERS];
 vec3 f_d[GRAMMAR_MAX_LAYERS];
-vec4 f_params[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
+vec4 f_params[GRAMMAR_MAX_LAYERS];
+vec3 f_tint[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
 bool g_active;
 vec3 g_C, g_N;
 float g_A, g_AN, g_AS, g_best_w;
@@ -127,6 +129,7 @@ void grammar_end_layer(int skip) {
             g_params = f_params[top];
             g_d = f_d[top];
             g_sp = f_sp[top];
+            g_tint = f_tint[top];
             g_addr = int(grammar_channel(f_addr[top], 2 + index));
             return;
         }
@@ -379,7 +382,7 @@ void grammar_mat(vec4 head, int op) {
     float a = rgba.a;
     if (usage == 1) {
         float w = (1.0 - g_A) * a;
-        g_C += w * rgba.rgb;
+        g_C += w * rgba.rgb * g_tint;
         g_A += w;
         float w_exact = (1.0 - g_AE) * a_exact;
         g_AE += w_exact;
@@ -425,13 +428,14 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_active = true;
     g_C = vec3(0.0); g_N = vec3(0.0); g_S = vec2(0.0);
     g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0; g_AE = 0.0;
+    g_tint = vec3(1.0);
     g_best_addr = -1; g_best_tile = -1; g_best_texel = ivec2(0);
 
     for (int step = 0; step < GRAMMAR_MAX_STEPS && g_active; ++step) {
         vec4 head = grammar_texel(g_addr);
         // Binds (a reference's arguments) and Cases lead straight on to the next rule: they take
         // steps of the same budget without the operator dispatch below.
-        for (; head.x >= 14.0 && step < GRAMMAR_MAX_STEPS - 1; ++step) {
+        for (; (head.x == 14.0 || head.x == 15.0) && step < GRAMMAR_MAX_STEPS - 1; ++step) {
             if (head.x == 15.0) {
                 grammar_bind(head);
             } else {
@@ -440,7 +444,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             head = grammar_texel(g_addr);
         }
         int op = int(head.x);
-        if (op >= 14) break;  // the budget ran out on a chain of them (the checks refuse such grammars)
+        if (op == 14 || op == 15) break;  // the budget ran out on a chain of them (the checks refuse such grammars)
         if (op == 1 || op == 2) {
             grammar_repeat(head, op - 1);
         } else if (op == 3 || op == 4) {
@@ -467,6 +471,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             f_t[top] = g_t;
             f_d[top] = g_d;
             f_sp[top] = g_sp;
+            f_tint[top] = g_tint;
             g_depth = top + 1;
             grammar_end_layer(0);
         } else if (op == 9) {
@@ -479,6 +484,9 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
         } else if (op == 11) {
             grammar_intrusion(head);
+        } else if (op == 16) {
+            g_tint *= grammar_texel(g_addr + 1).rgb;
+            g_addr = int(head.y);
         } else {
             grammar_mat(head, op);
         }
