@@ -84,3 +84,10 @@ def test_recursive_cga_is_refused_with_the_reason(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "the translation does not check (recursive rules" in err and "rules form a cycle: A -> A" in err
     assert not out.exists()
+
+
+def test_a_colour_before_a_texture_tints_it():
+    text = translate('Wall --> color("#ffcc99") texture("brick.jpg")\nPlain --> color("#888888") Wall\n').text
+    assert "Wall->Tint(1.000, 0.800, 0.600, Wall_1)\nWall_1->Mat(Color, Rep:wall1, 0, 0, 0.5, 0.5)\n" in text
+    assert "Plain->Layer(Plain_2, Wall)\nPlain_2->Color(0.533, 0.533, 0.533)\n" in text  # a colour under successors
+    loads(text)

@@ -4,7 +4,8 @@ Translated: rules, `attr`/`const` values (evaluated and written in as numbers: a
 fixed parameters), `split(x|y)` with absolute, floating (`~`) and relative (`'`) sizes, repeats
 `{...}*` (alone: Repeat; beside other parts: a Tile), `case`/`else` (Case, with split.index,
 split.total, scope.sx/sy), rule parameters (`Floor(i)`, `Floor(split.index)`), `%` choices
-(Rand), `rand(a, b)` sizes, `color("#rrggbb")` (a Color layer under the successors), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
+(Rand), `rand(a, b)` sizes, `color("#rrggbb")` (a Color layer under the successors, or a Tint of
+a texture that follows it), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
 Everything else (comp, extrude, roofs, transformations, occlusion queries, string values...)
 is listed by line with what was done instead.
 """
@@ -420,6 +421,7 @@ class _Importer:
             else:
                 self.note(tok.line, f"unexpected {tok.text!r}", "skipped")
                 i += 1
+        layers = self.tint_textures(layers, name)
         if not layers:
             return "Skip(0)"
         if len(layers) == 1:  # one operation is the rule itself; one successor makes an alias
@@ -427,6 +429,20 @@ class _Importer:
             return text if kind == "op" else f"Layer({text})"
         names = [text if kind == "rule" else self.fresh(name, text) for kind, text in layers]
         return f"Layer({', '.join(names)})"
+
+    def tint_textures(self, layers: list[tuple[str, str]], name: str) -> list[tuple[str, str]]:
+        """color(...) then texture(...) in one rule: CGA multiplies the texture by the colour, so the
+        pair becomes Tint(r, g, b, the texture) instead of two layers."""
+        out: list[tuple[str, str]] = []
+        for kind, text in layers:
+            previous = out[-1] if out else None
+            if (kind == "op" and text.startswith("Mat(") and previous is not None and previous[0] == "op"
+                    and previous[1].startswith("Color(")):
+                rgb = previous[1][len("Color("):-1]
+                out[-1] = ("op", f"Tint({rgb}, {self.fresh(name, text)})")
+            else:
+                out.append((kind, text))
+        return out
 
     def target(self, tokens: list[_Tok], line: int, name: str) -> str:
         """The rule a split part or a branch goes to: a successor itself, or a new helper rule."""
