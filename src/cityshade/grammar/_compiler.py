@@ -18,7 +18,7 @@ from . import _limits as limits
 from ._checks import Bound, Grammar, RandomSize, Rule, TexRef
 from ._diagnostics import Diagnostic, GrammarError
 from ._expressions import CASE, program
-from ._operators import ALIAS, OPERATORS, TILE
+from ._operators import ALIAS, BIND_OPCODE, OPERATORS, TILE
 
 _UNIT_RECT = (0.0, 0.0, 1.0, 1.0)
 
@@ -141,7 +141,7 @@ def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
         def address_of(rule_name, grammar=grammar, gname=gname) -> int:
             if isinstance(rule_name, Bound):  # the Bind texels: the arguments' tokens, then the rule
                 tokens = [t for value in rule_name.args for t in program(value)]
-                head = [OPERATORS["Bind"].opcode, len(tokens), address_of(rule_name.name), len(rule_name.args)]
+                head = [BIND_OPCODE, len(tokens), address_of(rule_name.name), len(rule_name.args)]
                 return place([head] + _pairs(tokens))
             key = (gname, rule_name)
             if key not in addresses:

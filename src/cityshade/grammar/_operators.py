@@ -86,7 +86,7 @@ OPERATORS: dict[str, Signature] = {
     "Tint": Signature(16, (Kind.FRACTION, Kind.FRACTION, Kind.FRACTION, Kind.RULE)),
     "Case": Signature(14, (), (Kind.CONDITION, Kind.RULE), 1, tail=(Kind.RULE,)),
     ALIAS: Signature(0, (Kind.RULE,)),
-    # Floor(split.index) as a reference: computes the arguments into the parameters, then goes on
-    # to the rule. Made by the compiler, not written.
-    "Bind": Signature(15, ()),
 }
+# Floor(split.index) as a reference: computes the arguments into the parameters, then goes on to
+# the rule. Made by the compiler, never written.
+BIND_OPCODE = 15
