@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 from grammar_compare import FACADE, SIZE, compare, ctx  # noqa: F401  (ctx is a fixture)
 
-from cityshade.assets import tile_array
+from cityshade.assets import LABELS, tile_array
 from cityshade.grammar import compile_grammars, library_path, load, loads
 from cityshade.grammar._random import seed_vector
-from cityshade.grammar._reference import evaluate_facade
+from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
+from cityshade.grammar._reference import evaluate, evaluate_facade
 
 
 def colours(*names: str) -> str:
@@ -23,6 +24,22 @@ CASES = {
     "split": "S->SplitX(Abs, 2.5, A, Rel, 1, Col, Rel, 2, B, Abs, 1.2, C)\n"
              "Col->SplitY(Rel, 1, D, Abs, 3, E, Rel, 0.5, F)\n" + colours(*"ABCDEF"),
     "repeat": "S->RepeatX(1.7, Col)\nCol->RepeatY(2.3, Cell)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n" + colours("A", "B"),
+    "repeat_ceil": "S->RepeatX(1.7, Col, Ceil)\nCol->RepeatY(2.3, Cell, Ceil)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n"
+                   + colours("A", "B"),
+    "split_tile": "S->SplitX(Rel, 1, A, Tile, 2.2, Bay, Abs, 1.5, C, Rel, 0.5, D)\n"
+                  "Bay->SplitY(Abs, 2, E, Tile, 1.3, Row, Rel, 1, F)\nRow->SplitX(Rel, 1, G, Rel, 1, H)\n"
+                  + colours(*"ACDEFGH"),
+    "case": "S->SplitY(Abs, 2, Ground, Tile, 3, Floor, Rel, 1, Roof)\nFloor->RepeatX(2.5, Bay)\n"
+            "Bay->Case(split.first || split.last, A, split.index % 2 == 0 && scope.sx > 2.4, B, !(split.index < 3), C, D)\n"
+            "Ground->Case(facade.width >= 16, E, F)\nRoof->Case(-scope.sy + 1 > 0, G, split.total / 0.5 == 2 * 3, H, A)\n"
+            + colours(*"ABCDEFGH"),
+    "rand_sizes": "S->SplitY(Abs, rand(2, 4), Ground, Rel, 1, Upper)\nUpper->RepeatY(rand(2.5, 3.5), Floor)\n"
+                  "Floor->SplitX(Rel, rand(1, 3), A, Abs, rand(0.5, 2), B, Rel, 1, C, Tile, 2, D)\n" + colours(*"ABCD")
+                  + "Ground->RepeatX(rand(1, 4), Shop, Ceil)\nShop->SplitX(Rel, 1, E, Rel, 1, F)\n" + colours("E", "F"),
+    "params": "S->RepeatY(3, Floor(split.index, split.total))\nFloor(level, count)->RepeatX(2.5, Bay(level, split.index))\n"
+              "Bay(level, column)->Case(level == 0, E, (level + column) % 2 == 0, A, Upper(level))\n"
+              "Upper(l)->Layer(B, Top(l, -l))\nTop(l, m)->Case(l + m != 0, D, l >= 3, C, Skip)\nSkip->Skip(0)\n"
+              + colours(*"ABCDE"),
     "rand": "S->RepeatX(2, Col)\nCol->RepeatY(2, R)\nR->Rand(0, 0.2, A, 0.5, B, 0.3, C)\n" + colours(*"ABC"),
     "rand_uni": "S->RepeatY(1.5, Row)\nRow->RepeatX(1.5, R)\nR->RandUni(0, A, B, C, D, E)\n" + colours(*"ABCDE"),
     "rand_stack": "S->RepeatY(3, Floor)\nFloor->RandStack(Win)\nWin->RepeatX(2, Pick)\n"
@@ -56,6 +73,28 @@ def test_operator_gpu_matches_numpy(ctx, name, output_dir):
     compare(ctx, compiled, name, output_dir)
 
 
+def test_labelled_colours_gpu_matches_numpy(ctx, output_dir):
+    text = ("S->Layer(Wall, Front)\nWall->Color(0.8, 0.7, 0.6)\nFront->RepeatX(3, Bay)\n"
+            "Bay->SplitX(Rel, 1, Skip, Abs, 1.2, Col, Rel, 1, Skip)\nCol->SplitY(Abs, 1, Skip, Abs, 1.5, Glass, "
+            "Rel, 1, Rail)\nGlass->Color(0.2, 0.3, 0.4, window)\nRail->Color(0.1, 0.1, 0.1, balcony)\nSkip->Skip(0)\n")
+    compiled = compile_grammars({"colours": loads(text)})
+    cpu, _ = compare(ctx, compiled, "colours", output_dir, nearest=False, allowed=0)
+    assert set(np.unique(cpu.label).tolist()) == {LABELS.index(n) for n in ("wall", "window", "balcony")}
+
+
+def test_building_attributes_gpu_matches_numpy(ctx, output_dir):
+    text = ("S->RepeatY(3, Floor)\nFloor->Case(split.index >= building.levels - 1, A, "
+            "building.style == 4 && split.index % 2 == 1, B, C)\n" + colours(*"ABC"))
+    compiled = compile_grammars({"attributes": loads(text)})
+    for building in ((3, 4), (2, 1)):
+        cpu, _ = compare(ctx, compiled, "attributes", output_dir, building=building)
+        rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first
+        picked = [int(np.unique(r)[0]) for r in rows]
+        names = {compiled.address("attributes", n): n for n in "ABC"}
+        want = [("A" if i >= building[0] - 1 else "B" if building[1] == 4 and i % 2 else "C") for i in range(4)]
+        assert [names[p] for p in picked] == want
+
+
 def test_fig12_gpu_matches_numpy(ctx, output_dir):
     compiled = compile_grammars({"fig12": load(library_path("fig12.grammar"))})
     cpu, _ = compare(ctx, compiled, "fig12", output_dir, facade=(20.0, 16.0), size=(160, 128))
@@ -83,3 +122,20 @@ def test_rand_stack_groups_a_floor():
         assert all(len(f) == 1 for f in floors)
         kinds.add(tuple(int(f[0]) for f in floors))
     assert any(len(set(k)) > 1 for k in kinds)  # but floors differ
+
+
+def test_tint_multiplies_the_colour_below_it(ctx, output_dir):
+    """Tint(r, g, b, Rule): the colour Mats below it are multiplied, on the GPU as in numpy; ids unchanged."""
+    plain = "S->SplitX(Rel, 1, Wall, Rel, 1, Tinted)\nTinted->Tint(0.5, 0.8, 1, Wall)\nWall->Mat(Color, Rep:wall1, 0, 0, 1, 1)\n"
+    compiled = compile_grammars({"tint": loads(plain)})
+    cpu, _ = compare(ctx, compiled, "tint", output_dir, min_terminals=1)
+    start = compiled.address("tint")
+    uv = np.array([[2.0, 3.0], [10.0, 3.0]], np.float32)  # the same wall texel on both halves
+    result = evaluate(compiled, start, uv, (16.0, 12.0), (0.0, 0.0), tile_array(32))
+    assert result.terminal[0] == result.terminal[1]
+    np.testing.assert_allclose(result.color[1], result.color[0] * np.array([0.5, 0.8, 1.0]), rtol=1e-3)
+    textures = GrammarTextures(ctx, compiled, tile_array(32))
+    colour, _ = FacadeRenderer(ctx, textures, nearest=True).render(start, FACADE, SIZE, seed_vector(3))
+    textures.release()
+    lit = evaluate_facade(compiled, start, FACADE, SIZE, seed_vector(3), tile_array(32)).color
+    assert np.abs(colour[..., :3] - lit).max() < 0.02  # colours agree within a small tolerance

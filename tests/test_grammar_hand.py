@@ -38,8 +38,9 @@ def by_hand(case: str, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         column = split(x, width, [("Abs", 2.5), ("Rel", 1), ("Rel", 2), ("Abs", 1.2)])
         row = split(y, height, [("Rel", 1), ("Abs", 3), ("Rel", 0.5)])
         return np.where(column == 1, np.array(list("DEF"), object)[row], np.array(list("A?BC"), object)[column])
-    # S->RepeatX(1.7, Col); Col->RepeatY(2.3, Cell); Cell->SplitX(Rel 1 A, Rel 1 B): ceil(S / size) parts
-    tile_x = width / math.ceil(width / 1.7)
+    # S->RepeatX(1.7, Col); Col->RepeatY(2.3, Cell); Cell->SplitX(Rel 1 A, Rel 1 B): the nearest
+    # whole number of parts, max(1, floor(S / size + 0.5)): 16 / 1.7 = 9.4 -> 9
+    tile_x = width / max(1, math.floor(width / 1.7 + 0.5))
     local_x = np.mod(x, tile_x) / tile_x
     return np.where(local_x < 0.5, "A", "B").astype(object)
 

@@ -32,6 +32,24 @@ def test_style_gpu_matches_numpy(ctx, library, style, output_dir):  # noqa: F811
     compare(ctx, compiled, style, output_dir, seed=7, facade=(20.0, 16.0), size=(120, 96), min_terminals=3)
 
 
+@pytest.mark.parametrize("style", LIBRARY_STYLES)
+def test_filtered_colour_keeps_exact_labels(ctx, library, style, output_dir):  # noqa: F811 (fixture)
+    """The mipmapped path: the terminal, label and glass flag come from the nearest texels, equal
+    to the numpy twin's on every pixel, while the colour is filtered."""
+    _, compiled = library
+    compare(ctx, compiled, style, output_dir, seed=7, facade=(40.0, 32.0), size=(120, 96), min_terminals=3,
+            nearest=False, allowed=0)
+
+
+@pytest.mark.parametrize("nearest", [True, False])
+def test_the_benchmarks_conditions_facade_matches_numpy(ctx, nearest, output_dir):  # noqa: F811 (fixture)
+    from cityshade.grammar import library_path, load
+
+    compiled = compile_grammars({"conditions": load(library_path("conditions.grammar"))})
+    cpu, _ = compare(ctx, compiled, "conditions", output_dir, facade=(20.0, 16.0), size=(120, 96), nearest=nearest, allowed=0)
+    assert len(np.unique(cpu.terminal)) >= 4  # wall and the three windows
+
+
 def test_dusk_shows_rooms_through_holes(library):
     _, compiled = library
     cpu = evaluate_facade(compiled, compiled.address("dusk"), (20.0, 16.0), (120, 96), seed_vector(2), tile_array(32))
@@ -44,3 +62,17 @@ def test_seeds_vary_a_style(library):
     images = [evaluate_facade(compiled, compiled.address("brick"), (20.0, 16.0), (60, 48), seed_vector(s),
                               tile_array(32)).terminal for s in range(4)]
     assert len({im.tobytes() for im in images}) > 1
+
+
+def test_fig12_keeps_the_papers_ceil_rounding():
+    """fig12.grammar writes `Ceil`: a 21 m facade has ceil(21 / 2.5) = 9 windows on its ground
+    floor, as in the paper, where the nearest count would give 8."""
+    from cityshade.grammar import library_path, load
+    from cityshade.grammar._reference import evaluate
+
+    compiled = compile_grammars({"f": load(library_path("fig12.grammar"))})
+    u = (np.arange(2100, dtype=np.float32) + 0.5) / 100
+    uv = np.stack([u, np.full_like(u, 1.5)], axis=1)  # through the ground floor's windows
+    result = evaluate(compiled, compiled.address("f"), uv, (21.0, 13.7), seed_vector(1), tile_array(32))
+    window = result.label == LABELS.index("window")
+    assert np.count_nonzero(np.diff(window.astype(int)) == 1) + window[0] == 9

@@ -59,10 +59,10 @@ def test_library_uses_namespaces_and_compiles_small():
     ("S->SplitX(Rel, 1, Wal)\nWall->Skip(0)\n", ["bad.grammar:1:19: error: undefined rule 'Wal'", "did you mean the rule 'Wall'?"]),
     ("S->SplitZ(Rel, 1, W)\n" + WALL, ["bad.grammar:1:4: error: unknown operator 'SplitZ'", "did you mean the operator 'Split"]),
     (WALL + "W->Skip(0)\n", ["bad.grammar:2:1: error: rule 'W' is defined twice", "line 1"]),
-    ("S->RepeatX(2)\n", ["bad.grammar:1:4: error: RepeatX takes (size, rule) but got 1 argument"]),
+    ("S->RepeatX(2)\n", ["bad.grammar:1:4: error: RepeatX takes (size, rule, [rounding]) but got 1 argument"]),
     ("S->SplitX(Rel, 1)\n", ["SplitX takes ((policy, size, rule)...) but got 2 arguments"]),
     ("S->RepeatX(W, 2)\n" + WALL, ["1:12: error: RepeatX expects a size in metres > 0 here, not 'W'"]),
-    ("S->SplitX(Rell, 1, W)\n" + WALL, ["1:11: error: SplitX expects Abs or Rel here", "'Rel'"]),
+    ("S->SplitX(Rell, 1, W)\n" + WALL, ["1:11: error: SplitX expects Abs, Rel or Tile here", "'Rel'"]),
     ("S->Mat(Colour, Rep:wall1, 0, 0, 1, 1)\n", ["1:8: error: Mat expects Color, Normal or Specular", "'Color'"]),
     ("S->Rand(0, 0.5, W, 0.4, W)\n" + WALL, ["1:4: error: Rand weights sum to 0.9, not 1"]),
     ("S->RepeatX(-2, W)\n" + WALL, ["1:12: error: size must be > 0, got -2"]),
@@ -71,9 +71,9 @@ def test_library_uses_namespaces_and_compiles_small():
     ("S->Mat(Color, Fit>window1, 0, 0, 2, 1)\n", ["1:34: error: a fitted texture's rectangle needs four values"]),
     ("S->Skip(1.5)\n", ["1:9: error: Skip expects a whole number >= 0 here, got 1.5"]),
     ("A->RepeatX(1, B)\nB->RepeatY(1, C)\nC->Layer(A, W)\n" + WALL, ["rules form a cycle: A -> B -> C -> A"]),
-    ("S->Layer(W S)", ["1:12: error: unexpected 'S'; expected ')' or ','", "^", "is a ',' missing"]),
+    ("S->Layer(W S)", ["1:12: error: unexpected 'S'; expected '(' or ')' or ','", "^", "is a ',' missing"]),
     ("S->Layer(W", ["the file ends in the middle of a rule"]),
-    ("S Layer(W)", ["1:3: error: unexpected 'Layer'; expected '->'"]),
+    ("S Layer(W)", ["1:3: error: unexpected 'Layer'; expected '(' or '->'"]),
     ("", ["bad.grammar:1:1: error: the grammar is empty"]),
     ("# only a comment\n", ["the grammar is empty"]),
 ])
@@ -127,3 +127,26 @@ def test_missing_include_and_include_cycle(tmp_path):
     (tmp_path / "c.grammar").write_text('use "nope.grammar" as N\nS->Skip(0)\n')
     with pytest.raises(GrammarError, match="included file 'nope.grammar' not found"):
         load(tmp_path / "c.grammar")
+
+
+def test_a_bare_alias_is_its_target():
+    grammar = loads("S -> Front\nFront->SplitX(Rel, 1, A, Rel, 1, W);\nA -> W;\n" + WALL)
+    assert grammar.rules["S"].children == ("Front",) and grammar.rules["A"].children == ("W",)
+    compiled = compile_grammars({"g": grammar})
+    assert compiled.address("g") == compiled.address("g", "Front")
+    assert compiled.address("g", "A") == compiled.address("g", "W")
+    assert compiled.used == 2 + 1  # Front: a head and a texel of parts; W: one texel; aliases: none
+
+
+def test_alias_errors_are_located():
+    assert "bad.grammar:1:1: error: rules form a cycle: S -> T -> S" in error_of("S -> T\nT -> S\n")
+    assert "bad.grammar:2:6: error: undefined rule 'X'" in error_of(WALL + "S -> X\n")
+
+
+def test_an_alias_overrides_a_namespaced_rule(tmp_path):
+    (tmp_path / "base.grammar").write_text("Facade->RepeatX(2, Win)\nWin->Mat(Color, Fit>window1, 0, 0, 1, 1)\n")
+    main = tmp_path / "main.grammar"
+    main.write_text('use "base.grammar" as B\nS->Layer(B.Facade)\nB.Win->Arch\n'
+                    "Arch->Mat(Color, Fit>window3, 0, 0, 1, 1)\n")
+    compiled = compile_grammars({"g": load(main)})
+    assert compiled.address("g", "B.Win") == compiled.address("g", "Arch")

@@ -67,6 +67,18 @@ def check_samples(value) -> int:
     return int(value)
 
 
+def check_count(value, option: str) -> int:
+    """A whole number from 0 to 2048 (a building attribute: exact in the GPU's 16-bit floats)."""
+    try:
+        count = int(value)
+        valid = not isinstance(value, bool) and count == float(value) and 0 <= count <= 2048
+    except (TypeError, ValueError, OverflowError):
+        valid = False
+    if not valid:
+        raise UsageError(f"invalid {option} {_shown(value)}; give a whole number from 0 to 2048")
+    return count
+
+
 def _shown(value) -> str:
     text = repr(value if not isinstance(value, str) else value)
     return text if len(text) <= 40 else text[:37] + "..."

@@ -7,10 +7,19 @@ from __future__ import annotations
 from pathlib import Path
 
 from ._files import output_target, write_png
-from ._values import check_lights, check_seed, parse_size
+from ._values import check_count, check_lights, check_seed, parse_size
 from .errors import UsageError
 
-__all__ = ["check_lights", "check_seed", "check_writable", "parse_lights", "parse_metres", "parse_size", "save_png"]
+__all__ = [
+    "check_count",
+    "check_lights",
+    "check_seed",
+    "check_writable",
+    "parse_lights",
+    "parse_metres",
+    "parse_size",
+    "save_png",
+]
 
 parse_lights = check_lights  # '0.4' -> 0.4; the command line and the API take the same values
 save_png = write_png  # a finished PNG or nothing

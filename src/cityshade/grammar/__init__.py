@@ -13,7 +13,7 @@ from ._loader import SourceGrammar, library_path, load_source, parse_string
 
 # The facade styles of the library (bays.grammar is a building block they include; simple.grammar
 # is fig. 12 with its random choices fixed, the "simple" grammar of the benchmark).
-LIBRARY_STYLES = ("fig12", "brick", "classical", "office", "shops", "dusk")
+LIBRARY_STYLES = ("fig12", "brick", "classical", "office", "shops", "dusk", "storeys")
 
 
 def load(path: str | Path) -> Grammar:

@@ -14,18 +14,28 @@ def register(subparsers):
     check = commands.add_parser("check", help="check grammar files; errors as FILE:LINE:COL: error: ...")
     check.add_argument("files", nargs="+", type=Path, metavar="FILE")
     check.set_defaults(run=_check)
-    from ..arguments import check_seed, parse_metres, parse_size
+    from ..arguments import check_count, check_seed, parse_metres, parse_size
 
     render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
     render.add_argument("file", type=Path, metavar="FILE")
     render.add_argument("--rule", default=None, help="start rule (default: the file's first rule)")
     render.add_argument("--facade", type=parse_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres")
     render.add_argument("--seed", type=check_seed, default=0, help="the facade's random seed, 0 to 2^31-1")
+    render.add_argument("--levels", type=lambda v: check_count(v, "--levels"), default=None, metavar="N",
+                        help="building.levels for conditions (default: the facade height / 3.2 m, rounded)")
+    render.add_argument("--style", type=lambda v: check_count(v, "--style"), default=0, metavar="N",
+                        help="building.style for conditions")
     render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
     render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
     render.add_argument("--out", type=Path, default=Path("out/facade.png"), metavar="PNG")
     render.add_argument("--labels", type=Path, default=None, metavar="PNG", help="also write the label image")
     render.set_defaults(run=_render)
+
+    imports = commands.add_parser("import", help="translate a CityEngine CGA rule file (its facade subset)")
+    imports.add_argument("file", type=Path, metavar="FILE.cga")
+    imports.add_argument("--out", type=Path, default=None, metavar="FILE.grammar",
+                         help="write the grammar here (default: print it)")
+    imports.set_defaults(run=_import)
 
 
 def _check(args) -> int:
@@ -43,6 +53,45 @@ def _check(args) -> int:
         print(f"{path}: ok, {len(grammar.rules)} rules, {compiled.used} texels ({compiled.nbytes} bytes), "
               f"start rule {grammar.start}")
     return 1 if failed else 0
+
+
+def _import(args) -> int:
+    """Translates, lists what was not translated (FILE:LINE: what: instead) and checks the result."""
+    from .._files import atomic_output, read_input_bytes
+    from ..arguments import check_writable
+    from . import loads
+    from ._cga import CgaError, translate
+
+    if args.out is not None:
+        check_writable(args.out)
+    data = read_input_bytes(args.file, 1 << 20, "CGA file")
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise CgaError(f"{args.file}: error: the file is not UTF-8 text; save the rules as UTF-8") from None
+    if "\0" in text:
+        raise CgaError(f"{args.file}: error: this is a binary file, not CGA rules")
+    translation = translate(text, str(args.file))
+    name = args.out.name if args.out is not None else args.file.with_suffix(".grammar").name
+    header = f"# Translated from {args.file.name} by cityshade grammar import.\n"
+    grammar_text = header + translation.text
+    for note in translation.notes:
+        print(note.format(str(args.file)), file=sys.stderr)
+    try:
+        loads(grammar_text, name)  # a translation that does not check is reported, and not written
+    except GrammarError as exc:
+        raise CgaError(f"{args.file}: error: the translation does not check (recursive rules, or arguments "
+                       f"that do not match a rule's parameters, cannot be translated); nothing was written:\n"
+                       f"{exc}") from None
+    print(f"{args.file}: {len(translation.notes)} construct{'s' * (len(translation.notes) != 1)} not translated "
+          "as written (listed above)", file=sys.stderr)
+    if args.out is None:
+        sys.stdout.write(grammar_text)
+        return 0
+    with atomic_output(args.out) as tmp:
+        tmp.write_text(grammar_text, encoding="utf-8")
+    print(f"wrote {args.out}", file=sys.stderr)
+    return 0
 
 
 def _render(args) -> int:
@@ -67,17 +116,20 @@ def _render(args) -> int:
         return exc.exit_code
     start = compiled.address("g", args.rule)
     seed = seed_vector(args.seed)
+    levels = args.levels if args.levels is not None else max(1, round(args.facade[1] / 3.2))
+    building = (levels, args.style)
     tiles = tile_array(128)
     if args.cpu:
         check_image_memory(args.size, CPU_BYTES_PER_PIXEL, "grammar render --cpu")
-        result = evaluate_facade(compiled, start, args.facade, args.size, seed, tiles)
+        result = evaluate_facade(compiled, start, args.facade, args.size, seed, tiles, building)
         colour, labels = result.color, result.label
     else:
         from ..gl import create_context
         from ._gpu import FacadeRenderer, GrammarTextures
 
         ctx = create_context()
-        colour, ids = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles)).render(start, args.facade, args.size, seed)
+        renderer = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles))
+        colour, ids = renderer.render(start, args.facade, args.size, seed, building)
         colour, labels = colour[..., :3], ids[..., 1]
     save_png((np.clip(colour, 0, 1) * 255 + 0.5).astype(np.uint8), args.out)
     if args.labels is not None:

@@ -4,7 +4,7 @@ Each rule occupies consecutive texels from its address; the first channel is the
 Rule references are texel addresses (one channel each; exact integers in half floats below
 2048). Split stores the precomputed sums of its relative and absolute sizes, Rand the
 accumulated weights, and every variable-length operator its part count n, which bounds its
-loop. Rules that compile to the same texels share one address, so styles that vary a few
+loop. Case stores its conditions as postfix (code, value) tokens. A Split with a Tile part keeps the tile's size in a second texel. Rules that compile to the same texels share one address, so styles that vary a few
 rules of another (namespaces) cost only the rules they change.
 """
 
@@ -15,9 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _limits as limits
-from ._checks import Grammar, Rule, TexRef
+from ._checks import Bound, Grammar, RandomSize, Rule, TexRef
 from ._diagnostics import Diagnostic, GrammarError
-from ._operators import OPERATORS
+from ._expressions import CASE, program
+from ._operators import ALIAS, BIND_OPCODE, OPERATORS, TILE
 
 _UNIT_RECT = (0.0, 0.0, 1.0, 1.0)
 
@@ -49,12 +50,39 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
     v = rule.values
     name = rule.operator
     if name in ("RepeatX", "RepeatY"):
-        return [[op, v[0], address_of(v[1]), 0]]
+        rounding = v[2] if len(v) > 2 else 0
+        if isinstance(v[0], RandomSize):  # head.w + 2 flags rand(low, high): high in the next texel
+            return [[op, v[0].low, address_of(v[1]), rounding + 2], [v[0].high, 0, 0, 0]]
+        return [[op, v[0], address_of(v[1]), rounding]]
     if name in ("SplitX", "SplitY"):
-        parts = [(policy * size, address_of(child)) for policy, size, child in zip(v[0::3], v[1::3], v[2::3])]
-        rel = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy > 0)
-        absolute = sum(size for policy, size in zip(v[0::3], v[1::3]) if policy < 0)
-        return [[op, len(parts), rel, absolute]] + _pairs(parts)
+        # A part is (size, rule): size < 0 absolute, > 0 floating; a tile's rule is stored as
+        # -(address + 1), and a split with a tile has -n in its head and the tile's size next.
+        # With rand sizes, n + RANDOM_PARTS in the head, each part's low in its pair and the highs
+        # in texels after the pairs; the sums are then made per scope by the evaluators.
+        policies, sizes, children = v[0::3], v[1::3], v[2::3]
+        low = [getattr(size, "low", size) for size in sizes]
+        parts = [(size if policy == TILE else policy * size, -address_of(child) - 1 if policy == TILE
+                  else address_of(child)) for policy, size, child in zip(policies, low, children)]
+        rel = sum(size for policy, size in zip(policies, low) if policy == 1)
+        absolute = sum(size for policy, size in zip(policies, low) if policy < 0)
+        tiles = [size for policy, size in zip(policies, low) if policy == TILE]
+        random = any(isinstance(size, RandomSize) for size in sizes)
+        count = len(parts) + (limits.RANDOM_PARTS if random else 0)
+        head = [[op, -count if tiles else count, rel, absolute]] + ([[tiles[0], 0, 0, 0]] if tiles else [])
+        highs = _packed([], [getattr(size, "high", size) for size in sizes]) if random else []
+        return head + _pairs(parts) + highs
+    if name == "Color":  # a constant Mat whose head.w, above 1, is 1 + its label
+        label = v[3] if len(v) > 3 else 0
+        return [[op, 1, 0, 1 + label], [v[0], v[1], v[2], 1.0]]
+    if name == "Tint":
+        return [[op, address_of(v[3]), 0, 0], [v[0], v[1], v[2], 0]]
+    if name == "Case":
+        # Each condition's postfix tokens, then (CASE, its rule): the first true one is taken,
+        # else the last rule (in the head).
+        tokens = []
+        for condition, child in zip(v[0:-1:2], v[1:-1:2]):
+            tokens += program(condition) + [(CASE, address_of(child))]
+        return [[op, len(tokens), address_of(v[-1]), 0]] + _pairs(tokens)
     if name == "Rand":
         weights = np.cumsum(v[1::2])
         weights[-1] = 1.0
@@ -102,17 +130,26 @@ def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
     by_content: dict[tuple, int] = {}
     addresses: dict[tuple[str, str], int] = {}
 
+    def place(code: list[list[float]]) -> int:
+        content = tuple(np.float16(x).item() for texel in code for x in texel)
+        if content not in by_content:
+            by_content[content] = len(texels)
+            texels.extend(code)
+        return by_content[content]
+
     for gname, grammar in grammars.items():
-        def address_of(rule_name: str, grammar=grammar, gname=gname) -> int:
+        def address_of(rule_name, grammar=grammar, gname=gname) -> int:
+            if isinstance(rule_name, Bound):  # the Bind texels: the arguments' tokens, then the rule
+                tokens = [t for value in rule_name.args for t in program(value)]
+                head = [BIND_OPCODE, len(tokens), address_of(rule_name.name), len(rule_name.args)]
+                return place([head] + _pairs(tokens))
             key = (gname, rule_name)
             if key not in addresses:
                 rule = grammar.rules[rule_name]
-                code = _encode(rule, address_of)
-                content = tuple(np.float16(x).item() for texel in code for x in texel)
-                if content not in by_content:
-                    by_content[content] = len(texels)
-                    texels.extend(code)
-                addresses[key] = by_content[content]
+                if rule.operator == ALIAS:
+                    addresses[key] = address_of(rule.values[0])
+                    return addresses[key]
+                addresses[key] = place(_encode(rule, address_of))
             return addresses[key]
 
         for rule_name in grammar.rules:

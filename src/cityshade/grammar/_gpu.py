@@ -63,7 +63,7 @@ class FacadeRenderer:
         self.textures = textures
         self.program = programs(ctx).get("grammar/facade.glsl", shader_defines(nearest))
 
-    def render(self, start: int, facade, size, seed) -> tuple[np.ndarray, np.ndarray]:
+    def render(self, start: int, facade, size, seed, building=(0, 0)) -> tuple[np.ndarray, np.ndarray]:
         """(colour HxWx4 float, ids HxWx4 uint32), top row first."""
         target = RenderTarget(self.ctx, tuple(size), colors=(("f2", 4), ("u4", 4)))
         try:
@@ -73,6 +73,7 @@ class FacadeRenderer:
             self.program["u_facade_size"] = tuple(float(x) for x in facade)
             self.program["u_viewport_size"] = tuple(float(x) for x in size)
             self.program["u_facade_seed"] = tuple(float(x) for x in seed)
+            self.program["u_facade_building"] = tuple(float(x) for x in building)
             self.program["u_start_rule"] = int(start)
             light = np.array(FACADE_LIGHT)
             self.program["u_light_dir"] = tuple(light / np.linalg.norm(light))

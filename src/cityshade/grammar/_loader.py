@@ -157,6 +157,8 @@ def _collect(parsed: SourceFile, path: Path, folder: Path | None, namespace: str
 
 def _find_include(folder: Path | None, name: str) -> Path | None:
     """The file a `use` names, only if it lies inside `folder` (links resolved) or the library."""
+    if "\0" in name:  # no file has such a name (and the OS refuses to look it up)
+        return None
     library = library_path("")
     roots = ([folder] if folder is not None else []) + [library]
     for root in roots:

@@ -1,5 +1,9 @@
 """The grammar's source of randomness (§3.1): a noise texture sampled at a scope's lower-left
-corner, and the per-facade seed vector that translates the start scope."""
+corner, and the per-facade seed vector that translates the start scope.
+
+Each rule draws from its own stream: its texel address shifts the noise lookup by a hashed
+offset, so two choices made at the same corner (a wall and a window picked at the facade's
+corner, or a floor's door and windows grouped by one RandStack) are independent."""
 
 from __future__ import annotations
 
@@ -20,21 +24,33 @@ def noise_texture() -> np.ndarray:
     return values
 
 
-def noise_at(corner: np.ndarray) -> np.ndarray:
-    """r in [0, 1) for each (x, y) corner, exactly as shaders/grammar/eval.glsl computes it."""
+def stream_offset(stream) -> np.ndarray:
+    """The noise-cell offset of a rule's stream (its address), (..., 2) int32, as eval.glsl hashes it."""
+    h = np.asarray(stream).astype(np.uint32) * np.uint32(0x9E3779B1)
+    h ^= h >> np.uint32(15)
+    h = h * np.uint32(0x85EBCA77)
+    return np.stack([(h >> np.uint32(8)) & np.uint32(255), h >> np.uint32(24)], axis=-1).astype(np.int32)
+
+
+def noise_at(corner: np.ndarray, stream) -> np.ndarray:
+    """r in [0, 1) for each (x, y) corner and rule stream, exactly as shaders/grammar/eval.glsl computes it."""
     cell = np.floor(corner.astype(np.float32) * np.float32(NOISE_DENSITY) + np.float32(0.5)).astype(np.int32)
+    cell = cell + stream_offset(stream)
     x = (cell[..., 0] + cell[..., 1] * _SKEW) & (NOISE_SIZE - 1)
     y = cell[..., 1] & (NOISE_SIZE - 1)
     return noise_texture()[y, x]
 
 
 def seed_cells(seeds) -> np.ndarray:
-    """Integer seed vectors in noise cells (1/8 m), (n, 2) int32, for integer seeds (a hash)."""
-    h = np.asarray(seeds, dtype=np.uint64) * np.uint64(0x9E3779B97F4A7C15)
-    h ^= h >> np.uint64(31)
-    x = (h & np.uint64(2047)).astype(np.int32)
-    y = ((h >> np.uint64(11)) & np.uint64(2047)).astype(np.int32)
-    return np.stack([x, y], axis=-1)
+    """Integer seed vectors in noise cells (1/8 m), (n, 2) int32, for integer seeds: splitmix64,
+    whose added constant makes seed 0 as random as any other; each cell is in [1, 2047], never 0."""
+    z = np.asarray(seeds, dtype=np.uint64).reshape(-1) + np.uint64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z ^= z >> np.uint64(31)
+    x = np.uint64(1) + z % np.uint64(2047)
+    y = np.uint64(1) + (z >> np.uint64(32)) % np.uint64(2047)
+    return np.stack([x, y], axis=-1).astype(np.int32)
 
 
 def seed_vector(seed: int) -> tuple[float, float]:

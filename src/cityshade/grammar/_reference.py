@@ -14,6 +14,7 @@ import numpy as np
 from ..assets import LABELS, TileArray
 from . import _limits as limits
 from ._compiler import CompiledGrammars
+from ._expressions import BINARY, CASE, NEG, NOT, PUSH, VARIABLE, apply
 from ._random import noise_at
 
 F = np.float32
@@ -23,6 +24,12 @@ BACKGROUND = F(0.5)
 DEFAULT_SPECULAR = (0.08, 0.25)
 WALL_LABEL = LABELS.index("wall")
 REPEAT_SLACK = F(1e-4)  # ceil(S_w / v) must not jump when S_w / v is an integer up to rounding
+
+
+def repeat_count(size, v, ceil_mode):
+    """Repeat's tile count: the nearest whole number (half up), or the paper's ceil; at least 1."""
+    ratio = size / v
+    return np.maximum(np.where(ceil_mode, np.ceil(ratio - REPEAT_SLACK), np.floor(ratio + F(0.5))), F(1))
 
 
 # The evaluator's work arrays take hundreds of bytes per pixel (7.7 GB for 4096x4096 at once);
@@ -49,13 +56,17 @@ class Evaluation:
 class _Pixels:
     """The evaluation state of n pixels (one row each)."""
 
-    def __init__(self, n: int, start: int, facade, seed, uv, directions):
+    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0)):
         s = np.asarray(seed, F)
         self.s = s
         self.addr = np.full(n, start, np.int32)
         self.lb = np.broadcast_to(s, (n, 2)).astype(F)
         self.size = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.t = uv.astype(F) + s
+        self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
+        self.building = np.broadcast_to(np.asarray(building, F), (n, 2)).astype(F)  # levels, style
+        self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
+        self.params = np.zeros((n, limits.MAX_PARAMS), F)  # the parameters of the rule being evaluated
         self.d = directions.astype(F)
         self.stack = np.zeros((n, limits.MAX_STACK, 2), F)
         self.stack[:, 0] = s
@@ -67,10 +78,14 @@ class _Pixels:
         self.f_lb = np.zeros((n, L, 2), F)
         self.f_size = np.zeros((n, L, 2), F)
         self.f_t = np.zeros((n, L, 2), F)
+        self.f_split = np.zeros((n, L, 2), F)
+        self.f_params = np.zeros((n, L, limits.MAX_PARAMS), F)
         self.f_d = np.zeros((n, L, 3), F)
         self.f_sp = np.zeros((n, L), np.int32)
         self.C = np.zeros((n, 3), F)
         self.A = np.zeros(n, F)
+        self.tint = np.ones((n, 3), F)  # Tint's factor for colour Mats
+        self.f_tint = np.ones((n, L, 3), F)
         self.N = np.zeros((n, 3), F)
         self.AN = np.zeros(n, F)
         self.S = np.zeros((n, 2), F)
@@ -84,9 +99,10 @@ class _Pixels:
 
 class _Evaluator:
     def __init__(self, compiled: CompiledGrammars, tiles: TileArray):
-        # Split and Rand read all MAX_PARTS part slots and mask those past n, as the shader's
-        # loop does; zero texels after the last rule keep those reads inside the array.
-        self.tex = np.concatenate([compiled.flat(), np.zeros((limits.MAX_PARTS // 2 + 1, 4), F)])
+        # Split and Rand read all MAX_PARTS part slots (and a Split its rand highs) and mask those
+        # past n, as the shader's loop does; zero texels after the last rule keep those reads inside.
+        padding = 2 + limits.MAX_PARTS // 2 + limits.MAX_PARTS // 4
+        self.tex = np.concatenate([compiled.flat(), np.zeros((padding, 4), F)])
         self.tiles = tiles
 
     def channel(self, addr, index):
@@ -130,6 +146,12 @@ class _Evaluator:
             if live.size == 0:
                 break
             ops = self.tex[p.addr[live], 0].astype(np.int32)
+            for _ in range(limits.MAX_STEPS):  # Binds and Cases lead straight on to the next rule (eval.glsl)
+                if not np.any((ops == 14) | (ops == 15)):
+                    break
+                for op in (14, 15):
+                    getattr(self, _HANDLERS[op])(p, live[ops == op], op)
+                ops = self.tex[p.addr[live], 0].astype(np.int32)
             for op in np.unique(ops):
                 idx = live[ops == op]
                 getattr(self, _HANDLERS[op])(p, idx, op)
@@ -137,45 +159,144 @@ class _Evaluator:
     def op_repeat(self, p, idx, op):
         a = op - 1
         head = self.tex[p.addr[idx]]
-        v = head[:, 1]
+        random = head[:, 3] >= 2
+        v = np.where(random, self.drawn(p, idx, head[:, 1], self.tex[p.addr[idx] + 1, 0], 0), head[:, 1])
         size, lb, t = p.size[idx, a], p.lb[idx, a], p.t[idx, a]
-        count = np.maximum(np.ceil(size / v - REPEAT_SLACK), F(1))
+        count = repeat_count(size, v, np.mod(head[:, 3], F(2)) == 1)
         w = size / count
         i = np.clip(np.floor((t - lb) / w), F(0), count - F(1))
         p.lb[idx, a] = lb + i * w
         p.size[idx, a] = w
+        p.split[idx] = np.stack([i, count], axis=1)
         p.addr[idx] = head[:, 2].astype(np.int32)
+
+    def drawn(self, p, idx, low, high, part):
+        """A size from rand(low, high) for each pixel's scope, part `part` of its rule (eval.glsl grammar_drawn)."""
+        r = noise_at(p.lb[idx], p.addr[idx] + limits.PART_STREAMS * (part + 1))
+        return low + (high - low) * r
+
+    def part_sizes(self, p, idx, first, highs, random, i):
+        """Part i's sign-carrying stored size and its drawn (or fixed) size."""
+        part = self.tex[first + i // 2]
+        sv, ref = part[:, 2 * (i % 2)], part[:, 2 * (i % 2) + 1]
+        high = self.channel(highs, np.full(len(idx), i))
+        size = np.where(random & (ref >= 0), self.drawn(p, idx, np.abs(sv), high, i), np.abs(sv))
+        return sv, ref, size
 
     def op_split(self, p, idx, op):
         a = op - 3
         addr = p.addr[idx]
         head = self.tex[addr]
-        n = head[:, 1].astype(np.int32)
+        tiled = head[:, 1] < 0
+        n = np.abs(head[:, 1]).astype(np.int32)
+        random = n >= limits.RANDOM_PARTS
+        n = n - np.where(random, limits.RANDOM_PARTS, 0)
+        first = addr + np.where(tiled, 2, 1)
+        highs = first + (n + 1) // 2
         size = p.size[idx, a]
-        scale = np.where(head[:, 2] > 0, np.maximum(size - head[:, 3], F(0)) / np.maximum(head[:, 2], F(1e-20)), F(0))
+        absolute, relative = np.where(random, F(0), head[:, 3]), np.where(random, F(0), head[:, 2])
+        for i in range(limits.MAX_PARTS):
+            sv, ref, drawn = self.part_sizes(p, idx, first, highs, random, i)
+            used = random & (i < n)
+            absolute = absolute + np.where(used & (sv < 0), drawn, F(0))
+            relative = relative + np.where(used & (sv > 0) & (ref >= 0), drawn, F(0))
+        tile = np.where(tiled, self.tex[addr + 1, 0], F(0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            count = np.where(tiled, np.maximum(np.floor((size - absolute - relative) / tile + F(0.5)), F(1)), F(0))
+        floating = relative + count * tile
+        scale = np.where(floating > 0, np.maximum(size - absolute, F(0)) / np.where(floating > 0, floating, F(1)),
+                         F(0))
         pos = p.lb[idx, a].copy()
         t = p.t[idx, a]
         chosen_pos, chosen_w = pos.copy(), np.zeros_like(pos)
+        chosen_index = np.zeros_like(pos)
+        after_tile = np.zeros(len(idx), bool)
         target = np.zeros(len(idx), np.int32)
         searching = np.ones(len(idx), bool)
         for i in range(limits.MAX_PARTS):
-            part = self.tex[addr + 1 + i // 2]
-            sv, ref = part[:, 2 * (i % 2)], part[:, 2 * (i % 2) + 1]
-            w = np.where(sv < 0, -sv, sv * scale)
-            hit = searching & (i < n) & ((t < pos + w) | (i == n - 1))
-            chosen_pos = np.where(hit, pos, chosen_pos)
-            chosen_w = np.where(hit, w, chosen_w)
-            target = np.where(hit, ref.astype(np.int32), target)
+            sv, ref, drawn = self.part_sizes(p, idx, first, highs, random, i)
+            w = np.where(sv < 0, drawn, drawn * scale)
+            is_tile = ref < 0
+            span = np.where(is_tile, w * count, w)
+            hit = searching & (i < n) & ((t < pos + span) | (i == n - 1))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                k = np.where(is_tile, np.clip(np.floor((t - pos) / w), F(0), count - F(1)), F(0))
+            chosen_pos = np.where(hit, pos + k * w, chosen_pos)
+            chosen_w = np.where(hit, np.where(is_tile, w, span), chosen_w)
+            chosen_index = np.where(hit, F(i) + k + np.where(after_tile, count - F(1), F(0)), chosen_index)
+            after_tile |= is_tile
+            target = np.where(hit, np.where(is_tile, -ref - F(1), ref).astype(np.int32), target)
             searching &= ~hit
-            pos = pos + w
+            pos = pos + span
         p.lb[idx, a] = chosen_pos
         p.size[idx, a] = chosen_w
+        p.split[idx] = np.stack([chosen_index, n.astype(F) + np.maximum(count - F(1), F(0))], axis=1)
         p.addr[idx] = target
+
+    def program(self, p, idx, first, n):
+        """Runs postfix tokens per pixel (eval.glsl grammar_program): the rule of the first test
+        taken (-1 if none) and the value stack."""
+        rows = np.arange(len(idx))
+        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.params[idx]],
+                                   axis=1)
+        stack = np.zeros((len(idx), limits.MAX_EXPR_STACK), F)
+        sp = np.zeros(len(idx), np.int32)
+        target = np.full(len(idx), -1, np.int32)
+        deciding = np.ones(len(idx), bool)
+        for i in range(limits.MAX_CASE_TOKENS):
+            live = deciding & (i < n)
+            if not live.any():
+                break
+            pair = self.tex[np.where(live, first + i // 2, first)]
+            code = np.where(live, pair[:, 2 * (i % 2)].astype(np.int32), -1)
+            value = pair[:, 2 * (i % 2) + 1]
+            push = (code == PUSH) | (code == VARIABLE)
+            index = np.clip(value.astype(np.int32), 0, variables.shape[1] - 1)
+            pushed = np.where(code == PUSH, value, variables[rows, index])
+            slot = np.minimum(sp, limits.MAX_EXPR_STACK - 1)
+            stack[rows[push], slot[push]] = pushed[push]
+            sp = np.where(push, np.minimum(sp + 1, limits.MAX_EXPR_STACK), sp)
+            test = code == CASE
+            sp = np.where(test, np.maximum(sp - 1, 0), sp)
+            taken = test & (stack[rows, np.minimum(sp, limits.MAX_EXPR_STACK - 1)] != 0)
+            target = np.where(taken, value.astype(np.int32), target)
+            deciding &= ~taken
+            top = np.maximum(sp - 1, 0)
+            x = stack[rows, top]
+            for code_value, name in ((NOT, "not"), (NEG, "neg")):
+                unary = code == code_value
+                stack[rows[unary], top[unary]] = apply(name, x[unary])
+            binary = (code >= min(BINARY.values())) & (code <= max(BINARY.values()))
+            sp = np.where(binary, np.maximum(sp - 1, 1), sp)
+            top = sp - 1
+            a = stack[rows, top]
+            for name, code_value in BINARY.items():
+                mask = binary & (code == code_value)
+                if mask.any():
+                    stack[rows[mask], top[mask]] = apply(name, a[mask], x[mask])
+        return target, stack
+
+    def op_case(self, p, idx, op):
+        head = self.tex[p.addr[idx]]
+        taken, _ = self.program(p, idx, p.addr[idx] + 1, head[:, 1].astype(np.int32))
+        p.addr[idx] = np.where(taken >= 0, taken, head[:, 2].astype(np.int32))
+
+    def op_tint(self, p, idx, op):
+        p.tint[idx] *= self.tex[p.addr[idx] + 1, :3]
+        p.addr[idx] = self.tex[p.addr[idx], 1].astype(np.int32)
+
+    def op_bind(self, p, idx, op):
+        head = self.tex[p.addr[idx]]
+        _, values = self.program(p, idx, p.addr[idx] + 1, head[:, 1].astype(np.int32))
+        count = head[:, 3].astype(np.int32)
+        for k in range(limits.MAX_PARAMS):  # the rule's parameters; the others are 0
+            p.params[idx, k] = np.where(k < count, values[:, k], F(0))
+        p.addr[idx] = head[:, 2].astype(np.int32)
 
     def random(self, p, idx, level):
         slot = np.maximum(p.sp[idx] - level, 0)
         corner = np.where((level == 0)[:, None], p.lb[idx], p.stack[idx, slot])
-        return noise_at(corner)
+        return noise_at(corner, p.addr[idx])
 
     def op_rand(self, p, idx, op):
         addr = p.addr[idx]
@@ -213,9 +334,12 @@ class _Evaluator:
         p.f_index[idx, top] = n
         p.f_lb[idx, top] = p.lb[idx]
         p.f_size[idx, top] = p.size[idx]
+        p.f_split[idx, top] = p.split[idx]
+        p.f_params[idx, top] = p.params[idx]
         p.f_t[idx, top] = p.t[idx]
         p.f_d[idx, top] = p.d[idx]
         p.f_sp[idx, top] = p.sp[idx]
+        p.f_tint[idx, top] = p.tint[idx]
         p.depth[idx] = top + 1
         self.end_layer(p, idx, np.zeros(len(idx), np.int32))
 
@@ -237,8 +361,11 @@ class _Evaluator:
             p.lb[er] = p.f_lb[er, et] + offset
             p.t[er] = p.f_t[er, et] + offset
             p.size[er] = p.f_size[er, et]
+            p.split[er] = p.f_split[er, et]
+            p.params[er] = p.f_params[er, et]
             p.d[er] = p.f_d[er, et]
             p.sp[er] = p.f_sp[er, et]
+            p.tint[er] = p.f_tint[er, et]
             p.addr[er] = self.channel(p.f_addr[er, et], 2 + ei).astype(np.int32)
             rows = rows[~enter]  # this Layer is exhausted: continue below it in the enclosing one
             p.depth[rows] -= 1
@@ -307,7 +434,7 @@ class _Evaluator:
         a = rgba[:, 3]
         colour, normal, spec = usage == 1, usage == 2, usage == 3
         w = (F(1) - p.A[idx]) * a
-        p.C[idx] += np.where(colour[:, None], w[:, None] * rgba[:, :3], F(0))
+        p.C[idx] += np.where(colour[:, None], w[:, None] * rgba[:, :3] * p.tint[idx], F(0))
         p.A[idx] += np.where(colour, w, F(0))
         better = colour & (w > p.best_w[idx])
         rows = idx[better]
@@ -335,23 +462,26 @@ class _Evaluator:
         has_tile = tile >= 0
         glass_plane = 3 * np.maximum(tile, 0) + 2
         glass = has_tile & (self.tiles.layers[glass_plane, p.best_texel[:, 1], p.best_texel[:, 0], 2] > 127)
-        label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)],
-                         np.where(p.best_addr >= 0, WALL_LABEL, 0))
+        head = self.tex[np.maximum(p.best_addr, 0)]
+        written = (head[:, 0] == 12) & (head[:, 2] == 0) & (head[:, 3] >= 2)  # Color(r, g, b, label)
+        constant = np.where(written, head[:, 3].astype(np.int32) - 1, WALL_LABEL)
+        label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)], np.where(p.best_addr >= 0, constant, 0))
         return Evaluation(p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass)
 
 
 _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",
              7: "op_rand_stack", 8: "op_layer", 9: "op_skip", 10: "op_skip_mask", 11: "op_intrusion",
-             12: "op_mat", 13: "op_mat"}
+             12: "op_mat", 13: "op_mat", 14: "op_case", 15: "op_bind", 16: "op_tint"}
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,
-             directions: np.ndarray | None = None) -> Evaluation:
-    """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres."""
+             directions: np.ndarray | None = None, building=(0, 0)) -> Evaluation:
+    """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
+    `building` is (building.levels, building.style) for conditions."""
     n = len(uv)
     if directions is None:
         directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
-    pixels = _Pixels(n, start, facade, seed, uv, directions)
+    pixels = _Pixels(n, start, facade, seed, uv, directions, building)
     evaluator = _Evaluator(compiled, tiles)
     evaluator.run(pixels)
     return evaluator.finish(pixels)
@@ -386,13 +516,14 @@ def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarra
     return result.color * (F(0.35) + F(0.65) * diffuse)[..., None] + spec[..., None]
 
 
-def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray) -> Evaluation:
+def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray,
+                    building=(0, 0)) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
     parts = []
     for first in range(0, len(uv), CHUNK_PIXELS):  # pixels are independent: tiles bound the work arrays
         part = evaluate(compiled, start, uv[first:first + CHUNK_PIXELS], facade, seed, tiles,
-                        rays[first:first + CHUNK_PIXELS])
+                        rays[first:first + CHUNK_PIXELS], building)
         part.color = shade(part, rays[first:first + CHUNK_PIXELS])
         parts.append(part)
     result = Evaluation(**{name: np.concatenate([vars(p)[name] for p in parts]) for name in vars(parts[0])})

@@ -39,6 +39,7 @@ GrammarResult grammar_facade_at(int start, vec2 uv, vec2 size, vec2 seed, vec3 n
 GrammarResult grammar_facade(Building b, vec3 n, vec2 facade_uv, vec3 d, vec2 duv_dx, vec2 duv_dy) {
     vec2 uv, size, seed;
     grammar_scope(b, n, facade_uv, uv, size, seed);
+    grammar_building = vec2(floor(b.extent.y / b.room.y + 0.5), float(b.ids.y));  // storeys, style
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 

@@ -9,6 +9,10 @@
 #error "GRAMMAR_MAX_* defines come from cityshade.grammar._limits.DEFINES"
 #endif
 
+#if GRAMMAR_MAX_PARAMS != 4
+#error "the parameters are kept in a vec4"
+#endif
+
 #define GRAMMAR_NOISE_SIZE 256
 #define GRAMMAR_NOISE_DENSITY 8.0
 #define GRAMMAR_OPAQUE 0.999
@@ -35,17 +39,26 @@ struct GrammarResult {
 // ---- evaluation state (private to the invocation) -------------------------------------------
 int g_addr;
 vec2 g_lb, g_size, g_t, g_s;
+vec2 g_split;   // split.index and split.total of the last Split or Repeat (0, 1 at the start)
+vec2 g_facade;  // the start scope's size: facade.width, facade.height
+vec3 g_tint;  // Tint's factor for colour Mats (1 unless tinted)
+vec4 g_params;  // the parameters of the rule being evaluated (0 unless passed; GRAMMAR_MAX_PARAMS is 4)
+// building.levels and building.style for conditions: set by the caller before grammar_evaluate.
+vec2 grammar_building = vec2(0.0);
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
 vec2 g_stack[GRAMMAR_MAX_STACK];
 int g_sp;
 int g_depth;
 int f_addr[GRAMMAR_MAX_LAYERS], f_index[GRAMMAR_MAX_LAYERS], f_sp[GRAMMAR_MAX_LAYERS];
-vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS];
+vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS], f_split[GRAMMAR_MAX_LAYERS];
 vec3 f_d[GRAMMAR_MAX_LAYERS];
+vec4 f_params[GRAMMAR_MAX_LAYERS];
+vec3 f_tint[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
 bool g_active;
 vec3 g_C, g_N;
 float g_A, g_AN, g_AS, g_best_w;
+float g_AE;  // colour alpha composited from exact (nearest-texel) alphas: it picks the terminal
 vec2 g_S;
 int g_best_addr, g_best_tile;
 ivec2 g_best_texel;
@@ -58,16 +71,24 @@ float grammar_channel(int address, int index) {
     return grammar_texel(address + index / 4)[index % 4];
 }
 
-float grammar_random(vec2 corner) {
-    ivec2 c = ivec2(floor(corner * GRAMMAR_NOISE_DENSITY + 0.5));
+// The noise at a corner in rule `stream`'s own stream (its address hashed to a cell offset,
+// as cityshade.grammar._random.stream_offset).
+float grammar_random(vec2 corner, int stream) {
+    uint h = uint(stream) * 0x9E3779B1u;
+    h ^= h >> 15;
+    h *= 0x85EBCA77u;
+    ivec2 c = ivec2(floor(corner * GRAMMAR_NOISE_DENSITY + 0.5)) + ivec2((h >> 8) & 255u, h >> 24);
     ivec2 p = ivec2((c.x + c.y * 37) & (GRAMMAR_NOISE_SIZE - 1), c.y & (GRAMMAR_NOISE_SIZE - 1));
     return texelFetch(u_grammar_noise, p, 0).r;
 }
 
 // Mat's sampling: a constant (code 0), a tile fitted to the scope (> 0) or tiled (< 0).
-vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int tile) {
+// exact_alpha is the alpha of the nearest texel: labels and layer decisions use it in both modes,
+// so they equal the numpy twin's, while the returned colour is filtered (mipmapped).
+vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int tile, out float exact_alpha) {
     texel = ivec2(0);
     tile = -1;
+    exact_alpha = params.a;
     if (code == 0) return params;
     tile = abs(code) - 1;
     int r = u_grammar_tile_size;
@@ -76,8 +97,10 @@ vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int t
     ivec2 ix = ivec2(floor(uv * float(r)));
     texel = fit ? clamp(ix, ivec2(0), ivec2(r - 1)) : (ix & ivec2(r - 1));
     int layer = 3 * tile + usage - 1;
+    vec4 exact = texelFetch(u_grammar_tiles, ivec3(texel, layer), 0);
+    exact_alpha = exact.a;
 #ifdef GRAMMAR_NEAREST
-    return texelFetch(u_grammar_tiles, ivec3(texel, layer), 0);
+    return exact;
 #else
     // Derivatives come from the facade uv (taken before any branching) scaled to this mapping.
     vec2 k = fit ? (params.zw - params.xy) / g_size : params.zw;
@@ -102,8 +125,11 @@ void grammar_end_layer(int skip) {
             g_lb = f_lb[top] + offset;
             g_t = f_t[top] + offset;
             g_size = f_size[top];
+            g_split = f_split[top];
+            g_params = f_params[top];
             g_d = f_d[top];
             g_sp = f_sp[top];
+            g_tint = f_tint[top];
             g_addr = int(grammar_channel(f_addr[top], 2 + index));
             return;
         }
@@ -112,40 +138,184 @@ void grammar_end_layer(int skip) {
     }
 }
 
+// A size drawn from rand(low, high) for this scope: the rule's part `part` has its own stream.
+float grammar_drawn(float low, float high, int part) {
+    return low + (high - low) * grammar_random(g_lb, g_addr + GRAMMAR_PART_STREAMS * (part + 1));
+}
+
 void grammar_repeat(vec4 head, int a) {
     float size = g_size[a];
-    float count = max(ceil(size / head.y - GRAMMAR_REPEAT_SLACK), 1.0);
+    // head.w: 1 (or 3) the paper's ceil, else the nearest count (half up); 2 (or 3) a rand size.
+    float v = head.w >= 2.0 ? grammar_drawn(head.y, grammar_texel(g_addr + 1).x, 0) : head.y;
+    float ratio = size / v;
+    float count = max(mod(head.w, 2.0) == 1.0 ? ceil(ratio - GRAMMAR_REPEAT_SLACK) : floor(ratio + 0.5), 1.0);
     float w = size / count;
     float i = clamp(floor((g_t[a] - g_lb[a]) / w), 0.0, count - 1.0);
     g_lb[a] = g_lb[a] + i * w;
+    g_split = vec2(i, count);
     g_size[a] = w;
     g_addr = int(head.z);
 }
 
+// Split (eq. 1) with floating parts: absolute parts keep their size, relative parts and the
+// copies of the Tile part (if any; -n in head.y, its size in the next texel) share the rest with
+// one scale; the tile is repeated the nearest whole number of times, at least once.
+// With rand sizes (GRAMMAR_RANDOM_PARTS added to n) each part's size is drawn per scope and the
+// sums of the absolute and floating sizes are made here, in a first loop over the parts.
+float grammar_part_size(float sv, bool random, int highs, int i) {
+    return random ? grammar_drawn(abs(sv), grammar_channel(highs, i), i) : abs(sv);
+}
+
 void grammar_split(vec4 head, int a) {
-    int n = int(head.y);
+    bool tiled = head.y < 0.0;
+    int n = int(abs(head.y));
+    bool random = n >= GRAMMAR_RANDOM_PARTS;
+    n -= random ? GRAMMAR_RANDOM_PARTS : 0;
+    int first = g_addr + (tiled ? 2 : 1);
+    int highs = first + (n + 1) / 2;
     float size = g_size[a];
-    float scale = head.z > 0.0 ? max(size - head.w, 0.0) / max(head.z, 1e-20) : 0.0;
+    float absolute = head.w;
+    float relative = head.z;
+    if (random) {
+        absolute = 0.0;
+        relative = 0.0;
+        for (int i = 0; i < GRAMMAR_MAX_PARTS && i < n; ++i) {
+            vec4 part = grammar_texel(first + i / 2);
+            float sv = (i % 2 == 0) ? part.x : part.z;
+            float ref = (i % 2 == 0) ? part.y : part.w;
+            float drawn = grammar_part_size(sv, true, highs, i);
+            absolute += sv < 0.0 ? drawn : 0.0;
+            relative += (sv > 0.0 && ref >= 0.0) ? drawn : 0.0;
+        }
+    }
+    float tile = tiled ? grammar_texel(g_addr + 1).x : 0.0;
+    float count = tiled ? max(floor((size - absolute - relative) / tile + 0.5), 1.0) : 0.0;
+    float floating = relative + count * tile;
+    float scale = floating > 0.0 ? max(size - absolute, 0.0) / floating : 0.0;
     float pos = g_lb[a];
     float t = g_t[a];
+    bool after_tile = false;
     for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
-        vec4 part = grammar_texel(g_addr + 1 + i / 2);
+        vec4 part = grammar_texel(first + i / 2);
         float sv = (i % 2 == 0) ? part.x : part.z;
         float ref = (i % 2 == 0) ? part.y : part.w;
-        float w = sv < 0.0 ? -sv : sv * scale;
-        if (t < pos + w || i == n - 1) {
+        float drawn = grammar_part_size(sv, random && ref >= 0.0, highs, i);
+        float w = sv < 0.0 ? drawn : drawn * scale;
+        bool is_tile = ref < 0.0;
+        float span = is_tile ? w * count : w;
+        if (t < pos + span || i == n - 1) {
+            float k = 0.0;  // the copy of the tile
+            if (is_tile) {
+                k = clamp(floor((t - pos) / w), 0.0, count - 1.0);
+                pos += k * w;
+            } else {
+                w = span;
+            }
+            // Parts after the tile count its copies: CGA's split.index over all elements made.
+            g_split = vec2(float(i) + k + (after_tile ? count - 1.0 : 0.0), float(n) + max(count - 1.0, 0.0));
             g_lb[a] = pos;
             g_size[a] = w;
-            g_addr = int(ref);
+            g_addr = int(is_tile ? -ref - 1.0 : ref);
             return;
         }
-        pos = pos + w;
+        after_tile = after_tile || is_tile;
+        pos = pos + span;
     }
+}
+
+float grammar_variable(int index) {
+    if (index >= 8) return g_params[min(index - 8, 3)];
+    vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : (index < 6 ? g_facade : grammar_building));
+    return pair[index % 2];
+}
+
+// The postfix tokens (code, value) of conditions and arguments, run on a small stack: push a
+// number (0), a variable (1), apply an operator (3-17); the token (2, rule) returns the rule if
+// the value on top is not 0. At most GRAMMAR_MAX_CASE_TOKENS tokens: the work is bounded.
+// Division and modulo by 0 give 0 (as _expressions.apply). Returns -1 when no test was taken.
+float g_values[GRAMMAR_MAX_EXPR_STACK];
+
+int grammar_program(int first, int n) {
+    int sp = 0;
+    for (int i = 0; i < GRAMMAR_MAX_CASE_TOKENS && i < n; ++i) {
+        vec4 pair = grammar_texel(first + i / 2);
+        int code = int(i % 2 == 0 ? pair.x : pair.z);
+        float value = i % 2 == 0 ? pair.y : pair.w;
+        if (code == 0 || code == 1) {
+            g_values[min(sp, GRAMMAR_MAX_EXPR_STACK - 1)] = code == 0 ? value : grammar_variable(int(value));
+            sp = min(sp + 1, GRAMMAR_MAX_EXPR_STACK);
+            continue;
+        }
+        if (code == 2) {
+            sp = max(sp - 1, 0);
+            if (g_values[sp] != 0.0) return int(value);
+            continue;
+        }
+        int top = max(sp - 1, 0);
+        float x = g_values[top];
+        if (code == 16) {
+            g_values[top] = x == 0.0 ? 1.0 : 0.0;
+            continue;
+        }
+        if (code == 17) {
+            g_values[top] = -x;
+            continue;
+        }
+        sp = max(sp - 1, 1);
+        top = sp - 1;
+        float a = g_values[top];
+        float b = x;
+        float r;
+        if (code == 3) r = a + b;
+        else if (code == 4) r = a - b;
+        else if (code == 5) r = a * b;
+        else if (code == 6) r = b == 0.0 ? 0.0 : a / b;
+        else if (code == 7) r = b == 0.0 ? 0.0 : a - b * floor(a / b);
+        else if (code == 8) r = float(a == b);
+        else if (code == 9) r = float(a != b);
+        else if (code == 10) r = float(a < b);
+        else if (code == 11) r = float(a <= b);
+        else if (code == 12) r = float(a > b);
+        else if (code == 13) r = float(a >= b);
+        else if (code == 14) r = float(a != 0.0 && b != 0.0);
+        else r = float(a != 0.0 || b != 0.0);
+        g_values[top] = r;
+    }
+    return -1;
+}
+
+// Case: the first condition that holds picks its rule, else the last rule (head.z).
+void grammar_case(vec4 head) {
+    int taken = grammar_program(g_addr + 1, int(head.y));
+    g_addr = taken >= 0 ? taken : int(head.z);
+}
+
+float grammar_token(vec2 token) {
+    return token.x == 0.0 ? token.y : grammar_variable(int(token.y));
+}
+
+// Bind, a reference with arguments: each argument's value becomes a parameter (the others 0),
+// then the rule. Arguments of one token each (a number or a variable, the common case) are
+// read directly; others run as a program.
+void grammar_bind(vec4 head) {
+    int n = int(head.y);
+    int count = int(head.w);
+    vec4 values;
+    if (n == count) {
+        vec4 a = grammar_texel(g_addr + 1);
+        vec4 b = count > 2 ? grammar_texel(g_addr + 2) : vec4(0.0);
+        values = vec4(grammar_token(a.xy), grammar_token(a.zw), grammar_token(b.xy), grammar_token(b.zw));
+    } else {
+        grammar_program(g_addr + 1, n);
+        values = vec4(g_values[0], g_values[1], g_values[2], g_values[3]);
+    }
+    g_params = values * vec4(greaterThan(vec4(float(count)), vec4(0.0, 1.0, 2.0, 3.0)));
+    g_addr = int(head.z);
 }
 
 float grammar_rand_value(int level) {
     int slot = max(g_sp - level, 0);
-    return grammar_random(level == 0 ? g_lb : g_stack[slot]);
+    return grammar_random(level == 0 ? g_lb : g_stack[slot], g_addr);
 }
 
 void grammar_rand(vec4 head) {
@@ -200,19 +370,24 @@ void grammar_mat(vec4 head, int op) {
     vec4 params = (op == 12 && head.w == 0.0) ? vec4(0.0, 0.0, 1.0, 1.0) : grammar_texel(g_addr + 1);
     ivec2 texel;
     int tile;
-    vec4 rgba = grammar_sample(code, usage, params, texel, tile);
+    float a_exact;
+    vec4 rgba = grammar_sample(code, usage, params, texel, tile, a_exact);
     if (op == 13) {
         ivec2 unused_texel;
         int unused_tile;
-        rgba.a *= grammar_sample(int(head.w), 1, grammar_texel(g_addr + 2), unused_texel, unused_tile).a;
+        float mask_exact;
+        rgba.a *= grammar_sample(int(head.w), 1, grammar_texel(g_addr + 2), unused_texel, unused_tile, mask_exact).a;
+        a_exact *= mask_exact;
     }
     float a = rgba.a;
     if (usage == 1) {
         float w = (1.0 - g_A) * a;
-        g_C += w * rgba.rgb;
+        g_C += w * rgba.rgb * g_tint;
         g_A += w;
-        if (w > g_best_w) {
-            g_best_w = w;
+        float w_exact = (1.0 - g_AE) * a_exact;
+        g_AE += w_exact;
+        if (w_exact > g_best_w) {
+            g_best_w = w_exact;
             g_best_addr = g_addr;
             g_best_tile = tile;
             g_best_texel = texel;
@@ -226,7 +401,9 @@ void grammar_mat(vec4 head, int op) {
         g_S += w * rgba.rg;
         g_AS += w;
     }
-    if (g_A >= GRAMMAR_OPAQUE) {
+    // Both alphas must be opaque. The exact one is where the numpy twin stops; once it is opaque,
+    // later Mats weigh at most 0.001 on the exact track and cannot change the terminal.
+    if (g_A >= GRAMMAR_OPAQUE && g_AE >= GRAMMAR_OPAQUE) {
         g_active = false;
     } else {
         grammar_end_layer(0);
@@ -238,6 +415,9 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_s = seed;
     g_lb = seed;
     g_size = facade;
+    g_facade = facade;
+    g_split = vec2(0.0, 1.0);
+    g_params = vec4(0.0);
     g_t = uv + seed;
     g_d = dir;
     g_dtdx = duv_dx;
@@ -247,12 +427,24 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_depth = 0;
     g_active = true;
     g_C = vec3(0.0); g_N = vec3(0.0); g_S = vec2(0.0);
-    g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0;
+    g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0; g_AE = 0.0;
+    g_tint = vec3(1.0);
     g_best_addr = -1; g_best_tile = -1; g_best_texel = ivec2(0);
 
     for (int step = 0; step < GRAMMAR_MAX_STEPS && g_active; ++step) {
         vec4 head = grammar_texel(g_addr);
+        // Binds (a reference's arguments) and Cases lead straight on to the next rule: they take
+        // steps of the same budget without the operator dispatch below.
+        for (; (head.x == 14.0 || head.x == 15.0) && step < GRAMMAR_MAX_STEPS - 1; ++step) {
+            if (head.x == 15.0) {
+                grammar_bind(head);
+            } else {
+                grammar_case(head);
+            }
+            head = grammar_texel(g_addr);
+        }
         int op = int(head.x);
+        if (op == 14 || op == 15) break;  // the budget ran out on a chain of them (the checks refuse such grammars)
         if (op == 1 || op == 2) {
             grammar_repeat(head, op - 1);
         } else if (op == 3 || op == 4) {
@@ -274,9 +466,12 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             f_index[top] = int(head.y);
             f_lb[top] = g_lb;
             f_size[top] = g_size;
+            f_split[top] = g_split;
+            f_params[top] = g_params;
             f_t[top] = g_t;
             f_d[top] = g_d;
             f_sp[top] = g_sp;
+            f_tint[top] = g_tint;
             g_depth = top + 1;
             grammar_end_layer(0);
         } else if (op == 9) {
@@ -284,10 +479,14 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
         } else if (op == 10) {
             ivec2 texel;
             int tile;
-            float bit = grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile).a;
+            float bit;  // the nearest texel's bit, in both modes: holes have the numpy twin's edges
+            grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile, bit);
             grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
         } else if (op == 11) {
             grammar_intrusion(head);
+        } else if (op == 16) {
+            g_tint *= grammar_texel(g_addr + 1).rgb;
+            g_addr = int(head.y);
         } else {
             grammar_mat(head, op);
         }
@@ -303,6 +502,9 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     result.tile = g_best_tile;
     bool has_tile = g_best_tile >= 0;
     result.glass = has_tile && texelFetch(u_grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
-    result.label = has_tile ? u_grammar_tile_labels[g_best_tile] : (g_best_addr >= 0 ? GRAMMAR_WALL_LABEL : 0);
+    // A constant colour is a wall unless written Color(r, g, b, label): then head.w is 1 + label.
+    vec4 best = grammar_texel(max(g_best_addr, 0));
+    int constant = (best.x == 12.0 && best.z == 0.0 && best.w >= 2.0) ? int(best.w) - 1 : GRAMMAR_WALL_LABEL;
+    result.label = has_tile ? u_grammar_tile_labels[g_best_tile] : (g_best_addr >= 0 ? constant : 0);
     return result;
 }

@@ -1,0 +1,93 @@
+"""`cityshade grammar import FILE.cga`: CGA translated into a grammar that checks and renders
+alike on the GPU and numpy, every dropped construct listed by line, bad input refused."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cityshade.cli import main
+from cityshade.grammar import GrammarError, compile_grammars, loads
+from cityshade.grammar._cga import CgaError, translate
+
+DATA = Path(__file__).parent / "data" / "cga"
+
+
+@pytest.mark.parametrize("name, notes", [
+    ("tutorial_facade", [18, 22, 51, 52, 53, 54, 57, 60, 61, 64]),
+    ("conditions_facade", [18, 19, 32, 37, 42, 44]),
+])
+def test_cga_files_translate_check_and_render_alike(ctx, name, notes, output_dir):  # noqa: F811
+    translation = translate((DATA / f"{name}.cga").read_text(), name)
+    assert sorted({n.line for n in translation.notes}) == sorted(set(notes))
+    compiled = compile_grammars({name: loads(translation.text, f"{name}.grammar")})
+    compare(ctx, compiled, name, output_dir, facade=(30.0, 16.0), size=(150, 80), min_terminals=3, nearest=False,
+            allowed=0)
+
+
+def test_translation_keeps_the_structure():
+    text = translate((DATA / "tutorial_facade.cga").read_text()).text
+    assert "Lot->Building\nBuilding->Facade\n" in text  # extrude and comp dropped, the front kept
+    assert "SplitX(Abs, 1.0, Wall, Tile, 4.2, Tile, Abs, 1.0, Wall)" in text  # {~tileW: Tile}* beside walls
+    text = translate((DATA / "conditions_facade.cga").read_text()).text
+    assert "Floor(i)->Case(i == 0, Floor_1, split.index % 2 == 1 && scope.sx > 10, Floor_2, 0, NIL, Floor_3)" in text
+    assert "Rand(0, 0.3000, Shop_5, 0.5000, Shop_7, 0.2000, ShopFront)" in text
+    assert "Upper->RepeatY(3.2, Floor(split.index))" in text  # a rule parameter passed on
+
+
+def test_the_command_reports_and_writes(tmp_path, capsys):
+    out = tmp_path / "t.grammar"
+    assert main(["grammar", "import", str(DATA / "conditions_facade.cga"), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "conditions_facade.cga:19: condition 'inside' uses inside: the condition is taken as false" in err
+    assert "6 constructs not translated as written" in err
+    assert out.read_text().startswith("# Translated from conditions_facade.cga")
+    assert main(["grammar", "check", str(out)]) == 0
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"\x00\x01\x02", "this is a binary file"),
+    (b"attr x = 3\n", "no rules found; nothing was written"),
+    (b"caf\xe9 --> X\n", "not UTF-8"),
+])
+def test_bad_cga_is_one_line_and_writes_nothing(tmp_path, capsys, content, message):
+    source, out = tmp_path / "bad.cga", tmp_path / "bad.grammar"
+    source.write_bytes(content)
+    assert main(["grammar", "import", str(source), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0] and not out.exists()
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.text(alphabet="AB xy{}()[]|:~'*%=.,-->0123456789\n\"#split case else color", max_size=120))
+def test_any_text_translates_or_is_refused(text):
+    try:
+        translation = translate(text)
+    except CgaError as exc:
+        assert "error:" in str(exc)
+        return
+    assert translation.text.endswith("\n")
+    try:  # what the command then checks: a GrammarError (exit 2, located) is the only failure
+        loads(translation.text)
+    except GrammarError:
+        pass
+
+
+def test_recursive_cga_is_refused_with_the_reason(tmp_path, capsys):
+    source, out = tmp_path / "rec.cga", tmp_path / "rec.grammar"
+    source.write_text('A --> split(x){ ~1 : A | 2 : B }\nB --> color("#ffffff")\n')
+    assert main(["grammar", "import", str(source), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "the translation does not check (recursive rules" in err and "rules form a cycle: A -> A" in err
+    assert not out.exists()
+
+
+def test_a_colour_before_a_texture_tints_it():
+    text = translate('Wall --> color("#ffcc99") texture("brick.jpg")\nPlain --> color("#888888") Wall\n').text
+    assert "Wall->Tint(1.000, 0.800, 0.600, Wall_1)\nWall_1->Mat(Color, Rep:wall1, 0, 0, 0.5, 0.5)\n" in text
+    assert "Plain->Layer(Plain_2, Wall)\nPlain_2->Color(0.533, 0.533, 0.533)\n" in text  # a colour under successors
+    loads(text)
