@@ -289,3 +289,15 @@ def test_guessing_twice_changes_nothing():
     guess_missing(data)
     assert [[getattr(b, n) for n in NUMERIC + BUILDING_ATTRIBUTES] for b in data.buildings] == before
     assert dict(data.report.repaired) == repairs
+
+
+def test_buildings_thousands_of_kilometres_apart_take_bounded_memory():
+    """The neighbourhood grids grow with the extract's width; far-apart buildings (a file mixing
+    places, found by the GeoJSON fuzzer) once asked for 40 GiB. Now the grid coarsens instead."""
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    data = guessed(building(0, "house", levels=2.0), building(1, "house", at=(3_000_000.0, 1_200_000.0)))
+    grown_mb = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024
+    assert all(b.levels >= 1 for b in data.buildings)
+    assert grown_mb < 500, f"{grown_mb:.0f} MB"

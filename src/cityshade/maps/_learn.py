@@ -30,6 +30,7 @@ RADIUS = 250.0  # metres: tagged buildings this close inform a guess
 HALF_WEIGHT = 120.0  # metres at which a neighbour's weight halves
 TOUCHING = 1.0  # metres: outlines this close share a wall (the same block)
 CELL = 20.0  # metres: the grid on which the surroundings are summed
+MAX_GRID = 3072  # cells a side at most: wider extracts (over 61 km) are summed on a coarser grid
 DENSITY_CELL = 100.0  # metres: the grid on which built-up share is measured
 RIDGE = 8.0  # penalty on the regression weights, in units of training buildings
 LANDMARK_ROOFS = {"dome", "onion", "round", "cone", "pyramidal"}  # not spread to the buildings around
@@ -72,10 +73,12 @@ class _Neighbours:
 
     def __init__(self, buildings: list[MapBuilding], centres: np.ndarray):
         self.count = len(buildings)
-        reach = int(np.ceil(RADIUS / CELL))
-        self.cells = np.floor((centres - centres.min(axis=0)) / CELL).astype(np.int64) + reach
+        extent = float(np.ptp(centres, axis=0).max()) if len(centres) else 0.0
+        cell = max(CELL, extent / MAX_GRID)  # bounded memory however far apart the buildings are
+        reach = int(np.ceil(RADIUS / cell))
+        self.cells = np.floor((centres - centres.min(axis=0)) / cell).astype(np.int64) + reach
         self.shape = tuple(self.cells.max(axis=0) + reach + 1)
-        d = np.hypot(*np.meshgrid(np.arange(-reach, reach + 1), np.arange(-reach, reach + 1), indexing="ij")) * CELL
+        d = np.hypot(*np.meshgrid(np.arange(-reach, reach + 1), np.arange(-reach, reach + 1), indexing="ij")) * cell
         kernel = np.where(d <= RADIUS, 1.0 / (1.0 + (d / HALF_WEIGHT) ** 2), 0.0)
         self.own = kernel[reach, reach]
         size = tuple(n + 2 * reach for n in self.shape)
@@ -109,14 +112,19 @@ class _Neighbours:
 
 
 def _density(shape, centres: np.ndarray) -> np.ndarray:
-    """Share of the ground covered by footprints in the 3x3 cells around each building."""
+    """Share of the ground covered by footprints in the 3x3 cells around each building. Only occupied
+    cells are kept (sorted keys), so buildings far apart cost no memory between them."""
     cells = np.floor((centres - centres.min(axis=0)) / DENSITY_CELL).astype(np.int64) + 1
-    grid = np.zeros(tuple(cells.max(axis=0) + 2))
-    np.add.at(grid, (cells[:, 0], cells[:, 1]), shape.area)
-    padded = np.pad(grid, 1)
-    around = sum(padded[1 + dx:padded.shape[0] - 1 + dx, 1 + dy:padded.shape[1] - 1 + dy]
-                 for dx in (-1, 0, 1) for dy in (-1, 0, 1))
-    return np.minimum(around[cells[:, 0], cells[:, 1]] / (9 * DENSITY_CELL**2), 1.0)
+    width = int(cells[:, 1].max()) + 2
+    keys, inverse = np.unique(cells[:, 0] * width + cells[:, 1], return_inverse=True)
+    covered = np.bincount(inverse.ravel(), shape.area, len(keys))
+    around = np.zeros(len(cells))
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            wanted = (cells[:, 0] + dx) * width + cells[:, 1] + dy
+            at = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
+            around += np.where(keys[at] == wanted, covered[at], 0.0)
+    return np.minimum(around / (9 * DENSITY_CELL**2), 1.0)
 
 
 def _levels(buildings, shape, centres, default_levels, neighbours: _Neighbours) -> np.ndarray:
