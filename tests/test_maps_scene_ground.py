@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import shapely
 
-from cityshade.maps import Area, MapBuilding, MapData, MapTree, Road
-from cityshade.maps._ground import (BASE_DEPTH, GROUND_ASPHALT, GROUND_GRASS, GROUND_PAVEMENT,
+from cityshade.maps import Area, MapBuilding, MapData, MapTree, Road, to_scene
+from cityshade.maps._ground import (BASE_DEPTH, GROUND_LAND, LAND_CELL, GROUND_ASPHALT, GROUND_GRASS, GROUND_PAVEMENT,
                                     GROUND_WATER, ground_mesh)
 from cityshade.maps._streets import street_surfaces
 from cityshade.maps._trees import MAX_FOREST_TREES, map_trees, model_size
@@ -56,13 +56,25 @@ def test_crossing_roads_join_into_one_surface_and_triangles_do_not_overlap():
 def test_layers_do_not_overlap_so_nothing_can_z_fight():
     park = Area("way/1", shapely.box(-30, -30, 30, 30), "park")
     water = Area("way/2", shapely.box(20, -30, 60, 30), "water")
-    mesh = ground_mesh(make_map(roads=[road(-50, 0, 80, 0)], areas=[park, water]))
+    data = make_map(roads=[road(-50, 0, 80, 0)], areas=[park, water])
+    mesh = ground_mesh(data)
     flat = [p for m in (GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, GROUND_WATER) for p in faces(mesh, m)]
     assert shapely.union_all(flat).area == pytest.approx(area(flat), rel=1e-6)
     # the road crosses the park: the park keeps only what the road and its pavements leave
     assert area(faces(mesh, GROUND_GRASS)) < park.polygon.area - 60 * 8
     assert area(faces(mesh, GROUND_WATER)) > 0.7 * water.polygon.area
-    assert np.isclose(mesh[:, 1], -BASE_DEPTH).sum() == 6  # the land plane under everything
+    land = mesh[np.isclose(mesh[:, 1], -BASE_DEPTH)]  # the land plane under everything
+    assert (land[:, 3] == GROUND_LAND).all() and len(land) % 3 == 0
+    extent = np.ptp(land[:, [0, 2]], axis=0)
+    assert extent.min() > 700_000  # it reaches the horizon
+    # under the map the land comes in cells no wider than LAND_CELL: the rasteriser keeps its depth
+    # below the map's surfaces only on small triangles
+    tris = land[:, [0, 2]].reshape(-1, 3, 2)
+    small = tris[np.ptp(tris, axis=1).max(axis=1) <= LAND_CELL + 1e-3]
+    x0, y0, x1, y1 = data.bounds()
+    (ax, az), (bx, bz) = to_scene(np.array([[x0, y0], [x1, y1]]))
+    covered = shapely.union_all([shapely.Polygon(t) for t in small])
+    assert covered.buffer(1e-3).contains(shapely.box(min(ax, bx), min(az, bz), max(ax, bx), max(az, bz)))
 
 
 def test_no_ground_road_inside_a_building_bridges_lifted_tunnels_left_out():

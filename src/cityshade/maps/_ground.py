@@ -25,6 +25,9 @@ MAP_GROUND_MATERIALS = {name: value for name, value in globals().items() if name
 AREA_MATERIALS = {"water": GROUND_WATER, "grass": GROUND_GRASS, "park": GROUND_GRASS, "forest": GROUND_GRASS,
                   "meadow": GROUND_GRASS, "farmland": GROUND_GRASS, "pavement": GROUND_PAVEMENT, "sand": GROUND_SAND}
 HORIZON = 400_000.0  # metres of land plane around the map: its edge sinks below the horizon seen from 3 km up
+LAND_MARGIN = 2000.0  # metres of finely divided land around the map's bounds
+LAND_CELL = 250.0  # metres: the land grid's cell under the map (coarser for maps over 32 km wide)
+LAND_CELLS = 128  # cells a side at most
 BASE_DEPTH = 0.3  # the land plane lies this far below the map's surfaces, so they never share a depth
 PAINT_LIFT = 0.03  # markings and rails over the carriageway
 
@@ -54,10 +57,28 @@ def _union(geometries) -> shapely.Geometry:
     return shapely.union_all(geometries) if geometries else shapely.Polygon()
 
 
-def land_plane(centre: tuple[float, float], y: float = -BASE_DEPTH) -> np.ndarray:
-    """Two triangles of plain land HORIZON metres around the map's centre (map metres)."""
-    cx, cy = centre
-    return triangles(shapely.box(cx - HORIZON, cy - HORIZON, cx + HORIZON, cy + HORIZON), y, GROUND_LAND)
+def land_plane(bounds: tuple[float, float, float, float], y: float = -BASE_DEPTH) -> np.ndarray:
+    """Plain land reaching HORIZON metres around the map (map metres). Under the map and LAND_MARGIN
+    around it the land is a grid of small cells: the rasteriser interpolates the depth of a
+    triangle hundreds of kilometres wide too coarsely to keep it BASE_DEPTH below the map's
+    surfaces (from the air, whole views lost their streets and water to it); beyond, where it
+    meets nothing, a few large triangles reach the horizon."""
+    x0, y0, x1, y1 = bounds
+    x0, y0, x1, y1 = x0 - LAND_MARGIN, y0 - LAND_MARGIN, x1 + LAND_MARGIN, y1 + LAND_MARGIN
+    cell = max(LAND_CELL, max(x1 - x0, y1 - y0) / LAND_CELLS)
+    xs = np.linspace(x0, x1, int(np.ceil((x1 - x0) / cell)) + 1)
+    ys = np.linspace(y0, y1, int(np.ceil((y1 - y0) / cell)) + 1)
+    ax, ay = np.meshgrid(xs[:-1], ys[:-1], indexing="ij")
+    bx, by = np.meshgrid(xs[1:], ys[1:], indexing="ij")
+    a, b = np.stack([ax.ravel(), ay.ravel()], 1), np.stack([bx.ravel(), by.ravel()], 1)
+    c, d = np.stack([b[:, 0], a[:, 1]], 1), np.stack([a[:, 0], b[:, 1]], 1)
+    grid = np.stack([a, c, b, a, b, d], axis=1).reshape(-1, 2)  # counter-clockwise seen from above (map y north)
+    scene = to_scene(grid)
+    inner = np.empty((len(scene), 4), np.float32)
+    inner[:, 0], inner[:, 1], inner[:, 2], inner[:, 3] = scene[:, 0], y, scene[:, 1], GROUND_LAND
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    outer = shapely.box(cx - HORIZON, cy - HORIZON, cx + HORIZON, cy + HORIZON).difference(shapely.box(x0, y0, x1, y1))
+    return np.concatenate([inner, triangles(outer, y, GROUND_LAND)])
 
 
 def ground_mesh(map_data: MapData, streets: StreetSurfaces | None = None) -> np.ndarray:
@@ -83,6 +104,5 @@ def ground_mesh(map_data: MapData, streets: StreetSurfaces | None = None) -> np.
     pieces.append(triangles(streets.markings, PAINT_LIFT, GROUND_MARKING))
     pieces.append(triangles(streets.rails, PAINT_LIFT, GROUND_RAIL))
     pieces.extend(streets.bridges)
-    x0, y0, x1, y1 = map_data.bounds()
-    pieces.append(land_plane(((x0 + x1) / 2, (y0 + y1) / 2)))
+    pieces.append(land_plane(map_data.bounds()))
     return np.concatenate(pieces)
