@@ -11,7 +11,9 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cityshade.maps import BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapBuilding, MapData, MapTree, guess_missing, load_map
+from cityshade.maps import (BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapBuilding, MapData, MapTree, building_masses,
+                            guess_missing, load_map)
+from cityshade.scene import FLAGS
 
 NUMERIC = ("height", "min_height", "levels", "min_level", "roof_height", "roof_levels", "roof_direction", "roof_angle")
 
@@ -289,3 +291,10 @@ def test_guessing_twice_changes_nothing():
     guess_missing(data)
     assert [[getattr(b, n) for n in NUMERIC + BUILDING_ATTRIBUTES] for b in data.buildings] == before
     assert dict(data.report.repaired) == repairs
+
+
+def test_a_tiny_shed_gets_no_interior_and_a_house_keeps_its_rooms():
+    data = guessed(building(0, "shed", size=(4.0, 3.0)), building(1, "house", size=(12.0, 9.0), at=(20.0, 0.0)))
+    shed, house = building_masses(data)
+    assert shed.flags & FLAGS["FLAG_NO_INTERIOR"] and not shed.interior
+    assert not house.flags & FLAGS["FLAG_NO_INTERIOR"] and house.interior
