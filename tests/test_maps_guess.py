@@ -11,7 +11,9 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cityshade.maps import BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapBuilding, MapData, MapTree, guess_missing, load_map
+from cityshade.maps import (BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapBuilding, MapData, MapTree, building_masses,
+                            guess_missing, load_map)
+from cityshade.scene import FLAGS
 
 NUMERIC = ("height", "min_height", "levels", "min_level", "roof_height", "roof_levels", "roof_direction", "roof_angle")
 
@@ -301,3 +303,10 @@ def test_buildings_thousands_of_kilometres_apart_take_bounded_memory():
     grown_mb = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024
     assert all(b.levels >= 1 for b in data.buildings)
     assert grown_mb < 500, f"{grown_mb:.0f} MB"
+
+
+def test_a_tiny_shed_gets_no_interior_and_a_house_keeps_its_rooms():
+    data = guessed(building(0, "shed", size=(4.0, 3.0)), building(1, "house", size=(12.0, 9.0), at=(20.0, 0.0)))
+    shed, house = building_masses(data)
+    assert shed.flags & FLAGS["FLAG_NO_INTERIOR"] and not shed.interior
+    assert not house.flags & FLAGS["FLAG_NO_INTERIOR"] and house.interior

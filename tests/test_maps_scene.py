@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import shapely
 
-from cityshade.maps import MapBuilding, MapData, Road, map_city, street_segment, sun_and_moon, to_scene
-from cityshade.scene import box
+from cityshade.maps import MapBuilding, MapData, Road, load_map, map_city, street_segment, sun_and_moon, to_scene
+from cityshade.scene import FLAGS, box
 
 HELSINKI = (24.9384, 60.1699)
 
@@ -53,6 +53,12 @@ def test_map_city_has_every_building():
     city = map_city(block_map())
     assert len(city.masses) == 9
     assert city.origin == HELSINKI and city.crs == "EPSG:32635"
+
+
+def test_a_garden_shed_read_from_a_file_has_no_interior_and_the_house_has_rooms():
+    house, shed = map_city(load_map(Path(__file__).parent / "data" / "maps" / "shed.osm")).masses
+    assert shed.flags & FLAGS["FLAG_NO_INTERIOR"] and shed.height < house.height
+    assert not house.flags & FLAGS["FLAG_NO_INTERIOR"]
 
 
 def test_aerial_frustum_holds_every_building():

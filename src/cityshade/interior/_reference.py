@@ -159,7 +159,8 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
-    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace`. The ground is the
+    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace` (none behind the
+    glass of a mass without an interior). The ground is the
     plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
     relief = relief or {}
     width, height = size
@@ -193,7 +194,7 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             glass = ~roof & (facade_alpha[row, col] < 0.5)
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
-        if glass.any():
+        if glass.any() and mass.interior:  # without an interior the glass stays an exterior face
             rays = sel[glass]
             face, room, _, lit, variant = trace(entry[rays], hits.direction[rays], hits.normal[rays], mass, params)
             out[rays, 0], out[rays, 1], out[rays, 3] = face, room, room_state(lit, variant)

@@ -103,8 +103,8 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
         seed=building.index, style=facade_style(building), holes=holes, base=base, roof=roof,
         walls=building.has_walls, wall_colour=building.building_colour, wall_material=building.building_material,
         guessed=frozenset(building.guessed),
-        # A shed or sauna: no furnished, curtained or lit rooms behind its few windows.
-        **({"furniture": False, "curtains": False, "lights": 0.0} if building.small_utility else {}),
+        # A shed or sauna: no rooms behind its few windows, only dark panes.
+        **({"interior": False, "furniture": False, "curtains": False, "lights": 0.0} if building.small_utility else {}),
     )
 
 

@@ -8,7 +8,7 @@ from functools import cached_property
 import numpy as np
 
 from ._roofs import FLAT_ROOF, Roof
-from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, SHAPES
+from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, SHAPES
 
 
 @dataclass(frozen=True)
@@ -20,7 +20,8 @@ class BuildingMass:
 
     Buildings from maps add courtyards (`holes`, clockwise rings in the same frame), walls that
     start above the ground (`base`, with an underside), a `roof` on top of the walls (walls run
-    up to `height - roof.height`), no walls at all (`walls=False`: a canopy) and tagged tints."""
+    up to `height - roof.height`), no walls at all (`walls=False`: a canopy), tagged tints and no
+    rooms behind the glass (`interior=False`: an outbuilding's dark panes)."""
 
     shape: str
     position: tuple[float, float]
@@ -35,6 +36,7 @@ class BuildingMass:
     wall_jitter: float = 0.25
     furniture: bool = True
     curtains: bool = True
+    interior: bool = True  # False: no rooms behind the glass, only a dark pane
     holes: tuple[tuple[tuple[float, float], ...], ...] = ()
     base: float = 0.0
     roof: Roof = FLAT_ROOF
@@ -77,6 +79,7 @@ class BuildingMass:
             (FLAG_FURNITURE if self.furniture and self.shape != "dome" else 0)
             | (FLAG_CURTAINS if self.curtains else 0)
             | (FLAG_ROOM_VARIATION if self.wall_jitter > 0 else 0)
+            | (0 if self.interior else FLAG_NO_INTERIOR)
         )
 
 

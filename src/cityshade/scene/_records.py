@@ -11,10 +11,12 @@ SHAPES = {"prism": SHAPE_PRISM, "cylinder": SHAPE_CYLINDER, "dome": SHAPE_DOME}
 FLAG_FURNITURE = 1
 FLAG_CURTAINS = 2
 FLAG_ROOM_VARIATION = 4
+FLAG_NO_INTERIOR = 8  # no rooms behind the glass: dark panes (sheds, garages, saunas)
 
 # for the shaders (cityshade.shader_constants)
 SHAPE_CODES = {f"SHAPE_{name.upper()}": code for name, code in SHAPES.items()}
-FLAGS = {"FLAG_FURNITURE": FLAG_FURNITURE, "FLAG_CURTAINS": FLAG_CURTAINS, "FLAG_ROOM_VARIATION": FLAG_ROOM_VARIATION}
+FLAGS = {"FLAG_FURNITURE": FLAG_FURNITURE, "FLAG_CURTAINS": FLAG_CURTAINS, "FLAG_ROOM_VARIATION": FLAG_ROOM_VARIATION,
+         "FLAG_NO_INTERIOR": FLAG_NO_INTERIOR}
 
 BUILDING_DTYPE = np.dtype(
     [

@@ -24,6 +24,8 @@ void main() {}
 #include "city/roof.glsl"
 #include "city/street_lights.glsl"
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
+const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
+const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
@@ -107,12 +109,18 @@ void main() {
         if (glass > 0.0) {
             float cos_view = max(-dot(n, d), 0.0);
             vec3 window;
+            vec3 inside = vec3(0.0);
+            float reflectance;
+            if ((b.ids.z & FLAG_NO_INTERIOR) != 0) {
+                // an outbuilding: no room behind its panes (the id AOV keeps the exterior face)
+                inside = NO_ROOM_PANE;
+                reflectance = fresnel(cos_view, NO_ROOM_PANE_F0);
+            } else {
 #if defined INTERIOR_MAPPING
             float interior_weight = 1.0;
 #if defined INTERIOR_LOD
             interior_weight = 1.0 - smoothstep(u_lod_range.x, u_lod_range.y, s);
 #endif
-            vec3 inside = vec3(0.0);
             if (interior_weight > 0.0) {
                 InteriorHit hit = interior_trace(surface, d, n, b, dFdx(v_local), dFdy(v_local), s);
                 face = hit.face;
@@ -128,11 +136,12 @@ void main() {
                 if (interior_weight <= 0.0) room = r.id;
             }
 #endif
-            float reflectance = fresnel(cos_view, 0.06);
+            reflectance = fresnel(cos_view, 0.06);
 #else
-            vec3 inside = u_window_tint;
-            float reflectance = fresnel(cos_view, 0.5);
+            inside = u_window_tint;
+            reflectance = fresnel(cos_view, 0.5);
 #endif
+            }
 #if !defined ID_PASS
             window = mix(inside, environment(reflect(rot * d, n_world)), reflectance);
             color = mix(color, window, glass);
