@@ -254,11 +254,16 @@ def test_colours_and_materials_reach_the_building_record():
     assert plain["tint"][3] == 0.0  # the style's own tint
 
 
-@pytest.mark.parametrize("use,kind,style", [("residential", "apartments", 0), ("office", "office", 4),
-                                            ("retail", "retail", 2), ("industrial", "warehouse", 5),
-                                            ("school", "school", 6), ("church", "church", 7)])
-def test_facade_style_by_use(use, kind, style):
-    assert facade_style(MapBuilding(3, "way/1", shapely.box(0, 0, 1, 1), kind=kind, use=use)) == style
+@pytest.mark.parametrize("use,kind,grammar", [("residential", "apartments", None), ("office", "office", "office"),
+                                              ("retail", "retail", "shops"), ("industrial", "warehouse", "brick"),
+                                              ("school", "school", "classical"), ("church", "church", "classical"),
+                                              (None, "house", "brick")])
+def test_facade_style_by_use(use, kind, grammar):
+    """The style a use picks is the facade the registry draws: no glass offices on houses."""
+    from cityshade.grammar import BUILDING_STYLES
+
+    style = facade_style(MapBuilding(3, "way/1", shapely.box(0, 0, 1, 1), kind=kind, use=use))
+    assert BUILDING_STYLES.get(style) == grammar
 
 
 def test_object_space_turns_with_the_outline():

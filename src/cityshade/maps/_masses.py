@@ -19,15 +19,18 @@ MIN_AREA = 1.0  # square metres; smaller outlines are slivers, not buildings
 FLOOR_HEIGHT_RANGE = (2.5, 6.0)
 CANOPY_MIN_HEIGHT = 2.5  # building=roof with nothing tagged: a roof on pillars this high
 
-# facade styles of the window-bay facade (0..7), by what a building is used for
+# Building style numbers (0..7) by what a building is used for. The facade registry turns a style
+# into a facade (cityshade.render.choose_facade): 0 the window bay with rooms, 1 the office grammar
+# (glass), 3 classical, 4 brick, 5 shop fronts, 6 dusk; 2 and 7 relief bays on box buildings.
 STYLE_BY_USE = {
-    "residential": 0, "apartments": 0, "house": 1, "detached": 1, "terrace": 1, "dormitory": 0,
-    "commercial": 2, "retail": 2, "shop": 2, "supermarket": 2, "hotel": 3,
-    "office": 4,
-    "industrial": 5, "warehouse": 5, "factory": 5, "garage": 5, "garages": 5, "shed": 5, "hangar": 5,
-    "civic": 6, "public": 6, "government": 6, "school": 6, "university": 6, "college": 6, "hospital": 6,
-    "church": 7, "cathedral": 7, "chapel": 7, "mosque": 7, "synagogue": 7, "temple": 7, "museum": 7,
-    "train_station": 6, "transportation": 6,
+    "residential": 0, "apartments": 0, "dormitory": 0, "house": 4, "detached": 4, "terrace": 4,
+    "semidetached_house": 4, "bungalow": 4, "cabin": 4,
+    "commercial": 5, "retail": 5, "shop": 5, "supermarket": 5, "kiosk": 5, "hotel": 6,
+    "office": 1,
+    "industrial": 4, "warehouse": 4, "factory": 4, "garage": 4, "garages": 4, "shed": 4, "hangar": 4,
+    "civic": 3, "public": 3, "government": 3, "school": 3, "university": 3, "college": 3, "hospital": 3,
+    "church": 3, "cathedral": 3, "chapel": 3, "mosque": 3, "synagogue": 3, "temple": 3, "museum": 3,
+    "train_station": 3, "transportation": 3,
 }
 STYLES = 8
 
