@@ -71,7 +71,8 @@ def test_views_follow_the_seed_and_index_alone():
 # --- classes and depth, numpy only ----------------------------------------------------------------
 
 def test_class_image_maps_faces_labels_and_materials():
-    ids = np.zeros((1, 8, 4), np.uint32)
+    ids = np.zeros((1, 9, 4), np.uint32)
+    ids[0, 0] = (10, 0, 0, 0)  # a tree trunk
     ids[0, 1] = (1, 0, 3, 0)  # bay-texture facade
     ids[0, 2] = (4, 7, 3, 0)  # a room behind glass
     ids[0, 3] = (1, 0, 3, LABELS.index("door"))
@@ -79,15 +80,12 @@ def test_class_image_maps_faces_labels_and_materials():
     ids[0, 5] = (9, 0, 0, 4)  # ground: lane marking
     ids[0, 6] = (9, 0, 0, 10)  # ground: lamp bulb
     ids[0, 7] = (1, 0, 3, LABELS.index("shop"))
-    trees = np.zeros((1, 8), bool)
-    trees[0, 0] = True
-    got = class_image(ids, trees, ignore=("roof",))
-    names = ["tree", "wall", "window", "door", None, "lane_marking", "lamp", "shop_front"]
+    ids[0, 8] = (11, 0, 0, 0)  # leaves
+    got = class_image(ids, ignore=("roof",))
+    names = ["tree_trunk", "wall", "window", "door", None, "lane_marking", "lamp", "shop_front", "foliage"]
     assert [CLASSES[c] if c != IGNORE else None for c in got[0]] == names
-    assert len(CLASS_COLOURS) == len(CLASSES)
-    assert instance_image(ids, trees)[0].tolist() == [0, 3, 3, 3, 3, 0, 0, 3]
-    ids[0, 0] = (1, 0, 5, 0)  # a building behind the tree
-    assert instance_image(ids, trees)[0, 0] == 0 and instance_image(ids)[0, 0] == 5
+    assert len(CLASS_COLOURS) == len(CLASSES) and len(set(map(tuple, CLASS_COLOURS))) == len(CLASSES)
+    assert instance_image(ids)[0].tolist() == [0, 3, 3, 3, 3, 0, 0, 3, 0]  # trees belong to no building
 
 
 def test_linear_depth_inverts_the_projection():
@@ -184,8 +182,8 @@ def test_grammar_windows_are_window_class(output_dir):
         ids = sampler.renderer.render_ids(view.camera())
     finally:
         sampler.release()
-    trees = arrays["class"] == CLASSES.index("tree")  # in front of the facade: not in the id AOV
-    grammar = (ids[..., 3] > 0) & (ids[..., 0] != 9) & ~trees
+    trees = np.isin(arrays["class"], [CLASSES.index("tree_trunk"), CLASSES.index("foliage")])
+    grammar = (ids[..., 3] > 0) & (ids[..., 0] != 9) & ~trees  # trees in front of the facade left out
     labelled_window = grammar & np.isin(ids[..., 3], [LABELS.index("window"), LABELS.index("room")])
     window = (arrays["class"] == WINDOW) & grammar
     assert labelled_window.sum() > 500

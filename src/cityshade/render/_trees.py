@@ -157,14 +157,19 @@ class TreePass:
         for unit, tex in self.textures.items():
             tex.use(unit)
 
-    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds")) -> int:
+    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
+             ids: bool = False) -> int:
         """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj; the
         camera, sun, sky and time come from the frame block (cityshade.gl.FRAME_BLOCK), which the
         caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
-        span). Returns the number of draw calls."""
+        span). With `ids`, the id AOV into the bound uint target instead: FACE_TRUNK on trunks and
+        fins, FACE_FOLIAGE on leaves and fronds, alpha-tested (a face code cannot be a coverage
+        mix). Returns the number of draw calls."""
         s, ctx = self.settings, self.ctx
         self.bind_textures()
-        base = dict(ALPHA_TO_COVERAGE=s.alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None))
+        alpha_to_coverage = s.alpha_to_coverage and not ids
+        base = dict(ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None),
+                    ID_PASS=ids)
         values = {**uniforms, **self._common(), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
                   "u_card_shift": np.zeros(3), "u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach,
                   "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
@@ -177,7 +182,7 @@ class TreePass:
         }
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.depth_func = "<="
-        if s.alpha_to_coverage:
+        if alpha_to_coverage:
             ctx.enable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
         calls = 0
         for part in parts:
@@ -219,9 +224,10 @@ class TreePass:
             tex.release()
 
 
-def draw_trees(f) -> int:
-    """The frame's tree pass (after the ground, before the sky); `f` is the frame's FrameInputs."""
+def draw_trees(f, ids: bool = False) -> int:
+    """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's; `f` is
+    the frame's FrameInputs."""
     if f.trees is None:
         return 0
     f.trees.prepare(f.camera.eye)
-    return f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows)
+    return f.trees.draw(f.common_uniforms(), f.camera.view(), None if ids else f.shadows, ids=ids)
