@@ -192,6 +192,31 @@ def test_grammar_windows_are_window_class(output_dir):
     assert differ <= 0.001 * SIZE[0] * SIZE[1]
 
 
+def test_tree_classes_are_where_the_frame_draws_trees():
+    """The default city's street trees: trunk and foliage classes come from the id AOV's tree faces;
+    where the frame's depth lies in front of the id AOV's (a tree drawn in the picture but not in
+    the id AOV) is only the leaves' fringe, which the frame's single-sample alpha to coverage keeps
+    and the id AOV's alpha test drops."""
+    source = load_source(city="default")
+    sampler = SampleRenderer(source, parse_config({"image": {"width": SIZE[0], "height": SIZE[1]}}))
+    try:
+        view = _view_of(source.city.viewpoints["closeup"])
+        camera = view.camera()
+        arrays = sampler.render(view)
+        aov_z = linear_depth(sampler.renderer.depth(aov=True), camera.near, camera.far)
+    finally:
+        sampler.release()
+    classes = arrays["class"]
+    trunk, foliage = classes == CLASSES.index("tree_trunk"), classes == CLASSES.index("foliage")
+    in_front = arrays["depth"] < aov_z - (0.01 + 1e-3 * np.where(np.isfinite(aov_z), aov_z, 0.0))
+    missed = int(np.count_nonzero(in_front & ~trunk & ~foliage))
+    print(f"closeup: {trunk.sum()} trunk, {foliage.sum()} foliage pixels; {missed} of {classes.size} drawn in "
+          f"front of the id AOV but not a tree class")
+    assert trunk.sum() > 50 and foliage.sum() > 500
+    assert not arrays["instance"][trunk | foliage].any()
+    assert missed <= 0.01 * classes.size
+
+
 def test_intrinsics_and_extrinsics_project_as_the_renderer_does():
     from cityshade.dataset import extrinsics, intrinsics
 
