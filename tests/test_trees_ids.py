@@ -2,7 +2,7 @@
 
 A single tree: each part's id coverage against the alpha-tested colour pass of the same part, and
 the whole tree's faces against the parts' depths. A city view: the trees change no building pixel
-of the id AOV other than those they cover.
+of the id AOV other than those they cover, and the trees the id pass leaves out of view none.
 """
 
 import numpy as np
@@ -11,6 +11,7 @@ from PIL import Image
 
 from cityshade.interior import FACE_NAMES
 from cityshade.render import Renderer, RenderSettings
+from cityshade.render._trees import TreePass
 from cityshade.scene import Camera, make_city
 from trees_scene import one_tree, render, render_ids
 
@@ -61,21 +62,27 @@ def test_tree_faces_where_trunk_and_leaves_are(gl_context, programs, species, ou
     assert not ids[..., 1:].any()  # no room, building or label on a tree
 
 
-def test_trees_change_no_building_pixel_they_do_not_cover(gl_context, output_dir):
+def test_trees_change_no_building_pixel_they_do_not_cover(gl_context, monkeypatch):
     city = make_city("default", 0)
     camera = city.camera("street")
-    got = {}
+    got, culled, count = {}, 0, 0
     for trees in (False, True):
         r = Renderer((160, 120), RenderSettings(trees=trees), ctx=gl_context)
         r.set_city(city)
         got[trees] = r.render_ids(camera)
+        if trees:  # the id pass draws only the trees in view: drawing them all changes no pixel
+            culled = int(np.count_nonzero(~r.trees._visible(camera.view_projection(160 / 120))))
+            count = len(r.trees.trees)
+            monkeypatch.setattr(TreePass, "_visible", lambda self, vp: np.ones(len(self.trees), bool))
+            everything = r.render_ids(camera)
+            assert culled > 0 and np.array_equal(everything, got[True]), culled
         r.release()
     with_trees, without = got[True], got[False]
     on_tree = np.isin(with_trees[..., 0], [FACE["trunk"], FACE["foliage"]])
     changed = np.any(with_trees != without, axis=2)
     print(f"street: {np.sum(with_trees[..., 0] == FACE['trunk'])} trunk, "
           f"{np.sum(with_trees[..., 0] == FACE['foliage'])} foliage pixels; {np.count_nonzero(changed & ~on_tree)} "
-          f"other pixels changed")
+          f"other pixels changed; {culled} of {count} trees out of view")
     assert np.sum(with_trees[..., 0] == FACE["trunk"]) > 0 and np.sum(with_trees[..., 0] == FACE["foliage"]) > 0
     assert not np.any(changed & ~on_tree)
     assert not with_trees[on_tree][:, 1:].any()

@@ -15,6 +15,7 @@ import numpy as np
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
 from ..gl import VertexArrays, set_uniforms, upload_texture
+from ._culling import boxes_visible, frustum_planes
 from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
@@ -97,13 +98,17 @@ class TreePass:
         self._vaos = VertexArrays(ctx)
 
     # -- per frame -------------------------------------------------------------------------------
-    def prepare(self, eye):
+    def prepare(self, eye, view_projection: np.ndarray | None = None):
         """Splits the trees into the two LODs by distance and writes their instance buffers, nearest
         first: the fins are drawn only for the leading trees that are close enough to have any
-        (§4.2.3 removes them from distant trees), and near-to-far order helps the depth test."""
+        (§4.2.3 removes them from distant trees), and near-to-far order helps the depth test.
+        With `view_projection`, only the trees whose bounds meet its frustum (not for the shadow
+        casters, whose trees outside the view still shade it)."""
         distance = np.linalg.norm(self.trees["position"] - np.asarray(eye, float), axis=1)
         alphas = lod_alphas(distance, *self.settings.lod_band)
         order = np.argsort(distance)
+        if view_projection is not None:
+            order = order[self._visible(view_projection)[order]]
         for index, model in self.models.items():
             mine = self.trees["species"][order] == index
             for lod in (0, 1):
@@ -120,6 +125,14 @@ class TreePass:
                 buffer = self.instances[index, lod][0]
                 buffer.write(data.tobytes())
                 self.instances[index, lod] = (buffer, len(t))
+
+    def _visible(self, view_projection: np.ndarray) -> np.ndarray:
+        """Trees whose box (the model's height, scaled, every way from the root, plus the wind's
+        sway) is not wholly outside the frustum."""
+        heights = np.array([self.models[int(k)].height for k in self.trees["species"]])
+        reach = heights * self.trees["scale"] + np.abs(self.settings.wind).sum()
+        position = self.trees["position"]
+        return boxes_visible(frustum_planes(view_projection), position - reach[:, None], position + reach[:, None])
 
     def _vao(self, program, species: int, lod: int, part: str):
         _, layout, attributes, _ = PARTS[part]
@@ -229,5 +242,5 @@ def draw_trees(f, ids: bool = False) -> int:
     the frame's FrameInputs."""
     if f.trees is None:
         return 0
-    f.trees.prepare(f.camera.eye)
+    f.trees.prepare(f.camera.eye, f.view_projection if ids else None)  # the id AOV's trees: only those in view
     return f.trees.draw(f.common_uniforms(), f.camera.view(), None if ids else f.shadows, ids=ids)
