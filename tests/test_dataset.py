@@ -71,7 +71,8 @@ def test_views_follow_the_seed_and_index_alone():
 # --- classes and depth, numpy only ----------------------------------------------------------------
 
 def test_class_image_maps_faces_labels_and_materials():
-    ids = np.zeros((1, 8, 4), np.uint32)
+    ids = np.zeros((1, 9, 4), np.uint32)
+    ids[0, 0] = (10, 0, 0, 0)  # a tree trunk
     ids[0, 1] = (1, 0, 3, 0)  # bay-texture facade
     ids[0, 2] = (4, 7, 3, 0)  # a room behind glass
     ids[0, 3] = (1, 0, 3, LABELS.index("door"))
@@ -79,15 +80,12 @@ def test_class_image_maps_faces_labels_and_materials():
     ids[0, 5] = (9, 0, 0, 4)  # ground: lane marking
     ids[0, 6] = (9, 0, 0, 10)  # ground: lamp bulb
     ids[0, 7] = (1, 0, 3, LABELS.index("shop"))
-    trees = np.zeros((1, 8), bool)
-    trees[0, 0] = True
-    got = class_image(ids, trees, ignore=("roof",))
-    names = ["tree", "wall", "window", "door", None, "lane_marking", "lamp", "shop_front"]
+    ids[0, 8] = (11, 0, 0, 0)  # leaves
+    got = class_image(ids, ignore=("roof",))
+    names = ["tree_trunk", "wall", "window", "door", None, "lane_marking", "lamp", "shop_front", "foliage"]
     assert [CLASSES[c] if c != IGNORE else None for c in got[0]] == names
-    assert len(CLASS_COLOURS) == len(CLASSES)
-    assert instance_image(ids, trees)[0].tolist() == [0, 3, 3, 3, 3, 0, 0, 3]
-    ids[0, 0] = (1, 0, 5, 0)  # a building behind the tree
-    assert instance_image(ids, trees)[0, 0] == 0 and instance_image(ids)[0, 0] == 5
+    assert len(CLASS_COLOURS) == len(CLASSES) and len(set(map(tuple, CLASS_COLOURS))) == len(CLASSES)
+    assert instance_image(ids)[0].tolist() == [0, 3, 3, 3, 3, 0, 0, 3, 0]  # trees belong to no building
 
 
 def test_linear_depth_inverts_the_projection():
@@ -184,14 +182,39 @@ def test_grammar_windows_are_window_class(output_dir):
         ids = sampler.renderer.render_ids(view.camera())
     finally:
         sampler.release()
-    trees = arrays["class"] == CLASSES.index("tree")  # in front of the facade: not in the id AOV
-    grammar = (ids[..., 3] > 0) & (ids[..., 0] != 9) & ~trees
+    trees = np.isin(arrays["class"], [CLASSES.index("tree_trunk"), CLASSES.index("foliage")])
+    grammar = (ids[..., 3] > 0) & (ids[..., 0] != 9) & ~trees  # trees in front of the facade left out
     labelled_window = grammar & np.isin(ids[..., 3], [LABELS.index("window"), LABELS.index("room")])
     window = (arrays["class"] == WINDOW) & grammar
     assert labelled_window.sum() > 500
     differ = int(np.count_nonzero(window != labelled_window))
     print(f"closeup: {labelled_window.sum()} grammar window pixels, {differ} differ ({trees.sum()} behind trees)")
     assert differ <= 0.001 * SIZE[0] * SIZE[1]
+
+
+def test_tree_classes_are_where_the_frame_draws_trees():
+    """The default city's street trees: trunk and foliage classes come from the id AOV's tree faces;
+    where the frame's depth lies in front of the id AOV's (a tree drawn in the picture but not in
+    the id AOV) is only the leaves' fringe, which the frame's single-sample alpha to coverage keeps
+    and the id AOV's alpha test drops."""
+    source = load_source(city="default")
+    sampler = SampleRenderer(source, parse_config({"image": {"width": SIZE[0], "height": SIZE[1]}}))
+    try:
+        view = _view_of(source.city.viewpoints["closeup"])
+        camera = view.camera()
+        arrays = sampler.render(view)
+        aov_z = linear_depth(sampler.renderer.depth(aov=True), camera.near, camera.far)
+    finally:
+        sampler.release()
+    classes = arrays["class"]
+    trunk, foliage = classes == CLASSES.index("tree_trunk"), classes == CLASSES.index("foliage")
+    in_front = arrays["depth"] < aov_z - (0.01 + 1e-3 * np.where(np.isfinite(aov_z), aov_z, 0.0))
+    missed = int(np.count_nonzero(in_front & ~trunk & ~foliage))
+    print(f"closeup: {trunk.sum()} trunk, {foliage.sum()} foliage pixels; {missed} of {classes.size} drawn in "
+          f"front of the id AOV but not a tree class")
+    assert trunk.sum() > 50 and foliage.sum() > 500
+    assert not arrays["instance"][trunk | foliage].any()
+    assert missed <= 0.01 * classes.size
 
 
 def test_intrinsics_and_extrinsics_project_as_the_renderer_does():

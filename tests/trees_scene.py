@@ -1,5 +1,6 @@
 """A single tree drawn by the tree pass on a plain background, for the tree tests."""
 
+import moderngl
 import numpy as np
 from PIL import Image
 
@@ -49,6 +50,22 @@ def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fi
     hdr.release()
     out.release()
     return image
+
+
+def render_ids(ctx, tree_pass, camera, parts=("trunks", "fins", "leaves", "fronds")):
+    """The tree pass's id AOV (HxWx4 uint32, top row first) and its depth buffer (HxW, 0..1)."""
+    tree_pass.prepare(camera.eye)
+    write_frame_block(ctx, camera, Daylight.at(16.0))
+    target = RenderTarget(ctx, SIZE, (("u4", 4),))
+    target.use()
+    target.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+    ctx.enable(moderngl.DEPTH_TEST)
+    ctx.depth_func = "<="
+    tree_pass.draw({"u_view_proj": camera.view_projection(1.0)}, camera.view(), parts=parts, ids=True)
+    ids = target.read().copy()
+    depth = np.frombuffer(target.depth.read(), np.float32).reshape(SIZE[1], SIZE[0])[::-1].copy()
+    target.release()
+    return ids, depth
 
 
 def display(image):

@@ -27,7 +27,6 @@ from ._views import View
 GL_TO_CV = np.diag([1.0, -1.0, -1.0])  # OpenGL camera (y up, looks down -z) -> OpenCV (y down, looks down +z)
 SUFFIXES = {"rgb": "rgb.png", "depth": "depth.npy", "normal": "normal.npy", "class": "class.png",
             "instance": "instance.npy", "meta": "json"}  # the meta JSON is written last: it marks a complete sample
-TREE_GAP = 0.01  # metres (plus 0.1% of the depth) the frame must lie in front of the id AOV to be a tree
 
 
 def sample_files(index: int) -> dict[str, str]:
@@ -154,11 +153,9 @@ class SampleRenderer:
             return arrays
         frame_z = linear_depth(r.depth(), camera.near, camera.far)
         ids = r.render_ids(camera)
-        aov_z = linear_depth(r.depth(aov=True), camera.near, camera.far)
-        trees = frame_z < aov_z - (TREE_GAP + 1e-3 * np.where(np.isfinite(aov_z), aov_z, 0.0))
         k = intrinsics(view.fov, self.config.width, self.config.height)
         arrays.update(depth=frame_z, normal=normals_from_depth(frame_z, k),
-                      **{"class": class_image(ids, trees, self.config.ignore)}, instance=instance_image(ids, trees))
+                      **{"class": class_image(ids, self.config.ignore)}, instance=instance_image(ids))
         return arrays
 
     def write(self, view: View, out: Path) -> dict:

@@ -5,7 +5,7 @@ state it relies on (GLState) before it draws, so no pass depends on what an earl
 `frame_passes` below reads top to bottom in the order the passes run; `run_passes` runs them and,
 when asked, times each one with ctx.finish() around it.
 
-`id_passes` render the id AOV (face, room, building) used by tests and datasets.
+`id_passes` render the id AOV (face, room, building, label) used by tests and datasets.
 """
 
 from __future__ import annotations
@@ -244,6 +244,10 @@ def id_ground(f: FrameInputs):
     draw_ground(f, {"ID_PASS": True})
 
 
+def id_trees(f: FrameInputs):
+    draw_trees(f, ids=True)
+
+
 # -- the frame --------------------------------------------------------------------------------------
 
 CITY = ("city geometry", "building records")
@@ -309,15 +313,20 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
 
 
 def id_passes(settings: RenderSettings, room_state: bool = False) -> list[Pass]:
-    """The id AOV: per pixel (face, room id, building index + 1, grammar label) as uint32; with
-    `room_state` the fourth channel is the room seen instead (1 | lit << 1 | variant << 2, 0: none)."""
+    """The id AOV: per pixel (face, room id, building index + 1, grammar label) as uint32, trees as
+    (FACE_TRUNK or FACE_FOLIAGE, 0, 0, 0); with `room_state` the fourth channel is the room seen
+    instead (1 | lit << 1 | variant << 2, 0: none)."""
 
     def id_buildings(f: FrameInputs):
         draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "INTERIOR_LOD": False})
 
     inputs = (*CITY, "grammar textures", "relief maps")
-    return [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
-            Pass("ground ids", id_ground, CITY, "ids")]
+    passes = [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
+              Pass("ground ids", id_ground, CITY, "ids")]
+    if settings.trees:
+        # trunks and fins FACE_TRUNK, leaf cards and fronds FACE_FOLIAGE, alpha-tested
+        passes.append(Pass("tree ids", id_trees, ("trees", "tree textures"), "ids", GLState(depth_func="<=")))
+    return passes
 
 
 def run_passes(f: FrameInputs, passes: list[Pass], times: dict[str, float] | None = None):

@@ -15,6 +15,7 @@ import numpy as np
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
 from ..gl import VertexArrays, set_uniforms, upload_texture
+from ._culling import boxes_visible, frustum_planes
 from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
@@ -97,13 +98,17 @@ class TreePass:
         self._vaos = VertexArrays(ctx)
 
     # -- per frame -------------------------------------------------------------------------------
-    def prepare(self, eye):
+    def prepare(self, eye, view_projection: np.ndarray | None = None):
         """Splits the trees into the two LODs by distance and writes their instance buffers, nearest
         first: the fins are drawn only for the leading trees that are close enough to have any
-        (§4.2.3 removes them from distant trees), and near-to-far order helps the depth test."""
+        (§4.2.3 removes them from distant trees), and near-to-far order helps the depth test.
+        With `view_projection`, only the trees whose bounds meet its frustum (not for the shadow
+        casters, whose trees outside the view still shade it)."""
         distance = np.linalg.norm(self.trees["position"] - np.asarray(eye, float), axis=1)
         alphas = lod_alphas(distance, *self.settings.lod_band)
         order = np.argsort(distance)
+        if view_projection is not None:
+            order = order[self._visible(view_projection)[order]]
         for index, model in self.models.items():
             mine = self.trees["species"][order] == index
             for lod in (0, 1):
@@ -120,6 +125,14 @@ class TreePass:
                 buffer = self.instances[index, lod][0]
                 buffer.write(data.tobytes())
                 self.instances[index, lod] = (buffer, len(t))
+
+    def _visible(self, view_projection: np.ndarray) -> np.ndarray:
+        """Trees whose box (the model's height, scaled, every way from the root, plus the wind's
+        sway) is not wholly outside the frustum."""
+        heights = np.array([self.models[int(k)].height for k in self.trees["species"]])
+        reach = heights * self.trees["scale"] + np.abs(self.settings.wind).sum()
+        position = self.trees["position"]
+        return boxes_visible(frustum_planes(view_projection), position - reach[:, None], position + reach[:, None])
 
     def _vao(self, program, species: int, lod: int, part: str):
         _, layout, attributes, _ = PARTS[part]
@@ -157,14 +170,19 @@ class TreePass:
         for unit, tex in self.textures.items():
             tex.use(unit)
 
-    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds")) -> int:
+    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
+             ids: bool = False) -> int:
         """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj; the
         camera, sun, sky and time come from the frame block (cityshade.gl.FRAME_BLOCK), which the
         caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
-        span). Returns the number of draw calls."""
+        span). With `ids`, the id AOV into the bound uint target instead: FACE_TRUNK on trunks and
+        fins, FACE_FOLIAGE on leaves and fronds, alpha-tested (a face code cannot be a coverage
+        mix). Returns the number of draw calls."""
         s, ctx = self.settings, self.ctx
         self.bind_textures()
-        base = dict(ALPHA_TO_COVERAGE=s.alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None))
+        alpha_to_coverage = s.alpha_to_coverage and not ids
+        base = dict(ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None),
+                    ID_PASS=ids)
         values = {**uniforms, **self._common(), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
                   "u_card_shift": np.zeros(3), "u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach,
                   "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
@@ -177,7 +195,7 @@ class TreePass:
         }
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.depth_func = "<="
-        if s.alpha_to_coverage:
+        if alpha_to_coverage:
             ctx.enable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
         calls = 0
         for part in parts:
@@ -219,9 +237,10 @@ class TreePass:
             tex.release()
 
 
-def draw_trees(f) -> int:
-    """The frame's tree pass (after the ground, before the sky); `f` is the frame's FrameInputs."""
+def draw_trees(f, ids: bool = False) -> int:
+    """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's; `f` is
+    the frame's FrameInputs."""
     if f.trees is None:
         return 0
-    f.trees.prepare(f.camera.eye)
-    return f.trees.draw(f.common_uniforms(), f.camera.view(), f.shadows)
+    f.trees.prepare(f.camera.eye, f.view_projection if ids else None)  # the id AOV's trees: only those in view
+    return f.trees.draw(f.common_uniforms(), f.camera.view(), None if ids else f.shadows, ids=ids)

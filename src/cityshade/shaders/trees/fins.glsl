@@ -3,7 +3,8 @@
 // two triangles there, extruded along the (view-perpendicular) normal by the bark relief height,
 // which falls to zero across a distance band. The fragment shader height-traces the bark along
 // the view ray and discards the fin where the ray misses; near misses fade out through alpha to
-// coverage, measured against the per-pixel change of the fin's height coordinate.
+// coverage, measured against the per-pixel change of the fin's height coordinate. ID_PASS: the id
+// AOV's FACE_TRUNK where the alpha-tested fin is kept.
 
 #if defined VERTEX_SHADER
 #include "trees/instance.glsl"
@@ -103,7 +104,11 @@ in vec2 g_uv;
 in float g_radius;
 in float g_width;
 in float g_w;
+#if defined ID_PASS
+layout(location = 0) out uvec4 out_ids;
+#else
 layout(location = 0) out vec4 out_color;
+#endif
 
 void main() {
     mat3 frame = bark_frame(g_normal, g_tangent);
@@ -138,7 +143,11 @@ void main() {
     alpha = alpha >= 0.5 ? 1.0 : 0.0;
 #endif
     if (alpha <= 0.0) discard;
+#if defined ID_PASS
+    out_ids = uvec4(uint(FACE_TRUNK), 0u, 0u, 0u);
+#else
     vec2 uv = g_uv + along * (s / u_bark_tile);
     out_color = vec4(shade_bark(uv, t, b, n, g_world), alpha);
+#endif
 }
 #endif

@@ -3,7 +3,7 @@
 // the light and shifts them toward it by half their height (fig. 4-10), through u_card_right,
 // u_card_up and u_card_shift. Defines: FRONDS, SHADOW_PASS, ALPHA_TO_COVERAGE (off: alpha test),
 // LEAF_SELF_SHADOW (shadow look-up moved along the view by the per-leaf depth offset, listing
-// 4-1), TWO_SIDED, NO_SHADOWS.
+// 4-1), TWO_SIDED, NO_SHADOWS, ID_PASS (the id AOV's FACE_FOLIAGE where the alpha-tested leaf is).
 
 #define ATLAS_CELLS 2.0
 #define FROND_CELL 3.0
@@ -78,14 +78,21 @@ in vec3 v_up;
 in vec2 v_uv;
 in float v_fade;
 in float v_size;
+#include "trees/fade.glsl"
+#include "trees/leaf_alpha.glsl"
 
 #if defined SHADOW_PASS
 void main() {
     if (texture(u_leaf_color, v_uv).a < 0.5) discard;
 }
+#elif defined ID_PASS
+layout(location = 0) out uvec4 out_ids;
+void main() {
+    if (leaf_alpha(v_uv) < 0.5 || fizzled(v_fade)) discard;
+    out_ids = uvec4(uint(FACE_FOLIAGE), 0u, 0u, 0u);
+}
 #else
 #include "trees/leaf_lighting.glsl"
-#include "trees/fade.glsl"
 #include "shadow/csm.glsl"
 uniform sampler2D u_leaf_detail;  // rg V-shaped normal, b per-leaf depth offset
 uniform float u_normal_bias;      // mip bias of the leaf normal fetch (§4.4.2)
@@ -93,9 +100,7 @@ uniform float u_leaf_depth;       // shift toward the eye at depth offset 1, in 
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec4 albedo = texture(u_leaf_color, v_uv);
-    // Mip averaging thins needles and leaf tips away; scale the alpha back up per mip level.
-    albedo.a *= 1.0 + 0.4 * max(textureQueryLod(u_leaf_color, v_uv).x, 0.0);
+    vec4 albedo = vec4(texture(u_leaf_color, v_uv).rgb, leaf_alpha(v_uv));
     float alpha = albedo.a * v_fade;
 #if defined ALPHA_TO_COVERAGE
     // Sharpen the coverage edge to about one pixel so the mask does not blur whole leaves.

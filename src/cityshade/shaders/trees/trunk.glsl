@@ -1,6 +1,7 @@
 // Tree trunks and branches: generalised cylinders, relief-mapped bark (§4.2).
 // Defines: RELIEF (relief mapping; off = normal-mapped bark), SHADOW_PASS (depth only),
-// NO_SHADOWS, ALPHA_TO_COVERAGE (the LOD cross-fade alpha goes to coverage; off: fizzle, §4.6.2).
+// NO_SHADOWS, ALPHA_TO_COVERAGE (the LOD cross-fade alpha goes to coverage; off: fizzle, §4.6.2),
+// ID_PASS (the id AOV: FACE_TRUNK; the relief shifts only the bark's texture, not the outline).
 
 #if defined VERTEX_SHADER
 #include "trees/instance.glsl"
@@ -29,11 +30,17 @@ in vec3 v_normal;
 in vec3 v_tangent;
 in vec2 v_uv;
 in float v_fade;
+#include "trees/fade.glsl"
 #if defined SHADOW_PASS
 void main() {}
+#elif defined ID_PASS
+layout(location = 0) out uvec4 out_ids;
+void main() {
+    if (fizzled(v_fade)) discard;
+    out_ids = uvec4(uint(FACE_TRUNK), 0u, 0u, 0u);
+}
 #else
 #include "trees/relief.glsl"
-#include "trees/fade.glsl"
 layout(location = 0) out vec4 out_color;
 void main() {
     mat3 frame = bark_frame(v_normal, v_tangent);
