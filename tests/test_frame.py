@@ -8,7 +8,7 @@ import moderngl
 import pytest
 
 from cityshade.errors import ShaderError
-from cityshade.gl import programs, set_uniforms
+from cityshade.gl import MAX_SAMPLERS, bind_textures, programs, sampler_units, set_uniforms
 from cityshade.render import FrameTargets, Renderer, RenderSettings, frame_passes
 from cityshade.scene import make_city
 
@@ -146,3 +146,40 @@ def test_one_registry_chooses_each_building_facade():
     assert choose_facade(cylinder((0, 0), 6, 9, style=7)).name == "grammar fig12"  # no relief on curved walls
     assert choose_facade(box((0, 0), 10, 10, 9, style=4)).name == "grammar brick"
     assert choose_facade(box((0, 0), 10, 10, 9, style=0)).name == "window bay"
+
+
+@pytest.mark.parametrize(
+    "city, changes",
+    [("default", {}), ("grid", {"polygonised_interiors": True, "shadows": False}),  # the baseline: box buildings
+     ("default", {"grammar_deferred": False, "single_atlas": True})],
+)
+def test_every_program_of_the_frame_has_at_most_16_samplers(gl_context, city, changes):
+    """Texture units are numbered per program; OpenGL 4.3 guarantees 16 per stage."""
+    renderer = Renderer((48, 32), RenderSettings(samples=2).with_(**changes), ctx=gl_context)
+    renderer.set_city(make_city(city, None))
+    camera = next(iter(renderer.city.city.viewpoints.values()))
+    renderer.render(camera)
+    renderer.render_ids(camera)
+    renderer.release()
+    counts = {}
+    for path, program in programs(gl_context).built():
+        if isinstance(program, moderngl.Program):
+            units = sampler_units(program)
+            used = [unit for name, first in units.items()
+                    for unit in range(first, first + max(program[name].array_length, 1))]
+            assert sorted(used) == list(range(len(used))), f"{path}: units {units} are not 0..n-1"
+            counts[path] = max(counts.get(path, 0), len(used))
+    assert counts.get("city/building.glsl", 0) > 10, counts  # the program that sampled the most
+    too_many = {path: n for path, n in counts.items() if n > MAX_SAMPLERS}
+    assert not too_many, f"programs with more than {MAX_SAMPLERS} samplers: {too_many}"
+
+
+def test_binding_a_sampler_the_program_lacks_is_an_error_in_strict_mode(gl_context):
+    program = programs(gl_context).get("frame/tonemap.glsl")
+    texture = gl_context.texture((1, 1), 4)
+    try:
+        bind_textures(program, {"u_hdr": texture})
+        with pytest.raises(ShaderError, match="u_env"):
+            bind_textures(program, {"u_env": texture})  # a sampler of other programs, not of this one
+    finally:
+        texture.release()

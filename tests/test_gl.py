@@ -6,7 +6,7 @@ import moderngl
 import pytest
 
 from cityshade.errors import GLUnavailableError, ShaderError
-from cityshade.gl import ProgramCache, _programs, create_context
+from cityshade.gl import MAX_SAMPLERS, ProgramCache, _programs, create_context, sampler_units
 
 SOURCES = {
     "test/lib.glsl": "float twice(float x) { return 2.0 * x; }\n",
@@ -19,6 +19,11 @@ SOURCES = {
         '#include "test/lib.glsl"\n'
         "#if defined VERTEX_SHADER\nvoid main() { gl_Position = vec4(1.0); }\n#endif\n"
         "#if defined FRAGMENT_SHADER\nout vec4 c;\nvoid main() { c = undefined_thing; }\n#endif\n"
+    ),
+    "test/samplers.glsl": (
+        "#if defined VERTEX_SHADER\nvoid main() { gl_Position = vec4(0.0); }\n#endif\n"
+        "#if defined FRAGMENT_SHADER\nout vec4 c;\nuniform sampler2D u_many[COUNT];\n"
+        "void main() { c = vec4(0.0); for (int i = 0; i < COUNT; i++) c += texture(u_many[i], vec2(0.5)); }\n#endif\n"
     ),
 }
 
@@ -65,3 +70,12 @@ def test_missing_gl_gives_one_clear_error(monkeypatch):
     with pytest.raises(GLUnavailableError) as info:
         create_context()
     assert "apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri" in str(info.value)
+
+
+def test_samplers_get_units_of_their_own_and_at_most_16(gl_context, fake_sources):
+    cache = ProgramCache(gl_context)
+    fits = cache.get("test/samplers.glsl", {"COUNT": MAX_SAMPLERS})
+    assert sampler_units(fits) == {"u_many": 0}
+    assert fits["u_many"].value == list(range(MAX_SAMPLERS))
+    with pytest.raises(ShaderError, match="test/samplers.glsl has 17 active samplers"):
+        sampler_units(cache.get("test/samplers.glsl", {"COUNT": MAX_SAMPLERS + 1}))

@@ -9,10 +9,9 @@ import moderngl
 import numpy as np
 import pytest
 
-from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, set_uniforms
+from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, sampler_units, set_uniforms
 from cityshade.render._shadows import CascadedShadows
 from cityshade.render._trees import PARTS
-from cityshade.render._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL
 from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas
 from trees_scene import SIZE, one_tree, render, save
@@ -45,8 +44,8 @@ def capture_fins(ctx, programs, positions, normals, eye, depth, fade=(1e6, 2e6))
                       u_sun_dir=np.zeros(3), u_exposure=1.0, u_sun_color=np.zeros(3), u_sky_ambient=np.zeros(3),
                       u_ground_ambient=np.zeros(3))
     set_uniforms(program, u_view_proj=np.identity(4), u_relief_depth=depth, u_fin_fade=np.array(fade, float),
-                 u_wind=np.zeros(3),
-                 u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL)  # samplers of two types may not share a unit
+                 u_wind=np.zeros(3))
+    sampler_units(program)  # each sampler on a unit of its own: samplers of two types may not share one
     out = ctx.buffer(np.full(len(positions) * 6 * 4, np.nan, np.float32).tobytes())
     target = RenderTarget(ctx, (4, 4))  # transform feedback still wants a complete framebuffer bound
     target.use()

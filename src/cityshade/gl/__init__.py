@@ -9,6 +9,7 @@ from ._context import create_context, describe_context
 from ._fullscreen import draw_fullscreen
 from ._programs import ProgramCache, shader_source
 from ._resources import programs
+from ._samplers import MAX_SAMPLERS, bind_textures, sampler_units
 from ._targets import RenderTarget
 from ._textures import upload_texture
 from ._uniforms import set_uniforms
@@ -16,6 +17,9 @@ from ._vertex_arrays import VertexArrays
 
 __all__ = [
     "FRAME_BLOCK",
+    "MAX_SAMPLERS",
+    "bind_textures",
+    "sampler_units",
     "UniformBlock",
     "declare_constants",
     "create_context",

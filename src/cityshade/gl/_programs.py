@@ -26,6 +26,7 @@ STAGES = {
 }
 _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$')
 _UNIFORM = re.compile(r"^\s*uniform\s+\w+\s+([^;{]+);", re.M)  # uniform TYPE a, b[3];
+_SAMPLER = re.compile(r"^\s*uniform\s+\w*sampler\w*\s+([^;{]+);", re.M)
 # Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error ..."
 _MESA_LOC = re.compile(r"(\d+):(\d+)\((\d+)\)")
 _NV_LOC = re.compile(r"(\d+)\((\d+)\)")
@@ -117,6 +118,10 @@ class ProgramCache:
             self._programs[key] = program
         return program
 
+    def built(self) -> list[tuple[str, moderngl.Program | moderngl.ComputeShader]]:
+        """(file, program) for every program built so far."""
+        return [(key[0], program) for key, program in self._programs.items()]
+
     def _build(self, path: str, defines: dict[str, object], varyings: tuple[str, ...]):
         assembler = _Assembler()
         body = assembler.expand(path, set())
@@ -128,20 +133,29 @@ class ProgramCache:
                 for arg, token in STAGES.items()
                 if f"defined {token}" in body or f"defined({token})" in body
             }
-            return self.ctx.program(**stages, varyings=varyings)
+            program = self.ctx.program(**stages, varyings=varyings)
         except moderngl.Error as exc:
             raise ShaderError(f"{path}: {assembler.locate(str(exc)).strip()}") from None
+        program.extra = {"path": f"shaders/{path}", "samplers": _names(_SAMPLER, body)}  # see gl.bind_textures
+        return program
 
 
 @functools.cache
 def declared_uniforms() -> frozenset[str]:
     """Every uniform name some shader file of cityshade/shaders declares (see gl.set_uniforms)."""
     files = resources.files("cityshade").joinpath("shaders")
-    names = set()
-    for path in _glsl_files(files):
-        for match in _UNIFORM.finditer(path.read_text(encoding="utf-8")):
-            names.update(name.split("[")[0].strip() for name in match.group(1).split(","))
-    return frozenset(names)
+    return frozenset().union(*(_names(_UNIFORM, path.read_text(encoding="utf-8")) for path in _glsl_files(files)))
+
+
+def declared_samplers(program) -> frozenset[str]:
+    """The samplers the shader files of a cached program declare (active or compiled away)."""
+    extra = program.extra if isinstance(program.extra, dict) else {}
+    return extra.get("samplers") or declared_uniforms()
+
+
+def _names(pattern: re.Pattern, text: str) -> frozenset[str]:
+    """The names declared by each `uniform TYPE a, b[3];` that `pattern` matches in `text`."""
+    return frozenset(name.split("[")[0].strip() for match in pattern.finditer(text) for name in match.group(1).split(","))
 
 
 def _glsl_files(folder):

@@ -14,7 +14,7 @@ import moderngl
 import numpy as np
 
 from ..assets import TileArray
-from ..gl import FRAME_BLOCK, RenderTarget, VertexArrays, draw_fullscreen, set_uniforms
+from ..gl import FRAME_BLOCK, RenderTarget, VertexArrays, bind_textures, draw_fullscreen, set_uniforms
 from ..gl import programs as gl_programs
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, Camera, batch
 from ._city import FACADE_GRAMMAR
@@ -26,7 +26,6 @@ PATHS = ("forward", "deferred")
 # The faster path as measured by `cityshade bench facades` (llvmpipe, 20,000 buildings at 1024x768:
 # deferred / forward = 0.68 as the geometric mean over the grammars and views; 0.62 in the city frame).
 DEFAULT_PATH = "deferred"
-UNITS = {"grammar": 0, "scope": 3, "rule": 4, "normal": 5, "depth": 6, "color": 7}
 SUN = np.array([0.45, 0.75, 0.35])
 SKY = (0.3, 0.42, 0.62)  # linear
 
@@ -80,7 +79,7 @@ class FacadeCityRenderer:
 
     def _uniforms(self, program, camera: Camera):
         set_uniforms(program, u_view_proj=self._view_projection(camera))
-        self.textures.bind(program, UNITS["grammar"])
+        self.textures.bind(program)
 
     def _buildings(self, name: str, camera: Camera):
         program = self.programs[name]
@@ -114,11 +113,8 @@ class FacadeCityRenderer:
             ctx.disable(moderngl.DEPTH_TEST)
             program = self.programs["deferred"]
             self._uniforms(program, camera)
-            for (name, texture) in zip(("scope", "rule", "normal"), self.gbuffer.colors):
-                texture.use(UNITS[name])
-                program[f"u_{name}"] = UNITS[name]
-            self.gbuffer.depth.use(UNITS["depth"])
-            program["u_depth"] = UNITS["depth"]
+            bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"),
+                                            (*self.gbuffer.colors, self.gbuffer.depth))))
             program["u_viewport"] = tuple(float(x) for x in self.size)
             draw_fullscreen(self.programs["deferred"])
             depth = self.gbuffer.depth
@@ -129,10 +125,7 @@ class FacadeCityRenderer:
         self.output.use()
         ctx.disable(moderngl.DEPTH_TEST)
         program = self.programs["ssao"]
-        self.lit.colors[0].use(UNITS["color"])
-        depth.use(UNITS["depth"])
-        program["u_color"] = UNITS["color"]
-        program["u_depth"] = UNITS["depth"]
+        bind_textures(program, {"u_color": self.lit.colors[0], "u_depth": depth})
         program["u_near_far"] = (camera.near, camera.far)
         program["u_pixels_per_metre"] = self.size[1] / (2 * np.tan(np.radians(camera.fov_y) / 2))
         draw_fullscreen(self.programs["ssao"])

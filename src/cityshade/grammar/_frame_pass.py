@@ -11,7 +11,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget, draw_fullscreen
+from ..gl import RenderTarget, bind_textures, draw_fullscreen
 from ._gpu import GrammarTextures, shader_defines
 
 G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, facade flag; normal
@@ -34,39 +34,31 @@ class DeferredGrammarPass:
             self.size = size
         return self.gbuffer, self.result
 
-    def draw_gbuffer(self, f, grammar: GrammarTextures, set_uniforms, grammar_unit: int):
+    def draw_gbuffer(self, f, grammar: GrammarTextures, set_uniforms):
         """The cheap first step for frame `f` (render._frame.FrameInputs), into the bound G-buffer."""
         program = f.programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
         set_uniforms(program, u_view_proj=f.view_projection)
-        grammar.bind(program, grammar_unit)
+        grammar.bind(program)
         f.city.draw_buildings(program, f.view_projection)  # frustum-culled like the buildings pass
 
-    def evaluate(self, f, grammar: GrammarTextures, set_uniforms, grammar_unit: int, first_unit: int):
-        """The full-screen evaluation into the bound result target; the G-buffer's textures go on
-        units first_unit..first_unit + 3."""
+    def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
+        """The full-screen evaluation into the bound result target, reading the G-buffer."""
         gbuffer = self.gbuffer
         program = f.programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
                                                            "NO_SHADOWS": f.shadows is None})
         set_uniforms(program, **f.common_uniforms(), u_viewport=np.array(f.size, dtype=float))
         if f.shadows is not None:
             f.shadows.bind(program)  # the facades receive the cascaded shadows
-        grammar.bind(program, grammar_unit)
-        for offset, (name, texture) in enumerate(zip(("u_scope", "u_rule", "u_normal", "u_depth"),
-                                                     (*gbuffer.colors, gbuffer.depth))):
-            texture.use(first_unit + offset)
-            program[name] = first_unit + offset
+        grammar.bind(program)
+        bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors, gbuffer.depth))))
         draw_fullscreen(program)
 
-    def bind_results(self, program, first_unit: int):
-        """The building pass's inputs: lit colour and (glass, label) on first_unit, first_unit + 1.
-        Nothing before the pass first ran (the id pass evaluates the grammar itself)."""
+    def bind_results(self, program):
+        """The building pass's inputs: lit colour and (glass, label). Nothing before the pass first
+        ran (the id pass evaluates the grammar itself)."""
         if self.result is None:
             return
-        for offset, (name, texture) in enumerate(zip(("u_grammar_deferred_color", "u_grammar_deferred_ids"),
-                                                     self.result.colors)):
-            texture.use(first_unit + offset)
-            if name in program:
-                program[name] = first_unit + offset
+        bind_textures(program, dict(zip(("u_grammar_deferred_color", "u_grammar_deferred_ids"), self.result.colors)))
 
     def release(self):
         for target in (self.gbuffer, self.result):

@@ -6,7 +6,7 @@ import moderngl
 import numpy as np
 
 from ..assets import TileArray
-from ..gl import RenderTarget, draw_fullscreen, programs, upload_texture
+from ..gl import RenderTarget, bind_textures, draw_fullscreen, programs, upload_texture
 from . import _limits as limits
 from ._compiler import CompiledGrammars
 from ._random import noise_texture
@@ -36,19 +36,14 @@ class GrammarTextures:
         self.labels = np.zeros(MAX_TILES, np.int32)
         self.labels[: len(tiles.labels)] = tiles.labels
 
-    def bind(self, program, first_unit: int = 0) -> int:
-        """Binds the three textures from `first_unit` on; returns the next free unit."""
-        for offset, (name, texture) in enumerate(
-            (("u_grammar_rules", self.rules), ("u_grammar_noise", self.noise), ("u_grammar_tiles", self.tile_array))
-        ):
-            texture.use(first_unit + offset)
-            if name in program:
-                program[name] = first_unit + offset
+    def bind(self, program):
+        """Binds the three textures to the program's samplers and sets the tile uniforms."""
+        bind_textures(program, {"u_grammar_rules": self.rules, "u_grammar_noise": self.noise,
+                                "u_grammar_tiles": self.tile_array})
         if "u_grammar_tile_size" in program:
             program["u_grammar_tile_size"] = self.tiles.size
         if "u_grammar_tile_labels" in program:
             program["u_grammar_tile_labels"].write(self.labels.tobytes())
-        return first_unit + 3
 
     def release(self):
         for texture in (self.rules, self.noise, self.tile_array):

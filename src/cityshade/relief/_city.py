@@ -20,10 +20,10 @@ class CityRelief:
         maps = generate_bay()
         self.facade = GpuFacade(ctx, maps, {"bmf": compress(maps, "bmf", source="city window bay")})
 
-    def bind(self, program: moderngl.Program, first_unit: int) -> int:
+    def bind(self, program: moderngl.Program):
         if "u_relief_depth_unit" in program:
             program["u_relief_depth_unit"].value = self.facade.maps.depth_unit
-        return self.facade.bind(program, "bmf", first_unit)
+        self.facade.bind(program, "bmf")
 
     def release(self):
         self.facade.release()

@@ -8,7 +8,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget, draw_fullscreen, upload_texture
+from ..gl import ProgramCache, RenderTarget, bind_textures, draw_fullscreen, upload_texture
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices
 from ._maps import DetailMaps
 from ._pack import pack_bits
@@ -36,6 +36,17 @@ def _texture(ctx: moderngl.Context, array: np.ndarray, dtype: str) -> moderngl.T
         array = np.zeros((1, 1), array.dtype)
     data = array.astype({"u2": np.uint16, "u4": np.uint32, "f4": np.float32}[dtype])
     return upload_texture(ctx, data, "stored", mipmaps=False, dtype=dtype)
+
+
+def _texture_array(ctx: moderngl.Context, arrays: list[np.ndarray], dtype: str) -> moderngl.TextureArray:
+    """One layer per (rows, columns) array, zero-padded to the largest: a shader reads only the
+    texels of its own map, so one sampler serves all three maps."""
+    rows = max(max(a.shape[0] for a in arrays), 1)
+    cols = max(max(a.shape[1] for a in arrays), 1)
+    layers = np.zeros((len(arrays), rows, cols, 1), {"u4": np.uint32, "f4": np.float32}[dtype])
+    for layer, array in zip(layers, arrays):
+        layer[: array.shape[0], : array.shape[1], 0] = array
+    return upload_texture(ctx, layers, "stored", mipmaps=False, dtype=dtype)
 
 
 def _set_array(program: moderngl.Program, name: str, values: list[int]):
@@ -70,10 +81,11 @@ class GpuFacade:
                     "u_svd_s": [_texture(ctx, f.s[None, :], "f4") for f in fs],
                 }
             else:
+                # texture arrays (layer = map): three samplers where nine would crowd the city's program
                 self.codec_textures["bmf"] = {
-                    "u_bmf_x": [_texture(ctx, pack_bits(f.x), "u4") for f in fs],
-                    "u_bmf_y": [_texture(ctx, pack_bits(f.y), "u4") for f in fs],
-                    "u_bmf_s": [_texture(ctx, f.s[None, :], "f4") for f in fs],
+                    "u_bmf_x": [_texture_array(ctx, [pack_bits(f.x) for f in fs], "u4")],
+                    "u_bmf_y": [_texture_array(ctx, [pack_bits(f.y) for f in fs], "u4")],
+                    "u_bmf_s": [_texture_array(ctx, [f.s[None, :] for f in fs], "f4")],
                 }
         # Per map: SVD terms, or BMF words of 32 terms.
         self.counts = {method: [f.terms if method == "svd" else -(-f.terms // 32) for f in facade.factors.values()]
@@ -83,16 +95,9 @@ class GpuFacade:
     def slab_depth(self) -> float:
         return float(self.maps.max_depth) + 1.0
 
-    def bind(self, program: moderngl.Program, codec: str, first_unit: int = 0) -> int:
-        """Binds the codec's textures and the box list, sets the map uniforms; returns the next free unit."""
-        unit = first_unit
-        for name, textures in self.codec_textures[codec].items():
-            units = []
-            for tex in textures:
-                tex.use(unit)
-                units.append(unit)
-                unit += 1
-            _set_array(program, name, units)
+    def bind(self, program: moderngl.Program, codec: str):
+        """Binds the codec's textures and the box list, sets the map uniforms."""
+        bind_textures(program, self.codec_textures[codec])
         count_name = {"svd": "u_terms", "bmf": "u_words"}.get(codec)
         if count_name:
             _set_array(program, count_name, self.counts[codec])
@@ -101,7 +106,6 @@ class GpuFacade:
             if name in program:
                 program[name].value = value
         self.boxes.bind_to_storage_buffer(BOXES_BINDING)
-        return unit
 
     def release(self):
         for textures in self.codec_textures.values():

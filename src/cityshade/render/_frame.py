@@ -17,7 +17,7 @@ from typing import Callable
 import moderngl
 import numpy as np
 
-from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, draw_fullscreen, set_uniforms
+from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, bind_textures, draw_fullscreen, set_uniforms
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
@@ -30,10 +30,6 @@ from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
 from ._trees import TreePass, draw_trees
-from ._uniforms import (
-    UNIT_ATLAS, UNIT_CEILING, UNIT_CURTAIN, UNIT_ENV, UNIT_FACADE, UNIT_FLOOR, UNIT_HDR, UNIT_SPRITES,
-    UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED, UNIT_RELIEF, UNIT_WALL_X, UNIT_WALL_Z,
-)
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
 ROOM_DARK = np.array([0.018, 0.02, 0.03])
@@ -95,8 +91,6 @@ class FrameInputs:
             u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
             u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
             u_atlas_layout=np.array([layout["tile"], layout["padding"], *atlas_size], dtype=float),
-            u_env=UNIT_ENV, u_facade=UNIT_FACADE, u_ceiling=UNIT_CEILING, u_floor=UNIT_FLOOR, u_wall_x=UNIT_WALL_X,
-            u_wall_z=UNIT_WALL_Z, u_room_atlas=UNIT_ATLAS, u_sprites=UNIT_SPRITES, u_curtain=UNIT_CURTAIN,
         )
 
     def write_frame_block(self):
@@ -106,15 +100,10 @@ class FrameInputs:
                           u_time=self.settings.animation_time, u_sun_dir=d.sun_direction, u_exposure=d.exposure,
                           u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient)
 
-    def bind_textures(self):
+    def room_textures(self) -> dict:
+        """The textures of the interior-mapped rooms (shaders/interior/interior.glsl), by sampler name."""
         t = self.textures
-        self.env.use(UNIT_ENV)
-        t.facade.use(UNIT_FACADE)
-        for unit, face in ((UNIT_CEILING, "ceiling"), (UNIT_FLOOR, "floor"), (UNIT_WALL_X, "wall_x"), (UNIT_WALL_Z, "wall_z")):
-            t.rooms[face].use(unit)
-        t.atlas.use(UNIT_ATLAS)
-        t.sprites.use(UNIT_SPRITES)
-        t.curtain.use(UNIT_CURTAIN)
+        return dict(u_rooms=t.rooms, u_room_atlas=t.atlas, u_sprites=t.sprites, u_curtain=t.curtain)
 
 
 @dataclass(frozen=True)
@@ -158,12 +147,12 @@ class Pass:
 # -- what the passes draw ---------------------------------------------------------------------------
 
 def grammar_gbuffer(f: FrameInputs):
-    f.textures.grammar_pass.draw_gbuffer(f, f.textures.grammar, set_uniforms, UNIT_GRAMMAR)
+    f.textures.grammar_pass.draw_gbuffer(f, f.textures.grammar, set_uniforms)
 
 
 def grammar_evaluation(f: FrameInputs):
     """Facade grammars evaluated once per pixel from the G-buffer (Krecklau §4); see grammar._frame_pass."""
-    f.textures.grammar_pass.evaluate(f, f.textures.grammar, set_uniforms, UNIT_GRAMMAR, UNIT_GRAMMAR_DEFERRED)
+    f.textures.grammar_pass.evaluate(f, f.textures.grammar, set_uniforms)
 
 
 def depth_prepass(f: FrameInputs):
@@ -178,12 +167,12 @@ def depth_prepass(f: FrameInputs):
 def draw_buildings(f: FrameInputs, defines: dict | None = None):
     defines = {**grammar_defines(), "GRAMMAR_DEFERRED": f.settings.grammar_deferred, **(defines or {})}
     program = f.programs.get("city/building.glsl", f.building_defines(**defines))
-    f.bind_textures()
+    bind_textures(program, {**f.room_textures(), "u_env": f.env, "u_facade": f.textures.facade})
     set_uniforms(program, **f.common_uniforms())
-    f.textures.grammar.bind(program, UNIT_GRAMMAR)
+    f.textures.grammar.bind(program)
     if f.settings.grammar_deferred:
-        f.textures.grammar_pass.bind_results(program, UNIT_GRAMMAR_DEFERRED + 4)
-    f.city.relief.bind(program, UNIT_RELIEF)
+        f.textures.grammar_pass.bind_results(program)
+    f.city.relief.bind(program)
     f.city.street_lights.bind(program)
     if f.shadows is not None:
         f.shadows.bind(program)
@@ -198,7 +187,6 @@ def polygonised_exteriors(f: FrameInputs):
 
 
 def polygonised_rooms(f: FrameInputs):
-    f.bind_textures()
     draw_interior_layers(f)
 
 
@@ -208,7 +196,7 @@ def polygonised_glass(f: FrameInputs):
 
 def draw_ground(f: FrameInputs, defines: dict | None = None):
     program = f.programs.get("city/ground.glsl", {"NO_SHADOWS": f.shadows is None, **(defines or {})})
-    f.bind_textures()
+    bind_textures(program, {"u_env": f.env})
     set_uniforms(program, **f.common_uniforms())
     if f.shadows is not None:
         f.shadows.bind(program)
@@ -217,14 +205,13 @@ def draw_ground(f: FrameInputs, defines: dict | None = None):
 
 
 def trees(f: FrameInputs):
-    f.bind_textures()  # the environment, for the leaves' sky light
     draw_trees(f)
 
 
 def draw_sky(f: FrameInputs):
     program = f.programs.get("frame/sky.glsl")
-    f.env.use(UNIT_ENV)
-    set_uniforms(program, u_env=UNIT_ENV, u_stars=night_amount(f.daylight.sun_elevation))
+    bind_textures(program, {"u_env": f.env})
+    set_uniforms(program, u_stars=night_amount(f.daylight.sun_elevation))
     draw_fullscreen(program)
 
 
@@ -234,9 +221,8 @@ def resolve(f: FrameInputs):
 
 def tone_map(f: FrameInputs):
     program = f.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.settings.god_rays})
-    f.targets.resolved.colors[0].use(UNIT_HDR)
-    set_uniforms(program, u_hdr=UNIT_HDR,
-                 **god_ray_uniforms(f.view_projection, f.camera.eye, f.daylight.sun_direction, f.daylight.sun_color))
+    bind_textures(program, {"u_hdr": f.targets.resolved.colors[0]})
+    set_uniforms(program, **god_ray_uniforms(f.view_projection, f.camera.eye, f.daylight.sun_direction, f.daylight.sun_color))
     draw_fullscreen(program)
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays, set_uniforms
+from ..gl import VertexArrays, bind_textures, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
 from ._culling import BuildingChunks
@@ -54,6 +54,7 @@ def draw_interior_layers(f):
     pass culls back faces: a floor and the ceiling below it share a plane)."""
     program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
     set_uniforms(program, **f.common_uniforms())
+    bind_textures(program, f.room_textures())
     f.city.records.bind_to_storage_buffer(0)
     for layer in POLYGONISED_LAYERS:
         f.city.polygonised().draw(program, layer, f.view_projection)

@@ -16,8 +16,7 @@ import numpy as np
 
 from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
-from ..gl import set_uniforms
-from ._uniforms import UNIT_SHADOW
+from ..gl import bind_textures, set_uniforms
 
 # Until a cascade is first drawn, its matrix sends every point outside [0, 1]: no shadow from it.
 _OUTSIDE = np.array([[0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, 1.0]])
@@ -89,9 +88,7 @@ class CascadedShadows:
         """Binds the maps to their units and sets the receiver uniforms of shadow/csm.glsl."""
         if "u_shadow_matrix" not in program:
             return
-        for i, (unit, depth) in enumerate(zip(UNIT_SHADOW, self.maps)):
-            depth.use(unit)
-            set_uniforms(program, **{f"u_shadow_map{i}": unit})
+        bind_textures(program, {f"u_shadow_map{i}": depth for i, depth in enumerate(self.maps)})
         program["u_shadow_matrix"].write(np.stack([m.T for m in self.matrices]).astype("f4").tobytes())
         set_uniforms(program, u_shadow_bias=np.full(len(self.maps), 0.0008))
 

@@ -25,7 +25,7 @@ def cubemap(ctx: moderngl.Context, faces: np.ndarray):
 class CityTextures:
     """GL textures for rooms, facade bay, furniture sprites, curtains and the sky."""
 
-    rooms: dict
+    rooms: moderngl.TextureArray  # layer = face index in ROOM_FACES * room_variants + variant
     atlas: moderngl.Texture
     atlas_layout: dict
     facade: moderngl.Texture
@@ -41,7 +41,8 @@ class CityTextures:
     @classmethod
     def create(cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8) -> "CityTextures":
         rooms_np = assets.room_textures(size=room_size, variants=variants)
-        rooms = {face: upload_texture(ctx, rooms_np[face], "srgb", repeat=False) for face in ROOM_FACES}
+        # one array, face after face (shaders/interior/interior.glsl room_layer)
+        rooms = upload_texture(ctx, np.concatenate([rooms_np[face] for face in ROOM_FACES]), "srgb", repeat=False)
         atlas_np, layout = assets.room_atlas(rooms_np)
         atlas = upload_texture(ctx, atlas_np, "srgb", repeat=False)
         facade_np, glass = assets.facade_texture()
@@ -54,7 +55,7 @@ class CityTextures:
                    kinds, frames, curtain, variants, grammar, DeferredGrammarPass(ctx))
 
     def release(self):
-        for tex in (*self.rooms.values(), self.atlas, self.facade, self.sprites, self.curtain):
+        for tex in (self.rooms, self.atlas, self.facade, self.sprites, self.curtain):
             tex.release()
         self.grammar.release()
         self.grammar_pass.release()

@@ -14,9 +14,8 @@ import numpy as np
 
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
-from ..gl import VertexArrays, set_uniforms, upload_texture
+from ..gl import VertexArrays, bind_textures, set_uniforms, upload_texture
 from ._culling import boxes_visible, frustum_planes
-from ._uniforms import UNIT_BARK_COLOR, UNIT_BARK_NORMAL, UNIT_LEAF_COLOR, UNIT_LEAF_DETAIL
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
 INSTANCE_LAYOUT = "4f 4f/i"
@@ -27,6 +26,8 @@ PARTS = {  # part -> (program, layout, attributes, extra defines)
     "leaves": ("trees/leaves.glsl", CARD_LAYOUT, CARD_ATTRIBUTES, {}),
     "fronds": ("trees/leaves.glsl", FROND_LAYOUT, FROND_ATTRIBUTES, {"FRONDS": True}),
 }
+BARK, LEAF = ("u_bark_color", "u_bark_normal"), ("u_leaf_color", "u_leaf_detail")
+PART_SAMPLERS = {"trunks": BARK, "fins": BARK, "leaves": LEAF, "fronds": LEAF}  # the textures each part samples
 
 
 @dataclass(frozen=True)
@@ -86,10 +87,10 @@ class TreePass:
                 self.parts[index, lod, "fronds"] = _Part(ctx, mesh.fronds, mesh.frond_indices)
         bark, leaves = bark_textures(), leaf_textures()
         self.textures = {
-            UNIT_BARK_COLOR: upload_texture(ctx, bark.color_height, "srgb"),
-            UNIT_BARK_NORMAL: upload_texture(ctx, bark.normal, "stored", dtype="f1"),
-            UNIT_LEAF_COLOR: upload_texture(ctx, leaves.color, "srgb", repeat=False),
-            UNIT_LEAF_DETAIL: upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
+            "u_bark_color": upload_texture(ctx, bark.color_height, "srgb"),
+            "u_bark_normal": upload_texture(ctx, bark.normal, "stored", dtype="f1"),
+            "u_leaf_color": upload_texture(ctx, leaves.color, "srgb", repeat=False),
+            "u_leaf_detail": upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
         self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
@@ -143,6 +144,7 @@ class TreePass:
                               index_buffer=gpu.ibo)
 
     def _draw_part(self, program, part: str, mode=moderngl.TRIANGLES) -> int:
+        bind_textures(program, {name: self.textures[name] for name in PART_SAMPLERS[part]})
         calls = 0
         for (species, lod), (buffer, count) in self.instances.items():
             if part == "fins":
@@ -162,24 +164,17 @@ class TreePass:
         return self.programs.get(path, {**extra, **{k: v for k, v in defines.items() if v}})
 
     def _common(self) -> dict:
-        return dict(u_wind=np.array(self.settings.wind, float),
-                    u_bark_color=UNIT_BARK_COLOR, u_bark_normal=UNIT_BARK_NORMAL,
-                    u_leaf_color=UNIT_LEAF_COLOR, u_leaf_detail=UNIT_LEAF_DETAIL)
-
-    def bind_textures(self):
-        for unit, tex in self.textures.items():
-            tex.use(unit)
+        return dict(u_wind=np.array(self.settings.wind, float))
 
     def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
-             ids: bool = False) -> int:
+             ids: bool = False, env: moderngl.TextureCube | None = None) -> int:
         """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj; the
         camera, sun, sky and time come from the frame block (cityshade.gl.FRAME_BLOCK), which the
         caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
         span). With `ids`, the id AOV into the bound uint target instead: FACE_TRUNK on trunks and
         fins, FACE_FOLIAGE on leaves and fronds, alpha-tested (a face code cannot be a coverage
-        mix). Returns the number of draw calls."""
+        mix). `env` is the sky's radiance, for the leaves' sky light. Returns the number of draw calls."""
         s, ctx = self.settings, self.ctx
-        self.bind_textures()
         alpha_to_coverage = s.alpha_to_coverage and not ids
         base = dict(ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None),
                     ID_PASS=ids)
@@ -203,6 +198,8 @@ class TreePass:
                 continue
             program = programs[part]
             set_uniforms(program, **values)
+            if env is not None:
+                bind_textures(program, {"u_env": env})
             if shadows is not None:
                 shadows.bind(program)
             if part == "trunks":
@@ -217,7 +214,6 @@ class TreePass:
         right, up = light_basis(sun_dir)
         values = {**self._common(), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
                   "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
-        self.bind_textures()
         calls = 0
         for part in ("trunks", "fronds", "leaves"):
             if part not in casters:
@@ -243,4 +239,4 @@ def draw_trees(f, ids: bool = False) -> int:
     if f.trees is None:
         return 0
     f.trees.prepare(f.camera.eye, f.view_projection if ids else None)  # the id AOV's trees: only those in view
-    return f.trees.draw(f.common_uniforms(), f.camera.view(), None if ids else f.shadows, ids=ids)
+    return f.trees.draw(f.common_uniforms(), f.camera.view(), None if ids else f.shadows, ids=ids, env=f.env)

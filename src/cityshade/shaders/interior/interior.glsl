@@ -36,10 +36,8 @@ uniform int u_feature_mask;      // FLAG_* bits switched on for this frame
 uniform sampler2D u_room_atlas;
 uniform vec4 u_atlas_layout;     // tile size, padding (texels), atlas width, atlas height
 #else
-uniform sampler2DArray u_ceiling;
-uniform sampler2DArray u_floor;
-uniform sampler2DArray u_wall_x;
-uniform sampler2DArray u_wall_z;
+// Every face of every variant, one texture array: layer = (face - FACE_CEILING) * variants + variant.
+uniform sampler2DArray u_rooms;
 #endif
 uniform sampler2DArray u_sprites;  // layer = kind * frames + frame
 uniform sampler2D u_curtain;
@@ -107,6 +105,10 @@ Room find_room(vec3 p, vec3 n, Building b) {
     return r;
 }
 
+#ifndef IM_SINGLE_ATLAS
+int room_layer(int face, int variant) { return (face - FACE_CEILING) * u_room_variants + variant; }
+#endif
+
 vec4 room_texture(int face, vec2 uv, vec2 duvdx, vec2 duvdy, int variant) {
 #ifdef IM_SINGLE_ATLAS
     // tile (column = variant, row = face - FACE_CEILING), inside its padding
@@ -116,11 +118,7 @@ vec4 room_texture(int face, vec2 uv, vec2 duvdx, vec2 duvdy, int variant) {
     vec2 st = (origin + clamp(uv, 0.0, 1.0) * tile) / atlas;
     return textureGrad(u_room_atlas, st, duvdx * tile / atlas, duvdy * tile / atlas);
 #else
-    vec3 st = vec3(uv, float(variant));
-    if (face == FACE_CEILING) return textureGrad(u_ceiling, st, duvdx, duvdy);
-    if (face == FACE_FLOOR) return textureGrad(u_floor, st, duvdx, duvdy);
-    if (face == FACE_WALL_X) return textureGrad(u_wall_x, st, duvdx, duvdy);
-    return textureGrad(u_wall_z, st, duvdx, duvdy);
+    return textureGrad(u_rooms, vec3(uv, float(room_layer(face, variant))), duvdx, duvdy);
 #endif
 }
 
@@ -129,7 +127,7 @@ vec3 room_mean_color(Room r) {
 #ifdef IM_SINGLE_ATLAS
     return room_texture(FACE_WALL_Z, vec2(0.5), vec2(1.0), vec2(1.0), r.variant).rgb;
 #else
-    return textureLod(u_wall_z, vec3(0.5, 0.5, float(r.variant)), 16.0).rgb;
+    return textureLod(u_rooms, vec3(0.5, 0.5, float(room_layer(FACE_WALL_Z, r.variant))), 16.0).rgb;
 #endif
 }
 

@@ -33,9 +33,10 @@ uint relief_fetch(int map, ivec2 cell) {
 }
 
 #elif defined CODEC_BMF
-uniform usampler2D u_bmf_x[3];  // (ceil(terms / 32), rows), term k in bit k % 32 of word k / 32
-uniform usampler2D u_bmf_y[3];  // (ceil(terms / 32), columns)
-uniform sampler2D u_bmf_s[3];   // (terms, 1)
+// Texture arrays, layer = map, each layer zero-padded to the largest map's size.
+uniform usampler2DArray u_bmf_x;  // (ceil(terms / 32), rows), term k in bit k % 32 of word k / 32
+uniform usampler2DArray u_bmf_y;  // (ceil(terms / 32), columns)
+uniform sampler2DArray u_bmf_s;   // (terms, 1)
 uniform int u_words[3];
 
 #if defined BMF_LSB_MOD37
@@ -50,11 +51,11 @@ int lowest_set_bit(uint bits) { return findLSB(bits); }
 uint relief_fetch(int map, ivec2 cell) {
     float sum = 0.0;
     for (int w = 0; w < u_words[map]; w++) {
-        uint bits = texelFetch(u_bmf_x[map], ivec2(w, cell.y), 0).r & texelFetch(u_bmf_y[map], ivec2(w, cell.x), 0).r;
+        uint bits = texelFetch(u_bmf_x, ivec3(w, cell.y, map), 0).r & texelFetch(u_bmf_y, ivec3(w, cell.x, map), 0).r;
         // At most 32 rounds: each clears one bit. (A `b < 32` counter makes compilers unroll all
         // 32 rounds, several times slower on llvmpipe.)
         while (bits != 0u) {
-            sum += texelFetch(u_bmf_s[map], ivec2(w * 32 + lowest_set_bit(bits), 0), 0).r;
+            sum += texelFetch(u_bmf_s, ivec3(w * 32 + lowest_set_bit(bits), 0, map), 0).r;
             bits &= bits - 1u;  // knock out the bit just used
         }
     }
