@@ -183,3 +183,16 @@ def test_binding_a_sampler_the_program_lacks_is_an_error_in_strict_mode(gl_conte
             bind_textures(program, {"u_env": texture})  # a sampler of other programs, not of this one
     finally:
         texture.release()
+
+
+def test_the_polygonised_baseline_renders_with_shadows(gl_context):
+    """Its exterior and glass variants read fewer cascades, so the compiled shadow arrays are shorter
+    than CASCADES; binding the shadows must fit each program (it once raised 'invalid uniform size')."""
+    import numpy as np
+
+    city = make_city("grid")
+    renderer = Renderer((64, 48), RenderSettings(samples=0, polygonised_interiors=True, shadows=True), ctx=gl_context)
+    renderer.set_city(city)
+    image = renderer.render(city.camera("orbit")).astype(float)
+    renderer.release()
+    assert np.isfinite(image).all() and image.std() > 5

@@ -18,6 +18,8 @@ from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
 from ..gl import bind_textures, set_uniforms
 
+SHADOW_BIAS = 0.0008  # texture-depth units, every cascade
+
 # Until a cascade is first drawn, its matrix sends every point outside [0, 1]: no shadow from it.
 _OUTSIDE = np.array([[0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, -1.0], [0, 0, 0, 1.0]])
 
@@ -89,8 +91,12 @@ class CascadedShadows:
         if "u_shadow_matrix" not in program:
             return
         bind_textures(program, {f"u_shadow_map{i}": depth for i, depth in enumerate(self.maps)})
-        program["u_shadow_matrix"].write(np.stack([m.T for m in self.matrices]).astype("f4").tobytes())
-        set_uniforms(program, u_shadow_bias=np.full(len(self.maps), 0.0008))
+        # a variant that reads only the first cascades has a shorter array after compilation
+        matrices = program["u_shadow_matrix"]
+        matrices.write(np.stack([m.T for m in self.matrices[:matrices.array_length]]).astype("f4").tobytes())
+        if "u_shadow_bias" in program:
+            bias = program["u_shadow_bias"]
+            bias.write(np.full(bias.array_length, SHADOW_BIAS, "f4").tobytes())
 
     def release(self):
         for fbo, depth in zip(self.fbos, self.maps):
