@@ -223,6 +223,7 @@ void grammar_split(vec4 head, int a) {
         }
         after_tile = after_tile || is_tile;
         pos = pos + span;
+        if ((found || over) && pos > t + GRAMMAR_MAX_OVERHANG) break;  // no later part reaches back to t
     }
     g_split = vec2(chosen.x, float(n) + max(count - 1.0, 0.0));
     g_lb[a] = chosen.y;
