@@ -104,7 +104,7 @@ def check(source: SourceGrammar, tile_names: dict[str, int]) -> Grammar:
     if not errors:
         errors += _walk(rules)[1]
     if not errors:
-        errors += _limit_errors(rules) + _index_errors(rules)
+        errors += _limit_errors(rules) + _index_errors(rules) + _overhang_errors(rules)
     if errors:
         errors.sort(key=lambda e: (e.location.path, e.location.line, e.location.column))
         raise GrammarError(errors, source.sources)
@@ -193,6 +193,9 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
         return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number of at least 1e-7")
     if kind is Kind.FRACTION and not 0 <= value <= 1:
         return fail(f"a colour channel is in [0, 1], got {arg.text}")
+    if kind is Kind.MARGIN and not 0 <= value <= limits.MAX_OVERHANG:
+        return fail(f"an overhang's margin is in [0, {limits.MAX_OVERHANG:g}] metres, got {arg.text}",
+                    "a part reaches at most that far over its neighbours")
     if kind is Kind.WEIGHT and not 0 < value <= 1:
         return fail(f"weight must be in (0, 1], got {arg.text}")
     if kind is Kind.COUNT:
@@ -287,6 +290,31 @@ def _operator_checks(rule: Rule, errors: list):
                 arg = definition.args[start + 1 + outside[0]]
                 what = "a constant colour" if tex.tile < 0 else "a fitted texture's rectangle"
                 errors.append(Diagnostic(arg.location, f"{what} needs four values in [0, 1]"))
+
+
+def _overhang_errors(rules: dict[str, Rule]) -> list[Diagnostic]:
+    """An Overhang is drawn by the Split that holds it (the Split reads its margins): it may be
+    referenced only as a Split's Abs or Rel part, by name (an alias of it is the same texels)."""
+    def overhang(name: str) -> bool:
+        rule = rules[name]
+        while rule.operator == ALIAS and isinstance(rule.values[0], str):
+            rule = rules[rule.values[0]]
+        return rule.operator == "Overhang"
+
+    found = []
+    for rule in rules.values():
+        definition = rule.source.definition
+        for position, (value, kind) in enumerate(zip(rule.values, _kinds(rule.operator, len(rule.values)))):
+            if kind is not Kind.RULE or not overhang(getattr(value, "name", value)):
+                continue
+            split_part = rule.operator in ("SplitX", "SplitY") and rule.values[position - 2] != TILE
+            if isinstance(value, str) and (split_part or rule.operator == ALIAS):
+                continue
+            alias = rule.operator == ALIAS
+            found.append(Diagnostic(definition.operator_location if alias else definition.args[position].location,
+                                    f"{'a reference with arguments' if alias else rule.operator} cannot hold an Overhang",
+                                    "an Overhang is an Abs or Rel part of a SplitX or SplitY, named without arguments"))
+    return found
 
 
 def _split_totals(rules: dict[str, Rule]) -> dict[str, set]:

@@ -76,6 +76,8 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
         return [[op, 1, 0, 1 + label], [v[0], v[1], v[2], 1.0]]
     if name == "Tint":
         return [[op, address_of(v[3]), 0, 0], [v[0], v[1], v[2], 0]]
+    if name == "Overhang":  # its Split reads the margins and runs the rule in the enlarged part
+        return [[op, v[0], v[1], address_of(v[2])]]
     if name == "Case":
         # Each condition's postfix tokens, then (CASE, its rule): the first true one is taken,
         # else the last rule (in the head).

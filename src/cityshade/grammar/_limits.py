@@ -12,6 +12,7 @@ MAX_PARAMS = 4  # parameters of one rule, Floor(i, k)
 MAX_TEXELS = 2048
 RANDOM_PARTS = 32  # added to a Split's part count (> MAX_PARTS) when its sizes are rand(low, high)
 PART_STREAMS = MAX_TEXELS  # part i of the rule at address r draws from stream r + PART_STREAMS * (i + 1)  # rule addresses are exact integers in a 16-bit float channel up to 2048
+MAX_OVERHANG = 1.0  # metres an Overhang reaches past its part of a Split, on each side
 TEXTURE_WIDTH = 256
 HALF_MAX = 65504.0  # the largest 16-bit float: every number of a rule, and Split's sums, are stored as one
 
@@ -26,4 +27,5 @@ DEFINES = {
     "GRAMMAR_RANDOM_PARTS": RANDOM_PARTS,
     "GRAMMAR_MAX_PARAMS": MAX_PARAMS,
     "GRAMMAR_PART_STREAMS": PART_STREAMS,
+    "GRAMMAR_MAX_OVERHANG": MAX_OVERHANG,
 }

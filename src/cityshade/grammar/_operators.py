@@ -22,6 +22,7 @@ class Kind(Enum):
     CONDITION = "a condition"
     FRACTION = "a number in [0, 1]"
     LABEL = "a label"
+    MARGIN = "a margin in metres in [0, 1]"
 
 
 # Split's part sizes: absolute metres; relative, i.e. floating (CGA's `~`): these share what the
@@ -84,6 +85,8 @@ OPERATORS: dict[str, Signature] = {
     "Color": Signature(12, (Kind.FRACTION, Kind.FRACTION, Kind.FRACTION), optional=(Kind.LABEL,)),
     # Multiplies the colour of every colour Mat below it by (r, g, b): a tinted texture.
     "Tint": Signature(16, (Kind.FRACTION, Kind.FRACTION, Kind.FRACTION, Kind.RULE)),
+    # A Split part drawn `before` and `after` metres past its own ends, over its neighbours.
+    "Overhang": Signature(17, (Kind.MARGIN, Kind.MARGIN, Kind.RULE)),
     "Case": Signature(14, (), (Kind.CONDITION, Kind.RULE), 1, tail=(Kind.RULE,)),
     ALIAS: Signature(0, (Kind.RULE,)),
 }

@@ -213,20 +213,27 @@ class _Evaluator:
         after_tile = np.zeros(len(idx), bool)
         target = np.zeros(len(idx), np.int32)
         searching = np.ones(len(idx), bool)
+        over = np.zeros(len(idx), bool)  # an Overhang part reaches t: the last one is drawn over the others
         for i in range(limits.MAX_PARTS):
             sv, ref, drawn = self.part_sizes(p, idx, first, highs, random, i)
             w = np.where(sv < 0, drawn, drawn * scale)
             is_tile = ref < 0
             span = np.where(is_tile, w * count, w)
-            hit = searching & (i < n) & ((t < pos + span) | (i == n - 1))
+            index = F(i) + np.where(after_tile, count - F(1), F(0))
+            child = self.tex[np.clip(ref, F(0), F(len(self.tex) - 1)).astype(np.int32)]  # slots past n: any texel
+            before, after = child[:, 1], child[:, 2]
+            overhang = (i < n) & ~is_tile & (child[:, 0] == 17) & (t >= pos - before) & (t < pos + span + after)
+            hit = searching & ~over & ~overhang & (i < n) & ((t < pos + span) | (i == n - 1))
             with np.errstate(divide="ignore", invalid="ignore"):
                 k = np.where(is_tile, np.clip(np.floor((t - pos) / w), F(0), count - F(1)), F(0))
-            chosen_pos = np.where(hit, pos + k * w, chosen_pos)
-            chosen_w = np.where(hit, np.where(is_tile, w, span), chosen_w)
-            chosen_index = np.where(hit, F(i) + k + np.where(after_tile, count - F(1), F(0)), chosen_index)
+            chosen_pos = np.where(overhang, pos - before, np.where(hit, pos + k * w, chosen_pos))
+            chosen_w = np.where(overhang, span + before + after, np.where(hit, np.where(is_tile, w, span), chosen_w))
+            chosen_index = np.where(overhang, index, np.where(hit, index + k, chosen_index))
             after_tile |= is_tile
-            target = np.where(hit, np.where(is_tile, -ref - F(1), ref).astype(np.int32), target)
+            target = np.where(overhang, child[:, 3].astype(np.int32),
+                              np.where(hit, np.where(is_tile, -ref - F(1), ref).astype(np.int32), target))
             searching &= ~hit
+            over |= overhang
             pos = pos + span
         p.lb[idx, a] = chosen_pos
         p.size[idx, a] = chosen_w
@@ -284,6 +291,10 @@ class _Evaluator:
     def op_tint(self, p, idx, op):
         p.tint[idx] *= self.tex[p.addr[idx] + 1, :3]
         p.addr[idx] = self.tex[p.addr[idx], 1].astype(np.int32)
+
+    def op_overhang(self, p, idx, op):
+        """An Overhang not reached through its Split (a start rule): its rule, in the scope as it is."""
+        p.addr[idx] = self.tex[p.addr[idx], 3].astype(np.int32)
 
     def op_bind(self, p, idx, op):
         head = self.tex[p.addr[idx]]
@@ -471,7 +482,8 @@ class _Evaluator:
 
 _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",
              7: "op_rand_stack", 8: "op_layer", 9: "op_skip", 10: "op_skip_mask", 11: "op_intrusion",
-             12: "op_mat", 13: "op_mat", 14: "op_case", 15: "op_bind", 16: "op_tint"}
+             12: "op_mat", 13: "op_mat", 14: "op_case", 15: "op_bind", 16: "op_tint",
+             17: "op_overhang"}
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,

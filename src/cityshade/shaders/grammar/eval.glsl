@@ -195,7 +195,11 @@ void grammar_split(vec4 head, int a) {
     float pos = g_lb[a];
     float t = g_t[a];
     bool after_tile = false;
-    for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
+    bool found = false;
+    bool over = false;  // an Overhang part reaches t: the last one is drawn over the others
+    vec3 chosen = vec3(0.0);  // the part's index, lower end and size; set after the loop, which draws from g_lb
+    int target = 0;
+    for (int i = 0; i < GRAMMAR_MAX_PARTS && i < n; ++i) {
         vec4 part = grammar_texel(first + i / 2);
         float sv = (i % 2 == 0) ? part.x : part.z;
         float ref = (i % 2 == 0) ? part.y : part.w;
@@ -203,24 +207,28 @@ void grammar_split(vec4 head, int a) {
         float w = sv < 0.0 ? drawn : drawn * scale;
         bool is_tile = ref < 0.0;
         float span = is_tile ? w * count : w;
-        if (t < pos + span || i == n - 1) {
-            float k = 0.0;  // the copy of the tile
-            if (is_tile) {
-                k = clamp(floor((t - pos) / w), 0.0, count - 1.0);
-                pos += k * w;
-            } else {
-                w = span;
-            }
+        float index = float(i) + (after_tile ? count - 1.0 : 0.0);
+        vec4 child = grammar_texel(int(max(ref, 0.0)));
+        if (!is_tile && child.x == 17.0 && t >= pos - child.y && t < pos + span + child.z) {
+            // The part enlarged by its margins (child.y before, child.z after); its rule runs there.
+            over = true;
+            chosen = vec3(index, pos - child.y, span + child.y + child.z);
+            target = int(child.w);
+        } else if (!over && !found && (t < pos + span || i == n - 1)) {
+            found = true;
+            float k = is_tile ? clamp(floor((t - pos) / w), 0.0, count - 1.0) : 0.0;  // the copy of the tile
             // Parts after the tile count its copies: CGA's split.index over all elements made.
-            g_split = vec2(float(i) + k + (after_tile ? count - 1.0 : 0.0), float(n) + max(count - 1.0, 0.0));
-            g_lb[a] = pos;
-            g_size[a] = w;
-            g_addr = int(is_tile ? -ref - 1.0 : ref);
-            return;
+            chosen = vec3(index + k, pos + k * w, is_tile ? w : span);
+            target = int(is_tile ? -ref - 1.0 : ref);
         }
         after_tile = after_tile || is_tile;
         pos = pos + span;
+        if ((found || over) && pos > t + GRAMMAR_MAX_OVERHANG) break;  // no later part reaches back to t
     }
+    g_split = vec2(chosen.x, float(n) + max(count - 1.0, 0.0));
+    g_lb[a] = chosen.y;
+    g_size[a] = chosen.z;
+    g_addr = target;
 }
 
 float grammar_variable(int index) {
@@ -484,6 +492,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
         } else if (op == 11) {
             grammar_intrusion(head);
+        } else if (op == 17) {
+            g_addr = int(head.w);  // an Overhang not reached through its Split (a start rule): its rule as it is
         } else if (op == 16) {
             g_tint *= grammar_texel(g_addr + 1).rgb;
             g_addr = int(head.y);
