@@ -150,8 +150,11 @@ def test_one_registry_chooses_each_building_facade():
 
 @pytest.mark.parametrize(
     "city, changes",
-    [("default", {}), ("grid", {"polygonised_interiors": True, "shadows": False}),  # the baseline: box buildings
-     ("default", {"grammar_deferred": False, "single_atlas": True})],
+    [
+        ("default", {}),
+        ("grid", {"polygonised_interiors": True, "shadows": False}),  # the baseline: box buildings
+        ("default", {"grammar_deferred": False, "single_atlas": True}),
+    ],
 )
 def test_every_program_of_the_frame_has_at_most_16_samplers(gl_context, city, changes):
     """Texture units are numbered per program; OpenGL 4.3 guarantees 16 per stage."""
@@ -165,8 +168,11 @@ def test_every_program_of_the_frame_has_at_most_16_samplers(gl_context, city, ch
     for path, program in programs(gl_context).built():
         if isinstance(program, moderngl.Program):
             units = sampler_units(program)
-            used = [unit for name, first in units.items()
-                    for unit in range(first, first + max(program[name].array_length, 1))]
+            used = [
+                unit
+                for name, first in units.items()
+                for unit in range(first, first + max(program[name].array_length, 1))
+            ]
             assert sorted(used) == list(range(len(used))), f"{path}: units {units} are not 0..n-1"
             counts[path] = max(counts.get(path, 0), len(used))
     assert counts.get("city/building.glsl", 0) > 10, counts  # the program that sampled the most

@@ -155,7 +155,9 @@ def declared_samplers(program) -> frozenset[str]:
 
 def _names(pattern: re.Pattern, text: str) -> frozenset[str]:
     """The names declared by each `uniform TYPE a, b[3];` that `pattern` matches in `text`."""
-    return frozenset(name.split("[")[0].strip() for match in pattern.finditer(text) for name in match.group(1).split(","))
+    return frozenset(
+        name.split("[")[0].strip() for match in pattern.finditer(text) for name in match.group(1).split(",")
+    )
 
 
 def _glsl_files(folder):

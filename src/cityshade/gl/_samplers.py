@@ -20,8 +20,13 @@ MAX_SAMPLERS = 16  # texture units per stage that OpenGL 4.3 guarantees
 # GL_SAMPLER_* / GL_INT_SAMPLER_* / GL_UNSIGNED_INT_SAMPLER_* type enums (plain, shadow, array,
 # cube, buffer, rectangle, multisample)
 _SAMPLER_TYPES = frozenset(
-    [*range(0x8B5D, 0x8B65), *range(0x8DC0, 0x8DC6), *range(0x8DC9, 0x8DD9), *range(0x900C, 0x9010),
-     *range(0x9108, 0x910E)]
+    [
+        *range(0x8B5D, 0x8B65),
+        *range(0x8DC0, 0x8DC6),
+        *range(0x8DC9, 0x8DD9),
+        *range(0x900C, 0x9010),
+        *range(0x9108, 0x910E),
+    ]
 )
 
 
@@ -35,8 +40,10 @@ def sampler_units(program: moderngl.Program) -> dict[str, int]:
             unit += max(program[name].array_length, 1)
         if unit > MAX_SAMPLERS:
             where = extra.get("path", "a program")
-            raise ShaderError(f"{where} has {unit} active samplers ({', '.join(units)}); OpenGL guarantees "
-                              f"{MAX_SAMPLERS} per stage: put textures of one kind into a texture array")
+            raise ShaderError(
+                f"{where} has {unit} active samplers ({', '.join(units)}); OpenGL guarantees "
+                f"{MAX_SAMPLERS} per stage: put textures of one kind into a texture array"
+            )
         for name, first in units.items():
             length = max(program[name].array_length, 1)
             program[name].value = first if length == 1 else list(range(first, first + length))
