@@ -146,7 +146,7 @@ def test_railways_two_rails_a_gauge_apart_ballast_for_trains_none_in_tunnels():
 
 def test_the_shaders_get_the_ground_materials_from_python():
     """Ground material ids reach the shaders through the generated constants, not by hand."""
-    from cityshade.maps import MAP_GROUND_MATERIALS
+    from cityshade.scene import MAP_GROUND_MATERIALS
     from cityshade.shader_constants import CONSTANTS
 
     assert len(MAP_GROUND_MATERIALS) == 8 and all(CONSTANTS[k] == v for k, v in MAP_GROUND_MATERIALS.items())

@@ -49,14 +49,20 @@ def check_lights(value) -> float | None:
     return number
 
 
+def _whole(value, high: int) -> int | None:
+    """`value` as a whole number from 0 to `high`, or None (bools, fractions, text, overflow)."""
+    try:
+        number = int(value)
+        valid = not isinstance(value, bool) and number == float(value) and 0 <= number <= high
+    except (TypeError, ValueError, OverflowError):
+        return None
+    return number if valid else None
+
+
 def check_seed(value, option: str = "--seed") -> int:
     """A seed from 0 to 2^31 - 1."""
-    try:
-        seed = int(value)
-        valid = not isinstance(value, bool) and seed == float(value) and 0 <= seed <= MAX_SEED
-    except (TypeError, ValueError, OverflowError):
-        valid = False
-    if not valid:
+    seed = _whole(value, MAX_SEED)
+    if seed is None:
         raise UsageError(f"invalid {option} {_shown(value)}; a seed is a whole number from 0 to {MAX_SEED}")
     return seed
 
@@ -69,12 +75,8 @@ def check_samples(value) -> int:
 
 def check_count(value, option: str) -> int:
     """A whole number from 0 to 2048 (a building attribute: exact in the GPU's 16-bit floats)."""
-    try:
-        count = int(value)
-        valid = not isinstance(value, bool) and count == float(value) and 0 <= count <= 2048
-    except (TypeError, ValueError, OverflowError):
-        valid = False
-    if not valid:
+    count = _whole(value, 2048)
+    if count is None:
         raise UsageError(f"invalid {option} {_shown(value)}; give a whole number from 0 to 2048")
     return count
 

@@ -10,8 +10,7 @@ from .gl import declare_constants
 from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
 from .relief import FACADE_RELIEF, GLASS, RELIEF_FACE_CODES
-from .maps import MAP_GROUND_MATERIALS
-from .scene import FLAGS, GROUND_MATERIALS, ROOF_PATTERNS, SHAPE_CODES, SURFACE_CODES
+from .scene import FLAGS, GROUND_MATERIALS, MAP_GROUND_MATERIALS, ROOF_PATTERNS, SHAPE_CODES, SURFACE_CODES
 
 CONSTANTS: dict[str, int | str] = {
     **FACE_CODES,  # id AOV faces: FACE_NONE ... FACE_GROUND, FACE_TRUNK, FACE_FOLIAGE

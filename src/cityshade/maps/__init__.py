@@ -4,7 +4,6 @@ from ._model import (
     AREA_KINDS, BUILDING_ATTRIBUTES, ROOF_SHAPES, TREE_ATTRIBUTES, Area, Lamp, MapBuilding, MapData, MapTree,
     Railway, ReadReport, Road, to_scene,
 )
-from ._ground import MAP_GROUND_MATERIALS
 from ._guess import guess_missing
 from ._load import load_map
 from ._tiling import measure_load, tiled_extract
@@ -15,7 +14,7 @@ from ._scene import map_city
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
 
 __all__ = [
-    "MAP_GROUND_MATERIALS",
+
     "AREA_KINDS", "BUILDING_ATTRIBUTES", "ROOF_SHAPES", "TREE_ATTRIBUTES", "Area", "Lamp", "MapBuilding", "MapData",
     "MapTree", "Railway", "ReadReport", "Road", "building_masses", "facade_style", "guess_missing", "load_map", "to_scene",
     "measure_load", "tiled_extract",

@@ -13,15 +13,11 @@ import mapbox_earcut as earcut
 import numpy as np
 import shapely
 
-from ..scene import GROUND_ASPHALT, GROUND_GRASS, GROUND_PAVEMENT
+from ..scene import (GROUND_ASPHALT, GROUND_BALLAST, GROUND_GRASS, GROUND_LAND, GROUND_MARKING, GROUND_PAVEMENT,
+                     GROUND_RAIL, GROUND_SAND, GROUND_WATER)
 from ._model import MapData, to_scene
 from ._streets import StreetSurfaces, street_surfaces
 
-# Material ids read by shaders/city/ground.glsl: the built-in city's three, then those of
-# shaders/city/map_ground.glsl.
-GROUND_WATER, GROUND_MARKING, GROUND_RAIL, GROUND_BALLAST, GROUND_LAND, GROUND_SAND, GROUND_POST, GROUND_BULB = range(3, 11)
-# The map's ground materials as the shaders see them (cityshade.shader_constants)
-MAP_GROUND_MATERIALS = {name: value for name, value in globals().items() if name.startswith("GROUND_") and value >= 3}
 AREA_MATERIALS = {"water": GROUND_WATER, "grass": GROUND_GRASS, "park": GROUND_GRASS, "forest": GROUND_GRASS,
                   "meadow": GROUND_GRASS, "farmland": GROUND_GRASS, "pavement": GROUND_PAVEMENT, "sand": GROUND_SAND}
 HORIZON = 400_000.0  # metres of land plane around the map: its edge sinks below the horizon seen from 3 km up

@@ -8,7 +8,7 @@ import numpy as np
 
 import shapely
 
-from ._ground import GROUND_BULB, GROUND_POST
+from ..scene import GROUND_BULB, GROUND_POST
 from ._model import Lamp, MapData, to_scene
 from ._streets import DRIVEN
 

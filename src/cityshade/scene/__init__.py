@@ -2,7 +2,9 @@
 
 from ._buildings import SHAPES, BuildingMass, box, cylinder, dome
 from ._camera import Camera, look_at, perspective
-from ._city import CITIES, GROUND_ASPHALT, GROUND_GRASS, GROUND_MATERIALS, GROUND_PAVEMENT, City, default_city, grid_city, make_city
+from ._city import (CITIES, GROUND_ASPHALT, GROUND_BALLAST, GROUND_BULB, GROUND_GRASS, GROUND_LAND, GROUND_MARKING,
+                    GROUND_MATERIALS, GROUND_PAVEMENT, GROUND_POST, GROUND_RAIL, GROUND_SAND, GROUND_WATER,
+                    MAP_GROUND_MATERIALS, City, default_city, grid_city, make_city)
 from ._footprints import load_footprints
 from ._materials import ROOF_PATTERNS
 from ._meshes import SURFACE_CODES, SURFACE_ROOF, VERTEX_ATTRIBUTES, VERTEX_DTYPE, VERTEX_FORMAT, batch, building_record, building_vertices
@@ -17,5 +19,6 @@ __all__ = [
     "default_city", "grid_city", "make_city", "load_footprints", "VERTEX_ATTRIBUTES", "VERTEX_DTYPE", "VERTEX_FORMAT",
     "batch", "building_record", "building_vertices", "BUILDING_DTYPE", "rotation_y", "PATHS", "camera_path",
     "intersect", "SURFACE_ROOF", "GROUND_ASPHALT", "GROUND_GRASS", "GROUND_PAVEMENT", "FLAG_CURTAINS", "FLAG_FURNITURE",
-    "FLAG_ROOM_VARIATION", "FLAGS", "SHAPE_CODES", "SURFACE_CODES", "GROUND_MATERIALS", "Roof", "ROOF_PATTERNS",
+    "FLAG_ROOM_VARIATION", "FLAGS", "SHAPE_CODES", "SURFACE_CODES", "GROUND_MATERIALS", "MAP_GROUND_MATERIALS", "Roof", "GROUND_BALLAST", "GROUND_BULB", "GROUND_LAND",
+    "GROUND_MARKING", "GROUND_POST", "GROUND_RAIL", "GROUND_SAND", "GROUND_WATER", "ROOF_PATTERNS",
 ]
