@@ -15,8 +15,8 @@ from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE
 from ._hash import hash3, unit_float
 from ._solids import cast_masses
 
-SALT_LIGHT, SALT_VARIANT, SALT_FURNITURE, SALT_PHASE, SALT_CURTAIN, SALT_WALL_X, SALT_WALL_Z = (
-    0x1000, 0x2000, 0x3000, 0x4000, 0x5000, 0x6000, 0x7000)
+SALT_LIGHT, SALT_VARIANT, SALT_FURNITURE, SALT_PHASE, SALT_CURTAIN, SALT_ROOM_DEPTH = (
+    0x1000, 0x2000, 0x3000, 0x4000, 0x5000, 0x7000)
 FURNITURE_DEPTH = 0.45
 CURTAIN_DEPTH = 0.08
 SPRITE_WIDTH = 0.55
@@ -44,45 +44,45 @@ def room_id(cx, cy, cz) -> np.ndarray:
     return (cx & 0x7FF) | ((cz & 0x7FF) << 11) | ((cy & 0x3FF) << 22)
 
 
-def _wall_offset(k, floor_index, lines, salt, jitter):
-    off = (unit_float(hash3(k, floor_index, np.zeros_like(k), salt)) - 0.5) * 2.0 * jitter
-    return np.where((k <= 0) | (k >= lines), 0.0, off)
+def face_frame(n: np.ndarray) -> np.ndarray:
+    """Per normal (N, 3): the rotation (N, 3, 3) from object space into its face's frame (metres along
+    the face as facade u grows, up, into the building); as face_frame() in the shader."""
+    out_dir = n * np.array([1.0, 0.0, 1.0])
+    out_dir /= np.linalg.norm(out_dir, axis=1, keepdims=True)
+    zero = np.zeros(len(n))
+    along = np.stack([-out_dir[:, 2], zero, out_dir[:, 0]], axis=1)
+    up = np.broadcast_to([0.0, 1.0, 0.0], n.shape)
+    return np.stack([along, up, -out_dir], axis=1)
 
 
-def _room_interval(x, size, lines, floor_index, salt, jitter):
-    k0 = np.floor(x / size).astype(np.int64)
-    w0 = (k0 + _wall_offset(k0, floor_index, lines, salt, jitter)) * size
-    w1 = (k0 + 1 + _wall_offset(k0 + 1, floor_index, lines, salt, jitter)) * size
-    below, above = x < w0, x >= w1
-    k = np.where(below, k0 - 1, np.where(above, k0 + 1, k0))
-    lo = np.where(below, (k0 - 1 + _wall_offset(k0 - 1, floor_index, lines, salt, jitter)) * size,
-                  np.where(above, w1, w0))
-    hi = np.where(below, w0, np.where(above, (k0 + 2 + _wall_offset(k0 + 2, floor_index, lines, salt, jitter)) * size, w1))
-    return k, lo, hi
-
-
-def find_room(p: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> dict:
-    """The room entered at facade points p (N, 3) with normals n: cell, box, id, lit, variant."""
-    size = mass.room_size
+def find_room(window: np.ndarray, facade: np.ndarray, face: np.ndarray, columns: np.ndarray, mass: BuildingMass,
+              params: InteriorParams) -> dict:
+    """The room behind windows (N, 4: u0, v0, u1, v1 of the glass's rectangle in facade coordinates,
+    or a point) on faces with facade rows (u, v, bay, storey), face rows (width, base, top, depth)
+    and room columns (first bay, last bay): cell, box (face frame), id, lit, variant."""
     seed = mass.seed
     jitter = mass.wall_jitter if params.room_variation else 0.0
-    lines = np.round(mass.extent / size).astype(np.int64)
-    q = p - n * (1e-3 * size.min())
-    cy = np.floor(q[:, 1] / size[1]).astype(np.int64)
-    cx, x0, x1 = _room_interval(q[:, 0], size[0], lines[0], cy, seed ^ SALT_WALL_X, jitter)
-    cz, z0, z1 = _room_interval(q[:, 2], size[2], lines[2], cy, seed ^ SALT_WALL_Z, jitter)
-    lo = np.stack([x0, cy * size[1], z0], axis=1)
-    hi = np.stack([x1, (cy + 1) * size[1], z1], axis=1)
+    bay, storey, width, base, depth = facade[:, 2], facade[:, 3], face[:, 0], face[:, 1], face[:, 3]
+    anchor = 0.5 * (window[:, :2] + window[:, 2:])
+    bays = np.maximum(1, np.round(width / bay)).astype(np.int64)
+    j = np.clip(np.floor(anchor[:, 0] / bay).astype(np.int64), 0, bays - 1)
+    cy = np.floor((anchor[:, 1] - base) / storey).astype(np.int64)
+    cx = np.where(j == bays - 1, columns[:, 1], columns[:, 0] + j)
+    cz = np.zeros_like(cx)
+    middle = (j > 0) & (j < bays - 1)
+    depth = depth * np.where(middle, 1.0 + (unit_float(hash3(cx, cy, cz, seed ^ SALT_ROOM_DEPTH)) - 0.5) * 2.0 * jitter, 1.0)
+    lo = np.stack([np.minimum(j * bay, window[:, 0]), np.minimum(base + cy * storey, window[:, 1]), np.zeros(len(j))], axis=1)
+    hi = np.stack([np.maximum((j + 1) * bay, window[:, 2]), np.maximum(base + (cy + 1) * storey, window[:, 3]), depth], axis=1)
     lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < params.lights * mass.lights
     variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 
 
-def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> tuple[np.ndarray, ...]:
-    """Per ray (facade point p, unit direction d, normal n; object space): face code, room id,
-    distance t from the facade, whether the room is lit and its texture variant, as the interior
-    shader decides them."""
-    room = find_room(p, n, mass, params)
+def trace(p: np.ndarray, d: np.ndarray, room: dict, mass: BuildingMass, params: InteriorParams) -> tuple[np.ndarray, ...]:
+    """Per ray (facade point p and unit direction d in the face's frame, face_frame; the room it
+    enters, find_room): face code, room id, distance t from the facade, whether the room is lit and
+    its texture variant, as the interior shader decides them."""
+    n = np.broadcast_to([0.0, 0.0, -1.0], p.shape)  # the face, seen from inside
     lo, hi = room["lo"], room["hi"]
     size = hi - lo
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -190,12 +190,19 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
                                                           hits.normal[walls], hits.facade[walls], mass.room_size[1])
         else:
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
-            row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
+            row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
             glass = ~roof & (facade_alpha[row, col] < 0.5)
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
         if glass.any() and mass.interior:  # without an interior the glass stays an exterior face
             rays = sel[glass]
-            face, room, _, lit, variant = trace(entry[rays], hits.direction[rays], hits.normal[rays], mass, params)
+            to_face = face_frame(hits.normal[rays])
+            point = hits.facade[rays, :2]
+            offset = np.einsum("nij,nj->ni", to_face, entry[rays] - hits.local[rays])
+            p = np.column_stack([point, np.zeros(len(rays))]) + offset
+            window = np.column_stack([point, point])  # the window-bay facade: the pixel's own bay
+            room = find_room(window, hits.facade[rays], hits.face[rays], hits.columns[rays], mass, params)
+            d = np.einsum("nij,nj->ni", to_face, hits.direction[rays])
+            face, room, _, lit, variant = trace(p, d, room, mass, params)
             out[rays, 0], out[rays, 1], out[rays, 3] = face, room, room_state(lit, variant)
     return out.reshape(height, width, 4)

@@ -34,8 +34,9 @@ uniform vec3 u_window_tint;
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
-in vec3 v_facade;
-flat in ivec2 v_ids;
+in vec4 v_facade;
+flat in vec4 v_face;
+flat in ivec4 v_ids;
 
 #if defined ID_PASS
 layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar label (0: none)
@@ -73,21 +74,22 @@ void main() {
         color = roof_color(b, v_local, n, n_world, rot * d, shadow_factor(v_world));
     } else {
         float glass;
+        vec4 opening = vec4(v_facade.xy, v_facade.xy);  // the glass's rectangle: a point in the pixel's bay, or the grammar's window
         if (has_grammar_facade(b)) {
-            vec3 grammar_color = grammar_building_color(b, n, v_facade.xy, d, rot, shadow_factor(v_world),
-                                                         glass, label);
+            vec3 grammar_color = grammar_building_color(b, n, v_facade, v_face, d, rot, shadow_factor(v_world),
+                                                         glass, label, opening);
 #if !defined ID_PASS
             color = grammar_color;  // where it is glass, the room shows instead (below)
 #endif
         } else if (has_relief_facade(b)) {
-            ReliefSurface r = relief_building(b, n, v_local, v_facade, d);
+            ReliefSurface r = relief_building(b, n, v_local, v_facade.xyz, d);
             glass = r.glass ? 1.0 : 0.0;  // recessed glass: the room shows from the hit point
             surface = r.point;
 #if !defined ID_PASS
             color = lit_surface(r.albedo * building_tint(b), rot * r.normal, shadow_factor(v_world));
 #endif
         } else {
-        vec2 bay_uv = vec2(v_facade.x / v_facade.z, v_facade.y / b.room.y);
+        vec2 bay_uv = vec2(v_facade.x / v_facade.z, (v_facade.y - v_face.y) / v_facade.w);
 #if defined ID_PASS
         // the exact texel decides glass, as in the numpy twin
         ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
@@ -121,8 +123,13 @@ void main() {
 #if defined INTERIOR_LOD
             interior_weight = 1.0 - smoothstep(u_lod_range.x, u_lod_range.y, s);
 #endif
+            // the room's frame: the face's (u, v, metres into the building)
+            WallFace wall = wall_face(v_facade, v_face, v_ids);
+            mat3 to_face = face_frame(n);
+            vec3 entry = vec3(v_facade.xy, 0.0) + to_face * (surface - v_local);
             if (interior_weight > 0.0) {
-                InteriorHit hit = interior_trace(surface, d, n, b, dFdx(v_local), dFdy(v_local), s);
+                InteriorHit hit = interior_trace(entry, to_face * d, opening, wall, b, to_face * dFdx(v_local),
+                                                 to_face * dFdy(v_local), s);
                 face = hit.face;
                 room = hit.room;
                 room_state = 1u | (hit.lit ? 2u : 0u) | (uint(hit.variant) << 2u);
@@ -131,7 +138,7 @@ void main() {
 #if defined INTERIOR_LOD
             if (interior_weight < 1.0) {
                 // far away: each window glows with its room's mean colour (no ray cast)
-                Room r = find_room(surface, n, b);
+                Room r = find_room(opening, wall, b);
                 inside = mix(room_mean_color(r) * room_radiance(r), inside, interior_weight);
                 if (interior_weight <= 0.0) room = r.id;
             }

@@ -5,13 +5,15 @@ uniform mat4 u_view_proj;
 in vec3 in_position;
 in vec3 in_local;
 in vec3 in_normal;
-in vec3 in_facade;
-in ivec2 in_ids;
+in vec4 in_facade;
+in vec4 in_face;
+in ivec4 in_ids;
 out vec3 v_world;  // for the shadow look-up
 out vec3 v_local;
 out vec3 v_normal;
-out vec3 v_facade;
-flat out ivec2 v_ids;
+out vec4 v_facade;  // u along the face, v up, bay width, storey height
+flat out vec4 v_face;  // the face's width, base, top, room depth (constant over a triangle)
+flat out ivec4 v_ids;  // building, surface kind, room columns of the face's first and last bay
 invariant gl_Position;  // the z prepass and the shading pass must produce identical depths
 void main() {
     gl_Position = u_view_proj * vec4(in_position, 1.0);
@@ -19,6 +21,7 @@ void main() {
     v_local = in_local;
     v_normal = in_normal;
     v_facade = in_facade;
+    v_face = in_face;
     v_ids = in_ids;
 }
 #endif

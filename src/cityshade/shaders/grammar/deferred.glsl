@@ -16,7 +16,7 @@ uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;
 #if defined CITY_FRAME
-layout(location = 1) out uvec4 out_ids;  // glass, label
+layout(location = 1) out uvec4 out_ids;  // glass, label, the window's centre (grammar uv, float bits)
 #endif
 
 const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
@@ -45,7 +45,8 @@ void main() {
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
     out_color = vec4(grammar_lit(g, n, mat3(1.0), d, shadow_factor(world.xyz / world.w)), 1.0);
 #if defined CITY_FRAME
-    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), 0u, 0u);
+    vec2 centre = scope.xy - g.scope.xy + 0.5 * g.scope.zw;
+    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(centre));
 #endif
 }
 #endif

@@ -15,8 +15,9 @@ void main() {}
 
 in vec3 v_local;
 in vec3 v_normal;    // toward the room the quad belongs to
-in vec3 v_facade;
-flat in ivec2 v_ids; // building, face code
+in vec4 v_facade;
+flat in vec4 v_face;
+flat in ivec4 v_ids; // building, face code
 
 layout(location = 0) out vec4 out_color;
 
