@@ -63,7 +63,7 @@ def find_room(window: np.ndarray, facade: np.ndarray, face: np.ndarray, columns:
     seed = mass.seed
     jitter = mass.wall_jitter if params.room_variation else 0.0
     bay, storey, width, base, depth = facade[:, 2], facade[:, 3], face[:, 0], face[:, 1], face[:, 3]
-    anchor = 0.5 * (window[:, :2] + window[:, 2:])
+    anchor = np.round(32.0 * (window[:, :2] + window[:, 2:])) / 64.0  # to 1/64 m, as the shader
     bays = np.maximum(1, np.round(width / bay)).astype(np.int64)
     j = np.clip(np.floor(anchor[:, 0] / bay).astype(np.int64), 0, bays - 1)
     cy = np.floor((anchor[:, 1] - base) / storey).astype(np.int64)

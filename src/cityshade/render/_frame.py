@@ -298,13 +298,14 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
     return passes
 
 
-def id_passes(settings: RenderSettings, room_state: bool = False) -> list[Pass]:
+def id_passes(settings: RenderSettings, room_state: bool = False, windows: bool = False) -> list[Pass]:
     """The id AOV: per pixel (face, room id, building index + 1, grammar label) as uint32, trees as
     (FACE_TRUNK or FACE_FOLIAGE, 0, 0, 0); with `room_state` the fourth channel is the room seen
-    instead (1 | lit << 1 | variant << 2, 0: none)."""
+    instead (1 | lit << 1 | variant << 2, 0: none), with `windows` the window it is seen through
+    (a key per window of its building, 0: none)."""
 
     def id_buildings(f: FrameInputs):
-        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "INTERIOR_LOD": False})
+        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "ID_WINDOW": windows, "INTERIOR_LOD": False})
 
     inputs = (*CITY, "grammar textures", "relief maps")
     passes = [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),

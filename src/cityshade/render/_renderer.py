@@ -161,13 +161,14 @@ class Renderer:
         self._current()
         return self.targets.resolved.read()[..., :3].astype(np.float32)
 
-    def render_ids(self, camera: Camera, room_state: bool = False) -> np.ndarray:
+    def render_ids(self, camera: Camera, room_state: bool = False, windows: bool = False) -> np.ndarray:
         """The id AOV as HxWx4 uint32: face code, room id, building index + 1, grammar label (with
-        `room_state`: the room seen, 1 | lit << 1 | texture variant << 2, 0 where none)."""
+        `room_state`: the room seen, 1 | lit << 1 | texture variant << 2, 0 where none; with
+        `windows`: the window a room is seen through, a key per window of the building, 0 where none)."""
         self._current()
         if self.targets.ids is None:
             self.targets.ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
-        run_passes(self._inputs(camera), id_passes(self.settings, room_state))
+        run_passes(self._inputs(camera), id_passes(self.settings, room_state, windows))
         return self.targets.ids.read().copy()
 
     def depth(self, aov: bool = False) -> np.ndarray:

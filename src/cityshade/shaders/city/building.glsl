@@ -1,7 +1,7 @@
 // Buildings: one draw call for the whole city. Exterior bay texture whose alpha marks the glass
 // (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
 // Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids; the fourth channel is the grammar
-// label, or with ID_ROOM_STATE the room seen), INTERIOR_MAPPING (off: the
+// label, or with ID_ROOM_STATE the room seen, or with ID_WINDOW the window it is seen through), INTERIOR_MAPPING (off: the
 // reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD; the polygonised-interiors
 // baseline draws the buildings twice: POLYGONISED_EXTERIOR (glass cut out) before its real rooms,
 // POLYGONISED_WINDOWS (only the glass's reflection, alpha = Fresnel, for blending) after them.
@@ -34,7 +34,8 @@ uniform vec3 u_window_tint;
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
-in vec4 v_facade;
+in vec2 v_facade;
+flat in vec2 v_spacing;
 flat in vec4 v_face;
 flat in ivec4 v_ids;
 
@@ -43,6 +44,17 @@ layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar l
 #else
 layout(location = 0) out vec4 out_color;
 #endif
+
+// Which window of its face a glass pixel belongs to, for counting windows that show more than one
+// room (cityshade.interior.windows_straddling_rooms): the grammar's window by its rectangle, a
+// window bay by its bay and storey; never 0.
+uint window_id(vec4 opening, WallFace f) {
+    bool point = all(equal(opening.xy, opening.zw));
+    vec2 centre = 0.5 * (opening.xy + opening.zw);
+    ivec2 cell = point ? ivec2(floor(vec2(centre.x / f.bay, (centre.y - f.base) / f.storey)))
+                       : ivec2(round(centre * 8.0));
+    return max(hash3(ivec3(cell, f.columns.x * 65536 + f.columns.y), 0x57u), 1u);
+}
 
 vec3 building_tint(Building b) {
     if (b.tint.w > 0.0) return b.tint.rgb * 1.6;  // a tagged colour or material over the (grey) bay texture
@@ -64,6 +76,7 @@ void main() {
     uint room = 0u;
     uint label = 0u;
     uint room_state = 0u;  // the room seen: 1 | lit << 1 | variant << 2
+    uint window_key = 0u;  // the window a room is seen through (window_id), 0: none
     vec3 color;
     vec3 surface = v_local;  // where a ray through the glass enters the building
     if (v_ids.y == SURFACE_ROOF) {
@@ -74,22 +87,22 @@ void main() {
         color = roof_color(b, v_local, n, n_world, rot * d, shadow_factor(v_world));
     } else {
         float glass;
-        vec4 opening = vec4(v_facade.xy, v_facade.xy);  // the glass's rectangle: a point in the pixel's bay, or the grammar's window
+        vec4 opening = vec4(v_facade, v_facade);  // the glass's rectangle: a point in the pixel's bay, or the grammar's window
         if (has_grammar_facade(b)) {
-            vec3 grammar_color = grammar_building_color(b, n, v_facade, v_face, d, rot, shadow_factor(v_world),
+            vec3 grammar_color = grammar_building_color(b, n, v_facade, v_spacing.y, v_face, d, rot, shadow_factor(v_world),
                                                          glass, label, opening);
 #if !defined ID_PASS
             color = grammar_color;  // where it is glass, the room shows instead (below)
 #endif
         } else if (has_relief_facade(b)) {
-            ReliefSurface r = relief_building(b, n, v_local, v_facade.xyz, d);
+            ReliefSurface r = relief_building(b, n, v_local, vec3(v_facade, v_spacing.x), d);
             glass = r.glass ? 1.0 : 0.0;  // recessed glass: the room shows from the hit point
             surface = r.point;
 #if !defined ID_PASS
             color = lit_surface(r.albedo * building_tint(b), rot * r.normal, shadow_factor(v_world));
 #endif
         } else {
-        vec2 bay_uv = vec2(v_facade.x / v_facade.z, (v_facade.y - v_face.y) / v_facade.w);
+        vec2 bay_uv = (v_facade - vec2(0.0, v_face.y)) / v_spacing;
 #if defined ID_PASS
         // the exact texel decides glass, as in the numpy twin
         ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
@@ -124,15 +137,16 @@ void main() {
             interior_weight = 1.0 - smoothstep(u_lod_range.x, u_lod_range.y, s);
 #endif
             // the room's frame: the face's (u, v, metres into the building)
-            WallFace wall = wall_face(v_facade, v_face, v_ids);
+            WallFace wall = wall_face(v_spacing, v_face, v_ids);
             mat3 to_face = face_frame(n);
-            vec3 entry = vec3(v_facade.xy, 0.0) + to_face * (surface - v_local);
+            vec3 entry = vec3(v_facade, 0.0) + to_face * (surface - v_local);
             if (interior_weight > 0.0) {
                 InteriorHit hit = interior_trace(entry, to_face * d, opening, wall, b, to_face * dFdx(v_local),
                                                  to_face * dFdy(v_local), s);
                 face = hit.face;
                 room = hit.room;
                 room_state = 1u | (hit.lit ? 2u : 0u) | (uint(hit.variant) << 2u);
+                window_key = window_id(opening, wall);
                 inside = hit.color;
             }
 #if defined INTERIOR_LOD
@@ -157,6 +171,8 @@ void main() {
     }
 #if defined ID_PASS && defined ID_ROOM_STATE
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), room_state);
+#elif defined ID_PASS && defined ID_WINDOW
+    out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), window_key);
 #elif defined ID_PASS
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), label);
 #else

@@ -11,7 +11,8 @@ in ivec4 in_ids;
 out vec3 v_world;  // for the shadow look-up
 out vec3 v_local;
 out vec3 v_normal;
-out vec4 v_facade;  // u along the face, v up, bay width, storey height
+out vec2 v_facade;  // u along the face, v up
+flat out vec2 v_spacing;  // bay width, storey height: flat, so that every pixel of a face reads them alike
 flat out vec4 v_face;  // the face's width, base, top, room depth (constant over a triangle)
 flat out ivec4 v_ids;  // building, surface kind, room columns of the face's first and last bay
 invariant gl_Position;  // the z prepass and the shading pass must produce identical depths
@@ -20,7 +21,8 @@ void main() {
     v_world = in_position;
     v_local = in_local;
     v_normal = in_normal;
-    v_facade = in_facade;
+    v_facade = in_facade.xy;
+    v_spacing = in_facade.zw;
     v_face = in_face;
     v_ids = in_ids;
 }

@@ -18,21 +18,20 @@ vec3 grammar_right(vec3 n) {
 }
 
 // Scope and texture coordinates of a wall point: the grammar runs in the true size of the face it
-// is on (facade: u, v, bay, storey; face: width, base, top, room depth; cityshade/scene/_wall_faces.py).
+// is on (facade: u, v; face: width, base, top, room depth; cityshade/scene/_wall_faces.py).
 // Mesh u runs right to left seen from outside, so it is mirrored. All faces share the building's
 // seed, so they agree on its random choices.
-void grammar_scope(Building b, vec4 facade, vec4 face, out vec2 uv, out vec2 size, out vec2 seed) {
+void grammar_scope(Building b, vec2 facade, vec4 face, out vec2 uv, out vec2 size, out vec2 seed) {
     size = vec2(face.x, face.z - face.y);
     uv = vec2(face.x - facade.x, facade.y - face.y);
     seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
 }
 
-// The rectangle (u0, v0, u1, v1, facade coordinates) of the grammar scope that decided a pixel at
-// facade point `facade`, from its place in that scope (GrammarResult.scope): the window that a
+// The rectangle (u0, v0, u1, v1, facade coordinates) of the grammar scope that decided a pixel
+// (GrammarResult.scope, in grammar uv: u mirrored, v from the face's base): the window that a
 // glass pixel belongs to, for the room behind it.
-vec4 grammar_window(vec4 scope, vec4 facade, vec4 face) {
-    vec2 lower = vec2(facade.x - (scope.z - scope.x), facade.y - scope.y);  // u mirrored
-    return vec4(lower, lower + scope.zw);
+vec4 grammar_window(vec4 scope, vec4 face) {
+    return vec4(face.x - scope.x - scope.z, face.y + scope.y, face.x - scope.x, face.y + scope.y + scope.w);
 }
 
 // Evaluates a grammar at facade point uv; d is the unit view ray and n the wall normal (in one
@@ -43,12 +42,13 @@ GrammarResult grammar_facade_at(int start, vec2 uv, vec2 size, vec2 seed, vec3 n
     return grammar_evaluate(start, uv, size, seed, ray, duv_dx, duv_dy);
 }
 
-// The building's grammar at a wall point (object space; facade, face and the derivatives of
-// facade.xy from the mesh).
-GrammarResult grammar_facade(Building b, vec3 n, vec4 facade, vec4 face, vec3 d, vec2 duv_dx, vec2 duv_dy) {
+// The building's grammar at a wall point (object space; facade uv, storey height, face and the
+// derivatives of the facade uv from the mesh).
+GrammarResult grammar_facade(Building b, vec3 n, vec2 facade, float storey, vec4 face, vec3 d, vec2 duv_dx,
+                             vec2 duv_dy) {
     vec2 uv, size, seed;
     grammar_scope(b, facade, face, uv, size, seed);
-    grammar_building = vec2(floor((face.z - face.y) / facade.w + 0.5), float(b.ids.y));  // storeys, style
+    grammar_building = vec2(floor((face.z - face.y) / storey + 0.5), float(b.ids.y));  // storeys, style
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 
@@ -78,21 +78,20 @@ uniform sampler2D u_grammar_deferred_color;
 uniform usampler2D u_grammar_deferred_ids;
 #endif
 
-vec3 grammar_building_color(Building b, vec3 n, vec4 facade, vec4 face, vec3 d, mat3 rot, float shadow,
+vec3 grammar_building_color(Building b, vec3 n, vec2 facade, float storey, vec4 face, vec3 d, mat3 rot, float shadow,
                             out float glass, out uint label, out vec4 window) {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     uvec4 ids = texelFetch(u_grammar_deferred_ids, pixel, 0);
     glass = float(ids.x);
     label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
-    vec2 centre = uintBitsToFloat(ids.zw);  // grammar uv: u mirrored, v from the face's base
-    window = vec4(face.x - centre.x, centre.y + face.y, face.x - centre.x, centre.y + face.y);
+    window = grammar_window(vec4(uintBitsToFloat(ids.zw), 0.0, 0.0), face);  // the window's centre
     return texelFetch(u_grammar_deferred_color, pixel, 0).rgb;
 #else
-    GrammarResult g = grammar_facade(b, n, facade, face, d, dFdx(facade.xy), dFdy(facade.xy));
+    GrammarResult g = grammar_facade(b, n, facade, storey, face, d, dFdx(facade), dFdy(facade));
     glass = g.glass ? 1.0 : 0.0;
     label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
-    window = grammar_window(g.scope, facade, face);
+    window = grammar_window(g.scope, face);
     return grammar_lit(g, n, rot, d, shadow);
 #endif
 }

@@ -14,7 +14,8 @@ void main() {}
 
 in vec3 v_local;
 in vec3 v_normal;
-in vec4 v_facade;
+in vec2 v_facade;
+flat in vec2 v_spacing;
 flat in vec4 v_face;
 flat in ivec4 v_ids;
 
@@ -48,7 +49,8 @@ void main() {
     }
     mat3 rot = building_rotation(b);
     vec3 d = normalize(v_local - transpose(rot) * (u_camera - b.origin_yaw.xyz));  // object space
-    GrammarResult g = grammar_facade(b, normalize(v_normal), v_facade, v_face, d, dFdx(v_facade.xy), dFdy(v_facade.xy));
+    GrammarResult g = grammar_facade(b, normalize(v_normal), v_facade, v_spacing.y, v_face, d, dFdx(v_facade),
+                                     dFdy(v_facade));
     out_color = vec4(grammar_lit(g, normalize(v_normal), rot, d, 1.0), 1.0);
 #endif
 }

@@ -45,8 +45,7 @@ void main() {
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
     out_color = vec4(grammar_lit(g, n, mat3(1.0), d, shadow_factor(world.xyz / world.w)), 1.0);
 #if defined CITY_FRAME
-    vec2 centre = scope.xy - g.scope.xy + 0.5 * g.scope.zw;
-    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(centre));
+    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(g.scope.xy + 0.5 * g.scope.zw));
 #endif
 }
 #endif

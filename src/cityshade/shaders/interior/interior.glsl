@@ -73,8 +73,8 @@ struct WallFace {
     ivec2 columns;  // room columns of its first and last bay (numbered round the building)
 };
 
-WallFace wall_face(vec4 facade, vec4 face, ivec4 ids) {
-    return WallFace(face.x, face.y, facade.w, facade.z, face.w, ids.zw);
+WallFace wall_face(vec2 spacing, vec4 face, ivec4 ids) {
+    return WallFace(face.x, face.y, spacing.y, spacing.x, face.w, ids.zw);
 }
 
 // Object space -> the face's frame: (metres along the face as facade u grows, up, into the building).
@@ -90,7 +90,9 @@ mat3 face_frame(vec3 n) {
 Room find_room(vec4 window, WallFace f, Building b) {
     uint seed = uint(b.ids.x);
     float jitter = (b.ids.z & u_feature_mask & FLAG_ROOM_VARIATION) != 0 ? b.room.w : 0.0;
-    vec2 anchor = 0.5 * (window.xy + window.zw);
+    // to 1/64 m, so that a window centred on a bay's edge (a grammar's windows often are) picks the
+    // same side from every one of its pixels, whose rectangles differ by float rounding
+    vec2 anchor = round(32.0 * (window.xy + window.zw)) / 64.0;
     int bays = max(1, int(round(f.width / f.bay)));
     int j = clamp(int(floor(anchor.x / f.bay)), 0, bays - 1);
     int storey = int(floor((anchor.y - f.base) / f.storey));

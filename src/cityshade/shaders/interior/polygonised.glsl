@@ -15,7 +15,8 @@ void main() {}
 
 in vec3 v_local;
 in vec3 v_normal;    // toward the room the quad belongs to
-in vec4 v_facade;
+in vec2 v_facade;
+flat in vec2 v_spacing;
 flat in vec4 v_face;
 flat in ivec4 v_ids; // building, face code
 
