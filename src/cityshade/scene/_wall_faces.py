@@ -51,7 +51,7 @@ def wall_faces(lengths: np.ndarray, directions: np.ndarray, nominal_bay: float, 
     Columns start at `first_column` (rings of one building follow each other)."""
     n = len(lengths)
     turns = _turns(directions)
-    corner = np.abs(turns) > CORNER_TURN
+    corner = np.abs(turns) > CORNER_TURN + 1e-6  # a regular 12-gon's turns are 30 degrees up to rounding
     if not corner.any():  # one face all round: it starts at edge 0
         starts = np.array([0])
     else:
