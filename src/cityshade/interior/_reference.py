@@ -8,6 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..assets import LABELS, TileArray
+from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, seed_vector
 from ..relief import GLASS, DetailMaps, trace_reference
 from ..scene import BuildingMass
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
@@ -23,6 +25,7 @@ SPRITE_WIDTH = 0.55
 SPRITE_HEIGHT = 0.8
 EMPTY_ROOM_SHARE = 0.3
 CURTAIN_SHARE = 0.55
+ROOM_LABEL = LABELS.index("room")  # the id pass's label of grammar glass (GRAMMAR_ROOM_LABEL)
 
 
 @dataclass(frozen=True)
@@ -153,16 +156,55 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
     return hits.material == GLASS, point
 
 
+@dataclass(frozen=True)
+class GrammarFacades:
+    """The grammar facades of a city for the twin: the compiled grammars and their tiles (as the
+    renderer's), and per building index the address of its start rule."""
+
+    compiled: CompiledGrammars
+    tiles: TileArray
+    starts: dict[int, int]
+
+
+def grammar_entry(grammar: GrammarFacades, start: int, mass: BuildingMass, d: np.ndarray, n: np.ndarray,
+                  facade: np.ndarray, face: np.ndarray):
+    """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
+    true size of each face: per ray, whether it meets glass, its label as the id pass writes it, and
+    the rectangle of the window it belongs to (facade coordinates, find_room)."""
+    glass, label = np.zeros(len(d), dtype=bool), np.zeros(len(d), dtype=np.uint32)
+    window = np.zeros((len(d), 4))
+    right = np.stack([n[:, 2], np.zeros(len(n)), -n[:, 0]], axis=1)
+    right /= np.linalg.norm(right, axis=1, keepdims=True)
+    rays = np.stack([np.sum(d * right, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1)
+    sizes, which = np.unique(face[:, :3], axis=0, return_inverse=True)
+    for k, (width, base, top) in enumerate(sizes):
+        rows = np.nonzero(which.ravel() == k)[0]
+        uv = np.stack([width - facade[rows, 0], facade[rows, 1] - base], axis=1)
+        levels = np.floor((top - base) / facade[rows[0], 3] + 0.5)
+        g = evaluate_grammar(grammar.compiled, start, uv, (width, top - base), seed_vector(mass.seed), grammar.tiles,
+                             rays[rows], (levels, mass.style))
+        glass[rows] = g.glass
+        label[rows] = np.where(g.glass, ROOM_LABEL, g.label)
+        lower, extent = g.scope[:, :2].astype(np.float64), g.scope[:, 2:].astype(np.float64)
+        window[rows] = np.stack([width - lower[:, 0] - extent[:, 0], base + lower[:, 1], width - lower[:, 0],
+                                 base + lower[:, 1] + extent[:, 1]], axis=1)
+    return glass, label, window
+
+
 def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], params: InteriorParams,
                   facade_alpha: np.ndarray, ground_bounds: tuple[float, float, float, float],
-                  relief: dict | None = None) -> np.ndarray:
+                  relief: dict | None = None, grammar: GrammarFacades | None = None,
+                  labels: bool = False) -> np.ndarray:
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
-    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace` (none behind the
-    glass of a mass without an interior). The ground is the
-    plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
+    `relief`, by the relief met along the ray, `relief_entry`; for those with a start rule in
+    `grammar`, by the grammar, `grammar_entry`), rooms by `trace` (none behind the glass of a mass
+    without an interior). With `labels` the fourth channel is the grammar label instead (the id
+    pass without room state). The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1,
+    z1), cut by the camera's far plane."""
     relief = relief or {}
+    starts = grammar.starts if grammar is not None else {}
     width, height = size
     dirs = camera.pixel_rays(size).reshape(-1, 3)
     eye = camera.eye
@@ -182,7 +224,17 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             continue
         facade, roof = hits.facade[sel], hits.roof[sel]
         entry = hits.local.copy()
-        if b in relief:
+        window = np.column_stack([facade[:, :2], facade[:, :2]])  # the window-bay facade: the pixel's own bay
+        if b in starts:
+            glass = np.zeros(len(sel), dtype=bool)
+            walls = sel[~roof]
+            if len(walls):
+                glass[~roof], label, window[~roof] = grammar_entry(
+                    grammar, starts[b], mass, hits.direction[walls], hits.normal[walls], hits.facade[walls],
+                    hits.face[walls])
+                if labels:
+                    out[walls, 3] = label
+        elif b in relief:
             glass = np.zeros(len(sel), dtype=bool)
             walls = sel[~roof]
             if len(walls):
@@ -197,12 +249,12 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
         if glass.any() and mass.interior:  # without an interior the glass stays an exterior face
             rays = sel[glass]
             to_face = face_frame(hits.normal[rays])
-            point = hits.facade[rays, :2]
             offset = np.einsum("nij,nj->ni", to_face, entry[rays] - hits.local[rays])
-            p = np.column_stack([point, np.zeros(len(rays))]) + offset
-            window = np.column_stack([point, point])  # the window-bay facade: the pixel's own bay
-            room = find_room(window, hits.facade[rays], hits.face[rays], hits.columns[rays], mass, params)
+            p = np.column_stack([hits.facade[rays, :2], np.zeros(len(rays))]) + offset
+            room = find_room(window[glass], hits.facade[rays], hits.face[rays], hits.columns[rays], mass, params)
             d = np.einsum("nij,nj->ni", to_face, hits.direction[rays])
             face, room, _, lit, variant = trace(p, d, room, mass, params)
-            out[rays, 0], out[rays, 1], out[rays, 3] = face, room, room_state(lit, variant)
+            out[rays, 0], out[rays, 1] = face, room
+            if not labels:
+                out[rays, 3] = room_state(lit, variant)
     return out.reshape(height, width, 4)

@@ -45,6 +45,7 @@ layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar l
 layout(location = 0) out vec4 out_color;
 #endif
 
+#if defined INTERIOR_MAPPING
 // Which window of its face a glass pixel belongs to, for counting windows that show more than one
 // room (cityshade.interior.windows_straddling_rooms): the grammar's window by its rectangle, a
 // window bay by its bay and storey; never 0.
@@ -55,6 +56,7 @@ uint window_id(vec4 opening, WallFace f) {
                        : ivec2(round(centre * 8.0));
     return max(hash3(ivec3(cell, f.columns.x * 65536 + f.columns.y), 0x57u), 1u);
 }
+#endif
 
 vec3 building_tint(Building b) {
     if (b.tint.w > 0.0) return b.tint.rgb * 1.6;  // a tagged colour or material over the (grey) bay texture
