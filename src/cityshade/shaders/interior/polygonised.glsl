@@ -1,8 +1,9 @@
 // The polygonised-interiors baseline (interior-mapping §3.1, fig. 9): real floors, ceilings and walls
 // behind the windows (cityshade/interior/_polygonised.py). Each fragment finds its room with the
 // room grid cell directly (the baseline's walls are not displaced, so no wall search), with interior
-// mapping's hashes, so texture variants and lights are the same as in the ray-cast version; only
-// the geometry differs. Defines: DEPTH_ONLY (the rooms' z prepass), IM_SINGLE_ATLAS.
+// mapping's hashes. Its grid is the building's bounding box's in object space, while interior
+// mapping's rooms follow each face's windows (interior/interior.glsl), so the two pick texture
+// variants and lights for different cells. Defines: DEPTH_ONLY (the rooms' z prepass), IM_SINGLE_ATLAS.
 
 #include "common/building_vertex.glsl"
 
