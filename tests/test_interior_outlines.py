@@ -11,10 +11,10 @@ import pytest
 from PIL import Image
 
 from cityshade import assets
-from cityshade.grammar import FACADE_GRAMMAR, library_texture
+from cityshade.grammar import FACADE_GRAMMAR, library_min_widths, library_texture
 from cityshade.interior import FACE_NAMES, GrammarFacades, InteriorParams, reference_ids, windows_straddling_rooms
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
-from cityshade.render import Renderer, RenderSettings, assign_facades
+from cityshade.render import Renderer, RenderSettings, assign_facades, choose_facade
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import batch, make_city
 from render_checks import id_edges
@@ -38,7 +38,8 @@ def _grammar() -> GrammarFacades:
     _, records = batch(MASSES)
     assign_facades(records, MASSES)
     starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
-    return GrammarFacades(library_texture(), assets.tile_array(), starts)
+    widths = {i: library_min_widths()[choose_facade(MASSES[i]).grammar_style] for i in starts}
+    return GrammarFacades(library_texture(), assets.tile_array(), starts, widths)
 
 
 @pytest.fixture(scope="module")

@@ -31,7 +31,9 @@ def load_library() -> dict[str, Grammar]:
     return {style: load(library_path(f"{style}.grammar")) for style in LIBRARY_STYLES}
 
 
-from ._city import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_texture  # noqa: E402 (needs load_library)
+from ._city import (BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min_widths,  # noqa: E402 (needs load_library)
+                    library_texture)
+from ._fit import min_width  # noqa: E402
 from ._city_render import PATHS, FacadeCityRenderer  # noqa: E402
 from ._frame_pass import DeferredGrammarPass  # noqa: E402
 from ._gpu import GrammarTextures, shader_defines  # noqa: E402

@@ -159,14 +159,16 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
 @dataclass(frozen=True)
 class GrammarFacades:
     """The grammar facades of a city for the twin: the compiled grammars and their tiles (as the
-    renderer's), and per building index the address of its start rule."""
+    renderer's), and per building index the address of its start rule and the narrowest face its
+    grammar fits (narrower faces are plain walls: no glass, no label)."""
 
     compiled: CompiledGrammars
     tiles: TileArray
     starts: dict[int, int]
+    min_widths: dict[int, float]
 
 
-def grammar_entry(grammar: GrammarFacades, start: int, mass: BuildingMass, d: np.ndarray, n: np.ndarray,
+def grammar_entry(grammar: GrammarFacades, building: int, mass: BuildingMass, d: np.ndarray, n: np.ndarray,
                   facade: np.ndarray, face: np.ndarray):
     """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
     true size of each face: per ray, whether it meets glass, its label as the id pass writes it, and
@@ -177,7 +179,10 @@ def grammar_entry(grammar: GrammarFacades, start: int, mass: BuildingMass, d: np
     right /= np.linalg.norm(right, axis=1, keepdims=True)
     rays = np.stack([np.sum(d * right, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1)
     sizes, which = np.unique(face[:, :3], axis=0, return_inverse=True)
+    start = grammar.starts[building]
     for k, (width, base, top) in enumerate(sizes):
+        if width < grammar.min_widths[building] - 1e-6:
+            continue  # too narrow for the grammar: a plain wall
         rows = np.nonzero(which.ravel() == k)[0]
         uv = np.stack([width - facade[rows, 0], facade[rows, 1] - base], axis=1)
         levels = np.floor((top - base) / facade[rows[0], 3] + 0.5)
@@ -230,7 +235,7 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             walls = sel[~roof]
             if len(walls):
                 glass[~roof], label, window[~roof] = grammar_entry(
-                    grammar, starts[b], mass, hits.direction[walls], hits.normal[walls], hits.facade[walls],
+                    grammar, b, mass, hits.direction[walls], hits.normal[walls], hits.facade[walls],
                     hits.face[walls])
                 if labels:
                     out[walls, 3] = label

@@ -42,7 +42,7 @@ class CityGPU:
         self.ctx = ctx
         self.city = city
         vertices, records = batch(city.masses)
-        self.facades = assign_facades(records, city.masses)  # buildings per facade kind
+        self.facades = assign_facades(records, city.masses, vertices)  # buildings per facade kind (narrow faces: plain)
         self.relief = CityRelief(ctx)
         self.chunks = BuildingChunks(vertices)
         vertices = self.chunks.vertices

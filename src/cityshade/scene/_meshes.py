@@ -19,7 +19,8 @@ from ._wall_faces import storeys, wall_faces
 from ._materials import linear, roof_material, wall_tint
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
-SURFACE_CODES = {"SURFACE_WALL": SURFACE_WALL, "SURFACE_ROOF": SURFACE_ROOF}
+SURFACE_PLAIN_WALL = 2  # a wall face too narrow for its building's grammar (render/_facades.py)
+SURFACE_CODES = {"SURFACE_WALL": SURFACE_WALL, "SURFACE_ROOF": SURFACE_ROOF, "SURFACE_PLAIN_WALL": SURFACE_PLAIN_WALL}
 
 VERTEX_DTYPE = np.dtype(
     [

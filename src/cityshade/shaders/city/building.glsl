@@ -26,6 +26,7 @@ void main() {}
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
 const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
+const vec3 PLAIN_WALL_ALBEDO = vec3(0.45, 0.42, 0.4);
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
@@ -90,7 +91,12 @@ void main() {
     } else {
         float glass;
         vec4 opening = vec4(v_facade, v_facade);  // the glass's rectangle: a point in the pixel's bay, or the grammar's window
-        if (has_grammar_facade(b)) {
+        if (v_ids.y == SURFACE_PLAIN_WALL) {
+            glass = 0.0;  // a face too narrow for its grammar (cityshade/render/_facades.py)
+#if !defined ID_PASS
+            color = lit_surface(PLAIN_WALL_ALBEDO * building_tint(b), n_world, shadow_factor(v_world));
+#endif
+        } else if (has_grammar_facade(b)) {
             vec3 grammar_color = grammar_building_color(b, n, v_facade, v_spacing.y, v_face, d, rot, shadow_factor(v_world),
                                                          glass, label, opening);
 #if !defined ID_PASS

@@ -35,7 +35,7 @@ void main() {
 #if defined GBUFFER
     vec2 uv = vec2(0.0), size = vec2(1.0), seed = vec2(0.0);
     float facade = 0.0;
-    if (v_ids.y != SURFACE_ROOF && has_grammar_facade(b)) {
+    if (v_ids.y == SURFACE_WALL && has_grammar_facade(b)) {  // not roofs, nor plain walls
         grammar_scope(b, v_facade, v_face, uv, size, seed);
         facade = 1.0;
     }
