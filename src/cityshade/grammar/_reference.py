@@ -458,7 +458,8 @@ class _Evaluator:
         p.best_texel[rows] = texel[better]
         # the scope's corner is the same for all its pixels, and so are the whole seed vectors it
         # was translated by (layers, the start), which undo it exactly (as the shader)
-        shift = np.round((p.t[rows] - p.uv[rows]) / p.s) * p.s
+        with np.errstate(divide="ignore", invalid="ignore"):  # no seed: nothing to undo
+            shift = np.where(p.s != 0, np.round((p.t[rows] - p.uv[rows]) / p.s) * p.s, F(0))
         p.best_scope[rows] = np.concatenate([p.lb[rows] - shift, p.size[rows]], axis=1)
         wn = (F(1) - p.AN[idx]) * a
         p.N[idx] += np.where(normal[:, None], wn[:, None] * (rgba[:, :3] * F(2) - F(1)), F(0))

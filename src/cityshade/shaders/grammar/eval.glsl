@@ -404,7 +404,8 @@ void grammar_mat(vec4 head, int op) {
             g_best_texel = texel;
             // g_lb is the same for every pixel of a scope; so are the whole seed vectors it was
             // translated by (layers, the start), which undo it exactly
-            g_best_scope = vec4(g_lb - round((g_t - g_uv) / g_s) * g_s, g_size);
+            vec2 shift = mix(round((g_t - g_uv) / g_s) * g_s, vec2(0.0), equal(g_s, vec2(0.0)));  // no seed: none
+            g_best_scope = vec4(g_lb - shift, g_size);
         }
     } else if (usage == 2) {
         float w = (1.0 - g_AN) * a;
