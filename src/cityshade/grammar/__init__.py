@@ -44,5 +44,5 @@ __all__ = [
     "BUILDING_STYLES", "FACADE_GRAMMAR", "GRAMMAR_SHAPES", "library_texture", "seed_cells", "seed_vector", "evaluate",
     "PATHS", "FacadeCityRenderer", "DeferredGrammarPass", "GrammarTextures", "shader_defines", "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
     "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
-    "load_source", "parse_string",
+    "load_source", "parse_string", "library_min_widths", "min_width",
 ]

@@ -25,6 +25,7 @@ NARROW_FACES = "plain wall (face narrower than its grammar)"  # the count assign
 class GrammarFitWarning(UserWarning):
     """Wall faces narrower than their building's grammar fits were drawn as plain walls."""
 
+
 WINDOW_BAY = 0  # the record's facade.x of the textured window bay with interior-mapped rooms
 
 
@@ -81,9 +82,12 @@ def assign_facades(records: np.ndarray, masses, vertices: np.ndarray | None = No
             narrow = _plain_narrow_faces(vertices, needs)
             if narrow:
                 counts[NARROW_FACES] = narrow
-                warnings.warn(f"{narrow} wall faces are narrower than their building's grammar fits "
-                              f"(the narrowest face each library style fits: {_widths()}): drawn as plain walls",
-                              GrammarFitWarning, stacklevel=2)
+                warnings.warn(
+                    f"{narrow} wall faces are narrower than their building's grammar fits "
+                    f"(the narrowest face each library style fits: {_widths()}): drawn as plain walls",
+                    GrammarFitWarning,
+                    stacklevel=2,
+                )
     return counts
 
 
