@@ -51,6 +51,8 @@ def face_frame(n: np.ndarray) -> np.ndarray:
     """Per normal (N, 3): the rotation (N, 3, 3) from object space into its face's frame (metres along
     the face as facade u grows, up, into the building); as face_frame() in the shader."""
     out_dir = n * np.array([1.0, 0.0, 1.0])
+    level = np.sum(out_dir * out_dir, axis=1) <= 1e-8  # a dome's top
+    out_dir[level] = (0.0, 0.0, -1.0)
     out_dir /= np.linalg.norm(out_dir, axis=1, keepdims=True)
     zero = np.zeros(len(n))
     along = np.stack([-out_dir[:, 2], zero, out_dir[:, 0]], axis=1)

@@ -79,7 +79,8 @@ WallFace wall_face(vec2 spacing, vec4 face, ivec4 ids) {
 
 // Object space -> the face's frame: (metres along the face as facade u grows, up, into the building).
 mat3 face_frame(vec3 n) {
-    vec3 out_dir = normalize(vec3(n.x, 0.0, n.z));
+    vec2 across = vec2(n.x, n.z);
+    vec3 out_dir = dot(across, across) > 1e-8 ? normalize(vec3(n.x, 0.0, n.z)) : vec3(0.0, 0.0, -1.0);  // a dome's top
     return transpose(mat3(vec3(-out_dir.z, 0.0, out_dir.x), vec3(0.0, 1.0, 0.0), -out_dir));
 }
 
