@@ -135,16 +135,16 @@ def trace(p: np.ndarray, d: np.ndarray, room: dict, mass: BuildingMass, params: 
     return face, room["id"], t, room["lit"], room["variant"]
 
 
-def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: np.ndarray, floor_height: float):
+def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: np.ndarray, base: np.ndarray):
     """Relief facades (docs/relief.md, the city): the window bay `maps` repeats across the wall, one
-    bay (facade[:, 2] metres) wide and one floor high; each ray is traced through it by the
-    reference tracer. Returns, per ray, whether it meets glass and where (object space): the
-    point from which it continues into the room."""
+    bay (facade[:, 2] metres) wide and one storey (facade[:, 3]) high from the face's `base`; each
+    ray is traced through it by the reference tracer. Returns, per ray, whether it meets glass and
+    where (object space): the point from which it continues into the room."""
     rows, cols = maps.shape
     up = np.array([0.0, 1.0, 0.0])
     along = np.stack([-n[:, 2], np.zeros(len(n)), n[:, 0]], axis=1)  # the way facade u grows: n x up
-    scale = np.stack([cols / facade[:, 2], np.full(len(n), rows / floor_height), np.full(len(n), 1 / maps.depth_unit)], axis=1)
-    start = np.stack([facade[:, 0], facade[:, 1], np.zeros(len(n))], axis=1) * scale
+    scale = np.stack([cols / facade[:, 2], rows / facade[:, 3], np.full(len(n), 1 / maps.depth_unit)], axis=1)
+    start = np.stack([facade[:, 0], facade[:, 1] - base, np.zeros(len(n))], axis=1) * scale
     direction = np.stack([np.sum(d * along, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1) * scale
     # The bay tiled over the wall, with a bay and a floor to spare on every side: a ray entering
     # near a corner or the roof line meets the repeat the GPU samples there.
@@ -246,7 +246,7 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             walls = sel[~roof]
             if len(walls):
                 glass[~roof], entry[walls] = relief_entry(relief[b], hits.local[walls], hits.direction[walls],
-                                                          hits.normal[walls], hits.facade[walls], mass.room_size[1])
+                                                          hits.normal[walls], hits.facade[walls], hits.face[walls, 1])
         else:
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)

@@ -103,7 +103,7 @@ void main() {
             color = grammar_color;  // where it is glass, the room shows instead (below)
 #endif
         } else if (has_relief_facade(b)) {
-            ReliefSurface r = relief_building(b, n, v_local, vec3(v_facade, v_spacing.x), d);
+            ReliefSurface r = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
             glass = r.glass ? 1.0 : 0.0;  // recessed glass: the room shows from the hit point
             surface = r.point;
 #if !defined ID_PASS
