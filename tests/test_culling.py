@@ -1,13 +1,12 @@
-"""Frustum culling of the batched city: complete, conservative, and invisible in the picture."""
+"""The batched city's chunks (its vertex order) and the box-against-frustum test; the GPU culling
+itself is tested in test_culling_gpu.py."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from cityshade.render import Renderer, RenderSettings
 from cityshade.render._culling import BuildingChunks, boxes_visible, frustum_planes
 from cityshade.scene import Camera, batch, make_city
-from render_checks import render_finite
 
 
 def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
@@ -30,19 +29,3 @@ def test_box_test_is_exact_for_clear_cases():
     hi = lo + 2.0
     assert boxes_visible(planes, lo, hi).tolist() == [True, False, False, False]
 
-
-def test_culled_frame_equals_unculled_frame(gl_context):
-    city = make_city("default")
-    camera = city.camera("street")
-    renderer = Renderer((128, 72), RenderSettings(samples=0), ctx=gl_context)
-    renderer.set_city(city)
-    try:
-        culled = render_finite(renderer, camera)
-        drawn = renderer.city.chunks_drawn
-        chunks = renderer.city.chunks
-        chunks.visible = lambda view_projection: np.ones(len(chunks), dtype=bool)
-        full = render_finite(renderer, camera)
-    finally:
-        renderer.release()
-    assert drawn < len(chunks), "a street-level view leaves chunks behind the camera"
-    assert np.array_equal(culled, full)

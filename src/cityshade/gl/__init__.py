@@ -8,6 +8,7 @@ from ._colour import linear_to_srgb, srgb_to_linear
 from ._context import create_context, describe_context
 from ._fullscreen import draw_fullscreen
 from ._programs import ProgramCache, shader_source
+from ._pyramid import R32F, pyramid_levels, pyramid_texture
 from ._resources import programs
 from ._samplers import MAX_SAMPLERS, bind_textures, sampler_units
 from ._targets import RenderTarget
@@ -27,6 +28,9 @@ __all__ = [
     "draw_fullscreen",
     "linear_to_srgb",
     "programs",
+    "pyramid_levels",
+    "pyramid_texture",
+    "R32F",
     "ProgramCache",
     "shader_source",
     "srgb_to_linear",

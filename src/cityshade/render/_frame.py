@@ -30,6 +30,7 @@ from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
 from ._trees import TreePass, draw_trees
+from ._visibility import cull_pass, hiz_pass, occluder_pass
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
 ROOM_DARK = np.array([0.018, 0.02, 0.03])
@@ -69,10 +70,21 @@ class FrameInputs:
     shadows: CascadedShadows | None = None
     trees: TreePass | None = None
     frame_index: int = 0
+    camera_draws: moderngl.Buffer | None = None  # the cull pass's draw commands for the camera
 
     @property
     def view_projection(self) -> np.ndarray:
         return self.camera.view_projection(self.size[0] / self.size[1])
+
+    def building_draws(self, view_projection: np.ndarray | None = None) -> moderngl.Buffer | None:
+        """Which buildings to draw (render/_visibility.py) through `view_projection` (default: the
+        camera's): the cull pass's commands for the camera, a frustum test for any other view, all
+        (None) with GPU culling off."""
+        if not self.settings.gpu_culling:
+            return None
+        if view_projection is None and self.camera_draws is not None:
+            return self.camera_draws
+        return self.city.visibility.frustum(self.view_projection if view_projection is None else view_projection)
 
     def building_defines(self, **extra) -> dict:
         s = self.settings
@@ -158,7 +170,7 @@ def grammar_evaluation(f: FrameInputs):
 def depth_prepass(f: FrameInputs):
     buildings = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
     set_uniforms(buildings, u_view_proj=f.view_projection)
-    f.city.draw_buildings(buildings, f.view_projection)
+    f.city.draw_buildings(buildings, f.building_draws())
     ground = f.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
     set_uniforms(ground, u_view_proj=f.view_projection)
     f.city.draw_ground(ground)
@@ -176,7 +188,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     f.city.street_lights.bind(program)
     if f.shadows is not None:
         f.shadows.bind(program)
-    f.city.draw_buildings(program, f.view_projection)
+    f.city.draw_buildings(program, f.building_draws())
 
 
 def polygonised_exteriors(f: FrameInputs):
@@ -247,9 +259,16 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
     shadows = SHADING if settings.shadows else ()
     grammar = ("grammar textures",)
     passes = []
+    black = (0.0, 0.0, 0.0, 1.0)
     if settings.shadows:
         # cascaded shadow maps of buildings and trees, each cascade at its own rate (SpeedTree §4.3.2)
         passes.append(Pass("shadows", shadow_pass, (*CITY, "trees"), "shadow maps"))
+    if settings.gpu_culling:
+        # the big buildings in the frustum into the depth buffer, its max-depth pyramid, then every
+        # building against frustum and pyramid into draw commands (render/_visibility.py)
+        passes.append(Pass("occluders", occluder_pass, CITY, "hdr", GLState(colour_write=False), clear=black))
+        passes.append(Pass("hi-z", hiz_pass, ("hdr",), "depth pyramid", OFF))
+        passes.append(Pass("cull", cull_pass, (*CITY, "depth pyramid"), "building draws", OFF))
     if settings.grammar_deferred:
         # Krecklau §4: a G-buffer, then one full-screen grammar evaluation per pixel, shadowed
         passes.append(Pass("grammar g-buffer", grammar_gbuffer, (*CITY, *grammar), "grammar_gbuffer",
@@ -258,7 +277,6 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
                            "grammar_result", OFF, clear=(0.0, 0.0, 0.0, 0.0)))
     facade_inputs = (*CITY, *ROOM_TEXTURES, *grammar, "relief maps", *shadows,
                      *(("grammar_result",) if settings.grammar_deferred else ()))
-    black = (0.0, 0.0, 0.0, 1.0)
     if settings.polygonised_interiors:
         # interior-mapping §3.1's baseline: exteriors with the glass cut out, real floors, ceilings
         # and walls (a floor and the ceiling below it share a plane: back faces culled), then the

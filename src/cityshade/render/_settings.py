@@ -28,6 +28,7 @@ class RenderSettings:
     moon: tuple[float, float, float] | None = None  # (elevation, azimuth, lit fraction): moonlight at night
     animation_time: float = 0.0       # seconds, drives furniture sprites
     grammar_deferred: bool = True     # facade grammars in a deferred pass (Krecklau §4); measured faster
+    gpu_culling: bool = True          # buildings culled on the GPU (frustum, hierarchical depth); off: all drawn
 
     def with_(self, **changes) -> "RenderSettings":
         return replace(self, **changes)
