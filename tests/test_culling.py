@@ -4,9 +4,13 @@ itself is tested in test_culling_gpu.py."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from cityshade.errors import UsageError
+from cityshade.render import Renderer, RenderSettings
 from cityshade.render._culling import BuildingChunks, boxes_visible, frustum_planes
 from cityshade.scene import Camera, batch, make_city
+from render_checks import render_finite
 
 
 def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
@@ -29,3 +33,25 @@ def test_box_test_is_exact_for_clear_cases():
     hi = lo + 2.0
     assert boxes_visible(planes, lo, hi).tolist() == [True, False, False, False]
 
+
+
+def test_chunk_culled_frame_equals_unculled_frame(gl_context):
+    city = make_city("default")
+    camera = city.camera("street")
+    pictures = {}
+    for culling in ("frustum", "off"):
+        renderer = Renderer((128, 72), RenderSettings(samples=0, culling=culling), ctx=gl_context)
+        renderer.set_city(city)
+        try:
+            pictures[culling] = render_finite(renderer, camera)
+        finally:
+            renderer.release()
+    chunks = BuildingChunks(batch(city.masses)[0])
+    assert np.count_nonzero(chunks.visible(camera.view_projection(128 / 72))) < len(chunks), \
+        "a street-level view leaves chunks behind the camera"
+    assert np.array_equal(pictures["frustum"], pictures["off"])
+
+
+def test_unknown_culling_is_one_clear_error():
+    with pytest.raises(UsageError, match="unknown culling 'fast'; allowed: gpu, frustum, off"):
+        RenderSettings(culling="fast")

@@ -15,7 +15,7 @@ SIZE = (160, 96)
 
 def differing_pixels(city, cameras, settings: RenderSettings, gl_context) -> tuple[dict, dict]:
     """Per camera: pixels that differ between culling on and off, and buildings drawn with it on."""
-    renderers = {on: Renderer(SIZE, settings.with_(gpu_culling=on), ctx=gl_context) for on in (True, False)}
+    renderers = {on: Renderer(SIZE, settings.with_(culling="gpu" if on else "off"), ctx=gl_context) for on in (True, False)}
     differing, drawn = {}, {}
     try:
         for renderer in renderers.values():
@@ -119,4 +119,4 @@ def test_hiz_drops_hidden_buildings_and_the_flag_switches_culling(single_sample)
     assert drawn.sum() < in_frustum.sum(), "the street's first row hides buildings inside the frustum"
     names = [p.name for p in frame_passes(RenderSettings())]
     assert names.index("occluders") < names.index("hi-z") < names.index("cull") < names.index("buildings")
-    assert not {"occluders", "hi-z", "cull"} & {p.name for p in frame_passes(RenderSettings(gpu_culling=False))}
+    assert not {"occluders", "hi-z", "cull"} & {p.name for p in frame_passes(RenderSettings(culling="frustum"))}

@@ -39,7 +39,7 @@ class DeferredGrammarPass:
         program = f.programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
         set_uniforms(program, u_view_proj=f.view_projection)
         grammar.bind(program)
-        f.city.draw_buildings(program, f.building_draws())  # culled like the buildings pass
+        f.draw_buildings(program)  # culled like the buildings pass
 
     def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
         """The full-screen evaluation into the bound result target, reading the G-buffer."""

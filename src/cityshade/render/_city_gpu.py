@@ -63,17 +63,22 @@ class CityGPU:
     def _vao(self, program, vbo, fmt, attributes):
         return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
 
-    def draw_buildings(self, program, draws: moderngl.Buffer | None = None):
+    def draw_buildings(self, program, view_projection: np.ndarray | None = None,
+                       draws: moderngl.Buffer | None = None):
         """All buildings in one call; with `draws` (commands of BuildingVisibility), one multi-draw
-        indirect call of a command per building, in the same order."""
+        indirect call of a command per building, in the same order; with a view-projection, only
+        the chunks inside its frustum (one call per run of neighbouring visible chunks)."""
         if self.building_vbo is None:
             return
         self.records.bind_to_storage_buffer(0)
         vao = self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES)
-        if draws is None:
-            vao.render(moderngl.TRIANGLES)
-        else:
+        if draws is not None:
             vao.render_indirect(draws, moderngl.TRIANGLES, count=self.building_count)
+        elif view_projection is not None:
+            for first, count in self.chunks.visible_runs(self.chunks.visible(view_projection)):
+                vao.render(moderngl.TRIANGLES, vertices=count, first=first)
+        else:
+            vao.render(moderngl.TRIANGLES)
 
     def polygonised(self) -> PolygonisedGPU:
         """Real interior geometry for the polygonised-interiors baseline, built on first use."""

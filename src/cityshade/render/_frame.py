@@ -76,15 +76,19 @@ class FrameInputs:
     def view_projection(self) -> np.ndarray:
         return self.camera.view_projection(self.size[0] / self.size[1])
 
-    def building_draws(self, view_projection: np.ndarray | None = None) -> moderngl.Buffer | None:
-        """Which buildings to draw (render/_visibility.py) through `view_projection` (default: the
-        camera's): the cull pass's commands for the camera, a frustum test for any other view, all
-        (None) with GPU culling off."""
-        if not self.settings.gpu_culling:
-            return None
-        if view_projection is None and self.camera_draws is not None:
-            return self.camera_draws
-        return self.city.visibility.frustum(self.view_projection if view_projection is None else view_projection)
+    def draw_buildings(self, program, view_projection: np.ndarray | None = None):
+        """The buildings seen through `view_projection` (default: the camera's), culled as
+        settings.culling says: "gpu", the cull pass's commands for the camera and a frustum test on
+        the GPU for any other view (render/_visibility.py); "frustum", chunks on the CPU; "off", all."""
+        view = self.view_projection if view_projection is None else view_projection
+        if self.settings.culling == "off":
+            self.city.draw_buildings(program)
+        elif self.settings.culling == "frustum":
+            self.city.draw_buildings(program, view)
+        elif view_projection is None and self.camera_draws is not None:
+            self.city.draw_buildings(program, draws=self.camera_draws)
+        else:
+            self.city.draw_buildings(program, draws=self.city.visibility.frustum(view))
 
     def building_defines(self, **extra) -> dict:
         s = self.settings
@@ -170,7 +174,7 @@ def grammar_evaluation(f: FrameInputs):
 def depth_prepass(f: FrameInputs):
     buildings = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
     set_uniforms(buildings, u_view_proj=f.view_projection)
-    f.city.draw_buildings(buildings, f.building_draws())
+    f.draw_buildings(buildings)
     ground = f.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
     set_uniforms(ground, u_view_proj=f.view_projection)
     f.city.draw_ground(ground)
@@ -188,7 +192,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     f.city.street_lights.bind(program)
     if f.shadows is not None:
         f.shadows.bind(program)
-    f.city.draw_buildings(program, f.building_draws())
+    f.draw_buildings(program)
 
 
 def polygonised_exteriors(f: FrameInputs):
@@ -263,7 +267,7 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
     if settings.shadows:
         # cascaded shadow maps of buildings and trees, each cascade at its own rate (SpeedTree §4.3.2)
         passes.append(Pass("shadows", shadow_pass, (*CITY, "trees"), "shadow maps"))
-    if settings.gpu_culling:
+    if settings.culling == "gpu":
         # the big buildings in the frustum into the depth buffer, its max-depth pyramid, then every
         # building against frustum and pyramid into draw commands (render/_visibility.py)
         passes.append(Pass("occluders", occluder_pass, CITY, "hdr", GLState(colour_write=False), clear=black))

@@ -114,7 +114,7 @@ def shadow_pass(f):
         if "buildings" in casters:
             program = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
             set_uniforms(program, u_view_proj=view_proj)
-            f.city.draw_buildings(program, f.building_draws(view_proj))
+            f.draw_buildings(program, view_proj)
             calls += 1
         if f.trees is not None:
             f.trees.prepare(f.camera.eye)

@@ -210,7 +210,7 @@ def occluder_pass(f):
     """The big buildings in the frustum, depth-only, into the frame's depth buffer."""
     program = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
     set_uniforms(program, u_view_proj=f.view_projection)
-    f.city.draw_buildings(program, f.city.visibility.occluders(f.view_projection))
+    f.city.draw_buildings(program, draws=f.city.visibility.occluders(f.view_projection))
 
 
 def hiz_pass(f):
