@@ -9,6 +9,7 @@ import pytest
 from cityshade.errors import UsageError
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._culling import BuildingChunks, boxes_visible, frustum_planes
+from cityshade.render._visibility import building_boxes, building_ranges
 from cityshade.scene import Camera, batch, make_city
 from render_checks import render_finite
 
@@ -24,6 +25,18 @@ def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
     ids = chunks.vertices["ids"][:, 0].reshape(-1, 3)
     assert np.all(ids == ids[:, :1])
     assert len(chunks) > 10
+    # each building one contiguous range (the GPU culling draws it as one command), its box exact
+    first, count = building_ranges(chunks.vertices, len(city.masses))
+    building = chunks.vertices["ids"][:, 0]
+    for index in (0, 17, len(city.masses) - 1):
+        assert np.all(building[first[index]: first[index] + count[index]] == index)
+    assert count.sum() == len(chunks.vertices)
+    boxes = building_boxes(chunks.vertices, first, count)
+    positions = chunks.vertices["position"]
+    lo, hi = np.full((len(city.masses), 3), np.inf, np.float32), np.full((len(city.masses), 3), -np.inf, np.float32)
+    np.minimum.at(lo, building, positions)
+    np.maximum.at(hi, building, positions)
+    assert np.array_equal(boxes["lo"][:, :3], lo) and np.array_equal(boxes["hi"][:, :3], hi)
 
 
 def test_box_test_is_exact_for_clear_cases():
