@@ -120,3 +120,28 @@ def test_hiz_drops_hidden_buildings_and_the_flag_switches_culling(single_sample)
     names = [p.name for p in frame_passes(RenderSettings())]
     assert names.index("occluders") < names.index("hi-z") < names.index("cull") < names.index("buildings")
     assert not {"occluders", "hi-z", "cull"} & {p.name for p in frame_passes(RenderSettings(culling="frustum"))}
+
+
+@pytest.mark.parametrize("view", ["street", "corner"])
+def test_gpu_tree_instances_kept_equal_the_numpy_twin(gl_context, view):
+    city = make_city("default")
+    renderer = Renderer(SIZE, RenderSettings(samples=0, shadows=False), ctx=gl_context)
+    renderer.set_city(city)
+    try:
+        camera = city.camera(view)
+        renderer.render(camera)
+        trees, pyramid = renderer.trees, renderer.city.visibility.read_pyramid()
+        view_projection = camera.view_projection(SIZE[0] / SIZE[1])
+        buckets = [key for key, (_, count) in trees.instances.items() if count]
+        kept = {key: trees.kept(*key) for key in buckets}
+        for key in buckets:
+            expected = visible_twin(trees.instance_boxes(*key), view_projection, pyramid=pyramid, viewport=SIZE)
+            assert np.array_equal(kept[key], expected), f"{view} trees {key}: {np.count_nonzero(kept[key] != expected)} differ"
+        assert sum(k.sum() for k in kept.values()) < sum(len(k) for k in kept.values()), "some trees are culled"
+        # a shadow cascade's trees: its frustum alone
+        light = Camera(camera.eye + np.array([60.0, 80.0, 40.0]), camera.target, fov_y=50.0, near=1.0, far=600.0)
+        trees.cull(light.view_projection(1.0))
+        for key in buckets:
+            assert np.array_equal(trees.kept(*key), visible_twin(trees.instance_boxes(*key), light.view_projection(1.0)))
+    finally:
+        renderer.release()

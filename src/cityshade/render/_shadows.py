@@ -118,6 +118,8 @@ def shadow_pass(f):
             calls += 1
         if f.trees is not None:
             f.trees.prepare(f.camera.eye)
+            if f.settings.culling == "gpu":
+                f.trees.cull(view_proj)  # the cascade's frustum
             calls += f.trees.draw_shadow(view_proj, sun, casters)
         return calls
 

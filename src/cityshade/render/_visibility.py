@@ -14,7 +14,8 @@ frame, so the first frame and camera cuts are as exact as any other):
 2. `hi-z`: that depth is reduced to a max-depth pyramid (the farthest of each pixel's samples);
 3. `cull`: every building is tested against the frustum and the pyramid; a box hidden in every
    pixel it could cover is dropped (an occluder too, when a nearer one hides it all).
-The other views (each shadow cascade, the id AOV) are culled against their frustum only.
+The other views (each shadow cascade, the id AOV) are culled against their frustum only. The tree
+instances go through the same tests (`run_cull` with shaders/trees/cull.glsl, from render/_trees.py).
 
 `visible_twin` makes the same decision in numpy from the same planes and the pyramid read back.
 """
@@ -126,6 +127,24 @@ def visible_twin(boxes: np.ndarray, view_projection: np.ndarray, eye=None, pyram
     return drawn
 
 
+def run_cull(ctx: moderngl.Context, path: str, count: int, out: moderngl.Buffer, view_projection: np.ndarray,
+             pyramid: moderngl.Texture | None = None, defines: dict | None = None, **uniforms):
+    """Runs a cull compute shader (`path`, one invocation per box; its inputs bound by the caller)
+    that writes draw commands into `out`: frustum test, and with `pyramid` (a max-depth pyramid of
+    the view's depth, as large as its viewport) the Hi-Z test."""
+    defines = {"COMMAND_WORDS": COMMAND_WORDS, "HIZ": pyramid is not None, **(defines or {})}
+    program = programs(ctx).get(path, defines)
+    program["u_planes"].write(frustum_planes(view_projection).astype(np.float32).tobytes())
+    if pyramid is not None:
+        bind_textures(program, {"u_hiz": pyramid})
+        uniforms.update(u_cull_view_proj=view_projection, u_viewport=pyramid.size,
+                        u_hiz_top=len(pyramid_levels(pyramid.size)) - 1, u_depth_margin=DEPTH_MARGIN)
+    set_uniforms(program, **uniforms)
+    out.bind_to_storage_buffer(2)
+    program.run(-(-count // GROUP))
+    ctx.memory_barrier()  # the commands feed indirect draws and read-backs
+
+
 class BuildingVisibility:
     """The cull pass's buffers and programs for one uploaded city."""
 
@@ -133,7 +152,6 @@ class BuildingVisibility:
         self.ctx = ctx
         self.boxes = boxes
         self.count = len(boxes)
-        self.programs = programs(ctx)
         data = boxes.tobytes() if self.count else b"\0" * BOX_DTYPE.itemsize
         self.box_buffer = ctx.buffer(data)
         size = max(self.count, 1) * COMMAND_WORDS * 4
@@ -143,16 +161,10 @@ class BuildingVisibility:
         self.pyramid: moderngl.Texture | None = None
 
     def _run(self, out: moderngl.Buffer, view_projection: np.ndarray, defines: dict | None = None,
-             textures: dict | None = None, **uniforms):
-        program = self.programs.get("frame/cull.glsl", {"COMMAND_WORDS": COMMAND_WORDS, **(defines or {})})
-        bind_textures(program, textures or {})
-        planes = frustum_planes(view_projection).astype(np.float32)
-        program["u_planes"].write(planes.tobytes())
-        set_uniforms(program, u_box_count=self.count, **uniforms)
+             pyramid: moderngl.Texture | None = None, **uniforms) -> moderngl.Buffer:
         self.box_buffer.bind_to_storage_buffer(1)
-        out.bind_to_storage_buffer(2)
-        program.run(-(-self.count // GROUP))
-        self.ctx.memory_barrier()  # the commands feed indirect draws and read-backs
+        run_cull(self.ctx, "frame/cull.glsl", self.count, out, view_projection, pyramid, defines,
+                 u_box_count=self.count, **uniforms)
         return out
 
     def frustum(self, view_projection: np.ndarray) -> moderngl.Buffer:
@@ -170,10 +182,10 @@ class BuildingVisibility:
             if self.pyramid is not None:
                 self.pyramid.release()
             self.pyramid = pyramid_texture(self.ctx, size)
-        program = self.programs.get("frame/hiz.glsl", {"FROM_DEPTH": True, "MULTISAMPLED": samples > 0})
+        program = programs(self.ctx).get("frame/hiz.glsl", {"FROM_DEPTH": True, "MULTISAMPLED": samples > 0})
         bind_textures(program, {"u_depth": depth})
         set_uniforms(program, **({"u_samples": samples} if samples else {}))
-        reduce = self.programs.get("frame/hiz.glsl")
+        reduce = programs(self.ctx).get("frame/hiz.glsl")
         for level, (w, h) in enumerate(pyramid_levels(size)):
             if level:
                 self.pyramid.bind_to_image(0, read=True, write=False, level=level - 1, format=R32F)
@@ -181,12 +193,9 @@ class BuildingVisibility:
             (reduce if level else program).run(-(-w // TILE), -(-h // TILE))
             self.ctx.memory_barrier()
 
-    def cull(self, view_projection: np.ndarray, viewport: tuple[int, int]) -> moderngl.Buffer:
+    def cull(self, view_projection: np.ndarray) -> moderngl.Buffer:
         """Draw commands of the buildings in the frustum and not hidden behind the pyramid."""
-        return self._run(self.camera_draws, view_projection, {"HIZ": True}, {"u_hiz": self.pyramid},
-                         u_cull_view_proj=view_projection,
-                         u_viewport=viewport, u_hiz_top=len(pyramid_levels(self.pyramid.size)) - 1,
-                         u_depth_margin=DEPTH_MARGIN)
+        return self._run(self.camera_draws, view_projection, pyramid=self.pyramid)
 
     def read_pyramid(self) -> list[np.ndarray]:
         """The pyramid's levels as float32 arrays (row 0 the bottom row)."""
@@ -218,4 +227,4 @@ def hiz_pass(f):
 
 
 def cull_pass(f):
-    f.camera_draws = f.city.visibility.cull(f.view_projection, f.size)
+    f.camera_draws = f.city.visibility.cull(f.view_projection)
