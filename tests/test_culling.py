@@ -36,7 +36,12 @@ def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
     lo, hi = np.full((len(city.masses), 3), np.inf, np.float32), np.full((len(city.masses), 3), -np.inf, np.float32)
     np.minimum.at(lo, building, positions)
     np.maximum.at(hi, building, positions)
-    assert np.array_equal(boxes["lo"][:, :3], lo) and np.array_equal(boxes["hi"][:, :3], hi)
+    # in vertex-buffer order (the draw order of one plain draw), every building with vertices once
+    assert np.all(np.diff(boxes["draw"][:, 1].astype(np.int64)) > 0)
+    index = boxes["draw"][:, 2]
+    assert sorted(index) == list(range(len(city.masses)))
+    assert np.array_equal(boxes["draw"][:, 0], count[index]) and np.array_equal(boxes["draw"][:, 1], first[index])
+    assert np.array_equal(boxes["lo"][:, :3], lo[index]) and np.array_equal(boxes["hi"][:, :3], hi[index])
 
 
 def test_box_test_is_exact_for_clear_cases():

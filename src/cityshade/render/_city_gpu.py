@@ -73,7 +73,7 @@ class CityGPU:
         self.records.bind_to_storage_buffer(0)
         vao = self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES)
         if draws is not None:
-            vao.render_indirect(draws, moderngl.TRIANGLES, count=self.building_count)
+            vao.render_indirect(draws, moderngl.TRIANGLES, count=self.visibility.count)
         elif view_projection is not None:
             for first, count in self.chunks.visible_runs(self.chunks.visible(view_projection)):
                 vao.render(moderngl.TRIANGLES, vertices=count, first=first)

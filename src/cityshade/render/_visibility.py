@@ -32,7 +32,7 @@ OCCLUDER_SIZE = 0.1  # half diagonal / distance: about 11 degrees across
 DEPTH_MARGIN = 4e-6  # depth units (a few 24-bit steps) beyond the pyramid a box must lie to be hidden
 GROUP = 64  # cull.glsl's local size
 TILE = 8  # hiz.glsl's local size (each way)
-BOX_DTYPE = np.dtype([("lo", "f4", 4), ("hi", "f4", 4), ("draw", "u4", 4)])  # cull.glsl's BuildingBox
+BOX_DTYPE = np.dtype([("lo", "f4", 4), ("hi", "f4", 4), ("draw", "u4", 4)])  # cull.glsl's BuildingBox (draw: count, first, building)
 COMMAND_WORDS = 5  # count, instanceCount, first, baseInstance; moderngl draws with a 20-byte stride
 
 
@@ -49,18 +49,17 @@ def building_ranges(vertices: np.ndarray, building_count: int) -> tuple[np.ndarr
 
 
 def building_boxes(vertices: np.ndarray, first: np.ndarray, count: np.ndarray) -> np.ndarray:
-    """The cull pass's input: each building's box and vertex range, in building order; buildings
-    without vertices get an empty range."""
-    boxes = np.zeros(len(first), BOX_DTYPE)
-    present = count > 0
-    order = np.argsort(first[present])  # reduceat wants the ranges in buffer order
-    starts = first[present][order]
-    positions = vertices["position"].astype(np.float32)
-    lo, hi = np.empty((len(starts), 3), np.float32), np.empty((len(starts), 3), np.float32)
-    lo[order] = np.minimum.reduceat(positions, starts, axis=0) if len(starts) else lo
-    hi[order] = np.maximum.reduceat(positions, starts, axis=0) if len(starts) else hi
-    boxes["lo"][present, :3], boxes["hi"][present, :3] = lo, hi
-    boxes["draw"][:, 0], boxes["draw"][:, 1] = count, first
+    """The cull pass's input: the box, vertex range and index of each building with vertices, in
+    vertex-buffer order, which the draw commands keep (where two buildings' surfaces meet at one
+    depth, the one drawn later wins, as in one plain draw)."""
+    buildings = np.flatnonzero(count > 0)
+    buildings = buildings[np.argsort(first[buildings], kind="stable")]
+    boxes = np.zeros(len(buildings), BOX_DTYPE)
+    if len(buildings):
+        positions = vertices["position"].astype(np.float32)
+        boxes["lo"][:, :3] = np.minimum.reduceat(positions, first[buildings], axis=0)
+        boxes["hi"][:, :3] = np.maximum.reduceat(positions, first[buildings], axis=0)
+    boxes["draw"][:, 0], boxes["draw"][:, 1], boxes["draw"][:, 2] = count[buildings], first[buildings], buildings
     return boxes
 
 
@@ -203,7 +202,8 @@ class BuildingVisibility:
                 for level, (w, h) in enumerate(pyramid_levels(self.pyramid.size))]
 
     def drawn(self, commands: moderngl.Buffer) -> np.ndarray:
-        """Which buildings a command buffer draws (read back: for tests and statistics)."""
+        """Which boxes (in `boxes` order; their building is boxes["draw"][:, 2]) a command buffer
+        draws (read back: for tests and statistics)."""
         return np.frombuffer(commands.read(), np.uint32).reshape(-1, COMMAND_WORDS)[: self.count, 1] > 0
 
     def release(self):

@@ -2,8 +2,9 @@
 // same decision): one invocation per building tests its bounding box against the view's frustum
 // planes (frame/cull_tests.glsl) and writes the building's DrawArraysIndirectCommand (count,
 // instanceCount 1 or 0, first, 0) for a multi-draw, COMMAND_WORDS apart (moderngl's render_indirect
-// draws with a 20-byte stride). The commands keep the vertex buffer's order, so the drawn triangles
-// arrive in the same order as in one plain draw of everything, and the picture is the same.
+// draws with a 20-byte stride). The boxes, and so the commands, are in vertex-buffer order, so the
+// drawn triangles arrive in the same order as in one plain draw of everything, and the picture is
+// the same (where two buildings meet at one depth, the later one wins either way).
 // Defines: COMMAND_WORDS (the command stride in words), OCCLUDERS (only the boxes that look big:
 // the occluders drawn into the hierarchical depth), HIZ (also drop the boxes hidden behind the
 // hierarchical depth of the occluders, frame/hiz.glsl).
@@ -13,7 +14,7 @@ layout(local_size_x = 64) in;
 struct BuildingBox {
     vec4 lo;     // xyz: the box's low corner (world)
     vec4 hi;     // xyz: the high corner
-    uvec4 draw;  // vertex count, first vertex
+    uvec4 draw;  // vertex count, first vertex, building
 };
 layout(std430, binding = 1) readonly buffer Boxes { BuildingBox boxes[]; };
 layout(std430, binding = 2) writeonly buffer Commands { uint commands[]; };
