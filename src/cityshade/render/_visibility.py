@@ -29,10 +29,11 @@ from ..gl import R32F, programs, pyramid_levels, pyramid_texture, set_uniforms, 
 from ._culling import frustum_planes
 
 OCCLUDER_SIZE = 0.1  # half diagonal / distance: about 11 degrees across
-DEPTH_MARGIN = 4e-6  # depth units (a few 24-bit steps) beyond the pyramid a box must lie to be hidden
+DEPTH_MARGIN = 4e-6  # depth units (about 70 steps of a 24-bit depth buffer) a box must lie beyond the pyramid
 GROUP = 64  # cull.glsl's local size
 TILE = 8  # hiz.glsl's local size (each way)
-BOX_DTYPE = np.dtype([("lo", "f4", 4), ("hi", "f4", 4), ("draw", "u4", 4)])  # cull.glsl's BuildingBox (draw: count, first, building)
+# cull.glsl's BuildingBox; draw: vertex count, first vertex, building index
+BOX_DTYPE = np.dtype([("lo", "f4", 4), ("hi", "f4", 4), ("draw", "u4", 4)])
 COMMAND_WORDS = 5  # count, instanceCount, first, baseInstance; moderngl draws with a 20-byte stride
 
 
@@ -67,10 +68,8 @@ def box_pixels(view_projection: np.ndarray, lo: np.ndarray, hi: np.ndarray, view
     """Per box: whether every corner is in front of the eye, the clamped pixel range (first, last:
     (N, 2) ints) its projection can touch, and its nearest depth in [0, 1] (float32, as on the GPU)."""
     corners = np.stack([np.where(np.array([(i >> a) & 1 for a in range(3)], bool), hi, lo) for i in range(8)], 1)
-    vp = view_projection.astype(np.float32)
-    clip = corners.astype(np.float32) @ vp[:3, :3].T + vp[:3, 3]  # (N, 8, 4) without the w row yet
-    w = corners.astype(np.float32) @ vp[3, :3] + vp[3, 3]
-    clip = np.concatenate([clip, w[..., None]], axis=-1)
+    homogeneous = np.concatenate([corners, np.ones((*corners.shape[:2], 1))], axis=-1).astype(np.float32)
+    clip = homogeneous @ view_projection.astype(np.float32).T  # (N, 8, 4)
     in_front = np.all(clip[..., 3] > 0, axis=1)
     safe_w = np.where(clip[..., 3] > 0, clip[..., 3], np.float32(1))
     ndc = clip[..., :3] / safe_w[..., None]
@@ -101,8 +100,9 @@ def hiz_twin(depth: np.ndarray) -> list[np.ndarray]:
 
 def visible_twin(boxes: np.ndarray, view_projection: np.ndarray, eye=None, pyramid: list[np.ndarray] | None = None,
                  viewport: tuple[int, int] | None = None) -> np.ndarray:
-    """frame/cull.glsl in numpy: which buildings are drawn. Frustum only; with `eye`, the
-    occluders; with `pyramid` (hiz_twin's or the GPU's levels) and `viewport`, the Hi-Z test too."""
+    """frame/cull.glsl (and trees/cull.glsl) in numpy: which boxes are drawn. Frustum only; with
+    `eye`, the occluders; with `pyramid` (hiz_twin's or the GPU's levels) and `viewport`, the Hi-Z
+    test too."""
     planes = frustum_planes(view_projection).astype(np.float32)
     lo, hi = boxes["lo"][:, :3], boxes["hi"][:, :3]
     corner = np.where(planes[None, :, :3] >= 0, hi[:, None, :], lo[:, None, :])
