@@ -145,3 +145,15 @@ def test_gpu_tree_instances_kept_equal_the_numpy_twin(gl_context, view):
             assert np.array_equal(trees.kept(*key), visible_twin(trees.instance_boxes(*key), light.view_projection(1.0)))
     finally:
         renderer.release()
+
+
+def test_culling_keeps_the_polygonised_baseline_pixels(gl_context):
+    """The baseline's exteriors have the glass cut out: the rooms behind must hide what the
+    occluders' solid depth hid."""
+    city = make_city("grid")
+    # "row": in front of the first tower of a row, looking along it
+    cameras = {"orbit": city.camera("orbit"), "row": Camera((-215.0, 30.0, -188.0), (200.0, 30.0, -188.0), fov_y=60.0)}
+    settings = RenderSettings(samples=0, polygonised_interiors=True)
+    differing, drawn = differing_pixels(city, cameras, settings, gl_context)
+    assert differing == dict.fromkeys(differing, 0), f"pixels differing with GPU culling on: {differing}"
+    assert drawn["row"] < len(city.masses) // 2, drawn
