@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..scene import BuildingMass
+from ..scene import USES, BuildingMass
 from ._defaults import defaults_for
 from ._model import MapBuilding, MapData, to_scene
 from ._roofs import building_roof
@@ -34,6 +34,20 @@ STYLE_BY_USE = {
 }
 STYLES = 8
 
+# What decides when a building's rooms are lit (cityshade.scene.LIT_SCHEDULE), by its use or kind;
+# anything else (building=yes with no use) is "mixed".
+USE_BY_KIND = {
+    **dict.fromkeys(("residential", "apartments", "dormitory", "house", "detached", "terrace", "semidetached_house",
+                     "bungalow", "cabin", "farm", "hotel"), "home"),
+    **dict.fromkeys(("office", "bank"), "office"),
+    **dict.fromkeys(("commercial", "retail", "shop", "supermarket", "kiosk", "restaurant", "cafe", "bar", "pub",
+                     "fast_food"), "shop"),
+    **dict.fromkeys(("industrial", "warehouse", "factory", "manufacture"), "industry"),
+    **dict.fromkeys(("civic", "public", "government", "school", "kindergarten", "university", "college", "hospital",
+                     "church", "cathedral", "chapel", "mosque", "synagogue", "temple", "museum", "library",
+                     "townhall", "train_station", "transportation"), "public"),
+}
+
 
 def facade_style(building: MapBuilding) -> int:
     """The facade style (0..7) for a building's use or kind; unknown uses get a stable varied one."""
@@ -43,6 +57,11 @@ def facade_style(building: MapBuilding) -> int:
         if use in STYLE_BY_USE:
             return STYLE_BY_USE[use]
     return int(building.index) % STYLES
+
+
+def use_code(building: MapBuilding) -> int:
+    """The building's USE_* code (cityshade.scene.USES) from its use, else its kind."""
+    return USES[next((USE_BY_KIND[use] for use in (building.use, building.kind) if use in USE_BY_KIND), "mixed")]
 
 
 def heights(building: MapBuilding) -> tuple[float, float, float]:
@@ -103,7 +122,7 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
         return None
     return BuildingMass(
         "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,
-        seed=building.index, style=facade_style(building), holes=holes, base=base, roof=roof,
+        seed=building.index, style=facade_style(building), use=use_code(building), holes=holes, base=base, roof=roof,
         walls=building.has_walls, wall_colour=building.building_colour, wall_material=building.building_material,
         guessed=frozenset(building.guessed),
         # A shed or sauna: no rooms behind its few windows, only dark panes.

@@ -20,7 +20,7 @@ import numpy as np
 from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, bind_textures, draw_fullscreen, set_uniforms
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
-from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
+from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, lit_shares
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
@@ -85,7 +85,7 @@ class FrameInputs:
         layout = t.atlas_layout
         atlas_size = (t.atlas.width, t.atlas.height)
         return dict(
-            u_view_proj=self.view_projection, u_lights=float(d.lights if s.lights is None else s.lights),
+            u_view_proj=self.view_projection, u_lit_share=lit_shares(d.hours, s.lights),
             u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,

@@ -9,6 +9,7 @@ import numpy as np
 
 from ._roofs import FLAT_ROOF, Roof
 from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, SHAPES
+from ._uses import USE_COUNT, USE_MIXED, USE_SHIFT
 
 
 @dataclass(frozen=True)
@@ -21,7 +22,7 @@ class BuildingMass:
     Buildings from maps add courtyards (`holes`, clockwise rings in the same frame), walls that
     start above the ground (`base`, with an underside), a `roof` on top of the walls (walls run
     up to `height - roof.height`), no walls at all (`walls=False`: a canopy), tagged tints and no
-    rooms behind the glass (`interior=False`: an outbuilding's dark panes)."""
+    rooms behind the glass (`interior=False`: an outbuilding's dark panes) and a `use` code."""
 
     shape: str
     position: tuple[float, float]
@@ -32,7 +33,8 @@ class BuildingMass:
     room_width: float = 4.5
     seed: int = 0
     style: int = 0
-    lights: float = 1.0
+    lights: float = 1.0  # multiplies the lit share of its use at the hour (0: never lit)
+    use: int = USE_MIXED  # what it is used for, a USE_* code (scene/_uses.py): decides when its rooms are lit
     wall_jitter: float = 0.25
     furniture: bool = True
     curtains: bool = True
@@ -50,6 +52,8 @@ class BuildingMass:
             raise ValueError(f"unknown building shape {self.shape!r}; allowed: {', '.join(SHAPES)}")
         if self.height <= 0:
             raise ValueError(f"building height must be positive, got {self.height}")
+        if self.use not in range(USE_COUNT):
+            raise ValueError(f"unknown building use code {self.use!r}; allowed: 0..{USE_COUNT - 1} (scene/_uses.py)")
         if not 0 <= self.base <= self.wall_top or (self.walls and self.base == self.wall_top):
             raise ValueError(f"building walls must run upward from base {self.base} to {self.wall_top}")
 
@@ -80,6 +84,7 @@ class BuildingMass:
             | (FLAG_CURTAINS if self.curtains else 0)
             | (FLAG_ROOM_VARIATION if self.wall_jitter > 0 else 0)
             | (0 if self.interior else FLAG_NO_INTERIOR)
+            | self.use << USE_SHIFT
         )
 
 

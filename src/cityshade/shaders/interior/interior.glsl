@@ -22,7 +22,7 @@
 #define EMPTY_ROOM_SHARE 0.3
 #define CURTAIN_SHARE 0.55
 
-uniform float u_lights;          // probability c that a room's light is on (paper §4.1)
+uniform float u_lit_share[USE_COUNT];  // per use: probability c that a room's light is on (paper §4.1) at this hour
 uniform int u_room_variants;     // rooms in the atlas (paper §4.2)
 uniform int u_sprite_kinds;
 uniform int u_sprite_frames;
@@ -87,6 +87,11 @@ void room_interval(float x, float size, int lines, int floor_index, uint salt, f
     }
 }
 
+// A room's light: its hash against the share of its building's use at this hour, times the building's own multiplier.
+bool room_lit(ivec3 cell, Building b) {
+    return unit_float(hash3(cell, uint(b.ids.x) ^ SALT_LIGHT)) < u_lit_share[building_use(b)] * b.extent.w;
+}
+
 Room find_room(vec3 p, vec3 n, Building b) {
     vec3 size = b.room.xyz;
     uint seed = uint(b.ids.x);
@@ -100,7 +105,7 @@ Room find_room(vec3 p, vec3 n, Building b) {
     room_interval(q.x, size.x, lines.x, r.cell.y, seed ^ SALT_WALL_X, jitter, r.cell.x, r.lo.x, r.hi.x);
     room_interval(q.z, size.z, lines.z, r.cell.y, seed ^ SALT_WALL_Z, jitter, r.cell.z, r.lo.z, r.hi.z);
     r.id = room_id(r.cell);
-    r.lit = unit_float(hash3(r.cell, seed ^ SALT_LIGHT)) < u_lights * b.extent.w;
+    r.lit = room_lit(r.cell, b);
     r.variant = int(hash3(r.cell, seed ^ SALT_VARIANT) % uint(u_room_variants));
     return r;
 }
