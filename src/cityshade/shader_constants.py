@@ -11,6 +11,7 @@ from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
 from .relief import FACADE_RELIEF, GLASS, RELIEF_FACE_CODES
 from .scene import FLAGS, GROUND_MATERIALS, MAP_GROUND_MATERIALS, ROOF_PATTERNS, SHAPE_CODES, SURFACE_CODES, USE_CODES
+from .scene import DOOR_CONSTANTS
 
 CONSTANTS: dict[str, int | str] = {
     **FACE_CODES,  # id AOV faces: FACE_NONE ... FACE_GROUND, FACE_TRUNK, FACE_FOLIAGE
@@ -25,6 +26,8 @@ CONSTANTS: dict[str, int | str] = {
     "FACADE_RELIEF": FACADE_RELIEF,
     "GRAMMAR_WALL_LABEL": LABELS.index("wall"),
     "GRAMMAR_ROOM_LABEL": LABELS.index("room"),
+    "GRAMMAR_DOOR_LABEL": LABELS.index("door"),
+    **DOOR_CONSTANTS,  # DOOR_WIDTH, DOOR_HEIGHT, DOOR_PLANE, DOOR_FACING, MAX_DOORS: scene/_doors.py
     "RELIEF_GLASS": f"{GLASS}u",  # compared with the uint materials of the relief maps
     **RELIEF_FACE_CODES,  # FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y, FACE_POS_Y
 }

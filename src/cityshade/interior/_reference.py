@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..relief import GLASS, DetailMaps, trace_reference
-from ..scene import USE_COUNT, BuildingMass
+from ..scene import USE_COUNT, BuildingMass, door_hit
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
                      FACE_WALL_X, FACE_WALL_Z, room_state)
 from ._hash import hash3, unit_float
@@ -166,7 +166,8 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
-    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace` (none behind the
+    `relief`, by the relief met along the ray, `relief_entry`) unless a door stands there
+    (`cityshade.scene.door_hit`), rooms by `trace` (none behind the
     glass of a mass without an interior). The ground is the
     plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
     relief = relief or {}
@@ -199,6 +200,8 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
             glass = ~roof & (facade_alpha[row, col] < 0.5)
+        if mass.doors:  # a door stands in front of whatever the facade has there
+            glass &= roof | ~door_hit(hits.local[sel], hits.normal[sel], mass.doors)[0]
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
         if glass.any() and mass.interior:  # without an interior the glass stays an exterior face

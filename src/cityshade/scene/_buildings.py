@@ -45,6 +45,8 @@ class BuildingMass:
     walls: bool = True
     wall_colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the style's own tint
     wall_material: str | None = None
+    # doors: (x, z, outward normal x, z) on the outline (scene/_doors.py); "doors" in `guessed` when placed without data
+    doors: tuple[tuple[float, float, float, float], ...] = ()
     guessed: frozenset[str] = frozenset()  # map attributes the data did not give ("height", "roof_shape", ...)
 
     def __post_init__(self):

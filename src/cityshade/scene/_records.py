@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._doors import MAX_DOORS
+
 SHAPE_PRISM, SHAPE_CYLINDER, SHAPE_DOME = 0, 1, 2
 SHAPES = {"prism": SHAPE_PRISM, "cylinder": SHAPE_CYLINDER, "dome": SHAPE_DOME}
 
@@ -27,6 +29,7 @@ BUILDING_DTYPE = np.dtype(
         ("facade", "<i4", 4),  # x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed
         ("tint", "<f4", 4),  # rgb: linear facade tint; w: 1 if tinted (tagged colour or material), 0: the style's own
         ("roof", "<f4", 4),  # rgb: linear roof colour; w: roof material id (ROOF_* in shaders/city/roof.glsl)
+        ("doors", "<f4", (MAX_DOORS, 4)),  # per door: x, z on the outline, outward normal x, z (zero: none); _doors.py
     ]
 )
 assert BUILDING_DTYPE.itemsize % 16 == 0

@@ -22,6 +22,7 @@ void main() {}
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
 #include "city/roof.glsl"
+#include "city/doors.glsl"
 #include "city/street_lights.glsl"
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
@@ -96,6 +97,15 @@ void main() {
         vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
         glass = 1.0 - exterior.a;
         color = lit_surface(exterior.rgb * building_tint(b), n_world, shadow_factor(v_world));
+#endif
+        }
+        vec2 door_uv;
+        int door;
+        if (door_at(b, v_local, n, door_uv, door)) {  // a mapped or guessed door in front of any facade
+            glass = 0.0;
+            label = GRAMMAR_DOOR_LABEL;
+#if !defined ID_PASS
+            color = lit_surface(door_albedo(b, door, door_uv), n_world, shadow_factor(v_world));
 #endif
         }
 #if defined POLYGONISED_EXTERIOR

@@ -11,6 +11,7 @@ struct Building {
     ivec4 facade;      // x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed (1/8 m)
     vec4 tint;         // rgb: linear facade tint; w: 1 if tinted (a tagged colour or material), 0: the style's own
     vec4 roof;         // rgb: linear roof colour; w: roof material id (ROOF_* in city/roof.glsl)
+    vec4 doors[MAX_DOORS];  // xy: a door's point on the outline (object space), zw: its wall's outward normal (0: none)
 };
 
 layout(std430, binding = 0) readonly buffer Buildings {
