@@ -8,11 +8,10 @@ import pytest
 from PIL import Image
 
 from cityshade import assets
-from cityshade.interior import FACE_CODES, InteriorParams, cast_masses, reference_ids
+from cityshade.interior import FACE_CODES, cast_masses
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import DOOR_HEIGHT, DOOR_WIDTH, Camera, City, box, door_hit, door_on_edge
-from render_checks import id_edges, render_finite
+from render_checks import id_edges, interior_twin, render_finite
 
 DOOR_LABEL = assets.LABELS.index("door")
 
@@ -46,15 +45,6 @@ BOUNDS = (-30.0, -30.0, 50.0, 30.0)
 CAMERA = Camera((11.0, 2.0, -9.0), (11.0, 1.5, 5.0), fov_y=75.0)
 
 
-def _twin(renderer, masses) -> np.ndarray:
-    s = renderer.settings
-    params = InteriorParams(lights=s.lights, time=s.animation_time, variants=renderer.textures.room_variants,
-                            glass_rect=renderer.textures.glass_rect, sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
-    x0, z0, x1, z1 = BOUNDS
-    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
-    return reference_ids(masses, CAMERA, SIZE, params, assets.facade_texture()[0][..., 3] / 255.0, ground)
-
-
 def _twin_doors(masses) -> np.ndarray:
     """Per pixel: the twin's door test on the masses' own solids (building index + 1, 0: no door)."""
     dirs = CAMERA.pixel_rays(SIZE).reshape(-1, 3)
@@ -79,7 +69,7 @@ def test_doors_on_gpu_match_the_twin(gl_context, output_dir):
     Image.fromarray(colour).save(output_dir / "doors.png")
     twin_doors = _twin_doors(masses)
     gpu_doors = np.where(labels[..., 3] == DOOR_LABEL, labels[..., 2], 0)
-    ref = _twin(renderer, masses)
+    ref = interior_twin(renderer, masses, CAMERA, SIZE, BOUNDS)
     edges = id_edges(ref) | id_edges(np.stack([twin_doors] * 4, axis=-1))
     differ = gpu_doors != twin_doors
     # the twin knows the window bay's glass, not the grammar's: rooms are compared on the first building

@@ -8,13 +8,11 @@ import pytest
 import shapely
 from PIL import Image
 
-from cityshade import assets
-from cityshade.interior import InteriorParams, reference_ids
 from cityshade.maps._masses import use_code
 from cityshade.maps._model import MapBuilding, ReadReport
 from cityshade.maps._tags import building_attributes
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._city_gpu import GROUND_MARGIN
+from render_checks import interior_twin
 from cityshade.scene import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, Camera, City, box, lit_share, lit_shares
 
 HOME, OFFICE, SHOP, MIXED = USES["home"], USES["office"], USES["shop"], USES["mixed"]
@@ -79,16 +77,6 @@ BOUNDS = (-30.0, -30.0, 50.0, 30.0)
 CAMERA = Camera((17.0, 7.5, -22.0), (17.0, 7.5, 5.0), fov_y=70.0)
 
 
-def _twin(renderer, hours: float) -> np.ndarray:
-    s = renderer.settings
-    params = InteriorParams(lights=tuple(lit_shares(hours)), time=s.animation_time,
-                            variants=renderer.textures.room_variants, glass_rect=renderer.textures.glass_rect,
-                            sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
-    x0, z0, x1, z1 = BOUNDS
-    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
-    return reference_ids(MASSES, CAMERA, SIZE, params, assets.facade_texture()[0][..., 3] / 255.0, ground)
-
-
 def _lit_rooms(ids: np.ndarray, building: int) -> tuple[set[int], set[int]]:
     """(lit, all) room ids of a building (index + 1 in the id AOV) seen in a picture."""
     seen = (ids[..., 2] == building) & (ids[..., 3] & SEEN).astype(bool)
@@ -105,7 +93,7 @@ def test_office_and_home_rooms_lit_by_hour_match_the_twin(gl_context, output_dir
             renderer.set_settings(renderer.settings.with_(time_of_day=hours))
             gpu = renderer.render_ids(CAMERA, room_state=True)
             Image.fromarray(renderer.render(CAMERA)).save(output_dir / f"lit_by_use_{hours:02.0f}h.png")
-            ref = _twin(renderer, hours)
+            ref = interior_twin(renderer, MASSES, CAMERA, SIZE, BOUNDS, lights=tuple(lit_shares(hours)))
             same = np.all(gpu[..., :3] == ref[..., :3], axis=-1) & (ref[..., 3] & SEEN).astype(bool)
             pixels_differ = same & ((gpu[..., 3] ^ ref[..., 3]) & LIT).astype(bool)
             for name, building in (("office", 1), ("home", 2)):
