@@ -13,7 +13,7 @@ from cityshade.maps._model import MapBuilding, ReadReport
 from cityshade.maps._tags import building_attributes
 from cityshade.render import Renderer, RenderSettings
 from render_checks import interior_twin
-from cityshade.scene import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, Camera, City, box, lit_share, lit_shares
+from cityshade.scene import FLAGS, LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, Camera, City, box, lit_share, lit_shares
 
 HOME, OFFICE, SHOP, MIXED = USES["home"], USES["office"], USES["shop"], USES["mixed"]
 MINUTES = np.arange(24 * 60) / 60.0
@@ -64,6 +64,7 @@ def test_the_use_sits_above_the_flags_and_unknown_codes_are_refused():
     plain, office = box((0, 0), 10, 10, 10), box((0, 0), 10, 10, 10, use=OFFICE)
     assert office.flags >> USE_CODES["USE_SHIFT"] == OFFICE
     assert office.flags & ((1 << USE_CODES["USE_SHIFT"]) - 1) == plain.flags
+    assert box((0, 0), 10, 10, 10, shop_front=True).flags & FLAGS["FLAG_SHOP_FRONT"]
     with pytest.raises(ValueError, match="use code"):
         box((0, 0), 10, 10, 10, use=USE_COUNT)
 
@@ -72,19 +73,21 @@ def test_the_use_sits_above_the_flags_and_unknown_codes_are_refused():
 
 SIZE = (160, 120)
 MASSES = [box((0.0, 0.0), 16.0, 10.0, 15.0, seed=11, room_width=4.0, floor_height=3.0, use=OFFICE),
-          box((18.0, 0.0), 16.0, 10.0, 15.0, seed=12, room_width=4.0, floor_height=3.0, use=HOME)]
+          box((18.0, 0.0), 16.0, 10.0, 15.0, seed=12, room_width=4.0, floor_height=3.0, use=HOME, shop_front=True)]
 BOUNDS = (-30.0, -30.0, 50.0, 30.0)
 CAMERA = Camera((17.0, 7.5, -22.0), (17.0, 7.5, 5.0), fov_y=70.0)
 
 
-def _lit_rooms(ids: np.ndarray, building: int) -> tuple[set[int], set[int]]:
-    """(lit, all) room ids of a building (index + 1 in the id AOV) seen in a picture."""
-    seen = (ids[..., 2] == building) & (ids[..., 3] & SEEN).astype(bool)
+def _lit_rooms(ids: np.ndarray, building: int, ground: bool) -> tuple[set[int], set[int]]:
+    """(lit, all) room ids of a building (index + 1 in the id AOV) seen in a picture, on the ground
+    floor or above it."""
+    floor = ids[..., 1] >> 22  # cityshade.interior.room_id
+    seen = (ids[..., 2] == building) & (ids[..., 3] & SEEN).astype(bool) & ((floor == 0) == ground)
     lit = seen & (ids[..., 3] & LIT).astype(bool)
     return set(ids[..., 1][lit].tolist()), set(ids[..., 1][seen].tolist())
 
 
-def test_office_and_home_rooms_lit_by_hour_match_the_twin(gl_context, output_dir):
+def test_office_home_and_shop_rooms_lit_by_hour_match_the_twin(gl_context, output_dir):
     renderer = Renderer(SIZE, RenderSettings(samples=0, god_rays=False), ctx=gl_context)
     counts = {}
     try:
@@ -96,9 +99,9 @@ def test_office_and_home_rooms_lit_by_hour_match_the_twin(gl_context, output_dir
             ref = interior_twin(renderer, MASSES, CAMERA, SIZE, BOUNDS, lights=tuple(lit_shares(hours)))
             same = np.all(gpu[..., :3] == ref[..., :3], axis=-1) & (ref[..., 3] & SEEN).astype(bool)
             pixels_differ = same & ((gpu[..., 3] ^ ref[..., 3]) & LIT).astype(bool)
-            for name, building in (("office", 1), ("home", 2)):
-                gpu_lit, gpu_rooms = _lit_rooms(np.where(same[..., None], gpu, 0), building)
-                ref_lit, _ = _lit_rooms(np.where(same[..., None], ref, 0), building)
+            for name, building, ground in (("office", 1, False), ("home", 2, False), ("shop", 2, True)):
+                gpu_lit, gpu_rooms = _lit_rooms(np.where(same[..., None], gpu, 0), building, ground)
+                ref_lit, _ = _lit_rooms(np.where(same[..., None], ref, 0), building, ground)
                 counts[name, hours] = (len(gpu_lit), len(gpu_rooms), len(gpu_lit ^ ref_lit))
             print(f"{hours:05.2f}h: {same.sum()} room pixels compared, {pixels_differ.sum()} differ in light; "
                   + ", ".join(f"{n}: {lit} of {rooms} rooms lit, {wrong} lit differently"
@@ -111,6 +114,7 @@ def test_office_and_home_rooms_lit_by_hour_match_the_twin(gl_context, output_dir
     share = {key: lit / rooms for key, (lit, rooms, _) in counts.items()}
     assert share["office", 10.0] > 0.6 and share["office", 22.0] < 0.15
     assert share["home", 22.0] > 0.4 and share["home", 10.0] < 0.25
+    assert share["shop", 10.0] >= 0.75 and share["shop", 22.0] == 0.0, "the shops below the flats keep their hours"
 
 
 @pytest.mark.parametrize("tags, use", [({"building": "office"}, "office"), ({"building": "apartments"}, "home"),

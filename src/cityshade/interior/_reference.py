@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..relief import GLASS, DetailMaps, trace_reference
-from ..scene import USE_COUNT, BuildingMass, door_hit
+from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
                      FACE_WALL_X, FACE_WALL_Z, room_state)
 from ._hash import hash3, unit_float
@@ -61,11 +61,13 @@ def _room_interval(x, size, lines, floor_index, salt, jitter):
     return k, lo, hi
 
 
-def lit_threshold(mass: BuildingMass, params: InteriorParams) -> float:
-    """The share of the mass's rooms that are lit: its use's share times its own multiplier, rounded
-    as the shader's float32 product is (a room is lit when its hash is below it)."""
-    share = np.broadcast_to(np.asarray(params.lights, dtype=np.float32), (USE_COUNT,))[mass.use]
-    return float(np.float32(share) * np.float32(mass.lights))
+def lit_threshold(mass: BuildingMass, floor: np.ndarray, params: InteriorParams) -> np.ndarray:
+    """Per room (its floor index): the share of such rooms that are lit, the share of its use (a shop
+    on a shop-front ground floor, else the mass's use) times the mass's own multiplier, rounded as
+    the shader's float32 product is (a room is lit when its hash is below it)."""
+    shares = np.broadcast_to(np.asarray(params.lights, dtype=np.float32), (USE_COUNT,))
+    use = np.where((np.asarray(floor) == 0) & mass.shop_front, USES["shop"], mass.use)
+    return (shares[use] * np.float32(mass.lights)).astype(np.float64)
 
 
 def find_room(p: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> dict:
@@ -80,7 +82,7 @@ def find_room(p: np.ndarray, n: np.ndarray, mass: BuildingMass, params: Interior
     cz, z0, z1 = _room_interval(q[:, 2], size[2], lines[2], cy, seed ^ SALT_WALL_Z, jitter)
     lo = np.stack([x0, cy * size[1], z0], axis=1)
     hi = np.stack([x1, (cy + 1) * size[1], z1], axis=1)
-    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < lit_threshold(mass, params)
+    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < lit_threshold(mass, cy, params)
     variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 

@@ -126,7 +126,8 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
         return None
     return BuildingMass(
         "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,
-        seed=building.index, style=facade_style(building), use=use_code(building), holes=holes, base=base, roof=roof,
+        seed=building.index, style=facade_style(building), use=use_code(building), shop_front=building.shop_front,
+        holes=holes, base=base, roof=roof,
         walls=building.has_walls, doors=doors, wall_colour=building.building_colour, wall_material=building.building_material,
         guessed=frozenset(building.guessed),
         # A shed or sauna: no rooms behind its few windows, only dark panes.

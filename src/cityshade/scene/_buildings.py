@@ -8,7 +8,7 @@ from functools import cached_property
 import numpy as np
 
 from ._roofs import FLAT_ROOF, Roof
-from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, SHAPES
+from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, FLAG_SHOP_FRONT, SHAPES
 from ._uses import USE_COUNT, USE_MIXED, USE_SHIFT
 
 
@@ -35,6 +35,7 @@ class BuildingMass:
     style: int = 0
     lights: float = 1.0  # multiplies the lit share of its use at the hour (0: never lit)
     use: int = USE_MIXED  # what it is used for, a USE_* code (scene/_uses.py): decides when its rooms are lit
+    shop_front: bool = False  # shops on the ground floor: those rooms are lit as a shop's, whatever the use
     wall_jitter: float = 0.25
     furniture: bool = True
     curtains: bool = True
@@ -86,6 +87,7 @@ class BuildingMass:
             | (FLAG_CURTAINS if self.curtains else 0)
             | (FLAG_ROOM_VARIATION if self.wall_jitter > 0 else 0)
             | (0 if self.interior else FLAG_NO_INTERIOR)
+            | (FLAG_SHOP_FRONT if self.shop_front else 0)
             | self.use << USE_SHIFT
         )
 

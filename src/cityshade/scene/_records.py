@@ -14,11 +14,12 @@ FLAG_FURNITURE = 1
 FLAG_CURTAINS = 2
 FLAG_ROOM_VARIATION = 4
 FLAG_NO_INTERIOR = 8  # no rooms behind the glass: dark panes (sheds, garages, saunas)
+FLAG_SHOP_FRONT = 16  # shops on the ground floor: its rooms are lit in opening hours (scene/_uses.py)
 
 # for the shaders (cityshade.shader_constants)
 SHAPE_CODES = {f"SHAPE_{name.upper()}": code for name, code in SHAPES.items()}
 FLAGS = {"FLAG_FURNITURE": FLAG_FURNITURE, "FLAG_CURTAINS": FLAG_CURTAINS, "FLAG_ROOM_VARIATION": FLAG_ROOM_VARIATION,
-         "FLAG_NO_INTERIOR": FLAG_NO_INTERIOR}
+         "FLAG_NO_INTERIOR": FLAG_NO_INTERIOR, "FLAG_SHOP_FRONT": FLAG_SHOP_FRONT}
 
 BUILDING_DTYPE = np.dtype(
     [

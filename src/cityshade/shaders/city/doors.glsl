@@ -26,10 +26,10 @@ bool door_at(Building b, vec3 p, vec3 n, out vec2 uv, out int index) {
     return false;
 }
 
-// Painted door leaves (linear): bottle green, oxblood, navy, oiled wood, black, grey.
-const vec3 DOOR_PAINTS[6] = vec3[6](vec3(0.03, 0.09, 0.05), vec3(0.16, 0.02, 0.015), vec3(0.02, 0.03, 0.09),
-                                    vec3(0.14, 0.06, 0.025), vec3(0.012), vec3(0.1, 0.1, 0.11));
-const vec3 DOOR_FRAME = vec3(0.025);
+// Painted door leaves (linear): bottle green, oxblood, navy, oiled wood, charcoal, grey.
+const vec3 DOOR_PAINTS[6] = vec3[6](vec3(0.05, 0.15, 0.07), vec3(0.26, 0.04, 0.03), vec3(0.04, 0.07, 0.18),
+                                    vec3(0.26, 0.12, 0.05), vec3(0.05), vec3(0.2, 0.2, 0.22));
+const vec3 DOOR_FRAME = vec3(0.04);
 const vec3 DOOR_GLASS = vec3(0.01, 0.012, 0.016);
 
 // The door's albedo at `uv`: a dark frame, a leaf in one paint per door with a glazed top light and

@@ -87,9 +87,11 @@ void room_interval(float x, float size, int lines, int floor_index, uint salt, f
     }
 }
 
-// A room's light: its hash against the share of its building's use at this hour, times the building's own multiplier.
+// A room's light: its hash against the share of its use at this hour (a shop on a shop-front ground
+// floor, else the building's use), times the building's own multiplier.
 bool room_lit(ivec3 cell, Building b) {
-    return unit_float(hash3(cell, uint(b.ids.x) ^ SALT_LIGHT)) < u_lit_share[building_use(b)] * b.extent.w;
+    int use = cell.y == 0 && (b.ids.z & FLAG_SHOP_FRONT) != 0 ? USE_SHOP : building_use(b);
+    return unit_float(hash3(cell, uint(b.ids.x) ^ SALT_LIGHT)) < u_lit_share[use] * b.extent.w;
 }
 
 Room find_room(vec3 p, vec3 n, Building b) {
