@@ -342,7 +342,7 @@ def test_mansard_and_gambrel_over_any_outline_break_their_pitch_at_the_knee(shap
 PROBE = (64, 48)
 
 
-@pytest.mark.parametrize("material", range(9))
+@pytest.mark.parametrize("material", range(10))
 def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, material):
     """Per-pixel roof shading factors over a grid of points on a flat and two sloped roofs: the GPU
     and numpy agree within 1e-4 except where a pixel sits on a course or tile boundary (float32
