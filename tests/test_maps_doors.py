@@ -115,3 +115,15 @@ def test_map_doors_on_gpu_match_the_twin(gl_context, output_dir):
     differ = gpu != twin
     print(f"map door: GPU {gpu.sum()} pixels, twin {twin.sum()}, {differ.sum()} differ")
     assert twin.sum() > 300 and differ.sum() <= 0.03 * twin.sum()
+
+
+def test_geojson_entrance_points_become_doors(tmp_path):
+    path = tmp_path / "doors.geojson"
+    square = [[24.94, 60.17], [24.9402, 60.17], [24.9402, 60.1701], [24.94, 60.1701], [24.94, 60.17]]
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"building": "yes"}, "geometry": {"type": "Polygon", "coordinates": [square]}},
+        {"type": "Feature", "properties": {"entrance": "main"},
+         "geometry": {"type": "Point", "coordinates": [24.9401, 60.17]}}]}))
+    data, _ = _map(path)
+    (building,) = data.buildings
+    assert building.doors == [data.entrances[0].position] and "doors" in building.tagged

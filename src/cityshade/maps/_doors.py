@@ -27,37 +27,41 @@ def _on_ground(building: MapBuilding) -> bool:
 
 
 def place_doors(map_data: MapData) -> None:
-    """Gives each drawn building on the ground without a mapped entrance one guessed door."""
+    """Gives each drawn building on the ground without a mapped entrance one guessed door (all walls
+    of all such buildings scored in a few vectorised calls)."""
     drawn = [b for b in map_data.buildings if b.drawn]
     wanted = [b for b in drawn if not b.doors and _on_ground(b)]
     if not wanted:
         return
-    roads = [r.line for r in map_data.roads if not r.tunnel]
-    road_tree = shapely.STRtree(roads) if roads else None
-    others = shapely.STRtree([b.outline for b in drawn])
-    nearest = {}
-    if road_tree is not None:
-        building, road = road_tree.query_nearest([b.outline for b in wanted], all_matches=False)
-        nearest = dict(zip(building.tolist(), road.tolist()))
-    for i, building in enumerate(wanted):
-        ring = np.asarray(building.outline.exterior.coords)  # counter-clockwise (map x east, y north)
-        a, b = ring[:-1], ring[1:]
-        d = b - a
-        length = np.hypot(d[:, 0], d[:, 1])
-        wide = length >= DOOR_WIDTH
-        if not wide.any():
+    rings = [np.asarray(b.outline.exterior.coords) for b in wanted]  # counter-clockwise (map x east, y north)
+    counts = np.array([len(r) - 1 for r in rings])
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    a = np.concatenate([r[:-1] for r in rings])
+    d = np.concatenate([r[1:] for r in rings]) - a
+    length = np.hypot(d[:, 0], d[:, 1])
+    middle = a + d / 2
+    outward = np.stack([d[:, 1], -d[:, 0]], axis=1) / np.maximum(length, 1e-9)[:, None]
+    inside, _ = shapely.STRtree([b.outline for b in drawn]).query(
+        shapely.points(middle + PARTY_WALL_PROBE * outward), predicate="within")
+    shared = np.zeros(len(a), dtype=bool)
+    shared[inside] = True
+    roads = np.array([r.line for r in map_data.roads if not r.tunnel], dtype=object)
+    if len(roads):
+        building, road = shapely.STRtree(roads).query_nearest([b.outline for b in wanted], all_matches=False)
+        nearest = np.zeros(len(wanted), dtype=np.int64)
+        nearest[building] = road
+        score = shapely.distance(shapely.points(middle), roads[np.repeat(nearest, counts)])
+    else:
+        score = -length
+    wide = length >= DOOR_WIDTH
+    for building, start, count in zip(wanted, starts.tolist(), counts.tolist()):
+        edges = slice(start, start + count)
+        if not wide[edges].any():
             continue  # walls all narrower than a door (a tower drawn as short segments)
-        middle = (a + b) / 2
-        outward = np.stack([d[:, 1], -d[:, 0]], axis=1) / np.maximum(length, 1e-9)[:, None]
-        probe, _ = others.query(shapely.points(middle + PARTY_WALL_PROBE * outward), predicate="within")
-        free = wide & ~np.isin(np.arange(len(a)), probe)
+        free = wide[edges] & ~shared[edges]
         if not free.any():
-            free = wide  # shared on every side: a wall anyway
-        if i in nearest:
-            score = shapely.distance(shapely.points(middle), roads[nearest[i]])
-        else:
-            score = -length
-        pick = int(np.argmin(np.where(free, score, np.inf)))
+            free = wide[edges]  # shared on every side: a wall anyway
+        pick = start + int(np.argmin(np.where(free, score[edges], np.inf)))
         building.doors = [(float(middle[pick, 0]), float(middle[pick, 1]))]
         building.guessed.add("doors")
 
