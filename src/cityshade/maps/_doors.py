@@ -22,7 +22,7 @@ ON_WALL = 0.6  # metres: a door point this near one of a mass's walls stands on 
 STRAIGHT = 0.02  # metres: vertices this near the line of their neighbours do not end a wall (< DOOR_PLANE)
 
 
-def _on_ground(building: MapBuilding) -> bool:
+def on_ground(building: MapBuilding) -> bool:
     return building.has_walls and (building.min_height or 0.0) <= 0.0 and (building.min_level or 0.0) <= 0.0
 
 
@@ -30,7 +30,7 @@ def place_doors(map_data: MapData) -> None:
     """Gives each drawn building on the ground without a mapped entrance one guessed door (all walls
     of all such buildings scored in a few vectorised calls)."""
     drawn = [b for b in map_data.buildings if b.drawn]
-    wanted = [b for b in drawn if not b.doors and _on_ground(b)]
+    wanted = [b for b in drawn if not b.doors and on_ground(b)]
     if not wanted:
         return
     rings = [np.asarray(b.outline.exterior.coords) for b in wanted]  # counter-clockwise (map x east, y north)

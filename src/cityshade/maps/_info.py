@@ -17,6 +17,7 @@ from pathlib import Path
 
 import shapely
 
+from ._doors import on_ground
 from ._guess import guess_missing
 from ._load import load_map
 from ._model import BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapData
@@ -42,11 +43,13 @@ def _report(counter: Counter, examples: dict) -> list[dict]:
 
 
 def _doors(data: MapData) -> dict[str, int]:
-    """Door points of the drawn buildings: at mapped entrances, or guessed on the street side."""
+    """Door points of the drawn buildings whose walls reach the ground: at mapped entrances, or guessed
+    on the street side; and how many drawn buildings have shop fronts."""
     drawn = [b for b in data.buildings if b.drawn]
+    grounded = [b for b in drawn if on_ground(b)]
     return {"entrances": len(data.entrances),
-            "from_entrances": sum(len(b.doors) for b in drawn if "doors" in b.tagged),
-            "guessed": sum(len(b.doors) for b in drawn if "doors" in b.guessed),
+            "from_entrances": sum(len(b.doors) for b in grounded if "doors" in b.tagged),
+            "guessed": sum(len(b.doors) for b in grounded if "doors" in b.guessed),
             "buildings_with_shop_fronts": sum(b.shop_front for b in drawn)}
 
 

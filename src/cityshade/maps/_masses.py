@@ -45,7 +45,7 @@ USE_BY_KIND = {
                      "fast_food"), "shop"),
     **dict.fromkeys(("industrial", "warehouse", "factory", "manufacture"), "industry"),
     **dict.fromkeys(("civic", "public", "government", "school", "kindergarten", "university", "college", "hospital",
-                     "church", "cathedral", "chapel", "mosque", "synagogue", "temple", "museum", "library",
+                     "church", "cathedral", "chapel", "mosque", "synagogue", "temple", "place_of_worship", "museum", "library",
                      "townhall", "train_station", "transportation"), "public"),
 }
 
@@ -120,7 +120,7 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
     c, s = np.cos(yaw), np.sin(yaw)
     origin = (float(c * low[0] + s * low[1]), float(-s * low[0] + c * low[1]))
     local = shapely.Polygon(exterior, [np.asarray(h) for h in holes])
-    doors = mass_doors(_to_local(to_scene(building.doors), yaw) - low, local) if building.doors and base <= 0 else ()
+    doors = mass_doors(_to_local(to_scene(building.doors), yaw) - low, local) if building.doors and base <= 0 and building.has_walls else ()
     roof = building_roof(building, local, yaw, height - base)
     if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
         return None
