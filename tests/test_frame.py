@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import fields
 
 import moderngl
+import numpy as np
 import pytest
 
 from cityshade.errors import ShaderError
@@ -134,6 +135,17 @@ def test_a_misspelt_uniform_is_an_error_in_strict_mode(gl_context):
         set_uniforms(program, u_exposure=1.0)  # in the frame block, not a uniform of its own
     with pytest.raises(ShaderError, match="u_hrd"):
         set_uniforms(program, u_hrd=0)
+    with pytest.raises(ShaderError, match="tonemap.glsl declares no uniform 'u_view_proj'"):
+        set_uniforms(program, u_view_proj=np.identity(4))  # another program's uniform is an error too
+
+
+def test_the_shading_block_takes_exactly_its_fields(gl_context):
+    from cityshade.gl import SHADING_BLOCK
+
+    values = {name: 0 for name, _, _ in SHADING_BLOCK.fields}
+    with pytest.raises(ValueError, match="u_ligths"):
+        SHADING_BLOCK.pack({**values, "u_ligths": 0.5})
+    assert "u_lights" not in programs(gl_context).get("city/ground.glsl"), "a block member, not a uniform"
 
 
 def test_one_registry_chooses_each_building_facade():

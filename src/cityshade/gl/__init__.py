@@ -3,7 +3,7 @@ context), vertex arrays, texture uploads with an explicit colour space, full-scr
 targets and timing."""
 
 from ._generated import declare_constants
-from ._blocks import FRAME_BLOCK, UniformBlock
+from ._blocks import FRAME_BLOCK, SHADING_BLOCK, UniformBlock
 from ._colour import linear_to_srgb, srgb_to_linear
 from ._context import create_context, describe_context
 from ._fullscreen import draw_fullscreen
@@ -18,6 +18,7 @@ from ._vertex_arrays import VertexArrays
 __all__ = [
     "FRAME_BLOCK",
     "MAX_SAMPLERS",
+    "SHADING_BLOCK",
     "bind_textures",
     "sampler_units",
     "UniformBlock",

@@ -85,3 +85,27 @@ FRAME_BLOCK = UniformBlock(
         ("u_ground_ambient", "vec3", "bounce light from below"),
     ),
 )
+
+
+# The city's shading values of one frame (rooms, windows, lamps), shared by the building, ground,
+# grammar and room programs; written once per frame with FRAME_BLOCK. Shaders that read them
+# #include its generated declaration (interior/interior.glsl, city/street_lights.glsl,
+# city/building.glsl).
+SHADING_BLOCK = UniformBlock(
+    "ShadingBlock",
+    1,
+    (
+        ("u_room_light", "vec3", "radiance of a lit room"),
+        ("u_lights", "float", "probability c that a room's light is on (interior mapping §4.1)"),
+        ("u_room_dark", "vec3", "what an unlit room still receives"),
+        ("u_street_lights", "float", "0 by day, 1 when the lamps are on"),
+        ("u_window_tint", "vec3", "the glass where no room is drawn behind it"),
+        ("u_feature_mask", "int", "FLAG_* bits switched on for this frame"),
+        ("u_glass_rect", "vec4", "the glass in one window bay: (u0, v0, u1, v1)"),
+        ("u_atlas_layout", "vec4", "single room atlas: tile size, padding (texels), width, height"),
+        ("u_lod_range", "vec2", "interiors fade to lit-window colours between these distances"),
+        ("u_room_variants", "int", "rooms in the atlas (interior mapping §4.2)"),
+        ("u_sprite_kinds", "int", "kinds of furniture sprite"),
+        ("u_sprite_frames", "int", "animation frames per sprite kind"),
+    ),
+)

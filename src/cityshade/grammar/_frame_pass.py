@@ -46,7 +46,7 @@ class DeferredGrammarPass:
         gbuffer = self.gbuffer
         program = f.programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
                                                            "NO_SHADOWS": f.shadows is None})
-        set_uniforms(program, **f.common_uniforms(), u_viewport=np.array(f.size, dtype=float))
+        set_uniforms(program, u_viewport=np.array(f.size, dtype=float))
         if f.shadows is not None:
             f.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)

@@ -17,7 +17,7 @@ from typing import Callable
 import moderngl
 import numpy as np
 
-from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, bind_textures, draw_fullscreen, set_uniforms
+from ..gl import FRAME_BLOCK, SHADING_BLOCK, ProgramCache, RenderTarget, bind_textures, draw_fullscreen, set_uniforms
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
@@ -33,6 +33,7 @@ from ._trees import TreePass, draw_trees
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
 ROOM_DARK = np.array([0.018, 0.02, 0.03])
+WINDOW_TINT = np.array([0.02, 0.025, 0.03])  # the glass where no room is drawn behind it
 
 
 @dataclass
@@ -79,26 +80,21 @@ class FrameInputs:
         return {"INTERIOR_MAPPING": s.interior_mapping, "IM_SINGLE_ATLAS": s.single_atlas, "INTERIOR_LOD": s.lod,
                 "NO_SHADOWS": self.shadows is None, **extra}
 
-    def common_uniforms(self) -> dict:
+    def write_frame_blocks(self):
+        """The values programs share, once per frame: camera, sun and sky for every program
+        (cityshade.gl.FRAME_BLOCK), rooms, windows and lamps for the city's (SHADING_BLOCK)."""
         s, d, t = self.settings, self.daylight, self.textures
+        FRAME_BLOCK.write(self.ctx, u_inv_view_proj=np.linalg.inv(self.view_projection), u_camera=self.camera.eye,
+                          u_time=s.animation_time, u_sun_dir=d.sun_direction, u_exposure=d.exposure,
+                          u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient)
         mask = (FLAG_FURNITURE * s.furniture) | (FLAG_CURTAINS * s.curtains) | (FLAG_ROOM_VARIATION * s.room_variation)
         layout = t.atlas_layout
-        atlas_size = (t.atlas.width, t.atlas.height)
-        return dict(
-            u_view_proj=self.view_projection, u_lights=float(d.lights if s.lights is None else s.lights),
-            u_street_lights=d.street_lights,
+        SHADING_BLOCK.write(
+            self.ctx, u_lights=float(d.lights if s.lights is None else s.lights), u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
-            u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
-            u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
-            u_atlas_layout=np.array([layout["tile"], layout["padding"], *atlas_size], dtype=float),
-        )
-
-    def write_frame_block(self):
-        """The values every program shares, once per frame (cityshade.gl.FRAME_BLOCK)."""
-        d = self.daylight
-        FRAME_BLOCK.write(self.ctx, u_inv_view_proj=np.linalg.inv(self.view_projection), u_camera=self.camera.eye,
-                          u_time=self.settings.animation_time, u_sun_dir=d.sun_direction, u_exposure=d.exposure,
-                          u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient)
+            u_glass_rect=t.glass_rect, u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK, u_feature_mask=int(mask),
+            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT,
+            u_atlas_layout=(layout["tile"], layout["padding"], t.atlas.width, t.atlas.height))
 
     def room_textures(self) -> dict:
         """The textures of the interior-mapped rooms (shaders/interior/interior.glsl), by sampler name."""
@@ -168,7 +164,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     defines = {**grammar_defines(), "GRAMMAR_DEFERRED": f.settings.grammar_deferred, **(defines or {})}
     program = f.programs.get("city/building.glsl", f.building_defines(**defines))
     bind_textures(program, {**f.room_textures(), "u_env": f.env, "u_facade": f.textures.facade})
-    set_uniforms(program, **f.common_uniforms())
+    set_uniforms(program, u_view_proj=f.view_projection)
     f.textures.grammar.bind(program)
     if f.settings.grammar_deferred:
         f.textures.grammar_pass.bind_results(program)
@@ -197,7 +193,7 @@ def polygonised_glass(f: FrameInputs):
 def draw_ground(f: FrameInputs, defines: dict | None = None):
     program = f.programs.get("city/ground.glsl", {"NO_SHADOWS": f.shadows is None, **(defines or {})})
     bind_textures(program, {"u_env": f.env})
-    set_uniforms(program, **f.common_uniforms())
+    set_uniforms(program, u_view_proj=f.view_projection)
     if f.shadows is not None:
         f.shadows.bind(program)
     f.city.street_lights.bind(program)
@@ -318,7 +314,7 @@ def id_passes(settings: RenderSettings, room_state: bool = False) -> list[Pass]:
 def run_passes(f: FrameInputs, passes: list[Pass], times: dict[str, float] | None = None):
     """Runs the passes in order. With `times`, each pass's wall time in seconds is stored under its
     name, measured with ctx.finish() before and after it."""
-    f.write_frame_block()
+    f.write_frame_blocks()
     for p in passes:
         if times is not None:
             f.ctx.finish()

@@ -53,7 +53,7 @@ def draw_interior_layers(f):
     """Floors, ceilings, then walls: three draw calls, each layer its own texture kind (the frame's
     pass culls back faces: a floor and the ceiling below it share a plane)."""
     program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
-    set_uniforms(program, **f.common_uniforms())
+    set_uniforms(program, u_view_proj=f.view_projection)
     bind_textures(program, f.room_textures())
     f.city.records.bind_to_storage_buffer(0)
     for layer in POLYGONISED_LAYERS:

@@ -14,6 +14,7 @@ void main() {}
 #else
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
+#include "generated/ShadingBlock.glsl"
 #include "common/lighting.glsl"
 #include "shadow/csm.glsl"
 #if defined INTERIOR_MAPPING
@@ -28,8 +29,6 @@ const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: d
 const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
-uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
-uniform vec3 u_window_tint;
 
 in vec3 v_world;
 in vec3 v_local;
