@@ -7,7 +7,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays, bind_textures, set_uniforms
+from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
 from ._culling import BuildingChunks
@@ -20,7 +20,7 @@ class PolygonisedGPU:
         for name, vertices in polygonised_vertices(city.masses).items():
             if len(vertices):
                 chunks = BuildingChunks(vertices)
-                self.layers[name] = (chunks, ctx.buffer(chunks.vertices.tobytes()))
+                self.layers[name] = (chunks, create_buffer(ctx, chunks.vertices))
         self._vaos = VertexArrays(ctx)
 
     @property

@@ -10,7 +10,7 @@ import numpy as np
 from .. import assets
 from .._budget import check_image_memory
 from .._values import check_size
-from ..gl import RenderTarget, create_context, describe_context, programs
+from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
@@ -18,7 +18,7 @@ from ._frame import FrameInputs, FrameTargets, frame_passes, id_passes, run_pass
 from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
-from ._textures import CityTextures, cubemap
+from ._textures import CityTextures
 from ._trees import TreePass
 from ..trees import city_trees
 
@@ -111,7 +111,7 @@ class Renderer:
             if night > 0.0 or daylight.moon_direction is not None:
                 radiance = night_sky(radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction,
                                      daylight.moon_lit)
-            self.env = cubemap(self.ctx, radiance)
+            self.env = upload_cubemap(self.ctx, radiance)
             self._env_key = key
         return daylight
 

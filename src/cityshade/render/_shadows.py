@@ -16,7 +16,7 @@ import numpy as np
 
 from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
-from ..gl import bind_textures, set_uniforms
+from ..gl import RenderTarget, bind_textures, set_uniforms
 
 SHADOW_BIAS = 0.0008  # texture-depth units, every cascade
 
@@ -46,15 +46,12 @@ class CascadedShadows:
         self.shadow_far = shadow_far
         self.rates = rates
         self.caster_reach = caster_reach
-        self.maps = []
-        self.fbos = []
-        for _ in range(len(rates)):
-            depth = ctx.depth_texture((resolution, resolution))
+        self.targets = [RenderTarget(ctx, (resolution, resolution), colors=()) for _ in rates]  # depth only
+        self.maps = [target.depth for target in self.targets]
+        for depth in self.maps:
             depth.compare_func = "<="
             depth.filter = (moderngl.LINEAR, moderngl.LINEAR)  # hardware 2x2 PCF per tap
             depth.repeat_x = depth.repeat_y = False
-            self.maps.append(depth)
-            self.fbos.append(ctx.framebuffer(depth_attachment=depth))
         self.matrices = [_OUTSIDE.copy() for _ in rates]
         self.stats = ShadowStats()
 
@@ -77,8 +74,8 @@ class CascadedShadows:
         for index, casters in cascades_due(frame, self.rates):
             view_proj = cascade_view_projection(inv, camera.near, camera.far, splits[index], splits[index + 1],
                                                 sun, self.resolution, self.caster_reach)
-            self.fbos[index].use()
-            self.fbos[index].clear(depth=1.0)
+            self.targets[index].use()
+            self.targets[index].fbo.clear(depth=1.0)
             calls = draw_casters(view_proj, sun, casters)
             self.matrices[index] = texture_matrix(view_proj)
             stats.redrawn.append((index, tuple(sorted(casters)), calls))
@@ -99,9 +96,8 @@ class CascadedShadows:
             bias.write(np.full(bias.array_length, SHADOW_BIAS, "f4").tobytes())
 
     def release(self):
-        for fbo, depth in zip(self.fbos, self.maps):
-            fbo.release()
-            depth.release()
+        for target in self.targets:
+            target.release()
 
 
 def shadow_pass(f):

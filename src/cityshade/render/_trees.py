@@ -14,7 +14,7 @@ import numpy as np
 
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
-from ..gl import VertexArrays, bind_textures, set_uniforms, upload_texture
+from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
 from ._culling import boxes_visible, frustum_planes
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
@@ -59,8 +59,8 @@ class _Part:
 
     def __init__(self, ctx, vertices: np.ndarray, indices: np.ndarray):
         self.count = len(indices)
-        self.vbo = ctx.buffer(vertices.astype("f4").tobytes()) if self.count else None
-        self.ibo = ctx.buffer(indices.astype("u4").tobytes()) if self.count else None
+        self.vbo = create_buffer(ctx, vertices.astype("f4")) if self.count else None
+        self.ibo = create_buffer(ctx, indices.astype("u4")) if self.count else None
 
     def release(self):
         for buf in (self.vbo, self.ibo):
@@ -94,7 +94,7 @@ class TreePass:
             "u_leaf_detail": upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
-        self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
+        self.instances = {(index, lod): (create_buffer(ctx, reserve=int(np.sum(trees["species"] == index)) * 32), 0)
                           for index in self.models for lod in (0, 1)}
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
         self._vaos = VertexArrays(ctx)
