@@ -43,18 +43,18 @@ class PolygonisedGPU:
 
 def draw_interior_depth(f):
     """The rooms' depth only (the baseline's own prepass): floors, ceilings and walls."""
-    program = f.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(program, u_view_proj=f.view_projection)
+    program = f.gpu.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(program, u_view_proj=f.view.view_projection)
     for layer in POLYGONISED_LAYERS:
-        f.city.polygonised().draw(program, layer, f.view_projection)
+        f.gpu.city.polygonised().draw(program, layer, f.view.view_projection)
 
 
 def draw_interior_layers(f):
     """Floors, ceilings, then walls: three draw calls, each layer its own texture kind (the frame's
     pass culls back faces: a floor and the ceiling below it share a plane)."""
-    program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
-    set_uniforms(program, u_view_proj=f.view_projection)
+    program = f.gpu.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.view.settings.single_atlas})
+    set_uniforms(program, u_view_proj=f.view.view_projection)
     bind_textures(program, f.room_textures())
-    f.city.records.bind_to_storage_buffer(0)
+    f.gpu.city.records.bind_to_storage_buffer(0)
     for layer in POLYGONISED_LAYERS:
-        f.city.polygonised().draw(program, layer, f.view_projection)
+        f.gpu.city.polygonised().draw(program, layer, f.view.view_projection)

@@ -14,7 +14,7 @@ from ..gl import RenderTarget, create_context, describe_context, programs, uploa
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
-from ._frame import FrameInputs, FrameTargets, frame_passes, id_passes, run_passes
+from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_passes, id_passes, run_passes
 from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
@@ -124,9 +124,10 @@ class Renderer:
         self.frame_index += 1
         if self.settings.grammar_deferred:
             self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
-        return FrameInputs(self.ctx, self.programs, self.city, self.textures, self.env, camera, self.settings,
-                           daylight, self.size, self.targets, shadows=self.shadows if self.settings.shadows else None,
-                           trees=self.trees if self.settings.trees else None, frame_index=self.frame_index - 1)
+        s = self.settings
+        gpu = FrameResources(self.ctx, self.programs, self.city, self.textures, self.env, self.targets,
+                             shadows=self.shadows if s.shadows else None, trees=self.trees if s.trees else None)
+        return FrameInputs(gpu, FrameView(camera, s, daylight, self.size, self.frame_index - 1))
 
     def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None,
              profile: bool = False) -> RenderTarget:

@@ -101,21 +101,21 @@ class CascadedShadows:
 
 
 def shadow_pass(f):
-    """The frame's first pass: redraws the cascades due on f.frame_index with their casters
+    """The frame's first pass: redraws the cascades due on f.view.frame_index with their casters
     (buildings as depth-only, trees through the tree pass); `f` is the frame's FrameInputs."""
-    if f.shadows is None:
+    if f.gpu.shadows is None:
         return
     def draw_casters(view_proj, sun, casters) -> int:
         calls = 0
         if "buildings" in casters:
-            program = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
+            program = f.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
             set_uniforms(program, u_view_proj=view_proj)
-            f.city.draw_buildings(program, view_proj)
+            f.gpu.city.draw_buildings(program, view_proj)
             calls += 1
-        if f.trees is not None:
-            f.trees.prepare(f.camera.eye)
-            calls += f.trees.draw_shadow(view_proj, sun, casters)
+        if f.gpu.trees is not None:
+            f.gpu.trees.prepare(f.view.camera.eye)
+            calls += f.gpu.trees.draw_shadow(view_proj, sun, casters)
         return calls
 
-    aspect = f.size[0] / f.size[1]
-    f.shadows.update(f.frame_index, f.camera, aspect, f.daylight.sun_direction, draw_casters)
+    aspect = f.view.size[0] / f.view.size[1]
+    f.gpu.shadows.update(f.view.frame_index, f.view.camera, aspect, f.view.daylight.sun_direction, draw_casters)

@@ -239,7 +239,9 @@ class TreePass:
 def draw_trees(f, ids: bool = False) -> int:
     """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's; `f` is
     the frame's FrameInputs."""
-    if f.trees is None:
+    trees, view = f.gpu.trees, f.view
+    if trees is None:
         return 0
-    f.trees.prepare(f.camera.eye, f.view_projection if ids else None)  # the id AOV's trees: only those in view
-    return f.trees.draw({"u_view_proj": f.view_projection}, f.camera.view(), None if ids else f.shadows, ids=ids, env=f.env)
+    trees.prepare(view.camera.eye, view.view_projection if ids else None)  # the id AOV's trees: only those in view
+    return trees.draw({"u_view_proj": view.view_projection}, view.camera.view(), None if ids else f.gpu.shadows,
+                      ids=ids, env=f.gpu.env)
