@@ -112,7 +112,7 @@ class FacadeCityRenderer:
             self.lit.fbo.clear(*SKY, 1.0, depth=1.0)
             ctx.disable(moderngl.DEPTH_TEST)
             program = self.programs["deferred"]
-            self._uniforms(program, camera)
+            self.textures.bind(program)  # the camera comes from the frame block
             bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"),
                                             (*self.gbuffer.colors, self.gbuffer.depth))))
             program["u_viewport"] = tuple(float(x) for x in self.size)
