@@ -14,7 +14,7 @@ import numpy as np
 
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
-from ..gl import VertexArrays, bind_textures, set_uniforms, upload_texture
+from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
 from ._culling import boxes_visible, frustum_planes
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
@@ -27,6 +27,7 @@ PARTS = {  # part -> (program, layout, attributes, extra defines)
     "fronds": ("trees/leaves.glsl", FROND_LAYOUT, FROND_ATTRIBUTES, {"FRONDS": True}),
 }
 BARK, LEAF = ("u_bark_color", "u_bark_normal"), ("u_leaf_color", "u_leaf_detail")
+BRANCHES = ("trunks", "fins")  # the parts drawn from branch geometry, with bark
 PART_SAMPLERS = {"trunks": BARK, "fins": BARK, "leaves": LEAF, "fronds": LEAF}  # the textures each part samples
 
 
@@ -58,8 +59,8 @@ class _Part:
 
     def __init__(self, ctx, vertices: np.ndarray, indices: np.ndarray):
         self.count = len(indices)
-        self.vbo = ctx.buffer(vertices.astype("f4").tobytes()) if self.count else None
-        self.ibo = ctx.buffer(indices.astype("u4").tobytes()) if self.count else None
+        self.vbo = create_buffer(ctx, vertices.astype("f4")) if self.count else None
+        self.ibo = create_buffer(ctx, indices.astype("u4")) if self.count else None
 
     def release(self):
         for buf in (self.vbo, self.ibo):
@@ -93,7 +94,7 @@ class TreePass:
             "u_leaf_detail": upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
-        self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
+        self.instances = {(index, lod): (create_buffer(ctx, reserve=int(np.sum(trees["species"] == index)) * 32), 0)
                           for index in self.models for lod in (0, 1)}
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
         self._vaos = VertexArrays(ctx)
@@ -152,9 +153,10 @@ class TreePass:
             gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
             if count == 0 or gpu.count == 0:
                 continue
-            model = self.models[species]
-            set_uniforms(program, u_bark_layer=float(model.species.bark_layer),
-                         u_relief_depth=model.species.relief_depth, u_bark_tile=model.species.bark_tile)
+            if part in BRANCHES:
+                bark = self.models[species].species
+                set_uniforms(program, u_bark_layer=float(bark.bark_layer), u_relief_depth=bark.relief_depth,
+                             u_bark_tile=bark.bark_tile)
             self._vao(program, species, lod, part).render(mode, vertices=gpu.count, instances=count)
             calls += 1
         return calls
@@ -178,10 +180,11 @@ class TreePass:
         alpha_to_coverage = s.alpha_to_coverage and not ids
         base = dict(ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None),
                     ID_PASS=ids)
-        values = {**uniforms, **self._common(), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
-                  "u_card_shift": np.zeros(3), "u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach,
-                  "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
-                  "u_normal_bias": s.normal_bias}
+        cards = {"u_card_right": view[0, :3], "u_card_up": view[1, :3], "u_card_shift": np.zeros(3),
+                 "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
+                 "u_normal_bias": s.normal_bias}
+        values = {"trunks": {}, "fins": {"u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach},
+                  "leaves": cards, "fronds": cards}  # each part's own uniforms, beside the shared ones
         programs = {
             "trunks": self._program("trunks", RELIEF=s.relief, **base),
             "fins": self._program("fins", **base),
@@ -197,7 +200,7 @@ class TreePass:
             if part == "fins" and not s.fins:
                 continue
             program = programs[part]
-            set_uniforms(program, **values)
+            set_uniforms(program, **uniforms, **self._common(), **values[part])
             if env is not None:
                 bind_textures(program, {"u_env": env})
             if shadows is not None:
@@ -212,14 +215,14 @@ class TreePass:
     def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters) -> int:
         """The trees' casters of one cascade; leaf cards face the light and move toward it."""
         right, up = light_basis(sun_dir)
-        values = {**self._common(), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
-                  "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
+        cards = {"u_card_right": right, "u_card_up": up,
+                 "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
         calls = 0
         for part in ("trunks", "fronds", "leaves"):
             if part not in casters:
                 continue
             program = self._program(part, SHADOW_PASS=True)
-            set_uniforms(program, **values)
+            set_uniforms(program, **self._common(), u_view_proj=view_proj, **({} if part in BRANCHES else cards))
             calls += self._draw_part(program, part)
         return calls
 
@@ -236,7 +239,9 @@ class TreePass:
 def draw_trees(f, ids: bool = False) -> int:
     """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's; `f` is
     the frame's FrameInputs."""
-    if f.trees is None:
+    trees, view = f.gpu.trees, f.view
+    if trees is None:
         return 0
-    f.trees.prepare(f.camera.eye, f.view_projection if ids else None)  # the id AOV's trees: only those in view
-    return f.trees.draw(f.common_uniforms(), f.camera.view(), None if ids else f.shadows, ids=ids, env=f.env)
+    trees.prepare(view.camera.eye, view.view_projection if ids else None)  # the id AOV's trees: only those in view
+    return trees.draw({"u_view_proj": view.view_projection}, view.camera.view(), None if ids else f.gpu.shadows,
+                      ids=ids, env=f.gpu.env)

@@ -5,6 +5,7 @@
 
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
+#include "generated/ShadingBlock.glsl"
 
 #define SALT_LIGHT 0x1000u
 #define SALT_VARIANT 0x2000u
@@ -22,19 +23,10 @@
 #define EMPTY_ROOM_SHARE 0.3
 #define CURTAIN_SHARE 0.55
 
-uniform float u_lit_share[USE_COUNT];  // per use: probability c that a room's light is on (paper §4.1) at this hour
-uniform int u_room_variants;     // rooms in the atlas (paper §4.2)
-uniform int u_sprite_kinds;
-uniform int u_sprite_frames;
-uniform vec4 u_glass_rect;       // the glass in one window bay: (u0, v0, u1, v1)
-uniform vec3 u_room_light;       // radiance of a lit room
-uniform vec3 u_room_dark;        // what an unlit room still receives
-uniform int u_feature_mask;      // FLAG_* bits switched on for this frame
 
 #ifdef IM_SINGLE_ATLAS
 // Paper §3.2: every face of every variant in one texture; column = variant, row = face.
 uniform sampler2D u_room_atlas;
-uniform vec4 u_atlas_layout;     // tile size, padding (texels), atlas width, atlas height
 #else
 // Every face of every variant, one texture array: layer = (face - FACE_CEILING) * variants + variant.
 uniform sampler2DArray u_rooms;
