@@ -125,7 +125,11 @@ SHADING_BLOCK = UniformBlock(
     1,
     (
         ("u_room_light", "vec3", "radiance of a lit room"),
-        ("u_lit_share", f"float[{MAX_USES}]", "per building use code: probability c that a room is lit (interior mapping §4.1)"),
+        (
+            "u_lit_share",
+            f"float[{MAX_USES}]",
+            "per building use code: probability c that a room is lit (interior mapping §4.1)",
+        ),
         ("u_room_dark", "vec3", "what an unlit room still receives"),
         ("u_street_lights", "float", "0 by day, 1 when the lamps are on"),
         ("u_window_tint", "vec3", "the glass where no room is drawn behind it"),
