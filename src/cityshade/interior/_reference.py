@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..relief import GLASS, DetailMaps, trace_reference
-from ..scene import BuildingMass
+from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
                      FACE_WALL_X, FACE_WALL_Z, room_state)
 from ._hash import hash3, unit_float
@@ -29,7 +29,7 @@ CURTAIN_SHARE = 0.55
 class InteriorParams:
     """The frame-wide inputs of the interior shader (its uniforms)."""
 
-    lights: float
+    lights: float | tuple[float, ...]  # share of lit rooms: one for every use, or one per use code (scene.lit_shares)
     time: float
     variants: int
     glass_rect: tuple[float, float, float, float]
@@ -61,6 +61,15 @@ def _room_interval(x, size, lines, floor_index, salt, jitter):
     return k, lo, hi
 
 
+def lit_threshold(mass: BuildingMass, floor: np.ndarray, params: InteriorParams) -> np.ndarray:
+    """Per room (its floor index): the share of such rooms that are lit, the share of its use (a shop
+    on a shop-front ground floor, else the mass's use) times the mass's own multiplier, rounded as
+    the shader's float32 product is (a room is lit when its hash is below it)."""
+    shares = np.broadcast_to(np.asarray(params.lights, dtype=np.float32), (USE_COUNT,))
+    use = np.where((np.asarray(floor) == 0) & mass.shop_front, USES["shop"], mass.use)
+    return (shares[use] * np.float32(mass.lights)).astype(np.float64)
+
+
 def find_room(p: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> dict:
     """The room entered at facade points p (N, 3) with normals n: cell, box, id, lit, variant."""
     size = mass.room_size
@@ -73,7 +82,7 @@ def find_room(p: np.ndarray, n: np.ndarray, mass: BuildingMass, params: Interior
     cz, z0, z1 = _room_interval(q[:, 2], size[2], lines[2], cy, seed ^ SALT_WALL_Z, jitter)
     lo = np.stack([x0, cy * size[1], z0], axis=1)
     hi = np.stack([x1, (cy + 1) * size[1], z1], axis=1)
-    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < params.lights * mass.lights
+    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < lit_threshold(mass, cy, params)
     variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 
@@ -159,7 +168,8 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
-    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace` (none behind the
+    `relief`, by the relief met along the ray, `relief_entry`) unless a door stands there
+    (`cityshade.scene.door_hit`), rooms by `trace` (none behind the
     glass of a mass without an interior). The ground is the
     plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
     relief = relief or {}
@@ -192,6 +202,8 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
             glass = ~roof & (facade_alpha[row, col] < 0.5)
+        if mass.doors:  # a door stands in front of whatever the facade has there
+            glass &= roof | ~door_hit(hits.local[sel], hits.normal[sel], mass.doors)[0]
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
         if glass.any() and mass.interior:  # without an interior the glass stays an exterior face

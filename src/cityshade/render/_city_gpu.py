@@ -7,7 +7,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays
+from ..gl import VertexArrays, create_buffer
 from ..relief import CityRelief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
@@ -51,10 +51,10 @@ class CityGPU:
         self.building_count = len(city.masses)
         self.building_vertex_count = len(vertices)
         self.visibility = BuildingVisibility(ctx, building_boxes(vertices, *building_ranges(vertices, self.building_count)))
-        self.building_vbo = ctx.buffer(vertices.tobytes()) if len(vertices) else None
-        self.records = ctx.buffer(records.tobytes() if len(records) else b"\0" * 64)
+        self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
+        self.records = create_buffer(ctx, records)
         ground = ground_vertices(city)
-        self.ground_vbo = ctx.buffer(ground.tobytes())
+        self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
         self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)

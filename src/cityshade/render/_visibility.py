@@ -25,7 +25,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import R32F, programs, pyramid_levels, pyramid_texture, set_uniforms, bind_textures
+from ..gl import R32F, bind_textures, create_buffer, programs, pyramid_levels, pyramid_texture, set_uniforms
 from ._culling import frustum_planes
 
 OCCLUDER_SIZE = 0.1  # half diagonal / distance: about 11 degrees across
@@ -151,12 +151,11 @@ class BuildingVisibility:
         self.ctx = ctx
         self.boxes = boxes
         self.count = len(boxes)
-        data = boxes.tobytes() if self.count else b"\0" * BOX_DTYPE.itemsize
-        self.box_buffer = ctx.buffer(data)
+        self.box_buffer = create_buffer(ctx, boxes)
         size = max(self.count, 1) * COMMAND_WORDS * 4
-        self.frustum_draws = ctx.buffer(reserve=size)  # any view, frustum only (reused per call)
-        self.occluder_draws = ctx.buffer(reserve=size)
-        self.camera_draws = ctx.buffer(reserve=size)  # frustum and Hi-Z
+        self.frustum_draws = create_buffer(ctx, reserve=size)  # any view, frustum only (reused per call)
+        self.occluder_draws = create_buffer(ctx, reserve=size)
+        self.camera_draws = create_buffer(ctx, reserve=size)  # frustum and Hi-Z
         self.pyramid: moderngl.Texture | None = None
 
     def _run(self, out: moderngl.Buffer, view_projection: np.ndarray, defines: dict | None = None,
@@ -217,14 +216,14 @@ class BuildingVisibility:
 
 def occluder_pass(f):
     """The big buildings in the frustum, depth-only, into the frame's depth buffer."""
-    program = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(program, u_view_proj=f.view_projection)
-    f.city.draw_buildings(program, draws=f.city.visibility.occluders(f.view_projection))
+    program = f.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(program, u_view_proj=f.view.view_projection)
+    f.gpu.city.draw_buildings(program, draws=f.gpu.city.visibility.occluders(f.view.view_projection))
 
 
 def hiz_pass(f):
-    f.city.visibility.build_pyramid(f.targets.hdr.depth, f.targets.hdr.samples)
+    f.gpu.city.visibility.build_pyramid(f.gpu.targets.hdr.depth, f.gpu.targets.hdr.samples)
 
 
 def cull_pass(f):
-    f.camera_draws = f.city.visibility.cull(f.view_projection)
+    f.gpu.camera_draws = f.gpu.city.visibility.cull(f.view.view_projection)

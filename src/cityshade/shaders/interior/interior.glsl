@@ -5,6 +5,7 @@
 
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
+#include "generated/ShadingBlock.glsl"
 
 #define SALT_LIGHT 0x1000u
 #define SALT_VARIANT 0x2000u
@@ -22,19 +23,10 @@
 #define EMPTY_ROOM_SHARE 0.3
 #define CURTAIN_SHARE 0.55
 
-uniform float u_lights;          // probability c that a room's light is on (paper §4.1)
-uniform int u_room_variants;     // rooms in the atlas (paper §4.2)
-uniform int u_sprite_kinds;
-uniform int u_sprite_frames;
-uniform vec4 u_glass_rect;       // the glass in one window bay: (u0, v0, u1, v1)
-uniform vec3 u_room_light;       // radiance of a lit room
-uniform vec3 u_room_dark;        // what an unlit room still receives
-uniform int u_feature_mask;      // FLAG_* bits switched on for this frame
 
 #ifdef IM_SINGLE_ATLAS
 // Paper §3.2: every face of every variant in one texture; column = variant, row = face.
 uniform sampler2D u_room_atlas;
-uniform vec4 u_atlas_layout;     // tile size, padding (texels), atlas width, atlas height
 #else
 // Every face of every variant, one texture array: layer = (face - FACE_CEILING) * variants + variant.
 uniform sampler2DArray u_rooms;
@@ -87,6 +79,13 @@ void room_interval(float x, float size, int lines, int floor_index, uint salt, f
     }
 }
 
+// A room's light: its hash against the share of its use at this hour (a shop on a shop-front ground
+// floor, else the building's use), times the building's own multiplier.
+bool room_lit(ivec3 cell, Building b) {
+    int use = cell.y == 0 && (b.ids.z & FLAG_SHOP_FRONT) != 0 ? USE_SHOP : building_use(b);
+    return unit_float(hash3(cell, uint(b.ids.x) ^ SALT_LIGHT)) < u_lit_share[use] * b.extent.w;
+}
+
 Room find_room(vec3 p, vec3 n, Building b) {
     vec3 size = b.room.xyz;
     uint seed = uint(b.ids.x);
@@ -100,7 +99,7 @@ Room find_room(vec3 p, vec3 n, Building b) {
     room_interval(q.x, size.x, lines.x, r.cell.y, seed ^ SALT_WALL_X, jitter, r.cell.x, r.lo.x, r.hi.x);
     room_interval(q.z, size.z, lines.z, r.cell.y, seed ^ SALT_WALL_Z, jitter, r.cell.z, r.lo.z, r.hi.z);
     r.id = room_id(r.cell);
-    r.lit = unit_float(hash3(r.cell, seed ^ SALT_LIGHT)) < u_lights * b.extent.w;
+    r.lit = room_lit(r.cell, b);
     r.variant = int(hash3(r.cell, seed ^ SALT_VARIANT) % uint(u_room_variants));
     return r;
 }
