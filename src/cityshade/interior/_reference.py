@@ -11,7 +11,7 @@ import numpy as np
 from ..assets import LABELS, TileArray
 from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, seed_vector
 from ..relief import GLASS, DetailMaps, trace_reference
-from ..scene import BuildingMass
+from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
                      FACE_WALL_X, FACE_WALL_Z, room_state)
 from ._hash import hash3, unit_float
@@ -32,7 +32,7 @@ ROOM_LABEL = LABELS.index("room")  # the id pass's label of grammar glass (GRAMM
 class InteriorParams:
     """The frame-wide inputs of the interior shader (its uniforms)."""
 
-    lights: float
+    lights: float | tuple[float, ...]  # share of lit rooms: one for every use, or one per use code (scene.lit_shares)
     time: float
     variants: int
     glass_rect: tuple[float, float, float, float]
@@ -60,6 +60,15 @@ def face_frame(n: np.ndarray) -> np.ndarray:
     return np.stack([along, up, -out_dir], axis=1)
 
 
+def lit_threshold(mass: BuildingMass, floor: np.ndarray, params: InteriorParams) -> np.ndarray:
+    """Per room (its floor index): the share of such rooms that are lit, the share of its use (a shop
+    on a shop-front ground floor, else the mass's use) times the mass's own multiplier, rounded as
+    the shader's float32 product is (a room is lit when its hash is below it)."""
+    shares = np.broadcast_to(np.asarray(params.lights, dtype=np.float32), (USE_COUNT,))
+    use = np.where((np.asarray(floor) == 0) & mass.shop_front, USES["shop"], mass.use)
+    return (shares[use] * np.float32(mass.lights)).astype(np.float64)
+
+
 def find_room(window: np.ndarray, facade: np.ndarray, face: np.ndarray, columns: np.ndarray, mass: BuildingMass,
               params: InteriorParams) -> dict:
     """The room behind windows (N, 4: u0, v0, u1, v1 of the glass's rectangle in facade coordinates,
@@ -78,7 +87,7 @@ def find_room(window: np.ndarray, facade: np.ndarray, face: np.ndarray, columns:
     depth = depth * np.where(middle, 1.0 + (unit_float(hash3(cx, cy, cz, seed ^ SALT_ROOM_DEPTH)) - 0.5) * 2.0 * jitter, 1.0)
     lo = np.stack([np.minimum(j * bay, window[:, 0]), np.minimum(base + cy * storey, window[:, 1]), np.zeros(len(j))], axis=1)
     hi = np.stack([np.maximum((j + 1) * bay, window[:, 2]), np.maximum(base + (cy + 1) * storey, window[:, 3]), depth], axis=1)
-    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < params.lights * mass.lights
+    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < lit_threshold(mass, cy, params)
     variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 
@@ -206,10 +215,11 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
     `relief`, by the relief met along the ray, `relief_entry`; for those with a start rule in
-    `grammar`, by the grammar, `grammar_entry`), rooms by `trace` (none behind the glass of a mass
-    without an interior). With `labels` the fourth channel is the grammar label instead (the id
-    pass without room state). The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1,
-    z1), cut by the camera's far plane."""
+    `grammar`, by the grammar, `grammar_entry`) unless a door stands there
+    (`cityshade.scene.door_hit`), rooms by `trace` (none behind the glass of a mass without an
+    interior). With `labels` the fourth channel is the grammar label instead (the id pass without
+    room state). The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the
+    camera's far plane."""
     relief = relief or {}
     starts = grammar.starts if grammar is not None else {}
     width, height = size
@@ -251,6 +261,8 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
             glass = ~roof & (facade_alpha[row, col] < 0.5)
+        if mass.doors:  # a door stands in front of whatever the facade has there
+            glass &= roof | ~door_hit(hits.local[sel], hits.normal[sel], mass.doors)[0]
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
         if glass.any() and mass.interior:  # without an interior the glass stays an exterior face

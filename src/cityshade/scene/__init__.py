@@ -14,6 +14,8 @@ from ._raycast import intersect
 from ._roofs import Roof
 from ._records import (BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES,
                        rotation_y)
+from ._doors import DOOR_CONSTANTS, DOOR_HEIGHT, DOOR_WIDTH, MAX_DOORS, door_hit, door_on_edge
+from ._uses import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, lit_share, lit_shares
 
 __all__ = [
     "SHAPES", "BuildingMass", "box", "cylinder", "dome", "Camera", "look_at", "perspective", "CITIES", "City",
@@ -23,4 +25,5 @@ __all__ = [
     "FLAG_ROOM_VARIATION", "FLAGS", "SHAPE_CODES", "SURFACE_CODES", "GROUND_MATERIALS", "MAP_GROUND_MATERIALS", "Roof", "GROUND_BALLAST", "GROUND_BULB", "GROUND_LAND",
     "GROUND_MARKING", "GROUND_POST", "GROUND_RAIL", "GROUND_SAND", "GROUND_WATER", "ROOF_PATTERNS", "CORNER_TURN",
     "WallFaces", "storeys", "wall_faces",
+    "DOOR_CONSTANTS", "DOOR_HEIGHT", "DOOR_WIDTH", "MAX_DOORS", "door_hit", "door_on_edge", "LIT_SCHEDULE", "USE_CODES", "USE_COUNT", "USES", "lit_share", "lit_shares",
 ]

@@ -14,6 +14,7 @@ import shapely
 
 from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES, rotation_y
+from ._doors import door_record
 from ._extrusions import outline_rows, roof_rows, wall_rows
 from ._wall_faces import storeys, wall_faces
 from ._materials import linear, roof_material, wall_tint
@@ -172,6 +173,7 @@ def building_record(mass: BuildingMass) -> np.ndarray:
         rec["tint"] = (*linear(tint), 1.0)
     material, colour = roof_material(mass.roof.material)
     rec["roof"] = (*linear(mass.roof.colour if mass.roof.colour is not None else colour), material)
+    rec["doors"] = door_record(mass.doors)
     return rec
 
 

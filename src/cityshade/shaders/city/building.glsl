@@ -14,7 +14,9 @@ void main() {}
 #else
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
+#include "generated/ShadingBlock.glsl"
 #include "common/lighting.glsl"
+#include "common/facade.glsl"
 #include "shadow/csm.glsl"
 #if defined INTERIOR_MAPPING
 #include "interior/interior.glsl"
@@ -22,6 +24,7 @@ void main() {}
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
 #include "city/roof.glsl"
+#include "city/doors.glsl"
 #include "city/street_lights.glsl"
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
@@ -29,8 +32,6 @@ const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a
 const vec3 PLAIN_WALL_ALBEDO = vec3(0.45, 0.42, 0.4);
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
-uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
-uniform vec3 u_window_tint;
 
 in vec3 v_world;
 in vec3 v_local;
@@ -59,10 +60,18 @@ uint window_id(vec4 opening, WallFace f) {
 }
 #endif
 
-vec3 building_tint(Building b) {
-    if (b.tint.w > 0.0) return b.tint.rgb * 1.6;  // a tagged colour or material over the (grey) bay texture
-    uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);
-    return vec3(0.8) + 0.35 * vec3(float(h & 255u), float((h >> 8u) & 255u), float((h >> 16u) & 255u)) / 255.0 - 0.17;
+// The window bay (interior mapping §2.3): one bay texture repeated across the face, one bay per
+// room and storey, its alpha marking the glass, behind which the rooms are ray-cast (below).
+FacadeResult window_bay(Building b, vec3 n, vec3 wall, vec2 bay_uv) {
+#if defined ID_PASS
+    // the exact texel decides glass, as in the numpy twin
+    ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
+    float glass = texelFetch(u_facade, texel, 0).a < 0.5 ? 1.0 : 0.0;
+    return FacadeResult(vec3(0.0), n, vec2(0.0), glass, wall, 0u);
+#else
+    vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
+    return FacadeResult(exterior.rgb * building_tint(b), n, vec2(0.0), 1.0 - exterior.a, wall, 0u);
+#endif
 }
 
 void main() {
@@ -89,38 +98,28 @@ void main() {
 #endif
         color = roof_color(b, v_local, n, n_world, rot * d, shadow_factor(v_world));
     } else {
-        float glass;
+        // each facade technique fills one FacadeResult; facade_light lights them all
+        FacadeResult f;
         vec4 opening = vec4(v_facade, v_facade);  // the glass's rectangle: a point in the pixel's bay, or the grammar's window
-        if (v_ids.y == SURFACE_PLAIN_WALL) {
-            glass = 0.0;  // a face too narrow for its grammar (cityshade/render/_facades.py)
+        vec2 door_uv;
+        int door;
+        bool at_door = door_at(b, v_local, n, door_uv, door);  // a mapped or guessed door, in front of any facade
+        bool grammar = !at_door && v_ids.y != SURFACE_PLAIN_WALL && has_grammar_facade(b);
+        if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);
+        else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
+            f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
+        else if (grammar) f = grammar_building_facade(b, n, v_local, v_facade, v_spacing.y, v_face, d, opening);
+        else if (has_relief_facade(b)) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
+        else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
+        float glass = f.glass;
+        label = f.label;
+        surface = f.point;  // recessed relief glass: the room shows from the hit point
 #if !defined ID_PASS
-            color = lit_surface(PLAIN_WALL_ALBEDO * building_tint(b), n_world, shadow_factor(v_world));
+        color = facade_light(f, rot, d, shadow_factor(v_world));  // where it is glass, the room shows (below)
+#if defined GRAMMAR_DEFERRED
+        if (grammar) color = grammar_deferred_color();  // lit by the deferred pass
 #endif
-        } else if (has_grammar_facade(b)) {
-            vec3 grammar_color = grammar_building_color(b, n, v_facade, v_spacing.y, v_face, d, rot, shadow_factor(v_world),
-                                                         glass, label, opening);
-#if !defined ID_PASS
-            color = grammar_color;  // where it is glass, the room shows instead (below)
 #endif
-        } else if (has_relief_facade(b)) {
-            ReliefSurface r = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
-            glass = r.glass ? 1.0 : 0.0;  // recessed glass: the room shows from the hit point
-            surface = r.point;
-#if !defined ID_PASS
-            color = lit_surface(r.albedo * building_tint(b), rot * r.normal, shadow_factor(v_world));
-#endif
-        } else {
-        vec2 bay_uv = (v_facade - vec2(0.0, v_face.y)) / v_spacing;
-#if defined ID_PASS
-        // the exact texel decides glass, as in the numpy twin
-        ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
-        glass = texelFetch(u_facade, texel, 0).a < 0.5 ? 1.0 : 0.0;
-#else
-        vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
-        glass = 1.0 - exterior.a;
-        color = lit_surface(exterior.rgb * building_tint(b), n_world, shadow_factor(v_world));
-#endif
-        }
 #if defined POLYGONISED_EXTERIOR
         if (glass >= 0.5) discard;  // the real rooms behind show through the hole
         glass = 0.0;                // and the rest is frame: no reflective-window mix at its edge

@@ -4,7 +4,7 @@
 #define GRAMMAR_BUILDING_GLSL
 
 #include "common/buildings.glsl"
-#include "common/lighting.glsl"
+#include "common/facade.glsl"
 #include "common/srgb.glsl"
 #include "grammar/eval.glsl"
 
@@ -57,42 +57,37 @@ vec3 grammar_normal(vec3 tangent_normal, vec3 n) {
     return normalize(grammar_right(n) * tangent_normal.x + vec3(0.0, tangent_normal.y, 0.0) + n * tangent_normal.z);
 }
 
-// Sun and sky on the grammar's material: diffuse from its colour (tiles are sRGB), Phong specular.
-// `shadow`: 1 where the sun reaches the facade (shadow/csm.glsl), 0 in shadow.
-vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d, float shadow) {
-    vec3 n_world = rot * grammar_normal(g.normal, n);
-    vec3 albedo = srgb_to_linear(g.color);
-    vec3 half_vector = normalize(u_sun_dir - rot * d);
-    float shininess = 1.0 + 128.0 * g.specular.y;
-    float highlight = g.specular.x * pow(max(dot(n_world, half_vector), 0.0), shininess) * max(dot(n_world, u_sun_dir), 0.0);
-    return lit_surface(albedo, n_world, shadow) + shadow * highlight * u_sun_color;
+// The grammar's material at a wall point (n: its normal, point: the point) as a facade result:
+// colour from sRGB tiles, its normal in the wall's space, Phong specular, glass labelled as room.
+FacadeResult grammar_facade_result(GrammarResult g, vec3 n, vec3 point) {
+    return FacadeResult(srgb_to_linear(g.color), grammar_normal(g.normal, n), g.specular, g.glass ? 1.0 : 0.0,
+                        point, uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label));
 }
 
-// The grammar facade at a building fragment: lit colour, glass (rooms show through it), label and
-// the window the pixel belongs to (grammar_window). Evaluated here (forward), or, with
-// GRAMMAR_DEFERRED, fetched from the deferred pass's full-screen evaluation of this pixel
-// (cityshade/grammar/_frame_pass.py), which keeps the window's centre. The id pass always
-// evaluates, so ids stay exact.
+// The grammar facade at a building fragment (object space), and the window the pixel belongs to
+// (grammar_window: its rectangle picks the room behind it). With GRAMMAR_DEFERRED it was evaluated
+// and lit (with facade_light) by the deferred pass's full-screen evaluation of this pixel
+// (cityshade/grammar/_frame_pass.py), which keeps the window's centre: only glass, label and window
+// come back here, and grammar_deferred_color gives the lit colour. The id pass always evaluates, so
+// ids stay exact.
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
 uniform sampler2D u_grammar_deferred_color;
 uniform usampler2D u_grammar_deferred_ids;
+
+vec3 grammar_deferred_color() { return texelFetch(u_grammar_deferred_color, ivec2(gl_FragCoord.xy), 0).rgb; }
 #endif
 
-vec3 grammar_building_color(Building b, vec3 n, vec2 facade, float storey, vec4 face, vec3 d, mat3 rot, float shadow,
-                            out float glass, out uint label, out vec4 window) {
+FacadeResult grammar_building_facade(Building b, vec3 n, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
+                                     out vec4 window) {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    uvec4 ids = texelFetch(u_grammar_deferred_ids, pixel, 0);
-    glass = float(ids.x);
-    label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
+    uvec4 ids = texelFetch(u_grammar_deferred_ids, ivec2(gl_FragCoord.xy), 0);
+    uint label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
     window = grammar_window(vec4(uintBitsToFloat(ids.zw), 0.0, 0.0), face);  // the window's centre
-    return texelFetch(u_grammar_deferred_color, pixel, 0).rgb;
+    return FacadeResult(vec3(0.0), n, vec2(0.0), float(ids.x), wall, label);
 #else
     GrammarResult g = grammar_facade(b, n, facade, storey, face, d, dFdx(facade), dFdy(facade));
-    glass = g.glass ? 1.0 : 0.0;
-    label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
     window = grammar_window(g.scope, face);
-    return grammar_lit(g, n, rot, d, shadow);
+    return grammar_facade_result(g, n, wall);
 #endif
 }
 

@@ -49,9 +49,9 @@ void main() {
     }
     mat3 rot = building_rotation(b);
     vec3 d = normalize(v_local - transpose(rot) * (u_camera - b.origin_yaw.xyz));  // object space
-    GrammarResult g = grammar_facade(b, normalize(v_normal), v_facade, v_spacing.y, v_face, d, dFdx(v_facade),
-                                     dFdy(v_facade));
-    out_color = vec4(grammar_lit(g, normalize(v_normal), rot, d, 1.0), 1.0);
+    vec3 wall_normal = normalize(v_normal);  // object space
+    GrammarResult g = grammar_facade(b, wall_normal, v_facade, v_spacing.y, v_face, d, dFdx(v_facade), dFdy(v_facade));
+    out_color = vec4(facade_light(grammar_facade_result(g, wall_normal, v_local), rot, d, 1.0), 1.0);
 #endif
 }
 #endif

@@ -6,6 +6,7 @@
 
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
+#include "generated/ShadingBlock.glsl"
 
 #define SALT_LIGHT 0x1000u
 #define SALT_VARIANT 0x2000u
@@ -22,19 +23,10 @@
 #define EMPTY_ROOM_SHARE 0.3
 #define CURTAIN_SHARE 0.55
 
-uniform float u_lights;          // probability c that a room's light is on (paper §4.1)
-uniform int u_room_variants;     // rooms in the atlas (paper §4.2)
-uniform int u_sprite_kinds;
-uniform int u_sprite_frames;
-uniform vec4 u_glass_rect;       // the glass in one window bay: (u0, v0, u1, v1)
-uniform vec3 u_room_light;       // radiance of a lit room
-uniform vec3 u_room_dark;        // what an unlit room still receives
-uniform int u_feature_mask;      // FLAG_* bits switched on for this frame
 
 #ifdef IM_SINGLE_ATLAS
 // Paper §3.2: every face of every variant in one texture; column = variant, row = face.
 uniform sampler2D u_room_atlas;
-uniform vec4 u_atlas_layout;     // tile size, padding (texels), atlas width, atlas height
 #else
 // Every face of every variant, one texture array: layer = (face - FACE_CEILING) * variants + variant.
 uniform sampler2DArray u_rooms;
@@ -84,6 +76,13 @@ mat3 face_frame(vec3 n) {
     return transpose(mat3(vec3(-out_dir.z, 0.0, out_dir.x), vec3(0.0, 1.0, 0.0), -out_dir));
 }
 
+// A room's light: its hash against the share of its use at this hour (a shop on a shop-front ground
+// floor, else the building's use), times the building's own multiplier.
+bool room_lit(ivec3 cell, Building b) {
+    int use = cell.y == 0 && (b.ids.z & FLAG_SHOP_FRONT) != 0 ? USE_SHOP : building_use(b);
+    return unit_float(hash3(cell, uint(b.ids.x) ^ SALT_LIGHT)) < u_lit_share[use] * b.extent.w;
+}
+
 // The room behind a window: `window` is the glass's rectangle in facade coordinates (u0, v0, u1,
 // v1; a point for the window-bay facade), whose centre picks the bay and the storey, so the whole
 // window opens onto one room. The room's box (face frame) spans its bay and storey and holds the
@@ -104,7 +103,7 @@ Room find_room(vec4 window, WallFace f, Building b) {
     r.lo = vec3(min(float(j) * f.bay, window.x), min(f.base + float(storey) * f.storey, window.y), 0.0);
     r.hi = vec3(max(float(j + 1) * f.bay, window.z), max(f.base + float(storey + 1) * f.storey, window.w), depth);
     r.id = room_id(r.cell);
-    r.lit = unit_float(hash3(r.cell, seed ^ SALT_LIGHT)) < u_lights * b.extent.w;
+    r.lit = room_lit(r.cell, b);
     r.variant = int(hash3(r.cell, seed ^ SALT_VARIANT) % uint(u_room_variants));
     return r;
 }

@@ -33,7 +33,7 @@ Room grid_room(vec3 p, vec3 n, Building b) {
     r.hi = r.lo + size;
     uint seed = uint(b.ids.x);
     r.id = room_id(r.cell);
-    r.lit = unit_float(hash3(r.cell, seed ^ SALT_LIGHT)) < u_lights * b.extent.w;
+    r.lit = room_lit(r.cell, b);
     r.variant = int(hash3(r.cell, seed ^ SALT_VARIANT) % uint(u_room_variants));
     return r;
 }
