@@ -5,7 +5,9 @@ simple (subdivisions and static textures, fig. 13a), random (fig. 12), full (dus
 randomisation, layers, masks and Intrusion rooms) and conditions (conditions.grammar: simple's
 layout with its window choices made by Case conditions on rule parameters, split.index and
 parity), seen from a distance, at street level and in
-close-up; each by the forward (depth prepass) and the deferred path. Median frame times.
+close-up; each by the forward (depth prepass) and the deferred path. The city is drawn by the
+city's own frame (render.Renderer, FIG11_SETTINGS: no MSAA, trees, shadows, god rays or rooms
+behind the glass; SSAO on). Median frame times.
 Also: windows that show more than one room, over the built-in district's and the Helsinki
 extract's viewpoints (windows_straddling_rooms_district, windows_straddling_rooms_osm).
 """
@@ -18,19 +20,31 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..assets import tile_array
 from .._files import write_figure, write_png
 from ..gl import create_context, describe_context
-from ..grammar import compile_grammars, library_path, load, load_library
-from ..grammar import PATHS, FacadeCityRenderer
+from ..grammar import BUILDING_STYLES, compile_grammars, library_path, load, load_library
 from ..interior import windows_straddling_rooms
 from ..maps import load_map, map_city
 from ..render import Renderer, RenderSettings
-from ..scene import Camera, box, make_city
+from ..scene import Camera, City, box, make_city
+from ..trees import TREE_DTYPE
 from ._harness import BenchResult, Timing, method_record, time_interleaved, timing_record
 from .osm import HELSINKI
 
-GRAMMARS = {"simple": "simple", "random": "fig12", "full": "dusk", "conditions": "conditions"}
+GRAMMARS = {"simple": "simple", "random": "fig12", "full": "dusk", "conditions": "conditions"}  # -> grammar name
+PATHS = ("forward", "deferred")
+# fig. 11 measures the facades: the frame without what the paper's city lacks (MSAA, trees, shadows,
+# god rays, rooms behind the glass); buildings not culled; SSAO as in the paper's deferred pipeline;
+# daylight. The grammars not in the library are compiled after it.
+FIG11_SETTINGS = RenderSettings(samples=0, trees=False, shadows=False, god_rays=False, interior_mapping=False,
+                                culling="off", ssao=True, time_of_day=14.0,
+                                grammar_files=tuple(str(library_path(f"{name}.grammar"))
+                                                    for name in ("simple", "conditions")))
+# forward: depth prepass, then the grammar where the depth test passes; deferred: G-buffer, the
+# grammar once per pixel, then the buildings pass reads it back
+PATH_SETTINGS = {"forward": dict(grammar_deferred=False, depth_prepass=True),
+                 "deferred": dict(grammar_deferred=True, depth_prepass=False)}
+GRAMMAR_STYLE = {name: number for number, name in BUILDING_STYLES.items()}["office"]  # any grammar style
 # Fig. 11: frames per second / ms per frame at 1024x768 on a GeForce GTX 470.
 PAPER_FIG11 = {
     "distance": {"simple": (79, 12), "random": (66, 15), "full": (18, 55)},
@@ -49,14 +63,26 @@ WINDOWS_SIZE = (960, 540)  # piers between windows stay a pixel wide or more in 
 
 
 def city_masses(count: int, seed: int = 11):
-    """Boxes on a square grid of PITCH-metre lots, 16-24 m wide, 10-60 m tall."""
+    """Boxes on a square grid of PITCH-metre lots, 16-24 m wide, 10-60 m tall, with grammar facades."""
     rng = np.random.default_rng(seed)
     side = math.ceil(math.sqrt(count))
     sizes = rng.uniform(16.0, 24.0, (count, 2))
     heights = rng.choice(np.arange(3.2, 60.0, 3.2), count)
     seeds = rng.integers(0, 1 << 30, count)
     return [box((float(k % side) * PITCH, float(k // side) * PITCH), float(sizes[k, 0]), float(sizes[k, 1]),
-                float(heights[k]), seed=int(seeds[k])) for k in range(count)], side
+                float(heights[k]), seed=int(seeds[k]), style=GRAMMAR_STYLE) for k in range(count)], side
+
+
+def fig11_city(count: int) -> tuple[City, int]:
+    """The grid city of city_masses as a City without trees; and its side in lots."""
+    masses, side = city_masses(count)
+    extent = side * PITCH
+    return City("fig. 11", 0, masses, [], (0.0, 0.0, extent, extent), trees=np.zeros(0, TREE_DTYPE)), side
+
+
+def fig11_settings(path: str, grammar: str) -> RenderSettings:
+    """FIG11_SETTINGS drawing every facade with GRAMMARS[grammar] by `path`."""
+    return FIG11_SETTINGS.with_(grammar_start=GRAMMARS[grammar], **PATH_SETTINGS[path])
 
 
 def views(side: int) -> dict[str, Camera]:
@@ -118,22 +144,26 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     count = 2_000 if quick else 20_000
     size = (512, 384) if quick else (1024, 768)
     frames = 9 if quick else 11
-    masses, side = city_masses(count)
-    grammars = {name: load(library_path(f"{file}.grammar")) for name, file in GRAMMARS.items()}
-    compiled = compile_grammars(grammars)
-    renderer = FacadeCityRenderer(ctx, masses, compiled, tile_array(128), size)
+    city, side = fig11_city(count)
+    renderer = Renderer(size, FIG11_SETTINGS, ctx=ctx)
+    renderer.set_city(city)
     cameras = views(side)
     ms: dict[tuple[str, str, str], float] = {}
     iqr: dict[tuple[str, str, str], float] = {}
+
+    def draw(settings: RenderSettings, camera: Camera):
+        renderer.set_settings(settings)
+        renderer.draw(camera)
+
     try:
         for view, camera in cameras.items():
             for grammar in GRAMMARS:
-                renderer.set_grammar(compiled.address(grammar))
-                timed = time_interleaved(ctx, {path: (lambda i, p=path: renderer.draw(camera, p)) for path in PATHS},
-                                         frames)
+                timed = time_interleaved(ctx, {path: (lambda i, s=fig11_settings(path, grammar): draw(s, camera))
+                                               for path in PATHS}, frames)
                 for path, value in timed.items():
                     ms[(view, grammar, path)], iqr[(view, grammar, path)] = value.ms()
-                _save(renderer, out_dir / f"facades_{view}_{grammar}.png")
+                # the last frame drawn (deferred)
+                write_png(renderer.targets.display.read()[..., :3].copy(), out_dir / f"facades_{view}_{grammar}.png")
     finally:
         renderer.release()
 
@@ -144,8 +174,10 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     for path in PATHS:
         result.methods[f"fig. 11 {path}"] = method_record(
             cull_back_faces=False, depth_prepass=path == "forward", frustum_culling=False, msaa=0, size=size,
-            note="forward: depth prepass, then the grammar where the depth test passes; deferred: G-buffer, grammar "
-                 "once per pixel")
+            grammar_deferred=path == "deferred", ssao=True,
+            note="the city's frame without trees, shadows, god rays or rooms behind the glass (ground and sky "
+                 "drawn, tone mapped); forward: depth prepass, then the grammar where the depth test passes; "
+                 "deferred: G-buffer, grammar once per pixel, buildings pass reading it back")
         result.methods[f"city frame, grammar {path}"] = method_record(
             cull_back_faces=False, depth_prepass=True, frustum_culling=True, msaa=RenderSettings().samples,
             size=CITY_SIZE, grammar_deferred=path == "deferred")
@@ -205,10 +237,6 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
 
 def _geomean(values) -> float:
     return float(np.exp(np.mean(np.log(values))))
-
-
-def _save(renderer: FacadeCityRenderer, path: Path):
-    write_png(renderer.read(), path)
 
 
 def _plot(ms, cameras, out_dir: Path) -> Path:

@@ -4,8 +4,10 @@ compiled library (the choice per building is render._facades.choose_facade)."""
 from __future__ import annotations
 
 from functools import lru_cache
+from pathlib import Path
 
-from . import load_library
+from ..errors import UsageError
+from . import load, load_library
 from ._compiler import CompiledGrammars, compile_grammars
 from ._fit import min_width
 
@@ -27,3 +29,18 @@ def library_texture() -> CompiledGrammars:
 def library_min_widths() -> dict[str, float]:
     """Per library style, the narrowest face it fits (metres, _fit.py)."""
     return {style: min_width(grammar) for style, grammar in load_library().items()}
+
+
+def library_texture_with(files: tuple[str, ...]) -> CompiledGrammars:
+    """The library styles, then the grammars of `files` (named by file stem), in one texture. The
+    compiler places rules in order and only reuses earlier addresses, so the library styles keep the
+    addresses of library_texture() that the buildings' records hold."""
+    if not files:
+        return library_texture()
+    grammars = load_library()
+    for path in files:
+        name = Path(path).stem
+        if name in grammars:
+            raise UsageError(f"grammar file {path}: {name!r} is already a style of the library; rename the file")
+        grammars[name] = load(path)
+    return compile_grammars(grammars)

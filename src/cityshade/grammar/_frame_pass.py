@@ -36,7 +36,7 @@ class DeferredGrammarPass:
 
     def draw_gbuffer(self, f, grammar: GrammarTextures, set_uniforms):
         """The cheap first step for frame `f` (render._frame.FrameInputs), into the bound G-buffer."""
-        program = f.gpu.programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
+        program = f.gpu.programs.get("grammar/city.glsl", shader_defines())
         set_uniforms(program, u_view_proj=f.view.view_projection)
         grammar.bind(program)
         f.draw_buildings(program)  # culled like the buildings pass
@@ -44,8 +44,7 @@ class DeferredGrammarPass:
     def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
         """The full-screen evaluation into the bound result target, reading the G-buffer."""
         gbuffer = self.gbuffer
-        program = f.gpu.programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
-                                                           "NO_SHADOWS": f.gpu.shadows is None})
+        program = f.gpu.programs.get("grammar/deferred.glsl", {**shader_defines(), "NO_SHADOWS": f.gpu.shadows is None})
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
         if f.gpu.shadows is not None:
             f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows

@@ -8,6 +8,7 @@ import moderngl
 import numpy as np
 
 from ..gl import VertexArrays, create_buffer
+from ..grammar import FACADE_GRAMMAR
 from ..relief import CityRelief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
@@ -53,6 +54,7 @@ class CityGPU:
         self.visibility = BuildingVisibility(ctx, building_boxes(vertices, *building_ranges(vertices, self.building_count)))
         self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
         self.records = create_buffer(ctx, records)
+        self._record_array = records  # as assigned, for start_grammars_at
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
@@ -79,6 +81,15 @@ class CityGPU:
                 vao.render(moderngl.TRIANGLES, vertices=count, first=first)
         else:
             vao.render(moderngl.TRIANGLES)
+
+    def start_grammars_at(self, address: int | None):
+        """Every grammar facade starts at rule `address` of the grammar texture (RenderSettings.grammar_start);
+        None: each building's own style, as assigned."""
+        records = self._record_array
+        if address is not None:
+            records = records.copy()
+            records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
+        self.records.write(records.tobytes())
 
     def polygonised(self) -> PolygonisedGPU:
         """Real interior geometry for the polygonised-interiors baseline, built on first use."""

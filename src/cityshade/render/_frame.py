@@ -39,11 +39,13 @@ WINDOW_TINT = np.array([0.02, 0.025, 0.03])  # the glass where no room is drawn 
 
 @dataclass
 class FrameTargets:
-    """Where passes draw: the multisampled HDR target, its resolve, the 8-bit display image, the
-    id AOV and the deferred grammar's G-buffer and results (None until a pass needs them)."""
+    """Where passes draw: the multisampled HDR target, its resolve, the resolve with ambient
+    occlusion, the 8-bit display image, the id AOV and the deferred grammar's G-buffer and results
+    (None until a pass needs them)."""
 
     hdr: RenderTarget | None = None
     resolved: RenderTarget | None = None
+    occluded: RenderTarget | None = None
     display: RenderTarget | None = None
     ids: RenderTarget | None = None
     grammar_gbuffer: RenderTarget | None = None
@@ -248,9 +250,23 @@ def resolve(f: FrameInputs):
     f.gpu.ctx.copy_framebuffer(f.gpu.targets.resolved.fbo, f.gpu.targets.hdr.fbo)
 
 
+def ssao(f: FrameInputs):
+    """Ambient occlusion from the resolved depth (resolve blits depth with colour)."""
+    program = f.gpu.programs.get("frame/ssao.glsl")
+    resolved, camera = f.gpu.targets.resolved, f.view.camera
+    bind_textures(program, {"u_color": resolved.colors[0], "u_depth": resolved.depth})
+    set_uniforms(program, u_near_far=(camera.near, camera.far),
+                 u_pixels_per_metre=f.view.size[1] / (2 * np.tan(np.radians(camera.fov_y) / 2)))
+    draw_fullscreen(program)
+
+
+def tone_map_source(settings: RenderSettings) -> str:
+    return "occluded" if settings.ssao else "resolved"
+
+
 def tone_map(f: FrameInputs):
     program = f.gpu.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.view.settings.god_rays})
-    bind_textures(program, {"u_hdr": f.gpu.targets.resolved.colors[0]})
+    bind_textures(program, {"u_hdr": f.gpu.targets.get(tone_map_source(f.view.settings)).colors[0]})
     v = f.view
     set_uniforms(program, **god_ray_uniforms(v.view_projection, v.camera.eye, v.daylight.sun_direction, v.daylight.sun_color))
     draw_fullscreen(program)
@@ -329,8 +345,11 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
                            GLState(depth_func="<=")))
     passes.append(Pass("sky", draw_sky, ("environment",), "hdr", GLState(depth_func="<=")))  # where nothing was drawn
     passes.append(Pass("resolve", resolve, ("hdr",), "resolved", OFF))  # multisampled HDR -> single-sample HDR
+    if settings.ssao:
+        # screen-space ambient occlusion from the resolved depth (Krecklau §4's pipeline)
+        passes.append(Pass("ssao", ssao, ("resolved",), "occluded", OFF))
     # god rays around the sun (SpeedTree §4.5), then HDR -> sRGB 8-bit
-    passes.append(Pass("tone map", tone_map, ("resolved",), "display", OFF))
+    passes.append(Pass("tone map", tone_map, (tone_map_source(settings),), "display", OFF))
     return passes
 
 

@@ -10,6 +10,7 @@ import numpy as np
 from .. import assets
 from .._budget import check_image_memory
 from .._values import check_size
+from ..errors import UsageError
 from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
@@ -43,8 +44,9 @@ class Renderer:
         self.ctx = ctx or create_context(headless=True)
         self._current()
         self.programs = programs(self.ctx)
-        self.textures = CityTextures.create(self.ctx, self.settings.room_texture_size, self.settings.room_variants)
+        self.textures = self._textures(self.settings)
         self.city: CityGPU | None = None
+        self._grammar_start: tuple | None = None  # (settings.grammar_start,) as in the city's records; None: not yet
         self.trees: TreePass | None = None
         self.shadows: CascadedShadows | None = None
         self.frame_index = 0  # drives the shadow cascades' update rates
@@ -73,16 +75,22 @@ class Renderer:
         if self.city is not None:
             self.city.release()
         self.city = CityGPU(self.ctx, city)
+        self._grammar_start = None
         if self.trees is not None:
             self.trees.release()
         trees = city_trees(city) if city.trees is None else city.trees
         self.trees = TreePass(self.ctx, self.programs, trees, seed=city.seed)
 
+    def _textures(self, settings: RenderSettings) -> CityTextures:
+        return CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants, settings.grammar_files)
+
     def set_settings(self, settings: RenderSettings):
         self._current()
-        if settings.room_texture_size != self.settings.room_texture_size or settings.room_variants != self.settings.room_variants:
+        textures = ("room_texture_size", "room_variants", "grammar_files")
+        if any(getattr(settings, name) != getattr(self.settings, name) for name in textures):
             self.textures.release()
-            self.textures = CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants)
+            self.textures = self._textures(settings)
+            self._grammar_start = None  # the addresses may have moved
         if settings.samples != self.settings.samples:
             self._release_targets()
         self.settings = settings
@@ -93,7 +101,7 @@ class Renderer:
             self._release_targets()
 
     def _release_targets(self):
-        for name in ("hdr", "resolved", "display", "ids"):  # the grammar's targets belong to its pass
+        for name in ("hdr", "resolved", "occluded", "display", "ids"):  # the grammar's targets belong to its pass
             target = self.targets.get(name)
             if target is not None:
                 target.release()
@@ -122,12 +130,25 @@ class Renderer:
         if self.settings.shadows and self.shadows is None:
             self.shadows = CascadedShadows(self.ctx)
         self.frame_index += 1
+        self._start_grammars()
         if self.settings.grammar_deferred:
             self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
         s = self.settings
         gpu = FrameResources(self.ctx, self.programs, self.city, self.textures, self.env, self.targets,
                              shadows=self.shadows if s.shadows else None, trees=self.trees if s.trees else None)
         return FrameInputs(gpu, FrameView(camera, s, daylight, self.size, self.frame_index - 1))
+
+    def _start_grammars(self):
+        """Writes settings.grammar_start into the city's records when it or the city changed."""
+        start = self.settings.grammar_start
+        if self._grammar_start == (start,):
+            return
+        compiled = self.textures.grammar.compiled
+        if start is not None and start not in compiled.starts:
+            raise UsageError(f"unknown grammar_start {start!r}; allowed: {', '.join(compiled.starts)} "
+                             "(or add its file to grammar_files)")
+        self.city.start_grammars_at(None if start is None else compiled.address(start))
+        self._grammar_start = (start,)
 
     def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None,
              profile: bool = False) -> RenderTarget:
@@ -139,6 +160,8 @@ class Renderer:
             t.hdr = RenderTarget(self.ctx, self.size, (("f2", 4),), samples=self.settings.samples)
             t.resolved = RenderTarget(self.ctx, self.size, (("f2", 4),))
             t.display = RenderTarget(self.ctx, self.size, (("f1", 4),))
+        if self.settings.ssao and t.occluded is None:
+            t.occluded = RenderTarget(self.ctx, self.size, (("f2", 4),))
         inputs = self._inputs(camera)
         times = {} if profile else None
         start = time.perf_counter()

@@ -34,6 +34,11 @@ class RenderSettings:
     grammar_deferred: bool = True     # facade grammars in a deferred pass (Krecklau §4); measured faster
     culling: str = "gpu"              # buildings: "gpu" (frustum and hierarchical depth, render/_visibility.py),
                                       # "frustum" (96 m chunks on the CPU), "off" (all drawn)
+    ssao: bool = False                # screen-space ambient occlusion of the lit frame (Krecklau §4's pipeline)
+    grammar_files: tuple[str, ...] = ()  # grammar files compiled into the facade texture after the library
+                                      # styles, each named by its file stem
+    grammar_start: str | None = None  # every grammar facade starts at this grammar (a library style or a
+                                      # grammar_files stem); None: each building's own style
 
     def __post_init__(self):
         if self.culling not in CULLING:

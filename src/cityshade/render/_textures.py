@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import assets
 from ..gl import upload_texture
-from ..grammar import DeferredGrammarPass, GrammarTextures, library_texture
+from ..grammar import DeferredGrammarPass, GrammarTextures, library_texture_with
 
 ROOM_FACES = ("ceiling", "floor", "wall_x", "wall_z")
 
@@ -28,11 +28,12 @@ class CityTextures:
     sprite_frames: int
     curtain: moderngl.Texture
     room_variants: int
-    grammar: GrammarTextures  # facade grammar library: rules, noise, tile array
+    grammar: GrammarTextures  # facade grammar library (and settings.grammar_files): rules, noise, tile array
     grammar_pass: DeferredGrammarPass  # targets of the deferred grammar evaluation
 
     @classmethod
-    def create(cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8) -> "CityTextures":
+    def create(cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8,
+               grammar_files: tuple[str, ...] = ()) -> "CityTextures":
         rooms_np = assets.room_textures(size=room_size, variants=variants)
         # one array, face after face (shaders/interior/interior.glsl room_layer)
         rooms = upload_texture(ctx, np.concatenate([rooms_np[face] for face in ROOM_FACES]), "srgb", repeat=False)
@@ -43,7 +44,7 @@ class CityTextures:
         kinds, frames = sprites_np.shape[:2]
         sprites = upload_texture(ctx, sprites_np.reshape(kinds * frames, *sprites_np.shape[2:]), "srgb", repeat=False)
         curtain = upload_texture(ctx, assets.curtain_texture(), "srgb")
-        grammar = GrammarTextures(ctx, library_texture(), assets.tile_array())
+        grammar = GrammarTextures(ctx, library_texture_with(grammar_files), assets.tile_array())
         return cls(rooms, atlas, layout, upload_texture(ctx, facade_np, "srgb"), tuple(float(g) for g in glass), sprites,
                    kinds, frames, curtain, variants, grammar, DeferredGrammarPass(ctx))
 

@@ -1,7 +1,7 @@
 // The deferred grammar pass (§4): one full-screen evaluation per pixel from the G-buffer that
-// grammar/city.glsl (GBUFFER) wrote, with the same lighting as the forward path.
-// CITY_FRAME: inside the city's frame, where the building pass picks the result up (lit colour,
-// and glass + label so rooms still show through the glass); other pixels are left alone.
+// grammar/city.glsl wrote, with the same lighting as the forward path. The building pass picks the
+// result up (lit colour, and glass + label so rooms still show through the glass); other pixels
+// are left alone.
 #include "common/fullscreen.glsl"
 
 #if defined FRAGMENT_SHADER
@@ -15,11 +15,7 @@ uniform sampler2D u_depth;
 uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;
-#if defined CITY_FRAME
 layout(location = 1) out uvec4 out_ids;  // glass, label, the window's centre (grammar uv, float bits)
-#endif
-
-const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -28,14 +24,7 @@ void main() {
     vec4 scope = texelFetch(u_scope, pixel, 0);
     vec4 rule = texelFetch(u_rule, pixel, 0);
     vec3 n = normalize(texelFetch(u_normal, pixel, 0).xyz);
-    if (rule.w == 0.0) {
-#if defined CITY_FRAME
-        discard;  // roofs and the other facade techniques are shaded by the building pass
-#else
-        out_color = vec4(lit_surface(ROOF_COLOR, n, 1.0), 1.0);
-        return;
-#endif
-    }
+    if (rule.w == 0.0) discard;  // roofs and the other facade techniques are shaded by the building pass
     vec4 clip = vec4(gl_FragCoord.xy / u_viewport * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
     vec4 world = u_inv_view_proj * clip;
     vec3 d = normalize(world.xyz / world.w - u_camera);
@@ -45,8 +34,6 @@ void main() {
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
     vec3 point = world.xyz / world.w;
     out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);
-#if defined CITY_FRAME
     out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(g.scope.xy + 0.5 * g.scope.zw));
-#endif
 }
 #endif

@@ -1,12 +1,11 @@
-// Screen-space ambient occlusion (the paper's deferred pipeline, §4) from the depth buffer alone,
-// applied to the lit colour, which it then encodes as sRGB for display: both facade paths share
-// it. Samples a fixed disc around each pixel and counts the neighbours that stand in front of it
-// within a world-sized radius.
+// Screen-space ambient occlusion (Krecklau & Kobbelt's deferred pipeline, §4) from the depth buffer
+// alone, applied to the resolved HDR colour before tone mapping. Samples a fixed disc around each
+// pixel and counts the neighbours that stand in front of it within a world-sized radius; darkens
+// by at most SSAO_STRENGTH, never brightens, and leaves the sky (depth 1) untouched.
 
 #include "common/fullscreen.glsl"
 
 #if defined FRAGMENT_SHADER
-#include "common/srgb.glsl"
 uniform sampler2D u_color;
 uniform sampler2D u_depth;
 uniform vec2 u_near_far;
@@ -16,6 +15,7 @@ layout(location = 0) out vec4 out_color;
 
 #define SSAO_SAMPLES 8
 #define SSAO_RADIUS 1.2
+#define SSAO_STRENGTH 0.6
 
 float linear_depth(float d) {
     float z = d * 2.0 - 1.0;
@@ -27,7 +27,7 @@ void main() {
     vec4 color = texelFetch(u_color, pixel, 0);
     float raw = texelFetch(u_depth, pixel, 0).r;
     if (raw >= 1.0) {
-        out_color = vec4(linear_to_srgb(color.rgb), color.a);
+        out_color = color;
         return;
     }
     float z = linear_depth(raw);
@@ -42,7 +42,6 @@ void main() {
         float dz = z - linear_depth(texelFetch(u_depth, q, 0).r);
         occlusion += (dz > 0.05 && dz < SSAO_RADIUS * 2.0) ? 1.0 - dz / (SSAO_RADIUS * 2.0) : 0.0;
     }
-    vec3 shaded = color.rgb * (1.0 - 0.6 * occlusion / float(SSAO_SAMPLES));
-    out_color = vec4(linear_to_srgb(shaded), color.a);
+    out_color = vec4(color.rgb * (1.0 - SSAO_STRENGTH * occlusion / float(SSAO_SAMPLES)), color.a);
 }
 #endif
