@@ -45,6 +45,7 @@ class DeferredGrammarPass:
         """The full-screen evaluation into the bound result target, reading the G-buffer."""
         gbuffer = self.gbuffer
         program = f.gpu.programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
+                                                           "BUILDING_LOD": f.view.settings.building_lod,
                                                            "NO_SHADOWS": f.gpu.shadows is None})
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
         if f.gpu.shadows is not None:

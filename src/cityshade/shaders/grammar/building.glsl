@@ -70,11 +70,21 @@ FacadeResult grammar_facade_result(GrammarResult g, vec3 n, vec3 point) {
 // (cityshade/grammar/_frame_pass.py), which keeps the window's centre: only glass, label and window
 // come back here, and grammar_deferred_color gives the lit colour. The id pass always evaluates, so
 // ids stay exact.
+
+// The deferred pass's mark (first id channel) on a pixel it left to the cheapest level of detail
+// (city/lod.glsl), so both passes agree on the pixel's level.
+const uint GRAMMAR_DEFERRED_SKIPPED = 2u;
+
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
 uniform sampler2D u_grammar_deferred_color;
 uniform usampler2D u_grammar_deferred_ids;
 
 vec3 grammar_deferred_color() { return texelFetch(u_grammar_deferred_color, ivec2(gl_FragCoord.xy), 0).rgb; }
+
+// whether the deferred pass left this pixel to the cheapest level of detail (below)
+bool grammar_deferred_skipped() {
+    return texelFetch(u_grammar_deferred_ids, ivec2(gl_FragCoord.xy), 0).x == GRAMMAR_DEFERRED_SKIPPED;
+}
 #endif
 
 FacadeResult grammar_building_facade(Building b, vec3 n, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,

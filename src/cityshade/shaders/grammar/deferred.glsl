@@ -7,6 +7,9 @@
 #if defined FRAGMENT_SHADER
 #include "grammar/building.glsl"
 #include "shadow/csm.glsl"
+#if defined CITY_FRAME && defined BUILDING_LOD
+#include "city/lod.glsl"
+#endif
 
 uniform sampler2D u_scope;
 uniform sampler2D u_rule;
@@ -39,6 +42,13 @@ void main() {
     vec4 clip = vec4(gl_FragCoord.xy / u_viewport * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
     vec4 world = u_inv_view_proj * clip;
     vec3 d = normalize(world.xyz / world.w - u_camera);
+#if defined CITY_FRAME && defined BUILDING_LOD
+    if (lod_cheap(distance(world.xyz / world.w, u_camera))) {  // far: the building pass draws the style's mean
+        out_color = vec4(0.0);
+        out_ids = uvec4(GRAMMAR_DEFERRED_SKIPPED, 0u, 0u, 0u);
+        return;
+    }
+#endif
     // texture footprints from the neighbouring pixels' facade coordinates
     vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;

@@ -1,0 +1,34 @@
+// Building level of detail (cityshade/render/_building_lod.py sets the bands): far facades drop
+// the relief's tracing along the view ray, then grammar, window bay and room ray casting for the
+// style's mean wall colour with lit windows. Each pixel is entirely one level or the other; over a
+// band (u_building_lod, metres) an ordered dither shifts the share of pixels from the finer level
+// to the coarser, so the switch never pops and the id AOV stays exact for the level drawn.
+#ifndef CITY_LOD_GLSL
+#define CITY_LOD_GLSL
+
+#include "common/buildings.glsl"
+#include "common/facade.glsl"
+#include "generated/ShadingBlock.glsl"
+
+// 4x4 Bayer matrix: 16 evenly spread thresholds per screen tile
+const float LOD_BAYER[16] = float[16](0.0, 8.0, 2.0, 10.0, 12.0, 4.0, 14.0, 6.0,
+                                      3.0, 11.0, 1.0, 9.0, 15.0, 7.0, 13.0, 5.0);
+
+// true where the pixel at distance s shows the coarser level of the band (start, end)
+bool lod_coarse(vec2 band, float s) {
+    ivec2 p = ivec2(gl_FragCoord.xy) & 3;
+    return (s - band.x) / (band.y - band.x) > (LOD_BAYER[p.y * 4 + p.x] + 0.5) / 16.0;
+}
+
+bool lod_relief_flat(float s) { return lod_coarse(u_building_lod.xy, s); }
+bool lod_cheap(float s) { return lod_coarse(u_building_lod.zw, s); }
+
+// The cheapest level: the style's mean wall colour over the face and its glass share, behind
+// which the room of the pixel's cell glows in its mean colour (city/building.glsl). grammar: the
+// building has a grammar facade (its style's mean, untinted as the grammar is), else the window bay.
+FacadeResult lod_facade(Building b, vec3 n, vec3 wall, bool grammar) {
+    vec4 mean = grammar ? u_style_mean[b.ids.y] : vec4(u_bay_mean.rgb * building_tint(b), u_bay_mean.a);
+    return FacadeResult(mean.rgb, n, vec2(0.0), mean.a, wall, 0u);
+}
+
+#endif
