@@ -343,7 +343,8 @@ def id_passes(settings: RenderSettings, room_state: bool = False, windows: bool 
     (a key per window of its building, 0: none)."""
 
     def id_buildings(f: FrameInputs):
-        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "ID_WINDOW": windows, "INTERIOR_LOD": False})
+        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "ID_WINDOW": windows, "INTERIOR_LOD": False,
+                                "BUILDING_LOD": False})
 
     inputs = (*CITY, "grammar textures", "relief maps")
     passes = [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
