@@ -139,7 +139,6 @@ SHADING_BLOCK = UniformBlock(
         ("u_lod_range", "vec2", "interiors fade to lit-window colours between these distances"),
         ("u_building_lod", "vec4", "building LOD bands, metres: relief (start, end), cheap level (start, end)"),
         ("u_bay_mean", "vec4", "window bay's wall colour (linear, untinted), glass share: the cheap level"),
-        ("u_style_mean", "vec4[8]", "per facade style code: its grammar's wall colour (linear), glass share"),
         ("u_room_variants", "int", "rooms in the atlas (interior mapping §4.2)"),
         ("u_sprite_kinds", "int", "kinds of furniture sprite"),
         ("u_sprite_frames", "int", "animation frames per sprite kind"),

@@ -8,17 +8,20 @@ vertical field of view, so the switches move out on a bigger image or a narrower
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import lru_cache
 
 import numpy as np
 
 from .. import assets
-from ..grammar import BUILDING_STYLES, evaluate, library_texture
+from ..assets import TileArray
+from ..grammar import FACADE_GRAMMAR, evaluate, library_texture, seed_vector
+from ..scene import SURFACE_WALL
 
 ROOM_METRES = 4.5  # a room's width on the facade: one window bay
-SAMPLE_FACE = (13.5, 12.0)         # metres: the face a style's mean is taken over (3 bays, 4 storeys)
-SAMPLE_STEP = 0.1                  # metres between the sample points
-STYLE_SLOTS = 8                    # facade style codes the ShadingBlock has room for (grammar.BUILDING_STYLES)
+SAMPLE_POINTS = 512  # grammar points per building for its cheap colour (a jittered grid: its mean within ~1%)
+CHUNK_POINTS = 1 << 15  # points per numpy evaluation
+LOD_COLOURS_BINDING = 6  # the storage buffer of the grammar buildings' cheap colours (city/lod.glsl)
 
 
 def room_distance(pixels: float, rows: int, fov_y_degrees: float) -> float:
@@ -52,16 +55,68 @@ def bay_mean() -> np.ndarray:
     return _wall_mean(_linear(pixels[:, :3]), 1.0 - pixels[:, 3])
 
 
+def _unit_samples() -> np.ndarray:
+    """SAMPLE_POINTS points spread over the unit square: one jittered point per cell of a grid
+    (a fixed seed), so that no repeat of a facade's pattern aliases with the sampling."""
+    cols = int(np.sqrt(SAMPLE_POINTS * 2))
+    rows = SAMPLE_POINTS // cols
+    cell = np.stack(np.meshgrid(np.arange(cols), np.arange(rows)), axis=-1).reshape(-1, 2)
+    jitter = np.random.default_rng(11).random(cell.shape)
+    return (cell + jitter) / np.array([cols, rows])
+
+
 @lru_cache(maxsize=1)
-def style_means() -> np.ndarray:
-    """Per facade style code (the building record's ids.y), its grammar's mean wall colour (linear)
-    and glass share over a sample face, evaluated with the numpy reference; zero where no style."""
-    compiled, tiles = library_texture(), assets.tile_array()
-    w, h = SAMPLE_FACE
-    x, y = np.meshgrid(np.arange(SAMPLE_STEP / 2, w, SAMPLE_STEP), np.arange(SAMPLE_STEP / 2, h, SAMPLE_STEP))
-    uv = np.stack([x.ravel(), y.ravel()], axis=1).astype(np.float32)
-    means = np.zeros((STYLE_SLOTS, 4))
-    for code, style in BUILDING_STYLES.items():
-        result = evaluate(compiled, compiled.address(style), uv, (w, h), (0.0, 0.0), tiles, building=(4, code))
-        means[code] = _wall_mean(_linear(np.asarray(result.color, np.float64)), np.asarray(result.glass))
-    return means
+def _far_tiles() -> TileArray:
+    """The grammar's tiles as the full level samples them where the cheap level takes over: at its
+    coarsest mipmap, each colour tile one sRGB mean (the tiles are filtered in sRGB and decoded
+    after, shaders/grammar/building.glsl), the alpha that decides glass kept exact."""
+    tiles = assets.tile_array()
+    layers = tiles.layers.copy()
+    colour = layers[0::3]  # usage 1 of each tile (TileArray.plane)
+    colour[..., :3] = np.round(colour[..., :3].mean(axis=(1, 2), keepdims=True))
+    layers[0::3] = colour
+    return replace(tiles, layers=layers)
+
+
+def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> dict[int, tuple]:
+    """Per grammar building (index), the face its cheap colour is taken over: its widest grammar
+    wall face as (start rule, width, height, storeys, style, seed), the storeys counted as
+    shaders/grammar/building.glsl does."""
+    walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+    faces = {}
+    for i in np.flatnonzero(records["facade"][:, 0] == FACADE_GRAMMAR):
+        own = walls[walls["ids"][:, 0] == i]
+        if not len(own):
+            continue  # every face too narrow: plain walls only
+        widest = own[np.argmax(own["face"][:, 0])]
+        width, base, top = (float(v) for v in widest["face"][:3])
+        storeys = int(np.floor((top - base) / widest["facade"][3] + 0.5))
+        faces[int(i)] = (int(records["facade"][i, 1]), width, top - base, storeys, masses[i].style, masses[i].seed)
+    return faces
+
+
+def grammar_colours(faces: dict[int, tuple], count: int) -> np.ndarray:
+    """(count, 4) float32: per building, its own grammar's mean wall colour (linear) and glass share
+    over its sample face (grammar_sample_faces), evaluated with the numpy reference with the
+    building's seed, since a grammar's choices made once per building (an office tower's spandrel
+    finish) change its colour more than anything; zero for the buildings without a grammar."""
+    colours = np.zeros((count, 4), np.float32)
+    if not faces:
+        return colours
+    compiled, tiles, unit = library_texture(), _far_tiles(), _unit_samples()
+    index = np.array(list(faces))
+    start, width, height, storeys, style, seed = (np.array(v) for v in zip(*faces.values()))
+    size = np.stack([width, height], axis=1)
+    seeds = np.array([seed_vector(s) for s in seed])
+    per = len(unit)
+    buildings_per_chunk = max(1, CHUNK_POINTS // per)
+    for first in range(0, len(index), buildings_per_chunk):  # the evaluation's work arrays grow with its points
+        part = slice(first, first + buildings_per_chunk)
+        each = lambda a: np.repeat(a[part], per, axis=0)  # noqa: E731 (per point of the chunk's buildings)
+        uv = (np.tile(unit, (len(index[part]), 1)) * each(size)).astype(np.float32)
+        result = evaluate(compiled, each(start), uv, each(size), each(seeds), tiles,
+                          building=np.stack([each(storeys), each(style)], axis=1))
+        colour = _linear(np.asarray(result.color, np.float64)).reshape(-1, per, 3)
+        glass = np.asarray(result.glass).reshape(-1, per)
+        colours[index[part]] = [_wall_mean(c, g) for c, g in zip(colour, glass)]
+    return colours

@@ -21,7 +21,7 @@ from ..gl import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, ProgramCache, RenderTarge
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, lit_shares
-from ._building_lod import bay_mean, lod_distances, style_means
+from ._building_lod import bay_mean, lod_distances
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
@@ -127,7 +127,7 @@ class FrameInputs:
             self.gpu.ctx, u_lit_share=np.pad(shares, (0, MAX_USES - len(shares))), u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=t.glass_rect, u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK, u_feature_mask=int(mask),
-            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT, u_bay_mean=bay_mean(), u_style_mean=style_means(),
+            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT, u_bay_mean=bay_mean(),
             u_building_lod=lod_distances(s.building_lod_pixels, self.view.size[1], self.view.camera.fov_y),
             u_atlas_layout=(layout["tile"], layout["padding"], t.atlas.width, t.atlas.height))
 
@@ -205,6 +205,8 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
         f.gpu.textures.grammar_pass.bind_results(program)
     f.gpu.city.relief.bind(program)
     f.gpu.city.street_lights.bind(program)
+    if defines.get("BUILDING_LOD", f.view.settings.building_lod):
+        f.gpu.city.bind_lod_colours()
     if f.gpu.shadows is not None:
         f.gpu.shadows.bind(program)
     f.draw_buildings(program)

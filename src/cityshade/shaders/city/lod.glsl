@@ -23,11 +23,16 @@ bool lod_coarse(vec2 band, float s) {
 bool lod_relief_flat(float s) { return lod_coarse(u_building_lod.xy, s); }
 bool lod_cheap(float s) { return lod_coarse(u_building_lod.zw, s); }
 
-// The cheapest level: the style's mean wall colour over the face and its glass share, behind
-// which the room of the pixel's cell glows in its mean colour (city/building.glsl). grammar: the
-// building has a grammar facade (its style's mean, untinted as the grammar is), else the window bay.
-FacadeResult lod_facade(Building b, vec3 n, vec3 wall, bool grammar) {
-    vec4 mean = grammar ? u_style_mean[b.ids.y] : vec4(u_bay_mean.rgb * building_tint(b), u_bay_mean.a);
+// Per building (index), its grammar's mean wall colour (linear) and glass share: taken with the
+// building's own seed and face, as the grammar's once-per-building choices set its colour
+// (cityshade/render/_building_lod.py, LOD_COLOURS_BINDING); zero for the other buildings.
+layout(std430, binding = 6) readonly buffer BuildingLodColours { vec4 building_lod_colours[]; };
+
+// The cheapest level: the mean wall colour over the face and its glass share, behind which the
+// room of the pixel's cell glows in its mean colour (city/building.glsl). grammar: the building
+// (index) has a grammar facade (its own mean, untinted as the grammar is), else the window bay.
+FacadeResult lod_facade(Building b, int index, vec3 n, vec3 wall, bool grammar) {
+    vec4 mean = grammar ? building_lod_colours[index] : vec4(u_bay_mean.rgb * building_tint(b), u_bay_mean.a);
     return FacadeResult(mean.rgb, n, vec2(0.0), mean.a, wall, 0u);
 }
 
