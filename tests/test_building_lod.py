@@ -93,10 +93,10 @@ def test_moving_away_the_cross_fade_does_not_pop(gl_context, style):
     assert steps["cross-fade"].max() < 0.5 * steps["hard switch"].max()
 
 
-# every facade style of the city: the window bay and each library grammar a building style gets
-# (relief takes the styles it shares with a grammar, render/_facades.py)
-CITY_STYLES = {"window bay": 0, **{f"{name} grammar": code for code, name in BUILDING_STYLES.items()
-                                    if code not in RELIEF_STYLES}}
+# every facade of the city: the window bay, the relief bay and each library grammar a building
+# style gets (relief takes the styles it shares with a grammar, render/_facades.py)
+CITY_STYLES = {"window bay": 0, "relief bay": RELIEF_STYLES[0],
+               **{f"{name} grammar": code for code, name in BUILDING_STYLES.items() if code not in RELIEF_STYLES}}
 
 
 @pytest.mark.parametrize("seed", [3, 8])

@@ -139,6 +139,7 @@ SHADING_BLOCK = UniformBlock(
         ("u_lod_range", "vec2", "interiors fade to lit-window colours between these distances"),
         ("u_building_lod", "vec4", "building LOD bands, metres: relief (start, end), cheap level (start, end)"),
         ("u_bay_mean", "vec4", "window bay's wall colour (linear, untinted), glass share: the cheap level"),
+        ("u_relief_mean", "vec4", "relief bay's wall colour (linear, untinted), glass share: the cheap level"),
         ("u_room_variants", "int", "rooms in the atlas (interior mapping §4.2)"),
         ("u_sprite_kinds", "int", "kinds of furniture sprite"),
         ("u_sprite_frames", "int", "animation frames per sprite kind"),

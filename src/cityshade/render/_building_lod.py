@@ -16,6 +16,7 @@ import numpy as np
 from .. import assets
 from ..assets import TileArray
 from ..grammar import FACADE_GRAMMAR, evaluate, library_texture, seed_vector
+from ..relief import GLASS, MATERIALS, generate_bay
 from ..scene import SURFACE_WALL
 
 ROOM_METRES = 4.5  # a room's width on the facade: one window bay
@@ -53,6 +54,42 @@ def bay_mean() -> np.ndarray:
     image, _ = assets.facade_texture()
     pixels = image.reshape(-1, 4).astype(np.float64) / 255.0
     return _wall_mean(_linear(pixels[:, :3]), 1.0 - pixels[:, 3])
+
+
+# shaders/relief/materials.glsl's palette (sRGB) by MATERIALS index, with the pattern it varies by
+# over a facade: (colour, factors) a uniform spread of factors, or brick's (brick, mortar, share)
+_RELIEF_FACTORS = np.linspace(0.0, 1.0, 256, endpoint=False) + 0.5 / 256  # the pattern's phase, evenly
+_RELIEF_PALETTE = {
+    "wall": ((0.78, 0.72, 0.60), np.ones(1)),
+    "glass": ((0.10, 0.14, 0.18), np.ones(1)),
+    "frame": ((0.85, 0.85, 0.80), np.ones(1)),
+    "stone": ((0.62, 0.58, 0.50), 0.92 + 0.08 * _RELIEF_FACTORS),  # a hashed factor per half-metre cell
+    "wood": ((0.35, 0.20, 0.10), 0.85 + 0.15 * np.sin(2.0 * np.pi * _RELIEF_FACTORS)),  # grain stripes
+}
+_BRICK = ((0.55, 0.24, 0.16), (0.70, 0.68, 0.62), 1.0 - (1.0 - 0.06) * (1.0 - 0.12))  # mortar: 6 % across, 12 % up
+
+
+def _relief_material_means() -> np.ndarray:
+    """(len(MATERIALS), 3): each relief material's mean linear albedo over its pattern."""
+    means = []
+    for name in MATERIALS:
+        if name == "brick":
+            brick, mortar, share = _BRICK
+            means.append((1.0 - share) * _linear(np.array(brick)) + share * _linear(np.array(mortar)))
+        else:
+            colour, factors = _RELIEF_PALETTE[name]
+            means.append(_linear(np.outer(factors, colour)).mean(axis=0))
+    return np.array(means)
+
+
+@lru_cache(maxsize=1)
+def relief_mean() -> np.ndarray:
+    """The city's relief bay (relief.generate_bay) seen straight on, as the relief level traced
+    straight into the wall draws it: the mean linear albedo of its outermost materials around the
+    glass (before the building's tint) and the glass share."""
+    material = generate_bay().material.ravel()
+    albedo = _relief_material_means()[np.where(material < len(MATERIALS), material, 0)]  # others: plaster
+    return _wall_mean(albedo, material == GLASS)
 
 
 def _unit_samples() -> np.ndarray:

@@ -21,7 +21,7 @@ from ..gl import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, ProgramCache, RenderTarge
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, lit_shares
-from ._building_lod import bay_mean, lod_distances
+from ._building_lod import bay_mean, lod_distances, relief_mean
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
@@ -127,7 +127,7 @@ class FrameInputs:
             self.gpu.ctx, u_lit_share=np.pad(shares, (0, MAX_USES - len(shares))), u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=t.glass_rect, u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK, u_feature_mask=int(mask),
-            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT, u_bay_mean=bay_mean(),
+            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT, u_bay_mean=bay_mean(), u_relief_mean=relief_mean(),
             u_building_lod=lod_distances(s.building_lod_pixels, self.view.size[1], self.view.camera.fov_y),
             u_atlas_layout=(layout["tile"], layout["padding"], t.atlas.width, t.atlas.height))
 

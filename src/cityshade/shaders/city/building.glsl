@@ -111,16 +111,16 @@ void main() {
 #if defined BUILDING_LOD
         // far away: the style's mean colour (the deferred pass decided for grammar pixels)
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
-        cheap = !relief && (grammar ? grammar_deferred_skipped() : lod_cheap(s));
+        cheap = grammar ? grammar_deferred_skipped() : lod_cheap(s);
 #else
-        cheap = !relief && lod_cheap(s);
+        cheap = lod_cheap(s);
 #endif
 #endif
         if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);
         else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
             f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
 #if defined BUILDING_LOD
-        else if (cheap) f = lod_facade(b, v_ids.x, n, v_local, grammar);
+        else if (cheap) f = lod_facade(b, v_ids.x, n, v_local, grammar, relief);
         else if (relief && lod_relief_flat(s))  // parallax under a pixel: traced straight into the wall
             f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, -n);
 #endif

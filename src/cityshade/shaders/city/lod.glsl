@@ -1,6 +1,6 @@
 // Building level of detail (cityshade/render/_building_lod.py sets the bands): far facades drop
-// the relief's tracing along the view ray, then grammar, window bay and room ray casting for the
-// style's mean wall colour with lit windows. Each pixel is entirely one level or the other; over a
+// the relief's tracing along the view ray, then grammar, relief, window bay and room ray casting
+// for the facade's mean wall colour with lit windows. Each pixel is entirely one level or the other; over a
 // band (u_building_lod, metres) an ordered dither shifts the share of pixels from the finer level
 // to the coarser, so the switch never pops and the id AOV stays exact for the level drawn.
 #ifndef CITY_LOD_GLSL
@@ -30,9 +30,11 @@ layout(std430, binding = 6) readonly buffer BuildingLodColours { vec4 building_l
 
 // The cheapest level: the mean wall colour over the face and its glass share, behind which the
 // room of the pixel's cell glows in its mean colour (city/building.glsl). grammar: the building
-// (index) has a grammar facade (its own mean, untinted as the grammar is), else the window bay.
-FacadeResult lod_facade(Building b, int index, vec3 n, vec3 wall, bool grammar) {
-    vec4 mean = grammar ? building_lod_colours[index] : vec4(u_bay_mean.rgb * building_tint(b), u_bay_mean.a);
+// (index) has a grammar facade (its own mean, untinted as the grammar is); relief: the relief
+// bay's mean; else the window bay's (both tinted as their textures are).
+FacadeResult lod_facade(Building b, int index, vec3 n, vec3 wall, bool grammar, bool relief) {
+    vec4 bay = relief ? u_relief_mean : u_bay_mean;
+    vec4 mean = grammar ? building_lod_colours[index] : vec4(bay.rgb * building_tint(b), bay.a);
     return FacadeResult(mean.rgb, n, vec2(0.0), mean.a, wall, 0u);
 }
 
