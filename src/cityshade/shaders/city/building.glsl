@@ -120,7 +120,7 @@ void main() {
         else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
             f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
 #if defined BUILDING_LOD
-        else if (cheap) f = lod_facade(b, v_ids.x, n, v_local, grammar, relief);
+        else if (cheap) f = lod_facade(b, v_ids.x, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing, grammar, relief);
         else if (relief && lod_relief_flat(s))  // parallax under a pixel: traced straight into the wall
             f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, -n);
 #endif
