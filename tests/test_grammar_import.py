@@ -32,7 +32,7 @@ def test_cga_files_translate_check_and_render_alike(ctx, name, notes, output_dir
 def test_translation_keeps_the_structure():
     text = translate((DATA / "tutorial_facade.cga").read_text()).text
     assert "Lot->Building\nBuilding->Facade\n" in text  # extrude and comp dropped, the front kept
-    assert "SplitX(Abs, 1.0, Wall, Tile, 4.2, Tile, Abs, 1.0, Wall)" in text  # {~tileW: Tile}* beside walls
+    assert "SplitX(Abs, 1, Wall, Tile, 4.2, Tile, Abs, 1, Wall)" in text  # {~tileW: Tile}* beside walls
     text = translate((DATA / "conditions_facade.cga").read_text()).text
     assert "Floor(i)->Case(i == 0, Floor_1, split.index % 2 == 1 && scope.sx > 10, Floor_2, 0, NIL, Floor_3)" in text
     assert "Rand(0, 0.3000, Shop_5, 0.5000, Shop_7, 0.2000, ShopFront)" in text
