@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.assets import LABELS
-from cityshade.grammar import BUILDING_STYLES, library_texture
+from cityshade.assets import LABELS, tile_array
+from cityshade.grammar import BUILDING_STYLES, PATHS, FacadeCityRenderer, compile_grammars, library_texture, loads
 from cityshade.interior._faces import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
-from cityshade.scene import Camera, City, batch, box, make_city
+from cityshade.scene import FLAGS, USES, Camera, City, batch, box, make_city
 from render_checks import render_finite
 
 SIZE = (128, 96)
@@ -36,6 +36,15 @@ def test_records_carry_start_rule_and_seed():
     assert not records["facade"][1].any()  # the default style keeps the window bays
 
 
+def test_records_carry_the_use():
+    masses = [box((0.0, 0.0), 10.0, 10.0, 9.0, use=use, furniture=False) for use in USES]
+    _, records = batch(masses)
+    assert ((records["ids"][:, 2] >> FLAGS["FLAG_USE_SHIFT"]) & 15).tolist() == list(range(len(USES)))
+    assert (records["ids"][:, 2] & 15).tolist() == [masses[0].flags & 15] * len(USES)  # the flags stay
+    with pytest.raises(ValueError, match="unknown building use 'shop'"):
+        box((0.0, 0.0), 10.0, 10.0, 9.0, use="shop")
+
+
 def test_label_aov_shows_grammar_labels_and_rooms(renderer, output_dir):
     camera = Camera((10.0, 6.0, -18.0), (16.0, 8.0, 7.0), fov_y=60.0)
     ids = renderer.render_ids(camera)
@@ -53,3 +62,28 @@ def test_default_city_uses_grammar_facades():
     city = make_city("default")
     styles = {m.style for m in city.masses}
     assert len(styles & set(BUILDING_STYLES)) >= 5
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, path, output_dir):
+    """The record's use and height feed building.use / building.height on the GPU, by both paths
+    (the deferred pass reads them through the building index in its G-buffer)."""
+    text = ("S->Case(building.use == use.office, Red, building.height > 30, Green, Yellow)\n"
+            "Red->Color(0.9, 0.1, 0.1)\nGreen->Color(0.1, 0.9, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
+    compiled = compile_grammars({"g": loads(text)})
+    masses = [box((-25.0, 0.0), 14.0, 14.0, 12.0, use="office"), box((-7.0, 0.0), 14.0, 14.0, 40.0, use="residential"),
+              box((11.0, 0.0), 14.0, 14.0, 12.0)]
+    renderer = FacadeCityRenderer(gl_context, masses, compiled, tile_array(32), (160, 96))
+    try:
+        renderer.set_grammar(compiled.address("g"))
+        camera = Camera((0.0, 10.0, -60.0), (0.0, 8.0, 0.0), fov_y=60.0)
+        renderer.draw(camera, path)
+        image = renderer.read().astype(int)
+        Image.fromarray(image.astype(np.uint8)).save(output_dir / f"grammar_city_uses_{path}.png")
+        clip = camera.view_projection(160 / 96) @ np.array([[x, 5.0, 0.0, 1.0] for x in (-18.0, 0.0, 18.0)]).T
+        ndc = clip[:2] / clip[3]
+        columns, rows = ((ndc[0] + 1) / 2 * 160).astype(int), ((1 - ndc[1]) / 2 * 96).astype(int)
+        r, g, b = (image[rows, columns, k] for k in range(3))
+        assert r[0] > 2 * g[0] and g[1] > 2 * r[1] and r[2] > 2 * b[2] and g[2] > 2 * b[2], (r, g, b)
+    finally:
+        renderer.release()

@@ -17,8 +17,11 @@ import numpy as np
 from ..errors import UsageError
 from ..grammar import (
     BUILDING_STYLES,
+    FACADE_SECTORS,
     GRAMMAR_SHAPES,
     evaluate,
+    facade_index,
+    facade_seed_vector,
     library_texture,
     seed_cells,
 )
@@ -69,23 +72,25 @@ def has_grammar(mass) -> bool:
 
 
 def wall_sides(mass, normals: np.ndarray) -> np.ndarray:
-    """The canvas side of each wall vertex (object-space normals), as the renderer chooses its scope."""
+    """The canvas side of each wall vertex (object-space normals): its facade index, as the renderer
+    picks the facade's random stream (a round mass is one facade)."""
     if mass.shape == "cylinder":
-        return np.full(len(normals), 2)
-    return np.where(np.abs(normals[:, 2]) > np.abs(normals[:, 0]), 0, 1)
+        return np.zeros(len(normals), np.int64)
+    return facade_index(normals)
 
 
-def side_width(mass, side: int) -> float:
+def side_width(mass, normal: np.ndarray) -> float:
+    """The facade's width, as the renderer chooses its scope from a wall normal of that side."""
     extent = mass.extent
-    return float((extent[0], extent[2], np.pi * extent[0])[side])
+    if mass.shape == "cylinder":
+        return float(np.pi * extent[0])
+    return float(extent[0] if abs(normal[2]) > abs(normal[0]) else extent[2])
 
 
 def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canvas]:
     """The canvases of one grammar building from its wall vertices (scene.VERTEX_DTYPE records)."""
     compiled = library_texture()
     start = compiled.address(BUILDING_STYLES[mass.style])
-    cells = seed_cells([mass.seed])[0]
-    seed = (float(cells[0]) / 8.0, float(cells[1]) / 8.0)  # noise cells are 1/8 m (GRAMMAR_NOISE_DENSITY)
     sides = wall_sides(mass, walls["normal"])
     room = mass.room_size
     out = []
@@ -93,8 +98,9 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
         facade = walls["facade"][sides == side].astype(np.float64)
         lo, hi = facade[:, :2].min(axis=0) - texel, facade[:, :2].max(axis=0) + texel
         cols, rows = (int(np.ceil(v)) for v in (hi - lo) / texel)
+        normal = walls["normal"][sides == side][0].astype(np.float64)
         out.append(Canvas(index, int(side), float(lo[0]), float(lo[1]), max(cols, 1), max(rows, 1),
-                          side_width(mass, int(side)), float(mass.extent[1]), start, seed,
+                          side_width(mass, normal), float(mass.extent[1]), start, facade_seed_vector(mass.seed, int(side)),
                           (float(room[0]), float(room[1])), float(mass.lights)))
     return out
 
@@ -156,7 +162,7 @@ def lit_rooms(canvas: Canvas, texel: float) -> np.ndarray:
     """(rows, cols) bool: texels in rooms whose light is on (a hash of building, side, bay and storey)."""
     grid = texel_grid(canvas, texel)
     room = np.floor(grid / np.asarray(canvas.room)).astype(np.int64)
-    key = (canvas.building * 4 + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
+    key = (canvas.building * FACADE_SECTORS + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
     h = seed_cells(key.ravel() & 0x7FFFFFFF)
     value = (h[:, 0] * 2048 + h[:, 1]) / float(1 << 22)
     return (value < LIT_SHARE * canvas.lights).reshape(room.shape[:2])

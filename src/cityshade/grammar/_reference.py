@@ -56,7 +56,7 @@ class Evaluation:
 class _Pixels:
     """The evaluation state of n pixels (one row each)."""
 
-    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0)):
+    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0, 0, 0)):
         s = np.asarray(seed, F)
         self.s = s
         self.addr = np.full(n, start, np.int32)
@@ -64,7 +64,7 @@ class _Pixels:
         self.size = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.t = uv.astype(F) + s
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
-        self.building = np.broadcast_to(np.asarray(building, F), (n, 2)).astype(F)  # levels, style
+        self.building = np.broadcast_to(np.asarray(building, F), (n, 4)).astype(F)  # levels, style, use, height
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
         self.params = np.zeros((n, limits.MAX_PARAMS), F)  # the parameters of the rule being evaluated
         self.d = directions.astype(F)
@@ -487,9 +487,9 @@ _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "o
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,
-             directions: np.ndarray | None = None, building=(0, 0)) -> Evaluation:
+             directions: np.ndarray | None = None, building=(0, 0, 0, 0)) -> Evaluation:
     """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
-    `building` is (building.levels, building.style) for conditions."""
+    `building` is (building.levels, building.style, building.use, building.height) for conditions."""
     n = len(uv)
     if directions is None:
         directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
@@ -529,7 +529,7 @@ def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarra
 
 
 def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray,
-                    building=(0, 0)) -> Evaluation:
+                    building=(0, 0, 0, 0)) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
     parts = []

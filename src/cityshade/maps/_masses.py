@@ -33,6 +33,19 @@ STYLE_BY_USE = {
     "train_station": 3, "transportation": 3,
 }
 STYLES = 8
+# What a building is for, in the scene's few classes (cityshade.scene.USES; grammars read it as
+# building.use), by its use or kind; anything else is "other".
+USE_CLASSES = {
+    "residential": ("residential", "apartments", "dormitory", "house", "detached", "terrace", "semidetached_house",
+                    "bungalow", "cabin", "farm"),
+    "office": ("office", "commercial_office"),
+    "retail": ("retail", "commercial", "shop", "supermarket", "kiosk", "hotel", "restaurant", "cafe", "pub", "bar"),
+    "industrial": ("industrial", "warehouse", "factory", "garage", "garages", "shed", "hangar", "manufacture"),
+    "public": ("civic", "public", "government", "school", "university", "college", "hospital", "church", "cathedral",
+               "chapel", "mosque", "synagogue", "temple", "museum", "train_station", "transportation", "library",
+               "townhall", "kindergarten", "fire_station", "police"),
+}
+USE_BY_TAG = {tag: use for use, tags in USE_CLASSES.items() for tag in tags}
 
 
 def facade_style(building: MapBuilding) -> int:
@@ -43,6 +56,11 @@ def facade_style(building: MapBuilding) -> int:
         if use in STYLE_BY_USE:
             return STYLE_BY_USE[use]
     return int(building.index) % STYLES
+
+
+def building_use(building: MapBuilding) -> str:
+    """The scene's use class (cityshade.scene.USES) of a building's use or kind; "other" if none fits."""
+    return next((USE_BY_TAG[use] for use in (building.use, building.kind) if use in USE_BY_TAG), "other")
 
 
 def heights(building: MapBuilding) -> tuple[float, float, float]:
@@ -103,7 +121,7 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
         return None
     return BuildingMass(
         "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,
-        seed=building.index, style=facade_style(building), holes=holes, base=base, roof=roof,
+        seed=building.index, style=facade_style(building), use=building_use(building), holes=holes, base=base, roof=roof,
         walls=building.has_walls, wall_colour=building.building_colour, wall_material=building.building_material,
         guessed=frozenset(building.guessed),
         # A shed or sauna: no rooms behind its few windows, only dark panes.

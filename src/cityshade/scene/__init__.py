@@ -11,7 +11,7 @@ from ._meshes import SURFACE_CODES, SURFACE_ROOF, VERTEX_ATTRIBUTES, VERTEX_DTYP
 from ._paths import PATHS, camera_path
 from ._raycast import intersect
 from ._roofs import Roof
-from ._records import (BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES,
+from ._records import (BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, USES,
                        rotation_y)
 
 __all__ = [
@@ -20,5 +20,5 @@ __all__ = [
     "batch", "building_record", "building_vertices", "BUILDING_DTYPE", "rotation_y", "PATHS", "camera_path",
     "intersect", "SURFACE_ROOF", "GROUND_ASPHALT", "GROUND_GRASS", "GROUND_PAVEMENT", "FLAG_CURTAINS", "FLAG_FURNITURE",
     "FLAG_ROOM_VARIATION", "FLAGS", "SHAPE_CODES", "SURFACE_CODES", "GROUND_MATERIALS", "MAP_GROUND_MATERIALS", "Roof", "GROUND_BALLAST", "GROUND_BULB", "GROUND_LAND",
-    "GROUND_MARKING", "GROUND_POST", "GROUND_RAIL", "GROUND_SAND", "GROUND_WATER", "ROOF_PATTERNS",
+    "GROUND_MARKING", "GROUND_POST", "GROUND_RAIL", "GROUND_SAND", "GROUND_WATER", "ROOF_PATTERNS", "USES",
 ]

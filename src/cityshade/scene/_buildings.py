@@ -8,7 +8,7 @@ from functools import cached_property
 import numpy as np
 
 from ._roofs import FLAT_ROOF, Roof
-from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, SHAPES
+from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, SHAPES, USE_SHIFT, USES
 
 
 @dataclass(frozen=True)
@@ -44,10 +44,13 @@ class BuildingMass:
     wall_colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the style's own tint
     wall_material: str | None = None
     guessed: frozenset[str] = frozenset()  # map attributes the data did not give ("height", "roof_shape", ...)
+    use: str = "other"  # one of USES: what the map says the building is for (grammar conditions: building.use)
 
     def __post_init__(self):
         if self.shape not in SHAPES:
             raise ValueError(f"unknown building shape {self.shape!r}; allowed: {', '.join(SHAPES)}")
+        if self.use not in USES:
+            raise ValueError(f"unknown building use {self.use!r}; allowed: {', '.join(USES)}")
         if self.height <= 0:
             raise ValueError(f"building height must be positive, got {self.height}")
         if not 0 <= self.base <= self.wall_top or (self.walls and self.base == self.wall_top):
@@ -75,8 +78,10 @@ class BuildingMass:
 
     @property
     def flags(self) -> int:
+        """The record's flags word: FLAG_* bits, and the use's index from bit USE_SHIFT."""
         return (
-            (FLAG_FURNITURE if self.furniture and self.shape != "dome" else 0)
+            USES.index(self.use) << USE_SHIFT
+            | (FLAG_FURNITURE if self.furniture and self.shape != "dome" else 0)
             | (FLAG_CURTAINS if self.curtains else 0)
             | (FLAG_ROOM_VARIATION if self.wall_jitter > 0 else 0)
             | (0 if self.interior else FLAG_NO_INTERIOR)

@@ -13,10 +13,15 @@ FLAG_CURTAINS = 2
 FLAG_ROOM_VARIATION = 4
 FLAG_NO_INTERIOR = 8  # no rooms behind the glass: dark panes (sheds, garages, saunas)
 
+# What a building is used for (from map data), kept in the record's flags word (ids.z) from bit
+# USE_SHIFT as its index here: grammar conditions read it as building.use (use.office, ...).
+USES = ("other", "residential", "office", "retail", "industrial", "public")
+USE_SHIFT = 8  # above the FLAG_* bits
+
 # for the shaders (cityshade.shader_constants)
 SHAPE_CODES = {f"SHAPE_{name.upper()}": code for name, code in SHAPES.items()}
 FLAGS = {"FLAG_FURNITURE": FLAG_FURNITURE, "FLAG_CURTAINS": FLAG_CURTAINS, "FLAG_ROOM_VARIATION": FLAG_ROOM_VARIATION,
-         "FLAG_NO_INTERIOR": FLAG_NO_INTERIOR}
+         "FLAG_NO_INTERIOR": FLAG_NO_INTERIOR, "FLAG_USE_SHIFT": USE_SHIFT}
 
 BUILDING_DTYPE = np.dtype(
     [

@@ -17,14 +17,30 @@ vec3 grammar_right(vec3 n) {
     return normalize(cross(vec3(0.0, 1.0, 0.0), n));
 }
 
+// The facade index of a wall (cityshade.grammar._random.facade_index): the direction its object-space
+// normal n faces, in GRAMMAR_FACADE_SECTORS steps (a box's sides are 0, 4, 8, 12); a round mass is one facade.
+int grammar_facade_index(Building b, vec3 n) {
+    if (b.ids.w == SHAPE_CYLINDER) return 0;
+    const float sectors = float(GRAMMAR_FACADE_SECTORS);
+    int k = int(floor(atan(n.z, n.x) * (sectors / 6.28318531) + 0.5));
+    return ((k % GRAMMAR_FACADE_SECTORS) + GRAMMAR_FACADE_SECTORS) % GRAMMAR_FACADE_SECTORS;
+}
+
 // Scope and texture coordinates of a wall point. Mesh u runs right to left seen from outside,
-// so it is mirrored. All sides share the building's seed, so they agree on its random choices.
+// so it is mirrored. Each facade has its own seed (the building's, hashed with the facade index),
+// so the sides of a building make independent random choices, each the same in every frame.
 void grammar_scope(Building b, vec3 n, vec2 facade_uv, out vec2 uv, out vec2 size, out vec2 seed) {
     bool round_mass = b.ids.w == SHAPE_CYLINDER;
     float width = round_mass ? 3.14159265 * b.extent.x : (abs(n.z) > abs(n.x) ? b.extent.x : b.extent.z);
     size = vec2(width, b.extent.y);
     uv = vec2(width - facade_uv.x, facade_uv.y);
-    seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
+    seed = vec2(grammar_facade_cells(b.facade.zw, grammar_facade_index(b, n))) / GRAMMAR_NOISE_DENSITY;
+}
+
+// building.levels (storeys: the height over the room height, rounded), .style, .use and .height
+// for conditions (the use is kept in the flags word from bit FLAG_USE_SHIFT).
+vec4 grammar_building_attributes(Building b) {
+    return vec4(floor(b.extent.y / b.room.y + 0.5), float(b.ids.y), float((b.ids.z >> FLAG_USE_SHIFT) & 15), b.extent.y);
 }
 
 // Evaluates a grammar at facade point uv; d is the unit view ray and n the wall normal (in one
@@ -39,7 +55,7 @@ GrammarResult grammar_facade_at(int start, vec2 uv, vec2 size, vec2 seed, vec3 n
 GrammarResult grammar_facade(Building b, vec3 n, vec2 facade_uv, vec3 d, vec2 duv_dx, vec2 duv_dy) {
     vec2 uv, size, seed;
     grammar_scope(b, n, facade_uv, uv, size, seed);
-    grammar_building = vec2(floor(b.extent.y / b.room.y + 0.5), float(b.ids.y));  // storeys, style
+    grammar_building = grammar_building_attributes(b);
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 

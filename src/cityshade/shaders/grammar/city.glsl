@@ -21,7 +21,7 @@ const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
 
 #if defined GBUFFER
 layout(location = 0) out vec4 out_scope;   // uv, scope size (metres)
-layout(location = 1) out vec4 out_rule;    // seed vector, start rule, 1 = facade (0 = roof)
+layout(location = 1) out vec4 out_rule;    // seed vector, start rule, building index + 1 (0: a roof)
 layout(location = 2) out vec4 out_normal;  // world normal
 #else
 layout(location = 0) out vec4 out_color;
@@ -38,7 +38,7 @@ void main() {
         facade = 1.0;
     }
     out_scope = vec4(uv, size);
-    out_rule = vec4(seed, float(b.facade.y), facade);
+    out_rule = vec4(seed, float(b.facade.y), facade * float(v_ids.x + 1));  // exact in 32-bit floats
     out_normal = vec4(n, 0.0);
 #else
     if (v_ids.y == SURFACE_ROOF) {
