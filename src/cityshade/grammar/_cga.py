@@ -4,8 +4,9 @@ Translated: rules, `attr`/`const` values (evaluated and written in as numbers: a
 fixed parameters), `split(x|y)` with absolute, floating (`~`) and relative (`'`) sizes, repeats
 `{...}*` (alone: Repeat; beside other parts: a Tile), `case`/`else` (Case, with split.index,
 split.total, scope.sx/sy), rule parameters (`Floor(i)`, `Floor(split.index)`), `%` choices
-(Rand), `rand(a, b)` sizes, `color("#rrggbb")` (a Color layer under the successors, or a Tint of
-a texture that follows it), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
+(Rand), `rand(a, b)` sizes, `color(...)` ("#rrggbb", "#rgb", CSS names, constant r, g, b: a
+Color layer under the successors, labelled by the rule's name, or a Tint of a texture that
+follows it), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
 Everything else (comp, extrude, roofs, transformations, occlusion queries, string values...)
 is listed by line with what was done instead.
 """
@@ -374,8 +375,10 @@ class _Importer:
         return f"Rand(0, {', '.join(parts)})"
 
     def skip(self) -> str:
-        """The rule that draws nothing (CGA's NIL and empty shapes)."""
-        self.rules.setdefault("NIL", "Skip(0)")  # NIL is CGA's keyword: no CGA rule has its name
+        """CGA's NIL, which deletes the shape: nothing is drawn there, not even the colour a rule above
+        set (the translation puts it in the layer below, which Skip(1) skips too); a leaf without a
+        rule, in contrast, shows that colour (Skip(0))."""
+        self.rules.setdefault("NIL", "Skip(1)")  # NIL is CGA's keyword: no CGA rule has its name
         if "NIL" not in self.order:
             self.order.append("NIL")
         return "NIL"
