@@ -8,7 +8,8 @@ import pytest
 from PIL import Image
 
 from cityshade.assets import LABELS, tile_array
-from cityshade.grammar import BUILDING_STYLES, PATHS, FacadeCityRenderer, compile_grammars, library_texture, loads
+from cityshade.grammar import (BUILDING_STYLES, PATHS, FacadeCityRenderer, compile_grammars, evaluate,
+                               facade_seed_vector, library_texture, loads)
 from cityshade.interior._faces import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
 from cityshade.scene import FLAGS, USES, Camera, City, batch, box, make_city
@@ -85,5 +86,39 @@ def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, pa
         columns, rows = ((ndc[0] + 1) / 2 * 160).astype(int), ((1 - ndc[1]) / 2 * 96).astype(int)
         r, g, b = (image[rows, columns, k] for k in range(3))
         assert r[0] > 2 * g[0] and g[1] > 2 * r[1] and r[2] > 2 * b[2] and g[2] > 2 * b[2], (r, g, b)
+    finally:
+        renderer.release()
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, path, output_dir):
+    """Two sides of one box (facades 12 and 0) pick their bays as the twin does with each facade's
+    own seed (grammar.facade_seed_vector), not with one seed for the building."""
+    text = ("S->RepeatX(2, Bay)\nBay->RandUni(0, Red, Yellow)\n"
+            "Red->Color(0.9, 0.1, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
+    compiled = compile_grammars({"g": loads(text)})
+    renderer = FacadeCityRenderer(gl_context, [box((0.0, 0.0), 20.0, 20.0, 10.0, seed=7)], compiled, tile_array(32),
+                                  (240, 160))
+    try:
+        renderer.set_grammar(compiled.address("g"))
+        camera = Camera((48.0, 9.0, -28.0), (10.0, 5.0, 10.0), fov_y=55.0)
+        renderer.draw(camera, path)
+        image = renderer.read().astype(int)
+        Image.fromarray(image.astype(np.uint8)).save(output_dir / f"grammar_city_sides_{path}.png")
+        centres = np.arange(10) * 2.0 + 1.0
+        sides = {12: [(x, 5.0, 0.0) for x in centres], 0: [(20.0, 5.0, z) for z in centres]}  # -z and +x walls
+        uv = np.stack([centres, np.full(10, 5.0)], axis=1).astype(np.float32)
+        seen = {}
+        for face, points in sides.items():
+            clip = camera.view_projection(240 / 160) @ np.array([[*p, 1.0] for p in points]).T
+            ndc = clip[:2] / clip[3]
+            columns, rows = ((ndc[0] + 1) / 2 * 240).astype(int), ((1 - ndc[1]) / 2 * 160).astype(int)
+            yellow = image[rows, columns, 1] > image[rows, columns, 2] + 60  # red or yellow, never unlit
+            assert (image[rows, columns, 0] > image[rows, columns, 2] + 60).all(), "a bay centre is not on the wall"
+            twin = evaluate(compiled, compiled.address("g"), uv, (20.0, 10.0), facade_seed_vector(7, face),
+                            tile_array(16)).terminal == compiled.address("g", "Yellow")
+            assert (yellow == twin).all() or (yellow == twin[::-1]).all(), (face, yellow, twin)
+            seen[face] = twin
+        assert (seen[0] != seen[12]).any()  # the two sides chose differently
     finally:
         renderer.release()
