@@ -65,6 +65,17 @@ def test_default_city_uses_grammar_facades():
     assert len(styles & set(BUILDING_STYLES)) >= 5
 
 
+def _city_pixels(renderer, camera, path, points, name, output_dir):
+    """Draws the facade city by `path`; the image (int RGB) and the (row, column) of world points."""
+    renderer.draw(camera, path)
+    image = renderer.read().astype(int)
+    Image.fromarray(image.astype(np.uint8)).save(output_dir / f"{name}_{path}.png")
+    height, width = image.shape[:2]
+    clip = camera.view_projection(width / height) @ np.array([[*p, 1.0] for p in points]).T
+    ndc = clip[:2] / clip[3]
+    return image, ((1 - ndc[1]) / 2 * height).astype(int), ((ndc[0] + 1) / 2 * width).astype(int)
+
+
 @pytest.mark.parametrize("path", PATHS)
 def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, path, output_dir):
     """The record's use and height feed building.use / building.height on the GPU, by both paths
@@ -78,12 +89,8 @@ def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, pa
     try:
         renderer.set_grammar(compiled.address("g"))
         camera = Camera((0.0, 10.0, -60.0), (0.0, 8.0, 0.0), fov_y=60.0)
-        renderer.draw(camera, path)
-        image = renderer.read().astype(int)
-        Image.fromarray(image.astype(np.uint8)).save(output_dir / f"grammar_city_uses_{path}.png")
-        clip = camera.view_projection(160 / 96) @ np.array([[x, 5.0, 0.0, 1.0] for x in (-18.0, 0.0, 18.0)]).T
-        ndc = clip[:2] / clip[3]
-        columns, rows = ((ndc[0] + 1) / 2 * 160).astype(int), ((1 - ndc[1]) / 2 * 96).astype(int)
+        points = [(x, 5.0, 0.0) for x in (-18.0, 0.0, 18.0)]  # the buildings' fronts
+        image, rows, columns = _city_pixels(renderer, camera, path, points, "grammar_city_uses", output_dir)
         r, g, b = (image[rows, columns, k] for k in range(3))
         assert r[0] > 2 * g[0] and g[1] > 2 * r[1] and r[2] > 2 * b[2] and g[2] > 2 * b[2], (r, g, b)
     finally:
@@ -102,17 +109,12 @@ def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, path, o
     try:
         renderer.set_grammar(compiled.address("g"))
         camera = Camera((48.0, 9.0, -28.0), (10.0, 5.0, 10.0), fov_y=55.0)
-        renderer.draw(camera, path)
-        image = renderer.read().astype(int)
-        Image.fromarray(image.astype(np.uint8)).save(output_dir / f"grammar_city_sides_{path}.png")
         centres = np.arange(10) * 2.0 + 1.0
         sides = {12: [(x, 5.0, 0.0) for x in centres], 0: [(20.0, 5.0, z) for z in centres]}  # -z and +x walls
         uv = np.stack([centres, np.full(10, 5.0)], axis=1).astype(np.float32)
         seen = {}
         for face, points in sides.items():
-            clip = camera.view_projection(240 / 160) @ np.array([[*p, 1.0] for p in points]).T
-            ndc = clip[:2] / clip[3]
-            columns, rows = ((ndc[0] + 1) / 2 * 240).astype(int), ((1 - ndc[1]) / 2 * 160).astype(int)
+            image, rows, columns = _city_pixels(renderer, camera, path, points, "grammar_city_sides", output_dir)
             yellow = image[rows, columns, 1] > image[rows, columns, 2] + 60  # red or yellow, never unlit
             assert (image[rows, columns, 0] > image[rows, columns, 2] + 60).all(), "a bay centre is not on the wall"
             twin = evaluate(compiled, compiled.address("g"), uv, (20.0, 10.0), facade_seed_vector(7, face),
