@@ -101,8 +101,8 @@ PUBLIC = DATA / "cgajs"  # real public CGA files (README.md there: source and li
 @pytest.mark.parametrize("name, labels", [
     ("house", {"wall", "window", "door"}),
     ("officebuilding", {"wall", "cornice", "window"}),
-    ("castle", {"wall", "door"}),
-    ("church", {"wall"}),
+    ("castle", {"wall", "door", "none"}),  # none: the battlement gaps (NIL)
+    ("church", {"wall", "none"}),
     ("tut5", {"wall"}),
 ])
 def test_public_cga_files_translate_with_a_report_check_and_render_alike(ctx, name, labels, output_dir):  # noqa: F811
