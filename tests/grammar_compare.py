@@ -33,7 +33,8 @@ def compare(ctx, compiled, name, output_dir, seed=3, facade=FACADE, size=SIZE, m
     colour, ids = FacadeRenderer(ctx, textures, nearest=nearest).render(start, facade, size, seed_vector(seed), building,
                                                                         face)
     textures.release()
-    cpu = evaluate_facade(compiled, start, facade, size, facade_seed_vector(seed, face), tiles, building)
+    cpu = evaluate_facade(compiled, start, facade, size, facade_seed_vector(seed, face), tiles, building,
+                          seed_vector(seed))
     assert_finite(colour, f"grammar {name} colour")
     Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(output_dir / f"grammar_{name}.png")
     terminal_diff = ids[..., 0].astype(np.int64) - 1 != cpu.terminal

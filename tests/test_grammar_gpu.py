@@ -120,6 +120,11 @@ def test_each_facade_has_its_own_stream_gpu_matches_numpy(ctx, output_dir):
         cpu, _ = compare(ctx, compiled, "faces", output_dir, face=face, nearest=False, allowed=0, min_terminals=3)
         pictures[face] = cpu.terminal.tobytes()
     assert len(set(pictures.values())) == 4  # the four sides of a box choose differently
+    text = "S->RepeatX(1, Pick)\nPick->RandUni(1, A, B, C)\n" + colours(*"ABC")  # l = 1: the building's seed
+    compiled = compile_grammars({"once": loads(text)})
+    pictures = {compare(ctx, compiled, "once", output_dir, face=face, nearest=False, allowed=0,
+                        min_terminals=1)[0].terminal.tobytes() for face in (0, 4)}
+    assert len(pictures) == 1  # a choice made once per building is the same on its sides
 
 
 def test_fig12_gpu_matches_numpy(ctx, output_dir):

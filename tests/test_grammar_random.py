@@ -68,3 +68,18 @@ def test_the_sides_of_a_building_choose_independently():
     agree = [np.mean(choices(seed, 0) == choices(seed, side)) for seed in range(30) for side in (4, 8, 12)]
     assert 0.4 < np.mean(agree) < 0.6, np.mean(agree)
     assert all((choices(seed, 4) == choices(seed, 4)).all() for seed in range(5))  # the same in every frame
+
+
+def test_a_choice_with_no_stack_entry_is_made_once_per_building():
+    """Rand/RandUni with l >= 1 and no RandStack entry draw from the building's seed (entry 0 of
+    the stack): every side of a building makes the same choice, buildings differ."""
+    text = "S->RepeatX(1, Pick)\nPick->RandUni(1, A, B)\nA->Color(1, 0, 0)\nB->Color(0, 0, 1)\n"
+    compiled = compile_grammars({"g": loads(text)})
+    uv = np.stack([np.arange(8, dtype=np.float32) + 0.5, np.full(8, 0.5, np.float32)], axis=1)
+    picked = []
+    for seed in range(20):
+        sides = [evaluate(compiled, compiled.address("g"), uv, (8.0, 1.0), facade_seed_vector(seed, face),
+                          tile_array(16), building_seed=seed_vector(seed)).terminal for face in (0, 4, 8, 12)]
+        assert all((side == sides[0][0]).all() for side in sides)  # one choice for every bay and side
+        picked.append(int(sides[0][0]))
+    assert len(set(picked)) == 2  # but not the same for every building

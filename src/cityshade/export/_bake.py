@@ -24,6 +24,7 @@ from ..grammar import (
     facade_seed_vector,
     library_texture,
     seed_cells,
+    seed_vector,
 )
 
 PAGE = 2048  # texels: the side of an ordinary atlas page
@@ -39,7 +40,7 @@ class Canvas:
     """One side of one building's facade in an atlas page (positions in texels, GL rows: 0 at the bottom)."""
 
     building: int
-    side: int  # 0: walls facing ±z (as wide as the building along x), 1: facing ±x, 2: a round wall
+    side: int  # the facade index of its walls (grammar.facade_index; 0 for a round wall)
     u0: float  # facade coordinates (metres) at the canvas' lower-left corner
     v0: float
     cols: int
@@ -47,7 +48,8 @@ class Canvas:
     width: float  # the grammar's scope: the building's width on this side, and its height
     height: float
     start: int  # the grammar's start rule
-    seed: tuple[float, float]
+    seed: tuple[float, float]  # this facade's seed vector
+    building_seed: tuple[float, float]  # the building's (choices made once per building)
     room: tuple[float, float]  # room width, storey height (which windows are lit)
     lights: float
     page: int = -1
@@ -101,6 +103,7 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
         normal = walls["normal"][sides == side][0].astype(np.float64)
         out.append(Canvas(index, int(side), float(lo[0]), float(lo[1]), max(cols, 1), max(rows, 1),
                           side_width(mass, normal), float(mass.extent[1]), start, facade_seed_vector(mass.seed, int(side)),
+                          seed_vector(mass.seed),
                           (float(room[0]), float(room[1])), float(mass.lights)))
     return out
 
@@ -172,7 +175,8 @@ def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]
     """The numpy twin of shaders/export/bake.glsl with GRAMMAR_NEAREST: (rows, cols, ...) arrays, bottom row first."""
     grid = texel_grid(canvas, texel).reshape(-1, 2)
     uv = np.stack([canvas.width - grid[:, 0], grid[:, 1]], axis=1)
-    result = evaluate(library_texture(), canvas.start, uv, (canvas.width, canvas.height), canvas.seed, tiles)
+    result = evaluate(library_texture(), canvas.start, uv, (canvas.width, canvas.height), canvas.seed, tiles,
+                      building_seed=canvas.building_seed)
     shape = (canvas.rows, canvas.cols)
     return {
         "colour": np.concatenate([result.color, result.specular[:, :1]], axis=1).reshape(*shape, 4),
@@ -220,6 +224,7 @@ class GpuBaker:
                     self.program["facade_origin"] = (c.u0, c.v0)
                     self.program["facade_size"] = (c.width, c.height)
                     self.program["facade_seed"] = c.seed
+                    self.program["building_seed"] = c.building_seed
                     self.program["start_rule"] = int(c.start)
                     self.vao.render(moderngl.TRIANGLES, vertices=3)
                 for name, texture in zip(("colour", "normal", "ids"), target.colors):

@@ -130,7 +130,7 @@ def _render(args) -> int:
     if args.cpu:
         check_image_memory(args.size, CPU_BYTES_PER_PIXEL, "grammar render --cpu")
         result = evaluate_facade(compiled, start, args.facade, args.size, facade_seed_vector(args.seed, args.face),
-                                 tiles, building)
+                                 tiles, building, seed_vector(args.seed))
         colour, labels = result.color, result.label
     else:
         from ..gl import create_context

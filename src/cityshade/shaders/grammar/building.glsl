@@ -38,9 +38,12 @@ void grammar_scope(Building b, vec3 n, vec2 facade_uv, out vec2 uv, out vec2 siz
 }
 
 // building.levels (storeys: the height over the room height, rounded), .style, .use and .height
-// for conditions (the use is kept in the flags word from bit FLAG_USE_SHIFT).
-vec4 grammar_building_attributes(Building b) {
-    return vec4(floor(b.extent.y / b.room.y + 0.5), float(b.ids.y), float((b.ids.z >> FLAG_USE_SHIFT) & 15), b.extent.y);
+// for conditions (the use is kept in the flags word from bit FLAG_USE_SHIFT), and the building's
+// own seed for choices made once per building.
+void grammar_set_building(Building b) {
+    grammar_building = vec4(floor(b.extent.y / b.room.y + 0.5), float(b.ids.y), float((b.ids.z >> FLAG_USE_SHIFT) & 15),
+                            b.extent.y);
+    grammar_building_seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
 }
 
 // Evaluates a grammar at facade point uv; d is the unit view ray and n the wall normal (in one
@@ -55,7 +58,7 @@ GrammarResult grammar_facade_at(int start, vec2 uv, vec2 size, vec2 seed, vec3 n
 GrammarResult grammar_facade(Building b, vec3 n, vec2 facade_uv, vec3 d, vec2 duv_dx, vec2 duv_dy) {
     vec2 uv, size, seed;
     grammar_scope(b, n, facade_uv, uv, size, seed);
-    grammar_building = grammar_building_attributes(b);
+    grammar_set_building(b);
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 

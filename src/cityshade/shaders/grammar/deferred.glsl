@@ -42,7 +42,7 @@ void main() {
     // texture footprints from the neighbouring pixels' facade coordinates
     vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
-    grammar_building = grammar_building_attributes(buildings[int(rule.w) - 1]);  // for conditions
+    grammar_set_building(buildings[int(rule.w) - 1]);  // its attributes and seed
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
     out_color = vec4(grammar_lit(g, n, mat3(1.0), d, shadow_factor(world.xyz / world.w)), 1.0);
 #if defined CITY_FRAME

@@ -45,6 +45,9 @@ vec3 g_tint;  // Tint's factor for colour Mats (1 unless tinted)
 vec4 g_params;  // the parameters of the rule being evaluated (0 unless passed; GRAMMAR_MAX_PARAMS is 4)
 // building.levels, .style, .use and .height for conditions: set by the caller before grammar_evaluate.
 vec4 grammar_building = vec4(0.0);
+// The building's seed vector (set by callers that know it): the random-seed stack's entry 0, so a
+// Rand with l >= 1 and no RandStack entry decides once per building. Not set: the facade's seed.
+vec2 grammar_building_seed = vec2(0.0);
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
 vec2 g_stack[GRAMMAR_MAX_STACK];
@@ -444,7 +447,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_d = dir;
     g_dtdx = duv_dx;
     g_dtdy = duv_dy;
-    g_stack[0] = seed;
+    g_stack[0] = grammar_building_seed.x > 0.0 ? grammar_building_seed : seed;  // seed cells are >= 1
     g_sp = 1;
     g_depth = 0;
     g_active = true;

@@ -21,6 +21,7 @@ void main() {
     vec2 uv = gl_FragCoord.xy / u_viewport_size * u_facade_size;
     vec3 ray = normalize(vec3(uv - u_facade_size * 0.5, max(u_facade_size.x, u_facade_size.y)));
     grammar_building = u_facade_building;
+    grammar_building_seed = u_facade_seed;
     ivec2 cells = ivec2(round(u_facade_seed * GRAMMAR_NOISE_DENSITY));
     vec2 seed = u_facade_index == 0 ? u_facade_seed
                                     : vec2(grammar_facade_cells(cells, u_facade_index)) / GRAMMAR_NOISE_DENSITY;
