@@ -12,7 +12,7 @@ from cityshade.grammar import (BUILDING_STYLES, PATHS, FacadeCityRenderer, compi
                                facade_seed_vector, library_texture, loads)
 from cityshade.interior._faces import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
-from cityshade.scene import FLAGS, USES, Camera, City, batch, box, make_city
+from cityshade.scene import SURFACE_WALL, USE_CODES, USES, Camera, City, batch, box, make_city
 from render_checks import render_finite
 
 SIZE = (128, 96)
@@ -38,12 +38,13 @@ def test_records_carry_start_rule_and_seed():
 
 
 def test_records_carry_the_use():
-    masses = [box((0.0, 0.0), 10.0, 10.0, 9.0, use=use, furniture=False) for use in USES]
+    masses = [box((0.0, 0.0), 10.0, 10.0, 9.0, use=use, furniture=False) for use in USES.values()]
     _, records = batch(masses)
-    assert ((records["ids"][:, 2] >> FLAGS["FLAG_USE_SHIFT"]) & 15).tolist() == list(range(len(USES)))
+    shift = USE_CODES["USE_SHIFT"]
+    assert ((records["ids"][:, 2] >> shift) & USE_CODES["USE_MASK"]).tolist() == list(USES.values())
     assert (records["ids"][:, 2] & 15).tolist() == [masses[0].flags & 15] * len(USES)  # the flags stay
-    with pytest.raises(ValueError, match="unknown building use 'shop'"):
-        box((0.0, 0.0), 10.0, 10.0, 9.0, use="shop")
+    with pytest.raises(ValueError, match="unknown building use code 9"):
+        box((0.0, 0.0), 10.0, 10.0, 9.0, use=9)
 
 
 def test_label_aov_shows_grammar_labels_and_rooms(renderer, output_dir):
@@ -83,7 +84,7 @@ def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, pa
     text = ("S->Case(building.use == use.office, Red, building.height > 30, Green, Yellow)\n"
             "Red->Color(0.9, 0.1, 0.1)\nGreen->Color(0.1, 0.9, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
     compiled = compile_grammars({"g": loads(text)})
-    masses = [box((-25.0, 0.0), 14.0, 14.0, 12.0, use="office"), box((-7.0, 0.0), 14.0, 14.0, 40.0, use="residential"),
+    masses = [box((-25.0, 0.0), 14.0, 14.0, 12.0, use=USES["office"]), box((-7.0, 0.0), 14.0, 14.0, 40.0, use=USES["home"]),
               box((11.0, 0.0), 14.0, 14.0, 12.0)]
     renderer = FacadeCityRenderer(gl_context, masses, compiled, tile_array(32), (160, 96))
     try:
@@ -99,8 +100,9 @@ def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, pa
 
 @pytest.mark.parametrize("path", PATHS)
 def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, path, output_dir):
-    """Two sides of one box (facades 12 and 0) pick their bays as the twin does with each facade's
-    own seed (grammar.facade_seed_vector), not with one seed for the building."""
+    """Two sides of one box pick their bays as the twin does with each facade's own seed
+    (grammar.facade_seed_vector of the face's index, its first room column), not with one seed for
+    the building."""
     text = ("S->RepeatX(2, Bay)\nBay->RandUni(0, Red, Yellow)\n"
             "Red->Color(0.9, 0.1, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
     compiled = compile_grammars({"g": loads(text)})
@@ -110,7 +112,13 @@ def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, path, o
         renderer.set_grammar(compiled.address("g"))
         camera = Camera((48.0, 9.0, -28.0), (10.0, 5.0, 10.0), fov_y=55.0)
         centres = np.arange(10) * 2.0 + 1.0
-        sides = {12: [(x, 5.0, 0.0) for x in centres], 0: [(20.0, 5.0, z) for z in centres]}  # -z and +x walls
+        mass = box((0.0, 0.0), 20.0, 20.0, 10.0, seed=7)
+        vertices, _ = batch([mass])
+        walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+        def face_of(normal):  # the face index (first room column) of the wall facing `normal`
+            return int(walls["ids"][np.all(np.isclose(walls["normal"], normal), axis=1), 2][0])
+        sides = {face_of((0.0, 0.0, -1.0)): [(x, 5.0, 0.0) for x in centres],  # the -z wall
+                 face_of((1.0, 0.0, 0.0)): [(20.0, 5.0, z) for z in centres]}  # the +x wall
         uv = np.stack([centres, np.full(10, 5.0)], axis=1).astype(np.float32)
         seen = {}
         for face, points in sides.items():
@@ -121,6 +129,6 @@ def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, path, o
                             tile_array(16)).terminal == compiled.address("g", "Yellow")
             assert (yellow == twin).all() or (yellow == twin[::-1]).all(), (face, yellow, twin)
             seen[face] = twin
-        assert (seen[0] != seen[12]).any()  # the two sides chose differently
+        assert len(seen) == 2 and (seen[min(seen)] != seen[max(seen)]).any()  # the two sides chose differently
     finally:
         renderer.release()

@@ -69,6 +69,6 @@ def test_render_use_and_face_options(tmp_path, capsys):
     assert (labels["front"] == labels["front_cpu"]).all() and (labels["side"] == labels["side_cpu"]).all()
     assert (labels["front"] != labels["side"]).any()  # another facade of the building: other choices
     assert len(np.unique(labels["office"].reshape(-1, 3), axis=0)) == 1  # an office: all glass
-    for bad in (["--use", "shop"], ["--face", "16"]):
+    for bad in (["--use", "store"], ["--face", "2047"]):
         assert main(["grammar", "render", str(grammar), *bad, "--out", str(tmp_path / "bad.png")]) == 2
         assert not (tmp_path / "bad.png").exists()

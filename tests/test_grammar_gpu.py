@@ -98,13 +98,13 @@ def test_building_attributes_gpu_matches_numpy(ctx, output_dir):
 
 def test_building_use_and_height_gpu_matches_numpy(ctx, output_dir):
     """building.use (named by use.*) and building.height pick storeys alike on the GPU and numpy."""
-    text = ("S->RepeatY(3, Floor)\nFloor->Case(building.use == use.retail && split.first, A, "
+    text = ("S->RepeatY(3, Floor)\nFloor->Case(building.use == use.shop && split.first, A, "
             "building.use == use.office, B, building.height > 20 && split.last, C, D)\n" + colours(*"ABCD"))
     compiled = compile_grammars({"uses": loads(text)})
     names = {compiled.address("uses", n): n for n in "ABCD"}
-    for use, height, want in (("retail", 12, "ADDD"), ("office", 12, "BBBB"), ("residential", 24, "DDDC"),
-                              ("retail", 24, "ADDC")):
-        building = (4, 0, USES.index(use), height)
+    for use, height, want in (("shop", 12, "ADDD"), ("office", 12, "BBBB"), ("home", 24, "DDDC"),
+                              ("shop", 24, "ADDC")):
+        building = (4, 0, USES[use], height)
         cpu, _ = compare(ctx, compiled, "uses", output_dir, building=building, nearest=False, allowed=0,
                          min_terminals=1)
         rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first

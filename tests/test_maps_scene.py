@@ -186,12 +186,11 @@ def test_date_without_a_map_is_refused(tmp_path):
     assert code == 2 and "--map" in text and len(text.strip().splitlines()) == 1, text
 
 
-def test_buildings_get_a_use_class_from_their_use_or_kind():
-    from cityshade.maps._masses import USE_CLASSES, building_use
+def test_buildings_get_a_use_from_their_use_or_kind():
+    from cityshade.maps._masses import use_code
 
-    assert set(USE_CLASSES) <= set(USES)
-    cases = {("retail", "yes"): "retail", (None, "apartments"): "residential", ("office", "yes"): "office",
-             ("school", "yes"): "public", (None, "warehouse"): "industrial", ("parking", "yes"): "other",
-             (None, "yes"): "other"}
+    cases = {("retail", "yes"): "shop", (None, "apartments"): "home", ("office", "yes"): "office",
+             ("school", "yes"): "public", (None, "warehouse"): "industry", ("parking", "yes"): "mixed",
+             (None, "yes"): "mixed"}
     for (use, kind), want in cases.items():
-        assert building_use(types.SimpleNamespace(use=use, kind=kind)) == want
+        assert use_code(types.SimpleNamespace(use=use, kind=kind)) == USES[want]

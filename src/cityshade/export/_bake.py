@@ -17,10 +17,9 @@ import numpy as np
 from ..errors import UsageError
 from ..grammar import (
     BUILDING_STYLES,
-    FACADE_SECTORS,
+    FACADE_INDICES,
     GRAMMAR_SHAPES,
     evaluate,
-    facade_index,
     facade_seed_vector,
     library_texture,
     seed_cells,
@@ -40,7 +39,7 @@ class Canvas:
     """One side of one building's facade in an atlas page (positions in texels, GL rows: 0 at the bottom)."""
 
     building: int
-    side: int  # the facade index of its walls (grammar.facade_index; 0 for a round wall)
+    side: int  # the facade index of its walls: their face's first room column (0 for a round wall)
     u0: float  # facade coordinates (metres) at the canvas' lower-left corner
     v0: float
     cols: int
@@ -73,12 +72,10 @@ def has_grammar(mass) -> bool:
     return mass.style in BUILDING_STYLES and mass.shape in GRAMMAR_SHAPES
 
 
-def wall_sides(mass, normals: np.ndarray) -> np.ndarray:
-    """The canvas side of each wall vertex (object-space normals): its facade index, as the renderer
-    picks the facade's random stream (a round mass is one facade)."""
-    if mass.shape == "cylinder":
-        return np.zeros(len(normals), np.int64)
-    return facade_index(normals)
+def wall_sides(walls: np.ndarray) -> np.ndarray:
+    """The canvas side of each wall vertex (scene.VERTEX_DTYPE records): its facade index, its face's
+    first room column, as the renderer picks the facade's random stream (a round mass is one face)."""
+    return walls["ids"][:, 2].astype(np.int64)
 
 
 def side_width(mass, normal: np.ndarray) -> float:
@@ -93,7 +90,7 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
     """The canvases of one grammar building from its wall vertices (scene.VERTEX_DTYPE records)."""
     compiled = library_texture()
     start = compiled.address(BUILDING_STYLES[mass.style])
-    sides = wall_sides(mass, walls["normal"])
+    sides = wall_sides(walls)
     room = mass.room_size
     out = []
     for side in np.unique(sides):
@@ -165,7 +162,7 @@ def lit_rooms(canvas: Canvas, texel: float) -> np.ndarray:
     """(rows, cols) bool: texels in rooms whose light is on (a hash of building, side, bay and storey)."""
     grid = texel_grid(canvas, texel)
     room = np.floor(grid / np.asarray(canvas.room)).astype(np.int64)
-    key = (canvas.building * FACADE_SECTORS + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
+    key = (canvas.building * FACADE_INDICES + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
     h = seed_cells(key.ravel() & 0x7FFFFFFF)
     value = (h[:, 0] * 2048 + h[:, 1]) / float(1 << 22)
     return (value < LIT_SHARE * canvas.lights).reshape(room.shape[:2])
@@ -190,19 +187,18 @@ class GpuBaker:
     """Renders canvases with shaders/export/bake.glsl into float targets, STRIP rows at a time."""
 
     def __init__(self, ctx, tiles, nearest: bool = False):
-        from ..gl import ProgramCache
+        from ..gl import programs
         from ..grammar import GrammarTextures, shader_defines
 
         self.ctx = ctx
         self.textures = GrammarTextures(ctx, library_texture(), tiles)
-        self.program = ProgramCache(ctx).get("export/bake.glsl", shader_defines(nearest))
-        self.vao = ctx.vertex_array(self.program, [])
+        self.program = programs(ctx).get("export/bake.glsl", shader_defines(nearest))
 
     def bake_page(self, canvases: list[Canvas], size: tuple[int, int], texel: float) -> dict[str, np.ndarray]:
         """(rows, cols, 4) colour, normal (float32) and ids (uint32) of one page, bottom row first."""
         import moderngl
 
-        from ..gl import RenderTarget
+        from ..gl import RenderTarget, draw_fullscreen
 
         cols, rows = size
         out = {"colour": np.zeros((rows, cols, 4), np.float32), "normal": np.zeros((rows, cols, 4), np.float32),
@@ -226,7 +222,7 @@ class GpuBaker:
                     self.program["facade_seed"] = c.seed
                     self.program["building_seed"] = c.building_seed
                     self.program["start_rule"] = int(c.start)
-                    self.vao.render(moderngl.TRIANGLES, vertices=3)
+                    draw_fullscreen(self.program)
                 for name, texture in zip(("colour", "normal", "ids"), target.colors):
                     dtype = np.uint32 if name == "ids" else np.float32
                     data = np.frombuffer(texture.read(), dtype).reshape(-1, cols, 4)
@@ -236,9 +232,7 @@ class GpuBaker:
         return out
 
     def release(self):
-        self.textures.release()
-        self.vao.release()
-        self.program.release()
+        self.textures.release()  # the program stays in the context's cache
 
 
 def _encode(page: dict[str, np.ndarray], canvases: list[Canvas], texel: float):

@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 from ._diagnostics import GrammarError
-from ._random import FACADE_SECTORS
+from ._random import FACADE_INDICES
 
 
 def register(subparsers):
@@ -28,11 +28,11 @@ def register(subparsers):
                         help="building.style for conditions")
     from ..scene import USES
 
-    render.add_argument("--use", choices=USES, default="other",
+    render.add_argument("--use", choices=list(USES), default="mixed",
                         help="building.use for conditions (building.height is the facade's height)")
-    render.add_argument("--face", type=int, choices=range(FACADE_SECTORS), default=0, metavar="K",
-                        help=f"which facade of the building, 0 to {FACADE_SECTORS - 1} (the direction its wall "
-                             "faces: a box's sides are 0, 4, 8, 12): each has its own random stream")
+    render.add_argument("--face", type=int, choices=range(FACADE_INDICES), default=0, metavar="K",
+                        help=f"which facade of the building, 0 to {FACADE_INDICES - 1} (in the city: its face's "
+                             "first room column): each has its own random stream")
     render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
     render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
     render.add_argument("--out", type=Path, default=Path("out/facade.png"), metavar="PNG")
@@ -125,7 +125,7 @@ def _render(args) -> int:
         return exc.exit_code
     start = compiled.address("g", args.rule)
     levels = args.levels if args.levels is not None else max(1, round(args.facade[1] / 3.2))
-    building = (levels, args.style, USES.index(args.use), args.facade[1])
+    building = (levels, args.style, USES[args.use], args.facade[1])
     tiles = tile_array(128)
     if args.cpu:
         check_image_memory(args.size, CPU_BYTES_PER_PIXEL, "grammar render --cpu")

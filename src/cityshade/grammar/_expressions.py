@@ -2,7 +2,7 @@
 the facade's size and the building's attributes (storeys, style number, use, height), checked, folded and compiled to a short postfix program for the GPU.
 
     Floor->Case(split.first, Ground, split.index % 2 == 0 && scope.sx > 2, Even, Odd)
-    Ground->Case(building.use == use.retail, Shops, Plain)
+    Ground->Case(building.use == use.shop, Shops, Plain)
 
 A program is a list of (code, value) tokens: push a number, push a variable, apply an operator.
 `eval.glsl` runs it on a stack of GRAMMAR_MAX_EXPR_STACK values; the numpy twin runs the same
@@ -23,7 +23,7 @@ VARIABLES = {"split.index": 0, "split.total": 1, "scope.sx": 2, "scope.sy": 3,
 BUILDING = VARIABLES["building.levels"]  # the building's four attributes follow, in this order
 PARAMETER = len(VARIABLES)  # rule parameter k is variable PARAMETER + k
 # Named numbers: building.use == use.office. The codes are the scene's (cityshade.scene.USES).
-CONSTANTS = {f"use.{name}": float(code) for code, name in enumerate(USES)}
+CONSTANTS = {f"use.{name}": float(code) for name, code in USES.items()}
 # Shorthands written as other expressions.
 DERIVED = {"split.first": "split.index == 0", "split.last": "split.index == split.total - 1"}
 

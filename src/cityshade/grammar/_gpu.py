@@ -10,7 +10,7 @@ from ..gl import RenderTarget, bind_textures, draw_fullscreen, programs, upload_
 from . import _limits as limits
 from ._compiler import CompiledGrammars
 from ._expressions import BUILDING, PARAMETER
-from ._random import FACADE_SECTORS, noise_texture
+from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
 MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
@@ -19,7 +19,7 @@ MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
 def shader_defines(nearest: bool = False) -> dict[str, object]:
     """The #defines every program that includes grammar/eval.glsl needs."""
     return dict(limits.DEFINES, GRAMMAR_NEAREST=nearest, GRAMMAR_FIRST_BUILDING=BUILDING,
-                GRAMMAR_FIRST_PARAMETER=PARAMETER, GRAMMAR_FACADE_SECTORS=FACADE_SECTORS)
+                GRAMMAR_FIRST_PARAMETER=PARAMETER)
 
 
 class GrammarTextures:

@@ -63,16 +63,9 @@ def seed_vector(seed: int) -> tuple[float, float]:
     return float(x) / NOISE_DENSITY, float(y) / NOISE_DENSITY
 
 
-FACADE_SECTORS = 16  # facade indices: the wall's outward direction in object space, in 22.5 degree steps
-
-
-def facade_index(normal) -> np.ndarray:
-    """The facade index (0..FACADE_SECTORS-1) of walls with these object-space normals (..., 3), as
-    shaders/grammar/building.glsl computes it: a box's sides are 0 (+x), 4 (+z), 8 (-x) and 12 (-z)."""
-    n = np.asarray(normal, np.float32)
-    angle = np.arctan2(n[..., 2], n[..., 0])
-    return np.mod(np.floor(angle * np.float32(FACADE_SECTORS / (2 * np.pi)) + np.float32(0.5)).astype(np.int64),
-                  FACADE_SECTORS)
+# A facade's index is its face's first room column (cityshade/scene/_wall_faces.py: 0 for the first
+# face and for a round mass), below the 11 bits interior.glsl gives room columns.
+FACADE_INDICES = 2047
 
 
 def facade_cells(cells, face) -> np.ndarray:
