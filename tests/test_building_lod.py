@@ -43,7 +43,7 @@ def facade_means(renderer: Renderer, cameras: list[Camera]) -> np.ndarray:
 
 def renderer_for(gl_context, style: int, pixels, seed: int = 3, lights: float = 0.5) -> Renderer:
     renderer = Renderer(SIZE, RenderSettings(samples=0, trees=False, shadows=False, god_rays=False, lights=lights,
-                                             building_lod_pixels=pixels), ctx=gl_context)
+                                             building_lod=True, building_lod_pixels=pixels), ctx=gl_context)
     renderer.set_city(one_building(style, seed))
     return renderer
 
@@ -135,8 +135,8 @@ def test_the_grammar_reference_evaluates_several_facades_at_once():
 
     compiled, tiles = library_texture(), assets.tile_array()
     uv = np.random.default_rng(5).random((400, 2)).astype(np.float32) * 12.0
-    facades = [("office", (14.0, 30.0), 3, (8, 1)), ("office", (14.0, 30.0), 8, (8, 1)),
-               ("classical", (12.5, 18.0), 3, (5, 3))]
+    facades = [("office", (14.0, 30.0), 3, (8, 1, 2, 30.0)), ("office", (14.0, 30.0), 8, (8, 1, 2, 30.0)),
+               ("classical", (12.5, 18.0), 3, (5, 3, 1, 18.0))]
     alone = [evaluate(compiled, compiled.address(style), uv, size, seed_vector(seed), tiles, building=building)
              for style, size, seed, building in facades]
     per = lambda values: np.repeat(np.array(values), len(uv), axis=0)  # noqa: E731

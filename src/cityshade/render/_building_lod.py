@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import assets
 from ..assets import TileArray
-from ..grammar import FACADE_GRAMMAR, evaluate, library_texture, seed_vector
+from ..grammar import FACADE_GRAMMAR, evaluate, facade_seed_vector, library_texture, seed_vector
 from ..relief import GLASS, MATERIALS, generate_bay
 from ..scene import SURFACE_WALL
 
@@ -117,8 +117,8 @@ def _far_tiles() -> TileArray:
 
 def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> dict[int, tuple]:
     """Per grammar building (index), the face its cheap colour is taken over: its widest grammar
-    wall face as (start rule, width, height, storeys, style, seed), the storeys counted as
-    shaders/grammar/building.glsl does."""
+    wall face as (start rule, width, height, storeys, style, seed, face index, use, height of the
+    mass), the storeys counted as shaders/grammar/building.glsl does."""
     walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
     faces = {}
     for i in np.flatnonzero(records["facade"][:, 0] == FACADE_GRAMMAR):
@@ -128,7 +128,8 @@ def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> d
         widest = own[np.argmax(own["face"][:, 0])]
         width, base, top = (float(v) for v in widest["face"][:3])
         storeys = int(np.floor((top - base) / widest["facade"][3] + 0.5))
-        faces[int(i)] = (int(records["facade"][i, 1]), width, top - base, storeys, masses[i].style, masses[i].seed)
+        faces[int(i)] = (int(records["facade"][i, 1]), width, top - base, storeys, masses[i].style, masses[i].seed,
+                         int(widest["ids"][2]), masses[i].use, float(masses[i].extent[1]))
     return faces
 
 
@@ -142,9 +143,10 @@ def grammar_colours(faces: dict[int, tuple], count: int) -> np.ndarray:
         return colours
     compiled, tiles, unit = library_texture(), _far_tiles(), _unit_samples()
     index = np.array(list(faces))
-    start, width, height, storeys, style, seed = (np.array(v) for v in zip(*faces.values()))
+    start, width, height, storeys, style, seed, face, use, mass_height = (np.array(v) for v in zip(*faces.values()))
     size = np.stack([width, height], axis=1)
-    seeds = np.array([seed_vector(s) for s in seed])
+    seeds = np.array([facade_seed_vector(int(s), int(k)) for s, k in zip(seed, face)])  # the face's own stream
+    building_seeds = np.array([seed_vector(int(s)) for s in seed])  # choices made once per building
     per = len(unit)
     buildings_per_chunk = max(1, CHUNK_POINTS // per)
     for first in range(0, len(index), buildings_per_chunk):  # the evaluation's work arrays grow with its points
@@ -152,7 +154,8 @@ def grammar_colours(faces: dict[int, tuple], count: int) -> np.ndarray:
         each = lambda a: np.repeat(a[part], per, axis=0)  # noqa: E731 (per point of the chunk's buildings)
         uv = (np.tile(unit, (len(index[part]), 1)) * each(size)).astype(np.float32)
         result = evaluate(compiled, each(start), uv, each(size), each(seeds), tiles,
-                          building=np.stack([each(storeys), each(style)], axis=1))
+                          building=np.stack([each(storeys), each(style), each(use), each(mass_height)], axis=1),
+                          building_seed=each(building_seeds))
         colour = _linear(np.asarray(result.color, np.float64)).reshape(-1, per, 3)
         glass = np.asarray(result.glass).reshape(-1, per)
         colours[index[part]] = [_wall_mean(c, g) for c, g in zip(colour, glass)]

@@ -124,7 +124,7 @@ void main() {
         else if (relief && lod_relief_flat(s))  // parallax under a pixel: traced straight into the wall
             f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, -n);
 #endif
-        else if (grammar) f = grammar_building_facade(b, n, v_local, v_facade, v_spacing.y, v_face, d, opening);
+        else if (grammar) f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
         else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
         else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;
