@@ -73,24 +73,37 @@ def polygon_triangles(polygon: shapely.Polygon) -> np.ndarray:
 
     ...meaning their normal (b - a) x (c - a) points up (+y) once lifted to 3D."""
     tris = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygon)).reshape(-1, 4, 2)[:, :3]
-    if not len(tris):
-        return np.zeros((0, 3, 2))
+    return upward(tris)[0] if len(tris) else np.zeros((0, 3, 2))
+
+
+def upward(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(triangles turned to face up, which of the given ones they are): (n, 3, 2) triangles of a
+    triangulation made counter-clockwise seen from +y, slivers (where a polygon touches itself) dropped."""
+    tris = tris.copy()
     a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
     cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
     up = cross < 0  # x right, z toward the viewer: up-facing triangles turn clockwise in (x, z)
     tris[~up] = tris[~up][:, ::-1]
-    return tris[np.abs(cross) > 1e-9]  # slivers where a polygon touches itself
+    kept = np.abs(cross) > 1e-9
+    return tris[kept], kept
+
+
+def flat_rows(tris: np.ndarray, y: np.ndarray | float, up: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """(positions, normals) of upward triangles (n, 3, 2) lifted to height y (one or one per
+    triangle), facing up (a roof) or down (an underside)."""
+    if not up:
+        tris = tris[:, ::-1]
+    points = tris.reshape(-1, 2)
+    positions = np.column_stack([points[:, 0], np.broadcast_to(np.repeat(y, 3) if np.ndim(y) else y, len(points)),
+                                 points[:, 1]])
+    normals = np.zeros_like(positions)
+    normals[:, 1] = 1.0 if up else -1.0
+    return positions, normals
 
 
 def flat(polygon: shapely.Polygon, y: float, up: bool = True) -> Triangles:
     """The polygon as a horizontal surface at height y, facing up (a roof) or down (an underside)."""
-    tris = polygon_triangles(polygon)
-    if not up:
-        tris = tris[:, ::-1]
-    positions = np.insert(tris.reshape(-1, 2), 1, y, axis=1)
-    normals = np.zeros_like(positions)
-    normals[:, 1] = 1.0 if up else -1.0
-    return Triangles(positions, normals)
+    return Triangles(*flat_rows(polygon_triangles(polygon), y, up))
 
 
 def _lift(tris: np.ndarray, plane: np.ndarray, top: float) -> Triangles:

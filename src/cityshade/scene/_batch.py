@@ -1,0 +1,166 @@
+"""A whole city's masses meshed at once: the same vertices as building_vertices, mass by mass, in
+a few numpy passes over every building instead of a Python loop over them.
+
+The walls of every prism (outlines and courtyards), flat roofs and undersides (shapely triangulates
+them all in one call), the building records and the move to world space are computed for all
+buildings together; pitched and pointed roofs, cylinders and domes are meshed building by building
+with the per-building code. A mass's rows keep their order: walls, gables, roof, underside.
+"""
+
+from __future__ import annotations
+
+from itertools import chain
+
+import numpy as np
+import shapely
+
+from ._buildings import BuildingMass
+from ._extrusions import edge_walls, gable_rows, roof_rows
+from ._meshes import SURFACE_ROOF, SURFACE_WALL, VERTEX_DTYPE, building_records, mass_rows, simplified_outline, vertex_records
+from ._records import BUILDING_DTYPE
+from ._roofs import Triangles, flat_rows, roof_triangles, upward
+
+PLAIN_OUTLINE = 64  # simplified_outline returns outlines of up to this many corners as they are
+SECTIONS = ("walls", "gables", "roof", "underside")  # a mass's rows, in this order
+
+
+class _Sections:
+    """Rows gathered section by section, in any order of buildings, put in building order."""
+
+    def __init__(self):
+        self.chunks = []  # (sort key per row, (local, normal, facade))
+
+    def add(self, section: str, building: np.ndarray, rows):
+        if len(building):
+            self.chunks.append((np.asarray(building, np.int64) * len(SECTIONS) + SECTIONS.index(section), rows))
+
+    def ordered(self):
+        """(rows, surface kind, building) per row, buildings in order, each in SECTIONS order."""
+        key = np.concatenate([k for k, _ in self.chunks])
+        order = np.argsort(key, kind="stable")  # stable: a section's rows keep their order
+        rows = tuple(np.concatenate([r[f] for _, r in self.chunks])[order] for f in range(3))
+        key = key[order]
+        section = key % len(SECTIONS)
+        surface = np.where(section >= SECTIONS.index("roof"), SURFACE_ROOF, SURFACE_WALL)
+        return rows, surface, key // len(SECTIONS)
+
+
+def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
+    """All masses as one vertex array (one draw call) and their records (one SSBO)."""
+    if not masses:
+        return np.zeros(0, VERTEX_DTYPE), np.zeros(0, BUILDING_DTYPE)
+    sections = _Sections()
+    prisms = np.flatnonzero([m.shape == "prism" for m in masses])
+    points, counts = _outlines([masses[i] for i in prisms])
+    plain = counts >= 3
+    points = points[np.repeat(plain, counts)]
+    _prism_rows(masses, prisms[plain], points, counts[plain], sections)
+    for i in sorted(set(range(len(masses))) - set(prisms[plain].tolist())):  # cylinders, domes, collapsed outlines
+        walls, roof = mass_rows(masses[i])
+        sections.add("walls", np.full(len(walls[0]), i), walls)
+        sections.add("roof", np.full(len(roof[0]), i), roof)
+    rows, surface, building = sections.ordered()
+    yaw = np.array([m.yaw for m in masses])
+    origin = np.array([m.position for m in masses], dtype=np.float64)
+    vertices = vertex_records(rows, surface, building, np.cos(yaw)[building], np.sin(yaw)[building], origin[building])
+    return vertices, building_records(masses)
+
+
+def _ring_next(counts: np.ndarray) -> np.ndarray:
+    """For rings of `counts` points stored one after another: the index of each point's successor."""
+    index = np.arange(counts.sum()) + 1
+    ends = np.cumsum(counts)
+    index[ends[counts > 0] - 1] = (ends - counts)[counts > 0]
+    return index
+
+
+def _outlines(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
+    """(points, corners per mass) of the prisms' outlines as _prism_triangles meshes them:
+    simplified where dense, repeated corners dropped, counter-clockwise."""
+    footprints = [np.asarray(m.footprint, np.float64) if len(m.footprint) > PLAIN_OUTLINE else m.footprint
+                  for m in masses]
+    footprints = [simplified_outline(f) if isinstance(f, np.ndarray) else f for f in footprints]
+    counts = np.array([len(f) for f in footprints], dtype=np.int64)
+    points = np.array(list(chain.from_iterable(footprints)), dtype=np.float64).reshape(-1, 2)
+    moved = np.any(points[_ring_next(counts)] != points, axis=1)  # a repeated corner has no wall (or normal)
+    counts = np.bincount(np.repeat(np.arange(len(counts)), counts)[moved], minlength=len(counts))
+    points = points[moved]
+    after = points[_ring_next(counts)]
+    twice_area = np.zeros(len(counts))
+    starts = np.cumsum(counts) - counts
+    nonempty = counts > 0
+    twice_area[nonempty] = np.add.reduceat(points[:, 0] * after[:, 1] - after[:, 0] * points[:, 1], starts[nonempty])
+    ring = np.repeat(np.arange(len(counts)), counts)
+    turn = twice_area[ring] < 0
+    order = np.arange(len(points))
+    order[turn] = (2 * starts[ring] + counts[ring] - 1 - order)[turn]  # clockwise rings reversed
+    return points[order], counts
+
+
+def _prism_rows(masses: list[BuildingMass], index: np.ndarray, points: np.ndarray, counts: np.ndarray,
+                sections: _Sections):
+    """The rows of the prisms masses[index] with outlines (points, counts), added to `sections`."""
+    if not len(index):
+        return
+    chosen = [masses[i] for i in index]
+    ring = np.repeat(np.arange(len(index)), counts)
+    holes = [[np.asarray(h, np.float64) for h in m.holes] for m in chosen]
+    hole_owner = np.repeat(np.arange(len(index)), [len(h) for h in holes])
+    hole_counts = np.array([len(h) for h in chain.from_iterable(holes)], dtype=np.int64)
+    rings = shapely.linearrings(points, indices=ring)
+    if len(hole_owner):
+        hole_points = np.concatenate(list(chain.from_iterable(holes)))
+        hole_rings = shapely.linearrings(hole_points, indices=np.repeat(np.arange(len(hole_counts)), hole_counts))
+        owner = np.concatenate([np.arange(len(index)), hole_owner])
+        order = np.argsort(owner, kind="stable")  # each outline, then its courtyards
+        polygons = shapely.polygons(np.concatenate([rings, hole_rings])[order], indices=owner[order])
+    else:
+        polygons = shapely.polygons(rings)
+    polygons = shapely.orient_polygons(polygons)  # courtyards clockwise: their walls face in
+
+    top = np.array([m.wall_top for m in chosen])
+    base = np.array([m.base for m in chosen])
+    walled = np.array([m.walls for m in chosen])
+    room = np.array([m.room_size for m in chosen])
+
+    # walls: each outline's edges, then its courtyards' (as oriented), mass by mass
+    a, b, owner, rank = [points], [points[_ring_next(counts)]], [ring], [np.zeros(len(points))]
+    if len(hole_owner):
+        courtyards, of = shapely.get_rings(polygons[hole_owner[np.r_[0, np.flatnonzero(np.diff(hole_owner)) + 1]]],
+                                           return_index=True)
+        courtyards = courtyards[np.r_[1, np.diff(of)] == 0]  # each polygon's first ring is its outline
+        coords, which = shapely.get_coordinates(courtyards, return_index=True)
+        open_ring = np.r_[which[1:] == which[:-1], False]  # the closing point repeats the first
+        coords, which = coords[open_ring], which[open_ring]
+        ring_counts = np.bincount(which, minlength=len(courtyards))
+        a.append(coords)
+        b.append(coords[_ring_next(ring_counts)])
+        owner.append(hole_owner[which])
+        rank.append(1.0 + which)
+    a, b, owner, rank = (np.concatenate(x) for x in (a, b, owner, rank))
+    order = np.lexsort((rank, owner))  # stable within a ring: its edges in order
+    a, b, owner = a[order], b[order], owner[order]
+    on_walls = walled[owner]
+    a, b, owner = a[on_walls], b[on_walls], owner[on_walls]
+    walls = edge_walls(a, b, room[owner], base[owner], top[owner])
+    sections.add("walls", np.repeat(index[owner[np.linalg.norm(b - a, axis=1) > 1e-9]], 6), walls)
+
+    # flat roofs and undersides: one triangulation of every polygon that needs one
+    flat_top = np.array([m.roof.shape == "flat" or m.roof.height <= 0 for m in chosen])
+    underside = ~walled | (base > 0)
+    needed = np.flatnonzero(flat_top | underside)
+    coords, which = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygons[needed]), return_index=True)
+    tris, kept = upward(coords.reshape(-1, 4, 2)[:, :3])
+    owner = needed[which[::4][kept]]
+    up = flat_top[owner]
+    sections.add("roof", np.repeat(index[owner[up]], 3),
+                 roof_rows(Triangles(*flat_rows(tris[up], top[owner[up]]))))
+    down = underside[owner]
+    sections.add("underside", np.repeat(index[owner[down]], 3),
+                 roof_rows(Triangles(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False))))
+
+    # pitched and pointed roofs, mass by mass
+    for k in np.flatnonzero(~flat_top):
+        roof, gables = roof_triangles(polygons[k], top[k], chosen[k].roof)
+        sections.add("gables", np.full(len(gables.positions), index[k]), gable_rows(gables, room[k]))
+        sections.add("roof", np.full(len(roof.positions), index[k]), roof_rows(roof))
