@@ -50,11 +50,12 @@ def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     if not masses:
         return np.zeros(0, VERTEX_DTYPE), np.zeros(0, BUILDING_DTYPE)
     sections = _Sections()
+    rooms = np.array([m.room_size for m in masses]).reshape(-1, 3)
     prisms = np.flatnonzero([m.shape == "prism" for m in masses])
     points, counts = _outlines([masses[i] for i in prisms])
     plain = counts >= 3
     points = points[np.repeat(plain, counts)]
-    _prism_rows(masses, prisms[plain], points, counts[plain], sections)
+    _prism_rows(masses, rooms, prisms[plain], points, counts[plain], sections)
     for i in sorted(set(range(len(masses))) - set(prisms[plain].tolist())):  # cylinders, domes, collapsed outlines
         walls, roof = mass_rows(masses[i])
         sections.add("walls", np.full(len(walls[0]), i), walls)
@@ -63,7 +64,7 @@ def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     yaw = np.array([m.yaw for m in masses])
     origin = np.array([m.position for m in masses], dtype=np.float64)
     vertices = vertex_records(rows, surface, building, np.cos(yaw)[building], np.sin(yaw)[building], origin[building])
-    return vertices, building_records(masses)
+    return vertices, building_records(masses, rooms)
 
 
 def _ring_next(counts: np.ndarray) -> np.ndarray:
@@ -97,7 +98,7 @@ def _outlines(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     return points[order], counts
 
 
-def _prism_rows(masses: list[BuildingMass], index: np.ndarray, points: np.ndarray, counts: np.ndarray,
+def _prism_rows(masses: list[BuildingMass], rooms: np.ndarray, index: np.ndarray, points: np.ndarray, counts: np.ndarray,
                 sections: _Sections):
     """The rows of the prisms masses[index] with outlines (points, counts), added to `sections`."""
     if not len(index):
@@ -121,7 +122,7 @@ def _prism_rows(masses: list[BuildingMass], index: np.ndarray, points: np.ndarra
     top = np.array([m.wall_top for m in chosen])
     base = np.array([m.base for m in chosen])
     walled = np.array([m.walls for m in chosen])
-    room = np.array([m.room_size for m in chosen])
+    room = rooms[index]
 
     # walls: each outline's edges, then its courtyards' (as oriented), mass by mass
     a, b, owner, rank = [points], [points[_ring_next(counts)]], [ring], [np.zeros(len(points))]

@@ -171,11 +171,13 @@ def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
     return vertex_records(rows, surface, index, np.cos(mass.yaw), np.sin(mass.yaw), np.asarray(mass.position, np.float64))
 
 
-def building_records(masses: list[BuildingMass]) -> np.ndarray:
-    """The masses' BUILDING_DTYPE records (one SSBO), filled a column at a time."""
+def building_records(masses: list[BuildingMass], rooms: np.ndarray | None = None) -> np.ndarray:
+    """The masses' BUILDING_DTYPE records (one SSBO), filled a column at a time; `rooms`: their
+    room sizes where the caller has them."""
     rec = np.zeros(len(masses), dtype=BUILDING_DTYPE)
     rec["origin_yaw"] = [(m.position[0], 0.0, m.position[1], m.yaw) for m in masses]
-    rec["room"] = [(*m.room_size, m.wall_jitter) for m in masses]
+    rec["room"][:, :3] = np.array([m.room_size for m in masses]) if rooms is None else rooms
+    rec["room"][:, 3] = [m.wall_jitter for m in masses]
     rec["extent"] = [(*m.extent, m.lights) for m in masses]
     rec["ids"] = [(m.seed, m.style, m.flags, SHAPES[m.shape]) for m in masses]
     tints, roofs = {}, {}  # a city has few distinct colours: each converted once
