@@ -408,16 +408,16 @@ def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), EPS)
     keys = np.round(np.column_stack([normals, np.einsum("ij,ij->i", normals, tris[:, 0])]), 3)
     _, group, count = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    ground = tris[:, :, 2] < EPS
+    ends = np.array([[a, b] for a, b in edges])  # (edges, 2 corners, 2)
+    hip_ends = (count[group.ravel()] == 1) & (ground.sum(axis=1) == 2)  # alone on their plane, two corners down
     moves = []
-    for tri, g in zip(tris, group.ravel()):
-        ground = tri[:, 2] < EPS
-        if count[g] != 1 or ground.sum() != 2:
-            continue
-        base = tri[ground][:, :2]
-        for a, b in edges:
-            if min(np.abs(base - [a, b]).max(), np.abs(base - [b, a]).max()) < 1e-3:
-                apex = tri[~ground][0]
-                moves.append((apex, np.array([(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, apex[2]])))
+    for tri, low in zip(tris[hip_ends], ground[hip_ends]):
+        base = tri[low][:, :2]
+        apart = np.minimum(np.abs(base - ends).max(axis=(1, 2)), np.abs(base - ends[:, ::-1]).max(axis=(1, 2)))
+        apex = tri[~low][0]
+        for a, b in ends[apart < 1e-3]:  # the outline edge the hip's end stands on
+            moves.append((apex, np.array([(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, apex[2]])))
     if len(moves) >= len(edges) - 1:
         return tris
     tops = np.array([apex for apex, _ in moves]).reshape(-1, 3)
