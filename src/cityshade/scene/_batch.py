@@ -14,7 +14,7 @@ from itertools import chain
 import numpy as np
 import shapely
 
-from ._buildings import BuildingMass
+from ._buildings import BuildingMass, room_sizes
 from ._extrusions import edge_walls, gable_rows, roof_rows
 from ._meshes import SURFACE_ROOF, SURFACE_WALL, VERTEX_DTYPE, building_records, mass_rows, simplified_outline, vertex_records
 from ._records import BUILDING_DTYPE
@@ -50,7 +50,8 @@ def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     if not masses:
         return np.zeros(0, VERTEX_DTYPE), np.zeros(0, BUILDING_DTYPE)
     sections = _Sections()
-    rooms = np.array([m.room_size for m in masses]).reshape(-1, 3)
+    rooms = room_sizes(np.array([m.extent for m in masses]), np.array([m.room_width for m in masses]),
+                       np.array([m.floor_height for m in masses]))
     prisms = np.flatnonzero([m.shape == "prism" for m in masses])
     points, counts = _outlines([masses[i] for i in prisms])
     plain = counts >= 3
