@@ -34,3 +34,20 @@ def id_edges(ids: np.ndarray) -> np.ndarray:
 def hit_edges(hits) -> np.ndarray:
     """key_edges of relief hits' (material, face); a miss (material -1) is a surface of its own."""
     return key_edges(np.where(hits.material < 0, -1, hits.material * 8 + hits.face))
+
+
+def interior_twin(renderer, masses, camera, size, bounds, lights=None) -> np.ndarray:
+    """The numpy twin's id AOV with room state (cityshade.interior.reference_ids) of `masses` standing
+    on a city of `bounds`, with the renderer's frame settings and textures; `lights` (one share, or
+    one per use) replaces the settings' share of lit rooms."""
+    from cityshade import assets
+    from cityshade.interior import InteriorParams, reference_ids
+    from cityshade.render._city_gpu import GROUND_MARGIN
+
+    s = renderer.settings
+    params = InteriorParams(lights=s.lights if lights is None else lights, time=s.animation_time,
+                            variants=renderer.textures.room_variants, glass_rect=renderer.textures.glass_rect,
+                            sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
+    x0, z0, x1, z1 = bounds
+    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
+    return reference_ids(masses, camera, size, params, assets.facade_texture()[0][..., 3] / 255.0, ground)

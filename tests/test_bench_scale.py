@@ -1,6 +1,6 @@
 """Pieces of `cityshade bench scale` that need no minutes of frames: the street camera carried
 from Helsinki into its tiled extract, GL buffer accounting, and the ratios made from measured runs
-(the whole benchmark runs in the slow bench test)."""
+and the GPU-culling pixel check on a small city (the whole benchmark runs in the slow bench test)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,8 @@ import pytest
 
 from cityshade.bench import scale
 from cityshade.maps import load_map, map_city, tiled_extract
+from cityshade.render import Renderer, RenderSettings
+from cityshade.scene import default_city
 
 
 def test_the_street_camera_lands_on_the_same_street_of_the_tiled_extract(helsinki_pbf, tmp_path):
@@ -50,7 +52,7 @@ def _run(source, buildings, street, aerial, reference=None, **more):
         frames.update({"street_1k": reference[0], "aerial_1k": reference[1]})
     return {"source": source, "buildings": buildings, "load_seconds": 1.0, "resident_bytes": 1000 * buildings,
             "gpu_buffer_bytes": 500 * buildings, "device": "llvmpipe (LLVM 15.0.7, 256 bits)", "frames": frames,
-            "culled_pixels_differing": None, **more}
+            "culled_pixels_differing": {"street": 0, "aerial": 3} if buildings <= 1_000 else None, **more}
 
 
 def test_ratios_come_from_the_interleaved_frames_and_missing_ones_say_why():
@@ -65,7 +67,9 @@ def test_ratios_come_from_the_interleaved_frames_and_missing_ones_say_why():
     assert data["ratios"]["bytes_per_building"] == 1000  # llvmpipe: the GPU buffers are in the resident bytes
     assert data["ratios"]["viewer_fps_llvmpipe"] == 11.5
     assert data["ratios"]["grammar_cache_speedup"] is None and "grammar_cache_speedup" in data["missing"]
-    assert data["ratios"]["culled_pixels_differing"] is None and "gpu_culling" in data["missing"]["culled_pixels_differing"]
+    assert data["ratios"]["culled_pixels_differing"] == 3 and "culled_pixels_differing" not in data["missing"]
+    culled = next(t for t in data["tables"] if t["title"].startswith("Pixels differing"))
+    assert culled["rows"] == [["generator", 0, 3], ["osm", 0, 3]]
     assert data["timing"]["quick"] is True and data["timing"]["frames_per_path"] == 2
     beside = next(t for t in data["tables"] if t["title"].startswith("Beside"))
     assert [row[1] for row in beside["rows"]] == [329, 22_208, 948, 100_349, 1_000, 20_000]
@@ -75,3 +79,17 @@ def test_bytes_per_building_add_gpu_buffers_on_a_hardware_gpu():
     run = _run("generator", 100, [1.0], [1.0])
     assert scale._bytes_per_building(run) == 1000
     assert scale._bytes_per_building({**run, "device": "NVIDIA H200"}) == 1500
+
+
+def test_culled_pixels_compare_gpu_culling_with_none_and_restore_the_settings(gl_context):
+    """The counts come from renders with culling 'gpu' and 'off' of both views: a view in which GPU
+    culling leaves out a visible building would count its pixels (0 expected)."""
+    city = default_city(blocks=3)
+    renderer = Renderer((96, 72), RenderSettings(samples=0, culling="frustum"), ctx=gl_context)
+    try:
+        renderer.set_city(city)
+        differing = scale.culled_pixels_differing(renderer, city)
+        assert renderer.settings.culling == "frustum"
+    finally:
+        renderer.release()
+    assert differing == {"street": 0, "aerial": 0}

@@ -61,3 +61,47 @@ def test_the_check_sees_a_private_import(tmp_path):
         "cityshade/trees/x.py:1: cityshade.render._frame",
         "cityshade/trees/x.py:5: cityshade.scene._city",
     ]
+
+
+# The moderngl.Context methods that create GL objects: only cityshade.gl calls them.
+GL_OBJECT_MAKERS = frozenset(
+    "buffer texture texture_array texture_cube texture3d depth_texture vertex_array simple_vertex_array "
+    "framebuffer simple_framebuffer renderbuffer depth_renderbuffer program compute_shader sampler query "
+    "scope".split()
+)
+
+
+def _ctx_calls(path: Path):
+    """(line, method) of every call of a method on something called ctx (ctx, self.ctx, f.ctx)."""
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            owner = node.func.value
+            if (owner.id if isinstance(owner, ast.Name) else getattr(owner, "attr", "")) == "ctx":
+                yield node.lineno, node.func.attr
+
+
+def gl_object_calls(src: Path = SRC) -> list[str]:
+    """The calls of a GL object maker outside cityshade/gl."""
+    paths = [p for p in sorted(src.rglob("*.py")) if p.relative_to(src).parts[0] != "gl"]
+    return [
+        f"{path.relative_to(src.parent)}:{line}: ctx.{method}"
+        for path in paths
+        for line, method in _ctx_calls(path)
+        if method in GL_OBJECT_MAKERS
+    ]
+
+
+def test_only_gl_creates_gl_objects():
+    found = gl_object_calls()
+    assert not found, "GL objects made outside cityshade.gl (use its toolkit):\n" + "\n".join(found)
+
+
+def test_the_check_sees_a_gl_object_made_outside_gl(tmp_path):
+    fake = tmp_path / "cityshade"
+    (fake / "trees").mkdir(parents=True)
+    (fake / "gl").mkdir()
+    (fake / "trees" / "x.py").write_text(
+        "vbo = ctx.buffer(b'')\nself.ctx.vertex_array(p, [])\nf.ctx.copy_framebuffer(a, b)\nbuffer(0)\n"
+    )
+    (fake / "gl" / "y.py").write_text("ctx.texture((1, 1), 4)\n")
+    assert gl_object_calls(fake) == ["cityshade/trees/x.py:1: ctx.buffer", "cityshade/trees/x.py:2: ctx.vertex_array"]

@@ -1,11 +1,15 @@
-"""Frustum culling of the batched city: complete, conservative, and invisible in the picture."""
+"""The batched city's chunks (its vertex order) and the box-against-frustum test; the GPU culling
+itself is tested in test_culling_gpu.py."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from cityshade.errors import UsageError
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._culling import BuildingChunks, boxes_visible, frustum_planes
+from cityshade.render._visibility import building_boxes, building_ranges
 from cityshade.scene import Camera, batch, make_city
 from render_checks import render_finite
 
@@ -21,6 +25,23 @@ def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
     ids = chunks.vertices["ids"][:, 0].reshape(-1, 3)
     assert np.all(ids == ids[:, :1])
     assert len(chunks) > 10
+    # each building one contiguous range (the GPU culling draws it as one command), its box exact
+    first, count = building_ranges(chunks.vertices, len(city.masses))
+    building = chunks.vertices["ids"][:, 0]
+    for index in (0, 17, len(city.masses) - 1):
+        assert np.all(building[first[index]: first[index] + count[index]] == index)
+    assert count.sum() == len(chunks.vertices)
+    boxes = building_boxes(chunks.vertices, first, count)
+    positions = chunks.vertices["position"]
+    lo, hi = np.full((len(city.masses), 3), np.inf, np.float32), np.full((len(city.masses), 3), -np.inf, np.float32)
+    np.minimum.at(lo, building, positions)
+    np.maximum.at(hi, building, positions)
+    # in vertex-buffer order (the draw order of one plain draw), every building with vertices once
+    assert np.all(np.diff(boxes["draw"][:, 1].astype(np.int64)) > 0)
+    index = boxes["draw"][:, 2]
+    assert sorted(index) == list(range(len(city.masses)))
+    assert np.array_equal(boxes["draw"][:, 0], count[index]) and np.array_equal(boxes["draw"][:, 1], first[index])
+    assert np.array_equal(boxes["lo"][:, :3], lo[index]) and np.array_equal(boxes["hi"][:, :3], hi[index])
 
 
 def test_box_test_is_exact_for_clear_cases():
@@ -31,18 +52,24 @@ def test_box_test_is_exact_for_clear_cases():
     assert boxes_visible(planes, lo, hi).tolist() == [True, False, False, False]
 
 
-def test_culled_frame_equals_unculled_frame(gl_context):
+
+def test_chunk_culled_frame_equals_unculled_frame(gl_context):
     city = make_city("default")
     camera = city.camera("street")
-    renderer = Renderer((128, 72), RenderSettings(samples=0), ctx=gl_context)
-    renderer.set_city(city)
-    try:
-        culled = render_finite(renderer, camera)
-        drawn = renderer.city.chunks_drawn
-        chunks = renderer.city.chunks
-        chunks.visible = lambda view_projection: np.ones(len(chunks), dtype=bool)
-        full = render_finite(renderer, camera)
-    finally:
-        renderer.release()
-    assert drawn < len(chunks), "a street-level view leaves chunks behind the camera"
-    assert np.array_equal(culled, full)
+    pictures = {}
+    for culling in ("frustum", "off"):
+        renderer = Renderer((128, 72), RenderSettings(samples=0, culling=culling), ctx=gl_context)
+        renderer.set_city(city)
+        try:
+            pictures[culling] = render_finite(renderer, camera)
+        finally:
+            renderer.release()
+    chunks = BuildingChunks(batch(city.masses)[0])
+    assert np.count_nonzero(chunks.visible(camera.view_projection(128 / 72))) < len(chunks), \
+        "a street-level view leaves chunks behind the camera"
+    assert np.array_equal(pictures["frustum"], pictures["off"])
+
+
+def test_unknown_culling_is_one_clear_error():
+    with pytest.raises(UsageError, match="unknown culling 'fast'; allowed: gpu, frustum, off"):
+        RenderSettings(culling="fast")

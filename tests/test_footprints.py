@@ -55,7 +55,7 @@ def test_roof_covers_a_non_convex_footprint_exactly():
         ('{"type": "FeatureCollection",\n "features": [}', ":2:15: error: invalid JSON"),
         ('{"type": "FeatureCollection", "features": []}', "nothing usable in the map"),
         ('{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Point", '
-         '"coordinates": [1, 2]}}]}', "a Point that is not natural=tree or highway=street_lamp (e.g. feature/0)"),
+         '"coordinates": [1, 2]}}]}', "a Point that is no tree, street lamp, entrance or shop (e.g. feature/0)"),
     ],
 )
 def test_bad_files_name_the_problem(tmp_path, text, message):

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import fields
 
 import moderngl
+import numpy as np
 import pytest
 
 from cityshade.errors import ShaderError
@@ -134,6 +135,32 @@ def test_a_misspelt_uniform_is_an_error_in_strict_mode(gl_context):
         set_uniforms(program, u_exposure=1.0)  # in the frame block, not a uniform of its own
     with pytest.raises(ShaderError, match="u_hrd"):
         set_uniforms(program, u_hrd=0)
+    with pytest.raises(ShaderError, match="tonemap.glsl declares no uniform 'u_view_proj'"):
+        set_uniforms(program, u_view_proj=np.identity(4))  # another program's uniform is an error too
+
+
+def test_the_shading_block_takes_exactly_its_fields(gl_context):
+    from cityshade.gl import SHADING_BLOCK
+
+    values = {name: 0 for name, _, _ in SHADING_BLOCK.fields}
+    with pytest.raises(ValueError, match="u_ligths"):
+        SHADING_BLOCK.pack({**values, "u_ligths": 0.5})
+    assert "u_lit_share" not in programs(gl_context).get("city/ground.glsl"), "a block member, not a uniform"
+
+
+def test_block_arrays_take_a_vec4_slot_per_element():
+    from cityshade.gl import MAX_USES, SHADING_BLOCK
+
+    values = {name: 0 for name, _, _ in SHADING_BLOCK.fields}
+    shares = np.arange(1, MAX_USES + 1, dtype=np.float32) / 10
+    data = SHADING_BLOCK.pack({**values, "u_lit_share": shares})
+    offset = SHADING_BLOCK.offsets()[0]["u_lit_share"]
+    assert offset % 16 == 0
+    stored = np.frombuffer(data, np.float32, count=4 * MAX_USES, offset=offset).reshape(MAX_USES, 4)
+    assert np.array_equal(stored[:, 0], shares) and not stored[:, 1:].any()
+    assert "float u_lit_share[8];" in SHADING_BLOCK.glsl()
+    with pytest.raises(ValueError, match="u_lit_share: 8 values expected, got 3"):
+        SHADING_BLOCK.pack({**values, "u_lit_share": shares[:3]})
 
 
 def test_one_registry_chooses_each_building_facade():

@@ -1,7 +1,10 @@
 """Golden images of interior mapping's validation scene, compared with a block-local tolerance.
 
-The front view shows furniture (about 200 pixels) and so guards furniture and its animation; the
-corner, cylinder and dome views guard the rooms on boxes, curved walls and the dome. Every golden
+The front view shows furniture (about 200 pixels) and so guards furniture; the corner, cylinder
+and dome views guard the rooms on boxes, curved walls and the dome. The furniture's animation is
+below the golden's block tolerance at this size (a sprite frame changes a few dim pixels; it was
+one 8x8 block at 14/255 over the 12/255 limit), so it is checked inside the furniture's id mask
+instead (test_furniture_pixels_change_with_the_feature). Every golden
 must reject a render with each feature it guards switched off. Regenerate on purpose with
 CITYSHADE_UPDATE_GOLDEN=1, then look at tests/golden/interior/*.png (the renders of each run are
 in tests/output/).
@@ -30,7 +33,7 @@ SWITCHED = {  # feature -> the settings that change it
     "animation time": {"animation_time": 1.3},
 }
 ROOMS = ("interior mapping", "curtains", "room variation")
-GUARDS = {"front": (*ROOMS, "furniture", "animation time"), "corner": ROOMS, "cylinder": ROOMS, "dome": ROOMS}
+GUARDS = {"front": (*ROOMS, "furniture"), "corner": ROOMS, "cylinder": ROOMS, "dome": ROOMS}
 
 
 @pytest.fixture(scope="module")

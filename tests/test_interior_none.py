@@ -9,12 +9,10 @@ import dataclasses
 import numpy as np
 from PIL import Image
 
-from cityshade import assets
-from cityshade.interior import FACE_CODES, InteriorParams, reference_ids
+from cityshade.interior import FACE_CODES
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import FLAGS, Camera, City, box
-from render_checks import id_edges, render_finite
+from render_checks import id_edges, interior_twin, render_finite
 
 SIZE = (160, 120)
 ROOMS = FLAGS["FLAG_NO_INTERIOR"]
@@ -27,15 +25,6 @@ CAMERA = Camera((11.0, 4.0, -14.0), (11.0, 4.0, 5.0), fov_y=70.0)
 
 def _city(masses) -> City:
     return City("no-interior", 0, masses, [], BOUNDS)
-
-
-def _twin(renderer, masses) -> np.ndarray:
-    s = renderer.settings
-    params = InteriorParams(lights=s.lights, time=s.animation_time, variants=renderer.textures.room_variants,
-                            glass_rect=renderer.textures.glass_rect, sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
-    x0, z0, x1, z1 = BOUNDS
-    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
-    return reference_ids(masses, CAMERA, SIZE, params, assets.facade_texture()[0][..., 3] / 255.0, ground)
 
 
 def test_the_flag_is_set_only_without_an_interior():
@@ -51,9 +40,9 @@ def test_glass_without_an_interior_shows_no_room_on_gpu_and_twin(gl_context, out
         renderer.set_settings(renderer.settings.with_(lights=0.0))
         dark = render_finite(renderer, CAMERA).astype(float).mean(axis=2)
         renderer.set_settings(renderer.settings.with_(lights=1.0))
-        ref = _twin(renderer, [HOUSE, SHED])
+        ref = interior_twin(renderer, [HOUSE, SHED], CAMERA, SIZE, BOUNDS)
         # the same shed with rooms: where its glass is (the twin sees rooms there)
-        with_rooms = _twin(renderer, [HOUSE, dataclasses.replace(SHED, interior=True)])
+        with_rooms = interior_twin(renderer, [HOUSE, dataclasses.replace(SHED, interior=True)], CAMERA, SIZE, BOUNDS)
     finally:
         renderer.release()
     Image.fromarray(lit.astype(np.uint8)).save(output_dir / "interior_none.png")

@@ -19,10 +19,12 @@ def test_box_wall_roof_and_miss():
     mass = box((0.0, 0.0), 18.0, 12.0, 20.0, room_width=4.5)  # 4 bays of 4.5 m along x
     wall = cast(mass, (5.0, 2.0, -10.0), (0, 0, 1))
     assert wall.t[0] == pytest.approx(10.0) and wall.building[0] == 0 and not wall.roof[0]
-    assert np.allclose(wall.normal[0], (0, 0, -1)) and np.allclose(wall.facade[0], (5.0, 2.0, 4.5))
+    assert np.allclose(wall.normal[0], (0, 0, -1)) and np.allclose(wall.facade[0], (5.0, 2.0, 4.5, 20.0 / 6))
+    assert np.allclose(wall.face[0], (18.0, 0.0, 20.0, 4.0)) and tuple(wall.columns[0]) == (0, 3)
     side = cast(mass, (30.0, 3.0, 4.0), (-1, 0, 0))  # the +x facade runs from z = 0 toward +z
     assert side.t[0] == pytest.approx(12.0) and np.allclose(side.normal[0], (1, 0, 0))
-    assert np.allclose(side.facade[0], (4.0, 3.0, 12.0 / round(12.0 / mass.room_size[2])))
+    assert np.allclose(side.facade[0][:3], (4.0, 3.0, 12.0 / round(12.0 / mass.room_size[2])))
+    assert tuple(side.columns[0]) == (3, 5)  # its first room is the -z facade's last: the same corner room
     roof = cast(mass, (9.0, 30.0, 6.0), (0, -1, 0))
     assert roof.t[0] == pytest.approx(10.0) and roof.roof[0] and np.allclose(roof.normal[0], (0, 1, 0))
     miss = cast(mass, (9.0, 30.0, 6.0), (0, 1, 0))
@@ -47,7 +49,8 @@ def test_cylinder_facade_runs_around_the_circle():
     hit = cast(mass, (7.0, 5.0, -20.0), (0, 0, 1))  # meets the circle at angle 3/2 pi (toward -z)
     assert hit.t[0] == pytest.approx(20.0) and np.allclose(hit.normal[0], (0, 0, -1))
     circumference = 2 * np.pi * radius
-    assert np.allclose(hit.facade[0], (1.5 * np.pi * radius, 5.0, circumference / round(circumference / 4.0)))
+    assert np.allclose(hit.facade[0][:3], (1.5 * np.pi * radius, 5.0, circumference / round(circumference / 4.0)))
+    assert np.allclose(hit.face[0][:3], (circumference, 0.0, 26.0))
     grazing = cast(mass, (7.0 + radius + 0.01, 5.0, -20.0), (0, 0, 1))
     assert np.isinf(grazing.t[0])
 

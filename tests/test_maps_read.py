@@ -136,7 +136,7 @@ def test_geojson_polygons_holes_multipolygons_points_and_skipped_types(tmp_path)
     skipped = {why for (what, why) in data.report.skipped}
     assert "geometry type 'GeometryCollection' is not read" in skipped
     assert "geometry type 'MultiPoint' is not read" in skipped
-    assert "a Point that is not natural=tree or highway=street_lamp" in skipped
+    assert "a Point that is no tree, street lamp, entrance or shop" in skipped
     assert sum(data.report.skipped.values()) == 3
 
 

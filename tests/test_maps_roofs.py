@@ -342,7 +342,7 @@ def test_mansard_and_gambrel_over_any_outline_break_their_pitch_at_the_knee(shap
 PROBE = (64, 48)
 
 
-@pytest.mark.parametrize("material", range(9))
+@pytest.mark.parametrize("material", range(10))
 def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, material):
     """Per-pixel roof shading factors over a grid of points on a flat and two sloped roofs: the GPU
     and numpy agree within 1e-4 except where a pixel sits on a course or tile boundary (float32
@@ -383,3 +383,25 @@ def test_a_guessed_direction_leaves_the_ridge_to_the_orientation():
     (mass,) = masses_of(building)
     points = ridge(mass)
     assert np.ptp(points[:, 0]) == pytest.approx(20.0) and np.ptp(points[:, 1]) == pytest.approx(0.0, abs=1e-6)
+
+
+def test_flat_roofs_of_blocks_sit_inside_a_parapet():
+    """A block of three storeys or more: the walls run on PARAPET above its flat roof, whose rim is
+    PARAPET_THICKNESS wide with faces looking in; still closed, and the roof's volume is gone."""
+    from cityshade.maps._roofs import PARAPET
+    from cityshade.scene._roofs import PARAPET_THICKNESS
+
+    outline = shapely.box(0, 0, 20, 10)
+    mass = one(levels=3)
+    assert mass.roof.parapet == PARAPET and one(levels=2).roof.parapet == 0.0
+    tris, normals = triangles(mass)
+    area = area_vectors(tris)
+    assert np.allclose(closure(tris), [0.0, outline.area, 0.0], atol=1e-3)
+    assert np.all(np.einsum("ij,ij->i", area / np.linalg.norm(area, axis=1)[:, None], normals) > 0.999)
+    inner = outline.buffer(-PARAPET_THICKNESS, join_style="mitre")
+    assert volume(tris) == pytest.approx(2000.0 - PARAPET * inner.area, rel=1e-6)
+    roof, roof_normals = triangles(mass, SURFACE_ROOF)
+    assert roof[..., 1].max() == pytest.approx(WALL_TOP) and roof[..., 1].min() == pytest.approx(WALL_TOP - PARAPET)
+    facing = np.abs(roof_normals[:, 1]) < 1e-6  # the rim's inner faces: their fronts look into the roof
+    centres = roof[facing].mean(axis=1)[:, [0, 2]] + 0.1 * roof_normals[facing][:, [0, 2]]
+    assert facing.sum() == 8 and shapely.contains_xy(inner, *(centres * [1.0, -1.0]).T).all()

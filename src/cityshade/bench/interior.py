@@ -29,7 +29,7 @@ from ..scene import Camera, City, grid_city
 from ._harness import MIN_TIMED_FRAMES, BenchResult, Timing, method_record, time_interleaved, timing_record
 
 SETTINGS = RenderSettings(samples=0, furniture=False, curtains=False, lod=False, shadows=False, trees=False,
-                          god_rays=False, grammar_deferred=False)
+                          god_rays=False, grammar_deferred=False, culling="frustum")  # the same chunks as the rooms
 BUILDING_COUNTS = (1, 10, 100, 500, 1000)
 TEXTURE_SIZES = (256, 64, 16)
 ROOM_COUNTS = (1_000, 10_000, 100_000, 1_000_000, 4_000_000)

@@ -40,7 +40,7 @@ def _shadow_pass_ms(renderer: Renderer, camera, frames: int) -> dict[str, tuple[
     def draw(name, rates):
         def run(i):
             renderer.shadows.rates = rates
-            inputs.frame_index = 1 + i % 8  # skip frame 0, which draws every cascade to fill them
+            inputs.view.frame_index = 1 + i % 8  # skip frame 0, which draws every cascade to fill them
             run_passes(inputs, shadows)
             calls[name].append(renderer.shadows.stats.draw_calls)
         return run

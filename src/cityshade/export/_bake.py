@@ -180,19 +180,18 @@ class GpuBaker:
     """Renders canvases with shaders/export/bake.glsl into float targets, STRIP rows at a time."""
 
     def __init__(self, ctx, tiles, nearest: bool = False):
-        from ..gl import ProgramCache
+        from ..gl import programs
         from ..grammar import GrammarTextures, shader_defines
 
         self.ctx = ctx
         self.textures = GrammarTextures(ctx, library_texture(), tiles)
-        self.program = ProgramCache(ctx).get("export/bake.glsl", shader_defines(nearest))
-        self.vao = ctx.vertex_array(self.program, [])
+        self.program = programs(ctx).get("export/bake.glsl", shader_defines(nearest))
 
     def bake_page(self, canvases: list[Canvas], size: tuple[int, int], texel: float) -> dict[str, np.ndarray]:
         """(rows, cols, 4) colour, normal (float32) and ids (uint32) of one page, bottom row first."""
         import moderngl
 
-        from ..gl import RenderTarget
+        from ..gl import RenderTarget, draw_fullscreen
 
         cols, rows = size
         out = {"colour": np.zeros((rows, cols, 4), np.float32), "normal": np.zeros((rows, cols, 4), np.float32),
@@ -215,7 +214,7 @@ class GpuBaker:
                     self.program["facade_size"] = (c.width, c.height)
                     self.program["facade_seed"] = c.seed
                     self.program["start_rule"] = int(c.start)
-                    self.vao.render(moderngl.TRIANGLES, vertices=3)
+                    draw_fullscreen(self.program)
                 for name, texture in zip(("colour", "normal", "ids"), target.colors):
                     dtype = np.uint32 if name == "ids" else np.float32
                     data = np.frombuffer(texture.read(), dtype).reshape(-1, cols, 4)
@@ -225,9 +224,7 @@ class GpuBaker:
         return out
 
     def release(self):
-        self.textures.release()
-        self.vao.release()
-        self.program.release()
+        self.textures.release()  # the program stays in the context's cache
 
 
 def _encode(page: dict[str, np.ndarray], canvases: list[Canvas], texel: float):

@@ -10,6 +10,23 @@ import numpy as np
 
 # std140: (alignment, size) in bytes of the types the blocks use
 _STD140 = {"float": (4, 4), "int": (4, 4), "vec2": (8, 8), "vec3": (16, 12), "vec4": (16, 16), "mat4": (16, 64)}
+_ARRAY_STRIDE = 16  # std140: every array element starts on a vec4
+
+
+def _array(kind: str) -> tuple[str, int | None]:
+    """("float", 8) for "float[8]"; (kind, None) for a kind that is not an array."""
+    if kind.endswith("]"):
+        base, count = kind[:-1].split("[")
+        return base, int(count)
+    return kind, None
+
+
+def _layout(kind: str) -> tuple[int, int]:
+    """(alignment, size) in bytes of a field's type under std140."""
+    base, count = _array(kind)
+    if count is None:
+        return _STD140[base]
+    return _ARRAY_STRIDE, _ARRAY_STRIDE * count
 
 
 @dataclass(frozen=True)
@@ -28,13 +45,15 @@ class UniformBlock:
             f"// Generated from cityshade.gl ({self.name}): do not edit.",
             f"layout(std140, binding = {self.binding}) uniform {self.name} {{",
         ]
-        lines += [f"    {kind} {name};  // {comment}" for name, kind, comment in self.fields]
+        for name, kind, comment in self.fields:
+            base, count = _array(kind)
+            lines.append(f"    {base} {name}{'' if count is None else f'[{count}]'};  // {comment}")
         return "\n".join(lines + ["};", ""])
 
     def offsets(self) -> tuple[dict[str, int], int]:
         offsets, offset = {}, 0
         for name, kind, _ in self.fields:
-            align, size = _STD140[kind]
+            align, size = _layout(kind)
             offset = -(-offset // align) * align
             offsets[name] = offset
             offset += size
@@ -50,11 +69,19 @@ class UniformBlock:
         offsets, size = self.offsets()
         data = bytearray(size)
         for name, kind, _ in self.fields:
-            value = np.asarray(values[name], dtype=np.int32 if kind == "int" else np.float32)
-            if kind == "mat4":
+            base, count = _array(kind)
+            value = np.asarray(values[name], dtype=np.int32 if base == "int" else np.float32)
+            if base == "mat4":
                 value = value.T  # GLSL matrices are column-major
-            raw = value.tobytes()
-            data[offsets[name] : offsets[name] + len(raw)] = raw
+            if count is None:
+                raw = value.tobytes()
+                data[offsets[name] : offsets[name] + len(raw)] = raw
+                continue
+            if len(value) != count:
+                raise ValueError(f"{self.name}.{name}: {count} values expected, got {len(value)}")
+            for i, element in enumerate(value):
+                start = offsets[name] + i * _ARRAY_STRIDE
+                data[start : start + element.nbytes] = element.tobytes()
         return bytes(data)
 
     def write(self, ctx: moderngl.Context, **values):
@@ -83,5 +110,35 @@ FRAME_BLOCK = UniformBlock(
         ("u_sun_color", "vec3", "sun radiance"),
         ("u_sky_ambient", "vec3", "sky irradiance from above"),
         ("u_ground_ambient", "vec3", "bounce light from below"),
+    ),
+)
+
+
+MAX_USES = 8  # building use codes the shading block has room for (cityshade.scene.USES)
+
+# The city's shading values of one frame (rooms, windows, lamps), shared by the building, ground,
+# grammar and room programs; written once per frame with FRAME_BLOCK. Shaders that read them
+# #include its generated declaration (interior/interior.glsl, city/street_lights.glsl,
+# city/building.glsl).
+SHADING_BLOCK = UniformBlock(
+    "ShadingBlock",
+    1,
+    (
+        ("u_room_light", "vec3", "radiance of a lit room"),
+        (
+            "u_lit_share",
+            f"float[{MAX_USES}]",
+            "per building use code: probability c that a room is lit (interior mapping §4.1)",
+        ),
+        ("u_room_dark", "vec3", "what an unlit room still receives"),
+        ("u_street_lights", "float", "0 by day, 1 when the lamps are on"),
+        ("u_window_tint", "vec3", "the glass where no room is drawn behind it"),
+        ("u_feature_mask", "int", "FLAG_* bits switched on for this frame"),
+        ("u_glass_rect", "vec4", "the glass in one window bay: (u0, v0, u1, v1)"),
+        ("u_atlas_layout", "vec4", "single room atlas: tile size, padding (texels), width, height"),
+        ("u_lod_range", "vec2", "interiors fade to lit-window colours between these distances"),
+        ("u_room_variants", "int", "rooms in the atlas (interior mapping §4.2)"),
+        ("u_sprite_kinds", "int", "kinds of furniture sprite"),
+        ("u_sprite_frames", "int", "animation frames per sprite kind"),
     ),
 )

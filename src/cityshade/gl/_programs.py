@@ -10,7 +10,6 @@ constants) go into every stage of every program.
 
 from __future__ import annotations
 
-import functools
 import re
 from importlib import resources
 
@@ -136,21 +135,31 @@ class ProgramCache:
             program = self.ctx.program(**stages, varyings=varyings)
         except moderngl.Error as exc:
             raise ShaderError(f"{path}: {assembler.locate(str(exc)).strip()}") from None
-        program.extra = {"path": f"shaders/{path}", "samplers": _names(_SAMPLER, body)}  # see gl.bind_textures
+        # what the files declare, for gl.set_uniforms and gl.bind_textures in strict mode
+        program.extra = {
+            "path": f"shaders/{path}",
+            "uniforms": _names(_UNIFORM, body),
+            "samplers": _names(_SAMPLER, body),
+        }
         return program
 
 
-@functools.cache
-def declared_uniforms() -> frozenset[str]:
-    """Every uniform name some shader file of cityshade/shaders declares (see gl.set_uniforms)."""
-    files = resources.files("cityshade").joinpath("shaders")
-    return frozenset().union(*(_names(_UNIFORM, path.read_text(encoding="utf-8")) for path in _glsl_files(files)))
+def program_path(program) -> str:
+    """The shader file of a cached program, for messages."""
+    return program.extra.get("path", "the program") if isinstance(program.extra, dict) else "the program"
+
+
+def declared_uniforms(program) -> frozenset[str]:
+    """The uniforms (samplers included) that the shader files of a cached program declare, active
+    or compiled away by its #define variant; for a program made elsewhere, its active members."""
+    extra = program.extra if isinstance(program.extra, dict) else {}
+    return extra["uniforms"] if "uniforms" in extra else frozenset(program)
 
 
 def declared_samplers(program) -> frozenset[str]:
     """The samplers the shader files of a cached program declare (active or compiled away)."""
     extra = program.extra if isinstance(program.extra, dict) else {}
-    return extra.get("samplers") or declared_uniforms()
+    return extra["samplers"] if "samplers" in extra else frozenset(program)
 
 
 def _names(pattern: re.Pattern, text: str) -> frozenset[str]:
@@ -158,11 +167,3 @@ def _names(pattern: re.Pattern, text: str) -> frozenset[str]:
     return frozenset(
         name.split("[")[0].strip() for match in pattern.finditer(text) for name in match.group(1).split(",")
     )
-
-
-def _glsl_files(folder):
-    for entry in folder.iterdir():
-        if entry.is_dir():
-            yield from _glsl_files(entry)
-        elif entry.name.endswith(".glsl"):
-            yield entry

@@ -12,7 +12,7 @@ from __future__ import annotations
 import moderngl
 
 from ..errors import ShaderError
-from ._programs import declared_samplers
+from ._programs import declared_samplers, program_path
 from ._uniforms import strict
 
 MAX_SAMPLERS = 16  # texture units per stage that OpenGL 4.3 guarantees
@@ -59,7 +59,7 @@ def bind_textures(program: moderngl.Program, textures: dict):
     for name, texture in textures.items():
         if name not in units:
             if strict() and name not in declared_samplers(program):
-                raise ShaderError(f"{_path(program)} declares no sampler {name!r}")
+                raise ShaderError(f"{program_path(program)} declares no sampler {name!r}")
             continue
         group = texture if isinstance(texture, (list, tuple)) else [texture]
         for offset, tex in enumerate(group[: max(program[name].array_length, 1)]):
@@ -68,7 +68,3 @@ def bind_textures(program: moderngl.Program, textures: dict):
 
 def _is_sampler(member) -> bool:
     return isinstance(member, moderngl.Uniform) and member.gl_type in _SAMPLER_TYPES
-
-
-def _path(program) -> str:
-    return program.extra.get("path", "the program") if isinstance(program.extra, dict) else "the program"

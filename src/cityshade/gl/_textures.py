@@ -1,4 +1,5 @@
-"""The one texture upload: 2D images or arrays, with their colour space said explicitly."""
+"""The one texture upload: 2D images or arrays, with their colour space said explicitly, and the
+sky's cube map."""
 
 from __future__ import annotations
 
@@ -47,4 +48,13 @@ def upload_texture(
     else:
         tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
     tex.repeat_x = tex.repeat_y = repeat
+    return tex
+
+
+def upload_cubemap(ctx: moderngl.Context, faces: np.ndarray) -> moderngl.TextureCube:
+    """A cube map of linear radiance, faces (6, H, W, 3) in GL's order (+x, -x, +y, -y, +z, -z),
+    stored as float16 and filtered linearly."""
+    faces = np.ascontiguousarray(faces.astype(np.float16))
+    tex = ctx.texture_cube((faces.shape[2], faces.shape[1]), 3, faces.tobytes(), dtype="f2")
+    tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
     return tex

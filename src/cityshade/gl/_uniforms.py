@@ -1,9 +1,10 @@
 """The one way uniforms are set: by name, with numpy matrices written column-major.
 
-A name the linked program lacks is skipped: the frame hands its shared values to every program and
-a #define variant may compile a uniform away. In strict mode (CITYSHADE_STRICT_UNIFORMS=1, which
-the test suite sets) a name that no shader file declares at all is an error, so a misspelt uniform
-fails instead of doing nothing."""
+A name that the program's shader files declare but its #define variant compiled away is skipped.
+In strict mode (CITYSHADE_STRICT_UNIFORMS=1, which the test suite sets) a name that the program's
+files do not declare is an error, so a misspelt uniform, or a value meant for another program,
+fails instead of doing nothing. Values that several programs share go into a uniform block
+(gl.FRAME_BLOCK, gl.SHADING_BLOCK), never into one dictionary handed to each."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import os
 import numpy as np
 
 from ..errors import ShaderError
-from ._programs import declared_uniforms
+from ._programs import declared_uniforms, program_path
 
 STRICT_ENV = "CITYSHADE_STRICT_UNIFORMS"
 
@@ -24,8 +25,8 @@ def strict() -> bool:
 def set_uniforms(program, **values):
     for name, value in values.items():
         if name not in program:
-            if strict() and name not in declared_uniforms():
-                raise ShaderError(f"no shader declares a uniform {name!r}")
+            if strict() and name not in declared_uniforms(program):
+                raise ShaderError(f"{program_path(program)} declares no uniform {name!r}")
             continue
         if isinstance(value, np.ndarray):
             if value.shape == (4, 4):

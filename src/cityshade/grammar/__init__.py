@@ -31,7 +31,9 @@ def load_library() -> dict[str, Grammar]:
     return {style: load(library_path(f"{style}.grammar")) for style in LIBRARY_STYLES}
 
 
-from ._city import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_texture  # noqa: E402 (needs load_library)
+from ._city import (BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min_widths,  # noqa: E402 (needs load_library)
+                    library_texture)
+from ._fit import min_width  # noqa: E402
 from ._city_render import PATHS, FacadeCityRenderer  # noqa: E402
 from ._frame_pass import DeferredGrammarPass  # noqa: E402
 from ._gpu import GrammarTextures, shader_defines  # noqa: E402
@@ -42,5 +44,5 @@ __all__ = [
     "BUILDING_STYLES", "FACADE_GRAMMAR", "GRAMMAR_SHAPES", "library_texture", "seed_cells", "seed_vector", "evaluate",
     "PATHS", "FacadeCityRenderer", "DeferredGrammarPass", "GrammarTextures", "shader_defines", "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
     "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
-    "load_source", "parse_string",
+    "load_source", "parse_string", "library_min_widths", "min_width",
 ]

@@ -7,6 +7,7 @@ from functools import lru_cache
 
 from . import load_library
 from ._compiler import CompiledGrammars, compile_grammars
+from ._fit import min_width
 
 FACADE_GRAMMAR = 1  # the record's facade.x for grammar facades (shaders/grammar/building.glsl)
 
@@ -20,3 +21,9 @@ GRAMMAR_SHAPES = ("prism", "cylinder")  # domes keep the window-bay facade
 def library_texture() -> CompiledGrammars:
     """Every library style compiled into one texture (shared by all buildings)."""
     return compile_grammars(load_library())
+
+
+@lru_cache(maxsize=1)
+def library_min_widths() -> dict[str, float]:
+    """Per library style, the narrowest face it fits (metres, _fit.py)."""
+    return {style: min_width(grammar) for style, grammar in load_library().items()}

@@ -14,7 +14,7 @@ import moderngl
 import numpy as np
 
 from ..assets import TileArray
-from ..gl import FRAME_BLOCK, RenderTarget, VertexArrays, bind_textures, draw_fullscreen, set_uniforms
+from ..gl import FRAME_BLOCK, RenderTarget, VertexArrays, bind_textures, create_buffer, draw_fullscreen, set_uniforms
 from ..gl import programs as gl_programs
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, Camera, batch
 from ._city import FACADE_GRAMMAR
@@ -41,8 +41,8 @@ class FacadeCityRenderer:
         records["facade"][:, 0] = FACADE_GRAMMAR
         records["facade"][:, 2:] = seed_cells([m.seed for m in masses])
         self.records = records
-        self.vbo = ctx.buffer(vertices.tobytes())
-        self.ssbo = ctx.buffer(records.tobytes())
+        self.vbo = create_buffer(ctx, vertices)
+        self.ssbo = create_buffer(ctx, records)
         self.textures = GrammarTextures(ctx, compiled, tiles)
         programs = gl_programs(ctx)
         defines = shader_defines()
@@ -112,7 +112,7 @@ class FacadeCityRenderer:
             self.lit.fbo.clear(*SKY, 1.0, depth=1.0)
             ctx.disable(moderngl.DEPTH_TEST)
             program = self.programs["deferred"]
-            self._uniforms(program, camera)
+            self.textures.bind(program)  # the camera comes from the frame block
             bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"),
                                             (*self.gbuffer.colors, self.gbuffer.depth))))
             program["u_viewport"] = tuple(float(x) for x in self.size)

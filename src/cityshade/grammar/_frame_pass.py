@@ -36,19 +36,19 @@ class DeferredGrammarPass:
 
     def draw_gbuffer(self, f, grammar: GrammarTextures, set_uniforms):
         """The cheap first step for frame `f` (render._frame.FrameInputs), into the bound G-buffer."""
-        program = f.programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
-        set_uniforms(program, u_view_proj=f.view_projection)
+        program = f.gpu.programs.get("grammar/city.glsl", {**shader_defines(), "GBUFFER": True})
+        set_uniforms(program, u_view_proj=f.view.view_projection)
         grammar.bind(program)
-        f.city.draw_buildings(program, f.view_projection)  # frustum-culled like the buildings pass
+        f.draw_buildings(program)  # culled like the buildings pass
 
     def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
         """The full-screen evaluation into the bound result target, reading the G-buffer."""
         gbuffer = self.gbuffer
-        program = f.programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
-                                                           "NO_SHADOWS": f.shadows is None})
-        set_uniforms(program, **f.common_uniforms(), u_viewport=np.array(f.size, dtype=float))
-        if f.shadows is not None:
-            f.shadows.bind(program)  # the facades receive the cascaded shadows
+        program = f.gpu.programs.get("grammar/deferred.glsl", {**shader_defines(), "CITY_FRAME": True,
+                                                           "NO_SHADOWS": f.gpu.shadows is None})
+        set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
+        if f.gpu.shadows is not None:
+            f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)
         bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors, gbuffer.depth))))
         draw_fullscreen(program)

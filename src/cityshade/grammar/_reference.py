@@ -51,6 +51,7 @@ class Evaluation:
     tile: np.ndarray  # tile index of the terminal (-1: constant or none)
     label: np.ndarray  # index into LABELS
     glass: np.ndarray  # bool: the terminal's texel is glass (a window to see a room through)
+    scope: np.ndarray  # (..., 4) the terminal's scope: lower left in facade uv (translations undone), size
 
 
 class _Pixels:
@@ -63,6 +64,7 @@ class _Pixels:
         self.lb = np.broadcast_to(s, (n, 2)).astype(F)
         self.size = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.t = uv.astype(F) + s
+        self.uv = uv.astype(F)
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.building = np.broadcast_to(np.asarray(building, F), (n, 2)).astype(F)  # levels, style
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
@@ -94,6 +96,7 @@ class _Pixels:
         self.best_addr = np.full(n, -1, np.int32)
         self.best_tile = np.full(n, -1, np.int32)
         self.best_texel = np.zeros((n, 2), np.int32)
+        self.best_scope = np.concatenate([np.zeros((n, 2), F), self.size], axis=1)
         self.active = np.ones(n, bool)
 
 
@@ -453,6 +456,11 @@ class _Evaluator:
         p.best_addr[rows] = addr[better]
         p.best_tile[rows] = tile[better]
         p.best_texel[rows] = texel[better]
+        # the scope's corner is the same for all its pixels, and so are the whole seed vectors it
+        # was translated by (layers, the start), which undo it exactly (as the shader)
+        with np.errstate(divide="ignore", invalid="ignore"):  # no seed: nothing to undo
+            shift = np.where(p.s != 0, np.round((p.t[rows] - p.uv[rows]) / p.s) * p.s, F(0))
+        p.best_scope[rows] = np.concatenate([p.lb[rows] - shift, p.size[rows]], axis=1)
         wn = (F(1) - p.AN[idx]) * a
         p.N[idx] += np.where(normal[:, None], wn[:, None] * (rgba[:, :3] * F(2) - F(1)), F(0))
         p.AN[idx] += np.where(normal, wn, F(0))
@@ -477,7 +485,8 @@ class _Evaluator:
         written = (head[:, 0] == 12) & (head[:, 2] == 0) & (head[:, 3] >= 2)  # Color(r, g, b, label)
         constant = np.where(written, head[:, 3].astype(np.int32) - 1, WALL_LABEL)
         label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)], np.where(p.best_addr >= 0, constant, 0))
-        return Evaluation(p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass)
+        return Evaluation(p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass,
+                          p.best_scope)
 
 
 _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",

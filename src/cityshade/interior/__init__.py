@@ -4,8 +4,10 @@ polygonised-interiors baseline geometry."""
 from ._faces import FACE_CODES, FACE_NAMES, room_state
 from ._hash import pcg_hash
 from ._polygonised import LAYERS as POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
-from ._reference import InteriorParams, find_room, reference_ids, room_id, trace
+from ._reference import GrammarFacades, InteriorParams, find_room, reference_ids, room_id, trace
 from ._solids import cast_masses
+from ._windows import WindowCount, windows_straddling_rooms
 
-__all__ = ["FACE_CODES", "FACE_NAMES", "InteriorParams", "POLYGONISED_LAYERS", "cast_masses", "find_room", "pcg_hash",
-           "polygonised_vertices", "quad_counts", "reference_ids", "room_grid", "room_id", "room_state", "trace"]
+__all__ = ["GrammarFacades", "FACE_CODES", "FACE_NAMES", "InteriorParams", "POLYGONISED_LAYERS", "cast_masses", "find_room", "pcg_hash",
+           "polygonised_vertices", "quad_counts", "reference_ids", "room_grid", "room_id", "room_state", "trace",
+           "WindowCount", "windows_straddling_rooms"]

@@ -8,28 +8,31 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..assets import LABELS, TileArray
+from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, seed_vector
 from ..relief import GLASS, DetailMaps, trace_reference
-from ..scene import BuildingMass
+from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
                      FACE_WALL_X, FACE_WALL_Z, room_state)
 from ._hash import hash3, unit_float
 from ._solids import cast_masses
 
-SALT_LIGHT, SALT_VARIANT, SALT_FURNITURE, SALT_PHASE, SALT_CURTAIN, SALT_WALL_X, SALT_WALL_Z = (
-    0x1000, 0x2000, 0x3000, 0x4000, 0x5000, 0x6000, 0x7000)
+SALT_LIGHT, SALT_VARIANT, SALT_FURNITURE, SALT_PHASE, SALT_CURTAIN, SALT_ROOM_DEPTH = (
+    0x1000, 0x2000, 0x3000, 0x4000, 0x5000, 0x7000)
 FURNITURE_DEPTH = 0.45
 CURTAIN_DEPTH = 0.08
 SPRITE_WIDTH = 0.55
 SPRITE_HEIGHT = 0.8
 EMPTY_ROOM_SHARE = 0.3
 CURTAIN_SHARE = 0.55
+ROOM_LABEL = LABELS.index("room")  # the id pass's label of grammar glass (GRAMMAR_ROOM_LABEL)
 
 
 @dataclass(frozen=True)
 class InteriorParams:
     """The frame-wide inputs of the interior shader (its uniforms)."""
 
-    lights: float
+    lights: float | tuple[float, ...]  # share of lit rooms: one for every use, or one per use code (scene.lit_shares)
     time: float
     variants: int
     glass_rect: tuple[float, float, float, float]
@@ -44,45 +47,56 @@ def room_id(cx, cy, cz) -> np.ndarray:
     return (cx & 0x7FF) | ((cz & 0x7FF) << 11) | ((cy & 0x3FF) << 22)
 
 
-def _wall_offset(k, floor_index, lines, salt, jitter):
-    off = (unit_float(hash3(k, floor_index, np.zeros_like(k), salt)) - 0.5) * 2.0 * jitter
-    return np.where((k <= 0) | (k >= lines), 0.0, off)
+def face_frame(n: np.ndarray) -> np.ndarray:
+    """Per normal (N, 3): the rotation (N, 3, 3) from object space into its face's frame (metres along
+    the face as facade u grows, up, into the building); as face_frame() in the shader."""
+    out_dir = n * np.array([1.0, 0.0, 1.0])
+    level = np.sum(out_dir * out_dir, axis=1) <= 1e-8  # a dome's top
+    out_dir[level] = (0.0, 0.0, -1.0)
+    out_dir /= np.linalg.norm(out_dir, axis=1, keepdims=True)
+    zero = np.zeros(len(n))
+    along = np.stack([-out_dir[:, 2], zero, out_dir[:, 0]], axis=1)
+    up = np.broadcast_to([0.0, 1.0, 0.0], n.shape)
+    return np.stack([along, up, -out_dir], axis=1)
 
 
-def _room_interval(x, size, lines, floor_index, salt, jitter):
-    k0 = np.floor(x / size).astype(np.int64)
-    w0 = (k0 + _wall_offset(k0, floor_index, lines, salt, jitter)) * size
-    w1 = (k0 + 1 + _wall_offset(k0 + 1, floor_index, lines, salt, jitter)) * size
-    below, above = x < w0, x >= w1
-    k = np.where(below, k0 - 1, np.where(above, k0 + 1, k0))
-    lo = np.where(below, (k0 - 1 + _wall_offset(k0 - 1, floor_index, lines, salt, jitter)) * size,
-                  np.where(above, w1, w0))
-    hi = np.where(below, w0, np.where(above, (k0 + 2 + _wall_offset(k0 + 2, floor_index, lines, salt, jitter)) * size, w1))
-    return k, lo, hi
+def lit_threshold(mass: BuildingMass, floor: np.ndarray, params: InteriorParams) -> np.ndarray:
+    """Per room (its floor index): the share of such rooms that are lit, the share of its use (a shop
+    on a shop-front ground floor, else the mass's use) times the mass's own multiplier, rounded as
+    the shader's float32 product is (a room is lit when its hash is below it)."""
+    shares = np.broadcast_to(np.asarray(params.lights, dtype=np.float32), (USE_COUNT,))
+    use = np.where((np.asarray(floor) == 0) & mass.shop_front, USES["shop"], mass.use)
+    return (shares[use] * np.float32(mass.lights)).astype(np.float64)
 
 
-def find_room(p: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> dict:
-    """The room entered at facade points p (N, 3) with normals n: cell, box, id, lit, variant."""
-    size = mass.room_size
+def find_room(window: np.ndarray, facade: np.ndarray, face: np.ndarray, columns: np.ndarray, mass: BuildingMass,
+              params: InteriorParams) -> dict:
+    """The room behind windows (N, 4: u0, v0, u1, v1 of the glass's rectangle in facade coordinates,
+    or a point) on faces with facade rows (u, v, bay, storey), face rows (width, base, top, depth)
+    and room columns (first bay, last bay): cell, box (face frame), id, lit, variant."""
     seed = mass.seed
     jitter = mass.wall_jitter if params.room_variation else 0.0
-    lines = np.round(mass.extent / size).astype(np.int64)
-    q = p - n * (1e-3 * size.min())
-    cy = np.floor(q[:, 1] / size[1]).astype(np.int64)
-    cx, x0, x1 = _room_interval(q[:, 0], size[0], lines[0], cy, seed ^ SALT_WALL_X, jitter)
-    cz, z0, z1 = _room_interval(q[:, 2], size[2], lines[2], cy, seed ^ SALT_WALL_Z, jitter)
-    lo = np.stack([x0, cy * size[1], z0], axis=1)
-    hi = np.stack([x1, (cy + 1) * size[1], z1], axis=1)
-    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < params.lights * mass.lights
+    bay, storey, width, base, depth = facade[:, 2], facade[:, 3], face[:, 0], face[:, 1], face[:, 3]
+    anchor = np.round(32.0 * (window[:, :2] + window[:, 2:])) / 64.0  # to 1/64 m, as the shader
+    bays = np.maximum(1, np.round(width / bay)).astype(np.int64)
+    j = np.clip(np.floor(anchor[:, 0] / bay).astype(np.int64), 0, bays - 1)
+    cy = np.floor((anchor[:, 1] - base) / storey).astype(np.int64)
+    cx = np.where(j == bays - 1, columns[:, 1], columns[:, 0] + j)
+    cz = np.zeros_like(cx)
+    middle = (j > 0) & (j < bays - 1)
+    depth = depth * np.where(middle, 1.0 + (unit_float(hash3(cx, cy, cz, seed ^ SALT_ROOM_DEPTH)) - 0.5) * 2.0 * jitter, 1.0)
+    lo = np.stack([np.minimum(j * bay, window[:, 0]), np.minimum(base + cy * storey, window[:, 1]), np.zeros(len(j))], axis=1)
+    hi = np.stack([np.maximum((j + 1) * bay, window[:, 2]), np.maximum(base + (cy + 1) * storey, window[:, 3]), depth], axis=1)
+    lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < lit_threshold(mass, cy, params)
     variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 
 
-def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, mass: BuildingMass, params: InteriorParams) -> tuple[np.ndarray, ...]:
-    """Per ray (facade point p, unit direction d, normal n; object space): face code, room id,
-    distance t from the facade, whether the room is lit and its texture variant, as the interior
-    shader decides them."""
-    room = find_room(p, n, mass, params)
+def trace(p: np.ndarray, d: np.ndarray, room: dict, mass: BuildingMass, params: InteriorParams) -> tuple[np.ndarray, ...]:
+    """Per ray (facade point p and unit direction d in the face's frame, face_frame; the room it
+    enters, find_room): face code, room id, distance t from the facade, whether the room is lit and
+    its texture variant, as the interior shader decides them."""
+    n = np.broadcast_to([0.0, 0.0, -1.0], p.shape)  # the face, seen from inside
     lo, hi = room["lo"], room["hi"]
     size = hi - lo
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -130,16 +144,16 @@ def trace(p: np.ndarray, d: np.ndarray, n: np.ndarray, mass: BuildingMass, param
     return face, room["id"], t, room["lit"], room["variant"]
 
 
-def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: np.ndarray, floor_height: float):
+def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: np.ndarray, base: np.ndarray):
     """Relief facades (docs/relief.md, the city): the window bay `maps` repeats across the wall, one
-    bay (facade[:, 2] metres) wide and one floor high; each ray is traced through it by the
-    reference tracer. Returns, per ray, whether it meets glass and where (object space): the
-    point from which it continues into the room."""
+    bay (facade[:, 2] metres) wide and one storey (facade[:, 3]) high from the face's `base`; each
+    ray is traced through it by the reference tracer. Returns, per ray, whether it meets glass and
+    where (object space): the point from which it continues into the room."""
     rows, cols = maps.shape
     up = np.array([0.0, 1.0, 0.0])
     along = np.stack([-n[:, 2], np.zeros(len(n)), n[:, 0]], axis=1)  # the way facade u grows: n x up
-    scale = np.stack([cols / facade[:, 2], np.full(len(n), rows / floor_height), np.full(len(n), 1 / maps.depth_unit)], axis=1)
-    start = np.stack([facade[:, 0], facade[:, 1], np.zeros(len(n))], axis=1) * scale
+    scale = np.stack([cols / facade[:, 2], rows / facade[:, 3], np.full(len(n), 1 / maps.depth_unit)], axis=1)
+    start = np.stack([facade[:, 0], facade[:, 1] - base, np.zeros(len(n))], axis=1) * scale
     direction = np.stack([np.sum(d * along, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1) * scale
     # The bay tiled over the wall, with a bay and a floor to spare on every side: a ray entering
     # near a corner or the roof line meets the repeat the GPU samples there.
@@ -153,16 +167,61 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
     return hits.material == GLASS, point
 
 
+@dataclass(frozen=True)
+class GrammarFacades:
+    """The grammar facades of a city for the twin: the compiled grammars and their tiles (as the
+    renderer's), and per building index the address of its start rule and the narrowest face its
+    grammar fits (narrower faces are plain walls: no glass, no label)."""
+
+    compiled: CompiledGrammars
+    tiles: TileArray
+    starts: dict[int, int]
+    min_widths: dict[int, float]
+
+
+def grammar_entry(grammar: GrammarFacades, building: int, mass: BuildingMass, d: np.ndarray, n: np.ndarray,
+                  facade: np.ndarray, face: np.ndarray):
+    """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
+    true size of each face: per ray, whether it meets glass, its label as the id pass writes it, and
+    the rectangle of the window it belongs to (facade coordinates, find_room)."""
+    glass, label = np.zeros(len(d), dtype=bool), np.zeros(len(d), dtype=np.uint32)
+    window = np.zeros((len(d), 4))
+    right = np.stack([n[:, 2], np.zeros(len(n)), -n[:, 0]], axis=1)
+    right /= np.linalg.norm(right, axis=1, keepdims=True)
+    rays = np.stack([np.sum(d * right, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1)
+    sizes, which = np.unique(face[:, :3], axis=0, return_inverse=True)
+    start = grammar.starts[building]
+    for k, (width, base, top) in enumerate(sizes):
+        if width < grammar.min_widths[building] - 1e-6:
+            continue  # too narrow for the grammar: a plain wall
+        rows = np.nonzero(which.ravel() == k)[0]
+        uv = np.stack([width - facade[rows, 0], facade[rows, 1] - base], axis=1)
+        levels = np.floor((top - base) / facade[rows[0], 3] + 0.5)
+        g = evaluate_grammar(grammar.compiled, start, uv, (width, top - base), seed_vector(mass.seed), grammar.tiles,
+                             rays[rows], (levels, mass.style))
+        glass[rows] = g.glass
+        label[rows] = np.where(g.glass, ROOM_LABEL, g.label)
+        lower, extent = g.scope[:, :2].astype(np.float64), g.scope[:, 2:].astype(np.float64)
+        window[rows] = np.stack([width - lower[:, 0] - extent[:, 0], base + lower[:, 1], width - lower[:, 0],
+                                 base + lower[:, 1] + extent[:, 1]], axis=1)
+    return glass, label, window
+
+
 def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], params: InteriorParams,
                   facade_alpha: np.ndarray, ground_bounds: tuple[float, float, float, float],
-                  relief: dict | None = None) -> np.ndarray:
+                  relief: dict | None = None, grammar: GrammarFacades | None = None,
+                  labels: bool = False) -> np.ndarray:
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
-    `relief`, by the relief met along the ray, `relief_entry`), rooms by `trace` (none behind the
-    glass of a mass without an interior). The ground is the
-    plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the camera's far plane."""
+    `relief`, by the relief met along the ray, `relief_entry`; for those with a start rule in
+    `grammar`, by the grammar, `grammar_entry`) unless a door stands there
+    (`cityshade.scene.door_hit`), rooms by `trace` (none behind the glass of a mass without an
+    interior). With `labels` the fourth channel is the grammar label instead (the id pass without
+    room state). The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the
+    camera's far plane."""
     relief = relief or {}
+    starts = grammar.starts if grammar is not None else {}
     width, height = size
     dirs = camera.pixel_rays(size).reshape(-1, 3)
     eye = camera.eye
@@ -182,20 +241,39 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             continue
         facade, roof = hits.facade[sel], hits.roof[sel]
         entry = hits.local.copy()
-        if b in relief:
+        window = np.column_stack([facade[:, :2], facade[:, :2]])  # the window-bay facade: the pixel's own bay
+        if b in starts:
+            glass = np.zeros(len(sel), dtype=bool)
+            walls = sel[~roof]
+            if len(walls):
+                glass[~roof], label, window[~roof] = grammar_entry(
+                    grammar, b, mass, hits.direction[walls], hits.normal[walls], hits.facade[walls],
+                    hits.face[walls])
+                if labels:
+                    out[walls, 3] = label
+        elif b in relief:
             glass = np.zeros(len(sel), dtype=bool)
             walls = sel[~roof]
             if len(walls):
                 glass[~roof], entry[walls] = relief_entry(relief[b], hits.local[walls], hits.direction[walls],
-                                                          hits.normal[walls], hits.facade[walls], mass.room_size[1])
+                                                          hits.normal[walls], hits.facade[walls], hits.face[walls, 1])
         else:
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
-            row = (np.mod(facade[:, 1] / mass.room_size[1], 1.0) * th).astype(np.int64).clip(0, th - 1)
+            row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
             glass = ~roof & (facade_alpha[row, col] < 0.5)
+        if mass.doors:  # a door stands in front of whatever the facade has there
+            glass &= roof | ~door_hit(hits.local[sel], hits.normal[sel], mass.doors)[0]
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
         if glass.any() and mass.interior:  # without an interior the glass stays an exterior face
             rays = sel[glass]
-            face, room, _, lit, variant = trace(entry[rays], hits.direction[rays], hits.normal[rays], mass, params)
-            out[rays, 0], out[rays, 1], out[rays, 3] = face, room, room_state(lit, variant)
+            to_face = face_frame(hits.normal[rays])
+            offset = np.einsum("nij,nj->ni", to_face, entry[rays] - hits.local[rays])
+            p = np.column_stack([hits.facade[rays, :2], np.zeros(len(rays))]) + offset
+            room = find_room(window[glass], hits.facade[rays], hits.face[rays], hits.columns[rays], mass, params)
+            d = np.einsum("nij,nj->ni", to_face, hits.direction[rays])
+            face, room, _, lit, variant = trace(p, d, room, mass, params)
+            out[rays, 0], out[rays, 1] = face, room
+            if not labels:
+                out[rays, 3] = room_state(lit, variant)
     return out.reshape(height, width, 4)

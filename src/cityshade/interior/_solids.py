@@ -1,10 +1,13 @@
 """The interior twin's own geometry: building masses as exact solids, ray-cast in numpy.
 
-Built from the building records alone (position, yaw, footprint, height, room width), never from
-the GPU's triangle meshes: a prism is its footprint extruded (walls and a flat roof), a cylinder
-a circle of the footprint's width, a dome a hemisphere of it. Each surface carries the facade
-coordinates the documented layout gives it (docs/interior.md): u metres along the facade, v
-metres up, and the window bay width (whole bays per facade edge, or around a circle).
+Built from the building masses alone (position, yaw, footprint, courtyards, height, storey and
+room width), never from the GPU's triangle meshes: a prism is its footprint extruded (walls, its
+courtyards' walls and a flat roof), a cylinder a circle of the footprint's width, a dome a
+hemisphere of it. Each wall carries the facade coordinates the documented layout gives it
+(docs/interior.md): u metres along its face, v metres up, the window bay width and storey height,
+and its face: width, base, top, room depth and the room columns of its first and last bay. Faces
+and bays follow the layout's rule (cityshade.scene.wall_faces) applied to the twin's own exact
+outline.
 
 The GPU draws curves as facets, so on cylinders and domes the two differ by the facets'
 sagitta; tests report those pixels rather than hide them.
@@ -15,14 +18,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 
-from ..scene import BuildingMass
+from ..scene import BuildingMass, storeys, wall_faces
 
 
 @dataclass
 class SolidHits:
     """Per ray: distance (inf on a miss), building index (-1), roof or wall, and in the building's
-    own frame the hit point, the ray direction, the outward normal and (u, v, bay width)."""
+    own frame the hit point, the ray direction, the outward normal, the facade coordinates (u, v,
+    bay width, storey height), the face (width, base, top, room depth) and its room columns."""
 
     t: np.ndarray
     building: np.ndarray
@@ -31,6 +36,8 @@ class SolidHits:
     direction: np.ndarray
     normal: np.ndarray
     facade: np.ndarray
+    face: np.ndarray
+    columns: np.ndarray
 
 
 def object_to_world(yaw: float) -> np.ndarray:
@@ -62,37 +69,60 @@ def _inside_polygon(x: np.ndarray, z: np.ndarray, ring: np.ndarray) -> np.ndarra
     return inside
 
 
+def _rings(mass: BuildingMass) -> list[np.ndarray]:
+    """The outline counter-clockwise and its courtyards clockwise (the building on their left),
+    each without repeated corners."""
+    polygon = shapely.orient_polygons(shapely.Polygon(_counter_clockwise(np.asarray(mass.footprint, float)), mass.holes))
+    rings = [np.asarray(polygon.exterior.coords)[:-1], *(np.asarray(r.coords)[:-1] for r in polygon.interiors)]
+    return [ring[np.any(np.roll(ring, -1, axis=0) != ring, axis=1)] for ring in rings]
+
+
+def _round_face(mass: BuildingMass, width: float, top: float):
+    """Facade rows' constant parts of a face all round (a cylinder, a dome): bay, storey, face, columns."""
+    bay = whole_bays(width, mass.room_width)
+    storey, _ = storeys(0.0, top, mass.floor_height)
+    return bay, storey, (width, 0.0, top, bay), (0, round(width / bay) - 1)
+
+
 def _prism(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float):
-    ring = _counter_clockwise(np.asarray(mass.footprint, dtype=np.float64))
-    room = mass.room_size
     n = len(d)
     best = np.full(n, np.inf)
-    normal, facade = np.zeros((n, 3)), np.zeros((n, 3))
+    normal, facade, face = np.zeros((n, 3)), np.zeros((n, 4)), np.zeros((n, 4))
+    columns = np.zeros((n, 2), dtype=np.int64)
     roof = np.zeros(n, dtype=bool)
-    for a, b in zip(ring, np.roll(ring, -1, axis=0)):
-        edge = b - a
-        length = float(np.hypot(*edge))
-        if length == 0.0:
-            continue
-        outward = np.array([edge[1], 0.0, -edge[0]]) / length  # right of the edge walked counter-clockwise
-        a3 = np.array([a[0], 0.0, a[1]])
-        with np.errstate(divide="ignore", invalid="ignore"):  # rays along the wall: inf, nan
-            t = ((a3 - eye) @ outward) / (d @ outward)
-            hit = eye + d * t[:, None]
-        along = ((hit[:, 0] - a[0]) * edge[0] + (hit[:, 2] - a[1]) * edge[1]) / length
-        ok = (t > 1e-9) & (along >= 0) & (along <= length) & (hit[:, 1] >= 0) & (hit[:, 1] <= height) & (t < best)
-        nominal = room[0] if abs(edge[0]) >= abs(edge[1]) else room[2]
-        best = np.where(ok, t, best)
-        normal[ok] = outward
-        facade[ok] = np.stack([along[ok], hit[ok, 1], np.full(ok.sum(), whole_bays(length, nominal))], axis=1)
+    storey, _ = storeys(0.0, height, mass.floor_height)
+    rings = _rings(mass)
+    first_column = 0
+    for ring in rings:
+        edges = np.roll(ring, -1, axis=0) - ring
+        lengths = np.hypot(edges[:, 0], edges[:, 1])
+        faces = wall_faces(lengths, edges, mass.room_width, first_column)
+        first_column = int(faces.columns.max()) + 1
+        for k, (a, edge, length) in enumerate(zip(ring, edges, lengths)):
+            outward = np.array([edge[1], 0.0, -edge[0]]) / length  # right of the edge, the building on its left
+            a3 = np.array([a[0], 0.0, a[1]])
+            with np.errstate(divide="ignore", invalid="ignore"):  # rays along the wall: inf, nan
+                t = ((a3 - eye) @ outward) / (d @ outward)
+                hit = eye + d * t[:, None]
+            along = ((hit[:, 0] - a[0]) * edge[0] + (hit[:, 2] - a[1]) * edge[1]) / length
+            ok = (t > 1e-9) & (along >= 0) & (along <= length) & (hit[:, 1] >= 0) & (hit[:, 1] <= height) & (t < best)
+            best = np.where(ok, t, best)
+            normal[ok] = outward
+            facade[ok] = np.stack([faces.along[k] + along[ok], hit[ok, 1], np.full(ok.sum(), faces.bay[k]),
+                                   np.full(ok.sum(), storey)], axis=1)
+            face[ok] = (faces.width[k], 0.0, height, faces.depth[k])
+            columns[ok] = faces.columns[k]
     with np.errstate(divide="ignore", invalid="ignore"):  # level rays never meet the roof
         t = (height - eye[1]) / d[:, 1]
         top = eye + d * t[:, None]
-    ok = (t > 1e-9) & (t < best) & _inside_polygon(top[:, 0], top[:, 2], ring)
+    inside = np.zeros(n, dtype=bool)
+    for ring in rings:  # even-odd over the outline and its courtyards
+        inside ^= _inside_polygon(top[:, 0], top[:, 2], ring)
+    ok = (t > 1e-9) & (t < best) & inside
     best = np.where(ok, t, best)
     normal[ok] = (0.0, 1.0, 0.0)
     roof |= ok
-    return best, roof, normal, facade
+    return best, roof, normal, facade, face, columns
 
 
 def _quadratic_roots(a, b, c):
@@ -107,11 +137,10 @@ def _cylinder(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float)
     width, _, depth = mass.extent
     radius = width / 2
     centre = np.array([width / 2, depth / 2])
-    circumference = 2 * np.pi * radius
-    bay = whole_bays(circumference, mass.room_width)
+    bay, storey, wall, column_range = _round_face(mass, 2 * np.pi * radius, height)
     n = len(d)
     best = np.full(n, np.inf)
-    normal, facade = np.zeros((n, 3)), np.zeros((n, 3))
+    normal, facade = np.zeros((n, 3)), np.zeros((n, 4))
     ox, oz = eye[0] - centre[0], eye[2] - centre[1]
     a = d[:, 0] ** 2 + d[:, 2] ** 2
     for t in _quadratic_roots(a, 2 * (ox * d[:, 0] + oz * d[:, 2]), np.full(n, ox * ox + oz * oz - radius * radius)):
@@ -121,23 +150,23 @@ def _cylinder(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float)
         rx, rz = (ox + d[:, 0] * t) / radius, (oz + d[:, 2] * t) / radius
         angle = np.mod(np.arctan2(rz, rx), 2 * np.pi)  # facade u runs counter-clockwise from +x
         normal[ok] = np.stack([rx, np.zeros(n), rz], axis=1)[ok]
-        facade[ok] = np.stack([angle * radius, y, np.full(n, bay)], axis=1)[ok]
+        facade[ok] = np.stack([angle * radius, y, np.full(n, bay), np.full(n, storey)], axis=1)[ok]
     with np.errstate(divide="ignore", invalid="ignore"):  # level rays never meet the roof
         t = (height - eye[1]) / d[:, 1]
         top = eye + d * t[:, None]
     ok = (t > 1e-9) & (t < best) & ((top[:, 0] - centre[0]) ** 2 + (top[:, 2] - centre[1]) ** 2 <= radius * radius)
     best = np.where(ok, t, best)
     normal[ok] = (0.0, 1.0, 0.0)
-    return best, ok, normal, facade
+    return best, ok, normal, facade, np.tile(wall, (n, 1)), np.tile(column_range, (n, 1))
 
 
 def _dome(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float):
     radius = mass.extent[0] / 2
     centre = np.array([radius, 0.0, radius])
-    bay = whole_bays(2 * np.pi * radius, mass.room_width)
+    bay, storey, wall, column_range = _round_face(mass, 2 * np.pi * radius, np.pi / 2 * radius)
     n = len(d)
     best = np.full(n, np.inf)
-    normal, facade = np.zeros((n, 3)), np.zeros((n, 3))
+    normal, facade = np.zeros((n, 3)), np.zeros((n, 4))
     o = eye - centre
     for t in _quadratic_roots(np.sum(d * d, axis=1), 2 * (d @ o), np.full(n, o @ o - radius * radius)):
         r = (o + d * t[:, None]) / radius
@@ -147,8 +176,8 @@ def _dome(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float):
         lon = np.mod(np.arctan2(-r[:, 2], r[:, 0]), 2 * np.pi)
         lat = np.arcsin(np.clip(r[:, 1], -1, 1))
         normal[ok] = r[ok]
-        facade[ok] = np.stack([lon * radius, lat * radius, np.full(n, bay)], axis=1)[ok]
-    return best, np.zeros(n, dtype=bool), normal, facade
+        facade[ok] = np.stack([lon * radius, lat * radius, np.full(n, bay), np.full(n, storey)], axis=1)[ok]
+    return best, np.zeros(n, dtype=bool), normal, facade, np.tile(wall, (n, 1)), np.tile(column_range, (n, 1))
 
 
 SOLIDS = {"prism": _prism, "cylinder": _cylinder, "dome": _dome}
@@ -158,12 +187,13 @@ def cast_masses(masses: list[BuildingMass], eye: np.ndarray, dirs: np.ndarray) -
     """Nearest hit of rays (eye (3,), unit dirs (N, 3), world space) with the masses' solids."""
     n = len(dirs)
     out = SolidHits(np.full(n, np.inf), np.full(n, -1, dtype=np.int64), np.zeros(n, dtype=bool),
-                    np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+                    np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 4)), np.zeros((n, 4)),
+                    np.zeros((n, 2), dtype=np.int64))
     for index, mass in enumerate(masses):
         rot = object_to_world(mass.yaw)
         eye_local = rot.T @ (eye - np.array([mass.position[0], 0.0, mass.position[1]]))
         d_local = dirs @ rot  # rot.T applied to each row
-        t, roof, normal, facade = SOLIDS[mass.shape](mass, eye_local, d_local, float(mass.extent[1]))
+        t, roof, normal, facade, face, columns = SOLIDS[mass.shape](mass, eye_local, d_local, float(mass.extent[1]))
         nearer = t < out.t
         out.t[nearer] = t[nearer]
         out.building[nearer] = index
@@ -172,4 +202,6 @@ def cast_masses(masses: list[BuildingMass], eye: np.ndarray, dirs: np.ndarray) -
         out.direction[nearer] = d_local[nearer]
         out.normal[nearer] = normal[nearer]
         out.facade[nearer] = facade[nearer]
+        out.face[nearer] = face[nearer]
+        out.columns[nearer] = columns[nearer]
     return out

@@ -17,6 +17,8 @@ Every reader produces the same raw features, so every format shares one set of r
   the side of the nearest coastline decides the whole face.
 - trees: `natural=tree` points, and `natural=tree_row` lines planted every TREE_ROW_SPACING metres.
 - lamps: `highway=street_lamp` points (height from `height`, else 6 m).
+- entrances: `entrance=*` points within ENTRANCE_SNAP of a building's wall become its doors (the
+  main entrance first); shops mapped as points (`shop=*`) give the building they stand in shop fronts.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from ._model import BUILDING_ATTRIBUTES, Area, Lamp, MapBuilding, MapData, MapTree, Railway, ReadReport, Road
+from ._model import BUILDING_ATTRIBUTES, Area, Entrance, Lamp, MapBuilding, MapData, MapTree, Railway, ReadReport, Road
 from ._projection import LOCAL, LocalMetres, Projection, in_range
 from ._tags import building_attributes, length, number
 
@@ -38,6 +40,9 @@ PARTS_COVER = 0.9
 LANE_WIDTH = 3.0
 TREE_ROW_SPACING = 8.0
 LAMP_HEIGHT = 6.0
+ENTRANCE_SNAP = 0.5  # metres: an entrance this near a building's wall stands on it
+# Entrances in the order they get one of a building's few doors (cityshade.scene.MAX_DOORS); others after.
+ENTRANCE_ORDER = ("main", "yes", "staircase", "shop", "secondary", "home", "side", "service", "garage")
 # Carriageway width in metres by highway class when neither `width` nor `lanes` is tagged.
 ROAD_WIDTHS = {
     "motorway": 14.0, "trunk": 12.0, "primary": 10.0, "secondary": 9.0, "tertiary": 8.0,
@@ -79,6 +84,17 @@ def is_building(tags: dict[str, str]) -> bool:
     return tags.get("building", "no") != "no" or tags.get("building:part", "no") != "no"
 
 
+def point_kind(tags: dict[str, str]) -> str | None:
+    """What a tagged node is to the map (tree, street lamp, entrance, shop); None: not wanted."""
+    if tags.get("natural") == "tree":
+        return "natural"
+    if tags.get("highway") == "street_lamp":
+        return "highway"
+    if tags.get("entrance", "no") != "no":
+        return "entrance"
+    return "shop" if "shop" in tags else None
+
+
 def area_kind(tags: dict[str, str]) -> str | None:
     if tags.get("highway") and tags.get("area") != "yes":
         return None
@@ -111,7 +127,7 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
                                             for ring in rings] for kind, rings in raw.fixed["surfaces"].items()}
     raws = _finite(raws, report, geographic=False)  # points the projection cannot reach from the centre
     data = MapData(path, projection.origin, projection.crs, report=report)
-    coast, named_parents = [], []
+    coast, named_parents, shops = [], [], []
     for raw in raws:
         kind = shapely.get_type_id(raw.geometry)
         if kind in (3, 6):  # Polygon, MultiPolygon
@@ -127,8 +143,9 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
             else:
                 _add_line(data, raw)
         elif kind == 0:
-            _add_point(data, raw)
+            _add_point(data, raw, shops)
     _link_parts(data.buildings, named_parents)
+    _link_entrances(data, shops)
     if coast:
         _add_sea(data, coast)
     return data
@@ -290,14 +307,48 @@ def _tree(source_id: str, position, tags: dict[str, str], report: ReadReport) ->
     return tree
 
 
-def _add_point(data: MapData, raw: Raw) -> None:
+def _add_point(data: MapData, raw: Raw, shops: list) -> None:
     point = (raw.geometry.x, raw.geometry.y)
-    if raw.tags.get("natural") == "tree":
-        data.trees.append(_tree(raw.source_id, point, raw.tags, data.report))
-    elif raw.tags.get("highway") == "street_lamp":
-        height = length(raw.tags.get("height", ""))
+    tags = raw.tags
+    if tags.get("natural") == "tree":
+        data.trees.append(_tree(raw.source_id, point, tags, data.report))
+    elif tags.get("highway") == "street_lamp":
+        height = length(tags.get("height", ""))
         data.lamps.append(Lamp(raw.source_id, (float(point[0]), float(point[1])),
                                height=height if height and 1.0 <= height <= 30.0 else LAMP_HEIGHT))
+    if tags.get("entrance", "no") != "no":
+        data.entrances.append(Entrance(raw.source_id, (float(point[0]), float(point[1])), tags["entrance"]))
+    if "shop" in tags:
+        shops.append(raw.geometry)
+
+
+def _link_entrances(data: MapData, shops: list) -> None:
+    """Each entrance becomes a door of the buildings (and parts) whose wall it stands on, main entrances
+    first; entrances on no wall are counted. Buildings that hold a mapped shop get shop fronts."""
+    if not data.buildings:
+        return
+    outlines = np.array([b.outline for b in data.buildings], dtype=object)
+    tree = shapely.STRtree(outlines)
+    if data.entrances:
+        points = shapely.points([e.position for e in data.entrances])
+        entrance, building = tree.query(points, predicate="dwithin", distance=ENTRANCE_SNAP)
+        on_wall = shapely.distance(points[entrance], shapely.boundary(outlines[building])) <= ENTRANCE_SNAP
+        entrance, building = entrance[on_wall], building[on_wall]
+
+        def rank(i: int) -> tuple[int, int]:
+            kind = data.entrances[i].kind
+            return (ENTRANCE_ORDER.index(kind) if kind in ENTRANCE_ORDER else len(ENTRANCE_ORDER), i)
+
+        for i, b in sorted(zip(entrance.tolist(), building.tolist()), key=lambda pair: rank(pair[0])):
+            data.buildings[b].doors.append(data.entrances[i].position)
+            data.buildings[b].tagged.add("doors")
+        for i in sorted(set(range(len(data.entrances))) - set(entrance.tolist())):
+            data.report.skip("entrance", f"not on a building's wall (within {ENTRANCE_SNAP} m)",
+                             data.entrances[i].source_id)
+    if shops:
+        _, building = tree.query(np.array(shops, dtype=object), predicate="within")
+        for b in set(building.tolist()):
+            data.buildings[b].shop_front = True
 
 
 def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str]]) -> None:

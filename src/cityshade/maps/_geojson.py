@@ -3,7 +3,8 @@
 Polygons and MultiPolygons (with holes) are buildings unless their properties make them land use
 (`natural=water`, `leisure=park`, ...); one without any such tag is read as `building=yes`, which
 is what a footprint file means. LineStrings are roads, railways or tree rows by their tags; Points
-with `natural=tree` or `highway=street_lamp` are trees and lamps. Anything else (MultiPoint,
+with `natural=tree` or `highway=street_lamp` are trees and lamps, with `entrance=*` doors and with
+`shop=*` shops. Anything else (MultiPoint,
 GeometryCollection, null geometry, coordinates that are not number pairs) is counted and skipped.
 
 Coordinates are longitude/latitude (RFC 7946) unless a legacy `crs` member names another system,
@@ -21,7 +22,7 @@ import pyproj
 import shapely
 
 from ..errors import UsageError
-from ._assemble import Raw, area_kind, assemble, is_building
+from ._assemble import Raw, area_kind, assemble, is_building, point_kind
 from ._model import MapData, ReadReport
 from ._projection import LOCAL, in_range
 
@@ -161,8 +162,8 @@ def read_geojson(path: Path, text: str) -> MapData:
         kind = shapely.get_type_id(geometry)
         if kind in (3, 6) and not is_building(tags) and area_kind(tags) is None:
             tags["building"] = "yes"  # a footprint file's polygons are buildings
-        elif kind == 0 and tags.get("natural") != "tree" and tags.get("highway") != "street_lamp":
-            report.skip("feature", "a Point that is not natural=tree or highway=street_lamp", element)
+        elif kind == 0 and point_kind(tags) is None:
+            report.skip("feature", "a Point that is no tree, street lamp, entrance or shop", element)
             continue
         raws.append(Raw(element, geometry, tags))
     return assemble(path, raws, report, _source_crs(path, data, raws, report))

@@ -17,6 +17,7 @@ import shapely
 from ._defaults import (
     DEFAULT_ROOF_ANGLE, HOUSE, MATERIAL_COLOURS, SMALL_FOOTPRINT, defaults_for, resolve_contradictions, settle_top,
 )
+from ._doors import place_doors
 from ._learn import Estimates, estimate
 from ._model import MapBuilding, MapData, MapTree, ReadReport
 
@@ -32,7 +33,8 @@ TREE_DEFAULTS = {  # leaf type -> (genus, height m, crown diameter / height)
 
 
 def guess_missing(map_data: MapData) -> None:
-    """Fills every attribute of every building and tree that is still None, adding its name to `guessed`.
+    """Fills every attribute of every building and tree that is still None, adding its name to `guessed`,
+    and gives buildings without a mapped entrance a door on the street side (`place_doors`).
 
     Contradictory tags are settled first by the documented rules and counted in `map_data.report`.
     Deterministic: the same map gives the same guesses.
@@ -44,6 +46,7 @@ def guess_missing(map_data: MapData) -> None:
         estimates = estimate(map_data.buildings, shape)
         for i, building in enumerate(map_data.buildings):
             _fill_building(building, estimates, shape, i, map_data.report)
+    place_doors(map_data)
     _guess_trees(map_data.trees)
 
 

@@ -3,7 +3,7 @@
 Buildings and parts, roof shapes, per attribute how many buildings had it tagged and how many got
 it guessed (`guess_missing` runs first, as it does before rendering), road and railway lengths by
 class, water and green areas (each kind's union, so overlapping polygons count once), trees,
-street lamps, and every repaired, skipped or fallen-back feature with its reason and one example.
+street lamps, doors (at mapped entrances or guessed) and shop fronts, and every repaired, skipped or fallen-back feature with its reason and one example.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from pathlib import Path
 
 import shapely
 
+from ._doors import on_ground
 from ._guess import guess_missing
 from ._load import load_map
 from ._model import BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapData
@@ -41,6 +42,17 @@ def _report(counter: Counter, examples: dict) -> list[dict]:
             for (what, why), count in counter.most_common()]
 
 
+def _doors(data: MapData) -> dict[str, int]:
+    """Door points of the drawn buildings whose walls reach the ground: at mapped entrances, or guessed
+    on the street side; and how many drawn buildings have shop fronts."""
+    drawn = [b for b in data.buildings if b.drawn]
+    grounded = [b for b in drawn if on_ground(b)]
+    return {"entrances": len(data.entrances),
+            "from_entrances": sum(len(b.doors) for b in grounded if "doors" in b.tagged),
+            "guessed": sum(len(b.doors) for b in grounded if "doors" in b.guessed),
+            "buildings_with_shop_fronts": sum(b.shop_front for b in drawn)}
+
+
 def summary(data: MapData) -> dict:
     """The numbers `info` prints, as a JSON-ready dict (guessing must already have run)."""
     outlines = [b for b in data.buildings if not b.is_part]
@@ -62,6 +74,7 @@ def summary(data: MapData) -> dict:
         "green_m2": round(sum(areas.get(kind, 0.0) for kind in GREEN), 1),
         "trees": len(data.trees), "tree_attributes": _origin_counts(data.trees, TREE_ATTRIBUTES),
         "street_lamps": len(data.lamps),
+        "doors": _doors(data),
         "repaired": _report(data.report.repaired, data.report.examples),
         "skipped": _report(data.report.skipped, data.report.examples),
         "fallbacks": _report(data.report.fallbacks, data.report.examples),
@@ -84,6 +97,9 @@ def _text(info: dict) -> str:
     lines.append(f"water: {info['water_m2']:.0f} m²  green: {info['green_m2']:.0f} m²  ("
                  + ", ".join(f"{k} {v:.0f}" for k, v in info["area_m2"].items()) + ")")
     lines.append(f"trees: {info['trees']}  street lamps: {info['street_lamps']}")
+    doors = info["doors"]
+    lines.append(f"doors: {doors['from_entrances']} at mapped entrances ({doors['entrances']} entrances mapped), "
+                 f"{doors['guessed']} guessed on the street side; shop fronts: {doors['buildings_with_shop_fronts']}")
     for section in ("repaired", "skipped", "fallbacks"):
         for entry in info[section]:
             example = f" (e.g. {entry['example']})" if entry["example"] else ""

@@ -9,8 +9,9 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..scene import BuildingMass
+from ..scene import USES, BuildingMass
 from ._defaults import defaults_for
+from ._doors import mass_doors
 from ._model import MapBuilding, MapData, to_scene
 from ._roofs import building_roof
 
@@ -34,15 +35,36 @@ STYLE_BY_USE = {
 }
 STYLES = 8
 
+# What decides when a building's rooms are lit (cityshade.scene.LIT_SCHEDULE), by its use or kind;
+# anything else (building=yes with no use) is "mixed".
+USE_BY_KIND = {
+    **dict.fromkeys(("residential", "apartments", "dormitory", "house", "detached", "terrace", "semidetached_house",
+                     "bungalow", "cabin", "farm", "hotel"), "home"),
+    **dict.fromkeys(("office", "bank"), "office"),
+    **dict.fromkeys(("commercial", "retail", "shop", "supermarket", "kiosk", "restaurant", "cafe", "bar", "pub",
+                     "fast_food"), "shop"),
+    **dict.fromkeys(("industrial", "warehouse", "factory", "manufacture"), "industry"),
+    **dict.fromkeys(("civic", "public", "government", "school", "kindergarten", "university", "college", "hospital",
+                     "church", "cathedral", "chapel", "mosque", "synagogue", "temple", "place_of_worship", "museum", "library",
+                     "townhall", "train_station", "transportation"), "public"),
+}
+
 
 def facade_style(building: MapBuilding) -> int:
     """The facade style (0..7) for a building's use or kind; unknown uses get a stable varied one."""
     if building.small_utility:
         return STYLE_BY_USE["shed"]  # whatever its tag says, a small outbuilding looks like a shed
+    if building.shop_front:
+        return STYLE_BY_USE["shop"]  # shop fronts on the ground floor, storeys of windows above
     for use in (building.use, building.kind):
         if use in STYLE_BY_USE:
             return STYLE_BY_USE[use]
     return int(building.index) % STYLES
+
+
+def use_code(building: MapBuilding) -> int:
+    """The building's USE_* code (cityshade.scene.USES) from its use, else its kind."""
+    return USES[next((USE_BY_KIND[use] for use in (building.use, building.kind) if use in USE_BY_KIND), "mixed")]
 
 
 def heights(building: MapBuilding) -> tuple[float, float, float]:
@@ -98,13 +120,15 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
     c, s = np.cos(yaw), np.sin(yaw)
     origin = (float(c * low[0] + s * low[1]), float(-s * low[0] + c * low[1]))
     local = shapely.Polygon(exterior, [np.asarray(h) for h in holes])
+    doors = mass_doors(_to_local(to_scene(building.doors), yaw) - low, local) if building.doors and base <= 0 and building.has_walls else ()
     roof = building_roof(building, local, yaw, height - base)
     if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
         return None
     return BuildingMass(
         "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,
-        seed=building.index, style=facade_style(building), holes=holes, base=base, roof=roof,
-        walls=building.has_walls, wall_colour=building.building_colour, wall_material=building.building_material,
+        seed=building.index, style=facade_style(building), use=use_code(building), shop_front=building.shop_front,
+        holes=holes, base=base, roof=roof,
+        walls=building.has_walls, doors=doors, wall_colour=building.building_colour, wall_material=building.building_material,
         guessed=frozenset(building.guessed),
         # A shed or sauna: no rooms behind its few windows, only dark panes.
         **({"interior": False, "furniture": False, "curtains": False, "lights": 0.0} if building.small_utility else {}),

@@ -70,6 +70,11 @@ class MapBuilding:
     # A shed, sauna, garage, kiosk, tank or any footprint under ~30 m² whose size the map does not give:
     # one storey, no interior rooms, a door and few or no windows (set by the guessing model).
     small_utility: bool = False
+    # Shops on the ground floor: `shop=*` on the building, or a shop mapped as a point inside it.
+    shop_front: bool = False
+    # Door points on the outline (map metres), the main entrance first: mapped `entrance=*` nodes
+    # ("doors" in `tagged`), else one on the street side placed by the guessing model ("doors" in `guessed`).
+    doors: list[tuple[float, float]] = field(default_factory=list)
     tags: dict[str, str] = field(default_factory=dict)
     tagged: set[str] = field(default_factory=set)
     guessed: set[str] = field(default_factory=set)
@@ -154,6 +159,15 @@ class Lamp:
 
 
 @dataclass
+class Entrance:
+    """A mapped door (`entrance=*` node): main, yes, staircase, service, shop, ..."""
+
+    source_id: str
+    position: tuple[float, float]  # map metres
+    kind: str
+
+
+@dataclass
 class ReadReport:
     """What a reader repaired, skipped or fell back on, counted by (what, why)."""
 
@@ -190,6 +204,7 @@ class MapData:
     areas: list[Area] = field(default_factory=list)
     trees: list[MapTree] = field(default_factory=list)
     lamps: list[Lamp] = field(default_factory=list)
+    entrances: list[Entrance] = field(default_factory=list)
     report: ReadReport = field(default_factory=ReadReport)
 
     @property

@@ -1,7 +1,7 @@
 """OpenStreetMap `.osm.pbf` and `.osm` XML (also gzip or bzip2 compressed) through pyosmium: its area
 assembler builds multipolygons.
 
-One streaming pass: nodes give trees and street lamps; ways give roads, railways, tree rows, the
+One streaming pass: nodes give trees, street lamps, entrances and shops; ways give roads, railways, tree rows, the
 coastline, and (closed) building outlines, `building:part`s and land use; the area assembler gives
 multipolygon relations with their inner rings. What cannot be built (an unclosed building way, a
 way with a missing node, a relation with open rings) is counted and skipped.
@@ -24,7 +24,7 @@ import osmium
 import shapely
 
 from ..errors import UsageError
-from ._assemble import RAILWAYS, Raw, area_kind, assemble, is_building
+from ._assemble import RAILWAYS, Raw, area_kind, assemble, is_building, point_kind
 from ._model import MapData, ReadReport
 
 PROLOG_BYTES = 65536
@@ -157,10 +157,11 @@ class _Collector:
             self.report.repair("node", "duplicate or unsorted node id (the last one is used)", f"node/{node.id}")
         self.last_node = node.id
         tags = node.tags
-        if tags.get("natural") != "tree" and tags.get("highway") != "street_lamp":
+        what = point_kind(tags)
+        if what is None:
             return
         if not node.location.valid():
-            self.report.skip(tags.get("natural") or "highway", "location missing or out of range", f"node/{node.id}")
+            self.report.skip(what, "location missing or out of range", f"node/{node.id}")
             return
         self.raws.append(Raw(f"node/{node.id}", shapely.Point(node.location.lon, node.location.lat), dict(tags)))
 

@@ -16,6 +16,9 @@ MIN_WALL = 0.5  # metres of wall a roof always leaves under itself (a building t
 # where nothing gives a height: the pitch of a ridged or pointed roof, the rise of a dome over its radius
 DEFAULT_PITCH = {"cone": 60.0, "pyramidal": 45.0}
 DOME_RISE = {"dome": 1.0, "onion": 1.6}
+# Flat roofs of blocks (PARAPET_LEVELS storeys or more) end in a parapet this high; houses and sheds not.
+PARAPET = 0.5
+PARAPET_LEVELS = 3
 
 
 def _direction(building: MapBuilding, yaw: float) -> float:
@@ -52,8 +55,11 @@ def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, h
     """The roof of `building` over its object-space `outline`, turned by `yaw`, on a mass `height`
     metres tall from its base (the roof takes at most what leaves `MIN_WALL` of wall)."""
     shape = building.roof_shape if building.roof_shape in ROOF_SHAPES else "flat"
+    block = building.has_walls and not building.small_utility and (building.levels or 0) >= PARAPET_LEVELS
+    flat = Roof(colour=building.roof_colour, material=building.roof_material,
+                parapet=PARAPET if block and height >= PARAPET + MIN_WALL else 0.0)
     if shape == "flat":
-        return Roof(colour=building.roof_colour, material=building.roof_material)
+        return flat
     direction = _direction(building, yaw)
     run = _run(shape, outline, direction)
     if building.roof_height is not None:
@@ -68,5 +74,5 @@ def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, h
         rise = math.tan(math.radians(DEFAULT_PITCH.get(shape, DEFAULT_ROOF_ANGLE))) * run
     rise = min(rise, height - (MIN_WALL if building.has_walls else 0.0))
     if rise <= 0:
-        return Roof(colour=building.roof_colour, material=building.roof_material)
+        return flat
     return Roof(shape, float(rise), direction, building.roof_colour, building.roof_material)

@@ -150,5 +150,6 @@ def building_attributes(building: MapBuilding, tags: dict[str, str], report: Rea
         setattr(building, name, value)
         building.tagged.add(name)
     building.use = use_of(tags)
+    building.shop_front = "shop" in tags
     if building.use is not None:
         building.tagged.add("use")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget, bind_textures, draw_fullscreen, upload_texture
+from ..gl import ProgramCache, RenderTarget, bind_textures, create_buffer, draw_fullscreen, upload_texture
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices
 from ._maps import DetailMaps
 from ._pack import pack_bits
@@ -70,7 +70,7 @@ class GpuFacade:
         packed_boxes = boxes.astype(np.uint32)
         words = np.column_stack([packed_boxes[:, 0] | packed_boxes[:, 1] << 16,
                                  packed_boxes[:, 2] | packed_boxes[:, 3] << 16]).astype(np.uint32)
-        self.boxes = ctx.buffer(words.tobytes() if len(words) else bytes(8))
+        self.boxes = create_buffer(ctx, words)
         self.codec_textures = {"raw": {"u_raw": self.raw}}
         for method, facade in self.compressed.items():
             fs = [facade.factors[name] for name in MAP_NAMES]

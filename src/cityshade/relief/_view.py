@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, set_uniforms
+from ..gl import FRAME_BLOCK, DrawBuffers, ProgramCache, RenderTarget, create_buffer, draw_buffers, set_uniforms
 from ..scene import Camera
 from ._gpu import RENDERERS, GpuFacade, renderer_defines
 from ._maps import DetailMaps
@@ -125,16 +125,16 @@ def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacad
     than them."""
     defines = {**renderer_defines(renderer, lsb_mod37, tiled), "DEPTH_ONLY": depth_only, "EARLY_DEPTH": after_prepass}
     program = programs.get("relief/facade.glsl", defines)
-    vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(np.ascontiguousarray(frames, FRAME_DTYPE).tobytes())
-    vao = ctx.vertex_array(program, [(vbo, "3f4 i4", "in_position", "in_face"), (ibo, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")])
+    buffers = draw_buffers(ctx)  # rewritten each draw, made once
+    quads = buffers.write("relief quads", np.ascontiguousarray(vertices, VERTEX_DTYPE))
+    instances = buffers.write("relief frames", np.ascontiguousarray(frames, FRAME_DTYPE))
+    vao = buffers.vertex_array(program.glo, program, [(quads, "3f4 i4", "in_position", "in_face"),
+                                                      (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")])
     facade.bind(program, RENDERERS[renderer][1])
     write_frame_block(ctx, camera, aspect)
     set_uniforms(program, u_view_proj=camera.view_projection(aspect), u_map_scale=np.abs(map_scale(facade.maps)))
     ctx.enable(moderngl.DEPTH_TEST)
-    vao.render(moderngl.TRIANGLES, instances=len(frames))
-    vao.release()
-    vbo.release()
-    ibo.release()
+    vao.render(moderngl.TRIANGLES, vertices=len(vertices), instances=len(frames))
 
 
 class MeshFacade:
@@ -144,24 +144,25 @@ class MeshFacade:
         self.maps = maps
         vertices, indices = relief_mesh(maps)
         self.triangles = len(indices) // 3
-        self.vbo, self.ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(indices.tobytes())
+        self.vbo, self.ibo = create_buffer(ctx, vertices), create_buffer(ctx, indices)
         self.nbytes = vertices.nbytes + indices.nbytes
+        self.instances = DrawBuffers(ctx)  # the frames drawn, which change with the view
 
     def draw(self, ctx: moderngl.Context, programs: ProgramCache, camera: Camera, frames: np.ndarray, aspect: float):
         program = programs.get("relief/mesh.glsl")
-        instances = ctx.buffer(np.ascontiguousarray(frames, FRAME_DTYPE).tobytes())
-        vao = ctx.vertex_array(program, [(self.vbo, "3f4 i4 i4", "in_position", "in_face", "in_material"),
-                                         (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")],
-                               index_buffer=self.ibo)
+        instances = self.instances.write("frames", np.ascontiguousarray(frames, FRAME_DTYPE))
+        vao = self.instances.vertex_array(
+            program.glo, program, [(self.vbo, "3f4 i4 i4", "in_position", "in_face", "in_material"),
+                                   (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")],
+            index_buffer=self.ibo)
         write_frame_block(ctx, camera, aspect)
         set_uniforms(program, u_view_proj=camera.view_projection(aspect), u_map_scale=np.abs(map_scale(self.maps)))
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.enable(moderngl.CULL_FACE)  # every quad wound counter-clockwise seen from outside
-        vao.render(moderngl.TRIANGLES, instances=len(frames))
+        vao.render(moderngl.TRIANGLES, vertices=3 * self.triangles, instances=len(frames))
         ctx.disable(moderngl.CULL_FACE)
-        vao.release()
-        instances.release()
 
     def release(self):
+        self.instances.release()
         self.vbo.release()
         self.ibo.release()

@@ -1,12 +1,13 @@
-"""A city uploaded to the GPU: one vertex buffer for all buildings (ordered in frustum-culled
-chunks), one SSBO of building records, and the ground quads. Vertex arrays are cached per program."""
+"""A city uploaded to the GPU: one vertex buffer for all buildings (ordered chunk by chunk, each
+building a contiguous range), one SSBO of building records, the buildings' boxes for the cull pass,
+and the ground quads. Vertex arrays are cached per program."""
 
 from __future__ import annotations
 
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays
+from ..gl import VertexArrays, create_buffer
 from ..relief import CityRelief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
@@ -14,6 +15,7 @@ from ._culling import BuildingChunks
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
+from ._visibility import BuildingVisibility, building_boxes, building_ranges
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -42,39 +44,41 @@ class CityGPU:
         self.ctx = ctx
         self.city = city
         vertices, records = batch(city.masses)
-        self.facades = assign_facades(records, city.masses)  # buildings per facade kind
+        self.facades = assign_facades(records, city.masses, vertices)  # buildings per facade kind (narrow faces: plain)
         self.relief = CityRelief(ctx)
         self.chunks = BuildingChunks(vertices)
         vertices = self.chunks.vertices
         self.building_count = len(city.masses)
         self.building_vertex_count = len(vertices)
-        self.building_vbo = ctx.buffer(vertices.tobytes()) if len(vertices) else None
-        self.records = ctx.buffer(records.tobytes() if len(records) else b"\0" * 64)
+        self.visibility = BuildingVisibility(ctx, building_boxes(vertices, *building_ranges(vertices, self.building_count)))
+        self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
+        self.records = create_buffer(ctx, records)
         ground = ground_vertices(city)
-        self.ground_vbo = ctx.buffer(ground.tobytes())
+        self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
         self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
-        self.chunks_drawn = len(self.chunks)
 
     def _vao(self, program, vbo, fmt, attributes):
         return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
 
-    def draw_buildings(self, program, view_projection: np.ndarray | None = None):
-        """All buildings in one call; with a view-projection, only the chunks inside its frustum
-        (one call per run of neighbouring visible chunks)."""
+    def draw_buildings(self, program, view_projection: np.ndarray | None = None,
+                       draws: moderngl.Buffer | None = None):
+        """All buildings in one call; with `draws` (commands of BuildingVisibility), one multi-draw
+        indirect call of a command per building, in the same order; with a view-projection, only
+        the chunks inside its frustum (one call per run of neighbouring visible chunks)."""
         if self.building_vbo is None:
             return
         self.records.bind_to_storage_buffer(0)
         vao = self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES)
-        if view_projection is None:
+        if draws is not None:
+            vao.render_indirect(draws, moderngl.TRIANGLES, count=self.visibility.count)
+        elif view_projection is not None:
+            for first, count in self.chunks.visible_runs(self.chunks.visible(view_projection)):
+                vao.render(moderngl.TRIANGLES, vertices=count, first=first)
+        else:
             vao.render(moderngl.TRIANGLES)
-            return
-        keep = self.chunks.visible(view_projection)
-        self.chunks_drawn = int(keep.sum())
-        for first, count in self.chunks.visible_runs(keep):
-            vao.render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def polygonised(self) -> PolygonisedGPU:
         """Real interior geometry for the polygonised-interiors baseline, built on first use."""
@@ -91,6 +95,7 @@ class CityGPU:
             if buf is not None:
                 buf.release()
         self.relief.release()
+        self.visibility.release()
         self.street_lights.release()
         if self._polygonised is not None:
             self._polygonised.release()

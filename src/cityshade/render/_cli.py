@@ -43,7 +43,8 @@ def register(subparsers):
                         help="named viewpoint of the city, or lon,lat,height,heading for a city from --map")
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
-    parser.add_argument("--lights", default=None, help="share of lit rooms, 0..1 (default: from --time)")
+    parser.add_argument("--lights", default=None,
+                        help="share of lit rooms, 0..1, for every building (default: by each building's use and --time)")
     parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
     parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
     parser.add_argument("--samples", type=int, default=4, choices=(0, 2, 4, 8),

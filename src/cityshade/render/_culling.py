@@ -1,5 +1,6 @@
-"""Frustum culling of the batched city: buildings are grouped into square chunks, each a
-contiguous vertex range with a bounding box; the visible ranges go to one multi-draw call."""
+"""The batched city's vertex order and its CPU frustum culling: buildings are grouped into square
+chunks, each a contiguous vertex range with a bounding box (and each building a contiguous range
+within it, which the GPU culling of render/_visibility.py draws from)."""
 
 from __future__ import annotations
 
@@ -36,7 +37,9 @@ class BuildingChunks:
         centre /= np.maximum(np.bincount(building, minlength=count), 1)[:, None]
         cell = np.floor(centre / chunk_size).astype(np.int64)
         keys = np.unique(cell, axis=0, return_inverse=True)[1].ravel() if count else np.zeros(0, np.int64)
-        order = np.argsort(keys[building], kind="stable")  # triangles stay whole: a building's vertices stay in order
+        # by chunk, then building (each building one contiguous range for the cull pass); stable, so
+        # triangles stay whole and a building's vertices stay in order
+        order = np.lexsort((building, keys[building]))
         self.vertices = vertices[order]
         vertex_chunk = keys[building][order]
         chunks = int(vertex_chunk.max()) + 1 if len(vertex_chunk) else 0

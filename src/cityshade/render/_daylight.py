@@ -1,4 +1,5 @@
-"""Time of day -> sun, sky and the share of lit rooms (interior-mapping §4.1 animates c at dusk)."""
+"""Time of day -> sun and sky. (The share of lit rooms at each hour, per building use, is
+cityshade.scene.lit_shares.)"""
 
 from __future__ import annotations
 
@@ -58,7 +59,6 @@ class Daylight:
     sky_ambient: np.ndarray
     ground_ambient: np.ndarray
     dusk: float                 # 0 = day, 1 = night
-    lights: float               # probability c that a room is lit
     exposure: float
     sky_sun: np.ndarray | None = None  # toward the sun itself, for the sky (None: sun_direction)
     moon_direction: np.ndarray | None = None  # toward the moon when it is up and the sun is down
@@ -81,10 +81,6 @@ class Daylight:
         dusk = 1.0 - _smoothstep(-8.0, 25.0, elevation)
         sky = (1 - dusk) * np.array([0.35, 0.45, 0.6]) + dusk * np.array([0.05, 0.06, 0.11])
         ground = sky * np.array([0.45, 0.4, 0.35])
-        # offices stay lit in the evening, homes light up at dusk, most go dark after midnight
-        evening = _smoothstep(16.0, 21.0, hours)
-        late = _smoothstep(23.0, 26.0, hours if hours >= 12 else hours + 24)
-        lights = 0.12 + 0.66 * evening * (1 - 0.6 * late)
         exposure = 0.5 + 0.8 * dusk
         if sun is not None:  # maps are mostly seen from above: pale roofs face a high sun squarely
             exposure -= 0.15 * high
@@ -93,7 +89,7 @@ class Daylight:
             moon_direction = compass_direction(moon[0], moon[1])
             light = moon_direction
             sun_color = MOONLIGHT * moon[2] * _smoothstep(0.0, 10.0, moon[0])
-        return cls(hours, light, sun_color, sky, ground, float(dusk), float(np.clip(lights, 0, 1)), float(exposure),
+        return cls(hours, light, sun_color, sky, ground, float(dusk), float(exposure),
                    sky_sun=direction, moon_direction=moon_direction,
                    street_lights=1.0 - _smoothstep(-2.0, 1.0, elevation),
                    moon_lit=float(moon[2]) if moon is not None else 0.0, sun_elevation=elevation)

@@ -9,14 +9,22 @@ interior mapping of every window-bay facade at once.
 
 from __future__ import annotations
 
+import warnings
 from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_texture, seed_cells
+from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min_widths, library_texture, seed_cells
 from ..relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES
-from ..scene import SHAPES, BuildingMass
+from ..scene import SHAPES, SURFACE_PLAIN_WALL, SURFACE_WALL, BuildingMass
+
+NARROW_FACES = "plain wall (face narrower than its grammar)"  # the count assign_facades keeps of them
+
+
+class GrammarFitWarning(UserWarning):
+    """Wall faces narrower than their building's grammar fits were drawn as plain walls."""
+
 
 WINDOW_BAY = 0  # the record's facade.x of the textured window bay with interior-mapped rooms
 
@@ -55,14 +63,43 @@ def choose_facade(mass: BuildingMass) -> FacadeKind:
     return next(kind for kind in FACADE_KINDS if kind.accepts(mass))
 
 
-def assign_facades(records: np.ndarray, masses) -> Counter:
+def assign_facades(records: np.ndarray, masses, vertices: np.ndarray | None = None) -> Counter:
     """Writes each building's facade into records['facade'] (code, grammar start rule, seed cells);
-    returns how many buildings each kind got."""
+    returns how many buildings each kind got. With the buildings' `vertices` (scene.batch), the
+    wall faces too narrow for their grammar become plain walls (surface SURFACE_PLAIN_WALL): counted
+    under NARROW_FACES, with a GrammarFitWarning."""
     kinds = [choose_facade(m) for m in masses]
     records["facade"][:, 0] = [kind.code for kind in kinds]
     grammar = [i for i, kind in enumerate(kinds) if kind.grammar_style is not None]
+    counts = Counter(kind.name for kind in kinds)
     if grammar:
         compiled = library_texture()
         records["facade"][grammar, 1] = [compiled.address(kinds[i].grammar_style) for i in grammar]
         records["facade"][grammar, 2:] = seed_cells([masses[i].seed for i in grammar])
-    return Counter(kind.name for kind in kinds)
+        if vertices is not None:
+            needs = np.zeros(len(masses))
+            needs[grammar] = [library_min_widths()[kinds[i].grammar_style] for i in grammar]
+            narrow = _plain_narrow_faces(vertices, needs)
+            if narrow:
+                counts[NARROW_FACES] = narrow
+                warnings.warn(
+                    f"{narrow} wall faces are narrower than their building's grammar fits "
+                    f"(the narrowest face each library style fits: {_widths()}): drawn as plain walls",
+                    GrammarFitWarning,
+                    stacklevel=2,
+                )
+    return counts
+
+
+def _plain_narrow_faces(vertices: np.ndarray, needs: np.ndarray) -> int:
+    """Marks the wall vertices of faces narrower than their building needs as plain walls; returns
+    how many faces (building, room columns) that was."""
+    building = vertices["ids"][:, 0]
+    narrow = (vertices["ids"][:, 1] == SURFACE_WALL) & (vertices["face"][:, 0] < needs[building] - 1e-6)
+    vertices["ids"][narrow, 1] = SURFACE_PLAIN_WALL
+    faces = np.column_stack([building[narrow], vertices["ids"][narrow, 2:], vertices["face"][narrow, 1:3]])
+    return len(np.unique(faces, axis=0))
+
+
+def _widths() -> str:
+    return ", ".join(f"{style} {width:g} m" for style, width in library_min_widths().items())

@@ -11,16 +11,16 @@ when asked, times each one with ctx.finish() around it.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import moderngl
 import numpy as np
 
-from ..gl import FRAME_BLOCK, ProgramCache, RenderTarget, bind_textures, draw_fullscreen, set_uniforms
+from ..gl import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, ProgramCache, RenderTarget, bind_textures, draw_fullscreen, set_uniforms
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
-from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION
+from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, lit_shares
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
@@ -30,9 +30,11 @@ from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
 from ._trees import TreePass, draw_trees
+from ._visibility import cull_pass, hiz_pass, occluder_pass
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
 ROOM_DARK = np.array([0.018, 0.02, 0.03])
+WINDOW_TINT = np.array([0.02, 0.025, 0.03])  # the glass where no room is drawn behind it
 
 
 @dataclass
@@ -53,56 +55,83 @@ class FrameTargets:
 
 
 @dataclass
-class FrameInputs:
-    """What one frame needs, gathered once and handed to every pass."""
+class FrameResources:
+    """What the frame draws with and into: made by the renderer and kept across frames."""
 
     ctx: moderngl.Context
     programs: ProgramCache
-    city: CityGPU
-    textures: CityTextures
-    env: moderngl.TextureCube
+    city: CityGPU  # the buildings', ground's and lamps' buffers
+    textures: CityTextures  # rooms, facades, sprites, grammars
+    env: moderngl.TextureCube  # the sky's radiance, remade when the daylight changes
+    targets: FrameTargets
+    shadows: CascadedShadows | None = None  # None: shadows off
+    trees: TreePass | None = None  # None: no trees drawn
+    camera_draws: moderngl.Buffer | None = None  # this frame's cull pass's draw commands for the camera
+
+
+@dataclass
+class FrameView:
+    """What this frame shows: from where, when, how, at what size, and which frame it is."""
+
     camera: Camera
     settings: RenderSettings
     daylight: Daylight
     size: tuple[int, int]
-    targets: FrameTargets = field(default_factory=FrameTargets)
-    shadows: CascadedShadows | None = None
-    trees: TreePass | None = None
-    frame_index: int = 0
+    frame_index: int = 0  # the shadow cascades update at their own rates (SpeedTree §4.3.2)
 
     @property
     def view_projection(self) -> np.ndarray:
         return self.camera.view_projection(self.size[0] / self.size[1])
 
-    def building_defines(self, **extra) -> dict:
-        s = self.settings
-        return {"INTERIOR_MAPPING": s.interior_mapping, "IM_SINGLE_ATLAS": s.single_atlas, "INTERIOR_LOD": s.lod,
-                "NO_SHADOWS": self.shadows is None, **extra}
 
-    def common_uniforms(self) -> dict:
-        s, d, t = self.settings, self.daylight, self.textures
+@dataclass
+class FrameInputs:
+    """What one frame needs, handed to every pass: the GPU resources and the view."""
+
+    gpu: FrameResources
+    view: FrameView
+
+    def draw_buildings(self, program, view_projection: np.ndarray | None = None):
+        """The buildings seen through `view_projection` (default: the camera's), culled as
+        settings.culling says: "gpu", the cull pass's commands for the camera and a frustum test on
+        the GPU for any other view (render/_visibility.py); "frustum", chunks on the CPU; "off", all."""
+        city, culling = self.gpu.city, self.view.settings.culling
+        view = self.view.view_projection if view_projection is None else view_projection
+        if culling == "off":
+            city.draw_buildings(program)
+        elif culling == "frustum":
+            city.draw_buildings(program, view)
+        elif view_projection is None and self.gpu.camera_draws is not None:
+            city.draw_buildings(program, draws=self.gpu.camera_draws)
+        else:
+            city.draw_buildings(program, draws=city.visibility.frustum(view))
+
+    def building_defines(self, **extra) -> dict:
+        s = self.view.settings
+        return {"INTERIOR_MAPPING": s.interior_mapping, "IM_SINGLE_ATLAS": s.single_atlas, "INTERIOR_LOD": s.lod,
+                "NO_SHADOWS": self.gpu.shadows is None, **extra}
+
+    def write_frame_blocks(self):
+        """The values programs share, once per frame: camera, sun and sky for every program
+        (cityshade.gl.FRAME_BLOCK), rooms, windows and lamps for the city's (SHADING_BLOCK)."""
+        s, d, t = self.view.settings, self.view.daylight, self.gpu.textures
+        FRAME_BLOCK.write(self.gpu.ctx, u_inv_view_proj=np.linalg.inv(self.view.view_projection),
+                          u_camera=self.view.camera.eye, u_time=s.animation_time, u_sun_dir=d.sun_direction,
+                          u_exposure=d.exposure, u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient,
+                          u_ground_ambient=d.ground_ambient)
         mask = (FLAG_FURNITURE * s.furniture) | (FLAG_CURTAINS * s.curtains) | (FLAG_ROOM_VARIATION * s.room_variation)
         layout = t.atlas_layout
-        atlas_size = (t.atlas.width, t.atlas.height)
-        return dict(
-            u_view_proj=self.view_projection, u_lights=float(d.lights if s.lights is None else s.lights),
-            u_street_lights=d.street_lights,
+        shares = lit_shares(d.hours, s.lights)
+        SHADING_BLOCK.write(
+            self.gpu.ctx, u_lit_share=np.pad(shares, (0, MAX_USES - len(shares))), u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
-            u_glass_rect=np.array(t.glass_rect), u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK,
-            u_feature_mask=int(mask), u_lod_range=np.array(s.lod_range), u_window_tint=np.array([0.02, 0.025, 0.03]),
-            u_atlas_layout=np.array([layout["tile"], layout["padding"], *atlas_size], dtype=float),
-        )
-
-    def write_frame_block(self):
-        """The values every program shares, once per frame (cityshade.gl.FRAME_BLOCK)."""
-        d = self.daylight
-        FRAME_BLOCK.write(self.ctx, u_inv_view_proj=np.linalg.inv(self.view_projection), u_camera=self.camera.eye,
-                          u_time=self.settings.animation_time, u_sun_dir=d.sun_direction, u_exposure=d.exposure,
-                          u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient, u_ground_ambient=d.ground_ambient)
+            u_glass_rect=t.glass_rect, u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK, u_feature_mask=int(mask),
+            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT,
+            u_atlas_layout=(layout["tile"], layout["padding"], t.atlas.width, t.atlas.height))
 
     def room_textures(self) -> dict:
         """The textures of the interior-mapped rooms (shaders/interior/interior.glsl), by sampler name."""
-        t = self.textures
+        t = self.gpu.textures
         return dict(u_rooms=t.rooms, u_room_atlas=t.atlas, u_sprites=t.sprites, u_curtain=t.curtain)
 
 
@@ -147,36 +176,36 @@ class Pass:
 # -- what the passes draw ---------------------------------------------------------------------------
 
 def grammar_gbuffer(f: FrameInputs):
-    f.textures.grammar_pass.draw_gbuffer(f, f.textures.grammar, set_uniforms)
+    f.gpu.textures.grammar_pass.draw_gbuffer(f, f.gpu.textures.grammar, set_uniforms)
 
 
 def grammar_evaluation(f: FrameInputs):
     """Facade grammars evaluated once per pixel from the G-buffer (Krecklau §4); see grammar._frame_pass."""
-    f.textures.grammar_pass.evaluate(f, f.textures.grammar, set_uniforms)
+    f.gpu.textures.grammar_pass.evaluate(f, f.gpu.textures.grammar, set_uniforms)
 
 
 def depth_prepass(f: FrameInputs):
-    buildings = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(buildings, u_view_proj=f.view_projection)
-    f.city.draw_buildings(buildings, f.view_projection)
-    ground = f.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(ground, u_view_proj=f.view_projection)
-    f.city.draw_ground(ground)
+    buildings = f.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(buildings, u_view_proj=f.view.view_projection)
+    f.draw_buildings(buildings)
+    ground = f.gpu.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(ground, u_view_proj=f.view.view_projection)
+    f.gpu.city.draw_ground(ground)
 
 
 def draw_buildings(f: FrameInputs, defines: dict | None = None):
-    defines = {**grammar_defines(), "GRAMMAR_DEFERRED": f.settings.grammar_deferred, **(defines or {})}
-    program = f.programs.get("city/building.glsl", f.building_defines(**defines))
-    bind_textures(program, {**f.room_textures(), "u_env": f.env, "u_facade": f.textures.facade})
-    set_uniforms(program, **f.common_uniforms())
-    f.textures.grammar.bind(program)
-    if f.settings.grammar_deferred:
-        f.textures.grammar_pass.bind_results(program)
-    f.city.relief.bind(program)
-    f.city.street_lights.bind(program)
-    if f.shadows is not None:
-        f.shadows.bind(program)
-    f.city.draw_buildings(program, f.view_projection)
+    defines = {**grammar_defines(), "GRAMMAR_DEFERRED": f.view.settings.grammar_deferred, **(defines or {})}
+    program = f.gpu.programs.get("city/building.glsl", f.building_defines(**defines))
+    bind_textures(program, {**f.room_textures(), "u_env": f.gpu.env, "u_facade": f.gpu.textures.facade})
+    set_uniforms(program, u_view_proj=f.view.view_projection)
+    f.gpu.textures.grammar.bind(program)
+    if f.view.settings.grammar_deferred:
+        f.gpu.textures.grammar_pass.bind_results(program)
+    f.gpu.city.relief.bind(program)
+    f.gpu.city.street_lights.bind(program)
+    if f.gpu.shadows is not None:
+        f.gpu.shadows.bind(program)
+    f.draw_buildings(program)
 
 
 def polygonised_exteriors(f: FrameInputs):
@@ -195,13 +224,13 @@ def polygonised_glass(f: FrameInputs):
 
 
 def draw_ground(f: FrameInputs, defines: dict | None = None):
-    program = f.programs.get("city/ground.glsl", {"NO_SHADOWS": f.shadows is None, **(defines or {})})
-    bind_textures(program, {"u_env": f.env})
-    set_uniforms(program, **f.common_uniforms())
-    if f.shadows is not None:
-        f.shadows.bind(program)
-    f.city.street_lights.bind(program)
-    f.city.draw_ground(program)
+    program = f.gpu.programs.get("city/ground.glsl", {"NO_SHADOWS": f.gpu.shadows is None, **(defines or {})})
+    bind_textures(program, {"u_env": f.gpu.env})
+    set_uniforms(program, u_view_proj=f.view.view_projection)
+    if f.gpu.shadows is not None:
+        f.gpu.shadows.bind(program)
+    f.gpu.city.street_lights.bind(program)
+    f.gpu.city.draw_ground(program)
 
 
 def trees(f: FrameInputs):
@@ -209,20 +238,21 @@ def trees(f: FrameInputs):
 
 
 def draw_sky(f: FrameInputs):
-    program = f.programs.get("frame/sky.glsl")
-    bind_textures(program, {"u_env": f.env})
-    set_uniforms(program, u_stars=night_amount(f.daylight.sun_elevation))
+    program = f.gpu.programs.get("frame/sky.glsl")
+    bind_textures(program, {"u_env": f.gpu.env})
+    set_uniforms(program, u_stars=night_amount(f.view.daylight.sun_elevation))
     draw_fullscreen(program)
 
 
 def resolve(f: FrameInputs):
-    f.ctx.copy_framebuffer(f.targets.resolved.fbo, f.targets.hdr.fbo)
+    f.gpu.ctx.copy_framebuffer(f.gpu.targets.resolved.fbo, f.gpu.targets.hdr.fbo)
 
 
 def tone_map(f: FrameInputs):
-    program = f.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.settings.god_rays})
-    bind_textures(program, {"u_hdr": f.targets.resolved.colors[0]})
-    set_uniforms(program, **god_ray_uniforms(f.view_projection, f.camera.eye, f.daylight.sun_direction, f.daylight.sun_color))
+    program = f.gpu.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.view.settings.god_rays})
+    bind_textures(program, {"u_hdr": f.gpu.targets.resolved.colors[0]})
+    v = f.view
+    set_uniforms(program, **god_ray_uniforms(v.view_projection, v.camera.eye, v.daylight.sun_direction, v.daylight.sun_color))
     draw_fullscreen(program)
 
 
@@ -247,9 +277,16 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
     shadows = SHADING if settings.shadows else ()
     grammar = ("grammar textures",)
     passes = []
+    black = (0.0, 0.0, 0.0, 1.0)
     if settings.shadows:
         # cascaded shadow maps of buildings and trees, each cascade at its own rate (SpeedTree §4.3.2)
         passes.append(Pass("shadows", shadow_pass, (*CITY, "trees"), "shadow maps"))
+    if settings.culling == "gpu":
+        # the big buildings in the frustum into the depth buffer, its max-depth pyramid, then every
+        # building against frustum and pyramid into draw commands (render/_visibility.py)
+        passes.append(Pass("occluders", occluder_pass, CITY, "hdr", GLState(colour_write=False), clear=black))
+        passes.append(Pass("hi-z", hiz_pass, ("hdr",), "depth pyramid", OFF))
+        passes.append(Pass("cull", cull_pass, (*CITY, "depth pyramid"), "building draws", OFF))
     if settings.grammar_deferred:
         # Krecklau §4: a G-buffer, then one full-screen grammar evaluation per pixel, shadowed
         passes.append(Pass("grammar g-buffer", grammar_gbuffer, (*CITY, *grammar), "grammar_gbuffer",
@@ -258,7 +295,6 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
                            "grammar_result", OFF, clear=(0.0, 0.0, 0.0, 0.0)))
     facade_inputs = (*CITY, *ROOM_TEXTURES, *grammar, "relief maps", *shadows,
                      *(("grammar_result",) if settings.grammar_deferred else ()))
-    black = (0.0, 0.0, 0.0, 1.0)
     if settings.polygonised_interiors:
         # interior-mapping §3.1's baseline: exteriors with the glass cut out, real floors, ceilings
         # and walls (a floor and the ceiling below it share a plane: back faces culled), then the
@@ -298,13 +334,14 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
     return passes
 
 
-def id_passes(settings: RenderSettings, room_state: bool = False) -> list[Pass]:
+def id_passes(settings: RenderSettings, room_state: bool = False, windows: bool = False) -> list[Pass]:
     """The id AOV: per pixel (face, room id, building index + 1, grammar label) as uint32, trees as
     (FACE_TRUNK or FACE_FOLIAGE, 0, 0, 0); with `room_state` the fourth channel is the room seen
-    instead (1 | lit << 1 | variant << 2, 0: none)."""
+    instead (1 | lit << 1 | variant << 2, 0: none), with `windows` the window it is seen through
+    (a key per window of its building, 0: none)."""
 
     def id_buildings(f: FrameInputs):
-        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "INTERIOR_LOD": False})
+        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "ID_WINDOW": windows, "INTERIOR_LOD": False})
 
     inputs = (*CITY, "grammar textures", "relief maps")
     passes = [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
@@ -318,19 +355,19 @@ def id_passes(settings: RenderSettings, room_state: bool = False) -> list[Pass]:
 def run_passes(f: FrameInputs, passes: list[Pass], times: dict[str, float] | None = None):
     """Runs the passes in order. With `times`, each pass's wall time in seconds is stored under its
     name, measured with ctx.finish() before and after it."""
-    f.write_frame_block()
+    f.write_frame_blocks()
     for p in passes:
         if times is not None:
-            f.ctx.finish()
+            f.gpu.ctx.finish()
             start = time.perf_counter()
-        target = f.targets.get(p.writes)
+        target = f.gpu.targets.get(p.writes)
         if target is not None:
             target.use()
             if p.clear is not None:
-                f.ctx.color_mask, f.ctx.depth_mask = (True,) * 4, True  # a clear writes only through the masks
+                f.gpu.ctx.color_mask, f.gpu.ctx.depth_mask = (True,) * 4, True  # a clear writes only through the masks
                 target.fbo.clear(*p.clear, depth=1.0)
-        p.state.apply(f.ctx)
+        p.state.apply(f.gpu.ctx)
         p.draw(f)
         if times is not None:
-            f.ctx.finish()
+            f.gpu.ctx.finish()
             times[p.name] = time.perf_counter() - start

@@ -7,7 +7,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays, bind_textures, set_uniforms
+from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
 from ._culling import BuildingChunks
@@ -20,7 +20,7 @@ class PolygonisedGPU:
         for name, vertices in polygonised_vertices(city.masses).items():
             if len(vertices):
                 chunks = BuildingChunks(vertices)
-                self.layers[name] = (chunks, ctx.buffer(chunks.vertices.tobytes()))
+                self.layers[name] = (chunks, create_buffer(ctx, chunks.vertices))
         self._vaos = VertexArrays(ctx)
 
     @property
@@ -43,18 +43,18 @@ class PolygonisedGPU:
 
 def draw_interior_depth(f):
     """The rooms' depth only (the baseline's own prepass): floors, ceilings and walls."""
-    program = f.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(program, u_view_proj=f.view_projection)
+    program = f.gpu.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
+    set_uniforms(program, u_view_proj=f.view.view_projection)
     for layer in POLYGONISED_LAYERS:
-        f.city.polygonised().draw(program, layer, f.view_projection)
+        f.gpu.city.polygonised().draw(program, layer, f.view.view_projection)
 
 
 def draw_interior_layers(f):
     """Floors, ceilings, then walls: three draw calls, each layer its own texture kind (the frame's
     pass culls back faces: a floor and the ceiling below it share a plane)."""
-    program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.settings.single_atlas})
-    set_uniforms(program, **f.common_uniforms())
+    program = f.gpu.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.view.settings.single_atlas})
+    set_uniforms(program, u_view_proj=f.view.view_projection)
     bind_textures(program, f.room_textures())
-    f.city.records.bind_to_storage_buffer(0)
+    f.gpu.city.records.bind_to_storage_buffer(0)
     for layer in POLYGONISED_LAYERS:
-        f.city.polygonised().draw(program, layer, f.view_projection)
+        f.gpu.city.polygonised().draw(program, layer, f.view.view_projection)

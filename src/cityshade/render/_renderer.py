@@ -10,15 +10,15 @@ import numpy as np
 from .. import assets
 from .._budget import check_image_memory
 from .._values import check_size
-from ..gl import RenderTarget, create_context, describe_context, programs
+from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
-from ._frame import FrameInputs, FrameTargets, frame_passes, id_passes, run_passes
+from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_passes, id_passes, run_passes
 from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
-from ._textures import CityTextures, cubemap
+from ._textures import CityTextures
 from ._trees import TreePass
 from ..trees import city_trees
 
@@ -111,7 +111,7 @@ class Renderer:
             if night > 0.0 or daylight.moon_direction is not None:
                 radiance = night_sky(radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction,
                                      daylight.moon_lit)
-            self.env = cubemap(self.ctx, radiance)
+            self.env = upload_cubemap(self.ctx, radiance)
             self._env_key = key
         return daylight
 
@@ -124,9 +124,10 @@ class Renderer:
         self.frame_index += 1
         if self.settings.grammar_deferred:
             self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
-        return FrameInputs(self.ctx, self.programs, self.city, self.textures, self.env, camera, self.settings,
-                           daylight, self.size, self.targets, shadows=self.shadows if self.settings.shadows else None,
-                           trees=self.trees if self.settings.trees else None, frame_index=self.frame_index - 1)
+        s = self.settings
+        gpu = FrameResources(self.ctx, self.programs, self.city, self.textures, self.env, self.targets,
+                             shadows=self.shadows if s.shadows else None, trees=self.trees if s.trees else None)
+        return FrameInputs(gpu, FrameView(camera, s, daylight, self.size, self.frame_index - 1))
 
     def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None,
              profile: bool = False) -> RenderTarget:
@@ -161,13 +162,14 @@ class Renderer:
         self._current()
         return self.targets.resolved.read()[..., :3].astype(np.float32)
 
-    def render_ids(self, camera: Camera, room_state: bool = False) -> np.ndarray:
+    def render_ids(self, camera: Camera, room_state: bool = False, windows: bool = False) -> np.ndarray:
         """The id AOV as HxWx4 uint32: face code, room id, building index + 1, grammar label (with
-        `room_state`: the room seen, 1 | lit << 1 | texture variant << 2, 0 where none)."""
+        `room_state`: the room seen, 1 | lit << 1 | texture variant << 2, 0 where none; with
+        `windows`: the window a room is seen through, a key per window of the building, 0 where none)."""
         self._current()
         if self.targets.ids is None:
             self.targets.ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
-        run_passes(self._inputs(camera), id_passes(self.settings, room_state))
+        run_passes(self._inputs(camera), id_passes(self.settings, room_state, windows))
         return self.targets.ids.read().copy()
 
     def depth(self, aov: bool = False) -> np.ndarray:

@@ -4,6 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from ..errors import UsageError
+
+CULLING = ("gpu", "frustum", "off")
+
 
 @dataclass(frozen=True)
 class RenderSettings:
@@ -28,6 +32,12 @@ class RenderSettings:
     moon: tuple[float, float, float] | None = None  # (elevation, azimuth, lit fraction): moonlight at night
     animation_time: float = 0.0       # seconds, drives furniture sprites
     grammar_deferred: bool = True     # facade grammars in a deferred pass (Krecklau §4); measured faster
+    culling: str = "gpu"              # buildings: "gpu" (frustum and hierarchical depth, render/_visibility.py),
+                                      # "frustum" (96 m chunks on the CPU), "off" (all drawn)
+
+    def __post_init__(self):
+        if self.culling not in CULLING:
+            raise UsageError(f"unknown culling {self.culling!r}; allowed: {', '.join(CULLING)}")
 
     def with_(self, **changes) -> "RenderSettings":
         return replace(self, **changes)

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
-from ..gl import bind_textures, set_uniforms
+from ..gl import RenderTarget, bind_textures, set_uniforms
 
 SHADOW_BIAS = 0.0008  # texture-depth units, every cascade
 
@@ -46,15 +46,12 @@ class CascadedShadows:
         self.shadow_far = shadow_far
         self.rates = rates
         self.caster_reach = caster_reach
-        self.maps = []
-        self.fbos = []
-        for _ in range(len(rates)):
-            depth = ctx.depth_texture((resolution, resolution))
+        self.targets = [RenderTarget(ctx, (resolution, resolution), colors=()) for _ in rates]  # depth only
+        self.maps = [target.depth for target in self.targets]
+        for depth in self.maps:
             depth.compare_func = "<="
             depth.filter = (moderngl.LINEAR, moderngl.LINEAR)  # hardware 2x2 PCF per tap
             depth.repeat_x = depth.repeat_y = False
-            self.maps.append(depth)
-            self.fbos.append(ctx.framebuffer(depth_attachment=depth))
         self.matrices = [_OUTSIDE.copy() for _ in rates]
         self.stats = ShadowStats()
 
@@ -77,8 +74,8 @@ class CascadedShadows:
         for index, casters in cascades_due(frame, self.rates):
             view_proj = cascade_view_projection(inv, camera.near, camera.far, splits[index], splits[index + 1],
                                                 sun, self.resolution, self.caster_reach)
-            self.fbos[index].use()
-            self.fbos[index].clear(depth=1.0)
+            self.targets[index].use()
+            self.targets[index].fbo.clear(depth=1.0)
             calls = draw_casters(view_proj, sun, casters)
             self.matrices[index] = texture_matrix(view_proj)
             stats.redrawn.append((index, tuple(sorted(casters)), calls))
@@ -99,27 +96,28 @@ class CascadedShadows:
             bias.write(np.full(bias.array_length, SHADOW_BIAS, "f4").tobytes())
 
     def release(self):
-        for fbo, depth in zip(self.fbos, self.maps):
-            fbo.release()
-            depth.release()
+        for target in self.targets:
+            target.release()
 
 
 def shadow_pass(f):
-    """The frame's first pass: redraws the cascades due on f.frame_index with their casters
+    """The frame's first pass: redraws the cascades due on f.view.frame_index with their casters
     (buildings as depth-only, trees through the tree pass); `f` is the frame's FrameInputs."""
-    if f.shadows is None:
+    if f.gpu.shadows is None:
         return
     def draw_casters(view_proj, sun, casters) -> int:
         calls = 0
         if "buildings" in casters:
-            program = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
+            program = f.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
             set_uniforms(program, u_view_proj=view_proj)
-            f.city.draw_buildings(program, view_proj)
+            f.draw_buildings(program, view_proj)
             calls += 1
-        if f.trees is not None:
-            f.trees.prepare(f.camera.eye)
-            calls += f.trees.draw_shadow(view_proj, sun, casters)
+        if f.gpu.trees is not None:
+            f.gpu.trees.prepare(f.view.camera.eye)
+            if f.view.settings.culling == "gpu":
+                f.gpu.trees.cull(view_proj)  # the cascade's frustum
+            calls += f.gpu.trees.draw_shadow(view_proj, sun, casters)
         return calls
 
-    aspect = f.size[0] / f.size[1]
-    f.shadows.update(f.frame_index, f.camera, aspect, f.daylight.sun_direction, draw_casters)
+    aspect = f.view.size[0] / f.view.size[1]
+    f.gpu.shadows.update(f.view.frame_index, f.view.camera, aspect, f.view.daylight.sun_direction, draw_casters)

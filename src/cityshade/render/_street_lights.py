@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..gl import set_uniforms
+from ..gl import create_buffer, set_uniforms
 
 CELL = 16.0  # metres per grid cell
 BINDING_LAMPS, BINDING_CELLS, BINDING_INDICES = 6, 7, 8
@@ -86,8 +86,7 @@ class StreetLightsGPU:
         lamps = np.zeros((0, 4), np.float32) if lamps is None else np.asarray(lamps, np.float32).reshape(-1, 4)
         self.count = len(lamps)
         self.grid = light_grid(lamps)
-        self.buffers = [ctx.buffer(data.tobytes() if data.size else b"\0" * 16)
-                        for data in (lamps, self.grid.starts, self.grid.indices)]
+        self.buffers = [create_buffer(ctx, data) for data in (lamps, self.grid.starts, self.grid.indices)]
 
     def bind(self, program):
         for buffer, binding in zip(self.buffers, (BINDING_LAMPS, BINDING_CELLS, BINDING_INDICES)):

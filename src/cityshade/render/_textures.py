@@ -14,13 +14,6 @@ from ..grammar import DeferredGrammarPass, GrammarTextures, library_texture
 ROOM_FACES = ("ceiling", "floor", "wall_x", "wall_z")
 
 
-def cubemap(ctx: moderngl.Context, faces: np.ndarray):
-    faces = np.ascontiguousarray(faces.astype(np.float16))
-    tex = ctx.texture_cube((faces.shape[2], faces.shape[1]), 3, faces.tobytes(), dtype="f2")
-    tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
-    return tex
-
-
 @dataclass
 class CityTextures:
     """GL textures for rooms, facade bay, furniture sprites, curtains and the sky."""

@@ -14,8 +14,9 @@ import numpy as np
 
 from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
                      SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
-from ..gl import VertexArrays, bind_textures, set_uniforms, upload_texture
+from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
 from ._culling import boxes_visible, frustum_planes
+from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
 INSTANCE_LAYOUT = "4f 4f/i"
@@ -26,7 +27,10 @@ PARTS = {  # part -> (program, layout, attributes, extra defines)
     "leaves": ("trees/leaves.glsl", CARD_LAYOUT, CARD_ATTRIBUTES, {}),
     "fronds": ("trees/leaves.glsl", FROND_LAYOUT, FROND_ATTRIBUTES, {"FRONDS": True}),
 }
+MESHES = ("trunks", "leaves", "fronds")  # each bucket's meshes, in the order of trees/cull.glsl's commands
+INSTANCE_FLOATS = 8
 BARK, LEAF = ("u_bark_color", "u_bark_normal"), ("u_leaf_color", "u_leaf_detail")
+BRANCHES = ("trunks", "fins")  # the parts drawn from branch geometry, with bark
 PART_SAMPLERS = {"trunks": BARK, "fins": BARK, "leaves": LEAF, "fronds": LEAF}  # the textures each part samples
 
 
@@ -58,8 +62,8 @@ class _Part:
 
     def __init__(self, ctx, vertices: np.ndarray, indices: np.ndarray):
         self.count = len(indices)
-        self.vbo = ctx.buffer(vertices.astype("f4").tobytes()) if self.count else None
-        self.ibo = ctx.buffer(indices.astype("u4").tobytes()) if self.count else None
+        self.vbo = create_buffer(ctx, vertices.astype("f4")) if self.count else None
+        self.ibo = create_buffer(ctx, indices.astype("u4")) if self.count else None
 
     def release(self):
         for buf in (self.vbo, self.ibo):
@@ -93,8 +97,13 @@ class TreePass:
             "u_leaf_detail": upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
-        self.instances = {(index, lod): (ctx.buffer(reserve=max(int(np.sum(trees["species"] == index)), 1) * 32), 0)
+        capacity = {index: max(int(np.sum(trees["species"] == index)), 1) for index in self.models}
+        self.instances = {(index, lod): (create_buffer(ctx, reserve=capacity[index] * INSTANCE_FLOATS * 4), 0)
                           for index in self.models for lod in (0, 1)}
+        # (species, lod) -> draw commands of trees/cull.glsl, one per instance and mesh
+        self.commands = {key: create_buffer(ctx, reserve=capacity[key[0]] * len(MESHES) * COMMAND_WORDS * 4)
+                         for key in self.instances}
+        self.culled = False  # whether the commands of the instances written last are current
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
         self._vaos = VertexArrays(ctx)
 
@@ -126,12 +135,47 @@ class TreePass:
                 buffer = self.instances[index, lod][0]
                 buffer.write(data.tobytes())
                 self.instances[index, lod] = (buffer, len(t))
+        self.culled = False
+
+    def sway(self) -> float:
+        """How far the wind can move a tree beyond its model's reach, every way."""
+        return float(np.abs(self.settings.wind).sum())
+
+    def cull(self, view_projection: np.ndarray, pyramid: moderngl.Texture | None = None):
+        """Culls the prepared instances on the GPU (trees/cull.glsl) against the frustum of
+        `view_projection` and, with `pyramid` (render/_visibility.py), the hierarchical depth; the
+        draws until the next `prepare` take only the instances kept."""
+        for (species, lod), (buffer, count) in self.instances.items():
+            if count == 0:
+                continue
+            counts = tuple(self.parts[species, lod, mesh].count for mesh in MESHES)
+            buffer.bind_to_storage_buffer(1)
+            run_cull(self.ctx, "trees/cull.glsl", count, self.commands[species, lod], view_projection, pyramid,
+                     u_instance_count=count, u_tree_height=self.models[species].height, u_sway=self.sway(),
+                     u_index_counts=counts)
+        self.culled = True
+
+    def instance_boxes(self, species: int, lod: int) -> np.ndarray:
+        """The boxes trees/cull.glsl tests for one bucket's prepared instances (BOX_DTYPE), in float32 as there."""
+        buffer, count = self.instances[species, lod]
+        data = np.frombuffer(buffer.read(), np.float32).reshape(-1, INSTANCE_FLOATS)[:count]
+        reach = np.float32(self.models[species].height) * data[:, 4] + np.float32(self.sway())
+        boxes = np.zeros(count, BOX_DTYPE)
+        boxes["lo"][:, :3] = data[:, :3] - reach[:, None]
+        boxes["hi"][:, :3] = data[:, :3] + reach[:, None]
+        return boxes
+
+    def kept(self, species: int, lod: int) -> np.ndarray:
+        """Which of a bucket's prepared instances the last `cull` kept (read back: for tests)."""
+        count = self.instances[species, lod][1]
+        commands = np.frombuffer(self.commands[species, lod].read(), np.uint32).reshape(-1, COMMAND_WORDS)
+        return commands[:count, 1] > 0
 
     def _visible(self, view_projection: np.ndarray) -> np.ndarray:
         """Trees whose box (the model's height, scaled, every way from the root, plus the wind's
         sway) is not wholly outside the frustum."""
         heights = np.array([self.models[int(k)].height for k in self.trees["species"]])
-        reach = heights * self.trees["scale"] + np.abs(self.settings.wind).sum()
+        reach = heights * self.trees["scale"] + self.sway()
         position = self.trees["position"]
         return boxes_visible(frustum_planes(view_projection), position - reach[:, None], position + reach[:, None])
 
@@ -146,16 +190,23 @@ class TreePass:
     def _draw_part(self, program, part: str, mode=moderngl.TRIANGLES) -> int:
         bind_textures(program, {name: self.textures[name] for name in PART_SAMPLERS[part]})
         calls = 0
-        for (species, lod), (buffer, count) in self.instances.items():
+        for (species, lod), (_, prepared) in self.instances.items():
+            count = prepared
             if part == "fins":
                 count = self.fin_counts[species] if lod == 0 else 0
             gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
             if count == 0 or gpu.count == 0:
                 continue
-            model = self.models[species]
-            set_uniforms(program, u_bark_layer=float(model.species.bark_layer),
-                         u_relief_depth=model.species.relief_depth, u_bark_tile=model.species.bark_tile)
-            self._vao(program, species, lod, part).render(mode, vertices=gpu.count, instances=count)
+            if part in BRANCHES:
+                bark = self.models[species].species
+                set_uniforms(program, u_bark_layer=float(bark.bark_layer), u_relief_depth=bark.relief_depth,
+                             u_bark_tile=bark.bark_tile)
+            vao = self._vao(program, species, lod, part)
+            if self.culled:  # one command per instance, in instance order (trees/cull.glsl)
+                first = MESHES.index("trunks" if part == "fins" else part) * prepared
+                vao.render_indirect(self.commands[species, lod], mode, count=count, first=first)
+            else:
+                vao.render(mode, vertices=gpu.count, instances=count)
             calls += 1
         return calls
 
@@ -178,10 +229,11 @@ class TreePass:
         alpha_to_coverage = s.alpha_to_coverage and not ids
         base = dict(ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None),
                     ID_PASS=ids)
-        values = {**uniforms, **self._common(), "u_card_right": view[0, :3], "u_card_up": view[1, :3],
-                  "u_card_shift": np.zeros(3), "u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach,
-                  "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
-                  "u_normal_bias": s.normal_bias}
+        cards = {"u_card_right": view[0, :3], "u_card_up": view[1, :3], "u_card_shift": np.zeros(3),
+                 "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
+                 "u_normal_bias": s.normal_bias}
+        values = {"trunks": {}, "fins": {"u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach},
+                  "leaves": cards, "fronds": cards}  # each part's own uniforms, beside the shared ones
         programs = {
             "trunks": self._program("trunks", RELIEF=s.relief, **base),
             "fins": self._program("fins", **base),
@@ -197,7 +249,7 @@ class TreePass:
             if part == "fins" and not s.fins:
                 continue
             program = programs[part]
-            set_uniforms(program, **values)
+            set_uniforms(program, **uniforms, **self._common(), **values[part])
             if env is not None:
                 bind_textures(program, {"u_env": env})
             if shadows is not None:
@@ -212,14 +264,14 @@ class TreePass:
     def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters) -> int:
         """The trees' casters of one cascade; leaf cards face the light and move toward it."""
         right, up = light_basis(sun_dir)
-        values = {**self._common(), "u_view_proj": view_proj, "u_card_right": right, "u_card_up": up,
-                  "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
+        cards = {"u_card_right": right, "u_card_up": up,
+                 "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
         calls = 0
         for part in ("trunks", "fronds", "leaves"):
             if part not in casters:
                 continue
             program = self._program(part, SHADOW_PASS=True)
-            set_uniforms(program, **values)
+            set_uniforms(program, **self._common(), u_view_proj=view_proj, **({} if part in BRANCHES else cards))
             calls += self._draw_part(program, part)
         return calls
 
@@ -229,6 +281,8 @@ class TreePass:
             part.release()
         for buffer, _ in self.instances.values():
             buffer.release()
+        for buffer in self.commands.values():
+            buffer.release()
         for tex in self.textures.values():
             tex.release()
 
@@ -236,7 +290,11 @@ class TreePass:
 def draw_trees(f, ids: bool = False) -> int:
     """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's; `f` is
     the frame's FrameInputs."""
-    if f.trees is None:
+    trees, view = f.gpu.trees, f.view
+    if trees is None:
         return 0
-    f.trees.prepare(f.camera.eye, f.view_projection if ids else None)  # the id AOV's trees: only those in view
-    return f.trees.draw(f.common_uniforms(), f.camera.view(), None if ids else f.shadows, ids=ids, env=f.env)
+    trees.prepare(view.camera.eye, view.view_projection if ids else None)  # the id AOV's trees: only those in view
+    if view.settings.culling == "gpu" and not ids:  # behind the buildings' hierarchical depth, when this frame built it
+        trees.cull(view.view_projection, f.gpu.city.visibility.pyramid if f.gpu.camera_draws is not None else None)
+    return trees.draw({"u_view_proj": view.view_projection}, view.camera.view(), None if ids else f.gpu.shadows,
+                      ids=ids, env=f.gpu.env)

@@ -1,24 +1,26 @@
 """A whole city's masses meshed at once: the same vertices as building_vertices, mass by mass, in
 a few numpy passes over every building instead of a Python loop over them.
 
-The walls of every prism (outlines and courtyards), flat roofs and undersides (shapely triangulates
-them all in one call), the building records and the move to world space are computed for all
-buildings together; pitched and pointed roofs, cylinders and domes are meshed building by building
-with the per-building code. A mass's rows keep their order: walls, gables, roof, underside.
+The walls of every prism (outlines and courtyards, their faces, bays and room columns: ring_faces),
+flat roofs and undersides (shapely triangulates them all in one call), the building records and the
+move to world space are computed for all buildings together; pitched and pointed roofs (with their
+gables), parapets, cylinders and domes are meshed building by building with the per-building code. A mass's rows keep their order: walls, gables, roof, underside.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from itertools import chain
 
 import numpy as np
 import shapely
 
 from ._buildings import BuildingMass, room_sizes
-from ._extrusions import edge_walls, gable_rows, roof_rows
+from ._extrusions import gable_rows, roof_rows, wall_quads, wall_rows
 from ._meshes import SURFACE_ROOF, SURFACE_WALL, VERTEX_DTYPE, building_records, mass_rows, simplified_outline, vertex_records
 from ._records import BUILDING_DTYPE
-from ._roofs import Triangles, flat_rows, roof_triangles, upward
+from ._roofs import flat_rows, roof_triangles, upward
+from ._wall_faces import ring_faces
 
 PLAIN_OUTLINE = 64  # simplified_outline returns outlines of up to this many corners as they are
 SECTIONS = ("walls", "gables", "roof", "underside")  # a mass's rows, in this order
@@ -28,7 +30,7 @@ class _Sections:
     """Rows gathered section by section, in any order of buildings, put in building order."""
 
     def __init__(self):
-        self.chunks = []  # (sort key per row, (local, normal, facade))
+        self.chunks = []  # (sort key per row, rows: _extrusions.py)
 
     def add(self, section: str, building: np.ndarray, rows):
         if len(building):
@@ -38,7 +40,7 @@ class _Sections:
         """(rows, surface kind, building) per row, buildings in order, each in SECTIONS order."""
         key = np.concatenate([k for k, _ in self.chunks])
         order = np.argsort(key, kind="stable")  # stable: a section's rows keep their order
-        rows = tuple(np.concatenate([r[f] for _, r in self.chunks])[order] for f in range(3))
+        rows = tuple(np.concatenate([r[f] for _, r in self.chunks])[order] for f in range(5))
         key = key[order]
         section = key % len(SECTIONS)
         surface = np.where(section >= SECTIONS.index("roof"), SURFACE_ROOF, SURFACE_WALL)
@@ -123,7 +125,6 @@ def _prism_rows(masses: list[BuildingMass], rooms: np.ndarray, index: np.ndarray
     top = np.array([m.wall_top for m in chosen])
     base = np.array([m.base for m in chosen])
     walled = np.array([m.walls for m in chosen])
-    room = rooms[index]
 
     # walls: each outline's edges, then its courtyards' (as oriented), mass by mass
     a, b, owner, rank = [points], [points[_ring_next(counts)]], [ring], [np.zeros(len(points))]
@@ -141,28 +142,68 @@ def _prism_rows(masses: list[BuildingMass], rooms: np.ndarray, index: np.ndarray
         rank.append(1.0 + which)
     a, b, owner, rank = (np.concatenate(x) for x in (a, b, owner, rank))
     order = np.lexsort((rank, owner))  # stable within a ring: its edges in order
-    a, b, owner = a[order], b[order], owner[order]
+    a, b, owner, rank = a[order], b[order], owner[order], rank[order]
     on_walls = walled[owner]
-    a, b, owner = a[on_walls], b[on_walls], owner[on_walls]
-    walls = edge_walls(a, b, room[owner], base[owner], top[owner])
+    a, b, owner, rank = a[on_walls], b[on_walls], owner[on_walls], rank[on_walls]
+    storey = _storeys(base, top, np.array([m.floor_height for m in chosen]))
+    walls, column = _wall_rows(a, b, owner, rank, np.array([m.room_width for m in chosen]), base, top, storey)
     sections.add("walls", np.repeat(index[owner[np.linalg.norm(b - a, axis=1) > 1e-9]], 6), walls)
 
     # flat roofs and undersides: one triangulation of every polygon that needs one
-    flat_top = np.array([m.roof.shape == "flat" or m.roof.height <= 0 for m in chosen])
+    flat_top = np.array([(m.roof.shape == "flat" or m.roof.height <= 0) and m.roof.parapet <= 0 for m in chosen])
     underside = ~walled | (base > 0)
     needed = np.flatnonzero(flat_top | underside)
     coords, which = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygons[needed]), return_index=True)
     tris, kept = upward(coords.reshape(-1, 4, 2)[:, :3])
     owner = needed[which[::4][kept]]
     up = flat_top[owner]
-    sections.add("roof", np.repeat(index[owner[up]], 3),
-                 roof_rows(Triangles(*flat_rows(tris[up], top[owner[up]]))))
+    sections.add("roof", np.repeat(index[owner[up]], 3), roof_rows(*flat_rows(tris[up], top[owner[up]])))
     down = underside[owner]
     sections.add("underside", np.repeat(index[owner[down]], 3),
-                 roof_rows(Triangles(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False))))
+                 roof_rows(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False)))
 
-    # pitched and pointed roofs, mass by mass
+    # pitched and pointed roofs and parapets, mass by mass
     for k in np.flatnonzero(~flat_top):
         roof, gables = roof_triangles(polygons[k], top[k], chosen[k].roof)
-        sections.add("gables", np.full(len(gables.positions), index[k]), gable_rows(gables, room[k]))
-        sections.add("roof", np.full(len(roof.positions), index[k]), roof_rows(roof))
+        sections.add("gables", np.full(len(gables.positions), index[k]), gable_rows(gables, chosen[k], column[k]))
+        sections.add("roof", np.full(len(roof.positions), index[k]), roof_rows(roof.positions, roof.normals))
+
+
+def _storeys(base: np.ndarray, top: np.ndarray, floor_height: np.ndarray) -> np.ndarray:
+    """storeys' storey height for walls from base up to top (top above base)."""
+    return (top - base) / np.maximum(1, np.round((top - base) / floor_height))
+
+
+def _wall_rows(a, b, owner, rank, room_width, base, top, storey):
+    """Wall rows of the edges a -> b, ring after ring (each ring's edges together, `rank` telling a
+    mass's rings apart), as ring_wall_rows makes them mass by mass; also each mass's next room
+    column (where its gables' rooms go)."""
+    next_column = np.zeros(len(room_width), dtype=np.int64)
+    new_ring = np.r_[True, (owner[1:] != owner[:-1]) | (rank[1:] != rank[:-1])]
+    ring = np.cumsum(new_ring) - 1
+    ring_owner = owner[new_ring]
+    d = b - a
+    length = np.linalg.norm(d, axis=1)
+    keep = length > 1e-9
+    a, b, d, length, ring = a[keep], b[keep], d[keep], length[keep], ring[keep]
+    if not len(a):
+        empty = np.zeros((0, 3))
+        return (empty, empty, np.zeros((0, 4)), np.zeros((0, 4)), np.zeros((0, 2), dtype=np.int64)), next_column
+    counts = np.bincount(ring, minlength=len(ring_owner))
+    has_walls = counts > 0
+    faces, span = ring_faces(length, d, counts[has_walls], room_width[ring_owner[has_walls]])
+    # a mass's rings number their rooms on from the ring before (from 0 after a ring without walls)
+    spans = np.zeros(len(ring_owner), dtype=np.int64)
+    spans[has_walls] = span
+    before = np.cumsum(spans) - spans
+    restart = np.r_[True, ring_owner[1:] != ring_owner[:-1]] | np.r_[True, ~has_walls[:-1]]
+    first = before - before[np.maximum.accumulate(np.where(restart, np.arange(len(ring_owner)), 0))]
+    faces = replace(faces, columns=faces.columns + first[ring, None])
+    last_ring = np.r_[ring_owner[1:] != ring_owner[:-1], True]
+    next_column[ring_owner[last_ring]] = np.where(has_walls, first + spans, 0)[last_ring]
+    positions, normals, along = wall_quads(a, b, base[ring_owner][ring], top[ring_owner][ring])
+    edge = np.repeat(np.arange(len(a)), 6)
+    vertex_owner = ring_owner[ring][edge]
+    rows = wall_rows(positions, normals, faces, edge, along, (base[vertex_owner], top[vertex_owner]),
+                     storey[vertex_owner])
+    return rows, next_column

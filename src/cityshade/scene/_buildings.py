@@ -8,7 +8,8 @@ from functools import cached_property
 import numpy as np
 
 from ._roofs import FLAT_ROOF, Roof
-from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, SHAPES
+from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, FLAG_SHOP_FRONT, SHAPES
+from ._uses import USE_COUNT, USE_MIXED, USE_SHIFT
 
 
 @dataclass(frozen=True)
@@ -21,7 +22,7 @@ class BuildingMass:
     Buildings from maps add courtyards (`holes`, clockwise rings in the same frame), walls that
     start above the ground (`base`, with an underside), a `roof` on top of the walls (walls run
     up to `height - roof.height`), no walls at all (`walls=False`: a canopy), tagged tints and no
-    rooms behind the glass (`interior=False`: an outbuilding's dark panes)."""
+    rooms behind the glass (`interior=False`: an outbuilding's dark panes) and a `use` code."""
 
     shape: str
     position: tuple[float, float]
@@ -32,7 +33,9 @@ class BuildingMass:
     room_width: float = 4.5
     seed: int = 0
     style: int = 0
-    lights: float = 1.0
+    lights: float = 1.0  # multiplies the lit share of its use at the hour (0: never lit)
+    use: int = USE_MIXED  # what it is used for, a USE_* code (scene/_uses.py): decides when its rooms are lit
+    shop_front: bool = False  # shops on the ground floor: those rooms are lit as a shop's, whatever the use
     wall_jitter: float = 0.25
     furniture: bool = True
     curtains: bool = True
@@ -43,6 +46,8 @@ class BuildingMass:
     walls: bool = True
     wall_colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the style's own tint
     wall_material: str | None = None
+    # doors: (x, z, outward normal x, z) on the outline (scene/_doors.py); "doors" in `guessed` when placed without data
+    doors: tuple[tuple[float, float, float, float], ...] = ()
     guessed: frozenset[str] = frozenset()  # map attributes the data did not give ("height", "roof_shape", ...)
 
     def __post_init__(self):
@@ -50,6 +55,8 @@ class BuildingMass:
             raise ValueError(f"unknown building shape {self.shape!r}; allowed: {', '.join(SHAPES)}")
         if self.height <= 0:
             raise ValueError(f"building height must be positive, got {self.height}")
+        if self.use not in range(USE_COUNT):
+            raise ValueError(f"unknown building use code {self.use!r}; allowed: 0..{USE_COUNT - 1} (scene/_uses.py)")
         if not 0 <= self.base <= self.wall_top or (self.walls and self.base == self.wall_top):
             raise ValueError(f"building walls must run upward from base {self.base} to {self.wall_top}")
 
@@ -76,6 +83,8 @@ class BuildingMass:
             | (FLAG_CURTAINS if self.curtains else 0)
             | (FLAG_ROOM_VARIATION if self.wall_jitter > 0 else 0)
             | (0 if self.interior else FLAG_NO_INTERIOR)
+            | (FLAG_SHOP_FRONT if self.shop_front else 0)
+            | self.use << USE_SHIFT
         )
 
 

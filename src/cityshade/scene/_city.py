@@ -168,7 +168,38 @@ def interior_city(seed: int = 0) -> City:
     return City("interior", seed, masses, [], (-60.0, -60.0, 60.0, 60.0), viewpoints)
 
 
-CITIES = {"default": default_city, "grid": grid_city, "interior": interior_city}
+def _ring(n: int, radius: float, start: float = 0.0) -> np.ndarray:
+    a = start + np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return radius * np.stack([1 + np.cos(a), 1 + np.sin(a)], axis=1)
+
+
+def outlines_city(seed: int = 0) -> City:
+    """Facades and rooms on outlines other than boxes, as maps draw them: an L-shaped block (window
+    bays), a round tower drawn as 32 short walls and a curved block (grammar facades), and a block
+    round a courtyard (grammar); with viewpoints on each."""
+    bend = np.radians(np.arange(0.0, 90.1, 7.5))  # a street front bending 7.5 degrees per wall
+    curved = np.vstack([np.stack([30 * np.sin(bend), 30 - 30 * np.cos(bend)], axis=1), [(12.0, 30.0), (0.0, 12.0)]])
+    masses = [
+        BuildingMass("prism", (0.0, 0.0), ((0.0, 0.0), (26.0, 0.0), (26.0, 11.0), (11.0, 11.0), (11.0, 24.0), (0.0, 24.0)),
+                     19.0, seed=seed + 21, room_width=4.2, floor_height=3.2),
+        BuildingMass("prism", (36.0, -2.0), tuple(map(tuple, _ring(32, 8.0))), 31.0, seed=seed + 22, style=3,
+                     room_width=4.0, floor_height=3.4),
+        BuildingMass("prism", (0.0, 40.0), ((0.0, 0.0), (30.0, 0.0), (30.0, 28.0), (0.0, 28.0)), 16.0, seed=seed + 23,
+                     style=4, holes=(((9.0, 9.0), (9.0, 19.0), (21.0, 19.0), (21.0, 9.0)),), room_width=4.5,
+                     floor_height=3.1),
+        BuildingMass("prism", (42.0, 36.0), tuple(map(tuple, curved)), 22.0, seed=seed + 24, style=1, room_width=4.0,
+                     floor_height=3.5),
+    ]
+    viewpoints = {
+        "l_shape": Camera((30.0, 7.0, 26.0), (8.0, 9.0, 6.0), fov_y=65.0),
+        "tower": Camera((44.0, 1.7, -30.0), (44.0, 16.0, 6.0), fov_y=66.0),
+        "courtyard": Camera((12.0, 9.0, 57.5), (20.0, 8.0, 50.0), fov_y=75.0),
+        "curved": Camera((86.0, 6.0, 40.0), (58.0, 10.0, 52.0), fov_y=60.0),
+    }
+    return City("outlines", seed, masses, [], (-30.0, -40.0, 100.0, 100.0), viewpoints)
+
+
+CITIES = {"default": default_city, "grid": grid_city, "interior": interior_city, "outlines": outlines_city}
 
 
 def make_city(name: str = "default", seed: int | None = None) -> City:

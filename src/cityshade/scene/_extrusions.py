@@ -1,9 +1,8 @@
 """Map buildings' masses as triangle rows: outlines (courtyards included) extruded from their base
 to their walls' top, the roof and its gables, and an underside where the mass floats.
 
-Rows are (object-space positions, object-space normals, facade coordinates) arrays, one row per
-vertex, three per triangle; facade coordinates are (metres along the wall from its edge's start,
-metres up, window bay width) on walls and (x, z, 0) on roofs.
+Rows are (object-space positions, object-space normals, facade coordinates, face, room columns)
+arrays, one row per vertex, three per triangle (wall_rows, roof_rows; the faces: _wall_faces.py).
 """
 
 from __future__ import annotations
@@ -12,62 +11,77 @@ import numpy as np
 import shapely
 
 from ._roofs import Triangles, flat, roof_triangles
+from ._wall_faces import WallFaces, ring_columns, storeys, wall_faces
 
 QUAD = np.array([0, 2, 1, 0, 3, 2])  # corners a-low, b-low, b-high, a-high: counter-clockwise seen from outside
 
 
-def bays(d: np.ndarray, room: np.ndarray) -> np.ndarray:
-    """Window bay widths of walls along edge vectors d: whole bays per facade, a room wide where
-    the facade runs along a room axis, so windows sit in rooms and never touch a corner. `room` is
-    one room size (3,) or one per edge (n, 3)."""
-    along_x = np.abs(d[:, 0]) >= np.abs(d[:, 1])
-    nominal = np.where(along_x, room[..., 0], room[..., 2])
+def wall_quads(a: np.ndarray, b: np.ndarray, base, top):
+    """Flat wall quads on the edges a -> b (n, 2), none of them without length, from base to top
+    (one each or per edge): (positions, normals, metres along the edge) per vertex."""
+    d = b - a
     length = np.linalg.norm(d, axis=1)
-    return length / np.maximum(1, np.round(length / nominal))
+    n = np.stack([d[:, 1], -d[:, 0]], axis=1) / length[:, None]
+    corners = np.stack([a, b, b, a], axis=1)[:, QUAD]  # (edges, 6, 2)
+    heights = np.stack(np.broadcast_arrays(base, base, top, top, np.zeros(len(a))), axis=1)[:, QUAD].ravel()
+    along = ((np.array([0.0, 1.0, 1.0, 0.0])[QUAD])[None, :] * length[:, None]).ravel()
+    positions = np.column_stack([corners[..., 0].ravel(), heights, corners[..., 1].ravel()])
+    normals = np.repeat(np.column_stack([n[:, 0], np.zeros(len(a)), n[:, 1]]), 6, axis=0)
+    return positions, normals, along
 
 
-def edge_walls(a: np.ndarray, b: np.ndarray, room: np.ndarray, base: np.ndarray, top: np.ndarray):
-    """Flat wall quads on the edges a -> b (n, 2), each from its base to its top (n,), with its
-    building's room size (n, 3); edges without length have none. This is where wall vertices get
-    their facade coordinates, for one building's rings and for a whole city's at once alike."""
+def ring_wall_rows(ring: np.ndarray, mass, base: float, top: float, first_column: int = 0):
+    """Flat wall quads on a ring's edges (closing edge included), from base to top, with the facade
+    coordinates of the faces they belong to (wall_rows); returns (rows, the next ring's first column)."""
+    a, b = ring, np.roll(ring, -1, axis=0)
     d = b - a
     length = np.linalg.norm(d, axis=1)
     keep = length > 1e-9
-    a, b, d, length, room = a[keep], b[keep], d[keep], length[keep], room[keep]
-    n = np.stack([d[:, 1], -d[:, 0]], axis=1) / length[:, None]
-    corners = np.stack([a, b, b, a], axis=1)[:, QUAD]  # (edges, 6, 2)
-    heights = np.stack([base[keep], base[keep], top[keep], top[keep]], axis=1)[:, QUAD].ravel()
-    along = (np.array([0.0, 1.0, 1.0, 0.0])[QUAD])[None, :] * length[:, None]
-    positions = np.column_stack([corners[..., 0].ravel(), heights, corners[..., 1].ravel()])
-    normals = np.repeat(np.column_stack([n[:, 0], np.zeros(len(a)), n[:, 1]]), 6, axis=0)
-    facade = np.column_stack([along.ravel(), heights, np.repeat(bays(d, room), 6)])
-    return positions, normals, facade
+    a, b, d, length = a[keep], b[keep], d[keep], length[keep]
+    faces = wall_faces(length, d, mass.room_width, first_column)
+    positions, normals, along = wall_quads(a, b, base, top)
+    storey, _ = storeys(base, top, mass.floor_height)
+    rows = wall_rows(positions, normals, faces, np.repeat(np.arange(len(a)), 6), along, (base, top), storey)
+    return rows, ring_columns(faces)
 
 
-def _ring_walls(ring: np.ndarray, room: np.ndarray, base: float, top: float):
-    """Flat wall quads on a ring's edges (closing edge included), from base to top."""
-    count = len(ring)
-    return edge_walls(ring, np.roll(ring, -1, axis=0), np.broadcast_to(room, (count, 3)), np.full(count, base),
-                      np.full(count, top))
+def wall_rows(positions, normals, faces: WallFaces, edge: np.ndarray, along: np.ndarray, span: tuple, storey):
+    """Rows of wall vertices: object-space positions and normals, facade coordinates (u metres along
+    the face, v metres up, bay width, storey height), the face (width, base, top of `span`, room
+    depth) and its room columns (first bay, last bay). `edge` is each vertex's entry in `faces`,
+    `along` its metres from that edge's start; span and storey once or per vertex."""
+    count = len(positions)
+    facade = np.column_stack([faces.along[edge] + along, positions[:, 1], faces.bay[edge],
+                              np.broadcast_to(storey, count)])
+    face = np.column_stack([faces.width[edge], np.broadcast_to(span[0], count), np.broadcast_to(span[1], count),
+                            faces.depth[edge]])
+    return positions, normals, facade, face, faces.columns[edge]
 
 
-def gable_rows(walls: Triangles, room: np.ndarray):
-    """Wall pieces above the walls' top (gables) with facade coordinates that carry on the wall below."""
-    n = walls.normals
-    edge = np.stack([-n[:, 2], n[:, 0]], axis=1) * walls.edge_length[:, None]
-    return walls.positions, n, np.column_stack([walls.along, walls.positions[:, 1], bays(edge, room)])
+def gable_rows(walls: Triangles, mass, first_column: int):
+    """Wall pieces above the walls' top (gables): each a face of its edge's length up to the ridge,
+    its storeys carrying on those of the wall below, its rooms in a column of their own."""
+    length = walls.edge_length
+    bay = length / np.maximum(1, np.round(length / mass.room_width))
+    columns = np.full((len(length), 2), first_column, dtype=np.int64)
+    faces = WallFaces(np.zeros(len(length)), length, bay, bay, columns)
+    storey, _ = storeys(mass.base, mass.wall_top, mass.floor_height)
+    return wall_rows(walls.positions, walls.normals, faces, np.arange(len(length)), walls.along,
+                     (mass.base, mass.height), storey)
 
 
-def roof_rows(roof: Triangles):
-    p = roof.positions
-    return p, roof.normals, np.column_stack([p[:, 0], p[:, 2], np.zeros(len(p))])
+def roof_rows(positions: np.ndarray, normals: np.ndarray):
+    """Rows of roof vertices: facade coordinates (x, z, 0, 0), no face, no room columns."""
+    count = len(positions)
+    facade = np.column_stack([positions[:, 0], positions[:, 2], np.zeros((count, 2))])
+    return positions, normals, facade, np.zeros((count, 4)), np.zeros((count, 2), dtype=np.int64)
 
 
-def _join(rows: list):
-    return tuple(np.concatenate([r[i] for r in rows]).reshape(-1, 3) for i in range(3))
+def join_rows(rows: list):
+    return tuple(np.concatenate([r[i] for r in rows]) for i in range(5))
 
 
-def outline_rows(mass, outline: np.ndarray, room: np.ndarray):
+def outline_rows(mass, outline: np.ndarray):
     """(wall rows, roof rows) of a mass over its counter-clockwise object-space outline."""
     # holes clockwise: their walls face the courtyard
     polygon = shapely.orient_polygons(shapely.Polygon(outline, mass.holes))
@@ -78,5 +92,8 @@ def outline_rows(mass, outline: np.ndarray, room: np.ndarray):
         roof = Triangles.join([roof, flat(polygon, top, up=False)])
     elif mass.base > 0:
         roof = Triangles.join([roof, flat(polygon, mass.base, up=False)])
-    walls = [_ring_walls(ring, room, mass.base, top) for ring in [outline, *holes]] if mass.walls else []
-    return _join([*walls, gable_rows(gables, room)]), roof_rows(roof)
+    walls, column = [], 0
+    for ring in [outline, *holes] if mass.walls else []:
+        rows, column = ring_wall_rows(ring, mass, mass.base, top, column)
+        walls.append(rows)
+    return join_rows([*walls, gable_rows(gables, mass, column)]), roof_rows(roof.positions, roof.normals)

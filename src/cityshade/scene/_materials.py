@@ -18,11 +18,11 @@ ROOF_MATERIALS = {
     "grass": (7, (0.3, 0.45, 0.2)),
     "wood": (8, (0.45, 0.33, 0.22)),
     "stone": (3, (0.55, 0.53, 0.5)),
-    "gravel": (0, (0.5, 0.48, 0.45)),
+    "gravel": (9, (0.5, 0.48, 0.45)),
 }
 ROOF_ALIASES = {"asphalt": "roofing_felt", "tar_paper": "roofing_felt", "tile": "roof_tiles", "tiles": "roof_tiles",
                 "clay": "roof_tiles", "eternit": "slate", "plants": "grass", "steel": "metal", "tin": "metal",
-                "zinc": "metal", "aluminium": "metal", "thatch": "wood", "wood_shingles": "wood"}
+                "zinc": "metal", "aluminium": "metal", "thatch": "wood", "wood_shingles": "wood", "pebblestone": "gravel"}
 PLAIN_ROOF = (0, (0.6012, 0.5926, 0.5839))  # untagged roofs of the procedural district: a plain grey
 
 # wall material -> sRGB colour the facade is tinted with
@@ -52,7 +52,8 @@ def wall_tint(colour, material: str | None):
     return WALL_MATERIALS.get(material)
 
 
-ROOF_PLAIN, ROOF_TILES, ROOF_METAL, ROOF_SLATE, ROOF_COPPER, ROOF_CONCRETE, ROOF_GLASS, ROOF_GRASS, ROOF_WOOD = range(9)
+(ROOF_PLAIN, ROOF_TILES, ROOF_METAL, ROOF_SLATE, ROOF_COPPER, ROOF_CONCRETE, ROOF_GLASS, ROOF_GRASS, ROOF_WOOD,
+ ROOF_GRAVEL) = range(10)
 # roof.glsl's pattern ids (cityshade.shader_constants)
 ROOF_PATTERNS = {name: value for name, value in globals().items() if name.startswith("ROOF_") and isinstance(value, int)}
 
@@ -64,6 +65,16 @@ def _smoothstep(e0: float, e1: float, x: np.ndarray) -> np.ndarray:
 
 def _fract(x: np.ndarray) -> np.ndarray:
     return x - np.floor(x)
+
+
+def _stone(cx: np.ndarray, cy: np.ndarray) -> np.ndarray:
+    """A stone's own shade, 0..1, from its integer cell (an avalanche hash in uint32, as stone() in roof.glsl)."""
+    with np.errstate(over="ignore"):
+        h = (cx.astype(np.int64).astype(np.uint32) * np.uint32(0x9E3779B1)) ^ (cy.astype(np.int64).astype(np.uint32) * np.uint32(0x85EBCA77))
+        h ^= h >> np.uint32(15)
+        h *= np.uint32(0x2C1B3C6D)
+        h ^= h >> np.uint32(12)
+    return (h & np.uint32(255)).astype(np.float32) / np.float32(255)
 
 
 def roof_pattern(material: int, local: np.ndarray, normal) -> np.ndarray:
@@ -93,6 +104,10 @@ def roof_pattern(material: int, local: np.ndarray, normal) -> np.ndarray:
         out[:, 3] = 0.25 if material == ROOF_METAL else 0.1
     elif material == ROOF_GLASS:
         out[:] = (0.6, 0.6, 0.6, 0.5)
+    elif material == ROOF_GRAVEL:
+        fine = _stone(np.floor(s / f(0.04)).astype(np.int64), np.floor(t / f(0.04)).astype(np.int64))
+        coarse = _stone(np.floor(s / f(0.13)).astype(np.int64) + 7919, np.floor(t / f(0.13)).astype(np.int64))
+        out[:, :3] = (f(0.8) + f(0.35) * fine + f(0.15) * coarse)[:, None] - f(0.25)
     elif material in (ROOF_GRASS, ROOF_CONCRETE, ROOF_WOOD):
         out[:, :3] = (f(0.85) + f(0.3) * (cell - f(0.5)))[:, None]
     else:

@@ -2,7 +2,9 @@
 
 Every vertex carries its world position, its object-space position (the building's local frame,
 where interior mapping ray-casts), its object-space normal, facade coordinates (u metres along
-the facade, v metres up, and the window bay width), the building's index and the surface kind.
+its face, v metres up, the window bay width and the storey height), its face (width, base and top,
+the depth of the rooms behind it: _wall_faces.py), the building's index, the surface kind and the
+room columns of the face's first and last bay.
 """
 
 from __future__ import annotations
@@ -12,23 +14,27 @@ import shapely
 
 from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES
-from ._extrusions import outline_rows
+from ._doors import door_record
+from ._extrusions import outline_rows, roof_rows, wall_rows
+from ._wall_faces import storeys, wall_faces
 from ._materials import linear, roof_material, wall_tint
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
-SURFACE_CODES = {"SURFACE_WALL": SURFACE_WALL, "SURFACE_ROOF": SURFACE_ROOF}
+SURFACE_PLAIN_WALL = 2  # a wall face too narrow for its building's grammar (render/_facades.py)
+SURFACE_CODES = {"SURFACE_WALL": SURFACE_WALL, "SURFACE_ROOF": SURFACE_ROOF, "SURFACE_PLAIN_WALL": SURFACE_PLAIN_WALL}
 
 VERTEX_DTYPE = np.dtype(
     [
         ("position", "<f4", 3),
         ("local", "<f4", 3),
         ("normal", "<f4", 3),
-        ("facade", "<f4", 3),
-        ("ids", "<i4", 2),  # building index, surface kind
+        ("facade", "<f4", 4),  # u along the face, v up, bay width, storey height (metres)
+        ("face", "<f4", 4),  # the face's width, base, top, room depth (metres)
+        ("ids", "<i4", 4),  # building index, surface kind, room column of the face's first and last bay
     ]
 )
-VERTEX_FORMAT = "3f 3f 3f 3f 2i"
-VERTEX_ATTRIBUTES = ("in_position", "in_local", "in_normal", "in_facade", "in_ids")
+VERTEX_FORMAT = "3f 3f 3f 4f 4f 4i"
+VERTEX_ATTRIBUTES = ("in_position", "in_local", "in_normal", "in_facade", "in_face", "in_ids")
 
 CURVE_SEGMENTS = 48
 DOME_RINGS = 16
@@ -43,23 +49,22 @@ def _signed_area(points: np.ndarray) -> float:
     return 0.5 * float(np.sum(x * np.roll(z, -1) - np.roll(x, -1) * z))
 
 
-def _walls(ring: np.ndarray, normals: np.ndarray, height: float, bay: np.ndarray, u0: np.ndarray):
-    """Quads standing on each ring edge; normals are per ring vertex (smooth) or per edge (flat).
-    Returns (local, normal, facade) arrays of six vertices per edge."""
+def _curved_walls(ring: np.ndarray, centre: np.ndarray, radius: float, mass: BuildingMass):
+    """Quads on a closed circle's chords with smooth (per-vertex) normals; facade u is the arc
+    length (the twin's exact circle), the whole circle one face."""
     a, b = ring[:-1], ring[1:]
-    na, nb = normals
-    ua = u0
-    ub = u0 + np.linalg.norm(b - a, axis=1)
+    arc = np.full(len(a), 2 * np.pi * radius / len(a))
+    faces = wall_faces(arc, b - a, mass.room_width)
+    height = mass.extent[1]
     order = [0, 2, 1, 0, 3, 2]  # corners a-bottom, b-bottom, b-top, a-top; counter-clockwise from outside
-    point = np.stack([a, b, b, a], axis=1)[:, order]
-    normal = np.stack([na, nb, nb, na], axis=1)[:, order]
-    u = np.stack([ua, ub, ub, ua], axis=1)[:, order]
-    y = np.array([0.0, 0.0, height, height])[order]
-    y = np.broadcast_to(y, u.shape)
-    local = np.stack([point[..., 0], y, point[..., 1]], axis=-1).reshape(-1, 3)
-    normal3 = np.stack([normal[..., 0], np.zeros_like(u), normal[..., 1]], axis=-1).reshape(-1, 3)
-    facade = np.stack([u, y, np.broadcast_to(bay[:, None], u.shape)], axis=-1).reshape(-1, 3)
-    return local, normal3, facade
+    point = np.stack([a, b, b, a], axis=1)[:, order].reshape(-1, 2)
+    normal = (point - centre) / radius
+    along = (np.stack([np.zeros(len(a)), arc, arc, np.zeros(len(a))], axis=1)[:, order]).ravel()
+    y = np.tile(np.array([0.0, 0.0, height, height])[order], len(a))
+    positions = np.column_stack([point[:, 0], y, point[:, 1]])
+    normals = np.column_stack([normal[:, 0], np.zeros(len(y)), normal[:, 1]])
+    storey, _ = storeys(0.0, height, mass.floor_height)
+    return wall_rows(positions, normals, faces, np.repeat(np.arange(len(a)), 6), along, (0.0, height), storey)
 
 
 def simplified_outline(points: np.ndarray) -> np.ndarray:
@@ -78,30 +83,23 @@ def simplified_outline(points: np.ndarray) -> np.ndarray:
     return np.asarray(polygon.exterior.coords)[:-1]
 
 
-def _prism_triangles(mass: BuildingMass, room: np.ndarray, smooth: bool):
+def _prism_triangles(mass: BuildingMass, smooth: bool):
     pts = simplified_outline(np.asarray(mass.footprint, dtype=np.float64))
     pts = pts[np.any(np.roll(pts, -1, axis=0) != pts, axis=1)]  # a repeated corner has no wall (or normal)
     if _signed_area(pts) < 0:
         pts = pts[::-1]
     if not smooth:
-        return outline_rows(mass, pts, room)  # walls (courtyards, gables) and the roof's shape
+        return outline_rows(mass, pts)  # walls (courtyards, gables) and the roof's shape
     height = mass.extent[1]
     centre = pts.mean(axis=0)
     radius = pts.max(axis=0)[0] / 2
     angles = np.linspace(0, 2 * np.pi, CURVE_SEGMENTS + 1)
     ring = centre + radius * np.stack([np.cos(-angles), np.sin(-angles)], axis=1)
     ring = ring[::-1]
-    normal = (ring - centre) / radius
-    normals = (normal[:-1], normal[1:])
-    circumference = 2 * np.pi * radius
-    bay = np.full(CURVE_SEGMENTS, circumference / max(1, round(circumference / mass.room_width)))
-    edge_len = np.linalg.norm(ring[1:] - ring[:-1], axis=1)
-    u0 = np.concatenate([[0.0], np.cumsum(edge_len)[:-1]])
-    walls = _walls(ring, normals, height, bay, u0)
+    walls = _curved_walls(ring, centre, radius, mass)
     top = _roof_triangles(ring[:-1])
-    roof = (np.stack([top[:, 0], np.full(len(top), height), top[:, 1]], axis=1),
-            np.broadcast_to([0.0, 1.0, 0.0], (len(top), 3)),
-            np.stack([top[:, 0], top[:, 1], np.zeros(len(top))], axis=1))
+    roof = roof_rows(np.stack([top[:, 0], np.full(len(top), height), top[:, 1]], axis=1),
+                     np.broadcast_to([0.0, 1.0, 0.0], (len(top), 3)))
     return walls, roof
 
 
@@ -119,42 +117,48 @@ def _roof_triangles(outline: np.ndarray) -> np.ndarray:
 
 
 def _dome_triangles(mass: BuildingMass):
+    """A hemisphere of rings; facade u is the longitude's arc, v the latitude's, one face all round
+    whose storeys run up the arc."""
     radius = mass.extent[0] / 2
     centre = np.array([radius, 0.0, radius])
     lat = np.linspace(0, np.pi / 2, DOME_RINGS + 1)
     lon = np.linspace(0, 2 * np.pi, CURVE_SEGMENTS + 1)
+    i, j = np.meshgrid(np.arange(DOME_RINGS), np.arange(CURVE_SEGMENTS), indexing="ij")
+    # 6 vertices per quad: corners (i, j), (i, j + 1), (i + 1, j + 1) and (i, j), (i + 1, j + 1), (i + 1, j)
+    ring = np.stack([i, i, i + 1, i, i + 1, i + 1], axis=-1).reshape(-1)
+    column = np.stack([j, j + 1, j + 1, j, j + 1, j], axis=-1).reshape(-1)
+    phi, theta = lat[ring], lon[column]
+    n = np.stack([np.cos(phi) * np.cos(theta), np.sin(phi), -np.cos(phi) * np.sin(theta)], axis=1)
     circumference = 2 * np.pi * radius
-    bay = circumference / max(1, round(circumference / mass.room_width))
-
-    def vertex(i, j):
-        n = np.array([np.cos(lat[i]) * np.cos(lon[j]), np.sin(lat[i]), -np.cos(lat[i]) * np.sin(lon[j])])
-        return (tuple(centre + radius * n), tuple(n), (lon[j] * radius, lat[i] * radius, bay))
-
-    tris = []
-    for i in range(DOME_RINGS):
-        for j in range(CURVE_SEGMENTS):
-            a, b, c, d = vertex(i, j), vertex(i, j + 1), vertex(i + 1, j + 1), vertex(i + 1, j)
-            tris += [a, b, c, a, c, d]
-    walls = tuple(np.array([t[k] for t in tris], np.float64) for k in range(3))
-    return walls, tuple(np.zeros((0, 3)) for _ in range(3))
+    arc = np.full(CURVE_SEGMENTS, circumference / CURVE_SEGMENTS)
+    faces = wall_faces(arc, np.diff(np.stack([np.cos(lon), -np.sin(lon)], axis=1), axis=0), mass.room_width)
+    top = np.pi / 2 * radius
+    storey, _ = storeys(0.0, top, mass.floor_height)
+    edge = np.minimum(column, CURVE_SEGMENTS - 1)
+    along = theta * radius - faces.along[edge]
+    walls = wall_rows(centre + radius * n, n, faces, edge, along, (0.0, top), storey)
+    walls[2][:, 1] = phi * radius  # v runs up the arc
+    empty = np.zeros((0, 3))
+    return walls, roof_rows(empty, empty)
 
 
 def mass_rows(mass: BuildingMass):
-    """(wall rows, roof rows) of one mass in its object space: (local, normal, facade) arrays."""
+    """(wall rows, roof rows) of one mass in its object space (_extrusions.py rows)."""
     if mass.shape == "dome":
         return _dome_triangles(mass)
-    return _prism_triangles(mass, mass.room_size, smooth=mass.shape == "cylinder")
+    return _prism_triangles(mass, smooth=mass.shape == "cylinder")
 
 
 def vertex_records(rows, surface: np.ndarray, building: np.ndarray, cos_yaw: np.ndarray, sin_yaw: np.ndarray,
                    origin: np.ndarray) -> np.ndarray:
-    """(local, normal, facade) rows as VERTEX_DTYPE records: their surface kind, building index,
-    the rotation about +y and the world origin (x, z), each given per row or once."""
+    """(local, normal, facade, face, room columns) rows as VERTEX_DTYPE records: their surface kind,
+    building index, the rotation about +y and the world origin (x, z), each given per row or once."""
     out = np.zeros(len(rows[0]), dtype=VERTEX_DTYPE)
-    for field, part in zip(("local", "normal", "facade"), rows):
+    for field, part in zip(("local", "normal", "facade", "face"), rows):
         out[field] = part
     out["ids"][:, 0] = building
     out["ids"][:, 1] = surface
+    out["ids"][:, 2:] = rows[4]
     local = out["local"].astype(np.float64)
     x, z = local[:, 0], local[:, 2]
     # rotation_y(yaw) applied term by term: the same floats for one building or a city at once
@@ -193,6 +197,8 @@ def building_records(masses: list[BuildingMass], rooms: np.ndarray | None = None
             material, colour = roof_material(m.roof.material)
             roofs[key] = (*linear(m.roof.colour if m.roof.colour is not None else colour), material)
         rec["roof"][k] = roofs[key]
+        if m.doors:
+            rec["doors"][k] = door_record(m.doors)
     return rec
 
 

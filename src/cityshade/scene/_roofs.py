@@ -26,6 +26,7 @@ class Roof:
     direction: float = np.pi / 2  # ridge along +x, the footprint's longest side
     colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the material's colour
     material: str | None = None
+    parapet: float = 0.0  # flat roofs: metres the walls rise above the roof as a PARAPET_THICKNESS rim
 
 
 FLAT_ROOF = Roof()
@@ -39,6 +40,7 @@ MANSARD_KNEE, MANSARD_RISE = 0.2, 0.75
 RECTANGULAR = 0.85  # outlines filling this share of their bounding rectangle take the exact ridged profiles
 EPS = 1e-6
 HALF_HIP = 0.4  # the share of the roof height (and of the half width) the hips of a half-hipped roof take
+PARAPET_THICKNESS = 0.25  # metres
 
 
 @dataclass
@@ -428,6 +430,35 @@ def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
     return tris
 
 
+def _inward_faces(polygon: shapely.Polygon, low: float, high: float) -> Triangles:
+    """Upright quads on every ring of `polygon` from `low` to `high`, facing into the polygon."""
+    oriented = shapely.orient_polygons(polygon)  # exterior counter-clockwise, holes clockwise
+    rings = [np.asarray(r.coords)[::-1] for r in (oriented.exterior, *oriented.interiors)]  # reversed: inward
+    a = np.concatenate([r[:-1] for r in rings])
+    b = np.concatenate([r[1:] for r in rings])
+    d = b - a
+    keep = np.hypot(d[:, 0], d[:, 1]) > EPS
+    a, b, d = a[keep], b[keep], d[keep]
+    normal = np.column_stack([d[:, 1], np.zeros(len(d)), -d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+    corners = np.stack([a, b, b, a], axis=1)[:, [0, 2, 1, 0, 3, 2]]  # counter-clockwise seen from the front
+    heights = np.array([low, low, high, high])[[0, 2, 1, 0, 3, 2]]
+    positions = np.column_stack([corners[..., 0].ravel(), np.tile(heights, len(a)), corners[..., 1].ravel()])
+    return Triangles(positions, np.repeat(normal, 6, axis=0))
+
+
+def _parapet_roof(polygon: shapely.Polygon, top: float, parapet: float) -> Triangles:
+    """A flat roof `parapet` metres below `top` inside a rim PARAPET_THICKNESS wide: the rim's top
+    (its coping), its inner faces and the roof; just the flat roof where no roof is left inside."""
+    inner = polygon.buffer(-PARAPET_THICKNESS, join_style="mitre")
+    parts = [p for p in shapely.get_parts(inner) if isinstance(p, shapely.Polygon) and not p.is_empty]
+    if not parts:
+        return flat(polygon, top)
+    rim = shapely.difference(polygon, inner)
+    low = top - parapet
+    return Triangles.join([flat(rim, top), *(flat(p, low) for p in parts),
+                           *(_inward_faces(p, low, top) for p in parts)])
+
+
 def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
     """(roof surfaces, wall pieces between the walls' top and the roof) over `polygon` at `top`.
 
@@ -436,7 +467,7 @@ def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
     (hipped where the shape has no skeleton form), follow the straight skeleton; other ridged shapes
     span the outline's extent across the ridge. Pointed shapes over a courtyard are flat."""
     if roof.shape == "flat" or roof.height <= 0:
-        return flat(polygon, top), Triangles.empty()
+        return (_parapet_roof(polygon, top, roof.parapet) if roof.parapet > 0 else flat(polygon, top)), Triangles.empty()
     if roof.shape in POINTED_PROFILES:
         return _pointed(polygon, top, roof) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
     x0, z0, x1, z1 = polygon.bounds

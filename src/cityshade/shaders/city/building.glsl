@@ -1,7 +1,7 @@
 // Buildings: one draw call for the whole city. Exterior bay texture whose alpha marks the glass
 // (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
 // Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids; the fourth channel is the grammar
-// label, or with ID_ROOM_STATE the room seen), INTERIOR_MAPPING (off: the
+// label, or with ID_ROOM_STATE the room seen, or with ID_WINDOW the window it is seen through), INTERIOR_MAPPING (off: the
 // reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD; the polygonised-interiors
 // baseline draws the buildings twice: POLYGONISED_EXTERIOR (glass cut out) before its real rooms,
 // POLYGONISED_WINDOWS (only the glass's reflection, alpha = Fresnel, for blending) after them.
@@ -14,7 +14,9 @@ void main() {}
 #else
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
+#include "generated/ShadingBlock.glsl"
 #include "common/lighting.glsl"
+#include "common/facade.glsl"
 #include "shadow/csm.glsl"
 #if defined INTERIOR_MAPPING
 #include "interior/interior.glsl"
@@ -22,20 +24,22 @@ void main() {}
 #include "grammar/building.glsl"
 #include "relief/building.glsl"
 #include "city/roof.glsl"
+#include "city/doors.glsl"
 #include "city/street_lights.glsl"
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
 const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
+const vec3 PLAIN_WALL_ALBEDO = vec3(0.45, 0.42, 0.4);
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
-uniform vec2 u_lod_range;       // interiors fade to lit-window colours between these distances
-uniform vec3 u_window_tint;
 
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
-in vec3 v_facade;
-flat in ivec2 v_ids;
+in vec2 v_facade;
+flat in vec2 v_spacing;
+flat in vec4 v_face;
+flat in ivec4 v_ids;
 
 #if defined ID_PASS
 layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar label (0: none)
@@ -43,10 +47,31 @@ layout(location = 0) out uvec4 out_ids;   // face, room, building + 1, grammar l
 layout(location = 0) out vec4 out_color;
 #endif
 
-vec3 building_tint(Building b) {
-    if (b.tint.w > 0.0) return b.tint.rgb * 1.6;  // a tagged colour or material over the (grey) bay texture
-    uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);
-    return vec3(0.8) + 0.35 * vec3(float(h & 255u), float((h >> 8u) & 255u), float((h >> 16u) & 255u)) / 255.0 - 0.17;
+#if defined INTERIOR_MAPPING
+// Which window of its face a glass pixel belongs to, for counting windows that show more than one
+// room (cityshade.interior.windows_straddling_rooms): the grammar's window by its rectangle, a
+// window bay by its bay and storey; never 0.
+uint window_id(vec4 opening, WallFace f) {
+    bool point = all(equal(opening.xy, opening.zw));
+    vec2 centre = 0.5 * (opening.xy + opening.zw);
+    ivec2 cell = point ? ivec2(floor(vec2(centre.x / f.bay, (centre.y - f.base) / f.storey)))
+                       : ivec2(round(centre * 8.0));
+    return max(hash3(ivec3(cell, f.columns.x * 65536 + f.columns.y), 0x57u), 1u);
+}
+#endif
+
+// The window bay (interior mapping §2.3): one bay texture repeated across the face, one bay per
+// room and storey, its alpha marking the glass, behind which the rooms are ray-cast (below).
+FacadeResult window_bay(Building b, vec3 n, vec3 wall, vec2 bay_uv) {
+#if defined ID_PASS
+    // the exact texel decides glass, as in the numpy twin
+    ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
+    float glass = texelFetch(u_facade, texel, 0).a < 0.5 ? 1.0 : 0.0;
+    return FacadeResult(vec3(0.0), n, vec2(0.0), glass, wall, 0u);
+#else
+    vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
+    return FacadeResult(exterior.rgb * building_tint(b), n, vec2(0.0), 1.0 - exterior.a, wall, 0u);
+#endif
 }
 
 void main() {
@@ -63,6 +88,7 @@ void main() {
     uint room = 0u;
     uint label = 0u;
     uint room_state = 0u;  // the room seen: 1 | lit << 1 | variant << 2
+    uint window_key = 0u;  // the window a room is seen through (window_id), 0: none
     vec3 color;
     vec3 surface = v_local;  // where a ray through the glass enters the building
     if (v_ids.y == SURFACE_ROOF) {
@@ -72,32 +98,28 @@ void main() {
 #endif
         color = roof_color(b, v_local, n, n_world, rot * d, shadow_factor(v_world));
     } else {
-        float glass;
-        if (has_grammar_facade(b)) {
-            vec3 grammar_color = grammar_building_color(b, n, v_facade.xy, d, rot, shadow_factor(v_world),
-                                                         glass, label);
+        // each facade technique fills one FacadeResult; facade_light lights them all
+        FacadeResult f;
+        vec4 opening = vec4(v_facade, v_facade);  // the glass's rectangle: a point in the pixel's bay, or the grammar's window
+        vec2 door_uv;
+        int door;
+        bool at_door = door_at(b, v_local, n, door_uv, door);  // a mapped or guessed door, in front of any facade
+        bool grammar = !at_door && v_ids.y != SURFACE_PLAIN_WALL && has_grammar_facade(b);
+        if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);
+        else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
+            f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
+        else if (grammar) f = grammar_building_facade(b, n, v_local, v_facade, v_spacing.y, v_face, d, opening);
+        else if (has_relief_facade(b)) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
+        else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
+        float glass = f.glass;
+        label = f.label;
+        surface = f.point;  // recessed relief glass: the room shows from the hit point
 #if !defined ID_PASS
-            color = grammar_color;  // where it is glass, the room shows instead (below)
+        color = facade_light(f, rot, d, shadow_factor(v_world));  // where it is glass, the room shows (below)
+#if defined GRAMMAR_DEFERRED
+        if (grammar) color = grammar_deferred_color();  // lit by the deferred pass
 #endif
-        } else if (has_relief_facade(b)) {
-            ReliefSurface r = relief_building(b, n, v_local, v_facade, d);
-            glass = r.glass ? 1.0 : 0.0;  // recessed glass: the room shows from the hit point
-            surface = r.point;
-#if !defined ID_PASS
-            color = lit_surface(r.albedo * building_tint(b), rot * r.normal, shadow_factor(v_world));
 #endif
-        } else {
-        vec2 bay_uv = vec2(v_facade.x / v_facade.z, v_facade.y / b.room.y);
-#if defined ID_PASS
-        // the exact texel decides glass, as in the numpy twin
-        ivec2 texel = ivec2(fract(bay_uv) * vec2(textureSize(u_facade, 0)));
-        glass = texelFetch(u_facade, texel, 0).a < 0.5 ? 1.0 : 0.0;
-#else
-        vec4 exterior = textureGrad(u_facade, bay_uv, dFdx(bay_uv), dFdy(bay_uv));
-        glass = 1.0 - exterior.a;
-        color = lit_surface(exterior.rgb * building_tint(b), n_world, shadow_factor(v_world));
-#endif
-        }
 #if defined POLYGONISED_EXTERIOR
         if (glass >= 0.5) discard;  // the real rooms behind show through the hole
         glass = 0.0;                // and the rest is frame: no reflective-window mix at its edge
@@ -121,17 +143,23 @@ void main() {
 #if defined INTERIOR_LOD
             interior_weight = 1.0 - smoothstep(u_lod_range.x, u_lod_range.y, s);
 #endif
+            // the room's frame: the face's (u, v, metres into the building)
+            WallFace wall = wall_face(v_spacing, v_face, v_ids);
+            mat3 to_face = face_frame(n);
+            vec3 entry = vec3(v_facade, 0.0) + to_face * (surface - v_local);
             if (interior_weight > 0.0) {
-                InteriorHit hit = interior_trace(surface, d, n, b, dFdx(v_local), dFdy(v_local), s);
+                InteriorHit hit = interior_trace(entry, to_face * d, opening, wall, b, to_face * dFdx(v_local),
+                                                 to_face * dFdy(v_local), s);
                 face = hit.face;
                 room = hit.room;
                 room_state = 1u | (hit.lit ? 2u : 0u) | (uint(hit.variant) << 2u);
+                window_key = window_id(opening, wall);
                 inside = hit.color;
             }
 #if defined INTERIOR_LOD
             if (interior_weight < 1.0) {
                 // far away: each window glows with its room's mean colour (no ray cast)
-                Room r = find_room(surface, n, b);
+                Room r = find_room(opening, wall, b);
                 inside = mix(room_mean_color(r) * room_radiance(r), inside, interior_weight);
                 if (interior_weight <= 0.0) room = r.id;
             }
@@ -150,6 +178,8 @@ void main() {
     }
 #if defined ID_PASS && defined ID_ROOM_STATE
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), room_state);
+#elif defined ID_PASS && defined ID_WINDOW
+    out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), window_key);
 #elif defined ID_PASS
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), label);
 #else

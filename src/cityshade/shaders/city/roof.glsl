@@ -1,7 +1,7 @@
 // Roof materials of map buildings: the id in Building.roof.w and the colour in its rgb
 // (cityshade/scene/_materials.py, whose roof_pattern is the numpy twin of roof_pattern here).
-// Courses of tiles and slates run across the slope, metal seams down it; metal, copper and glass
-// reflect the sky.
+// Courses of tiles and slates run across the slope, metal seams down it, gravel is pebbles in
+// patches; metal, copper and glass reflect the sky.
 #ifndef CITY_ROOF_GLSL
 #define CITY_ROOF_GLSL
 
@@ -12,6 +12,15 @@
 // one cell of a pattern: 0 at its lower edge, 1 at its upper one
 float roof_course(float metres, float size) {
     return fract(metres / size);
+}
+
+// a stone's own shade, 0..1, from its integer cell (an avalanche hash; _stone in _materials.py)
+float stone(ivec2 c) {
+    uint h = (uint(c.x) * 0x9E3779B1u) ^ (uint(c.y) * 0x85EBCA77u);
+    h ^= h >> 15u;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12u;
+    return float(h & 255u) / 255.0;
 }
 
 // albedo variation and reflectance (f0, 0: none) of a roof material at an object-space point
@@ -36,6 +45,11 @@ vec4 roof_pattern(int material, vec3 local, vec3 n) {
         return vec4(vec3(1.0 - 0.35 * seam), material == ROOF_METAL ? 0.25 : 0.1);
     }
     if (material == ROOF_GLASS) return vec4(vec3(0.6), 0.5);
+    if (material == ROOF_GRAVEL) {  // pebbles of about 4 cm, in patches of 13 cm
+        float fine = stone(ivec2(floor(vec2(s, t) / 0.04)));
+        float coarse = stone(ivec2(floor(vec2(s, t) / 0.13)) + ivec2(7919, 0));
+        return vec4(vec3(0.8 + 0.35 * fine + 0.15 * coarse - 0.25), 0.0);
+    }
     if (material == ROOF_GRASS || material == ROOF_CONCRETE || material == ROOF_WOOD) {
         return vec4(vec3(0.85 + 0.3 * (cell - 0.5)), 0.0);
     }

@@ -9,7 +9,7 @@ layout(std430, binding = 8) readonly buffer LampCellIndices { uint lamp_index[];
 uniform vec2 u_lamp_origin;
 uniform ivec2 u_lamp_cells;
 uniform float u_lamp_cell_size;
-uniform float u_street_lights;  // 0 by day, 1 when the lamps are on
+#include "generated/ShadingBlock.glsl"
 
 const vec3 LAMP_COLOR = vec3(1.0, 0.72, 0.42);  // sodium-warm white
 const float LAMP_INTENSITY = 14.0;  // radiant intensity: irradiance about 0.4 six metres below

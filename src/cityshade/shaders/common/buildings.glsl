@@ -7,15 +7,21 @@ struct Building {
     vec4 origin_yaw;   // xyz: world position of the object-space origin; w: yaw (radians)
     vec4 room;         // xyz: room size in metres; w: maximum wall displacement (fraction of a room)
     vec4 extent;       // xyz: object-space size of the mass; w: light probability multiplier
-    ivec4 ids;         // x: seed, y: facade style, z: flags, w: shape
+    ivec4 ids;         // x: seed, y: facade style, z: flags (FLAG_* bits, the use code above USE_SHIFT), w: shape
     ivec4 facade;      // x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed (1/8 m)
     vec4 tint;         // rgb: linear facade tint; w: 1 if tinted (a tagged colour or material), 0: the style's own
     vec4 roof;         // rgb: linear roof colour; w: roof material id (ROOF_* in city/roof.glsl)
+    vec4 doors[MAX_DOORS];  // xy: a door's point on the outline (object space), zw: its wall's outward normal (0: none)
 };
 
 layout(std430, binding = 0) readonly buffer Buildings {
     Building buildings[];
 };
+
+// What the building is used for: a USE_* code (cityshade/scene/_uses.py).
+int building_use(Building b) {
+    return (b.ids.z >> USE_SHIFT) & USE_MASK;
+}
 
 mat3 building_rotation(Building b) {
     // object -> world rotation about +y

@@ -4,7 +4,7 @@
 #define GRAMMAR_BUILDING_GLSL
 
 #include "common/buildings.glsl"
-#include "common/lighting.glsl"
+#include "common/facade.glsl"
 #include "common/srgb.glsl"
 #include "grammar/eval.glsl"
 
@@ -17,14 +17,21 @@ vec3 grammar_right(vec3 n) {
     return normalize(cross(vec3(0.0, 1.0, 0.0), n));
 }
 
-// Scope and texture coordinates of a wall point. Mesh u runs right to left seen from outside,
-// so it is mirrored. All sides share the building's seed, so they agree on its random choices.
-void grammar_scope(Building b, vec3 n, vec2 facade_uv, out vec2 uv, out vec2 size, out vec2 seed) {
-    bool round_mass = b.ids.w == SHAPE_CYLINDER;
-    float width = round_mass ? 3.14159265 * b.extent.x : (abs(n.z) > abs(n.x) ? b.extent.x : b.extent.z);
-    size = vec2(width, b.extent.y);
-    uv = vec2(width - facade_uv.x, facade_uv.y);
+// Scope and texture coordinates of a wall point: the grammar runs in the true size of the face it
+// is on (facade: u, v; face: width, base, top, room depth; cityshade/scene/_wall_faces.py).
+// Mesh u runs right to left seen from outside, so it is mirrored. All faces share the building's
+// seed, so they agree on its random choices.
+void grammar_scope(Building b, vec2 facade, vec4 face, out vec2 uv, out vec2 size, out vec2 seed) {
+    size = vec2(face.x, face.z - face.y);
+    uv = vec2(face.x - facade.x, facade.y - face.y);
     seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
+}
+
+// The rectangle (u0, v0, u1, v1, facade coordinates) of the grammar scope that decided a pixel
+// (GrammarResult.scope, in grammar uv: u mirrored, v from the face's base): the window that a
+// glass pixel belongs to, for the room behind it.
+vec4 grammar_window(vec4 scope, vec4 face) {
+    return vec4(face.x - scope.x - scope.z, face.y + scope.y, face.x - scope.x, face.y + scope.y + scope.w);
 }
 
 // Evaluates a grammar at facade point uv; d is the unit view ray and n the wall normal (in one
@@ -35,11 +42,13 @@ GrammarResult grammar_facade_at(int start, vec2 uv, vec2 size, vec2 seed, vec3 n
     return grammar_evaluate(start, uv, size, seed, ray, duv_dx, duv_dy);
 }
 
-// The building's grammar at a wall point (object space; facade_uv and its derivatives from the mesh).
-GrammarResult grammar_facade(Building b, vec3 n, vec2 facade_uv, vec3 d, vec2 duv_dx, vec2 duv_dy) {
+// The building's grammar at a wall point (object space; facade uv, storey height, face and the
+// derivatives of the facade uv from the mesh).
+GrammarResult grammar_facade(Building b, vec3 n, vec2 facade, float storey, vec4 face, vec3 d, vec2 duv_dx,
+                             vec2 duv_dy) {
     vec2 uv, size, seed;
-    grammar_scope(b, n, facade_uv, uv, size, seed);
-    grammar_building = vec2(floor(b.extent.y / b.room.y + 0.5), float(b.ids.y));  // storeys, style
+    grammar_scope(b, facade, face, uv, size, seed);
+    grammar_building = vec2(floor((face.z - face.y) / storey + 0.5), float(b.ids.y));  // storeys, style
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 
@@ -48,39 +57,37 @@ vec3 grammar_normal(vec3 tangent_normal, vec3 n) {
     return normalize(grammar_right(n) * tangent_normal.x + vec3(0.0, tangent_normal.y, 0.0) + n * tangent_normal.z);
 }
 
-// Sun and sky on the grammar's material: diffuse from its colour (tiles are sRGB), Phong specular.
-// `shadow`: 1 where the sun reaches the facade (shadow/csm.glsl), 0 in shadow.
-vec3 grammar_lit(GrammarResult g, vec3 n, mat3 rot, vec3 d, float shadow) {
-    vec3 n_world = rot * grammar_normal(g.normal, n);
-    vec3 albedo = srgb_to_linear(g.color);
-    vec3 half_vector = normalize(u_sun_dir - rot * d);
-    float shininess = 1.0 + 128.0 * g.specular.y;
-    float highlight = g.specular.x * pow(max(dot(n_world, half_vector), 0.0), shininess) * max(dot(n_world, u_sun_dir), 0.0);
-    return lit_surface(albedo, n_world, shadow) + shadow * highlight * u_sun_color;
+// The grammar's material at a wall point (n: its normal, point: the point) as a facade result:
+// colour from sRGB tiles, its normal in the wall's space, Phong specular, glass labelled as room.
+FacadeResult grammar_facade_result(GrammarResult g, vec3 n, vec3 point) {
+    return FacadeResult(srgb_to_linear(g.color), grammar_normal(g.normal, n), g.specular, g.glass ? 1.0 : 0.0,
+                        point, uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label));
 }
 
-// The grammar facade at a building fragment: lit colour, glass (rooms show through it) and label.
-// Evaluated here (forward), or, with GRAMMAR_DEFERRED, fetched from the deferred pass's
-// full-screen evaluation of this pixel (cityshade/grammar/_frame_pass.py). The id pass always
-// evaluates, so ids stay exact.
+// The grammar facade at a building fragment (object space), and the window the pixel belongs to
+// (grammar_window: its rectangle picks the room behind it). With GRAMMAR_DEFERRED it was evaluated
+// and lit (with facade_light) by the deferred pass's full-screen evaluation of this pixel
+// (cityshade/grammar/_frame_pass.py), which keeps the window's centre: only glass, label and window
+// come back here, and grammar_deferred_color gives the lit colour. The id pass always evaluates, so
+// ids stay exact.
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
 uniform sampler2D u_grammar_deferred_color;
 uniform usampler2D u_grammar_deferred_ids;
+
+vec3 grammar_deferred_color() { return texelFetch(u_grammar_deferred_color, ivec2(gl_FragCoord.xy), 0).rgb; }
 #endif
 
-vec3 grammar_building_color(Building b, vec3 n, vec2 facade_uv, vec3 d, mat3 rot, float shadow, out float glass,
-                            out uint label) {
+FacadeResult grammar_building_facade(Building b, vec3 n, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
+                                     out vec4 window) {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    uvec4 ids = texelFetch(u_grammar_deferred_ids, pixel, 0);
-    glass = float(ids.x);
-    label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
-    return texelFetch(u_grammar_deferred_color, pixel, 0).rgb;
+    uvec4 ids = texelFetch(u_grammar_deferred_ids, ivec2(gl_FragCoord.xy), 0);
+    uint label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
+    window = grammar_window(vec4(uintBitsToFloat(ids.zw), 0.0, 0.0), face);  // the window's centre
+    return FacadeResult(vec3(0.0), n, vec2(0.0), float(ids.x), wall, label);
 #else
-    GrammarResult g = grammar_facade(b, n, facade_uv, d, dFdx(facade_uv), dFdy(facade_uv));
-    glass = g.glass ? 1.0 : 0.0;
-    label = uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label);
-    return grammar_lit(g, n, rot, d, shadow);
+    GrammarResult g = grammar_facade(b, n, facade, storey, face, d, dFdx(facade), dFdy(facade));
+    window = grammar_window(g.scope, face);
+    return grammar_facade_result(g, n, wall);
 #endif
 }
 

@@ -14,8 +14,10 @@ void main() {}
 
 in vec3 v_local;
 in vec3 v_normal;
-in vec3 v_facade;
-flat in ivec2 v_ids;
+in vec2 v_facade;
+flat in vec2 v_spacing;
+flat in vec4 v_face;
+flat in ivec4 v_ids;
 
 const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
 
@@ -33,8 +35,8 @@ void main() {
 #if defined GBUFFER
     vec2 uv = vec2(0.0), size = vec2(1.0), seed = vec2(0.0);
     float facade = 0.0;
-    if (v_ids.y != SURFACE_ROOF && has_grammar_facade(b)) {
-        grammar_scope(b, normalize(v_normal), v_facade.xy, uv, size, seed);
+    if (v_ids.y == SURFACE_WALL && has_grammar_facade(b)) {  // not roofs, nor plain walls
+        grammar_scope(b, v_facade, v_face, uv, size, seed);
         facade = 1.0;
     }
     out_scope = vec4(uv, size);
@@ -47,8 +49,9 @@ void main() {
     }
     mat3 rot = building_rotation(b);
     vec3 d = normalize(v_local - transpose(rot) * (u_camera - b.origin_yaw.xyz));  // object space
-    GrammarResult g = grammar_facade(b, normalize(v_normal), v_facade.xy, d, dFdx(v_facade.xy), dFdy(v_facade.xy));
-    out_color = vec4(grammar_lit(g, normalize(v_normal), rot, d, 1.0), 1.0);
+    vec3 wall_normal = normalize(v_normal);  // object space
+    GrammarResult g = grammar_facade(b, wall_normal, v_facade, v_spacing.y, v_face, d, dFdx(v_facade), dFdy(v_facade));
+    out_color = vec4(facade_light(grammar_facade_result(g, wall_normal, v_local), rot, d, 1.0), 1.0);
 #endif
 }
 #endif

@@ -16,7 +16,7 @@ uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;
 #if defined CITY_FRAME
-layout(location = 1) out uvec4 out_ids;  // glass, label
+layout(location = 1) out uvec4 out_ids;  // glass, label, the window's centre (grammar uv, float bits)
 #endif
 
 const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
@@ -43,9 +43,10 @@ void main() {
     vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
-    out_color = vec4(grammar_lit(g, n, mat3(1.0), d, shadow_factor(world.xyz / world.w)), 1.0);
+    vec3 point = world.xyz / world.w;
+    out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);
 #if defined CITY_FRAME
-    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), 0u, 0u);
+    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(g.scope.xy + 0.5 * g.scope.zw));
 #endif
 }
 #endif

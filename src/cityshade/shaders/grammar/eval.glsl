@@ -34,6 +34,7 @@ struct GrammarResult {
     int tile;       // its tile, -1 for a constant colour
     int label;
     bool glass;
+    vec4 scope;     // the winning Mat's scope: its lower left in facade uv (layers' translations undone), its size
 };
 
 // ---- evaluation state (private to the invocation) -------------------------------------------
@@ -62,6 +63,8 @@ float g_AE;  // colour alpha composited from exact (nearest-texel) alphas: it pi
 vec2 g_S;
 int g_best_addr, g_best_tile;
 ivec2 g_best_texel;
+vec4 g_best_scope;  // the winning Mat's scope (GrammarResult.scope)
+vec2 g_uv;  // the pixel's facade uv
 
 vec4 grammar_texel(int address) {
     return texelFetch(u_grammar_rules, ivec2(address % GRAMMAR_WIDTH, address / GRAMMAR_WIDTH), 0);
@@ -399,6 +402,10 @@ void grammar_mat(vec4 head, int op) {
             g_best_addr = g_addr;
             g_best_tile = tile;
             g_best_texel = texel;
+            // g_lb is the same for every pixel of a scope; so are the whole seed vectors it was
+            // translated by (layers, the start), which undo it exactly
+            vec2 shift = mix(round((g_t - g_uv) / g_s) * g_s, vec2(0.0), equal(g_s, vec2(0.0)));  // no seed: none
+            g_best_scope = vec4(g_lb - shift, g_size);
         }
     } else if (usage == 2) {
         float w = (1.0 - g_AN) * a;
@@ -427,6 +434,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_split = vec2(0.0, 1.0);
     g_params = vec4(0.0);
     g_t = uv + seed;
+    g_uv = uv;
     g_d = dir;
     g_dtdx = duv_dx;
     g_dtdy = duv_dy;
@@ -437,7 +445,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_C = vec3(0.0); g_N = vec3(0.0); g_S = vec2(0.0);
     g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0; g_AE = 0.0;
     g_tint = vec3(1.0);
-    g_best_addr = -1; g_best_tile = -1; g_best_texel = ivec2(0);
+    g_best_addr = -1; g_best_tile = -1; g_best_texel = ivec2(0); g_best_scope = vec4(vec2(0.0), facade);
 
     for (int step = 0; step < GRAMMAR_MAX_STEPS && g_active; ++step) {
         vec4 head = grammar_texel(g_addr);
@@ -510,6 +518,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     result.specular = g_S + (1.0 - g_AS) * vec2(0.08, 0.25);
     result.terminal = g_best_addr;
     result.tile = g_best_tile;
+    result.scope = g_best_scope;
     bool has_tile = g_best_tile >= 0;
     result.glass = has_tile && texelFetch(u_grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
     // A constant colour is a wall unless written Color(r, g, b, label): then head.w is 1 + label.

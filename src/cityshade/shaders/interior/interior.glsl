@@ -1,18 +1,19 @@
-// Interior mapping (van Dongen 2008): rooms ray-cast per pixel in object space.
+// Interior mapping (van Dongen 2008): rooms ray-cast per pixel, one room behind each window bay of
+// a wall face, in that face's frame.
 // Twin: cityshade/interior/_reference.py (same cells, faces, room ids and per-room randomness).
 #ifndef INTERIOR_INTERIOR_GLSL
 #define INTERIOR_INTERIOR_GLSL
 
 #include "common/hash.glsl"
 #include "common/buildings.glsl"
+#include "generated/ShadingBlock.glsl"
 
 #define SALT_LIGHT 0x1000u
 #define SALT_VARIANT 0x2000u
 #define SALT_FURNITURE 0x3000u
 #define SALT_PHASE 0x4000u
 #define SALT_CURTAIN 0x5000u
-#define SALT_WALL_X 0x6000u
-#define SALT_WALL_Z 0x7000u
+#define SALT_ROOM_DEPTH 0x7000u
 
 // Depth of the furniture plane behind the facade (fraction of the room's depth) and of the curtain (metres).
 #define FURNITURE_DEPTH 0.45
@@ -22,19 +23,10 @@
 #define EMPTY_ROOM_SHARE 0.3
 #define CURTAIN_SHARE 0.55
 
-uniform float u_lights;          // probability c that a room's light is on (paper §4.1)
-uniform int u_room_variants;     // rooms in the atlas (paper §4.2)
-uniform int u_sprite_kinds;
-uniform int u_sprite_frames;
-uniform vec4 u_glass_rect;       // the glass in one window bay: (u0, v0, u1, v1)
-uniform vec3 u_room_light;       // radiance of a lit room
-uniform vec3 u_room_dark;        // what an unlit room still receives
-uniform int u_feature_mask;      // FLAG_* bits switched on for this frame
 
 #ifdef IM_SINGLE_ATLAS
 // Paper §3.2: every face of every variant in one texture; column = variant, row = face.
 uniform sampler2D u_room_atlas;
-uniform vec4 u_atlas_layout;     // tile size, padding (texels), atlas width, atlas height
 #else
 // Every face of every variant, one texture array: layer = (face - FACE_CEILING) * variants + variant.
 uniform sampler2DArray u_rooms;
@@ -43,8 +35,8 @@ uniform sampler2DArray u_sprites;  // layer = kind * frames + frame
 uniform sampler2D u_curtain;
 
 struct Room {
-    ivec3 cell;     // (column along x, floor, column along z)
-    vec3 lo, hi;    // the room's box in object space, walls displaced (paper §4.3)
+    ivec3 cell;     // (column round the building, storey, 0)
+    vec3 lo, hi;    // the room's box in its face's frame (face_frame)
     uint id;
     bool lit;
     int variant;
@@ -63,44 +55,55 @@ uint room_id(ivec3 cell) {
     return (uint(cell.x) & 0x7FFu) | ((uint(cell.z) & 0x7FFu) << 11u) | ((uint(cell.y) & 0x3FFu) << 22u);
 }
 
-// Displacement of wall line k (in rooms), constant per floor; the facades' lines stay put.
-float wall_offset(int k, int floor_index, int lines, uint salt, float jitter) {
-    if (k <= 0 || k >= lines) return 0.0;
-    return (unit_float(hash3(ivec3(k, floor_index, 0), salt)) - 0.5) * 2.0 * jitter;
+// The wall face a pixel is on (cityshade/scene/_wall_faces.py), from the mesh's attributes.
+struct WallFace {
+    float width;    // metres along the face
+    float base;     // where its storeys start
+    float storey;   // storey height
+    float bay;      // window bay width: the face holds whole bays, one room each
+    float depth;    // depth of the rooms behind it
+    ivec2 columns;  // room columns of its first and last bay (numbered round the building)
+};
+
+WallFace wall_face(vec2 spacing, vec4 face, ivec4 ids) {
+    return WallFace(face.x, face.y, spacing.y, spacing.x, face.w, ids.zw);
 }
 
-// The room interval containing x along one axis. Walls move less than half a room, so the
-// nearest grid line and one neighbour decide it: two walls checked, constant time.
-void room_interval(float x, float size, int lines, int floor_index, uint salt, float jitter,
-                   out int k, out float lo, out float hi) {
-    int k0 = int(floor(x / size));
-    float w0 = (float(k0) + wall_offset(k0, floor_index, lines, salt, jitter)) * size;
-    float w1 = (float(k0 + 1) + wall_offset(k0 + 1, floor_index, lines, salt, jitter)) * size;
-    if (x < w0) {
-        k = k0 - 1; hi = w0;
-        lo = (float(k0 - 1) + wall_offset(k0 - 1, floor_index, lines, salt, jitter)) * size;
-    } else if (x >= w1) {
-        k = k0 + 1; lo = w1;
-        hi = (float(k0 + 2) + wall_offset(k0 + 2, floor_index, lines, salt, jitter)) * size;
-    } else {
-        k = k0; lo = w0; hi = w1;
-    }
+// Object space -> the face's frame: (metres along the face as facade u grows, up, into the building).
+mat3 face_frame(vec3 n) {
+    vec2 across = vec2(n.x, n.z);
+    vec3 out_dir = dot(across, across) > 1e-8 ? normalize(vec3(n.x, 0.0, n.z)) : vec3(0.0, 0.0, -1.0);  // a dome's top
+    return transpose(mat3(vec3(-out_dir.z, 0.0, out_dir.x), vec3(0.0, 1.0, 0.0), -out_dir));
 }
 
-Room find_room(vec3 p, vec3 n, Building b) {
-    vec3 size = b.room.xyz;
+// A room's light: its hash against the share of its use at this hour (a shop on a shop-front ground
+// floor, else the building's use), times the building's own multiplier.
+bool room_lit(ivec3 cell, Building b) {
+    int use = cell.y == 0 && (b.ids.z & FLAG_SHOP_FRONT) != 0 ? USE_SHOP : building_use(b);
+    return unit_float(hash3(cell, uint(b.ids.x) ^ SALT_LIGHT)) < u_lit_share[use] * b.extent.w;
+}
+
+// The room behind a window: `window` is the glass's rectangle in facade coordinates (u0, v0, u1,
+// v1; a point for the window-bay facade), whose centre picks the bay and the storey, so the whole
+// window opens onto one room. The room's box (face frame) spans its bay and storey and holds the
+// window; rooms between the face's ends vary in depth (paper §4.3) by up to `jitter` of it.
+Room find_room(vec4 window, WallFace f, Building b) {
     uint seed = uint(b.ids.x);
     float jitter = (b.ids.z & u_feature_mask & FLAG_ROOM_VARIATION) != 0 ? b.room.w : 0.0;
-    ivec3 lines = ivec3(round(b.extent.xyz / size));
-    vec3 q = p - n * (1e-3 * min(size.x, min(size.y, size.z)));   // just inside the facade
+    // to 1/64 m, so that a window centred on a bay's edge (a grammar's windows often are) picks the
+    // same side from every one of its pixels, whose rectangles differ by float rounding
+    vec2 anchor = round(32.0 * (window.xy + window.zw)) / 64.0;
+    int bays = max(1, int(round(f.width / f.bay)));
+    int j = clamp(int(floor(anchor.x / f.bay)), 0, bays - 1);
+    int storey = int(floor((anchor.y - f.base) / f.storey));
     Room r;
-    r.cell.y = int(floor(q.y / size.y));
-    r.lo.y = float(r.cell.y) * size.y;
-    r.hi.y = r.lo.y + size.y;
-    room_interval(q.x, size.x, lines.x, r.cell.y, seed ^ SALT_WALL_X, jitter, r.cell.x, r.lo.x, r.hi.x);
-    room_interval(q.z, size.z, lines.z, r.cell.y, seed ^ SALT_WALL_Z, jitter, r.cell.z, r.lo.z, r.hi.z);
+    r.cell = ivec3(j == bays - 1 ? f.columns.y : f.columns.x + j, storey, 0);
+    float depth = f.depth;
+    if (j > 0 && j < bays - 1) depth *= 1.0 + (unit_float(hash3(r.cell, seed ^ SALT_ROOM_DEPTH)) - 0.5) * 2.0 * jitter;
+    r.lo = vec3(min(float(j) * f.bay, window.x), min(f.base + float(storey) * f.storey, window.y), 0.0);
+    r.hi = vec3(max(float(j + 1) * f.bay, window.z), max(f.base + float(storey + 1) * f.storey, window.w), depth);
     r.id = room_id(r.cell);
-    r.lit = unit_float(hash3(r.cell, seed ^ SALT_LIGHT)) < u_lights * b.extent.w;
+    r.lit = room_lit(r.cell, b);
     r.variant = int(hash3(r.cell, seed ^ SALT_VARIANT) % uint(u_room_variants));
     return r;
 }
@@ -135,10 +138,12 @@ vec3 room_radiance(Room r) {
     return r.lit ? u_room_light : u_room_dark;
 }
 
-// p: facade point, d: unit ray direction, n: facade normal (all object space);
-// dpdx/dpdy: screen derivatives of p; s: distance from the camera to p.
-InteriorHit interior_trace(vec3 p, vec3 d, vec3 n, Building b, vec3 dpdx, vec3 dpdy, float s) {
-    Room r = find_room(p, n, b);
+// In the face's frame (face_frame): p the facade point (u, v, metres behind the face), d the unit
+// ray direction, dpdx/dpdy the screen derivatives of p; window: the glass's rectangle (find_room);
+// s: distance from the camera to p.
+InteriorHit interior_trace(vec3 p, vec3 d, vec4 window, WallFace f, Building b, vec3 dpdx, vec3 dpdy, float s) {
+    const vec3 n = vec3(0.0, 0.0, -1.0);  // the face, seen from inside
+    Room r = find_room(window, f, b);
     vec3 size = r.hi - r.lo;
     // ceilings, floors and walls: the far planes of the room box in the ray's direction (§2.1-2.2)
     vec3 far_planes = mix(r.lo, r.hi, step(0.0, d));

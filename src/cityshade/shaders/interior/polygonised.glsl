@@ -1,8 +1,9 @@
 // The polygonised-interiors baseline (interior-mapping §3.1, fig. 9): real floors, ceilings and walls
 // behind the windows (cityshade/interior/_polygonised.py). Each fragment finds its room with the
 // room grid cell directly (the baseline's walls are not displaced, so no wall search), with interior
-// mapping's hashes, so texture variants and lights are the same as in the ray-cast version; only
-// the geometry differs. Defines: DEPTH_ONLY (the rooms' z prepass), IM_SINGLE_ATLAS.
+// mapping's hashes. Its grid is the building's bounding box's in object space, while interior
+// mapping's rooms follow each face's windows (interior/interior.glsl), so the two pick texture
+// variants and lights for different cells. Defines: DEPTH_ONLY (the rooms' z prepass), IM_SINGLE_ATLAS.
 
 #include "common/building_vertex.glsl"
 
@@ -15,8 +16,10 @@ void main() {}
 
 in vec3 v_local;
 in vec3 v_normal;    // toward the room the quad belongs to
-in vec3 v_facade;
-flat in ivec2 v_ids; // building, face code
+in vec2 v_facade;
+flat in vec2 v_spacing;
+flat in vec4 v_face;
+flat in ivec4 v_ids; // building, face code
 
 layout(location = 0) out vec4 out_color;
 
@@ -30,7 +33,7 @@ Room grid_room(vec3 p, vec3 n, Building b) {
     r.hi = r.lo + size;
     uint seed = uint(b.ids.x);
     r.id = room_id(r.cell);
-    r.lit = unit_float(hash3(r.cell, seed ^ SALT_LIGHT)) < u_lights * b.extent.w;
+    r.lit = room_lit(r.cell, b);
     r.variant = int(hash3(r.cell, seed ^ SALT_VARIANT) % uint(u_room_variants));
     return r;
 }

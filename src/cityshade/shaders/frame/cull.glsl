@@ -1,0 +1,44 @@
+// GPU-driven visibility of the city's buildings (render/_visibility.py, whose numpy twin makes the
+// same decision): one invocation per building tests its bounding box against the view's frustum
+// planes (frame/cull_tests.glsl) and writes the building's DrawArraysIndirectCommand (count,
+// instanceCount 1 or 0, first, 0) for a multi-draw, COMMAND_WORDS apart (moderngl's render_indirect
+// draws with a 20-byte stride). The boxes, and so the commands, are in vertex-buffer order, so the
+// drawn triangles arrive in the same order as in one plain draw of everything, and the picture is
+// the same (where two buildings meet at one depth, the later one wins either way).
+// Defines: COMMAND_WORDS (the command stride in words), OCCLUDERS (only the boxes that look big:
+// the occluders drawn into the hierarchical depth), HIZ (also drop the boxes hidden behind the
+// hierarchical depth of the occluders, frame/hiz.glsl).
+#if defined COMPUTE_SHADER
+layout(local_size_x = 64) in;
+
+struct BuildingBox {
+    vec4 lo;     // xyz: the box's low corner (world)
+    vec4 hi;     // xyz: the high corner
+    uvec4 draw;  // vertex count, first vertex, building
+};
+layout(std430, binding = 1) readonly buffer Boxes { BuildingBox boxes[]; };
+layout(std430, binding = 2) writeonly buffer Commands { uint commands[]; };
+
+uniform uint u_box_count;
+#if defined OCCLUDERS
+uniform float u_occluder_size;  // half diagonal over distance from the eye
+#endif
+#include "frame/cull_tests.glsl"
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= u_box_count) return;
+    BuildingBox box = boxes[i];
+    bool drawn = in_frustum(box.lo.xyz, box.hi.xyz);
+#if defined OCCLUDERS
+    vec3 centre = 0.5 * (box.lo.xyz + box.hi.xyz);
+    drawn = drawn && 0.5 * length(box.hi.xyz - box.lo.xyz) >= u_occluder_size * distance(u_camera, centre);
+#elif defined HIZ
+    drawn = drawn && !hidden(box.lo.xyz, box.hi.xyz);
+#endif
+    commands[uint(COMMAND_WORDS) * i] = box.draw.x;
+    commands[uint(COMMAND_WORDS) * i + 1u] = drawn ? 1u : 0u;
+    commands[uint(COMMAND_WORDS) * i + 2u] = box.draw.y;
+    commands[uint(COMMAND_WORDS) * i + 3u] = 0u;
+}
+#endif

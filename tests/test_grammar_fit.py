@@ -1,0 +1,56 @@
+"""Bad input: a grammar that cannot fit a face (the face is narrower than its fixed-size parts
+need) degrades to a plain wall with a counted warning: no stretched or garbage facade, no crash."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cityshade.assets import LABELS
+from cityshade.grammar import BUILDING_STYLES, library_min_widths, loads, min_width
+from cityshade.interior._faces import FACE_EXTERIOR
+from cityshade.render import Renderer, RenderSettings, assign_facades
+from cityshade.render._facades import NARROW_FACES, GrammarFitWarning
+from cityshade.scene import SURFACE_PLAIN_WALL, Camera, City, batch, box
+
+STYLE = {name: number for number, name in BUILDING_STYLES.items()}
+
+
+def test_the_narrowest_face_is_the_fixed_parts_side_by_side():
+    grammar = loads("""
+F->SplitY(Abs, 3, G, Rel, 1, U)
+G->SplitX(Rel, 1, Bays, Abs, 2.4, Door, Rel, 1, Bays)
+U->RepeatX(3, Bay)
+Bays->RepeatX(3, Bay)
+Bay->SplitX(Rel, 1, Wall, Abs, 1.3, Window, Rel, 1, Wall)
+Door->Mat(Color, Fit>door1, 0, 0, 1, 1)
+Window->Mat(Color, Fit>window1, 0, 0, 1, 1)
+Wall->Mat(Color, Rep:wall1, 0, 0, 1, 1)
+""")
+    assert min_width(grammar) == pytest.approx(1.3 + 2.4 + 1.3)  # a window bay each side of the door
+    assert library_min_widths()["brick"] == pytest.approx(5.0)  # the same layout: door 2.4 m, windows 1.3 m
+
+
+def test_faces_too_narrow_for_the_grammar_are_plain_walls_with_a_counted_warning(gl_context):
+    masses = [box((0.0, 0.0), 3.0, 14.0, 12.0, seed=4, style=STYLE["brick"])]  # 3 m ends, 14 m sides
+    vertices, records = batch(masses)
+    with pytest.warns(GrammarFitWarning, match="2 wall faces are narrower"):
+        counts = assign_facades(records, masses, vertices)
+    assert counts[NARROW_FACES] == 2
+    plain = vertices["ids"][:, 1] == SURFACE_PLAIN_WALL
+    walls = vertices["ids"][:, 1] == 0
+    assert np.allclose(vertices["face"][plain, 0], 3.0) and np.allclose(vertices["face"][walls, 0], 14.0)
+
+    r = Renderer((96, 72), RenderSettings(lights=0.7), ctx=gl_context)
+    with pytest.warns(GrammarFitWarning):
+        r.set_city(City("narrow", 0, masses, [], (-30.0, -30.0, 30.0, 30.0)))
+    try:
+        end = r.render_ids(Camera((1.5, 6.0, -12.0), (1.5, 6.0, 7.0), fov_y=50.0))  # the 3 m end, face on
+        side = r.render_ids(Camera((-16.0, 6.0, 7.0), (0.0, 6.0, 7.0), fov_y=60.0))  # a 14 m side
+    finally:
+        r.release()
+    on_end, on_side = end[..., 2] == 1, side[..., 2] == 1
+    assert on_end.sum() > 200 and on_side.sum() > 200
+    assert not end[..., 3][on_end].any() and (end[..., 0][on_end] == FACE_EXTERIOR).all()  # no labels, no glass
+    labels = {LABELS[v] for v in np.unique(side[..., 3][on_side])}
+    assert {"wall", "window", "room"} <= labels
