@@ -46,8 +46,8 @@ def _odd_masses() -> list[BuildingMass]:
                      holes=(((5.0, 5.0), (15.0, 5.0), (15.0, 15.0), (5.0, 15.0)),)),  # counter-clockwise courtyard
         BuildingMass("prism", (330.0, 0.0), square, 12.0, roof=Roof(parapet=1.2), doors=((10.0, 0.0, 0.0, -1.0),)),
         BuildingMass("prism", (360.0, 0.0), ((0.0, 0.0), (40.0, 0.0), (40.0, 20.0), (0.0, 20.0)), 12.0,
-                     roof=Roof("gabled", 3.0), holes=(((4.0, 4.0), (4.0, 16.0), (16.0, 16.0), (16.0, 4.0)),
-                                                      ((24.0, 4.0), (24.0, 16.0), (36.0, 16.0), (36.0, 4.0)))),
+                     holes=(((4.0, 4.0), (4.0, 16.0), (16.0, 16.0), (16.0, 4.0)),
+                            ((24.0, 4.0), (24.0, 16.0), (36.0, 16.0), (36.0, 4.0)))),  # room columns over 3 rings
         BuildingMass("prism", (420.0, 0.0), round_block, 20.0),  # a curved block: one face per run
     ]
 
