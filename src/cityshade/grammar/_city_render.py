@@ -113,6 +113,7 @@ class FacadeCityRenderer:
             ctx.disable(moderngl.DEPTH_TEST)
             program = self.programs["deferred"]
             self.textures.bind(program)  # the camera comes from the frame block
+            self.ssbo.bind_to_storage_buffer(0)  # the buildings' attributes for conditions
             bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"),
                                             (*self.gbuffer.colors, self.gbuffer.depth))))
             program["u_viewport"] = tuple(float(x) for x in self.size)

@@ -14,7 +14,7 @@ import numpy as np
 from ..gl import RenderTarget, bind_textures, draw_fullscreen
 from ._gpu import GrammarTextures, shader_defines
 
-G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, facade flag; normal
+G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, building + 1; normal
 RESULT = (("f2", 4), ("u4", 4))  # lit colour; glass, label
 
 
@@ -50,6 +50,7 @@ class DeferredGrammarPass:
         if f.gpu.shadows is not None:
             f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)
+        f.gpu.city.records.bind_to_storage_buffer(0)  # the buildings' attributes for conditions
         bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors, gbuffer.depth))))
         draw_fullscreen(program)
 

@@ -57,7 +57,7 @@ class Evaluation:
 class _Pixels:
     """The evaluation state of n pixels (one row each)."""
 
-    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0)):
+    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0, 0, 0), building_seed=None):
         s = np.asarray(seed, F)
         self.s = s
         self.addr = np.full(n, start, np.int32)
@@ -66,12 +66,12 @@ class _Pixels:
         self.t = uv.astype(F) + s
         self.uv = uv.astype(F)
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
-        self.building = np.broadcast_to(np.asarray(building, F), (n, 2)).astype(F)  # levels, style
+        self.building = np.broadcast_to(np.asarray(building, F), (n, 4)).astype(F)  # levels, style, use, height
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
         self.params = np.zeros((n, limits.MAX_PARAMS), F)  # the parameters of the rule being evaluated
         self.d = directions.astype(F)
         self.stack = np.zeros((n, limits.MAX_STACK, 2), F)
-        self.stack[:, 0] = s
+        self.stack[:, 0] = s if building_seed is None else np.asarray(building_seed, F)  # Rand l >= 1, no entry
         self.sp = np.ones(n, np.int32)
         L = limits.MAX_LAYER_DEPTH
         self.depth = np.zeros(n, np.int32)
@@ -496,13 +496,14 @@ _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "o
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,
-             directions: np.ndarray | None = None, building=(0, 0)) -> Evaluation:
+             directions: np.ndarray | None = None, building=(0, 0, 0, 0), building_seed=None) -> Evaluation:
     """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
-    `building` is (building.levels, building.style) for conditions."""
+    `building` is (building.levels, building.style, building.use, building.height) for conditions;
+    `building_seed` the building's seed vector (entry 0 of the seed stack; None: `seed`, the facade's)."""
     n = len(uv)
     if directions is None:
         directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
-    pixels = _Pixels(n, start, facade, seed, uv, directions, building)
+    pixels = _Pixels(n, start, facade, seed, uv, directions, building, building_seed)
     evaluator = _Evaluator(compiled, tiles)
     evaluator.run(pixels)
     return evaluator.finish(pixels)
@@ -538,13 +539,13 @@ def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarra
 
 
 def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray,
-                    building=(0, 0)) -> Evaluation:
+                    building=(0, 0, 0, 0), building_seed=None) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
     parts = []
     for first in range(0, len(uv), CHUNK_PIXELS):  # pixels are independent: tiles bound the work arrays
         part = evaluate(compiled, start, uv[first:first + CHUNK_PIXELS], facade, seed, tiles,
-                        rays[first:first + CHUNK_PIXELS], building)
+                        rays[first:first + CHUNK_PIXELS], building, building_seed)
         part.color = shade(part, rays[first:first + CHUNK_PIXELS])
         parts.append(part)
     result = Evaluation(**{name: np.concatenate([vars(p)[name] for p in parts]) for name in vars(parts[0])})

@@ -78,6 +78,7 @@ class BuildingMass:
 
     @property
     def flags(self) -> int:
+        """The record's flags word: FLAG_* bits, and the use code from bit USE_SHIFT."""
         return (
             (FLAG_FURNITURE if self.furniture and self.shape != "dome" else 0)
             | (FLAG_CURTAINS if self.curtains else 0)

@@ -108,7 +108,7 @@ void main() {
         if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);
         else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
             f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
-        else if (grammar) f = grammar_building_facade(b, n, v_local, v_facade, v_spacing.y, v_face, d, opening);
+        else if (grammar) f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
         else if (has_relief_facade(b)) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
         else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;

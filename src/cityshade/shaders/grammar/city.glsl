@@ -23,8 +23,8 @@ const vec3 ROOF_COLOR = vec3(0.32, 0.31, 0.30);
 
 #if defined GBUFFER
 layout(location = 0) out vec4 out_scope;   // uv, scope size (metres)
-layout(location = 1) out vec4 out_rule;    // seed vector, start rule, 1 = facade (0 = roof)
-layout(location = 2) out vec4 out_normal;  // world normal
+layout(location = 1) out vec4 out_rule;    // seed vector, start rule, building index + 1 (0: a roof)
+layout(location = 2) out vec4 out_normal;  // world normal, the face's storeys (building.levels)
 #else
 layout(location = 0) out vec4 out_color;
 #endif
@@ -34,14 +34,15 @@ void main() {
     vec3 n = building_rotation(b) * normalize(v_normal);  // world; buildings turn about +y only
 #if defined GBUFFER
     vec2 uv = vec2(0.0), size = vec2(1.0), seed = vec2(0.0);
-    float facade = 0.0;
+    float facade = 0.0, levels = 0.0;
     if (v_ids.y == SURFACE_WALL && has_grammar_facade(b)) {  // not roofs, nor plain walls
-        grammar_scope(b, v_facade, v_face, uv, size, seed);
+        grammar_scope(b, v_ids.z, v_facade, v_face, uv, size, seed);
+        levels = grammar_levels(v_face, v_spacing.y);
         facade = 1.0;
     }
     out_scope = vec4(uv, size);
-    out_rule = vec4(seed, float(b.facade.y), facade);
-    out_normal = vec4(n, 0.0);
+    out_rule = vec4(seed, float(b.facade.y), facade * float(v_ids.x + 1));  // exact in 32-bit floats
+    out_normal = vec4(n, levels);
 #else
     if (v_ids.y == SURFACE_ROOF) {
         out_color = vec4(lit_surface(ROOF_COLOR, n, 1.0), 1.0);
@@ -50,7 +51,7 @@ void main() {
     mat3 rot = building_rotation(b);
     vec3 d = normalize(v_local - transpose(rot) * (u_camera - b.origin_yaw.xyz));  // object space
     vec3 wall_normal = normalize(v_normal);  // object space
-    GrammarResult g = grammar_facade(b, wall_normal, v_facade, v_spacing.y, v_face, d, dFdx(v_facade), dFdy(v_facade));
+    GrammarResult g = grammar_facade(b, wall_normal, v_ids.z, v_facade, v_spacing.y, v_face, d, dFdx(v_facade), dFdy(v_facade));
     out_color = vec4(facade_light(grammar_facade_result(g, wall_normal, v_local), rot, d, 1.0), 1.0);
 #endif
 }

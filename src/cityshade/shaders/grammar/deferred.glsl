@@ -27,7 +27,8 @@ void main() {
     if (depth >= 1.0) discard;  // sky: nothing was drawn
     vec4 scope = texelFetch(u_scope, pixel, 0);
     vec4 rule = texelFetch(u_rule, pixel, 0);
-    vec3 n = normalize(texelFetch(u_normal, pixel, 0).xyz);
+    vec4 normal_levels = texelFetch(u_normal, pixel, 0);
+    vec3 n = normalize(normal_levels.xyz);
     if (rule.w == 0.0) {
 #if defined CITY_FRAME
         discard;  // roofs and the other facade techniques are shaded by the building pass
@@ -42,6 +43,7 @@ void main() {
     // texture footprints from the neighbouring pixels' facade coordinates
     vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
+    grammar_set_building(buildings[int(rule.w) - 1], normal_levels.w);  // its attributes and seed
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
     vec3 point = world.xyz / world.w;
     out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);
