@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
-BENCHES := interior facades relief trees
+BENCHES := interior facades relief trees scale
 # `ruff format --check` covers these paths; the rest of the tree joins them as it is next edited
 # (reformatting every file at once would collide with concurrent work on it).
 FORMATTED := src/cityshade/gl src/cityshade/arguments.py src/cityshade/render/_facades.py src/cityshade/shader_constants.py \

@@ -16,8 +16,7 @@ from cityshade.dataset import (
 from cityshade.errors import UsageError
 from cityshade.interior import InteriorParams, reference_ids
 from cityshade.render._city_gpu import GROUND_MARGIN
-from cityshade.scene import make_city
-from cityshade.scene._meshes import batch
+from cityshade.scene import batch, make_city
 from cityshade.scene._raycast import intersect
 
 SIZE = (160, 120)

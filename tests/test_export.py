@@ -12,7 +12,7 @@ import pytest
 
 from cityshade.cli import main
 from cityshade.export import Canvas, GpuBaker, bake_reference, pack
-from cityshade.grammar import library_texture, seed_vector
+from cityshade.grammar import facade_seed_vector, library_texture, seed_vector
 
 TAGGED = Path(__file__).parent / "data" / "maps" / "tagged.osm"
 
@@ -22,8 +22,10 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
 
     compiled = library_texture()
     tiles = tile_array(128)
-    canvases = [Canvas(0, 0, -0.25, -0.25, 60, 80, 14.0, 19.0, compiled.address("classical"), seed_vector(3), (4, 3.2), 1),
-                Canvas(1, 1, -0.3, 2.0, 50, 40, 12.0, 9.0, compiled.address("office"), seed_vector(4), (4, 3.2), 1)]
+    canvases = [Canvas(0, 0, -0.25, -0.25, 60, 80, 14.0, 19.0, compiled.address("classical"), seed_vector(3),
+                       seed_vector(3), (4, 3.2), 1),
+                Canvas(1, 4, -0.3, 2.0, 50, 40, 12.0, 9.0, compiled.address("office"), facade_seed_vector(4, 4),
+                       seed_vector(4), (4, 3.2), 1)]  # a side: its own seed, the building's for its spandrels
     size = pack(canvases)[0]
     baker = GpuBaker(gl_context, tiles, nearest=True)
     page = baker.bake_page(canvases, size, 0.25)
@@ -41,8 +43,8 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
 
 def test_pack_places_canvases_without_overlap():
     rng = np.random.default_rng(1)
-    canvases = [Canvas(i, 0, 0, 0, int(w), int(h), 1, 1, 0, (0, 0), (1, 1), 1) for i, (w, h) in
-                enumerate(rng.integers(1, 700, (60, 2)))] + [Canvas(99, 0, 0, 0, 3000, 40, 1, 1, 0, (0, 0), (1, 1), 1)]
+    canvases = [Canvas(i, 0, 0, 0, int(w), int(h), 1, 1, 0, (0, 0), (0, 0), (1, 1), 1) for i, (w, h) in
+                enumerate(rng.integers(1, 700, (60, 2)))] + [Canvas(99, 0, 0, 0, 3000, 40, 1, 1, 0, (0, 0), (0, 0), (1, 1), 1)]
     sizes = pack(canvases)
     for page, (cols, rows) in enumerate(sizes):
         used = np.zeros((rows, cols), np.int32)

@@ -152,7 +152,13 @@ def test_the_shading_block_takes_exactly_its_fields(gl_context):
 def test_block_arrays_take_a_vec4_slot_per_element():
     from cityshade.gl import MAX_USES, SHADING_BLOCK
 
-    values = {name: 0 for name, _, _ in SHADING_BLOCK.fields}
+    def zero(kind: str):  # a scalar, or one zero element per slot of an array field
+        if not kind.endswith("]"):
+            return 0
+        base, count = kind[:-1].split("[")
+        return np.zeros((int(count), 4) if base == "vec4" else int(count))
+
+    values = {name: zero(kind) for name, kind, _ in SHADING_BLOCK.fields}
     shares = np.arange(1, MAX_USES + 1, dtype=np.float32) / 10
     data = SHADING_BLOCK.pack({**values, "u_lit_share": shares})
     offset = SHADING_BLOCK.offsets()[0]["u_lit_share"]

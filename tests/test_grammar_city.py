@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.assets import LABELS
-from cityshade.grammar import BUILDING_STYLES, library_texture
+from cityshade.assets import LABELS, tile_array
+from cityshade.grammar import BUILDING_STYLES, evaluate, facade_seed_vector, library_texture, library_texture_with
 from cityshade.interior._faces import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
-from cityshade.scene import Camera, City, batch, box, make_city
+from cityshade.scene import SURFACE_WALL, USE_CODES, USES, Camera, City, batch, box, make_city
 from render_checks import render_finite
 
 SIZE = (128, 96)
@@ -36,6 +36,16 @@ def test_records_carry_start_rule_and_seed():
     assert not records["facade"][1].any()  # the default style keeps the window bays
 
 
+def test_records_carry_the_use():
+    masses = [box((0.0, 0.0), 10.0, 10.0, 9.0, use=use, furniture=False) for use in USES.values()]
+    _, records = batch(masses)
+    shift = USE_CODES["USE_SHIFT"]
+    assert ((records["ids"][:, 2] >> shift) & USE_CODES["USE_MASK"]).tolist() == list(USES.values())
+    assert (records["ids"][:, 2] & 15).tolist() == [masses[0].flags & 15] * len(USES)  # the flags stay
+    with pytest.raises(ValueError, match="unknown building use code 9"):
+        box((0.0, 0.0), 10.0, 10.0, 9.0, use=9)
+
+
 def test_label_aov_shows_grammar_labels_and_rooms(renderer, output_dir):
     camera = Camera((10.0, 6.0, -18.0), (16.0, 8.0, 7.0), fov_y=60.0)
     ids = renderer.render_ids(camera)
@@ -53,3 +63,87 @@ def test_default_city_uses_grammar_facades():
     city = make_city("default")
     styles = {m.style for m in city.masses}
     assert len(styles & set(BUILDING_STYLES)) >= 5
+
+
+PATHS = ("forward", "deferred")
+
+
+def _grammar_city(gl_context, tmp_path, text: str, masses, path: str, size) -> Renderer:
+    """The city of `masses` drawn by the frame with every grammar facade in grammar `text`
+    (compiled after the library through RenderSettings.grammar_files), lit at midday, by `path`."""
+    grammar = tmp_path / "city_test.grammar"
+    grammar.write_text(text)
+    settings = RenderSettings(samples=0, trees=False, shadows=False, god_rays=False, interior_mapping=False,
+                              time_of_day=13.0, grammar_deferred=path == "deferred", grammar_files=(str(grammar),),
+                              grammar_start="city_test")
+    renderer = Renderer(size, settings, ctx=gl_context)
+    renderer.set_city(City("grammar test", 0, masses, [], (-60.0, -60.0, 60.0, 60.0)))
+    return renderer
+
+
+def _city_pixels(renderer, camera, points, name, output_dir):
+    """Draws the city; the image (int RGB) and the (row, column) of world points."""
+    renderer.draw(camera)
+    image = renderer.read().astype(int)
+    Image.fromarray(image.astype(np.uint8)).save(output_dir / f"{name}_{renderer.settings.grammar_deferred}.png")
+    height, width = image.shape[:2]
+    clip = camera.view_projection(width / height) @ np.array([[*p, 1.0] for p in points]).T
+    ndc = clip[:2] / clip[3]
+    return image, ((1 - ndc[1]) / 2 * height).astype(int), ((ndc[0] + 1) / 2 * width).astype(int)
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, tmp_path, path, output_dir):
+    """The record's use and height feed building.use / building.height on the GPU, by both paths
+    (the deferred pass reads them through the building index in its G-buffer)."""
+    text = ("S->Case(building.use == use.office, Red, building.height > 30, Green, Yellow)\n"
+            "Red->Color(0.9, 0.1, 0.1)\nGreen->Color(0.1, 0.9, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
+    office = STYLE["office"]
+    masses = [box((-25.0, 0.0), 14.0, 14.0, 12.0, use=USES["office"], style=office),
+              box((-7.0, 0.0), 14.0, 14.0, 40.0, use=USES["home"], style=office),
+              box((11.0, 0.0), 14.0, 14.0, 12.0, style=office)]
+    renderer = _grammar_city(gl_context, tmp_path, text, masses, path, (160, 96))
+    try:
+        camera = Camera((0.0, 10.0, -60.0), (0.0, 8.0, 0.0), fov_y=60.0)
+        points = [(x, 5.0, 0.0) for x in (-18.0, 0.0, 18.0)]  # the buildings' fronts
+        image, rows, columns = _city_pixels(renderer, camera, points, "grammar_city_uses", output_dir)
+        r, g, b = (image[rows, columns, k] for k in range(3))
+        assert r[0] > 2 * g[0] and g[1] > 2 * r[1] and r[2] > 2 * b[2] and g[2] > 2 * b[2], (r, g, b)
+    finally:
+        renderer.release()
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, tmp_path, path, output_dir):
+    """Two sides of one box pick their bays as the twin does with each facade's own seed
+    (grammar.facade_seed_vector of the face's index, its first room column), not with one seed for
+    the building."""
+    text = ("S->RepeatX(2, Bay)\nBay->RandUni(0, Red, Yellow)\n"
+            "Red->Color(0.9, 0.1, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
+    mass = box((0.0, 0.0), 20.0, 20.0, 10.0, seed=7, style=STYLE["office"])
+    renderer = _grammar_city(gl_context, tmp_path, text, [mass], path, (240, 160))
+    try:
+        compiled = library_texture_with(renderer.settings.grammar_files)
+        camera = Camera((48.0, 9.0, -28.0), (10.0, 5.0, 10.0), fov_y=55.0)
+        centres = np.arange(10) * 2.0 + 1.0
+        vertices, _ = batch([mass])
+        walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+
+        def face_of(normal):  # the face index (first room column) of the wall facing `normal`
+            return int(walls["ids"][np.all(np.isclose(walls["normal"], normal), axis=1), 2][0])
+
+        sides = {face_of((0.0, 0.0, -1.0)): [(x, 5.0, 0.0) for x in centres],  # the -z wall
+                 face_of((1.0, 0.0, 0.0)): [(20.0, 5.0, z) for z in centres]}  # the +x wall
+        uv = np.stack([centres, np.full(10, 5.0)], axis=1).astype(np.float32)
+        seen = {}
+        for face, points in sides.items():
+            image, rows, columns = _city_pixels(renderer, camera, points, "grammar_city_sides", output_dir)
+            yellow = image[rows, columns, 1] > image[rows, columns, 2] + 60  # red or yellow, never unlit
+            assert (image[rows, columns, 0] > image[rows, columns, 2] + 60).all(), "a bay centre is not on the wall"
+            twin = evaluate(compiled, compiled.address("city_test"), uv, (20.0, 10.0), facade_seed_vector(7, face),
+                            tile_array(16)).terminal == compiled.address("city_test", "Yellow")
+            assert (yellow == twin).all() or (yellow == twin[::-1]).all(), (face, yellow, twin)
+            seen[face] = twin
+        assert len(seen) == 2 and (seen[min(seen)] != seen[max(seen)]).any()  # the two sides chose differently
+    finally:
+        renderer.release()

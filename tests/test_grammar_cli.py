@@ -53,3 +53,22 @@ def test_render_on_the_gpu_matches_cpu_and_rule_picks_the_start(tmp_path):
     same = np.all(labels["gpu"] == labels["cpu"], axis=-1) if labels["gpu"].ndim == 3 else labels["gpu"] == labels["cpu"]
     assert same.mean() > 0.999, f"{(~same).sum()} label pixels differ between the GPU and the numpy evaluator"
     assert np.any(labels["assets"] != labels["gpu"]), "--rule Assets drew the same as the start rule"
+
+
+def test_render_use_and_face_options(tmp_path, capsys):
+    grammar = tmp_path / "uses.grammar"
+    grammar.write_text("S->Case(building.use == use.office, Glass, Bays)\nBays->RepeatX(1, Pick)\n"
+                       "Pick->RandUni(0, Brick, Glass)\nGlass->Color(0.2, 0.3, 0.4, window)\nBrick->Color(0.6, 0.3, 0.2)\n")
+    labels = {}
+    for name, extra in (("front", []), ("front_cpu", ["--cpu"]), ("side", ["--face", "4"]),
+                        ("side_cpu", ["--cpu", "--face", "4"]), ("office", ["--use", "office"])):
+        out, label = tmp_path / f"{name}.png", tmp_path / f"{name}_labels.png"
+        assert main(["grammar", "render", str(grammar), *extra, "--size", "40x16", "--facade", "20x8",
+                     "--out", str(out), "--labels", str(label)]) == 0
+        labels[name] = np.asarray(Image.open(label)).astype(int)
+    assert (labels["front"] == labels["front_cpu"]).all() and (labels["side"] == labels["side_cpu"]).all()
+    assert (labels["front"] != labels["side"]).any()  # another facade of the building: other choices
+    assert len(np.unique(labels["office"].reshape(-1, 3), axis=0)) == 1  # an office: all glass
+    for bad in (["--use", "store"], ["--face", "2047"]):
+        assert main(["grammar", "render", str(grammar), *bad, "--out", str(tmp_path / "bad.png")]) == 2
+        assert not (tmp_path / "bad.png").exists()

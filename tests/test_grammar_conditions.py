@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from cityshade.assets import tile_array
 from cityshade.grammar import GrammarError, compile_grammars, loads
 from cityshade.grammar._reference import evaluate
+from cityshade.scene import USES
 
 ARITHMETIC = ["+", "-", "*", "%"]
 COMPARISONS = ["==", "!=", "<", "<=", ">", ">="]
@@ -66,8 +67,8 @@ def test_case_picks_the_branch_python_would(condition, tile, width):
             "A->Mat(Color, 0, 1, 0, 0, 1)\nB->Mat(Color, 0, 0, 0, 1, 1)\n")
     try:
         grammar = loads(text)
-    except GrammarError as exc:  # a constant zero divisor is refused at check time (tested below)
-        assert "by zero" in str(exc)
+    except GrammarError as exc:  # a constant zero divisor, or a condition over the GPU's limits, is refused
+        assert "by zero" in str(exc) or "the GPU limit is" in str(exc)
         assume(False)
     compiled = compile_grammars({"g": grammar})
     count = max(math.floor(width / tile + 0.5), 1)
@@ -80,9 +81,26 @@ def test_case_picks_the_branch_python_would(condition, tile, width):
         assert result.terminal[i] == want, (condition, i, count, sx)
 
 
+@settings(max_examples=30, deadline=None)
+@given(use=st.sampled_from(list(USES)), asked=st.sampled_from(list(USES)), height=st.floats(1, 200, width=32),
+       threshold=st.integers(1, 200))
+def test_use_and_height_pick_the_branch(use, asked, height, threshold):
+    """building.use == use.NAME is true exactly for that use; building.height compares as a number."""
+    text = (f"S->Case(building.use == use.{asked} && building.height > {threshold}, A, "
+            f"building.use != use.{asked}, B, C)\n" + "".join(f"{n}->Color({v}, 0, 0)\n" for n, v in zip("ABC", (1, 0.5, 0))))
+    compiled = compile_grammars({"g": loads(text)})
+    result = evaluate(compiled, compiled.address("g"), np.array([[0.5, 0.5]], np.float32), (1.0, 1.0), (0.0, 0.0),
+                      tile_array(16), building=(3, 0, USES[use], height))
+    want = "A" if use == asked and height > threshold else "B" if use != asked else "C"
+    assert result.terminal[0] == compiled.address("g", want)
+
+
 @pytest.mark.parametrize("text, message", [
     ("S->Case(split.indx == 0, A, A)\n", "1:9: error: unknown variable 'split.indx' in a condition"),
     ("S->Case(levels > 3, A, A)\n", "1:9: error: unknown variable 'levels' in a condition"),
+    ("S->Case(building.usage == 2, A, A)\n", "1:9: error: unknown variable 'building.usage' in a condition"),
+    ("S->Case(building.use == use.ofice, A, A)\n", "1:25: error: unknown use 'use.ofice'"),
+    ("S->Case(building.use == use.zzz, A, A)\n", "uses: use.mixed, use.home, use.office, use.shop"),
     ("S->Case(split.index % (2 - 2) == 0, A, A)\n", "1:21: error: '%' by zero"),
     ("S->Case(scope.sx / 0 > 1, A, A)\n", "1:18: error: '/' by zero"),
     ("S->Case(split.first, A)\n", "Case takes ((condition, rule)..., rule) but got 2 arguments"),

@@ -11,6 +11,7 @@ from cityshade.grammar import compile_grammars, library_path, load, loads
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
 from cityshade.grammar._reference import evaluate, evaluate_facade
+from cityshade.scene import USES
 
 
 def colours(*names: str) -> str:
@@ -86,13 +87,44 @@ def test_building_attributes_gpu_matches_numpy(ctx, output_dir):
     text = ("S->RepeatY(3, Floor)\nFloor->Case(split.index >= building.levels - 1, A, "
             "building.style == 4 && split.index % 2 == 1, B, C)\n" + colours(*"ABC"))
     compiled = compile_grammars({"attributes": loads(text)})
-    for building in ((3, 4), (2, 1)):
+    for building in ((3, 4, 0, 12), (2, 1, 0, 12)):
         cpu, _ = compare(ctx, compiled, "attributes", output_dir, building=building)
         rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first
         picked = [int(np.unique(r)[0]) for r in rows]
         names = {compiled.address("attributes", n): n for n in "ABC"}
         want = [("A" if i >= building[0] - 1 else "B" if building[1] == 4 and i % 2 else "C") for i in range(4)]
         assert [names[p] for p in picked] == want
+
+
+def test_building_use_and_height_gpu_matches_numpy(ctx, output_dir):
+    """building.use (named by use.*) and building.height pick storeys alike on the GPU and numpy."""
+    text = ("S->RepeatY(3, Floor)\nFloor->Case(building.use == use.shop && split.first, A, "
+            "building.use == use.office, B, building.height > 20 && split.last, C, D)\n" + colours(*"ABCD"))
+    compiled = compile_grammars({"uses": loads(text)})
+    names = {compiled.address("uses", n): n for n in "ABCD"}
+    for use, height, want in (("shop", 12, "ADDD"), ("office", 12, "BBBB"), ("home", 24, "DDDC"),
+                              ("shop", 24, "ADDC")):
+        building = (4, 0, USES[use], height)
+        cpu, _ = compare(ctx, compiled, "uses", output_dir, building=building, nearest=False, allowed=0,
+                         min_terminals=1)
+        rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first
+        assert "".join(names[int(np.unique(r)[0])] for r in rows) == want, (use, height)
+
+
+def test_each_facade_has_its_own_stream_gpu_matches_numpy(ctx, output_dir):
+    """The GPU hashes the building's seed with the facade index exactly as the twin does."""
+    text = "S->RepeatX(1, Row)\nRow->RepeatY(1, Pick)\nPick->RandUni(0, A, B, C)\n" + colours(*"ABC")
+    compiled = compile_grammars({"faces": loads(text)})
+    pictures = {}
+    for face in (0, 4, 8, 12):
+        cpu, _ = compare(ctx, compiled, "faces", output_dir, face=face, nearest=False, allowed=0, min_terminals=3)
+        pictures[face] = cpu.terminal.tobytes()
+    assert len(set(pictures.values())) == 4  # the four sides of a box choose differently
+    text = "S->RepeatX(1, Pick)\nPick->RandUni(1, A, B, C)\n" + colours(*"ABC")  # l = 1: the building's seed
+    compiled = compile_grammars({"once": loads(text)})
+    pictures = {compare(ctx, compiled, "once", output_dir, face=face, nearest=False, allowed=0,
+                        min_terminals=1)[0].terminal.tobytes() for face in (0, 4)}
+    assert len(pictures) == 1  # a choice made once per building is the same on its sides
 
 
 def test_fig12_gpu_matches_numpy(ctx, output_dir):

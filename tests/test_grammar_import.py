@@ -5,11 +5,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from cityshade.assets import LABELS
 from cityshade.cli import main
 from cityshade.grammar import GrammarError, compile_grammars, loads
 from cityshade.grammar._cga import CgaError, translate
@@ -32,7 +34,7 @@ def test_cga_files_translate_check_and_render_alike(ctx, name, notes, output_dir
 def test_translation_keeps_the_structure():
     text = translate((DATA / "tutorial_facade.cga").read_text()).text
     assert "Lot->Building\nBuilding->Facade\n" in text  # extrude and comp dropped, the front kept
-    assert "SplitX(Abs, 1.0, Wall, Tile, 4.2, Tile, Abs, 1.0, Wall)" in text  # {~tileW: Tile}* beside walls
+    assert "SplitX(Abs, 1, Wall, Tile, 4.2, Tile, Abs, 1, Wall)" in text  # {~tileW: Tile}* beside walls
     text = translate((DATA / "conditions_facade.cga").read_text()).text
     assert "Floor(i)->Case(i == 0, Floor_1, split.index % 2 == 1 && scope.sx > 10, Floor_2, 0, NIL, Floor_3)" in text
     assert "Rand(0, 0.3000, Shop_5, 0.5000, Shop_7, 0.2000, ShopFront)" in text
@@ -91,3 +93,33 @@ def test_a_colour_before_a_texture_tints_it():
     assert "Wall->Tint(1.000, 0.800, 0.600, Wall_1)\nWall_1->Mat(Color, Rep:wall1, 0, 0, 0.5, 0.5)\n" in text
     assert "Plain->Layer(Plain_2, Wall)\nPlain_2->Color(0.533, 0.533, 0.533)\n" in text  # a colour under successors
     loads(text)
+
+
+PUBLIC = DATA / "cgajs"  # real public CGA files (README.md there: source and licence)
+
+
+@pytest.mark.parametrize("name, labels", [
+    ("house", {"wall", "window", "door"}),
+    ("officebuilding", {"wall", "cornice", "window"}),
+    ("castle", {"wall", "door", "none"}),  # none: the battlement gaps (NIL)
+    ("church", {"wall", "none"}),
+    ("tut5", {"wall"}),
+])
+def test_public_cga_files_translate_with_a_report_check_and_render_alike(ctx, name, labels, output_dir):  # noqa: F811
+    source = (PUBLIC / f"{name}.cga").read_text()
+    translation = translate(source, f"{name}.cga")  # never a traceback: CgaError is the only refusal
+    lines = len(source.splitlines())
+    assert translation.notes and all(1 <= n.line <= lines for n in translation.notes)  # what was dropped, by line
+    compiled = compile_grammars({name: loads(translation.text, f"{name}.grammar")})
+    cpu, _ = compare(ctx, compiled, name, output_dir, facade=(3.0, 2.0), size=(96, 64), min_terminals=1,
+                     nearest=False, allowed=0)
+    assert {LABELS[v] for v in np.unique(cpu.label)} == labels
+
+
+def test_public_cga_colours_and_labels_follow_the_rules():
+    text = translate((PUBLIC / "house.cga").read_text()).text
+    assert "Window->Color(0.678, 0.847, 0.902, window)" in text  # color("lightblue") in rule Window
+    assert "Door->Color(0.502, 0.502, 0.502, door)" in text  # color("grey")
+    assert "Side_5->SplitX(Tile, 0.9, Side_3)" in text  # {'0.3: W | ~0.3: WindowWall | '0.3: Wall}*
+    notes = [n.what for n in translate((PUBLIC / "tut5.cga").read_text()).notes]
+    assert "color(rand ( 32 , 255 ) , rand ( 32 , 255 ) , rand ( 32 , 255 ))" in notes  # random channels: listed

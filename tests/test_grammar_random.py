@@ -6,7 +6,7 @@ import numpy as np
 
 from cityshade.assets import tile_array
 from cityshade.grammar import compile_grammars, loads
-from cityshade.grammar._random import seed_cells, seed_vector
+from cityshade.grammar._random import facade_cells, facade_seed_vector, seed_cells, seed_vector
 from cityshade.grammar._reference import evaluate
 
 
@@ -39,3 +39,45 @@ def test_seed_zero_varies_a_facade():
     text = "S->RepeatX(0.5, Pick)\nPick->RandUni(0, A, B)\nA->Mat(Color, 0, 1, 0, 0, 1)\nB->Mat(Color, 0, 0, 0, 1, 1)\n"
     pictures = {_choices(text, 200, seed)[1].tobytes() for seed in range(4)}
     assert len(pictures) == 4
+
+
+def test_facade_cells():
+    cells = seed_cells(np.arange(2000))
+    assert (facade_cells(cells, 0) == cells).all()  # facade 0 is the building's own seed
+    for face in (4, 8, 12):
+        hashed = facade_cells(cells, face)
+        assert (hashed >= 1).all() and (hashed <= 2047).all()
+        assert np.mean(np.all(hashed == cells, axis=1)) < 0.01
+    assert facade_seed_vector(7, 0) == seed_vector(7)
+    assert facade_seed_vector(7, 4) == facade_seed_vector(7, 4) != facade_seed_vector(7, 8)
+
+
+def test_the_sides_of_a_building_choose_independently():
+    """A random choice per bay: with one seed per building every side would copy the front (all
+    choices equal); with a stream per facade about half of them agree (two choices), over buildings."""
+    text = "S->RepeatX(1, Pick)\nPick->RandUni(0, A, B)\nA->Color(1, 0, 0)\nB->Color(0, 0, 1)\n"
+    compiled = compile_grammars({"g": loads(text)})
+    uv = np.stack([np.arange(20, dtype=np.float32) + 0.5, np.full(20, 0.5, np.float32)], axis=1)
+
+    def choices(seed, face):
+        return evaluate(compiled, compiled.address("g"), uv, (20.0, 1.0), facade_seed_vector(seed, face),
+                        tile_array(16)).terminal
+
+    agree = [np.mean(choices(seed, 0) == choices(seed, side)) for seed in range(30) for side in (4, 8, 12)]
+    assert 0.4 < np.mean(agree) < 0.6, np.mean(agree)
+    assert all((choices(seed, 4) == choices(seed, 4)).all() for seed in range(5))  # the same in every frame
+
+
+def test_a_choice_with_no_stack_entry_is_made_once_per_building():
+    """Rand/RandUni with l >= 1 and no RandStack entry draw from the building's seed (entry 0 of
+    the stack): every side of a building makes the same choice, buildings differ."""
+    text = "S->RepeatX(1, Pick)\nPick->RandUni(1, A, B)\nA->Color(1, 0, 0)\nB->Color(0, 0, 1)\n"
+    compiled = compile_grammars({"g": loads(text)})
+    uv = np.stack([np.arange(8, dtype=np.float32) + 0.5, np.full(8, 0.5, np.float32)], axis=1)
+    picked = []
+    for seed in range(20):
+        sides = [evaluate(compiled, compiled.address("g"), uv, (8.0, 1.0), facade_seed_vector(seed, face),
+                          tile_array(16), building_seed=seed_vector(seed)).terminal for face in (0, 4, 8, 12)]
+        assert all((side == sides[0][0]).all() for side in sides)  # one choice for every bay and side
+        picked.append(int(sides[0][0]))
+    assert len(set(picked)) == 2  # but not the same for every building

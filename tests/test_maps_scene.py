@@ -11,7 +11,7 @@ import pytest
 import shapely
 
 from cityshade.maps import MapBuilding, MapData, Road, load_map, map_city, street_segment, sun_and_moon, to_scene
-from cityshade.scene import FLAGS, box
+from cityshade.scene import FLAGS, USES, box
 
 HELSINKI = (24.9384, 60.1699)
 
@@ -184,3 +184,13 @@ def test_helsinki_views_frame_the_city_and_stand_on_a_street(helsinki_pbf):
 def test_date_without_a_map_is_refused(tmp_path):
     code, text = run_cli("render", "--date", "2025-06-21", "--size", "32x18", "--out", str(tmp_path / "x.png"))
     assert code == 2 and "--map" in text and len(text.strip().splitlines()) == 1, text
+
+
+def test_buildings_get_a_use_from_their_use_or_kind():
+    from cityshade.maps._masses import use_code
+
+    cases = {("retail", "yes"): "shop", (None, "apartments"): "home", ("office", "yes"): "office",
+             ("school", "yes"): "public", (None, "warehouse"): "industry", ("parking", "yes"): "mixed",
+             (None, "yes"): "mixed"}
+    for (use, kind), want in cases.items():
+        assert use_code(types.SimpleNamespace(use=use, kind=kind)) == USES[want]

@@ -6,13 +6,14 @@ import numpy as np
 import pytest
 from moderngl_window.context.base.keys import BaseKeys
 
-from cityshade.render import RenderSettings
+from cityshade.errors import UsageError
+from cityshade.render import RenderSettings, upscale_reference
 from cityshade.viewer import KEY_NAMES, open_viewer
 
 
 @pytest.fixture(scope="module")
 def viewer():
-    v = open_viewer(settings=RenderSettings(samples=0), window="headless", size=(160, 96))
+    v = open_viewer(settings=RenderSettings(samples=0), window="headless", size=(160, 96), target_fps=None)
     yield v
     v.renderer.release()
     v.wnd.destroy()
@@ -143,3 +144,37 @@ def test_escape_closes_the_window():
     assert v.wnd.is_closing
     v.renderer.release()
     v.wnd.destroy()
+
+
+def test_a_target_frame_rate_draws_fewer_pixels_and_stretches_them(viewer):
+    """At scale 0.5 the frame is drawn at half the window's size and the window shows it stretched
+    (the upscale's numpy twin); the title shows the scale; full resolution again without a target."""
+    from cityshade.render import ResolutionScale
+
+    viewer.resolution = ResolutionScale(15.0, scale=0.5, settle=10_000)  # held at 0.5 for the check
+    window = _frame(viewer)
+    assert viewer.renderer.size == (80, 48)
+    drawn = viewer.renderer.targets.display.read()[..., :3]
+    expected = upscale_reference(drawn, (160, 96))
+    differing = int(np.any(np.abs(window.astype(int) - expected[::-1]) > 1, axis=-1).sum())
+    assert differing == 0, f"{differing} window pixels differ from the stretched frame"
+    assert "scale 0.50 (target 15 fps)" in viewer.wnd.title
+    viewer.resolution = None
+    _frame(viewer)
+    assert viewer.renderer.size == (160, 96) and "scale" not in viewer.wnd.title
+
+
+def test_a_slow_frame_rate_lowers_the_scale(viewer):
+    from cityshade.render import ResolutionScale
+
+    viewer.resolution = ResolutionScale(1000.0, settle=2)  # no frame is that fast
+    for k in range(4):
+        _frame(viewer, 0.1 * k)
+    assert viewer.resolution.scale < 1.0 and viewer.renderer.size[0] < 160
+    viewer.resolution = None
+
+
+@pytest.mark.parametrize("rate", [-1.0, float("nan")])
+def test_bad_target_rates_are_refused_before_a_window_opens(rate):
+    with pytest.raises(UsageError, match="target frame rate"):
+        open_viewer(window="headless", size=(160, 96), target_fps=rate)

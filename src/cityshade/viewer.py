@@ -4,6 +4,7 @@ as in headless rendering; only the context comes from the window."""
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -11,12 +12,13 @@ import moderngl_window as mglw
 import numpy as np
 
 from .errors import CityshadeError
-from .render import Renderer, RenderSettings, parse_time
+from .render import Renderer, RenderSettings, ResolutionScale, parse_time, upscale
 from .scene import Camera, City, make_city
 
 MOVE_SPEED = 25.0       # metres per second
 LOOK_SPEED = 0.15       # degrees per pixel of mouse motion
 TIME_STEP = 0.25        # hours per key press
+DEFAULT_TARGET_FPS = 15.0
 
 TOGGLES = {"I": "interior_mapping", "P": "depth_prepass", "F": "furniture", "L": "lod", "C": "curtains"}
 KEY_NAMES = ("W", "A", "S", "D", "Q", "E", "I", "P", "F", "L", "C", "M", "T", "G", "LEFT_BRACKET", "RIGHT_BRACKET", "ESCAPE")
@@ -65,6 +67,7 @@ class CityViewer(mglw.WindowConfig):
     camera_name = "street"
     start_settings = RenderSettings()
     sky = None  # hours -> sun and moon settings, for a city from a map
+    target_fps: float | None = DEFAULT_TARGET_FPS  # None: always the window's full resolution
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -76,6 +79,7 @@ class CityViewer(mglw.WindowConfig):
         self.frame_times: list[float] = []
         self.lights = self.renderer.settings.lights
         self.last_image = None
+        self.resolution = ResolutionScale(self.target_fps) if self.target_fps else None
 
     # --- per frame -----------------------------------------------------------------------
     def on_render(self, time: float, frametime: float):
@@ -84,17 +88,33 @@ class CityViewer(mglw.WindowConfig):
         up = ("E" in self.held) - ("Q" in self.held)
         self.fly.move(forward, right, up, min(frametime, 0.1))
         self.renderer.set_settings(replace(self.renderer.settings, animation_time=time))
-        self.renderer.resize(self.wnd.buffer_size)
-        self.renderer.draw(self.fly.camera(), framebuffer=self.wnd.fbo)
-        self.frame_times = (self.frame_times + [self.renderer.last_frame_seconds])[-30:]
+        self.frame_times = (self.frame_times + [self.draw_frame()])[-30:]
+        if self.resolution is not None:
+            self.resolution.update(self.frame_times[-1])
         self.wnd.title = self.status()
+
+    def draw_frame(self) -> float:
+        """Draws the view into the window, at the internal resolution the frame rate allows and
+        stretched to the window; returns the seconds it took."""
+        start = time.perf_counter()
+        window = tuple(self.wnd.buffer_size)
+        size = self.resolution.size(window) if self.resolution is not None else window
+        self.renderer.resize(size)
+        if size == window:
+            self.renderer.draw(self.fly.camera(), framebuffer=self.wnd.fbo)
+        else:
+            display = self.renderer.draw(self.fly.camera())
+            upscale(self.renderer.programs, display.colors[0], self.wnd.fbo)
+            self.ctx.finish()
+        return time.perf_counter() - start
 
     def status(self) -> str:
         s = self.renderer.settings
         ms = 1000 * float(np.median(self.frame_times)) if self.frame_times else float("nan")
         lights = "auto" if s.lights is None else f"{s.lights:.2f}"
         hours = s.time_of_day % 24
-        return (f"cityshade  {1000 / ms if ms else 0:.1f} fps ({ms:.1f} ms)  interiors {'on' if s.interior_mapping else 'off'}"
+        scale = f"  scale {self.resolution.scale:.2f} (target {self.resolution.target_fps:g} fps)" if self.resolution else ""
+        return (f"cityshade  {1000 / ms if ms else 0:.1f} fps ({ms:.1f} ms){scale}  interiors {'on' if s.interior_mapping else 'off'}"
                 f"  prepass {'on' if s.depth_prepass else 'off'}  furniture {'on' if s.furniture else 'off'}"
                 f"  LOD {'on' if s.lod else 'off'}  MSAA {self.renderer.samples}x  c={lights}"
                 f"  {int(hours):02d}:{int(hours % 1 * 60):02d}")
@@ -145,10 +165,15 @@ class CityViewer(mglw.WindowConfig):
 
 
 def open_viewer(city: str | City = "default", camera: str = "street", settings: RenderSettings | None = None,
-                window: str = "pyglet", size: tuple[int, int] = (1280, 720), sky=None) -> CityViewer:
+                window: str = "pyglet", size: tuple[int, int] = (1280, 720), sky=None,
+                target_fps: float | None = DEFAULT_TARGET_FPS) -> CityViewer:
     """Creates the viewer (window + renderer) without entering the main loop. `sky` (hours -> settings,
-    e.g. `maps.sky_clock`) moves the sun and moon with the clock keys."""
+    e.g. `maps.sky_clock`) moves the sun and moon with the clock keys. `target_fps`: the frame rate
+    the internal resolution is scaled to keep (None or 0: always full resolution)."""
     (city if isinstance(city, City) else make_city(city)).camera(camera)  # fail early on bad names
+    if target_fps:
+        ResolutionScale(target_fps)  # a bad rate fails here, before a window opens
+    CityViewer.target_fps = target_fps or None
     CityViewer.city, CityViewer.camera_name = city, camera
     CityViewer.sky = staticmethod(sky) if sky else None  # a plain function, not bound to the viewer
     CityViewer.start_settings = settings or RenderSettings()
@@ -175,6 +200,9 @@ def register(subparsers):
     parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
     parser.add_argument("--samples", type=int, default=0, choices=(0, 2, 4, 8),
                         help="MSAA samples to start with (M toggles; off by default: llvmpipe shades every sample)")
+    parser.add_argument("--target-fps", type=float, default=DEFAULT_TARGET_FPS, metavar="N",
+                        help="keep N frames per second by drawing at a lower resolution and stretching it to "
+                             f"the window (default {DEFAULT_TARGET_FPS:g}; 0: always full resolution)")
     parser.set_defaults(run=_run)
 
 
@@ -190,7 +218,7 @@ def _run(args) -> int:
         city, camera, placed = city_from_map(args.map, camera, args.date, args.time)
         settings = replace(settings, **placed)
         sky = sky_clock(city.origin, args.date)
-    viewer = open_viewer(city, camera, settings, args.window, sky=sky)
+    viewer = open_viewer(city, camera, settings, args.window, sky=sky, target_fps=args.target_fps)
     print(HELP)
     mglw.run_window_config_instance(viewer)
     return 0

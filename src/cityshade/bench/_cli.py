@@ -18,6 +18,7 @@ BENCHMARKS = {
     "osm": "cityshade.bench.osm",
     "export": "cityshade.bench.export",
     "dataset": "cityshade.bench.dataset",
+    "scale": "cityshade.bench.scale",
 }
 
 

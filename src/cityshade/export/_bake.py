@@ -17,10 +17,13 @@ import numpy as np
 from ..errors import UsageError
 from ..grammar import (
     BUILDING_STYLES,
+    FACADE_INDICES,
     GRAMMAR_SHAPES,
     evaluate,
+    facade_seed_vector,
     library_texture,
     seed_cells,
+    seed_vector,
 )
 
 PAGE = 2048  # texels: the side of an ordinary atlas page
@@ -36,7 +39,7 @@ class Canvas:
     """One side of one building's facade in an atlas page (positions in texels, GL rows: 0 at the bottom)."""
 
     building: int
-    side: int  # 0: walls facing ±z (as wide as the building along x), 1: facing ±x, 2: a round wall
+    side: int  # the facade index of its walls: their face's first room column (0 for a round wall)
     u0: float  # facade coordinates (metres) at the canvas' lower-left corner
     v0: float
     cols: int
@@ -44,7 +47,8 @@ class Canvas:
     width: float  # the grammar's scope: the building's width on this side, and its height
     height: float
     start: int  # the grammar's start rule
-    seed: tuple[float, float]
+    seed: tuple[float, float]  # this facade's seed vector
+    building_seed: tuple[float, float]  # the building's (choices made once per building)
     room: tuple[float, float]  # room width, storey height (which windows are lit)
     lights: float
     page: int = -1
@@ -68,33 +72,35 @@ def has_grammar(mass) -> bool:
     return mass.style in BUILDING_STYLES and mass.shape in GRAMMAR_SHAPES
 
 
-def wall_sides(mass, normals: np.ndarray) -> np.ndarray:
-    """The canvas side of each wall vertex (object-space normals), as the renderer chooses its scope."""
-    if mass.shape == "cylinder":
-        return np.full(len(normals), 2)
-    return np.where(np.abs(normals[:, 2]) > np.abs(normals[:, 0]), 0, 1)
+def wall_sides(walls: np.ndarray) -> np.ndarray:
+    """The canvas side of each wall vertex (scene.VERTEX_DTYPE records): its facade index, its face's
+    first room column, as the renderer picks the facade's random stream (a round mass is one face)."""
+    return walls["ids"][:, 2].astype(np.int64)
 
 
-def side_width(mass, side: int) -> float:
+def side_width(mass, normal: np.ndarray) -> float:
+    """The facade's width, as the renderer chooses its scope from a wall normal of that side."""
     extent = mass.extent
-    return float((extent[0], extent[2], np.pi * extent[0])[side])
+    if mass.shape == "cylinder":
+        return float(np.pi * extent[0])
+    return float(extent[0] if abs(normal[2]) > abs(normal[0]) else extent[2])
 
 
 def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canvas]:
     """The canvases of one grammar building from its wall vertices (scene.VERTEX_DTYPE records)."""
     compiled = library_texture()
     start = compiled.address(BUILDING_STYLES[mass.style])
-    cells = seed_cells([mass.seed])[0]
-    seed = (float(cells[0]) / 8.0, float(cells[1]) / 8.0)  # noise cells are 1/8 m (GRAMMAR_NOISE_DENSITY)
-    sides = wall_sides(mass, walls["normal"])
+    sides = wall_sides(walls)
     room = mass.room_size
     out = []
     for side in np.unique(sides):
         facade = walls["facade"][sides == side].astype(np.float64)
         lo, hi = facade[:, :2].min(axis=0) - texel, facade[:, :2].max(axis=0) + texel
         cols, rows = (int(np.ceil(v)) for v in (hi - lo) / texel)
+        normal = walls["normal"][sides == side][0].astype(np.float64)
         out.append(Canvas(index, int(side), float(lo[0]), float(lo[1]), max(cols, 1), max(rows, 1),
-                          side_width(mass, int(side)), float(mass.extent[1]), start, seed,
+                          side_width(mass, normal), float(mass.extent[1]), start, facade_seed_vector(mass.seed, int(side)),
+                          seed_vector(mass.seed),
                           (float(room[0]), float(room[1])), float(mass.lights)))
     return out
 
@@ -156,7 +162,7 @@ def lit_rooms(canvas: Canvas, texel: float) -> np.ndarray:
     """(rows, cols) bool: texels in rooms whose light is on (a hash of building, side, bay and storey)."""
     grid = texel_grid(canvas, texel)
     room = np.floor(grid / np.asarray(canvas.room)).astype(np.int64)
-    key = (canvas.building * 4 + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
+    key = (canvas.building * FACADE_INDICES + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
     h = seed_cells(key.ravel() & 0x7FFFFFFF)
     value = (h[:, 0] * 2048 + h[:, 1]) / float(1 << 22)
     return (value < LIT_SHARE * canvas.lights).reshape(room.shape[:2])
@@ -166,7 +172,8 @@ def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]
     """The numpy twin of shaders/export/bake.glsl with GRAMMAR_NEAREST: (rows, cols, ...) arrays, bottom row first."""
     grid = texel_grid(canvas, texel).reshape(-1, 2)
     uv = np.stack([canvas.width - grid[:, 0], grid[:, 1]], axis=1)
-    result = evaluate(library_texture(), canvas.start, uv, (canvas.width, canvas.height), canvas.seed, tiles)
+    result = evaluate(library_texture(), canvas.start, uv, (canvas.width, canvas.height), canvas.seed, tiles,
+                      building_seed=canvas.building_seed)
     shape = (canvas.rows, canvas.cols)
     return {
         "colour": np.concatenate([result.color, result.specular[:, :1]], axis=1).reshape(*shape, 4),
@@ -213,6 +220,7 @@ class GpuBaker:
                     self.program["facade_origin"] = (c.u0, c.v0)
                     self.program["facade_size"] = (c.width, c.height)
                     self.program["facade_seed"] = c.seed
+                    self.program["building_seed"] = c.building_seed
                     self.program["start_rule"] = int(c.start)
                     draw_fullscreen(self.program)
                 for name, texture in zip(("colour", "normal", "ids"), target.colors):

@@ -112,7 +112,7 @@ class BuildingWriter:
             self.stats.facade_area += _triangle_area(walls["position"].astype(np.float64))
             normals = walls["normal"] @ rot.T
             if i in self.canvases:
-                sides = wall_sides(mass, walls["normal"])
+                sides = wall_sides(walls)
                 n = walls["normal"]
                 tangents = np.column_stack([-n[:, 2], np.zeros(len(n)), n[:, 0]]) @ rot.T  # along mesh u
                 tangents = np.column_stack([tangents, -np.ones(len(n))])  # bitangent = cross(n, t) * -1 = up

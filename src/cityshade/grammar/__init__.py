@@ -36,12 +36,13 @@ from ._city import (BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min
 from ._fit import min_width  # noqa: E402
 from ._frame_pass import DeferredGrammarPass  # noqa: E402
 from ._gpu import GrammarTextures, shader_defines  # noqa: E402
-from ._random import seed_cells, seed_vector  # noqa: E402
+from ._random import FACADE_INDICES, facade_seed_vector, seed_cells, seed_vector  # noqa: E402
 from ._reference import evaluate  # noqa: E402
 
 __all__ = [
     "BUILDING_STYLES", "FACADE_GRAMMAR", "GRAMMAR_SHAPES", "library_texture", "library_texture_with", "seed_cells", "seed_vector", "evaluate",
     "DeferredGrammarPass", "GrammarTextures", "shader_defines", "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
+    "FACADE_INDICES", "facade_seed_vector",
     "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
     "load_source", "parse_string", "library_min_widths", "min_width",
 ]

@@ -4,8 +4,9 @@ Translated: rules, `attr`/`const` values (evaluated and written in as numbers: a
 fixed parameters), `split(x|y)` with absolute, floating (`~`) and relative (`'`) sizes, repeats
 `{...}*` (alone: Repeat; beside other parts: a Tile), `case`/`else` (Case, with split.index,
 split.total, scope.sx/sy), rule parameters (`Floor(i)`, `Floor(split.index)`), `%` choices
-(Rand), `rand(a, b)` sizes, `color("#rrggbb")` (a Color layer under the successors, or a Tint of
-a texture that follows it), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
+(Rand), `rand(a, b)` sizes, `color(...)` ("#rrggbb", "#rgb", CSS names, constant r, g, b: a
+Color layer under the successors, labelled by the rule's name, or a Tint of a texture that
+follows it), `texture`/`i` (a library tile chosen by the file's name), `NIL`.
 Everything else (comp, extrude, roofs, transformations, occlusion queries, string values...)
 is listed by line with what was done instead.
 """
@@ -16,6 +17,8 @@ import ast
 import operator
 import re
 from dataclasses import dataclass, field
+
+from PIL import ImageColor
 
 from ..errors import UsageError
 from ._limits import MAX_PARAMS
@@ -42,6 +45,10 @@ _TILES = (("door", "Fit>door1"), ("shop", "Fit>shop_front1"), ("balcon", "Fit>ba
           ("awning", "Fit>awning"), ("glass", "Fit>glass"), ("win", "Fit>window1"), ("roof", "Rep:roof_tiles"),
           ("brick", "Rep:wall1"), ("stone", "Rep:stone_ashlar"), ("concrete", "Rep:concrete"),
           ("stucco", "Rep:plaster_white"), ("plaster", "Rep:plaster_white"), ("wall", "Rep:wall2"))
+# Rule names -> the label of the colours they set (first match wins; otherwise wall).
+_LABELS = (("window", "window"), ("glass", "window"), ("door", "door"), ("entr", "door"), ("balcon", "balcony"),
+           ("rail", "balcony"), ("shop", "shop"), ("roof", "roof"), ("cornice", "cornice"), ("ledge", "cornice"),
+           ("sill", "cornice"))
 _CONDITION_NAMES = {"split.index", "split.total", "scope.sx", "scope.sy"}
 
 
@@ -106,6 +113,32 @@ def _single_layer(op: str) -> str | None:
         if char == "," and depth == 0:
             return None
     return inner
+
+
+def _labelled(color: str, rule: str) -> str:
+    """Color(r, g, b) closed with the label its rule's name suggests (none for a wall)."""
+    lowered = rule.lower()
+    label = next((label for key, label in _LABELS if key in lowered), None)
+    return f"{color}, {label})" if label else f"{color})"
+
+
+def _number(value: float) -> str:
+    """A number as the grammar is written: at most 6 decimals, no exponent (0.9, not 0.8999999999999999)."""
+    return f"{value:.6f}".rstrip("0").rstrip(".") or "0"
+
+
+def _arguments(tokens: list[_Tok]) -> list[list[_Tok]]:
+    """The comma-separated arguments of a call, each a token list (commas inside brackets stay)."""
+    parts, depth, start = [], 0, 0
+    for k, t in enumerate(tokens):
+        if t.kind == "op" and t.text in "([{":
+            depth += 1
+        elif t.kind == "op" and t.text in ")]}":
+            depth -= 1
+        elif depth == 0 and t.kind == "op" and t.text == ",":
+            parts.append(tokens[start:k])
+            start = k + 1
+    return parts + [tokens[start:]] if tokens else parts
 
 
 _BINARY = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv, "%": operator.mod}
@@ -342,8 +375,10 @@ class _Importer:
         return f"Rand(0, {', '.join(parts)})"
 
     def skip(self) -> str:
-        """The rule that draws nothing (CGA's NIL and empty shapes)."""
-        self.rules.setdefault("NIL", "Skip(0)")  # NIL is CGA's keyword: no CGA rule has its name
+        """CGA's NIL, which deletes the shape: nothing is drawn there, not even the colour a rule above
+        set (the translation puts it in the layer below, which Skip(1) skips too); a leaf without a
+        rule, in contrast, shows that colour (Skip(0))."""
+        self.rules.setdefault("NIL", "Skip(1)")  # NIL is CGA's keyword: no CGA rule has its name
         if "NIL" not in self.order:
             self.order.append("NIL")
         return "NIL"
@@ -358,7 +393,7 @@ class _Importer:
             elif tok.kind == "name" and tok.text in ("true", "false"):
                 words.append("1" if tok.text == "true" else "0")
             elif isinstance(value, float):
-                words.append(repr(value))
+                words.append(_number(value))
             elif tok.kind in ("num",) or (tok.kind == "op" and tok.text not in ("'", "~", "{", "}", "[", "]")):
                 words.append(tok.text)
             else:
@@ -396,7 +431,7 @@ class _Importer:
                     i += repeat
                     layers.append(("op", self.split(args, parts, repeat, tok.line, name)))
                 elif tok.text == "color":
-                    layers.append(("op", self.color(args, tok.line)))
+                    layers.append(("op", self.color(args, tok.line, name)))
                 elif tok.text in ("texture", "i"):
                     layers.append(("op", self.tile(args, tok.line, tok.text)))
                 elif tok.text in _DROPPED or any(tok.text.startswith(q) for q in _QUERIES):
@@ -438,7 +473,7 @@ class _Importer:
             previous = out[-1] if out else None
             if (kind == "op" and text.startswith("Mat(") and previous is not None and previous[0] == "op"
                     and previous[1].startswith("Color(")):
-                rgb = previous[1][len("Color("):-1]
+                rgb = ", ".join(previous[1][len("Color("):-1].split(", ")[:3])  # a Tint has no label
                 out[-1] = ("op", f"Tint({rgb}, {self.fresh(name, text)})")
             else:
                 out.append((kind, text))
@@ -455,15 +490,7 @@ class _Importer:
         if not args:
             self.arity.setdefault(name, 0)
             return name
-        values, depth, start = [], 0, 0
-        for k, t in enumerate(args + [_Tok("op", ",", tok.line)]):
-            if t.kind == "op" and t.text in "([{":
-                depth += 1
-            elif t.kind == "op" and t.text in ")]}":
-                depth -= 1
-            elif depth == 0 and t.text == "," and t.kind == "op":
-                values.append(self.condition(args[start:k], tok.line))
-                start = k + 1
+        values = [self.condition(part, tok.line) for part in _arguments(args)]
         self.arity.setdefault(name, len(values))
         return f"{name}({', '.join(values[:MAX_PARAMS])})"
 
@@ -499,12 +526,12 @@ class _Importer:
             if comma:
                 low, high = self.value(inner[:comma[0]]), self.value(inner[comma[0] + 1:])
                 if low is not None and high is not None and 0 < low <= high:
-                    return policy, f"rand({low!r}, {high!r})"
+                    return policy, f"rand({_number(low)}, {_number(high)})"
         value = self.value(tokens)
         if not isinstance(value, float) or value <= 0:
             self.note(line, f"size {' '.join(t.text for t in tokens)!r}", "not a positive number here; 1 is used")
             value = 1.0
-        return policy, repr(value)
+        return policy, _number(value)
 
     def split_parts(self, tokens: list[_Tok]):
         """(size tokens, successor tokens, repeated group tokens or None) per part of a split."""
@@ -557,13 +584,13 @@ class _Importer:
                     _, value = self.size(inner[0][0], line)
                     if value.startswith("rand("):
                         low, high = (float(x) for x in value[5:-1].split(","))
-                        value = repr((low + high) / 2)
+                        value = _number((low + high) / 2)
                         self.note(line, "a repeated part of rand size", f"a fixed size {value}, the middle")
                     target = self.target(inner[0][1], line, name)
                 else:
                     total = sum(float(self.size(p[0], line)[1].split("(")[-1].split(",")[0].rstrip(")"))
                                 for p in inner if p[0] is not None)
-                    value = repr(total if total > 0 else 1.0)
+                    value = _number(total if total > 0 else 1.0)
                     target = self.fresh(name, self.split(args, group, False, line, name))
                     self.note(line, "a repeated group of several parts",
                               "one Tile of their summed size holding a Split of the parts")
@@ -580,16 +607,29 @@ class _Importer:
         text = ", ".join(f"{'Rel' if p == 'Frac' else p}, {v}, {t}" for p, v, t in out)
         return f"Split{axis}({text})"
 
-    def color(self, args, line) -> str:
-        text = args[0].text.strip("\"'") if args else ""
-        if args and args[0].kind == "name" and isinstance(self.values.get(args[0].text), str):
-            text = self.values[args[0].text]
-        match = re.fullmatch(r"#([0-9a-fA-F]{6})", text)
-        if not match:
-            self.note(line, f"color({' '.join(a.text for a in args)})", "not a #rrggbb colour; grey is used")
+    def color(self, args, line, name) -> str:
+        """color("#rrggbb"), color("#rgb"), a CSS colour name (color("lightblue")) or color(r, g, b)
+        with constant channels in [0, 1]; anything else is grey (listed). The colour is labelled by
+        its rule's name (a Window's colour is a window in the label image), else wall."""
+        shown = f"color({' '.join(a.text for a in args)})"
+        parts = _arguments(args)
+        if len(parts) == 3:
+            rgb = [self.value(part) for part in parts]
+            if all(isinstance(c, float) and 0 <= c <= 1 for c in rgb):
+                return _labelled(f"Color({rgb[0]:.3f}, {rgb[1]:.3f}, {rgb[2]:.3f}", name)
+            self.note(line, shown, "channels that are not constants in [0, 1]; grey is used")
             return "Color(0.5, 0.5, 0.5)"
-        r, g, b = (int(match.group(1)[k:k + 2], 16) / 255 for k in (0, 2, 4))
-        return f"Color({r:.3f}, {g:.3f}, {b:.3f})"
+        text = self.value(args) if args else None
+        if len(args) == 1 and args[0].kind == "name":  # a const or attr holding the colour
+            text = self.values.get(args[0].text)
+        try:
+            if not isinstance(text, str):
+                raise ValueError(text)
+            r, g, b = (c / 255 for c in ImageColor.getrgb(text.strip())[:3])
+        except ValueError:
+            self.note(line, shown, "not a colour (#rrggbb, #rgb or a CSS colour name); grey is used")
+            return "Color(0.5, 0.5, 0.5)"
+        return _labelled(f"Color({r:.3f}, {g:.3f}, {b:.3f}", name)
 
     def tile(self, args, line, what) -> str:
         name = args[0].text.strip("\"'") if args else ""

@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from ._diagnostics import GrammarError
+from ._random import FACADE_INDICES
 
 
 def register(subparsers):
@@ -25,6 +26,13 @@ def register(subparsers):
                         help="building.levels for conditions (default: the facade height / 3.2 m, rounded)")
     render.add_argument("--style", type=lambda v: check_count(v, "--style"), default=0, metavar="N",
                         help="building.style for conditions")
+    from ..scene import USES
+
+    render.add_argument("--use", choices=list(USES), default="mixed",
+                        help="building.use for conditions (building.height is the facade's height)")
+    render.add_argument("--face", type=int, choices=range(FACADE_INDICES), default=0, metavar="K",
+                        help=f"which facade of the building, 0 to {FACADE_INDICES - 1} (in the city: its face's "
+                             "first room column): each has its own random stream")
     render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
     render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
     render.add_argument("--out", type=Path, default=Path("out/facade.png"), metavar="PNG")
@@ -100,7 +108,8 @@ def _render(args) -> int:
     from ..assets import LABEL_COLOURS, tile_array
     from ..arguments import check_writable, save_png
     from . import compile_grammars, load
-    from ._random import seed_vector
+    from ..scene import USES
+    from ._random import facade_seed_vector, seed_vector
     from .._budget import check_image_memory
     from ._reference import CPU_BYTES_PER_PIXEL, evaluate_facade
 
@@ -115,13 +124,13 @@ def _render(args) -> int:
         print(str(exc), file=sys.stderr)
         return exc.exit_code
     start = compiled.address("g", args.rule)
-    seed = seed_vector(args.seed)
     levels = args.levels if args.levels is not None else max(1, round(args.facade[1] / 3.2))
-    building = (levels, args.style)
+    building = (levels, args.style, USES[args.use], args.facade[1])
     tiles = tile_array(128)
     if args.cpu:
         check_image_memory(args.size, CPU_BYTES_PER_PIXEL, "grammar render --cpu")
-        result = evaluate_facade(compiled, start, args.facade, args.size, seed, tiles, building)
+        result = evaluate_facade(compiled, start, args.facade, args.size, facade_seed_vector(args.seed, args.face),
+                                 tiles, building, seed_vector(args.seed))
         colour, labels = result.color, result.label
     else:
         from ..gl import create_context
@@ -129,7 +138,7 @@ def _render(args) -> int:
 
         ctx = create_context()
         renderer = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles))
-        colour, ids = renderer.render(start, args.facade, args.size, seed, building)
+        colour, ids = renderer.render(start, args.facade, args.size, seed_vector(args.seed), building, args.face)
         colour, labels = colour[..., :3], ids[..., 1]
     save_png((np.clip(colour, 0, 1) * 255 + 0.5).astype(np.uint8), args.out)
     if args.labels is not None:

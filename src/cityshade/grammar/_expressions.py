@@ -1,7 +1,8 @@
 """Conditions of `Case`: arithmetic and comparisons on the split index and count, the scope's size,
-the facade's size and the building's attributes (storeys, style number), checked, folded and compiled to a short postfix program for the GPU.
+the facade's size and the building's attributes (storeys, style number, use, height), checked, folded and compiled to a short postfix program for the GPU.
 
     Floor->Case(split.first, Ground, split.index % 2 == 0 && scope.sx > 2, Even, Odd)
+    Ground->Case(building.use == use.shop, Shops, Plain)
 
 A program is a list of (code, value) tokens: push a number, push a variable, apply an operator.
 `eval.glsl` runs it on a stack of GRAMMAR_MAX_EXPR_STACK values; the numpy twin runs the same
@@ -12,12 +13,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..scene import USES
 from ._diagnostics import Diagnostic, Location, suggest
 
 # Variable -> slot in the evaluator's variable vector (eval.glsl grammar_variable()).
 VARIABLES = {"split.index": 0, "split.total": 1, "scope.sx": 2, "scope.sy": 3,
-             "facade.width": 4, "facade.height": 5, "building.levels": 6, "building.style": 7}
+             "facade.width": 4, "facade.height": 5, "building.levels": 6, "building.style": 7,
+             "building.use": 8, "building.height": 9}
+BUILDING = VARIABLES["building.levels"]  # the building's four attributes follow, in this order
 PARAMETER = len(VARIABLES)  # rule parameter k is variable PARAMETER + k
+# Named numbers: building.use == use.office. The codes are the scene's (cityshade.scene.USES).
+CONSTANTS = {f"use.{name}": float(code) for name, code in USES.items()}
 # Shorthands written as other expressions.
 DERIVED = {"split.first": "split.index == 0", "split.last": "split.index == split.total - 1"}
 
@@ -50,6 +56,12 @@ def check_expr(expr: Expr, errors: list[Diagnostic], params: tuple[str, ...] = (
             return check_expr(parse_expression(DERIVED[expr.name], expr.location), errors)
         if expr.name in params:
             return Expr("var", expr.location, name=expr.name, value=PARAMETER + params.index(expr.name))
+        if expr.name in CONSTANTS:
+            return Expr("num", expr.location, value=CONSTANTS[expr.name])
+        if expr.name.startswith("use."):
+            errors.append(Diagnostic(expr.location, f"unknown use '{expr.name}'",
+                                     suggest(expr.name, list(CONSTANTS), "use") or "uses: " + ", ".join(CONSTANTS)))
+            return None
         if expr.name not in VARIABLES:
             names = list(VARIABLES) + list(DERIVED) + list(params)
             errors.append(Diagnostic(expr.location, f"unknown variable '{expr.name}' in a condition",

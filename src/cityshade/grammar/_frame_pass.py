@@ -14,7 +14,7 @@ import numpy as np
 from ..gl import RenderTarget, bind_textures, draw_fullscreen
 from ._gpu import GrammarTextures, shader_defines
 
-G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, facade flag; normal
+G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, building + 1; normal
 RESULT = (("f2", 4), ("u4", 4))  # lit colour; glass, label
 
 
@@ -44,11 +44,13 @@ class DeferredGrammarPass:
     def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
         """The full-screen evaluation into the bound result target, reading the G-buffer."""
         gbuffer = self.gbuffer
-        program = f.gpu.programs.get("grammar/deferred.glsl", {**shader_defines(), "NO_SHADOWS": f.gpu.shadows is None})
+        program = f.gpu.programs.get("grammar/deferred.glsl", {**shader_defines(), "BUILDING_LOD": f.view.settings.building_lod,
+                                                            "NO_SHADOWS": f.gpu.shadows is None})
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
         if f.gpu.shadows is not None:
             f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)
+        f.gpu.city.records.bind_to_storage_buffer(0)  # the buildings' attributes for conditions
         bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors, gbuffer.depth))))
         draw_fullscreen(program)
 

@@ -9,6 +9,7 @@ from ..assets import TileArray
 from ..gl import RenderTarget, bind_textures, draw_fullscreen, programs, upload_texture
 from . import _limits as limits
 from ._compiler import CompiledGrammars
+from ._expressions import BUILDING, PARAMETER
 from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
@@ -17,7 +18,8 @@ MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
 
 def shader_defines(nearest: bool = False) -> dict[str, object]:
     """The #defines every program that includes grammar/eval.glsl needs."""
-    return dict(limits.DEFINES, GRAMMAR_NEAREST=nearest)
+    return dict(limits.DEFINES, GRAMMAR_NEAREST=nearest, GRAMMAR_FIRST_BUILDING=BUILDING,
+                GRAMMAR_FIRST_PARAMETER=PARAMETER)
 
 
 class GrammarTextures:
@@ -58,8 +60,9 @@ class FacadeRenderer:
         self.textures = textures
         self.program = programs(ctx).get("grammar/facade.glsl", shader_defines(nearest))
 
-    def render(self, start: int, facade, size, seed, building=(0, 0)) -> tuple[np.ndarray, np.ndarray]:
-        """(colour HxWx4 float, ids HxWx4 uint32), top row first."""
+    def render(self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """(colour HxWx4 float, ids HxWx4 uint32), top row first; `seed` is the building's seed
+        vector and `face` which of its facades (its own stream: _random.facade_seed_vector)."""
         target = RenderTarget(self.ctx, tuple(size), colors=(("f2", 4), ("u4", 4)))
         try:
             target.use()
@@ -69,6 +72,7 @@ class FacadeRenderer:
             self.program["u_viewport_size"] = tuple(float(x) for x in size)
             self.program["u_facade_seed"] = tuple(float(x) for x in seed)
             self.program["u_facade_building"] = tuple(float(x) for x in building)
+            self.program["u_facade_index"] = int(face)
             self.program["u_start_rule"] = int(start)
             light = np.array(FACADE_LIGHT)
             self.program["u_light_dir"] = tuple(light / np.linalg.norm(light))

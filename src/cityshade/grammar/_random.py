@@ -3,7 +3,11 @@ corner, and the per-facade seed vector that translates the start scope.
 
 Each rule draws from its own stream: its texel address shifts the noise lookup by a hashed
 offset, so two choices made at the same corner (a wall and a window picked at the facade's
-corner, or a floor's door and windows grouped by one RandStack) are independent."""
+corner, or a floor's door and windows grouped by one RandStack) are independent.
+
+Each facade of a building draws from its own stream too: the building's seed cells are hashed
+with the facade's index (the direction its wall faces), so the sides of a building make different
+random choices while one side stays the same from frame to frame."""
 
 from __future__ import annotations
 
@@ -56,4 +60,31 @@ def seed_cells(seeds) -> np.ndarray:
 def seed_vector(seed: int) -> tuple[float, float]:
     """The facade's seed vector s (metres, on the noise grid so every facade rounds alike)."""
     x, y = seed_cells([seed])[0]
+    return float(x) / NOISE_DENSITY, float(y) / NOISE_DENSITY
+
+
+# A facade's index is its face's first room column (cityshade/scene/_wall_faces.py: 0 for the first
+# face and for a round mass), below the 11 bits interior.glsl gives room columns.
+FACADE_INDICES = 2047
+
+
+def facade_cells(cells, face) -> np.ndarray:
+    """The seed cells (n, 2) of facade `face` of buildings with seed cells `cells`, exactly as
+    eval.glsl grammar_facade_cells(): facade 0 keeps the building's cells, the others hash them
+    with their index (a 32-bit integer hash); every cell stays in [1, 2047]."""
+    cells = np.asarray(cells, np.int64).reshape(-1, 2)
+    face = np.broadcast_to(np.asarray(face, np.int64), len(cells)).astype(np.uint32)
+    h = (cells[:, 0].astype(np.uint32) | (cells[:, 1].astype(np.uint32) << np.uint32(11))) ^ (face * np.uint32(0x9E3779B1))
+    h ^= h >> np.uint32(16)
+    h = h * np.uint32(0x7FEB352D)
+    h ^= h >> np.uint32(15)
+    h = h * np.uint32(0x846CA68B)
+    h ^= h >> np.uint32(16)
+    hashed = np.stack([np.uint32(1) + h % np.uint32(2047), np.uint32(1) + (h >> np.uint32(11)) % np.uint32(2047)], axis=-1)
+    return np.where((face == 0)[:, None], cells, hashed).astype(np.int32)
+
+
+def facade_seed_vector(seed: int, face: int) -> tuple[float, float]:
+    """The seed vector s of one facade of the building with this seed (facade 0: seed_vector(seed))."""
+    x, y = facade_cells(seed_cells([seed]), face)[0]
     return float(x) / NOISE_DENSITY, float(y) / NOISE_DENSITY

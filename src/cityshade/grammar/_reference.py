@@ -57,21 +57,21 @@ class Evaluation:
 class _Pixels:
     """The evaluation state of n pixels (one row each)."""
 
-    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0)):
-        s = np.asarray(seed, F)
+    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0, 0, 0), building_seed=None):
+        s = np.broadcast_to(np.asarray(seed, F), (n, 2))
         self.s = s
-        self.addr = np.full(n, start, np.int32)
+        self.addr = np.broadcast_to(np.asarray(start, np.int32), (n,)).copy()
         self.lb = np.broadcast_to(s, (n, 2)).astype(F)
         self.size = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.t = uv.astype(F) + s
         self.uv = uv.astype(F)
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
-        self.building = np.broadcast_to(np.asarray(building, F), (n, 2)).astype(F)  # levels, style
+        self.building = np.broadcast_to(np.asarray(building, F), (n, 4)).astype(F)  # levels, style, use, height
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
         self.params = np.zeros((n, limits.MAX_PARAMS), F)  # the parameters of the rule being evaluated
         self.d = directions.astype(F)
         self.stack = np.zeros((n, limits.MAX_STACK, 2), F)
-        self.stack[:, 0] = s
+        self.stack[:, 0] = s if building_seed is None else np.asarray(building_seed, F)  # Rand l >= 1, no entry
         self.sp = np.ones(n, np.int32)
         L = limits.MAX_LAYER_DEPTH
         self.depth = np.zeros(n, np.int32)
@@ -371,7 +371,7 @@ class _Evaluator:
             p.f_index[rows, top] = index
             enter = index >= 0
             er, et, ei = rows[enter], top[enter], index[enter]
-            offset = (ei + 1).astype(F)[:, None] * p.s  # layer i is translated by i * s
+            offset = (ei + 1).astype(F)[:, None] * p.s[er]  # layer i is translated by i * s
             p.lb[er] = p.f_lb[er, et] + offset
             p.t[er] = p.f_t[er, et] + offset
             p.size[er] = p.f_size[er, et]
@@ -424,7 +424,7 @@ class _Evaluator:
             [f == 1, f == 2, f == 3, f == 4],
             [np.stack([dz, dy, -dx], 1), d, np.stack([-dz, dy, dx], 1), np.stack([dx, dz, -dy], 1)],
             np.stack([dx, -dz, dy], 1))
-        new_lb = lb + face.astype(F)[:, None] * p.s
+        new_lb = lb + face.astype(F)[:, None] * p.s[idx]
         p.lb[idx] = new_lb
         p.size[idx] = new_size
         p.t[idx] = new_lb + np.clip(new_local, F(0), new_size)
@@ -459,7 +459,8 @@ class _Evaluator:
         # the scope's corner is the same for all its pixels, and so are the whole seed vectors it
         # was translated by (layers, the start), which undo it exactly (as the shader)
         with np.errstate(divide="ignore", invalid="ignore"):  # no seed: nothing to undo
-            shift = np.where(p.s != 0, np.round((p.t[rows] - p.uv[rows]) / p.s) * p.s, F(0))
+            s = p.s[rows]
+            shift = np.where(s != 0, np.round((p.t[rows] - p.uv[rows]) / s) * s, F(0))
         p.best_scope[rows] = np.concatenate([p.lb[rows] - shift, p.size[rows]], axis=1)
         wn = (F(1) - p.AN[idx]) * a
         p.N[idx] += np.where(normal[:, None], wn[:, None] * (rgba[:, :3] * F(2) - F(1)), F(0))
@@ -496,13 +497,16 @@ _HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "o
 
 
 def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,
-             directions: np.ndarray | None = None, building=(0, 0)) -> Evaluation:
+             directions: np.ndarray | None = None, building=(0, 0, 0, 0), building_seed=None) -> Evaluation:
     """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
-    `building` is (building.levels, building.style) for conditions."""
+    `building` is (building.levels, building.style, building.use, building.height) for conditions;
+    `building_seed` the building's seed vector (entry 0 of the seed stack; None: `seed`, the facade's).
+    start, facade, seed, building and building_seed may also be given per point ((n,) and (n, k)):
+    several facades in one evaluation."""
     n = len(uv)
     if directions is None:
         directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
-    pixels = _Pixels(n, start, facade, seed, uv, directions, building)
+    pixels = _Pixels(n, start, facade, seed, uv, directions, building, building_seed)
     evaluator = _Evaluator(compiled, tiles)
     evaluator.run(pixels)
     return evaluator.finish(pixels)
@@ -538,13 +542,13 @@ def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarra
 
 
 def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray,
-                    building=(0, 0)) -> Evaluation:
+                    building=(0, 0, 0, 0), building_seed=None) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
     parts = []
     for first in range(0, len(uv), CHUNK_PIXELS):  # pixels are independent: tiles bound the work arrays
         part = evaluate(compiled, start, uv[first:first + CHUNK_PIXELS], facade, seed, tiles,
-                        rays[first:first + CHUNK_PIXELS], building)
+                        rays[first:first + CHUNK_PIXELS], building, building_seed)
         part.color = shade(part, rays[first:first + CHUNK_PIXELS])
         parts.append(part)
     result = Evaluation(**{name: np.concatenate([vars(p)[name] for p in parts]) for name in vars(parts[0])})

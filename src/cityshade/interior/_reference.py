@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assets import LABELS, TileArray
-from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, seed_vector
+from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
 from ..relief import GLASS, DetailMaps, trace_reference
 from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
@@ -180,7 +180,7 @@ class GrammarFacades:
 
 
 def grammar_entry(grammar: GrammarFacades, building: int, mass: BuildingMass, d: np.ndarray, n: np.ndarray,
-                  facade: np.ndarray, face: np.ndarray):
+                  facade: np.ndarray, face: np.ndarray, columns: np.ndarray):
     """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
     true size of each face: per ray, whether it meets glass, its label as the id pass writes it, and
     the rectangle of the window it belongs to (facade coordinates, find_room)."""
@@ -189,16 +189,18 @@ def grammar_entry(grammar: GrammarFacades, building: int, mass: BuildingMass, d:
     right = np.stack([n[:, 2], np.zeros(len(n)), -n[:, 0]], axis=1)
     right /= np.linalg.norm(right, axis=1, keepdims=True)
     rays = np.stack([np.sum(d * right, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1)
-    sizes, which = np.unique(face[:, :3], axis=0, return_inverse=True)
+    # each face's size and index, its first room column (its own random stream, as the shader)
+    sizes, which = np.unique(np.column_stack([face[:, :3], columns[:, 0]]), axis=0, return_inverse=True)
     start = grammar.starts[building]
-    for k, (width, base, top) in enumerate(sizes):
+    for k, (width, base, top, side) in enumerate(sizes):
         if width < grammar.min_widths[building] - 1e-6:
             continue  # too narrow for the grammar: a plain wall
         rows = np.nonzero(which.ravel() == k)[0]
         uv = np.stack([width - facade[rows, 0], facade[rows, 1] - base], axis=1)
         levels = np.floor((top - base) / facade[rows[0], 3] + 0.5)
-        g = evaluate_grammar(grammar.compiled, start, uv, (width, top - base), seed_vector(mass.seed), grammar.tiles,
-                             rays[rows], (levels, mass.style))
+        g = evaluate_grammar(grammar.compiled, start, uv, (width, top - base), facade_seed_vector(mass.seed, int(side)),
+                             grammar.tiles, rays[rows], (levels, mass.style, mass.use, mass.extent[1]),
+                             building_seed=seed_vector(mass.seed))
         glass[rows] = g.glass
         label[rows] = np.where(g.glass, ROOM_LABEL, g.label)
         lower, extent = g.scope[:, :2].astype(np.float64), g.scope[:, 2:].astype(np.float64)
@@ -248,7 +250,7 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             if len(walls):
                 glass[~roof], label, window[~roof] = grammar_entry(
                     grammar, b, mass, hits.direction[walls], hits.normal[walls], hits.facade[walls],
-                    hits.face[walls])
+                    hits.face[walls], hits.columns[walls])
                 if labels:
                     out[walls, 3] = label
         elif b in relief:

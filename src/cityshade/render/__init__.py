@@ -13,10 +13,12 @@ from ._facades import FACADE_KINDS, FacadeKind, assign_facades, choose_facade
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._guessed import guessed_aov
 from ._renderer import Renderer
+from ._resolution import ResolutionScale
 from ._settings import RenderSettings
+from ._upscale import upscale, upscale_reference
 
 __all__ = ["boxes_visible", "frustum_planes", "Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "guessed_aov", "GLState", "Pass", "frame_passes", "id_passes", "run_passes", "Renderer",
-           "RenderSettings"]
+           "RenderSettings", "ResolutionScale", "upscale", "upscale_reference"]
 
 
 class _DeprecatedCall(types.ModuleType):

@@ -12,6 +12,7 @@ from ..grammar import FACADE_GRAMMAR
 from ..relief import CityRelief
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
+from ._building_lod import LOD_COLOURS_BINDING, grammar_colours, grammar_sample_faces
 from ._culling import BuildingChunks
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
@@ -46,6 +47,8 @@ class CityGPU:
         self.city = city
         vertices, records = batch(city.masses)
         self.facades = assign_facades(records, city.masses, vertices)  # buildings per facade kind (narrow faces: plain)
+        self._lod_faces = grammar_sample_faces(city.masses, records, vertices)
+        self._lod_colours: moderngl.Buffer | None = None
         self.relief = CityRelief(ctx)
         self.chunks = BuildingChunks(vertices)
         vertices = self.chunks.vertices
@@ -91,6 +94,12 @@ class CityGPU:
             records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
         self.records.write(records.tobytes())
 
+    def bind_lod_colours(self):
+        """Binds the grammar buildings' cheap colours (city/lod.glsl), evaluated on first use."""
+        if self._lod_colours is None:
+            self._lod_colours = create_buffer(self.ctx, grammar_colours(self._lod_faces, max(self.building_count, 1)))
+        self._lod_colours.bind_to_storage_buffer(LOD_COLOURS_BINDING)
+
     def polygonised(self) -> PolygonisedGPU:
         """Real interior geometry for the polygonised-interiors baseline, built on first use."""
         if self._polygonised is None:
@@ -102,7 +111,7 @@ class CityGPU:
 
     def release(self):
         self._vaos.release()
-        for buf in (self.building_vbo, self.records, self.ground_vbo):
+        for buf in (self.building_vbo, self.records, self.ground_vbo, self._lod_colours):
             if buf is not None:
                 buf.release()
         self.relief.release()

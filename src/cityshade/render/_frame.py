@@ -21,6 +21,7 @@ from ..gl import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, ProgramCache, RenderTarge
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, lit_shares
+from ._building_lod import bay_mean, lod_distances, relief_mean
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import god_ray_uniforms
@@ -111,7 +112,7 @@ class FrameInputs:
     def building_defines(self, **extra) -> dict:
         s = self.view.settings
         return {"INTERIOR_MAPPING": s.interior_mapping, "IM_SINGLE_ATLAS": s.single_atlas, "INTERIOR_LOD": s.lod,
-                "NO_SHADOWS": self.gpu.shadows is None, **extra}
+                "BUILDING_LOD": s.building_lod, "NO_SHADOWS": self.gpu.shadows is None, **extra}
 
     def write_frame_blocks(self):
         """The values programs share, once per frame: camera, sun and sky for every program
@@ -128,7 +129,8 @@ class FrameInputs:
             self.gpu.ctx, u_lit_share=np.pad(shares, (0, MAX_USES - len(shares))), u_street_lights=d.street_lights,
             u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
             u_glass_rect=t.glass_rect, u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK, u_feature_mask=int(mask),
-            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT,
+            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT, u_bay_mean=bay_mean(), u_relief_mean=relief_mean(),
+            u_building_lod=lod_distances(s.building_lod_pixels, self.view.size[1], self.view.camera.fov_y),
             u_atlas_layout=(layout["tile"], layout["padding"], t.atlas.width, t.atlas.height))
 
     def room_textures(self) -> dict:
@@ -205,6 +207,8 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
         f.gpu.textures.grammar_pass.bind_results(program)
     f.gpu.city.relief.bind(program)
     f.gpu.city.street_lights.bind(program)
+    if defines.get("BUILDING_LOD", f.view.settings.building_lod):
+        f.gpu.city.bind_lod_colours()
     if f.gpu.shadows is not None:
         f.gpu.shadows.bind(program)
     f.draw_buildings(program)
@@ -360,7 +364,8 @@ def id_passes(settings: RenderSettings, room_state: bool = False, windows: bool 
     (a key per window of its building, 0: none)."""
 
     def id_buildings(f: FrameInputs):
-        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "ID_WINDOW": windows, "INTERIOR_LOD": False})
+        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "ID_WINDOW": windows, "INTERIOR_LOD": False,
+                                "BUILDING_LOD": False})
 
     inputs = (*CITY, "grammar textures", "relief maps")
     passes = [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),

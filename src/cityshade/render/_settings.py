@@ -20,6 +20,10 @@ class RenderSettings:
     room_variation: bool = True       # paper §4.3 displaced walls
     lod: bool = True                  # interiors fade to lit-window colours far away
     lod_range: tuple[float, float] = (220.0, 320.0)
+    building_lod: bool = False        # far facades: relief untraced, then a style's mean colour (city/lod.glsl)
+    # pixels a room spans where each cross-fade band starts and ends: relief traced straight into the
+    # wall over the first band, the style's mean colour over the second (render/_building_lod.py)
+    building_lod_pixels: tuple[float, float, float, float] = (16.0, 12.0, 8.0, 6.0)
     room_texture_size: int = 256
     room_variants: int = 8
     samples: int = 4                  # MSAA of the HDR target

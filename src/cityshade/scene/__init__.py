@@ -7,7 +7,8 @@ from ._city import (CITIES, GROUND_ASPHALT, GROUND_BALLAST, GROUND_BULB, GROUND_
                     MAP_GROUND_MATERIALS, City, default_city, grid_city, make_city)
 from ._footprints import load_footprints
 from ._materials import ROOF_PATTERNS
-from ._meshes import SURFACE_CODES, SURFACE_PLAIN_WALL, SURFACE_ROOF, SURFACE_WALL, VERTEX_ATTRIBUTES, VERTEX_DTYPE, VERTEX_FORMAT, batch, building_record, building_vertices
+from ._batch import batch
+from ._meshes import SURFACE_CODES, SURFACE_PLAIN_WALL, SURFACE_ROOF, SURFACE_WALL, VERTEX_ATTRIBUTES, VERTEX_DTYPE, VERTEX_FORMAT, building_record, building_vertices
 from ._paths import PATHS, camera_path
 from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
 from ._raycast import intersect

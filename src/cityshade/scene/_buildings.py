@@ -74,14 +74,11 @@ class BuildingMass:
     @property
     def room_size(self) -> np.ndarray:
         """Room size chosen so that whole rooms fill the mass: walls meet the facades' corners."""
-        width, height, depth = self.extent
-        nx = max(1, round(width / self.room_width))
-        nz = max(1, round(depth / self.room_width))
-        ny = max(1, round(height / self.floor_height))
-        return np.array([width / nx, height / ny, depth / nz])
+        return room_sizes(self.extent[None], np.array([self.room_width]), np.array([self.floor_height]))[0]
 
     @property
     def flags(self) -> int:
+        """The record's flags word: FLAG_* bits, and the use code from bit USE_SHIFT."""
         return (
             (FLAG_FURNITURE if self.furniture and self.shape != "dome" else 0)
             | (FLAG_CURTAINS if self.curtains else 0)
@@ -90,6 +87,13 @@ class BuildingMass:
             | (FLAG_SHOP_FRONT if self.shop_front else 0)
             | self.use << USE_SHIFT
         )
+
+
+def room_sizes(extent: np.ndarray, room_width: np.ndarray, floor_height: np.ndarray) -> np.ndarray:
+    """Room sizes (n, 3) of masses of `extent` (n, 3) asking for rooms `room_width` wide and floors
+    `floor_height` high (n,): whole rooms across each extent (at least one), the nearest count."""
+    nominal = np.stack([room_width, floor_height, room_width], axis=1)
+    return extent / np.maximum(1, np.round(extent / nominal))
 
 
 def box(position, width, depth, height, **kwargs) -> BuildingMass:

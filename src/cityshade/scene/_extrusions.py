@@ -16,6 +16,20 @@ from ._wall_faces import WallFaces, ring_columns, storeys, wall_faces
 QUAD = np.array([0, 2, 1, 0, 3, 2])  # corners a-low, b-low, b-high, a-high: counter-clockwise seen from outside
 
 
+def wall_quads(a: np.ndarray, b: np.ndarray, base, top):
+    """Flat wall quads on the edges a -> b (n, 2), none of them without length, from base to top
+    (one each or per edge): (positions, normals, metres along the edge) per vertex."""
+    d = b - a
+    length = np.linalg.norm(d, axis=1)
+    n = np.stack([d[:, 1], -d[:, 0]], axis=1) / length[:, None]
+    corners = np.stack([a, b, b, a], axis=1)[:, QUAD]  # (edges, 6, 2)
+    heights = np.stack(np.broadcast_arrays(base, base, top, top, np.zeros(len(a))), axis=1)[:, QUAD].ravel()
+    along = ((np.array([0.0, 1.0, 1.0, 0.0])[QUAD])[None, :] * length[:, None]).ravel()
+    positions = np.column_stack([corners[..., 0].ravel(), heights, corners[..., 1].ravel()])
+    normals = np.repeat(np.column_stack([n[:, 0], np.zeros(len(a)), n[:, 1]]), 6, axis=0)
+    return positions, normals, along
+
+
 def ring_wall_rows(ring: np.ndarray, mass, base: float, top: float, first_column: int = 0):
     """Flat wall quads on a ring's edges (closing edge included), from base to top, with the facade
     coordinates of the faces they belong to (wall_rows); returns (rows, the next ring's first column)."""
@@ -25,30 +39,26 @@ def ring_wall_rows(ring: np.ndarray, mass, base: float, top: float, first_column
     keep = length > 1e-9
     a, b, d, length = a[keep], b[keep], d[keep], length[keep]
     faces = wall_faces(length, d, mass.room_width, first_column)
-    n = np.stack([d[:, 1], -d[:, 0]], axis=1) / length[:, None]
-    corners = np.stack([a, b, b, a], axis=1)[:, QUAD]  # (edges, 6, 2)
-    heights = np.tile(np.array([base, base, top, top])[QUAD], len(a))
-    along = ((np.array([0.0, 1.0, 1.0, 0.0])[QUAD])[None, :] * length[:, None]).ravel()
-    positions = np.column_stack([corners[..., 0].ravel(), heights, corners[..., 1].ravel()])
-    normals = np.repeat(np.column_stack([n[:, 0], np.zeros(len(a)), n[:, 1]]), 6, axis=0)
+    positions, normals, along = wall_quads(a, b, base, top)
     storey, _ = storeys(base, top, mass.floor_height)
     rows = wall_rows(positions, normals, faces, np.repeat(np.arange(len(a)), 6), along, (base, top), storey)
     return rows, ring_columns(faces)
 
 
-def wall_rows(positions, normals, faces: WallFaces, edge: np.ndarray, along: np.ndarray, span: tuple[float, float],
-              storey: float):
+def wall_rows(positions, normals, faces: WallFaces, edge: np.ndarray, along: np.ndarray, span: tuple, storey):
     """Rows of wall vertices: object-space positions and normals, facade coordinates (u metres along
     the face, v metres up, bay width, storey height), the face (width, base, top of `span`, room
     depth) and its room columns (first bay, last bay). `edge` is each vertex's entry in `faces`,
-    `along` its metres from that edge's start."""
+    `along` its metres from that edge's start; span and storey once or per vertex."""
     count = len(positions)
-    facade = np.column_stack([faces.along[edge] + along, positions[:, 1], faces.bay[edge], np.full(count, storey)])
-    face = np.column_stack([faces.width[edge], np.full(count, span[0]), np.full(count, span[1]), faces.depth[edge]])
+    facade = np.column_stack([faces.along[edge] + along, positions[:, 1], faces.bay[edge],
+                              np.broadcast_to(storey, count)])
+    face = np.column_stack([faces.width[edge], np.broadcast_to(span[0], count), np.broadcast_to(span[1], count),
+                            faces.depth[edge]])
     return positions, normals, facade, face, faces.columns[edge]
 
 
-def _gable_rows(walls: Triangles, mass, first_column: int):
+def gable_rows(walls: Triangles, mass, first_column: int):
     """Wall pieces above the walls' top (gables): each a face of its edge's length up to the ridge,
     its storeys carrying on those of the wall below, its rooms in a column of their own."""
     length = walls.edge_length
@@ -86,4 +96,4 @@ def outline_rows(mass, outline: np.ndarray):
     for ring in [outline, *holes] if mass.walls else []:
         rows, column = ring_wall_rows(ring, mass, mass.base, top, column)
         walls.append(rows)
-    return join_rows([*walls, _gable_rows(gables, mass, column)]), roof_rows(roof.positions, roof.normals)
+    return join_rows([*walls, gable_rows(gables, mass, column)]), roof_rows(roof.positions, roof.normals)

@@ -13,7 +13,7 @@ import numpy as np
 import shapely
 
 from ._buildings import BuildingMass
-from ._records import BUILDING_DTYPE, SHAPES, rotation_y
+from ._records import BUILDING_DTYPE, SHAPES
 from ._doors import door_record
 from ._extrusions import outline_rows, roof_rows, wall_rows
 from ._wall_faces import storeys, wall_faces
@@ -142,43 +142,65 @@ def _dome_triangles(mass: BuildingMass):
     return walls, roof_rows(empty, empty)
 
 
-def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
-    """The triangles of one mass as VERTEX_DTYPE records (world and object space)."""
+def mass_rows(mass: BuildingMass):
+    """(wall rows, roof rows) of one mass in its object space (_extrusions.py rows)."""
     if mass.shape == "dome":
-        walls, roof = _dome_triangles(mass)
-    else:
-        walls, roof = _prism_triangles(mass, smooth=mass.shape == "cylinder")
-    out = np.zeros(len(walls[0]) + len(roof[0]), dtype=VERTEX_DTYPE)
-    for field, wall_part, roof_part in zip(("local", "normal", "facade", "face"), walls, roof):
-        out[field] = np.concatenate([wall_part, roof_part])
-    out["ids"][:, 0] = index
-    out["ids"][len(walls[0]):, 1] = SURFACE_ROOF
-    out["ids"][:, 2:] = np.concatenate([walls[4], roof[4]])
-    rot = rotation_y(mass.yaw)
-    origin = np.array([mass.position[0], 0.0, mass.position[1]])
-    out["position"] = out["local"].astype(np.float64) @ rot.T + origin
+        return _dome_triangles(mass)
+    return _prism_triangles(mass, smooth=mass.shape == "cylinder")
+
+
+def vertex_records(rows, surface: np.ndarray, building: np.ndarray, cos_yaw: np.ndarray, sin_yaw: np.ndarray,
+                   origin: np.ndarray) -> np.ndarray:
+    """(local, normal, facade, face, room columns) rows as VERTEX_DTYPE records: their surface kind,
+    building index, the rotation about +y and the world origin (x, z), each given per row or once."""
+    out = np.zeros(len(rows[0]), dtype=VERTEX_DTYPE)
+    for field, part in zip(("local", "normal", "facade", "face"), rows):
+        out[field] = part
+    out["ids"][:, 0] = building
+    out["ids"][:, 1] = surface
+    out["ids"][:, 2:] = rows[4]
+    local = out["local"].astype(np.float64)
+    x, z = local[:, 0], local[:, 2]
+    # rotation_y(yaw) applied term by term: the same floats for one building or a city at once
+    out["position"] = np.column_stack([cos_yaw * x + sin_yaw * z + origin[..., 0], local[:, 1],
+                                       cos_yaw * z - sin_yaw * x + origin[..., 1]])
     return out
 
 
-def building_record(mass: BuildingMass) -> np.ndarray:
-    rec = np.zeros((), dtype=BUILDING_DTYPE)
-    rec["origin_yaw"] = (mass.position[0], 0.0, mass.position[1], mass.yaw)
-    rec["room"][:3] = mass.room_size
-    rec["room"][3] = mass.wall_jitter
-    rec["extent"][:3] = mass.extent
-    rec["extent"][3] = mass.lights
-    rec["ids"] = (mass.seed, mass.style, mass.flags, SHAPES[mass.shape])
-    tint = wall_tint(mass.wall_colour, mass.wall_material)
-    if tint is not None:
-        rec["tint"] = (*linear(tint), 1.0)
-    material, colour = roof_material(mass.roof.material)
-    rec["roof"] = (*linear(mass.roof.colour if mass.roof.colour is not None else colour), material)
-    rec["doors"] = door_record(mass.doors)
+def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
+    """The triangles of one mass as VERTEX_DTYPE records (world and object space)."""
+    walls, roof = mass_rows(mass)
+    rows = tuple(np.concatenate([w, r]) for w, r in zip(walls, roof))
+    surface = np.repeat([SURFACE_WALL, SURFACE_ROOF], [len(walls[0]), len(roof[0])])
+    return vertex_records(rows, surface, index, np.cos(mass.yaw), np.sin(mass.yaw), np.asarray(mass.position, np.float64))
+
+
+def building_records(masses: list[BuildingMass], rooms: np.ndarray | None = None) -> np.ndarray:
+    """The masses' BUILDING_DTYPE records (one SSBO), filled a column at a time; `rooms`: their
+    room sizes where the caller has them."""
+    rec = np.zeros(len(masses), dtype=BUILDING_DTYPE)
+    rec["origin_yaw"] = [(m.position[0], 0.0, m.position[1], m.yaw) for m in masses]
+    rec["room"][:, :3] = np.array([m.room_size for m in masses]) if rooms is None else rooms
+    rec["room"][:, 3] = [m.wall_jitter for m in masses]
+    rec["extent"] = [(*m.extent, m.lights) for m in masses]
+    rec["ids"] = [(m.seed, m.style, m.flags, SHAPES[m.shape]) for m in masses]
+    tints, roofs = {}, {}  # a city has few distinct colours: each converted once
+    for k, m in enumerate(masses):
+        key = (m.wall_colour, m.wall_material)
+        if key not in tints:
+            tint = wall_tint(*key)
+            tints[key] = None if tint is None else (*linear(tint), 1.0)
+        if tints[key] is not None:
+            rec["tint"][k] = tints[key]
+        key = (m.roof.colour, m.roof.material)
+        if key not in roofs:
+            material, colour = roof_material(m.roof.material)
+            roofs[key] = (*linear(m.roof.colour if m.roof.colour is not None else colour), material)
+        rec["roof"][k] = roofs[key]
+        if m.doors:
+            rec["doors"][k] = door_record(m.doors)
     return rec
 
 
-def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
-    """All masses as one vertex array (one draw call) and their records (one SSBO)."""
-    vertices = np.concatenate([building_vertices(m, i) for i, m in enumerate(masses)]) if masses else np.zeros(0, VERTEX_DTYPE)
-    records = np.stack([building_record(m) for m in masses]) if masses else np.zeros(0, BUILDING_DTYPE)
-    return vertices, records
+def building_record(mass: BuildingMass) -> np.ndarray:
+    return building_records([mass]).reshape(())

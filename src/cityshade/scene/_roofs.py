@@ -75,24 +75,37 @@ def polygon_triangles(polygon: shapely.Polygon) -> np.ndarray:
 
     ...meaning their normal (b - a) x (c - a) points up (+y) once lifted to 3D."""
     tris = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygon)).reshape(-1, 4, 2)[:, :3]
-    if not len(tris):
-        return np.zeros((0, 3, 2))
+    return upward(tris)[0] if len(tris) else np.zeros((0, 3, 2))
+
+
+def upward(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(triangles turned to face up, which of the given ones they are): (n, 3, 2) triangles of a
+    triangulation made counter-clockwise seen from +y, slivers (where a polygon touches itself) dropped."""
+    tris = tris.copy()
     a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
     cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
     up = cross < 0  # x right, z toward the viewer: up-facing triangles turn clockwise in (x, z)
     tris[~up] = tris[~up][:, ::-1]
-    return tris[np.abs(cross) > 1e-9]  # slivers where a polygon touches itself
+    kept = np.abs(cross) > 1e-9
+    return tris[kept], kept
+
+
+def flat_rows(tris: np.ndarray, y: np.ndarray | float, up: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """(positions, normals) of upward triangles (n, 3, 2) lifted to height y (one or one per
+    triangle), facing up (a roof) or down (an underside)."""
+    if not up:
+        tris = tris[:, ::-1]
+    points = tris.reshape(-1, 2)
+    positions = np.column_stack([points[:, 0], np.broadcast_to(np.repeat(y, 3) if np.ndim(y) else y, len(points)),
+                                 points[:, 1]])
+    normals = np.zeros_like(positions)
+    normals[:, 1] = 1.0 if up else -1.0
+    return positions, normals
 
 
 def flat(polygon: shapely.Polygon, y: float, up: bool = True) -> Triangles:
     """The polygon as a horizontal surface at height y, facing up (a roof) or down (an underside)."""
-    tris = polygon_triangles(polygon)
-    if not up:
-        tris = tris[:, ::-1]
-    positions = np.insert(tris.reshape(-1, 2), 1, y, axis=1)
-    normals = np.zeros_like(positions)
-    normals[:, 1] = 1.0 if up else -1.0
-    return Triangles(positions, normals)
+    return Triangles(*flat_rows(polygon_triangles(polygon), y, up))
 
 
 def _lift(tris: np.ndarray, plane: np.ndarray, top: float) -> Triangles:
@@ -397,16 +410,16 @@ def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), EPS)
     keys = np.round(np.column_stack([normals, np.einsum("ij,ij->i", normals, tris[:, 0])]), 3)
     _, group, count = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    ground = tris[:, :, 2] < EPS
+    ends = np.array([[a, b] for a, b in edges])  # (edges, 2 corners, 2)
+    hip_ends = (count[group.ravel()] == 1) & (ground.sum(axis=1) == 2)  # alone on their plane, two corners down
     moves = []
-    for tri, g in zip(tris, group.ravel()):
-        ground = tri[:, 2] < EPS
-        if count[g] != 1 or ground.sum() != 2:
-            continue
-        base = tri[ground][:, :2]
-        for a, b in edges:
-            if min(np.abs(base - [a, b]).max(), np.abs(base - [b, a]).max()) < 1e-3:
-                apex = tri[~ground][0]
-                moves.append((apex, np.array([(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, apex[2]])))
+    for tri, low in zip(tris[hip_ends], ground[hip_ends]):
+        base = tri[low][:, :2]
+        apart = np.minimum(np.abs(base - ends).max(axis=(1, 2)), np.abs(base - ends[:, ::-1]).max(axis=(1, 2)))
+        apex = tri[~low][0]
+        for a, b in ends[apart < 1e-3]:  # the outline edge the hip's end stands on
+            moves.append((apex, np.array([(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, apex[2]])))
     if len(moves) >= len(edges) - 1:
         return tris
     tops = np.array([apex for apex, _ in moves]).reshape(-1, 3)

@@ -17,7 +17,7 @@ and they carry the same column number: the same room is seen through both facade
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -37,60 +37,88 @@ class WallFaces:
     columns: np.ndarray  # (edges, 2) int
 
 
-def _turns(d: np.ndarray) -> np.ndarray:
-    """Signed turn (radians, left positive) from the previous edge into each edge of a closed ring."""
-    prev = np.roll(d, 1, axis=0)
+def wall_faces(lengths: np.ndarray, directions: np.ndarray, nominal_bay: float, first_column: int = 0) -> WallFaces:
+    """Faces of a closed ring from its edges' lengths (arc lengths for curves) and directions
+    (n, 2); the building lies left of the edges (counter-clockwise outlines, clockwise holes).
+    Columns start at `first_column` (rings of one building follow each other)."""
+    if not len(lengths):
+        return WallFaces(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64))
+    faces, _ = ring_faces(lengths, directions, np.array([len(lengths)]), np.array([nominal_bay], dtype=np.float64))
+    return replace(faces, columns=faces.columns + first_column)
+
+
+def ring_faces(lengths: np.ndarray, directions: np.ndarray, counts: np.ndarray,
+               nominal_bay: np.ndarray) -> tuple[WallFaces, np.ndarray]:
+    """wall_faces of many closed rings at once, their edges stored one ring after another (`counts`
+    edges each, none empty), each ring with its nominal bay width and room columns from 0; also
+    each ring's column count (ring_columns). A ring's numbers do not depend on the other rings."""
+    n, rings = len(lengths), len(counts)
+    ring = np.repeat(np.arange(rings), counts)
+    ends = np.cumsum(counts)
+    begins = ends - counts
+    prev = np.arange(n) - 1
+    prev[begins] = ends - 1
+    turns = _turns(directions[prev], directions)
+    start = np.abs(turns) > CORNER_TURN + 1e-6  # a regular 12-gon's turns are 30 degrees up to rounding
+    start[begins[np.add.reduceat(start, begins) == 0]] = True  # one face all round: it starts at edge 0
+    starts = np.flatnonzero(start)
+    faces_in_ring = np.add.reduceat(start.astype(np.int64), begins)
+    first_face = np.cumsum(faces_in_ring) - faces_in_ring
+    face_ring = ring[starts]
+    # faces as runs of edges from each start to the next (the last run wraps round to the first start)
+    face = first_face[ring] + (np.cumsum(start) - first_face[ring] - 1) % faces_in_ring[ring]
+    # arc length from the ring's first face start, edge by edge in that order
+    first_start = starts[first_face] - begins
+    by_order = begins[ring] + (np.arange(n) - begins[ring] + first_start[ring]) % counts[ring]
+    cumulative = np.empty(n)
+    cumulative[by_order] = _sums_before(lengths[by_order], counts)
+    width = np.bincount(face, weights=lengths, minlength=len(starts))
+    bays = np.maximum(1, np.round(width / nominal_bay[face_ring])).astype(np.int64)
+    bay = width / bays
+    index = np.arange(len(starts)) - first_face[face_ring]  # face number within its ring
+    size = faces_in_ring[face_ring]
+    before, after = first_face[face_ring] + (index - 1) % size, first_face[face_ring] + (index + 1) % size
+    depth = np.where(size == 1, bay, 0.5 * (bay[before] + bay[after]))
+    # room columns: a convex corner (a left turn) shares the room on both of its sides, so the face
+    # after it starts on the column of the face before it's last bay
+    convex = turns[starts] > 0
+    shared = np.cumsum(convex & (index > 0))
+    bays_before = np.cumsum(bays) - bays
+    first = (bays_before - bays_before[first_face][face_ring]) - (shared - shared[first_face][face_ring])
+    last = first + bays - 1
+    closing = (faces_in_ring > 1) & convex[first_face]  # the last face's last bay is the first face's first
+    last[(first_face + faces_in_ring - 1)[closing]] = first[first_face[closing]]
+    columns = np.maximum.reduceat(np.maximum(first, last), first_face) + 1
+    return WallFaces(
+        along=cumulative - cumulative[starts][face],
+        width=width[face],
+        bay=bay[face],
+        depth=depth[face],
+        columns=np.stack([first, last], axis=1)[face],
+    ), columns
+
+
+def _turns(prev: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Signed turn (radians, left positive) from the previous edges `prev` into edges `d`."""
     cross = prev[:, 0] * d[:, 1] - prev[:, 1] * d[:, 0]
     dot = np.sum(prev * d, axis=1)
     return np.arctan2(cross, dot)
 
 
-def wall_faces(lengths: np.ndarray, directions: np.ndarray, nominal_bay: float, first_column: int = 0) -> WallFaces:
-    """Faces of a closed ring from its edges' lengths (arc lengths for curves) and directions
-    (n, 2); the building lies left of the edges (counter-clockwise outlines, clockwise holes).
-    Columns start at `first_column` (rings of one building follow each other)."""
-    n = len(lengths)
-    turns = _turns(directions)
-    corner = np.abs(turns) > CORNER_TURN + 1e-6  # a regular 12-gon's turns are 30 degrees up to rounding
-    if not corner.any():  # one face all round: it starts at edge 0
-        starts = np.array([0])
-    else:
-        starts = np.nonzero(corner)[0]
-    # faces as runs of edges from each start to the next (the last run wraps round to the first start)
-    face_of_edge = (np.searchsorted(starts, np.arange(n), side="right") - 1) % len(starts)
-    order = (np.arange(n) - starts[0]) % n  # position of each edge from the first face's start
-    edges_by_order = np.argsort(order)
-    cumulative = np.zeros(n)
-    cumulative[edges_by_order] = np.concatenate([[0.0], np.cumsum(lengths[edges_by_order])[:-1]])
-    face_start = cumulative[starts]
-    width = np.bincount(face_of_edge, weights=lengths, minlength=len(starts))
-    bays = np.maximum(1, np.round(width / nominal_bay)).astype(np.int64)
-    bay = width / bays
-    faces = len(starts)
-    if faces == 1:
-        depth = bay.copy()
-    else:
-        depth = 0.5 * (np.roll(bay, 1) + np.roll(bay, -1))
-    # room columns: a convex corner (a left turn) shares the room on both of its sides
-    convex = turns[starts] > 0
-    first = np.zeros(faces, dtype=np.int64)
-    last = np.zeros(faces, dtype=np.int64)
-    column = first_column
-    for f in range(faces):
-        if f > 0 and convex[f]:
-            column -= 1  # this face's first bay is the previous face's last
-        first[f] = column
-        last[f] = column + bays[f] - 1
-        column = last[f] + 1
-    if faces > 1 and convex[0]:
-        last[-1] = first[0]  # the closing corner: the last face's last bay is the first face's first
-    return WallFaces(
-        along=cumulative - face_start[face_of_edge],
-        width=width[face_of_edge],
-        bay=bay[face_of_edge],
-        depth=depth[face_of_edge],
-        columns=np.stack([first, last], axis=1)[face_of_edge],
-    )
+def _sums_before(values: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """For rings of `counts` values stored one after another: the sum of the ring's values before
+    each, added one by one in order (the same floats as np.cumsum on the ring alone)."""
+    out = np.zeros(len(values))
+    begins = np.cumsum(counts) - counts
+    widths = 2 ** np.ceil(np.log2(np.maximum(counts, 1))).astype(np.int64)
+    for width in np.unique(widths):  # rings padded to a power of two: a few tables, not a loop over rings
+        rings = np.flatnonzero(widths == width)
+        position = begins[rings, None] + np.arange(width)
+        inside = np.arange(width) < counts[rings, None]
+        table = np.where(inside, values[np.where(inside, position, 0)], 0.0)
+        sums = np.cumsum(table[:, :-1], axis=1)
+        out[position[:, 1:][inside[:, 1:]]] = sums[inside[:, 1:]]
+    return out
 
 
 def ring_columns(faces: WallFaces) -> int:

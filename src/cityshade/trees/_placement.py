@@ -49,13 +49,16 @@ def street_trees(streets, seed: int, spacing: float = 18.0, inset: float = 1.2, 
     for index, (x0, z0, x1, z1) in enumerate(rects):
         along_x = (x1 - x0) >= (z1 - z0)
         start, end = (x0, x1) if along_x else (z0, z1)
-        for s in np.arange(start + spacing / 2, end, spacing):
-            for edge in ((z0 + inset, z1 - inset) if along_x else (x0 + inset, x1 - inset)):
-                x, z = (s, edge) if along_x else (edge, s)
-                others = np.delete(rects, index, axis=0)
-                crossing = (others[:, 0] - 4 < x) & (x < others[:, 2] + 4) & (others[:, 1] - 4 < z) & (z < others[:, 3] + 4)
-                if not crossing.any():
-                    positions.append((x, 0.0, z))
+        s = np.arange(start + spacing / 2, end, spacing)
+        edges = (z0 + inset, z1 - inset) if along_x else (x0 + inset, x1 - inset)
+        row = np.stack([np.broadcast_to(e, s.shape) for e in edges], axis=1)  # (spots, both kerbs)
+        s = np.broadcast_to(s[:, None], row.shape)
+        x, z = ((s, row) if along_x else (row, s))
+        x, z = x.ravel(), z.ravel()  # spot by spot, both kerbs each
+        others = np.delete(rects, index, axis=0)[:, None]
+        crossing = (others[..., 0] - 4 < x) & (x < others[..., 2] + 4) & (others[..., 1] - 4 < z) & (z < others[..., 3] + 4)
+        free = ~crossing.any(axis=0)
+        positions += [(float(a), 0.0, float(b)) for a, b in zip(x[free], z[free])]
     return tree_instances(positions, species, rng)
 
 

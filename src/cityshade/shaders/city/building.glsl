@@ -2,7 +2,7 @@
 // (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
 // Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids; the fourth channel is the grammar
 // label, or with ID_ROOM_STATE the room seen, or with ID_WINDOW the window it is seen through), INTERIOR_MAPPING (off: the
-// reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD; the polygonised-interiors
+// reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD, BUILDING_LOD (city/lod.glsl); the polygonised-interiors
 // baseline draws the buildings twice: POLYGONISED_EXTERIOR (glass cut out) before its real rooms,
 // POLYGONISED_WINDOWS (only the glass's reflection, alpha = Fresnel, for blending) after them.
 
@@ -26,6 +26,7 @@ void main() {}
 #include "city/roof.glsl"
 #include "city/doors.glsl"
 #include "city/street_lights.glsl"
+#include "city/lod.glsl"
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
 const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
@@ -91,6 +92,7 @@ void main() {
     uint window_key = 0u;  // the window a room is seen through (window_id), 0: none
     vec3 color;
     vec3 surface = v_local;  // where a ray through the glass enters the building
+    bool cheap = false;      // the cheapest level of detail (city/lod.glsl): no grammar, relief nor rooms traced
     if (v_ids.y == SURFACE_ROOF) {
         face = FACE_ROOF;
 #if defined POLYGONISED_WINDOWS
@@ -105,11 +107,25 @@ void main() {
         int door;
         bool at_door = door_at(b, v_local, n, door_uv, door);  // a mapped or guessed door, in front of any facade
         bool grammar = !at_door && v_ids.y != SURFACE_PLAIN_WALL && has_grammar_facade(b);
+        bool relief = has_relief_facade(b);
+#if defined BUILDING_LOD
+        // far away: the style's mean colour (the deferred pass decided for grammar pixels)
+#if defined GRAMMAR_DEFERRED && !defined ID_PASS
+        cheap = grammar ? grammar_deferred_skipped() : lod_cheap(s);
+#else
+        cheap = lod_cheap(s);
+#endif
+#endif
         if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);
         else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
             f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
-        else if (grammar) f = grammar_building_facade(b, n, v_local, v_facade, v_spacing.y, v_face, d, opening);
-        else if (has_relief_facade(b)) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
+#if defined BUILDING_LOD
+        else if (cheap) f = lod_facade(b, v_ids.x, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing, grammar, relief);
+        else if (relief && lod_relief_flat(s))  // parallax under a pixel: traced straight into the wall
+            f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, -n);
+#endif
+        else if (grammar) f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
+        else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
         else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;
         label = f.label;
@@ -117,7 +133,7 @@ void main() {
 #if !defined ID_PASS
         color = facade_light(f, rot, d, shadow_factor(v_world));  // where it is glass, the room shows (below)
 #if defined GRAMMAR_DEFERRED
-        if (grammar) color = grammar_deferred_color();  // lit by the deferred pass
+        if (grammar && !cheap) color = grammar_deferred_color();  // lit by the deferred pass
 #endif
 #endif
 #if defined POLYGONISED_EXTERIOR
@@ -139,9 +155,9 @@ void main() {
                 reflectance = fresnel(cos_view, NO_ROOM_PANE_F0);
             } else {
 #if defined INTERIOR_MAPPING
-            float interior_weight = 1.0;
+            float interior_weight = cheap ? 0.0 : 1.0;
 #if defined INTERIOR_LOD
-            interior_weight = 1.0 - smoothstep(u_lod_range.x, u_lod_range.y, s);
+            interior_weight *= 1.0 - smoothstep(u_lod_range.x, u_lod_range.y, s);
 #endif
             // the room's frame: the face's (u, v, metres into the building)
             WallFace wall = wall_face(v_spacing, v_face, v_ids);
@@ -156,7 +172,7 @@ void main() {
                 window_key = window_id(opening, wall);
                 inside = hit.color;
             }
-#if defined INTERIOR_LOD
+#if defined INTERIOR_LOD || defined BUILDING_LOD
             if (interior_weight < 1.0) {
                 // far away: each window glows with its room's mean colour (no ray cast)
                 Room r = find_room(opening, wall, b);

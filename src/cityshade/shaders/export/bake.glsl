@@ -12,6 +12,7 @@ uniform vec2 facade_origin;  // mesh facade coordinates (u along the wall, v up)
 uniform float texel;         // metres per texel
 uniform vec2 facade_size;    // the grammar's scope: the building's width on this side, its height
 uniform vec2 facade_seed;
+uniform vec2 building_seed;  // entry 0 of the random-seed stack: choices made once per building
 uniform int start_rule;
 
 layout(location = 0) out vec4 out_color;    // sRGB colour, specular intensity
@@ -21,6 +22,7 @@ layout(location = 2) out uvec4 out_ids;     // terminal + 1, label, glass, 0
 void main() {
     vec2 mesh_uv = facade_origin + (gl_FragCoord.xy - canvas_origin) * texel;
     vec2 uv = vec2(facade_size.x - mesh_uv.x, mesh_uv.y);
+    grammar_building_seed = building_seed;
     GrammarResult g = grammar_evaluate(start_rule, uv, facade_size, facade_seed, vec3(0.0, 0.0, 1.0),
                                        vec2(-texel, 0.0), vec2(0.0, texel));
     out_color = vec4(g.color, g.specular.x);

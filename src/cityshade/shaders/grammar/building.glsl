@@ -19,12 +19,24 @@ vec3 grammar_right(vec3 n) {
 
 // Scope and texture coordinates of a wall point: the grammar runs in the true size of the face it
 // is on (facade: u, v; face: width, base, top, room depth; cityshade/scene/_wall_faces.py).
-// Mesh u runs right to left seen from outside, so it is mirrored. All faces share the building's
-// seed, so they agree on its random choices.
-void grammar_scope(Building b, vec2 facade, vec4 face, out vec2 uv, out vec2 size, out vec2 seed) {
+// Mesh u runs right to left seen from outside, so it is mirrored. Each face has its own seed (the
+// building's, hashed with the face's index: its first room column, 0 for the first face and for a
+// round mass), so the faces of a building make independent random choices, each the same in every
+// frame, and a curved run of many walls keeps one stream.
+void grammar_scope(Building b, int face_index, vec2 facade, vec4 face, out vec2 uv, out vec2 size, out vec2 seed) {
     size = vec2(face.x, face.z - face.y);
     uv = vec2(face.x - facade.x, facade.y - face.y);
-    seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
+    seed = vec2(grammar_facade_cells(b.facade.zw, face_index)) / GRAMMAR_NOISE_DENSITY;
+}
+
+// The storeys of a face: its height over its storey height, rounded.
+float grammar_levels(vec4 face, float storey) { return floor((face.z - face.y) / storey + 0.5); }
+
+// building.levels (the face's storeys), .style, .use and .height for conditions (the use code:
+// building_use, common/buildings.glsl), and the building's own seed for choices made once per building.
+void grammar_set_building(Building b, float levels) {
+    grammar_building = vec4(levels, float(b.ids.y), float(building_use(b)), b.extent.y);
+    grammar_building_seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
 }
 
 // The rectangle (u0, v0, u1, v1, facade coordinates) of the grammar scope that decided a pixel
@@ -44,11 +56,11 @@ GrammarResult grammar_facade_at(int start, vec2 uv, vec2 size, vec2 seed, vec3 n
 
 // The building's grammar at a wall point (object space; facade uv, storey height, face and the
 // derivatives of the facade uv from the mesh).
-GrammarResult grammar_facade(Building b, vec3 n, vec2 facade, float storey, vec4 face, vec3 d, vec2 duv_dx,
+GrammarResult grammar_facade(Building b, vec3 n, int face_index, vec2 facade, float storey, vec4 face, vec3 d, vec2 duv_dx,
                              vec2 duv_dy) {
     vec2 uv, size, seed;
-    grammar_scope(b, facade, face, uv, size, seed);
-    grammar_building = vec2(floor((face.z - face.y) / storey + 0.5), float(b.ids.y));  // storeys, style
+    grammar_scope(b, face_index, facade, face, uv, size, seed);
+    grammar_set_building(b, grammar_levels(face, storey));
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 
@@ -70,22 +82,32 @@ FacadeResult grammar_facade_result(GrammarResult g, vec3 n, vec3 point) {
 // (cityshade/grammar/_frame_pass.py), which keeps the window's centre: only glass, label and window
 // come back here, and grammar_deferred_color gives the lit colour. The id pass always evaluates, so
 // ids stay exact.
+
+// The deferred pass's mark (first id channel) on a pixel it left to the cheapest level of detail
+// (city/lod.glsl), so both passes agree on the pixel's level.
+const uint GRAMMAR_DEFERRED_SKIPPED = 2u;
+
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
 uniform sampler2D u_grammar_deferred_color;
 uniform usampler2D u_grammar_deferred_ids;
 
 vec3 grammar_deferred_color() { return texelFetch(u_grammar_deferred_color, ivec2(gl_FragCoord.xy), 0).rgb; }
+
+// whether the deferred pass left this pixel to the cheapest level of detail (below)
+bool grammar_deferred_skipped() {
+    return texelFetch(u_grammar_deferred_ids, ivec2(gl_FragCoord.xy), 0).x == GRAMMAR_DEFERRED_SKIPPED;
+}
 #endif
 
-FacadeResult grammar_building_facade(Building b, vec3 n, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
-                                     out vec4 window) {
+FacadeResult grammar_building_facade(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, float storey,
+                                     vec4 face, vec3 d, out vec4 window) {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
     uvec4 ids = texelFetch(u_grammar_deferred_ids, ivec2(gl_FragCoord.xy), 0);
     uint label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
     window = grammar_window(vec4(uintBitsToFloat(ids.zw), 0.0, 0.0), face);  // the window's centre
     return FacadeResult(vec3(0.0), n, vec2(0.0), float(ids.x), wall, label);
 #else
-    GrammarResult g = grammar_facade(b, n, facade, storey, face, d, dFdx(facade), dFdy(facade));
+    GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, dFdx(facade), dFdy(facade));
     window = grammar_window(g.scope, face);
     return grammar_facade_result(g, n, wall);
 #endif

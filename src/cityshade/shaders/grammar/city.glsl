@@ -8,24 +8,26 @@
 
 in vec3 v_normal;
 in vec2 v_facade;
+flat in vec2 v_spacing;
 flat in vec4 v_face;
 flat in ivec4 v_ids;
 
 layout(location = 0) out vec4 out_scope;   // uv, scope size (metres)
-layout(location = 1) out vec4 out_rule;    // seed vector, start rule, 1 = facade (0 = roof)
-layout(location = 2) out vec4 out_normal;  // world normal
+layout(location = 1) out vec4 out_rule;    // seed vector, start rule, building index + 1 (0: a roof)
+layout(location = 2) out vec4 out_normal;  // world normal, the face's storeys (building.levels)
 
 void main() {
     Building b = buildings[v_ids.x];
     vec3 n = building_rotation(b) * normalize(v_normal);  // world; buildings turn about +y only
     vec2 uv = vec2(0.0), size = vec2(1.0), seed = vec2(0.0);
-    float facade = 0.0;
+    float facade = 0.0, levels = 0.0;
     if (v_ids.y == SURFACE_WALL && has_grammar_facade(b)) {  // not roofs, nor plain walls
-        grammar_scope(b, v_facade, v_face, uv, size, seed);
+        grammar_scope(b, v_ids.z, v_facade, v_face, uv, size, seed);
+        levels = grammar_levels(v_face, v_spacing.y);
         facade = 1.0;
     }
     out_scope = vec4(uv, size);
-    out_rule = vec4(seed, float(b.facade.y), facade);
-    out_normal = vec4(n, 0.0);
+    out_rule = vec4(seed, float(b.facade.y), facade * float(v_ids.x + 1));  // exact in 32-bit floats
+    out_normal = vec4(n, levels);
 }
 #endif

@@ -7,6 +7,9 @@
 #if defined FRAGMENT_SHADER
 #include "grammar/building.glsl"
 #include "shadow/csm.glsl"
+#if defined BUILDING_LOD
+#include "city/lod.glsl"
+#endif
 
 uniform sampler2D u_scope;
 uniform sampler2D u_rule;
@@ -23,14 +26,23 @@ void main() {
     if (depth >= 1.0) discard;  // sky: nothing was drawn
     vec4 scope = texelFetch(u_scope, pixel, 0);
     vec4 rule = texelFetch(u_rule, pixel, 0);
-    vec3 n = normalize(texelFetch(u_normal, pixel, 0).xyz);
+    vec4 normal_levels = texelFetch(u_normal, pixel, 0);
+    vec3 n = normalize(normal_levels.xyz);
     if (rule.w == 0.0) discard;  // roofs and the other facade techniques are shaded by the building pass
     vec4 clip = vec4(gl_FragCoord.xy / u_viewport * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
     vec4 world = u_inv_view_proj * clip;
     vec3 d = normalize(world.xyz / world.w - u_camera);
+#if defined BUILDING_LOD
+    if (lod_cheap(distance(world.xyz / world.w, u_camera))) {  // far: the building pass draws the style's mean
+        out_color = vec4(0.0);
+        out_ids = uvec4(GRAMMAR_DEFERRED_SKIPPED, 0u, 0u, 0u);
+        return;
+    }
+#endif
     // texture footprints from the neighbouring pixels' facade coordinates
     vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
+    grammar_set_building(buildings[int(rule.w) - 1], normal_levels.w);  // its attributes and seed
     GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
     vec3 point = world.xyz / world.w;
     out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);

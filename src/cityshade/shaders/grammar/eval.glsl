@@ -44,8 +44,11 @@ vec2 g_split;   // split.index and split.total of the last Split or Repeat (0, 1
 vec2 g_facade;  // the start scope's size: facade.width, facade.height
 vec3 g_tint;  // Tint's factor for colour Mats (1 unless tinted)
 vec4 g_params;  // the parameters of the rule being evaluated (0 unless passed; GRAMMAR_MAX_PARAMS is 4)
-// building.levels and building.style for conditions: set by the caller before grammar_evaluate.
-vec2 grammar_building = vec2(0.0);
+// building.levels, .style, .use and .height for conditions: set by the caller before grammar_evaluate.
+vec4 grammar_building = vec4(0.0);
+// The building's seed vector (set by callers that know it): the random-seed stack's entry 0, so a
+// Rand with l >= 1 and no RandStack entry decides once per building. Not set: the facade's seed.
+vec2 grammar_building_seed = vec2(0.0);
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
 vec2 g_stack[GRAMMAR_MAX_STACK];
@@ -83,6 +86,19 @@ float grammar_random(vec2 corner, int stream) {
     ivec2 c = ivec2(floor(corner * GRAMMAR_NOISE_DENSITY + 0.5)) + ivec2((h >> 8) & 255u, h >> 24);
     ivec2 p = ivec2((c.x + c.y * 37) & (GRAMMAR_NOISE_SIZE - 1), c.y & (GRAMMAR_NOISE_SIZE - 1));
     return texelFetch(u_grammar_noise, p, 0).r;
+}
+
+// The seed cells of facade `face` of a building whose seed cells are `cells`
+// (cityshade.grammar._random.facade_cells): facade 0 keeps them, the others hash them with their index.
+ivec2 grammar_facade_cells(ivec2 cells, int face) {
+    if (face == 0) return cells;
+    uint h = (uint(cells.x) | (uint(cells.y) << 11)) ^ (uint(face) * 0x9E3779B1u);
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    h *= 0x846CA68Bu;
+    h ^= h >> 16;
+    return ivec2(1u + h % 2047u, 1u + (h >> 11) % 2047u);
 }
 
 // Mat's sampling: a constant (code 0), a tile fitted to the scope (> 0) or tiled (< 0).
@@ -235,8 +251,9 @@ void grammar_split(vec4 head, int a) {
 }
 
 float grammar_variable(int index) {
-    if (index >= 8) return g_params[min(index - 8, 3)];
-    vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : (index < 6 ? g_facade : grammar_building));
+    if (index >= GRAMMAR_FIRST_PARAMETER) return g_params[min(index - GRAMMAR_FIRST_PARAMETER, 3)];
+    if (index >= GRAMMAR_FIRST_BUILDING) return grammar_building[min(index - GRAMMAR_FIRST_BUILDING, 3)];
+    vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : g_facade);
     return pair[index % 2];
 }
 
@@ -438,7 +455,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_d = dir;
     g_dtdx = duv_dx;
     g_dtdy = duv_dy;
-    g_stack[0] = seed;
+    g_stack[0] = grammar_building_seed.x > 0.0 ? grammar_building_seed : seed;  // seed cells are >= 1
     g_sp = 1;
     g_depth = 0;
     g_active = true;

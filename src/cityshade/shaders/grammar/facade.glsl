@@ -8,9 +8,10 @@
 #if defined FRAGMENT_SHADER
 uniform vec2 u_facade_size;     // metres
 uniform vec2 u_viewport_size;   // pixels
-uniform vec2 u_facade_seed;     // the seed vector s
+uniform vec2 u_facade_seed;     // the building's seed vector (on the 1/8 m noise grid)
+uniform int u_facade_index;     // which facade of the building: each has its own seed
 uniform int u_start_rule;
-uniform vec2 u_facade_building; // building.levels, building.style
+uniform vec4 u_facade_building; // building.levels, .style, .use, .height
 uniform vec3 u_light_dir;       // towards the light; tangent space with z out of the wall (as normals)
 
 layout(location = 0) out vec4 out_color;
@@ -20,7 +21,11 @@ void main() {
     vec2 uv = gl_FragCoord.xy / u_viewport_size * u_facade_size;
     vec3 ray = normalize(vec3(uv - u_facade_size * 0.5, max(u_facade_size.x, u_facade_size.y)));
     grammar_building = u_facade_building;
-    GrammarResult g = grammar_evaluate(u_start_rule, uv, u_facade_size, u_facade_seed, ray, dFdx(uv), dFdy(uv));
+    grammar_building_seed = u_facade_seed;
+    ivec2 cells = ivec2(round(u_facade_seed * GRAMMAR_NOISE_DENSITY));
+    vec2 seed = u_facade_index == 0 ? u_facade_seed
+                                    : vec2(grammar_facade_cells(cells, u_facade_index)) / GRAMMAR_NOISE_DENSITY;
+    GrammarResult g = grammar_evaluate(u_start_rule, uv, u_facade_size, seed, ray, dFdx(uv), dFdy(uv));
     float diffuse = max(dot(g.normal, u_light_dir), 0.0);
     vec3 half_vector = normalize(u_light_dir + vec3(-ray.xy, ray.z));  // the ray's z points into the wall
     float specular = g.specular.x * pow(max(dot(g.normal, half_vector), 0.0), 1.0 + 128.0 * g.specular.y);

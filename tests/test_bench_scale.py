@@ -1,0 +1,95 @@
+"""Pieces of `cityshade bench scale` that need no minutes of frames: the street camera carried
+from Helsinki into its tiled extract, GL buffer accounting, and the ratios made from measured runs
+and the GPU-culling pixel check on a small city (the whole benchmark runs in the slow bench test)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cityshade.bench import scale
+from cityshade.maps import load_map, map_city, tiled_extract
+from cityshade.render import Renderer, RenderSettings
+from cityshade.scene import default_city
+
+
+def test_the_street_camera_lands_on_the_same_street_of_the_tiled_extract(helsinki_pbf, tmp_path):
+    """The extract's first tile is Helsinki where it was: moved by the camera's shift, Helsinki's
+    buildings stand on the tile's (to within what the extract changes: it copies closed building
+    ways only, and guesses heights from its own data)."""
+    extract = tmp_path / "tiled.osm.pbf"
+    tiled_extract(helsinki_pbf, extract, 1_000)
+    helsinki, tiled = map_city(load_map(helsinki_pbf)), map_city(load_map(extract))
+    start = helsinki.camera("street")
+    camera = scale._moved_to(start, helsinki, tiled)
+    shift = (np.asarray(camera.eye) - start.eye)[[0, 2]]
+    assert np.linalg.norm(shift) > 100.0, "the two scenes' origins differ: the camera must move"
+    ours = np.array([m.position for m in helsinki.masses]) + shift
+    theirs = np.array([m.position for m in tiled.masses])
+    nearest = np.linalg.norm(ours[:, None] - theirs[None], axis=2).min(axis=1)
+    assert np.median(nearest) < 0.5 and np.mean(nearest < 1e-6) > 0.1, np.percentile(nearest, [10, 50, 90])
+    assert np.allclose(np.asarray(camera.target) - camera.eye, np.asarray(start.target) - start.eye)
+    assert camera.eye[1] == start.eye[1] and camera.fov_y == start.fov_y
+
+
+def test_buffer_bytes_count_each_gl_buffer_once(gl_context):
+    class Holder:  # stands in for a cityshade object holding buffers
+        __module__ = "cityshade.test"
+
+    first, second = gl_context.buffer(reserve=1000), gl_context.buffer(reserve=24)
+    holder, inner = Holder(), Holder()
+    holder.a, holder.b, holder.inner, inner.again, inner.c = first, first, inner, first, second
+    try:
+        assert scale._buffer_bytes(holder, None) == 1024
+    finally:
+        first.release()
+        second.release()
+
+
+def _run(source, buildings, street, aerial, reference=None, **more):
+    frames = {"street": street, "aerial": aerial}
+    if reference:
+        frames.update({"street_1k": reference[0], "aerial_1k": reference[1]})
+    return {"source": source, "buildings": buildings, "load_seconds": 1.0, "resident_bytes": 1000 * buildings,
+            "gpu_buffer_bytes": 500 * buildings, "device": "llvmpipe (LLVM 15.0.7, 256 bits)", "frames": frames,
+            "culled_pixels_differing": {"street": 0, "aerial": 3} if buildings <= 1_000 else None, **more}
+
+
+def test_ratios_come_from_the_interleaved_frames_and_missing_ones_say_why():
+    viewer = {"fps": 11.5, "scale": 0.25, "internal_size": [256, 192], "frames": 15, "frames_counted": 8}
+    runs = [_run("generator", 948, [1.0, 1.2], [0.5, 0.7]),
+            _run("generator", 100_349, [1.3, 1.5], [2.0, 2.4], reference=([1.0, 1.0], [0.8, 0.8]), viewer=viewer),
+            _run("osm", 1_000, [1.0], [1.0])]
+    result = scale._result(runs, 2, True, (1_000,))
+    data = result.to_json()
+    assert data["ratios"]["street_100k_over_1k"] == pytest.approx(1.4)
+    assert data["ratios"]["aerial_100k_over_1k"] == pytest.approx(2.2 / 0.8, abs=1e-3)
+    assert data["ratios"]["bytes_per_building"] == 1000  # llvmpipe: the GPU buffers are in the resident bytes
+    assert data["ratios"]["viewer_fps_llvmpipe"] == 11.5
+    assert data["ratios"]["grammar_cache_speedup"] is None and "grammar_cache_speedup" in data["missing"]
+    assert data["ratios"]["culled_pixels_differing"] == 3 and "culled_pixels_differing" not in data["missing"]
+    culled = next(t for t in data["tables"] if t["title"].startswith("Pixels differing"))
+    assert culled["rows"] == [["generator", 0, 3], ["osm", 0, 3]]
+    assert data["timing"]["quick"] is True and data["timing"]["frames_per_path"] == 2
+    beside = next(t for t in data["tables"] if t["title"].startswith("Beside"))
+    assert [row[1] for row in beside["rows"]] == [329, 22_208, 948, 100_349, 1_000, 20_000]
+
+
+def test_bytes_per_building_add_gpu_buffers_on_a_hardware_gpu():
+    run = _run("generator", 100, [1.0], [1.0])
+    assert scale._bytes_per_building(run) == 1000
+    assert scale._bytes_per_building({**run, "device": "NVIDIA H200"}) == 1500
+
+
+def test_culled_pixels_compare_gpu_culling_with_none_and_restore_the_settings(gl_context):
+    """The counts come from renders with culling 'gpu' and 'off' of both views: a view in which GPU
+    culling leaves out a visible building would count its pixels (0 expected)."""
+    city = default_city(blocks=3)
+    renderer = Renderer((96, 72), RenderSettings(samples=0, culling="frustum"), ctx=gl_context)
+    try:
+        renderer.set_city(city)
+        differing = scale.culled_pixels_differing(renderer, city)
+        assert renderer.settings.culling == "frustum"
+    finally:
+        renderer.release()
+    assert differing == {"street": 0, "aerial": 0}
