@@ -54,16 +54,29 @@ def _material(material, cache: dict):
     atlas is uploaded once."""
     import pyrender
 
-    key = id(material.baseColorTexture), tuple(np.ravel(material.baseColorFactor)) if material.baseColorFactor is not None else None
+    key = (
+        id(material.baseColorTexture),
+        tuple(np.ravel(material.baseColorFactor)) if material.baseColorFactor is not None else None,
+    )
     if key not in cache:
         cache.setdefault("alive", []).append(material)  # ids stay unique while the cache lives
+
         def texture(image):
-            return None if image is None else pyrender.Texture(source=np.asarray(image.convert("RGBA")), source_channels="RGBA")
+            return (
+                None
+                if image is None
+                else pyrender.Texture(source=np.asarray(image.convert("RGBA")), source_channels="RGBA")
+            )
 
         cache[key] = pyrender.MetallicRoughnessMaterial(
-            baseColorFactor=np.asarray(material.baseColorFactor if material.baseColorFactor is not None else [255] * 4) / 255.0,
-            baseColorTexture=texture(material.baseColorTexture), metallicFactor=0.0, roughnessFactor=0.9,
-            emissiveTexture=None, doubleSided=bool(material.doubleSided))
+            baseColorFactor=np.asarray(material.baseColorFactor if material.baseColorFactor is not None else [255] * 4)
+            / 255.0,
+            baseColorTexture=texture(material.baseColorTexture),
+            metallicFactor=0.0,
+            roughnessFactor=0.9,
+            emissiveTexture=None,
+            doubleSided=bool(material.doubleSided),
+        )
     return cache[key]
 
 
@@ -78,9 +91,14 @@ def _primitive(mesh, cache: dict):
     visual = mesh.visual
     uv = getattr(visual, "uv", None)
     colours = getattr(visual, "vertex_attributes", {}).get("color")
-    return pyrender.Primitive(positions=mesh.vertices, normals=mesh.vertex_normals, indices=mesh.faces,
-                              texcoord_0=uv, color_0=None if colours is None else _unit_colours(colours),
-                              material=_material(visual.material, cache))
+    return pyrender.Primitive(
+        positions=mesh.vertices,
+        normals=mesh.vertex_normals,
+        indices=mesh.faces,
+        texcoord_0=uv,
+        color_0=None if colours is None else _unit_colours(colours),
+        material=_material(visual.material, cache),
+    )
 
 
 def pyrender_image(glb: Path, camera, size) -> np.ndarray:
@@ -104,8 +122,9 @@ def pyrender_image(glb: Path, camera, size) -> np.ndarray:
             scene.add(mesh, pose=transform)
     width, height = size
     view = camera.view()
-    cam = pyrender.PerspectiveCamera(yfov=np.radians(camera.fov_y), aspectRatio=width / height,
-                                     znear=camera.near, zfar=camera.far)
+    cam = pyrender.PerspectiveCamera(
+        yfov=np.radians(camera.fov_y), aspectRatio=width / height, znear=camera.near, zfar=camera.far
+    )
     scene.add(cam, pose=np.linalg.inv(view))
     sun = np.eye(4)
     sun[:3, :3] = np.linalg.inv(view)[:3, :3] @ np.array([[1, 0, 0], [0, 0.6, -0.8], [0, 0.8, 0.6]])
@@ -139,8 +158,20 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         glb, own = Path(tmp) / "city.glb", Path(tmp) / "own.png"
         cityshade("export", *source, "--out", str(glb), "--texel", args.texel)
-        cityshade("render", *source, "--camera", args.camera, "--size", args.size, "--time", args.time,
-                  "--samples", "0", "--out", str(own))
+        cityshade(
+            "render",
+            *source,
+            "--camera",
+            args.camera,
+            "--size",
+            args.size,
+            "--time",
+            args.time,
+            "--samples",
+            "0",
+            "--out",
+            str(own),
+        )
         if args.city:
             camera = make_city(args.city).camera(args.camera)
         else:

@@ -43,7 +43,9 @@ MAP_DATA = Path(__file__).parents[1] / "data"
 def _map_file(name: str) -> Path:
     path = MAP_DATA / name
     if not path.is_file():
-        pytest.fail(f"{path} is missing: run `make data` (scripts/fetch-map-data.sh) to fetch the OpenStreetMap extracts")
+        pytest.fail(
+            f"{path} is missing: run `make data` (scripts/fetch-map-data.sh) to fetch the OpenStreetMap extracts"
+        )
     return path
 
 

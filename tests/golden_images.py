@@ -49,8 +49,10 @@ def golden_difference(image: np.ndarray, expected: np.ndarray) -> str | None:
         reasons.append(f"{(diff > FAR_OFF).sum()} pixels differ by more than {FAR_OFF}/255")
     if blocks.max() > BLOCK_LIMIT:
         y, x = np.unravel_index(np.argmax(blocks), blocks.shape)
-        reasons.append(f"{int((blocks > BLOCK_LIMIT).sum())} {BLOCK}x{BLOCK} blocks differ by more than "
-                       f"{BLOCK_LIMIT:g}/255 on average (worst {blocks.max():.1f} at x={x * BLOCK}, y={y * BLOCK})")
+        reasons.append(
+            f"{int((blocks > BLOCK_LIMIT).sum())} {BLOCK}x{BLOCK} blocks differ by more than "
+            f"{BLOCK_LIMIT:g}/255 on average (worst {blocks.max():.1f} at x={x * BLOCK}, y={y * BLOCK})"
+        )
     return "; ".join(reasons) or None
 
 

@@ -22,19 +22,33 @@ def ctx(gl_context):
     return gl_context
 
 
-def compare(ctx, compiled, name, output_dir, seed=3, facade=FACADE, size=SIZE, min_terminals=2, nearest=True,
-            allowed=0.001, building=(0, 0, 0, 0), face=0):
+def compare(
+    ctx,
+    compiled,
+    name,
+    output_dir,
+    seed=3,
+    facade=FACADE,
+    size=SIZE,
+    min_terminals=2,
+    nearest=True,
+    allowed=0.001,
+    building=(0, 0, 0, 0),
+    face=0,
+):
     """GPU ids against the numpy twin's; `allowed` is the share of pixels that may differ.
     With nearest=False the GPU filters colours (mipmaps) and ids must still be exact. `face`: which
     facade of the building (the GPU hashes the seed with it, the twin gets facade_seed_vector)."""
     tiles = tile_array(32)
     textures = GrammarTextures(ctx, compiled, tiles)
     start = compiled.address(name)
-    colour, ids = FacadeRenderer(ctx, textures, nearest=nearest).render(start, facade, size, seed_vector(seed), building,
-                                                                        face)
+    colour, ids = FacadeRenderer(ctx, textures, nearest=nearest).render(
+        start, facade, size, seed_vector(seed), building, face
+    )
     textures.release()
-    cpu = evaluate_facade(compiled, start, facade, size, facade_seed_vector(seed, face), tiles, building,
-                          seed_vector(seed))
+    cpu = evaluate_facade(
+        compiled, start, facade, size, facade_seed_vector(seed, face), tiles, building, seed_vector(seed)
+    )
     assert_finite(colour, f"grammar {name} colour")
     Image.fromarray((np.clip(colour[..., :3], 0, 1) * 255).astype(np.uint8)).save(output_dir / f"grammar_{name}.png")
     terminal_diff = ids[..., 0].astype(np.int64) - 1 != cpu.terminal

@@ -7,7 +7,9 @@ import numpy as np
 
 def assert_finite(colour: np.ndarray, what: str):
     bad = ~np.isfinite(colour).all(axis=-1)
-    assert not bad.any(), f"{what}: {int(bad.sum())} pixels are not finite (first at row, column {tuple(np.argwhere(bad)[0])})"
+    assert not bad.any(), (
+        f"{what}: {int(bad.sum())} pixels are not finite (first at row, column {tuple(np.argwhere(bad)[0])})"
+    )
 
 
 def render_finite(renderer, camera) -> np.ndarray:
@@ -23,12 +25,16 @@ def key_edges(key: np.ndarray) -> np.ndarray:
     false answer of the other is never excused elsewhere."""
     padded = np.pad(key, 1, mode="edge")
     h, w = key.shape
-    return np.any([padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] != key for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
+    return np.any(
+        [padded[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w] != key for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0
+    )
 
 
 def id_edges(ids: np.ndarray) -> np.ndarray:
     """key_edges of the id AOV's (face, room, building)."""
-    return key_edges(ids[..., 0].astype(np.int64) << 48 ^ ids[..., 1].astype(np.int64) << 8 ^ ids[..., 2].astype(np.int64))
+    return key_edges(
+        ids[..., 0].astype(np.int64) << 48 ^ ids[..., 1].astype(np.int64) << 8 ^ ids[..., 2].astype(np.int64)
+    )
 
 
 def hit_edges(hits) -> np.ndarray:
@@ -45,9 +51,13 @@ def interior_twin(renderer, masses, camera, size, bounds, lights=None) -> np.nda
     from cityshade.render._city_gpu import GROUND_MARGIN
 
     s = renderer.settings
-    params = InteriorParams(lights=s.lights if lights is None else lights, time=s.animation_time,
-                            variants=renderer.textures.room_variants, glass_rect=renderer.textures.glass_rect,
-                            sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
+    params = InteriorParams(
+        lights=s.lights if lights is None else lights,
+        time=s.animation_time,
+        variants=renderer.textures.room_variants,
+        glass_rect=renderer.textures.glass_rect,
+        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
+    )
     x0, z0, x1, z1 = bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
     return reference_ids(masses, camera, size, params, assets.facade_texture()[0][..., 3] / 255.0, ground)

@@ -92,8 +92,8 @@ def test_atlas_layout_round_trips_tiles():
     for f, face in enumerate(layout["face_order"]):
         for k in range(layout["columns"]):
             x0, y0 = k * cell + pad, f * cell + pad
-            assert np.array_equal(atlas[y0:y0 + tile, x0:x0 + tile], rooms[face][k])
-            padded = atlas[y0 - pad:y0 + tile + pad, x0 - pad:x0 + tile + pad]
+            assert np.array_equal(atlas[y0 : y0 + tile, x0 : x0 + tile], rooms[face][k])
+            padded = atlas[y0 - pad : y0 + tile + pad, x0 - pad : x0 + tile + pad]
             expected = np.pad(rooms[face][k], ((pad, pad), (pad, pad), (0, 0)), mode="edge")
             assert np.array_equal(padded, expected)
 
@@ -200,11 +200,17 @@ def test_write_pngs_for_inspection(output_dir):
         written.append(save(folder, f"rooms_{face}", np.concatenate(list(rooms[face]), axis=1)))
     atlas, _ = room_atlas(rooms)
     written.append(save(folder, "room_atlas", atlas))
-    written.append(save(folder, "facades", np.concatenate([np.tile(facade_texture(seed=s)[0], (2, 3, 1)) for s in range(2)], axis=1)))
+    written.append(
+        save(
+            folder, "facades", np.concatenate([np.tile(facade_texture(seed=s)[0], (2, 3, 1)) for s in range(2)], axis=1)
+        )
+    )
     sprites = furniture_sprites(kinds=len(SPRITE_KINDS))
     backdrop = np.array([60, 70, 80, 255], np.uint8)
     rows = [np.where(s[..., 3:] > 0, s, backdrop) for s in sprites]
-    written.append(save(folder, "sprites", np.concatenate([np.concatenate(list(r), axis=1) for r in rows[::-1]], axis=0)))
+    written.append(
+        save(folder, "sprites", np.concatenate([np.concatenate(list(r), axis=1) for r in rows[::-1]], axis=0))
+    )
     written.append(save(folder, "curtain", np.tile(curtain_texture(), (1, 3, 1))))
     cube = environment_cubemap()
     # Cube faces as uploaded: row 0 (t = 0) is the top of the face as seen from inside.
@@ -214,11 +220,19 @@ def test_write_pngs_for_inspection(output_dir):
     for dusk in (0.0, 0.7, 1.0):
         written.append(save(folder, f"sky_dusk{dusk:.1f}", tonemap(sky_colour(pano, dusk=dusk))))
     assert len(written) >= 12 and all(path.stat().st_size > 0 for path in written)
+
+
 def test_sky_above_the_horizon_has_no_skyline():
     """Only sky above the horizon: no silhouette of buildings the data does not contain."""
     azimuth = np.linspace(-np.pi, np.pi, 2048, endpoint=False)
     for elevation in (0.005, 0.02, 0.05, 0.1):
-        ring = np.stack([np.cos(elevation) * np.cos(azimuth), np.full_like(azimuth, np.sin(elevation)),
-                         np.cos(elevation) * np.sin(azimuth)], -1)
+        ring = np.stack(
+            [
+                np.cos(elevation) * np.cos(azimuth),
+                np.full_like(azimuth, np.sin(elevation)),
+                np.cos(elevation) * np.sin(azimuth),
+            ],
+            -1,
+        )
         lum = luminance(sky_colour(ring, sun_direction=(0.0, 0.8, -0.6), dusk=0.0))
         assert lum.min() > 0.6 * lum.max(), (elevation, lum.min(), lum.max())

@@ -7,12 +7,24 @@ import numpy as np
 import pytest
 
 from cityshade.maps import load_map, map_city
-from cityshade.scene import BuildingMass, Roof, batch, box, building_record, building_vertices, cylinder, default_city, dome
+from cityshade.scene import (
+    BuildingMass,
+    Roof,
+    batch,
+    box,
+    building_record,
+    building_vertices,
+    cylinder,
+    default_city,
+    dome,
+)
 
 
 def _one_by_one(masses):
-    return (np.concatenate([building_vertices(m, i) for i, m in enumerate(masses)]),
-            np.stack([building_record(m) for m in masses]))
+    return (
+        np.concatenate([building_vertices(m, i) for i, m in enumerate(masses)]),
+        np.stack([building_record(m) for m in masses]),
+    )
 
 
 def _assert_same(masses):
@@ -28,8 +40,12 @@ def _odd_masses() -> list[BuildingMass]:
     square = ((0.0, 0.0), (20.0, 0.0), (20.0, 20.0), (0.0, 20.0))
     a = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     b = np.linspace(0, np.pi, 24)
-    round_block = tuple(map(tuple, np.concatenate([np.stack([np.cos(b), np.sin(b)], 1) * 15 + 15,
-                                                   [(0.0, -10.0), (30.0, -10.0)]]).tolist()))
+    round_block = tuple(
+        map(
+            tuple,
+            np.concatenate([np.stack([np.cos(b), np.sin(b)], 1) * 15 + 15, [(0.0, -10.0), (30.0, -10.0)]]).tolist(),
+        )
+    )
     dense = tuple(map(tuple, (np.stack([np.cos(a), np.sin(a)], 1) * 30 + 31).tolist()))
     return [
         box((0.0, 0.0), 12.0, 9.0, 20.0, yaw=0.3, seed=3),
@@ -42,12 +58,26 @@ def _odd_masses() -> list[BuildingMass]:
         BuildingMass("prism", (0.0, 60.0), dense, 25.0, roof=Roof("hipped", 5.0)),  # simplified
         dome((220.0, 0.0), 18.0),
         BuildingMass("prism", (250.0, 0.0), square, 14.0, roof=Roof("pyramidal", 4.0), yaw=2.0),
-        BuildingMass("prism", (290.0, 0.0), square, 14.0, roof=Roof("dome", 4.0), wall_colour=(0.8, 0.2, 0.1),
-                     holes=(((5.0, 5.0), (15.0, 5.0), (15.0, 15.0), (5.0, 15.0)),)),  # counter-clockwise courtyard
+        BuildingMass(
+            "prism",
+            (290.0, 0.0),
+            square,
+            14.0,
+            roof=Roof("dome", 4.0),
+            wall_colour=(0.8, 0.2, 0.1),
+            holes=(((5.0, 5.0), (15.0, 5.0), (15.0, 15.0), (5.0, 15.0)),),
+        ),  # counter-clockwise courtyard
         BuildingMass("prism", (330.0, 0.0), square, 12.0, roof=Roof(parapet=1.2), doors=((10.0, 0.0, 0.0, -1.0),)),
-        BuildingMass("prism", (360.0, 0.0), ((0.0, 0.0), (40.0, 0.0), (40.0, 20.0), (0.0, 20.0)), 12.0,
-                     holes=(((4.0, 4.0), (4.0, 16.0), (16.0, 16.0), (16.0, 4.0)),
-                            ((24.0, 4.0), (24.0, 16.0), (36.0, 16.0), (36.0, 4.0)))),  # room columns over 3 rings
+        BuildingMass(
+            "prism",
+            (360.0, 0.0),
+            ((0.0, 0.0), (40.0, 0.0), (40.0, 20.0), (0.0, 20.0)),
+            12.0,
+            holes=(
+                ((4.0, 4.0), (4.0, 16.0), (16.0, 16.0), (16.0, 4.0)),
+                ((24.0, 4.0), (24.0, 16.0), (36.0, 16.0), (36.0, 4.0)),
+            ),
+        ),  # room columns over 3 rings
         BuildingMass("prism", (420.0, 0.0), round_block, 20.0),  # a curved block: one face per run
     ]
 

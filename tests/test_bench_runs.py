@@ -44,8 +44,14 @@ def test_quick_scale_run_measures_every_ratio_or_says_why_not(tmp_path):
         for key, kind in METHOD_KEYS.items():
             assert isinstance(record[key], kind), f"{method}: {key}"
         assert record["size"] == [1024, 768]
-    for name in ("street_100k_over_1k", "aerial_100k_over_1k", "grammar_cache_speedup", "bytes_per_building",
-                 "culled_pixels_differing", "viewer_fps_llvmpipe"):
+    for name in (
+        "street_100k_over_1k",
+        "aerial_100k_over_1k",
+        "grammar_cache_speedup",
+        "bytes_per_building",
+        "culled_pixels_differing",
+        "viewer_fps_llvmpipe",
+    ):
         value = data["ratios"][name]
         assert (value is None) == (name in data["missing"]), name
         assert value is None or np.isfinite(value)

@@ -50,16 +50,26 @@ def _run(source, buildings, street, aerial, reference=None, **more):
     frames = {"street": street, "aerial": aerial}
     if reference:
         frames.update({"street_1k": reference[0], "aerial_1k": reference[1]})
-    return {"source": source, "buildings": buildings, "load_seconds": 1.0, "resident_bytes": 1000 * buildings,
-            "gpu_buffer_bytes": 500 * buildings, "device": "llvmpipe (LLVM 15.0.7, 256 bits)", "frames": frames,
-            "culled_pixels_differing": {"street": 0, "aerial": 3} if buildings <= 1_000 else None, **more}
+    return {
+        "source": source,
+        "buildings": buildings,
+        "load_seconds": 1.0,
+        "resident_bytes": 1000 * buildings,
+        "gpu_buffer_bytes": 500 * buildings,
+        "device": "llvmpipe (LLVM 15.0.7, 256 bits)",
+        "frames": frames,
+        "culled_pixels_differing": {"street": 0, "aerial": 3} if buildings <= 1_000 else None,
+        **more,
+    }
 
 
 def test_ratios_come_from_the_interleaved_frames_and_missing_ones_say_why():
     viewer = {"fps": 11.5, "scale": 0.25, "internal_size": [256, 192], "frames": 15, "frames_counted": 8}
-    runs = [_run("generator", 948, [1.0, 1.2], [0.5, 0.7]),
-            _run("generator", 100_349, [1.3, 1.5], [2.0, 2.4], reference=([1.0, 1.0], [0.8, 0.8]), viewer=viewer),
-            _run("osm", 1_000, [1.0], [1.0])]
+    runs = [
+        _run("generator", 948, [1.0, 1.2], [0.5, 0.7]),
+        _run("generator", 100_349, [1.3, 1.5], [2.0, 2.4], reference=([1.0, 1.0], [0.8, 0.8]), viewer=viewer),
+        _run("osm", 1_000, [1.0], [1.0]),
+    ]
     result = scale._result(runs, 2, True, (1_000,))
     data = result.to_json()
     assert data["ratios"]["street_100k_over_1k"] == pytest.approx(1.4)

@@ -17,7 +17,7 @@ FOV = 8.0  # a narrow lens: a far building still covers many pixels
 BOUNDS = (-60.0, -60.0, 60.0, 60.0)
 STYLES = {"window bay": 0, "office grammar": 1}  # facade style codes (grammar.BUILDING_STYLES)
 FULL = (1e-3, 9e-4, 5e-4, 4e-4)  # switches far beyond any building: the full level everywhere
-CHEAP = (1e6, 9e5, 1e6, 9e5)     # switches nearer than any building: the cheapest level everywhere
+CHEAP = (1e6, 9e5, 1e6, 9e5)  # switches nearer than any building: the cheapest level everywhere
 
 
 def room_pixels(distance: float) -> float:
@@ -26,8 +26,13 @@ def room_pixels(distance: float) -> float:
 
 
 def one_building(style: int, seed: int = 3) -> City:
-    return City("lod", 0, [box((-12.0, -4.0), 24.0, 8.0, 30.0, seed=seed, room_width=4.5, floor_height=3.0,
-                               style=style)], [], BOUNDS)
+    return City(
+        "lod",
+        0,
+        [box((-12.0, -4.0), 24.0, 8.0, 30.0, seed=seed, room_width=4.5, floor_height=3.0, style=style)],
+        [],
+        BOUNDS,
+    )
 
 
 def facade_means(renderer: Renderer, cameras: list[Camera]) -> np.ndarray:
@@ -42,8 +47,19 @@ def facade_means(renderer: Renderer, cameras: list[Camera]) -> np.ndarray:
 
 
 def renderer_for(gl_context, style: int, pixels, seed: int = 3, lights: float = 0.5) -> Renderer:
-    renderer = Renderer(SIZE, RenderSettings(samples=0, trees=False, shadows=False, god_rays=False, lights=lights,
-                                             building_lod=True, building_lod_pixels=pixels), ctx=gl_context)
+    renderer = Renderer(
+        SIZE,
+        RenderSettings(
+            samples=0,
+            trees=False,
+            shadows=False,
+            god_rays=False,
+            lights=lights,
+            building_lod=True,
+            building_lod_pixels=pixels,
+        ),
+        ctx=gl_context,
+    )
     renderer.set_city(one_building(style, seed))
     return renderer
 
@@ -54,13 +70,18 @@ def test_lod_on_and_off_give_the_same_pixels_before_the_first_switch(gl_context)
     for view in ("street", "closeup", "corner"):
         camera = city.camera(view)
         # a bound on each building's farthest point: its local origin plus its footprint's reach
-        farthest = max(np.linalg.norm(np.array([m.position[0], 0.0, m.position[1]]) - camera.eye)
-                       + np.hypot(np.abs(np.array(m.footprint)).sum(axis=1).max(), m.height) for m in city.masses)
+        farthest = max(
+            np.linalg.norm(np.array([m.position[0], 0.0, m.position[1]]) - camera.eye)
+            + np.hypot(np.abs(np.array(m.footprint)).sum(axis=1).max(), m.height)
+            for m in city.masses
+        )
         pixels = tuple(p / 100.0 for p in RenderSettings().building_lod_pixels)  # rooms 100x smaller on screen
         distance = 4.5 * SIZE[1] / (2.0 * np.tan(np.radians(camera.fov_y) / 2.0) * pixels[0])
         assert farthest < distance, f"{view}: a building at {farthest:.0f} m is beyond the first switch"
-        images = [Renderer(SIZE, RenderSettings(samples=0, building_lod=on, building_lod_pixels=pixels),
-                           ctx=gl_context) for on in (True, False)]
+        images = [
+            Renderer(SIZE, RenderSettings(samples=0, building_lod=on, building_lod_pixels=pixels), ctx=gl_context)
+            for on in (True, False)
+        ]
         try:
             for r in images:
                 r.set_city(city)
@@ -80,13 +101,18 @@ def test_moving_away_the_cross_fade_does_not_pop(gl_context, style):
     the switch is no larger a step than moving is, than either level's own largest step on the
     path (windows a few pixels wide shift against the pixel grid as the camera moves) or than
     3 of 255 summed over the channels, a step nobody sees."""
-    start, end = (4.5 * SIZE[1] / (2.0 * np.tan(np.radians(FOV) / 2.0) * p) for p in RenderSettings().building_lod_pixels[2:])
+    start, end = (
+        4.5 * SIZE[1] / (2.0 * np.tan(np.radians(FOV) / 2.0) * p) for p in RenderSettings().building_lod_pixels[2:]
+    )
     distances = np.linspace(start - 20.0, end + 20.0, 21)
     cameras = [Camera((0.0, 15.0, -4.0 - d), (0.0, 15.0, 0.0), fov_y=FOV, far=2000.0) for d in distances]
     steps = {}
-    for name, pixels in (("cross-fade", RenderSettings().building_lod_pixels),
-                         ("hard switch", (*RenderSettings().building_lod_pixels[:2], 8.0, 7.995)),
-                         ("full", FULL), ("cheap", CHEAP)):
+    for name, pixels in (
+        ("cross-fade", RenderSettings().building_lod_pixels),
+        ("hard switch", (*RenderSettings().building_lod_pixels[:2], 8.0, 7.995)),
+        ("full", FULL),
+        ("cheap", CHEAP),
+    ):
         renderer = renderer_for(gl_context, style, pixels)
         try:
             means = facade_means(renderer, cameras)
@@ -94,14 +120,18 @@ def test_moving_away_the_cross_fade_does_not_pop(gl_context, style):
             renderer.release()
         steps[name] = np.abs(np.diff(means, axis=0)).sum(axis=1)
     print("largest step of the facade's mean colour:", {k: round(float(v.max()), 2) for k, v in steps.items()})
-    assert steps["cross-fade"].max() <= max(0.5 * steps["hard switch"].max(), steps["full"].max(), steps["cheap"].max(),
-                                            3.0)
+    assert steps["cross-fade"].max() <= max(
+        0.5 * steps["hard switch"].max(), steps["full"].max(), steps["cheap"].max(), 3.0
+    )
 
 
 # every facade of the city: the window bay, the relief bay and each library grammar a building
 # style gets (relief takes the styles it shares with a grammar, render/_facades.py)
-CITY_STYLES = {"window bay": 0, "relief bay": RELIEF_STYLES[0],
-               **{f"{name} grammar": code for code, name in BUILDING_STYLES.items() if code not in RELIEF_STYLES}}
+CITY_STYLES = {
+    "window bay": 0,
+    "relief bay": RELIEF_STYLES[0],
+    **{f"{name} grammar": code for code, name in BUILDING_STYLES.items() if code not in RELIEF_STYLES},
+}
 
 
 @pytest.mark.parametrize("seed", [3, 8])
@@ -135,14 +165,25 @@ def test_the_grammar_reference_evaluates_several_facades_at_once():
 
     compiled, tiles = library_texture(), assets.tile_array()
     uv = np.random.default_rng(5).random((400, 2)).astype(np.float32) * 12.0
-    facades = [("office", (14.0, 30.0), 3, (8, 1, 2, 30.0)), ("office", (14.0, 30.0), 8, (8, 1, 2, 30.0)),
-               ("classical", (12.5, 18.0), 3, (5, 3, 1, 18.0))]
-    alone = [evaluate(compiled, compiled.address(style), uv, size, seed_vector(seed), tiles, building=building)
-             for style, size, seed, building in facades]
+    facades = [
+        ("office", (14.0, 30.0), 3, (8, 1, 2, 30.0)),
+        ("office", (14.0, 30.0), 8, (8, 1, 2, 30.0)),
+        ("classical", (12.5, 18.0), 3, (5, 3, 1, 18.0)),
+    ]
+    alone = [
+        evaluate(compiled, compiled.address(style), uv, size, seed_vector(seed), tiles, building=building)
+        for style, size, seed, building in facades
+    ]
     per = lambda values: np.repeat(np.array(values), len(uv), axis=0)  # noqa: E731
-    together = evaluate(compiled, per([compiled.address(f[0]) for f in facades]), np.tile(uv, (len(facades), 1)),
-                        per([f[1] for f in facades]), per([seed_vector(f[2]) for f in facades]), tiles,
-                        building=per([f[3] for f in facades]))
+    together = evaluate(
+        compiled,
+        per([compiled.address(f[0]) for f in facades]),
+        np.tile(uv, (len(facades), 1)),
+        per([f[1] for f in facades]),
+        per([seed_vector(f[2]) for f in facades]),
+        tiles,
+        building=per([f[3] for f in facades]),
+    )
     for name in ("color", "glass", "label"):
         expected = np.concatenate([np.asarray(getattr(a, name)) for a in alone])
         assert np.array_equal(np.asarray(getattr(together, name)), expected), name

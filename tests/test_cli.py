@@ -9,8 +9,9 @@ import pytest
 
 
 def run_cli(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "cityshade", *args], capture_output=True, text=True, cwd=cwd,
-                          timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "cityshade", *args], capture_output=True, text=True, cwd=cwd, timeout=600
+    )
 
 
 @pytest.mark.parametrize(
@@ -26,8 +27,13 @@ def run_cli(*args, cwd=None):
 )
 def test_bad_input_is_one_line_exit_2_and_no_file(tmp_path, args, message):
     out = tmp_path / "city.png"
-    result = run_cli("render", *args, "--size" if "--size" not in args else "--out", *(["64x36"] if "--size" not in args else []),
-                     *(["--out", str(out)] if "--size" not in args else [str(out)]))
+    result = run_cli(
+        "render",
+        *args,
+        "--size" if "--size" not in args else "--out",
+        *(["64x36"] if "--size" not in args else []),
+        *(["--out", str(out)] if "--size" not in args else [str(out)]),
+    )
     assert result.returncode == 2, result.stderr
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], result.stderr

@@ -19,8 +19,12 @@ pytestmark = pytest.mark.slow
 
 def render_cli(tmp_path: Path, name: str, *args: str) -> np.ndarray:
     out = tmp_path / f"{name}.png"
-    result = subprocess.run([sys.executable, "-m", "cityshade", "render", "--size", SIZE, "--out", str(out), *args],
-                            capture_output=True, text=True, timeout=600)
+    result = subprocess.run(
+        [sys.executable, "-m", "cityshade", "render", "--size", SIZE, "--out", str(out), *args],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert result.returncode == 0, result.stderr
     image = np.asarray(Image.open(out)).astype(int)
     assert image.shape == (54, 96, 3) and image.std() > 5, f"{name}: a flat picture"
@@ -39,8 +43,9 @@ def test_seed_changes_the_layout(tmp_path):
 
 def test_no_interiors_changes_only_windows(tmp_path):
     rooms = render_cli(tmp_path, "rooms", "--city", "interior", "--camera", "front", "--lights", "0.6")
-    plain = render_cli(tmp_path, "plain", "--city", "interior", "--camera", "front", "--lights", "0.6",
-                       "--no-interiors")
+    plain = render_cli(
+        tmp_path, "plain", "--city", "interior", "--camera", "front", "--lights", "0.6", "--no-interiors"
+    )
     assert 0.02 < changed(rooms, plain) < 0.8
 
 

@@ -29,7 +29,7 @@ def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
     first, count = building_ranges(chunks.vertices, len(city.masses))
     building = chunks.vertices["ids"][:, 0]
     for index in (0, 17, len(city.masses) - 1):
-        assert np.all(building[first[index]: first[index] + count[index]] == index)
+        assert np.all(building[first[index] : first[index] + count[index]] == index)
     assert count.sum() == len(chunks.vertices)
     boxes = building_boxes(chunks.vertices, first, count)
     positions = chunks.vertices["position"]
@@ -52,7 +52,6 @@ def test_box_test_is_exact_for_clear_cases():
     assert boxes_visible(planes, lo, hi).tolist() == [True, False, False, False]
 
 
-
 def test_chunk_culled_frame_equals_unculled_frame(gl_context):
     city = make_city("default")
     camera = city.camera("street")
@@ -65,8 +64,9 @@ def test_chunk_culled_frame_equals_unculled_frame(gl_context):
         finally:
             renderer.release()
     chunks = BuildingChunks(batch(city.masses)[0])
-    assert np.count_nonzero(chunks.visible(camera.view_projection(128 / 72))) < len(chunks), \
+    assert np.count_nonzero(chunks.visible(camera.view_projection(128 / 72))) < len(chunks), (
         "a street-level view leaves chunks behind the camera"
+    )
     assert np.array_equal(pictures["frustum"], pictures["off"])
 
 

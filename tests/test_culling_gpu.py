@@ -15,7 +15,9 @@ SIZE = (160, 96)
 
 def differing_pixels(city, cameras, settings: RenderSettings, gl_context) -> tuple[dict, dict]:
     """Per camera: pixels that differ between culling on and off, and buildings drawn with it on."""
-    renderers = {on: Renderer(SIZE, settings.with_(culling="gpu" if on else "off"), ctx=gl_context) for on in (True, False)}
+    renderers = {
+        on: Renderer(SIZE, settings.with_(culling="gpu" if on else "off"), ctx=gl_context) for on in (True, False)
+    }
     differing, drawn = {}, {}
     try:
         for renderer in renderers.values():
@@ -77,7 +79,10 @@ def test_gpu_visible_sets_equal_the_numpy_twin(single_sample, view):
         "occluders": visible_twin(boxes, view_projection, eye=camera.eye),
         "culled": visible_twin(boxes, view_projection, pyramid=pyramid, viewport=SIZE),
     }
-    got = {"occluders": visibility.drawn(visibility.occluder_draws), "culled": visibility.drawn(visibility.camera_draws)}
+    got = {
+        "occluders": visibility.drawn(visibility.occluder_draws),
+        "culled": visibility.drawn(visibility.camera_draws),
+    }
     for kind in expected:
         differing = np.flatnonzero(expected[kind] != got[kind])
         assert len(differing) == 0, f"{view} {kind}: buildings {differing.tolist()} differ from the twin"
@@ -136,13 +141,17 @@ def test_gpu_tree_instances_kept_equal_the_numpy_twin(gl_context, view):
         kept = {key: trees.kept(*key) for key in buckets}
         for key in buckets:
             expected = visible_twin(trees.instance_boxes(*key), view_projection, pyramid=pyramid, viewport=SIZE)
-            assert np.array_equal(kept[key], expected), f"{view} trees {key}: {np.count_nonzero(kept[key] != expected)} differ"
+            assert np.array_equal(kept[key], expected), (
+                f"{view} trees {key}: {np.count_nonzero(kept[key] != expected)} differ"
+            )
         assert sum(k.sum() for k in kept.values()) < sum(len(k) for k in kept.values()), "some trees are culled"
         # a shadow cascade's trees: its frustum alone
         light = Camera(camera.eye + np.array([60.0, 80.0, 40.0]), camera.target, fov_y=50.0, near=1.0, far=600.0)
         trees.cull(light.view_projection(1.0))
         for key in buckets:
-            assert np.array_equal(trees.kept(*key), visible_twin(trees.instance_boxes(*key), light.view_projection(1.0)))
+            assert np.array_equal(
+                trees.kept(*key), visible_twin(trees.instance_boxes(*key), light.view_projection(1.0))
+            )
     finally:
         renderer.release()
 

@@ -10,8 +10,20 @@ from PIL import Image
 from cityshade import assets
 from cityshade.assets import LABELS
 from cityshade.dataset import (
-    CLASS_COLOURS, CLASSES, IGNORE, SampleRenderer, Source, Streets, View, class_image, instance_image, linear_depth,
-    load_source, normals_from_depth, parse_config, sample_view,
+    CLASS_COLOURS,
+    CLASSES,
+    IGNORE,
+    SampleRenderer,
+    Source,
+    Streets,
+    View,
+    class_image,
+    instance_image,
+    linear_depth,
+    load_source,
+    normals_from_depth,
+    parse_config,
+    sample_view,
 )
 from cityshade.errors import UsageError
 from cityshade.interior import InteriorParams, reference_ids
@@ -25,20 +37,24 @@ WINDOW = CLASSES.index("window")
 
 # --- config ---------------------------------------------------------------------------------------
 
+
 def test_defaults_and_overrides():
     config = parse_config({"image": {"width": 64, "height": 48}, "classes": {"ignore": ["lamp"]}})
     assert (config.width, config.height, config.fov) == (64, 48, 66.0)
     assert config.ignore == ("lamp",) and config.vehicle_height == (1.2, 2.5)
 
 
-@pytest.mark.parametrize("data, words", [
-    ({"classes": {"ignore": ["cloud"]}}, "classes.ignore = 'cloud': unknown class"),
-    ({"image": {"colour": 1}}, "image.colour = 1: unknown key"),
-    ({"camera": {}}, "camera"),
-    ({"time": {"hours": [18.0, 8.0]}}, "low is above high"),
-    ({"time": {"dates": ["2025-13-01", "2025-10-01"]}}, "YYYY-MM-DD"),
-    ({"image": {"width": "big"}}, "expected an integer"),
-])
+@pytest.mark.parametrize(
+    "data, words",
+    [
+        ({"classes": {"ignore": ["cloud"]}}, "classes.ignore = 'cloud': unknown class"),
+        ({"image": {"colour": 1}}, "image.colour = 1: unknown key"),
+        ({"camera": {}}, "camera"),
+        ({"time": {"hours": [18.0, 8.0]}}, "low is above high"),
+        ({"time": {"dates": ["2025-13-01", "2025-10-01"]}}, "YYYY-MM-DD"),
+        ({"image": {"width": "big"}}, "expected an integer"),
+    ],
+)
 def test_bad_config_is_one_line(data, words):
     with pytest.raises(UsageError, match=None) as info:
         parse_config(data, "my.toml")
@@ -47,6 +63,7 @@ def test_bad_config_is_one_line(data, words):
 
 
 # --- views ----------------------------------------------------------------------------------------
+
 
 def test_views_follow_the_seed_and_index_alone():
     source = load_source(city="default")
@@ -68,6 +85,7 @@ def test_views_follow_the_seed_and_index_alone():
 
 
 # --- classes and depth, numpy only ----------------------------------------------------------------
+
 
 def test_class_image_maps_faces_labels_and_materials():
     ids = np.zeros((1, 9, 4), np.uint32)
@@ -109,11 +127,21 @@ def test_normals_of_a_tilted_plane():
 
 # --- rendered samples against the numpy twins -----------------------------------------------------
 
+
 def _view_of(camera, index=0) -> View:
     f = camera.forward
     heading = float(np.degrees(np.arctan2(f[0], -f[2])) % 360.0)
-    return View(index, "pedestrian", tuple(camera.eye), heading, float(np.degrees(np.arcsin(f[1]))), camera.fov_y,
-                0.3, None, 12.0)
+    return View(
+        index,
+        "pedestrian",
+        tuple(camera.eye),
+        heading,
+        float(np.degrees(np.arcsin(f[1]))),
+        camera.fov_y,
+        0.3,
+        None,
+        12.0,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -133,11 +161,22 @@ def test_window_and_depth_agree_with_numpy_twins(interior_sampler, name, output_
     camera = view.camera()
     arrays = interior_sampler.render(view)
     r = interior_sampler.renderer
-    params = InteriorParams(lights=r.settings.lights or 0.5, time=0.0, variants=r.textures.room_variants,
-                            glass_rect=r.textures.glass_rect, sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
+    params = InteriorParams(
+        lights=r.settings.lights or 0.5,
+        time=0.0,
+        variants=r.textures.room_variants,
+        glass_rect=r.textures.glass_rect,
+        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
+    )
     x0, z0, x1, z1 = city.bounds
-    ref = reference_ids(city.masses, camera, SIZE, params, assets.facade_texture()[0][..., 3] / 255.0,
-                        (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN))
+    ref = reference_ids(
+        city.masses,
+        camera,
+        SIZE,
+        params,
+        assets.facade_texture()[0][..., 3] / 255.0,
+        (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN),
+    )
     ref_window = np.isin(ref[..., 0], [2, 3, 4, 5, 6, 7])
     window = arrays["class"] == WINDOW
     differ = int(np.count_nonzero(window != ref_window))
@@ -158,9 +197,11 @@ def test_window_and_depth_agree_with_numpy_twins(interior_sampler, name, output_
     with np.errstate(invalid="ignore"):  # inf - inf on the sky
         error = np.abs(arrays["depth"] - z)
     worst = np.unravel_index(np.argmax(np.where(same_surface, error, 0)), error.shape)
-    print(f"{name}: depth error max {error[same_surface].max() * 100:.3f} cm over {same_surface.sum()} pixels "
-          f"(at {worst}: {z[worst]:.2f} m, ids {gpu[worst]}); 99.9th percentile "
-          f"{np.percentile(error[same_surface], 99.9) * 100:.3f} cm")
+    print(
+        f"{name}: depth error max {error[same_surface].max() * 100:.3f} cm over {same_surface.sum()} pixels "
+        f"(at {worst}: {z[worst]:.2f} m, ids {gpu[worst]}); 99.9th percentile "
+        f"{np.percentile(error[same_surface], 99.9) * 100:.3f} cm"
+    )
     assert same_surface.sum() >= 0.99 * drawn.sum()
     near = same_surface & (z < 100.0)
     assert near.sum() > 0.5 * same_surface.sum() and error[near].max() <= 0.01
@@ -209,8 +250,10 @@ def test_tree_classes_are_where_the_frame_draws_trees():
     trunk, foliage = classes == CLASSES.index("tree_trunk"), classes == CLASSES.index("foliage")
     in_front = arrays["depth"] < aov_z - (0.01 + 1e-3 * np.where(np.isfinite(aov_z), aov_z, 0.0))
     missed = int(np.count_nonzero(in_front & ~trunk & ~foliage))
-    print(f"closeup: {trunk.sum()} trunk, {foliage.sum()} foliage pixels; {missed} of {classes.size} drawn in "
-          f"front of the id AOV but not a tree class")
+    print(
+        f"closeup: {trunk.sum()} trunk, {foliage.sum()} foliage pixels; {missed} of {classes.size} drawn in "
+        f"front of the id AOV but not a tree class"
+    )
     assert trunk.sum() > 50 and foliage.sum() > 500
     assert not arrays["instance"][trunk | foliage].any()
     assert missed <= 0.01 * classes.size
@@ -223,12 +266,16 @@ def test_intrinsics_and_extrinsics_project_as_the_renderer_does():
     width, height = 64, 48
     camera = view.camera()
     side = np.cross(camera.forward, [0.0, 1.0, 0.0])
-    points = camera.eye + np.outer([20.0, 30.0, 9.0], camera.forward) + np.outer([3.0, -8.0, 0.5], side) \
+    points = (
+        camera.eye
+        + np.outer([20.0, 30.0, 9.0], camera.forward)
+        + np.outer([3.0, -8.0, 0.5], side)
         + np.outer([1.0, -1.5, 0.2], [0.0, 1.0, 0.0])
+    )
     clip = np.c_[points, np.ones(3)] @ camera.view_projection(width / height).T
     ndc = clip[:, :2] / clip[:, 3:4]
     expected = np.c_[(ndc[:, 0] + 1) / 2 * width - 0.5, (1 - ndc[:, 1]) / 2 * height - 0.5]  # pixel centres at integers
     cam = (extrinsics(view) @ np.c_[points, np.ones(3)].T)[:3]
     assert np.all(cam[2] > 0)  # OpenCV: in front of the camera is +z
-    pixels = (intrinsics(view.fov, width, height) @ cam)
+    pixels = intrinsics(view.fov, width, height) @ cam
     assert np.allclose((pixels[:2] / pixels[2]).T, expected, atol=1e-6)

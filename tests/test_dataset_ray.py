@@ -26,8 +26,9 @@ OUTPUTS = ("rgb", "depth", "normal", "class", "instance", "meta")
 @pytest.fixture(scope="module")
 def ray_runtime():
     ray = pytest.importorskip("ray")
-    ray.init(num_cpus=2, include_dashboard=False, _node_ip_address="127.0.0.1", logging_level="ERROR",
-             log_to_driver=False)
+    ray.init(
+        num_cpus=2, include_dashboard=False, _node_ip_address="127.0.0.1", logging_level="ERROR", log_to_driver=False
+    )
     yield ray
     ray.shutdown()
 
@@ -73,10 +74,19 @@ def test_killed_actor_leaves_every_sample_exactly_once(ray_runtime, tmp_path):
             finished = len(list((out / "samples").glob("*.json")))
             os.kill(pids[-1], signal.SIGKILL)  # the actor's own process, started by this run
             killed.append(finished)
+
         threading.Thread(target=watch, daemon=True).start()
 
-    rows = generate(out, samples, parse_config(TINY), city="default", workers=2, seed=9, progress=False,
-                    on_workers=kill_one_when_work_starts)
+    rows = generate(
+        out,
+        samples,
+        parse_config(TINY),
+        city="default",
+        workers=2,
+        seed=9,
+        progress=False,
+        on_workers=kill_one_when_work_starts,
+    )
     assert killed and killed[0] < samples, f"no actor was killed mid-run: {killed}"
     assert len(read_manifest(out)) == samples and len(rows) == samples
     _check_complete(out, samples)
@@ -95,8 +105,15 @@ def test_resume_completes_and_refuses_other_settings(ray_runtime, tmp_path):
     with pytest.raises(UsageError, match=r"made with seed = 4, this run has 5"):
         generate(out, 3, parse_config(TINY), city="default", seed=5, resume=True, progress=False)
     with pytest.raises(UsageError, match=r"image.width = 48, this run has 64"):
-        generate(out, 3, parse_config({"image": {"width": 64, "height": 32}}), city="default", seed=4, resume=True,
-                 progress=False)
+        generate(
+            out,
+            3,
+            parse_config({"image": {"width": 64, "height": 32}}),
+            city="default",
+            seed=4,
+            resume=True,
+            progress=False,
+        )
     with pytest.raises(UsageError, match="add --resume"):
         generate(out, 3, parse_config(TINY), city="default", seed=4, progress=False)
 
@@ -120,10 +137,13 @@ def test_helsinki_twenty_samples_read_back(ray_runtime, helsinki_pbf, tmp_path):
         assert seen[CLASSES.index(name)] > 0, f"no {name} pixel in 20 Helsinki samples"
 
 
-@pytest.mark.parametrize("extra, words", [
-    (["--config", "{bad}"], "classes.ignore = 'cloud': unknown class"),
-    (["--address", "127.0.0.1:9"], "no Ray cluster answers there"),
-])
+@pytest.mark.parametrize(
+    "extra, words",
+    [
+        (["--config", "{bad}"], "classes.ignore = 'cloud': unknown class"),
+        (["--address", "127.0.0.1:9"], "no Ray cluster answers there"),
+    ],
+)
 def test_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, extra, words):
     bad = tmp_path / "bad.toml"
     bad.write_text('[classes]\nignore = ["cloud"]\n')
@@ -150,8 +170,25 @@ def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output
     config = tmp_path / "tiny.toml"
     config.write_text("[image]\nwidth = 48\nheight = 32\n")
     out = tmp_path / "ds"
-    code = main(["dataset", "--city", "default", "--samples", "3", "--out", str(out), "--config", str(config),
-                 "--seed", "2", "--shards", "2", "--preview", str(out)])
+    code = main(
+        [
+            "dataset",
+            "--city",
+            "default",
+            "--samples",
+            "3",
+            "--out",
+            str(out),
+            "--config",
+            str(config),
+            "--seed",
+            "2",
+            "--shards",
+            "2",
+            "--preview",
+            str(out),
+        ]
+    )
     assert code == 0, capsys.readouterr().err
     shards = sorted((out / "shards").iterdir())
     assert [p.name for p in shards] == ["000000.tar", "000001.tar"]
@@ -178,8 +215,10 @@ def test_video_frames_on_actors_are_the_same_whatever_the_workers(ray_runtime, t
     from cityshade.scene import make_city
 
     city = make_city("default")
-    jobs = [(city.camera(name), RenderSettings(time_of_day=hours, samples=0))
-            for name, hours in (("street", 12.0), ("aerial", 18.5), ("corner", 20.0))]
+    jobs = [
+        (city.camera(name), RenderSettings(time_of_day=hours, samples=0))
+        for name, hours in (("street", 12.0), ("aerial", 18.5), ("corner", 20.0))
+    ]
     one = list(render_frames(jobs, (48, 32), city="default", workers=1))
     two = list(render_frames(jobs, (48, 32), city="default", workers=2, batch=1))
     assert len(one) == 3 and all(np.array_equal(a, b) for a, b in zip(one, two))

@@ -26,8 +26,15 @@ def test_a_door_sits_where_asked_and_moves_only_to_fit_its_wall():
 
 def test_door_hit_covers_the_door_on_its_wall_only():
     doors = (door_on_edge((0, 0), (10, 0), (9, 0)),)  # on the -z wall, its edge 0.3 m from the corner
-    points = np.array([[9.0, 1.0, 0.0], [9.0, DOOR_HEIGHT + 0.01, 0.0], [9.0 + DOOR_WIDTH, 1.0, 0.0],
-                       [10.0, 1.0, 0.2], [8.4, 0.01, 0.0]])
+    points = np.array(
+        [
+            [9.0, 1.0, 0.0],
+            [9.0, DOOR_HEIGHT + 0.01, 0.0],
+            [9.0 + DOOR_WIDTH, 1.0, 0.0],
+            [10.0, 1.0, 0.2],
+            [8.4, 0.01, 0.0],
+        ]
+    )
     normals = np.array([[0, 0, -1], [0, 0, -1], [0, 0, -1], [1, 0, 0], [0, 0, -1]], dtype=float)
     hit, uv = door_hit(points, normals, doors)
     x = doors[0][0]
@@ -37,10 +44,27 @@ def test_door_hit_covers_the_door_on_its_wall_only():
 
 
 SIZE = (160, 120)
-FRONT = box((0.0, 0.0), 12.0, 9.0, 9.0, seed=5, room_width=4.0, floor_height=3.0,
-            doors=(door_on_edge((0, 0), (12, 0), (6.0, 0)), door_on_edge((12, 0), (12, 9), (12, 1.0))))
-SHOPS = box((14.0, 0.0), 10.0, 9.0, 9.0, seed=6, room_width=4.0, floor_height=3.0, style=5,
-            doors=(door_on_edge((0, 0), (10, 0), (3.0, 0)),))
+FRONT = box(
+    (0.0, 0.0),
+    12.0,
+    9.0,
+    9.0,
+    seed=5,
+    room_width=4.0,
+    floor_height=3.0,
+    doors=(door_on_edge((0, 0), (12, 0), (6.0, 0)), door_on_edge((12, 0), (12, 9), (12, 1.0))),
+)
+SHOPS = box(
+    (14.0, 0.0),
+    10.0,
+    9.0,
+    9.0,
+    seed=6,
+    room_width=4.0,
+    floor_height=3.0,
+    style=5,
+    doors=(door_on_edge((0, 0), (10, 0), (3.0, 0)),),
+)
 BOUNDS = (-30.0, -30.0, 50.0, 30.0)
 CAMERA = Camera((11.0, 2.0, -9.0), (11.0, 1.5, 5.0), fov_y=75.0)
 
@@ -74,8 +98,10 @@ def test_doors_on_gpu_match_the_twin(gl_context, output_dir):
     differ = gpu_doors != twin_doors
     # the twin knows the window bay's glass, not the grammar's: rooms are compared on the first building
     ids_differ = np.any(rooms[..., :3] != ref[..., :3], axis=-1) & ((ref[..., 2] == 1) | (rooms[..., 2] == 1))
-    print(f"door pixels: GPU {(gpu_doors > 0).sum()}, twin {(twin_doors > 0).sum()}, {differ.sum()} differ "
-          f"({(differ & ~edges).sum()} away from an edge); face/room/building differ on {ids_differ.sum()} pixels")
+    print(
+        f"door pixels: GPU {(gpu_doors > 0).sum()}, twin {(twin_doors > 0).sum()}, {differ.sum()} differ "
+        f"({(differ & ~edges).sum()} away from an edge); face/room/building differ on {ids_differ.sum()} pixels"
+    )
     for b in (1, 2):
         assert (twin_doors == b).sum() > 150, f"building {b}'s door must be in view"
     assert differ.sum() <= 0.02 * (twin_doors > 0).sum() and not (differ & ~edges).any()

@@ -22,10 +22,38 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
 
     compiled = library_texture()
     tiles = tile_array(128)
-    canvases = [Canvas(0, 0, -0.25, -0.25, 60, 80, 14.0, 19.0, compiled.address("classical"), seed_vector(3),
-                       seed_vector(3), (4, 3.2), 1),
-                Canvas(1, 4, -0.3, 2.0, 50, 40, 12.0, 9.0, compiled.address("office"), facade_seed_vector(4, 4),
-                       seed_vector(4), (4, 3.2), 1)]  # a side: its own seed, the building's for its spandrels
+    canvases = [
+        Canvas(
+            0,
+            0,
+            -0.25,
+            -0.25,
+            60,
+            80,
+            14.0,
+            19.0,
+            compiled.address("classical"),
+            seed_vector(3),
+            seed_vector(3),
+            (4, 3.2),
+            1,
+        ),
+        Canvas(
+            1,
+            4,
+            -0.3,
+            2.0,
+            50,
+            40,
+            12.0,
+            9.0,
+            compiled.address("office"),
+            facade_seed_vector(4, 4),
+            seed_vector(4),
+            (4, 3.2),
+            1,
+        ),
+    ]  # a side: its own seed, the building's for its spandrels
     size = pack(canvases)[0]
     baker = GpuBaker(gl_context, tiles, nearest=True)
     page = baker.bake_page(canvases, size, 0.25)
@@ -43,14 +71,16 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
 
 def test_pack_places_canvases_without_overlap():
     rng = np.random.default_rng(1)
-    canvases = [Canvas(i, 0, 0, 0, int(w), int(h), 1, 1, 0, (0, 0), (0, 0), (1, 1), 1) for i, (w, h) in
-                enumerate(rng.integers(1, 700, (60, 2)))] + [Canvas(99, 0, 0, 0, 3000, 40, 1, 1, 0, (0, 0), (0, 0), (1, 1), 1)]
+    canvases = [
+        Canvas(i, 0, 0, 0, int(w), int(h), 1, 1, 0, (0, 0), (0, 0), (1, 1), 1)
+        for i, (w, h) in enumerate(rng.integers(1, 700, (60, 2)))
+    ] + [Canvas(99, 0, 0, 0, 3000, 40, 1, 1, 0, (0, 0), (0, 0), (1, 1), 1)]
     sizes = pack(canvases)
     for page, (cols, rows) in enumerate(sizes):
         used = np.zeros((rows, cols), np.int32)
         for c in canvases:
             if c.page == page:
-                used[c.y:c.y + c.rows, c.x:c.x + c.cols] += 1
+                used[c.y : c.y + c.rows, c.x : c.x + c.cols] += 1
         assert used.max() == 1 and used.shape[0] >= max(c.y + c.rows for c in canvases if c.page == page)
     assert all(c.page >= 0 for c in canvases)
     assert max(max(size) for size in sizes[:-1]) <= 2048 and sizes[-1] == (3000, 40)  # a wide canvas: its own page
@@ -82,8 +112,12 @@ def test_glb_round_trip_with_trimesh(tmp_path, capsys):
     gltf = pygltflib.GLTF2.load(str(out))
     facade_images = [im for im in gltf.images if (im.name or "").startswith("facade colour")]
     assert len(facade_images) == len(summary["atlas_pages"]) >= 1
-    textures = [m for m in scene.geometry.values() if getattr(m.visual, "material", None) is not None
-                and getattr(m.visual.material, "baseColorTexture", None) is not None]
+    textures = [
+        m
+        for m in scene.geometry.values()
+        if getattr(m.visual, "material", None) is not None
+        and getattr(m.visual.material, "baseColorTexture", None) is not None
+    ]
     sizes = {tuple(m.visual.material.baseColorTexture.size) for m in textures}
     assert {tuple(p) for p in summary["atlas_pages"]} <= sizes
     extras = {n.extras["source_id"]: n.extras for n in gltf.nodes if n.name.startswith("building ")}
@@ -96,8 +130,9 @@ def test_glb_round_trip_with_trimesh(tmp_path, capsys):
     assert gltf.asset.extras["origin"]["longitude"] == pytest.approx(24.94, abs=0.01)
     assert gltf.asset.extras["crs"].startswith("EPSG:")
     assert "EXT_mesh_gpu_instancing" in gltf.extensionsUsed
-    assert _property_strings(gltf, "source_id") == [n.extras["source_id"] for n in gltf.nodes
-                                                     if n.name.startswith("building ")]
+    assert _property_strings(gltf, "source_id") == [
+        n.extras["source_id"] for n in gltf.nodes if n.name.startswith("building ")
+    ]
 
 
 def _property_strings(gltf, name: str) -> list[str]:
@@ -107,7 +142,7 @@ def _property_strings(gltf, name: str) -> list[str]:
 
     def view(index):
         v = gltf.bufferViews[index]
-        return blob[v.byteOffset:v.byteOffset + v.byteLength]
+        return blob[v.byteOffset : v.byteOffset + v.byteLength]
 
     prop = table["properties"][name]
     offsets = np.frombuffer(view(prop["stringOffsets"]), np.uint32)
@@ -190,8 +225,22 @@ def test_region_keeps_what_lies_inside_as_gltf(tmp_path, capsys):
 
     out = tmp_path / "corner.gltf"
     # around way/400 only (a fuel station canopy at 60.1711-60.1712 N, 24.9400-24.9401 E)
-    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--region", "24.9399,60.1710,24.9402,60.1713",
-                 "--texel", "0.5"]) == 0
+    assert (
+        main(
+            [
+                "export",
+                "--map",
+                str(TAGGED),
+                "--out",
+                str(out),
+                "--region",
+                "24.9399,60.1710,24.9402,60.1713",
+                "--texel",
+                "0.5",
+            ]
+        )
+        == 0
+    )
     assert _summary(capsys)["buildings"] == 1
     gltf = pygltflib.GLTF2.load(str(out))
     assert [n.name for n in gltf.nodes] == ["building way/400", "ground"]

@@ -54,8 +54,11 @@ def test_roof_covers_a_non_convex_footprint_exactly():
     [
         ('{"type": "FeatureCollection",\n "features": [}', ":2:15: error: invalid JSON"),
         ('{"type": "FeatureCollection", "features": []}', "nothing usable in the map"),
-        ('{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Point", '
-         '"coordinates": [1, 2]}}]}', "a Point that is no tree, street lamp, entrance or shop (e.g. feature/0)"),
+        (
+            '{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": {"type": "Point", '
+            '"coordinates": [1, 2]}}]}',
+            "a Point that is no tree, street lamp, entrance or shop (e.g. feature/0)",
+        ),
     ],
 )
 def test_bad_files_name_the_problem(tmp_path, text, message):
@@ -69,8 +72,20 @@ def test_bad_files_name_the_problem(tmp_path, text, message):
 def test_projected_coordinates_stay_in_metres(tmp_path):
     square = [[1000.0, 2000.0], [1030.0, 2000.0], [1030.0, 2020.0], [1000.0, 2020.0], [1000.0, 2000.0]]
     path = tmp_path / "metres.geojson"
-    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
-        {"type": "Feature", "properties": {"height": 12}, "geometry": {"type": "Polygon", "coordinates": [square]}}]}))
+    path.write_text(
+        json.dumps(
+            {
+                "type": "FeatureCollection",
+                "features": [
+                    {
+                        "type": "Feature",
+                        "properties": {"height": 12},
+                        "geometry": {"type": "Polygon", "coordinates": [square]},
+                    }
+                ],
+            }
+        )
+    )
     (mass,) = load_footprints(path).masses
     assert np.allclose(sorted(mass.extent[[0, 2]]), [20.0, 30.0]) and mass.height == 12.0
 

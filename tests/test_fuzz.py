@@ -31,10 +31,51 @@ LARGE = settings(max_examples=500, deadline=None, suppress_health_check=[HealthC
 # ------------------------------------------------------------------ grammar mutations
 
 SEEDS = [library_path(f"{style}.grammar").read_text(encoding="utf-8") for style in LIBRARY_STYLES]
-TOKENS = ["->", "(", ")", ",", ";", "\n", "\f", "\r", "\t", "#", "Rep:wall1", "Fit>door1", "Rep:nosuch", "Abs", "Rel",
-          "Color", "SplitX", "SplitY", "RepeatX", "Rand", "RandUni", "RandStack", "Layer", "Skip", "SkipMask",
-          "Intrusion", "Mat", "MatAlpha", "S", "A.B", "use \"brick.grammar\" as B\n", "use \"/etc/passwd\" as P\n",
-          "0", "-1", "1e999", "65504", "65505", "1e-30", "0.5", "99999999999999999999", ".", "é", "\x00"]
+TOKENS = [
+    "->",
+    "(",
+    ")",
+    ",",
+    ";",
+    "\n",
+    "\f",
+    "\r",
+    "\t",
+    "#",
+    "Rep:wall1",
+    "Fit>door1",
+    "Rep:nosuch",
+    "Abs",
+    "Rel",
+    "Color",
+    "SplitX",
+    "SplitY",
+    "RepeatX",
+    "Rand",
+    "RandUni",
+    "RandStack",
+    "Layer",
+    "Skip",
+    "SkipMask",
+    "Intrusion",
+    "Mat",
+    "MatAlpha",
+    "S",
+    "A.B",
+    'use "brick.grammar" as B\n',
+    'use "/etc/passwd" as P\n',
+    "0",
+    "-1",
+    "1e999",
+    "65504",
+    "65505",
+    "1e-30",
+    "0.5",
+    "99999999999999999999",
+    ".",
+    "é",
+    "\x00",
+]
 TILES = tile_array(32)
 
 
@@ -47,18 +88,21 @@ def mutated_grammars(draw) -> str:
         if kind == "insert":
             text = text[:at] + draw(st.sampled_from(TOKENS)) + text[at:]
         elif kind == "delete":
-            text = text[:at] + text[at + draw(st.integers(1, 20)):]
+            text = text[:at] + text[at + draw(st.integers(1, 20)) :]
         elif kind == "replace_number":
             numbers = list(re.finditer(r"\d+(\.\d+)?", text))
             if numbers:
                 match = draw(st.sampled_from(numbers))
-                value = draw(st.one_of(st.floats(allow_nan=False, allow_infinity=False, width=64),
-                                       st.integers(-10**30, 10**30)))
-                text = text[:match.start()] + repr(value).replace("+", "") + text[match.end():]
+                value = draw(
+                    st.one_of(
+                        st.floats(allow_nan=False, allow_infinity=False, width=64), st.integers(-(10**30), 10**30)
+                    )
+                )
+                text = text[: match.start()] + repr(value).replace("+", "") + text[match.end() :]
         elif kind == "duplicate_line":
             lines = text.split("\n")
             line = draw(st.integers(0, len(lines) - 1))
-            text = "\n".join(lines[:line + 1] + lines[line:])
+            text = "\n".join(lines[: line + 1] + lines[line:])
         else:
             text = text[:at] + draw(st.text(max_size=8)) + text[at:]
     return text
@@ -95,8 +139,9 @@ def outlines(draw) -> np.ndarray:
     """Simple polygons (star-shaped about a centre: angles sorted, random radii), sometimes with
     near-duplicate or collinear corners."""
     n = draw(st.integers(3, 60))
-    angles = np.sort(np.asarray(draw(st.lists(st.floats(0, 2 * math.pi, exclude_max=True), min_size=n, max_size=n,
-                                              unique=True))))
+    angles = np.sort(
+        np.asarray(draw(st.lists(st.floats(0, 2 * math.pi, exclude_max=True), min_size=n, max_size=n, unique=True)))
+    )
     radii = np.asarray(draw(st.lists(st.floats(0.5, 80.0), min_size=n, max_size=n)))
     points = np.stack([radii * np.cos(angles), radii * np.sin(angles)], 1)
     return points - points.min(axis=0)
@@ -123,23 +168,45 @@ def test_random_outlines_mesh_small(points):
     check_outline(points)
 
 
-hostile_number = st.one_of(coordinate, st.just(float("nan")), st.just(float("inf")), st.just(1e308),
-                           st.integers(-10**40, 10**40), st.text(max_size=4), st.none())
-hostile_value = st.recursive(st.one_of(hostile_number, st.booleans()),
-                             lambda inner: st.lists(inner, max_size=5) | st.dictionaries(st.text(max_size=5), inner,
-                                                                                        max_size=3), max_leaves=20)
+hostile_number = st.one_of(
+    coordinate,
+    st.just(float("nan")),
+    st.just(float("inf")),
+    st.just(1e308),
+    st.integers(-(10**40), 10**40),
+    st.text(max_size=4),
+    st.none(),
+)
+hostile_value = st.recursive(
+    st.one_of(hostile_number, st.booleans()),
+    lambda inner: st.lists(inner, max_size=5) | st.dictionaries(st.text(max_size=5), inner, max_size=3),
+    max_leaves=20,
+)
 
 
 @st.composite
 def geojson_documents(draw) -> str:
     features = []
     for _ in range(draw(st.integers(0, 4))):
-        ring = draw(st.one_of(st.lists(st.lists(hostile_number, min_size=0, max_size=3), max_size=8),
-                              st.builds(lambda p: p.tolist() + p[:1].tolist(), outlines()), hostile_value))
-        geometry = {"type": draw(st.sampled_from(["Polygon", "MultiPolygon", "Point", None])),
-                    "coordinates": draw(st.sampled_from([[ring], [[ring]], ring]))}
-        properties = draw(st.one_of(st.dictionaries(st.sampled_from(["height", "building:levels", "levels", "name"]),
-                                                    hostile_value, max_size=3), hostile_value))
+        ring = draw(
+            st.one_of(
+                st.lists(st.lists(hostile_number, min_size=0, max_size=3), max_size=8),
+                st.builds(lambda p: p.tolist() + p[:1].tolist(), outlines()),
+                hostile_value,
+            )
+        )
+        geometry = {
+            "type": draw(st.sampled_from(["Polygon", "MultiPolygon", "Point", None])),
+            "coordinates": draw(st.sampled_from([[ring], [[ring]], ring])),
+        }
+        properties = draw(
+            st.one_of(
+                st.dictionaries(
+                    st.sampled_from(["height", "building:levels", "levels", "name"]), hostile_value, max_size=3
+                ),
+                hostile_value,
+            )
+        )
         features.append({"type": "Feature", "geometry": geometry, "properties": properties})
     return json.dumps({"type": "FeatureCollection", "features": features}, allow_nan=True)
 
@@ -154,6 +221,7 @@ def check_geojson(text: str, folder):
 
 
 # ------------------------------------------------------------------ the long runs (make fuzz)
+
 
 def _for_a_while(test):
     """Runs a hypothesis test (a fresh random batch each call) until FUZZ_SECONDS have passed."""

@@ -53,12 +53,15 @@ def test_every_city_program_variant_compiles(gl_context):
 
     cache = ProgramCache(gl_context)
     grammar = shader_defines()
-    for path, defines in [("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "INTERIOR_LOD": True}),
-                          ("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "IM_SINGLE_ATLAS": True,
-                                                  "ID_PASS": True}),
-                          ("city/building.glsl", grammar),
-                          ("city/building.glsl", {"DEPTH_ONLY": True}), ("city/ground.glsl", {}),
-                          ("frame/sky.glsl", {}), ("frame/tonemap.glsl", {})]:
+    for path, defines in [
+        ("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "INTERIOR_LOD": True}),
+        ("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "IM_SINGLE_ATLAS": True, "ID_PASS": True}),
+        ("city/building.glsl", grammar),
+        ("city/building.glsl", {"DEPTH_ONLY": True}),
+        ("city/ground.glsl", {}),
+        ("frame/sky.glsl", {}),
+        ("frame/tonemap.glsl", {}),
+    ]:
         assert cache.get(path, defines) is not None
 
 

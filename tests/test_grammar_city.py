@@ -20,8 +20,10 @@ STYLE = {name: number for number, name in BUILDING_STYLES.items()}
 
 @pytest.fixture(scope="module")
 def renderer(gl_context):
-    masses = [box((0.0, 0.0), 20.0, 14.0, 19.0, seed=5, style=STYLE["brick"]),
-              box((26.0, 0.0), 14.0, 14.0, 19.0, seed=6, style=0)]
+    masses = [
+        box((0.0, 0.0), 20.0, 14.0, 19.0, seed=5, style=STYLE["brick"]),
+        box((26.0, 0.0), 14.0, 14.0, 19.0, seed=6, style=0),
+    ]
     r = Renderer(SIZE, RenderSettings(lights=0.7), ctx=gl_context)
     r.set_city(City("grammar", 0, masses, [], (-40.0, -40.0, 60.0, 60.0)))
     yield r
@@ -73,9 +75,17 @@ def _grammar_city(gl_context, tmp_path, text: str, masses, path: str, size) -> R
     (compiled after the library through RenderSettings.grammar_files), lit at midday, by `path`."""
     grammar = tmp_path / "city_test.grammar"
     grammar.write_text(text)
-    settings = RenderSettings(samples=0, trees=False, shadows=False, god_rays=False, interior_mapping=False,
-                              time_of_day=13.0, grammar_deferred=path == "deferred", grammar_files=(str(grammar),),
-                              grammar_start="city_test")
+    settings = RenderSettings(
+        samples=0,
+        trees=False,
+        shadows=False,
+        god_rays=False,
+        interior_mapping=False,
+        time_of_day=13.0,
+        grammar_deferred=path == "deferred",
+        grammar_files=(str(grammar),),
+        grammar_start="city_test",
+    )
     renderer = Renderer(size, settings, ctx=gl_context)
     renderer.set_city(City("grammar test", 0, masses, [], (-60.0, -60.0, 60.0, 60.0)))
     return renderer
@@ -96,12 +106,16 @@ def _city_pixels(renderer, camera, points, name, output_dir):
 def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, tmp_path, path, output_dir):
     """The record's use and height feed building.use / building.height on the GPU, by both paths
     (the deferred pass reads them through the building index in its G-buffer)."""
-    text = ("S->Case(building.use == use.office, Red, building.height > 30, Green, Yellow)\n"
-            "Red->Color(0.9, 0.1, 0.1)\nGreen->Color(0.1, 0.9, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
+    text = (
+        "S->Case(building.use == use.office, Red, building.height > 30, Green, Yellow)\n"
+        "Red->Color(0.9, 0.1, 0.1)\nGreen->Color(0.1, 0.9, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n"
+    )
     office = STYLE["office"]
-    masses = [box((-25.0, 0.0), 14.0, 14.0, 12.0, use=USES["office"], style=office),
-              box((-7.0, 0.0), 14.0, 14.0, 40.0, use=USES["home"], style=office),
-              box((11.0, 0.0), 14.0, 14.0, 12.0, style=office)]
+    masses = [
+        box((-25.0, 0.0), 14.0, 14.0, 12.0, use=USES["office"], style=office),
+        box((-7.0, 0.0), 14.0, 14.0, 40.0, use=USES["home"], style=office),
+        box((11.0, 0.0), 14.0, 14.0, 12.0, style=office),
+    ]
     renderer = _grammar_city(gl_context, tmp_path, text, masses, path, (160, 96))
     try:
         camera = Camera((0.0, 10.0, -60.0), (0.0, 8.0, 0.0), fov_y=60.0)
@@ -118,8 +132,7 @@ def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, tmp_pat
     """Two sides of one box pick their bays as the twin does with each facade's own seed
     (grammar.facade_seed_vector of the face's index, its first room column), not with one seed for
     the building."""
-    text = ("S->RepeatX(2, Bay)\nBay->RandUni(0, Red, Yellow)\n"
-            "Red->Color(0.9, 0.1, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n")
+    text = "S->RepeatX(2, Bay)\nBay->RandUni(0, Red, Yellow)\nRed->Color(0.9, 0.1, 0.1)\nYellow->Color(0.9, 0.9, 0.1)\n"
     mass = box((0.0, 0.0), 20.0, 20.0, 10.0, seed=7, style=STYLE["office"])
     renderer = _grammar_city(gl_context, tmp_path, text, [mass], path, (240, 160))
     try:
@@ -132,16 +145,19 @@ def test_the_sides_of_a_city_building_draw_their_own_streams(gl_context, tmp_pat
         def face_of(normal):  # the face index (first room column) of the wall facing `normal`
             return int(walls["ids"][np.all(np.isclose(walls["normal"], normal), axis=1), 2][0])
 
-        sides = {face_of((0.0, 0.0, -1.0)): [(x, 5.0, 0.0) for x in centres],  # the -z wall
-                 face_of((1.0, 0.0, 0.0)): [(20.0, 5.0, z) for z in centres]}  # the +x wall
+        sides = {
+            face_of((0.0, 0.0, -1.0)): [(x, 5.0, 0.0) for x in centres],  # the -z wall
+            face_of((1.0, 0.0, 0.0)): [(20.0, 5.0, z) for z in centres],
+        }  # the +x wall
         uv = np.stack([centres, np.full(10, 5.0)], axis=1).astype(np.float32)
         seen = {}
         for face, points in sides.items():
             image, rows, columns = _city_pixels(renderer, camera, points, "grammar_city_sides", output_dir)
             yellow = image[rows, columns, 1] > image[rows, columns, 2] + 60  # red or yellow, never unlit
             assert (image[rows, columns, 0] > image[rows, columns, 2] + 60).all(), "a bay centre is not on the wall"
-            twin = evaluate(compiled, compiled.address("city_test"), uv, (20.0, 10.0), facade_seed_vector(7, face),
-                            tile_array(16)).terminal == compiled.address("city_test", "Yellow")
+            twin = evaluate(
+                compiled, compiled.address("city_test"), uv, (20.0, 10.0), facade_seed_vector(7, face), tile_array(16)
+            ).terminal == compiled.address("city_test", "Yellow")
             assert (yellow == twin).all() or (yellow == twin[::-1]).all(), (face, yellow, twin)
             seen[face] = twin
         assert len(seen) == 2 and (seen[min(seen)] != seen[max(seen)]).any()  # the two sides chose differently

@@ -29,8 +29,25 @@ def test_check_reports_location_caret_and_suggestion(tmp_path, capsys):
 
 def test_render_cpu_writes_colour_and_labels(tmp_path):
     out, labels = tmp_path / "f.png", tmp_path / "l.png"
-    assert main(["grammar", "render", FIG12, "--cpu", "--size", "80x64", "--seed", "2",
-                 "--out", str(out), "--labels", str(labels)]) == 0
+    assert (
+        main(
+            [
+                "grammar",
+                "render",
+                FIG12,
+                "--cpu",
+                "--size",
+                "80x64",
+                "--seed",
+                "2",
+                "--out",
+                str(out),
+                "--labels",
+                str(labels),
+            ]
+        )
+        == 0
+    )
     assert Image.open(out).size == (80, 64) and Image.open(labels).size == (80, 64)
 
 
@@ -47,24 +64,67 @@ def test_render_on_the_gpu_matches_cpu_and_rule_picks_the_start(tmp_path):
     labels = {}
     for name, extra in (("gpu", []), ("cpu", ["--cpu"]), ("assets", ["--rule", "Assets"])):
         out, label = tmp_path / f"{name}.png", tmp_path / f"{name}_labels.png"
-        assert main(["grammar", "render", FIG12, *extra, "--size", "80x64", "--seed", "2",
-                     "--out", str(out), "--labels", str(label)]) == 0
+        assert (
+            main(
+                [
+                    "grammar",
+                    "render",
+                    FIG12,
+                    *extra,
+                    "--size",
+                    "80x64",
+                    "--seed",
+                    "2",
+                    "--out",
+                    str(out),
+                    "--labels",
+                    str(label),
+                ]
+            )
+            == 0
+        )
         labels[name] = np.asarray(Image.open(label)).astype(int)
-    same = np.all(labels["gpu"] == labels["cpu"], axis=-1) if labels["gpu"].ndim == 3 else labels["gpu"] == labels["cpu"]
+    same = (
+        np.all(labels["gpu"] == labels["cpu"], axis=-1) if labels["gpu"].ndim == 3 else labels["gpu"] == labels["cpu"]
+    )
     assert same.mean() > 0.999, f"{(~same).sum()} label pixels differ between the GPU and the numpy evaluator"
     assert np.any(labels["assets"] != labels["gpu"]), "--rule Assets drew the same as the start rule"
 
 
 def test_render_use_and_face_options(tmp_path, capsys):
     grammar = tmp_path / "uses.grammar"
-    grammar.write_text("S->Case(building.use == use.office, Glass, Bays)\nBays->RepeatX(1, Pick)\n"
-                       "Pick->RandUni(0, Brick, Glass)\nGlass->Color(0.2, 0.3, 0.4, window)\nBrick->Color(0.6, 0.3, 0.2)\n")
+    grammar.write_text(
+        "S->Case(building.use == use.office, Glass, Bays)\nBays->RepeatX(1, Pick)\n"
+        "Pick->RandUni(0, Brick, Glass)\nGlass->Color(0.2, 0.3, 0.4, window)\nBrick->Color(0.6, 0.3, 0.2)\n"
+    )
     labels = {}
-    for name, extra in (("front", []), ("front_cpu", ["--cpu"]), ("side", ["--face", "4"]),
-                        ("side_cpu", ["--cpu", "--face", "4"]), ("office", ["--use", "office"])):
+    for name, extra in (
+        ("front", []),
+        ("front_cpu", ["--cpu"]),
+        ("side", ["--face", "4"]),
+        ("side_cpu", ["--cpu", "--face", "4"]),
+        ("office", ["--use", "office"]),
+    ):
         out, label = tmp_path / f"{name}.png", tmp_path / f"{name}_labels.png"
-        assert main(["grammar", "render", str(grammar), *extra, "--size", "40x16", "--facade", "20x8",
-                     "--out", str(out), "--labels", str(label)]) == 0
+        assert (
+            main(
+                [
+                    "grammar",
+                    "render",
+                    str(grammar),
+                    *extra,
+                    "--size",
+                    "40x16",
+                    "--facade",
+                    "20x8",
+                    "--out",
+                    str(out),
+                    "--labels",
+                    str(label),
+                ]
+            )
+            == 0
+        )
         labels[name] = np.asarray(Image.open(label)).astype(int)
     assert (labels["front"] == labels["front_cpu"]).all() and (labels["side"] == labels["side_cpu"]).all()
     assert (labels["front"] != labels["side"]).any()  # another facade of the building: other choices

@@ -24,11 +24,14 @@ def _at_the_end(last_rule: str, texels: int = 256) -> str:
     raise AssertionError("no filler count fills the row")
 
 
-@pytest.mark.parametrize("rule, terminals", [
-    ("Z->SplitX(Rel, 1.0, A, Rel, 1.0, B)\n", 2),
-    ("Z->Rand(0, 0.5, A, 0.5, B)\n", 1),  # one choice per facade
-    ("Z->SplitY(Abs, 2.0, A, Rel, 1.0, B, Abs, 3.0, A)\n", 2),
-])
+@pytest.mark.parametrize(
+    "rule, terminals",
+    [
+        ("Z->SplitX(Rel, 1.0, A, Rel, 1.0, B)\n", 2),
+        ("Z->Rand(0, 0.5, A, 0.5, B)\n", 1),  # one choice per facade
+        ("Z->SplitY(Abs, 2.0, A, Rel, 1.0, B, Abs, 3.0, A)\n", 2),
+    ],
+)
 def test_rules_in_the_last_texels_evaluate_alike(ctx, rule, terminals, output_dir):  # noqa: F811
     compiled = compile_grammars({"g": loads(_at_the_end(rule))})
     assert compiled.used == 256 and compiled.address("g", "Z") + 4 > 256, "Z is not in the last texels"

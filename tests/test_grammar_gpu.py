@@ -17,54 +17,57 @@ from cityshade.scene import USES
 def colours(*names: str) -> str:
     """Constant-colour terminals, one per name, so every scope has its own id."""
     rng = np.random.default_rng(len(names))
-    return "".join(f"{n}->Mat(Color, 0, {r:.3f}, {g:.3f}, {b:.3f}, 1)\n" for n, (r, g, b) in
-                   zip(names, rng.uniform(0.1, 0.9, (len(names), 3))))
+    return "".join(
+        f"{n}->Mat(Color, 0, {r:.3f}, {g:.3f}, {b:.3f}, 1)\n"
+        for n, (r, g, b) in zip(names, rng.uniform(0.1, 0.9, (len(names), 3)))
+    )
 
 
 CASES = {
     "split": "S->SplitX(Abs, 2.5, A, Rel, 1, Col, Rel, 2, B, Abs, 1.2, C)\n"
-             "Col->SplitY(Rel, 1, D, Abs, 3, E, Rel, 0.5, F)\n" + colours(*"ABCDEF"),
+    "Col->SplitY(Rel, 1, D, Abs, 3, E, Rel, 0.5, F)\n" + colours(*"ABCDEF"),
     "repeat": "S->RepeatX(1.7, Col)\nCol->RepeatY(2.3, Cell)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n" + colours("A", "B"),
     "repeat_ceil": "S->RepeatX(1.7, Col, Ceil)\nCol->RepeatY(2.3, Cell, Ceil)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n"
-                   + colours("A", "B"),
+    + colours("A", "B"),
     "split_tile": "S->SplitX(Rel, 1, A, Tile, 2.2, Bay, Abs, 1.5, C, Rel, 0.5, D)\n"
-                  "Bay->SplitY(Abs, 2, E, Tile, 1.3, Row, Rel, 1, F)\nRow->SplitX(Rel, 1, G, Rel, 1, H)\n"
-                  + colours(*"ACDEFGH"),
+    "Bay->SplitY(Abs, 2, E, Tile, 1.3, Row, Rel, 1, F)\nRow->SplitX(Rel, 1, G, Rel, 1, H)\n" + colours(*"ACDEFGH"),
     "case": "S->SplitY(Abs, 2, Ground, Tile, 3, Floor, Rel, 1, Roof)\nFloor->RepeatX(2.5, Bay)\n"
-            "Bay->Case(split.first || split.last, A, split.index % 2 == 0 && scope.sx > 2.4, B, !(split.index < 3), C, D)\n"
-            "Ground->Case(facade.width >= 16, E, F)\nRoof->Case(-scope.sy + 1 > 0, G, split.total / 0.5 == 2 * 3, H, A)\n"
-            + colours(*"ABCDEFGH"),
+    "Bay->Case(split.first || split.last, A, split.index % 2 == 0 && scope.sx > 2.4, B, !(split.index < 3), C, D)\n"
+    "Ground->Case(facade.width >= 16, E, F)\nRoof->Case(-scope.sy + 1 > 0, G, split.total / 0.5 == 2 * 3, H, A)\n"
+    + colours(*"ABCDEFGH"),
     "rand_sizes": "S->SplitY(Abs, rand(2, 4), Ground, Rel, 1, Upper)\nUpper->RepeatY(rand(2.5, 3.5), Floor)\n"
-                  "Floor->SplitX(Rel, rand(1, 3), A, Abs, rand(0.5, 2), B, Rel, 1, C, Tile, 2, D)\n" + colours(*"ABCD")
-                  + "Ground->RepeatX(rand(1, 4), Shop, Ceil)\nShop->SplitX(Rel, 1, E, Rel, 1, F)\n" + colours("E", "F"),
+    "Floor->SplitX(Rel, rand(1, 3), A, Abs, rand(0.5, 2), B, Rel, 1, C, Tile, 2, D)\n"
+    + colours(*"ABCD")
+    + "Ground->RepeatX(rand(1, 4), Shop, Ceil)\nShop->SplitX(Rel, 1, E, Rel, 1, F)\n"
+    + colours("E", "F"),
     "params": "S->RepeatY(3, Floor(split.index, split.total))\nFloor(level, count)->RepeatX(2.5, Bay(level, split.index))\n"
-              "Bay(level, column)->Case(level == 0, E, (level + column) % 2 == 0, A, Upper(level))\n"
-              "Upper(l)->Layer(B, Top(l, -l))\nTop(l, m)->Case(l + m != 0, D, l >= 3, C, Skip)\nSkip->Skip(0)\n"
-              + colours(*"ABCDE"),
+    "Bay(level, column)->Case(level == 0, E, (level + column) % 2 == 0, A, Upper(level))\n"
+    "Upper(l)->Layer(B, Top(l, -l))\nTop(l, m)->Case(l + m != 0, D, l >= 3, C, Skip)\nSkip->Skip(0)\n"
+    + colours(*"ABCDE"),
     "rand": "S->RepeatX(2, Col)\nCol->RepeatY(2, R)\nR->Rand(0, 0.2, A, 0.5, B, 0.3, C)\n" + colours(*"ABC"),
     "rand_uni": "S->RepeatY(1.5, Row)\nRow->RepeatX(1.5, R)\nR->RandUni(0, A, B, C, D, E)\n" + colours(*"ABCDE"),
     "rand_stack": "S->RepeatY(3, Floor)\nFloor->RandStack(Win)\nWin->RepeatX(2, Pick)\n"
-                  "Pick->RandUni(1, Fit1, Fit2, Fit3)\n"
-                  "Fit1->Mat(Color, Fit>window1, 0, 0, 1, 1)\nFit2->Mat(Color, Fit>window2, 0, 0, 1, 1)\n"
-                  "Fit3->Mat(Color, Fit>window_round, 0, 0, 1, 1)\n",
+    "Pick->RandUni(1, Fit1, Fit2, Fit3)\n"
+    "Fit1->Mat(Color, Fit>window1, 0, 0, 1, 1)\nFit2->Mat(Color, Fit>window2, 0, 0, 1, 1)\n"
+    "Fit3->Mat(Color, Fit>window_round, 0, 0, 1, 1)\n",
     "layer": "S->Layer(Wall, Mid, Top)\nWall->Mat(Color, Rep:wall1, 0, 0, 1, 1)\n"
-             "Mid->RepeatX(3, Arch)\nArch->Mat(Color, Fit>window3, 0, 0, 1, 1)\n"
-             "Top->SplitY(Rel, 1, Inner, Abs, 2, Skip)\nInner->Layer(Skip, Rail)\n"
-             "Rail->RepeatX(4, RailTile)\nRailTile->Mat(Color, Fit>balcony_rail1, 0, 0, 1, 0.3)\nSkip->Skip(0)\n",
+    "Mid->RepeatX(3, Arch)\nArch->Mat(Color, Fit>window3, 0, 0, 1, 1)\n"
+    "Top->SplitY(Rel, 1, Inner, Abs, 2, Skip)\nInner->Layer(Skip, Rail)\n"
+    "Rail->RepeatX(4, RailTile)\nRailTile->Mat(Color, Fit>balcony_rail1, 0, 0, 1, 0.3)\nSkip->Skip(0)\n",
     "skip": "S->Layer(A, B, C)\nC->SplitX(Rel, 1, Skip1, Rel, 1, Skip0, Rel, 1, Cc)\n"
-            "Skip1->Skip(1)\nSkip0->Skip(0)\n" + colours("A", "B", "Cc"),
+    "Skip1->Skip(1)\nSkip0->Skip(0)\n" + colours("A", "B", "Cc"),
     "skip_mask": "S->Layer(Room, Wall, Mask)\nMask->RepeatX(2, Cell)\nCell->RepeatY(2, Hole)\n"
-                 "Hole->SkipMask(Fit>mask_round, 0, 1)\n"
-                 "Wall->Mat(Color, Rep:wall3, 0, 0, 0.5, 0.5)\nRoom->Mat(Color, Rep:room_wall1, 0, 0, 1, 1)\n",
+    "Hole->SkipMask(Fit>mask_round, 0, 1)\n"
+    "Wall->Mat(Color, Rep:wall3, 0, 0, 0.5, 0.5)\nRoom->Mat(Color, Rep:room_wall1, 0, 0, 1, 1)\n",
     "intrusion": "S->RepeatX(4, Bay)\nBay->RepeatY(4, Box)\nBox->Intrusion(3, L, Back, R, Fl, Ce)\n"
-                 "Back->SplitX(Rel, 1, B1, Rel, 1, Nested)\nNested->Intrusion(0.5, L2, B2, R2, F2, C2)\n"
-                 + colours("L", "R", "Fl", "Ce", "B1", "L2", "B2", "R2", "F2", "C2"),
+    "Back->SplitX(Rel, 1, B1, Rel, 1, Nested)\nNested->Intrusion(0.5, L2, B2, R2, F2, C2)\n"
+    + colours("L", "R", "Fl", "Ce", "B1", "L2", "B2", "R2", "F2", "C2"),
     "mat": "S->SplitX(Rel, 1, Const, Rel, 1, FitPart, Rel, 1, Tiled, Rel, 1, Alpha)\n"
-           "Const->Mat(Color, 0, 0.2, 0.4, 0.6, 1)\nFitPart->Mat(Color, Fit>door1, 0.1, 0.0, 0.9, 0.8)\n"
-           "Tiled->Layer(Back, Lit)\nBack->Mat(Color, Rep:wall1, 0.3, 0.1, 0.7, 1.3)\n"
-           "Lit->Layer(Spec, Norm)\nNorm->Mat(Normal, Rep:wall3, 0, 0, 1, 1)\nSpec->Mat(Specular, 0, 0.9, 0.5, 0, 1)\n"
-           "Alpha->Layer(Under, Over)\nUnder->Mat(Color, Rep:wall2, 0, 0, 1, 1)\n"
-           "Over->MatAlpha(Color, Rep:brick_dark, 0, 0, 1, 1, Fit>mask_arch, 0, 0, 1, 1)\n",
+    "Const->Mat(Color, 0, 0.2, 0.4, 0.6, 1)\nFitPart->Mat(Color, Fit>door1, 0.1, 0.0, 0.9, 0.8)\n"
+    "Tiled->Layer(Back, Lit)\nBack->Mat(Color, Rep:wall1, 0.3, 0.1, 0.7, 1.3)\n"
+    "Lit->Layer(Spec, Norm)\nNorm->Mat(Normal, Rep:wall3, 0, 0, 1, 1)\nSpec->Mat(Specular, 0, 0.9, 0.5, 0, 1)\n"
+    "Alpha->Layer(Under, Over)\nUnder->Mat(Color, Rep:wall2, 0, 0, 1, 1)\n"
+    "Over->MatAlpha(Color, Rep:brick_dark, 0, 0, 1, 1, Fit>mask_arch, 0, 0, 1, 1)\n",
 }
 
 
@@ -75,21 +78,25 @@ def test_operator_gpu_matches_numpy(ctx, name, output_dir):
 
 
 def test_labelled_colours_gpu_matches_numpy(ctx, output_dir):
-    text = ("S->Layer(Wall, Front)\nWall->Color(0.8, 0.7, 0.6)\nFront->RepeatX(3, Bay)\n"
-            "Bay->SplitX(Rel, 1, Skip, Abs, 1.2, Col, Rel, 1, Skip)\nCol->SplitY(Abs, 1, Skip, Abs, 1.5, Glass, "
-            "Rel, 1, Rail)\nGlass->Color(0.2, 0.3, 0.4, window)\nRail->Color(0.1, 0.1, 0.1, balcony)\nSkip->Skip(0)\n")
+    text = (
+        "S->Layer(Wall, Front)\nWall->Color(0.8, 0.7, 0.6)\nFront->RepeatX(3, Bay)\n"
+        "Bay->SplitX(Rel, 1, Skip, Abs, 1.2, Col, Rel, 1, Skip)\nCol->SplitY(Abs, 1, Skip, Abs, 1.5, Glass, "
+        "Rel, 1, Rail)\nGlass->Color(0.2, 0.3, 0.4, window)\nRail->Color(0.1, 0.1, 0.1, balcony)\nSkip->Skip(0)\n"
+    )
     compiled = compile_grammars({"colours": loads(text)})
     cpu, _ = compare(ctx, compiled, "colours", output_dir, nearest=False, allowed=0)
     assert set(np.unique(cpu.label).tolist()) == {LABELS.index(n) for n in ("wall", "window", "balcony")}
 
 
 def test_building_attributes_gpu_matches_numpy(ctx, output_dir):
-    text = ("S->RepeatY(3, Floor)\nFloor->Case(split.index >= building.levels - 1, A, "
-            "building.style == 4 && split.index % 2 == 1, B, C)\n" + colours(*"ABC"))
+    text = (
+        "S->RepeatY(3, Floor)\nFloor->Case(split.index >= building.levels - 1, A, "
+        "building.style == 4 && split.index % 2 == 1, B, C)\n" + colours(*"ABC")
+    )
     compiled = compile_grammars({"attributes": loads(text)})
     for building in ((3, 4, 0, 12), (2, 1, 0, 12)):
         cpu, _ = compare(ctx, compiled, "attributes", output_dir, building=building)
-        rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first
+        rows = cpu.terminal[:: -SIZE[1] // 4][:4]  # one row per storey, bottom first
         picked = [int(np.unique(r)[0]) for r in rows]
         names = {compiled.address("attributes", n): n for n in "ABC"}
         want = [("A" if i >= building[0] - 1 else "B" if building[1] == 4 and i % 2 else "C") for i in range(4)]
@@ -98,16 +105,18 @@ def test_building_attributes_gpu_matches_numpy(ctx, output_dir):
 
 def test_building_use_and_height_gpu_matches_numpy(ctx, output_dir):
     """building.use (named by use.*) and building.height pick storeys alike on the GPU and numpy."""
-    text = ("S->RepeatY(3, Floor)\nFloor->Case(building.use == use.shop && split.first, A, "
-            "building.use == use.office, B, building.height > 20 && split.last, C, D)\n" + colours(*"ABCD"))
+    text = (
+        "S->RepeatY(3, Floor)\nFloor->Case(building.use == use.shop && split.first, A, "
+        "building.use == use.office, B, building.height > 20 && split.last, C, D)\n" + colours(*"ABCD")
+    )
     compiled = compile_grammars({"uses": loads(text)})
     names = {compiled.address("uses", n): n for n in "ABCD"}
-    for use, height, want in (("shop", 12, "ADDD"), ("office", 12, "BBBB"), ("home", 24, "DDDC"),
-                              ("shop", 24, "ADDC")):
+    for use, height, want in (("shop", 12, "ADDD"), ("office", 12, "BBBB"), ("home", 24, "DDDC"), ("shop", 24, "ADDC")):
         building = (4, 0, USES[use], height)
-        cpu, _ = compare(ctx, compiled, "uses", output_dir, building=building, nearest=False, allowed=0,
-                         min_terminals=1)
-        rows = cpu.terminal[::-SIZE[1] // 4][:4]  # one row per storey, bottom first
+        cpu, _ = compare(
+            ctx, compiled, "uses", output_dir, building=building, nearest=False, allowed=0, min_terminals=1
+        )
+        rows = cpu.terminal[:: -SIZE[1] // 4][:4]  # one row per storey, bottom first
         assert "".join(names[int(np.unique(r)[0])] for r in rows) == want, (use, height)
 
 
@@ -122,8 +131,12 @@ def test_each_facade_has_its_own_stream_gpu_matches_numpy(ctx, output_dir):
     assert len(set(pictures.values())) == 4  # the four sides of a box choose differently
     text = "S->RepeatX(1, Pick)\nPick->RandUni(1, A, B, C)\n" + colours(*"ABC")  # l = 1: the building's seed
     compiled = compile_grammars({"once": loads(text)})
-    pictures = {compare(ctx, compiled, "once", output_dir, face=face, nearest=False, allowed=0,
-                        min_terminals=1)[0].terminal.tobytes() for face in (0, 4)}
+    pictures = {
+        compare(ctx, compiled, "once", output_dir, face=face, nearest=False, allowed=0, min_terminals=1)[
+            0
+        ].terminal.tobytes()
+        for face in (0, 4)
+    }
     assert len(pictures) == 1  # a choice made once per building is the same on its sides
 
 
@@ -149,8 +162,9 @@ def test_rand_stack_groups_a_floor():
     for seed in range(3):
         cpu = evaluate_facade(compiled, compiled.address("g"), FACADE, SIZE, seed_vector(seed), tile_array(32))
         # -1: outside a round window, where no layer lies below
-        floors = [np.setdiff1d(cpu.terminal[i * rows_per_floor + 2:(i + 1) * rows_per_floor - 2], [-1])
-                  for i in range(4)]
+        floors = [
+            np.setdiff1d(cpu.terminal[i * rows_per_floor + 2 : (i + 1) * rows_per_floor - 2], [-1]) for i in range(4)
+        ]
         assert all(len(f) == 1 for f in floors)
         kinds.add(tuple(int(f[0]) for f in floors))
     assert any(len(set(k)) > 1 for k in kinds)  # but floors differ

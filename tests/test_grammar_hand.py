@@ -47,7 +47,7 @@ def by_hand(case: str, x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 CASES = {
     "split": "S->SplitX(Abs, 2.5, A, Rel, 1, Col, Rel, 2, B, Abs, 1.2, C)\n"
-             "Col->SplitY(Rel, 1, D, Abs, 3, E, Rel, 0.5, F)\n" + COLOURS,
+    "Col->SplitY(Rel, 1, D, Abs, 3, E, Rel, 0.5, F)\n" + COLOURS,
     "repeat": "S->RepeatX(1.7, Col)\nCol->RepeatY(2.3, Cell)\nCell->SplitX(Rel, 1, A, Rel, 1, B)\n" + COLOURS,
 }
 

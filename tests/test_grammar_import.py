@@ -19,16 +19,20 @@ from cityshade.grammar._cga import CgaError, translate
 DATA = Path(__file__).parent / "data" / "cga"
 
 
-@pytest.mark.parametrize("name, notes", [
-    ("tutorial_facade", [18, 22, 51, 52, 53, 54, 57, 60, 61, 64]),
-    ("conditions_facade", [18, 19, 32, 37, 42, 44]),
-])
+@pytest.mark.parametrize(
+    "name, notes",
+    [
+        ("tutorial_facade", [18, 22, 51, 52, 53, 54, 57, 60, 61, 64]),
+        ("conditions_facade", [18, 19, 32, 37, 42, 44]),
+    ],
+)
 def test_cga_files_translate_check_and_render_alike(ctx, name, notes, output_dir):  # noqa: F811
     translation = translate((DATA / f"{name}.cga").read_text(), name)
     assert sorted({n.line for n in translation.notes}) == sorted(set(notes))
     compiled = compile_grammars({name: loads(translation.text, f"{name}.grammar")})
-    compare(ctx, compiled, name, output_dir, facade=(30.0, 16.0), size=(150, 80), min_terminals=3, nearest=False,
-            allowed=0)
+    compare(
+        ctx, compiled, name, output_dir, facade=(30.0, 16.0), size=(150, 80), min_terminals=3, nearest=False, allowed=0
+    )
 
 
 def test_translation_keeps_the_structure():
@@ -51,11 +55,14 @@ def test_the_command_reports_and_writes(tmp_path, capsys):
     assert main(["grammar", "check", str(out)]) == 0
 
 
-@pytest.mark.parametrize("content, message", [
-    (b"\x00\x01\x02", "this is a binary file"),
-    (b"attr x = 3\n", "no rules found; nothing was written"),
-    (b"caf\xe9 --> X\n", "not UTF-8"),
-])
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        (b"\x00\x01\x02", "this is a binary file"),
+        (b"attr x = 3\n", "no rules found; nothing was written"),
+        (b"caf\xe9 --> X\n", "not UTF-8"),
+    ],
+)
 def test_bad_cga_is_one_line_and_writes_nothing(tmp_path, capsys, content, message):
     source, out = tmp_path / "bad.cga", tmp_path / "bad.grammar"
     source.write_bytes(content)
@@ -98,21 +105,25 @@ def test_a_colour_before_a_texture_tints_it():
 PUBLIC = DATA / "cgajs"  # real public CGA files (README.md there: source and licence)
 
 
-@pytest.mark.parametrize("name, labels", [
-    ("house", {"wall", "window", "door"}),
-    ("officebuilding", {"wall", "cornice", "window"}),
-    ("castle", {"wall", "door", "none"}),  # none: the battlement gaps (NIL)
-    ("church", {"wall", "none"}),
-    ("tut5", {"wall"}),
-])
+@pytest.mark.parametrize(
+    "name, labels",
+    [
+        ("house", {"wall", "window", "door"}),
+        ("officebuilding", {"wall", "cornice", "window"}),
+        ("castle", {"wall", "door", "none"}),  # none: the battlement gaps (NIL)
+        ("church", {"wall", "none"}),
+        ("tut5", {"wall"}),
+    ],
+)
 def test_public_cga_files_translate_with_a_report_check_and_render_alike(ctx, name, labels, output_dir):  # noqa: F811
     source = (PUBLIC / f"{name}.cga").read_text()
     translation = translate(source, f"{name}.cga")  # never a traceback: CgaError is the only refusal
     lines = len(source.splitlines())
     assert translation.notes and all(1 <= n.line <= lines for n in translation.notes)  # what was dropped, by line
     compiled = compile_grammars({name: loads(translation.text, f"{name}.grammar")})
-    cpu, _ = compare(ctx, compiled, name, output_dir, facade=(3.0, 2.0), size=(96, 64), min_terminals=1,
-                     nearest=False, allowed=0)
+    cpu, _ = compare(
+        ctx, compiled, name, output_dir, facade=(3.0, 2.0), size=(96, 64), min_terminals=1, nearest=False, allowed=0
+    )
     assert {LABELS[v] for v in np.unique(cpu.label)} == labels
 
 

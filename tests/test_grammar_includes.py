@@ -23,13 +23,16 @@ def secret(tmp_path):
     return tmp_path, folder
 
 
-@pytest.mark.parametrize("target", [
-    "{root}/private/shadow",            # absolute, not a .grammar
-    "../private/shadow",                # relative, leaves the folder
-    "{root}/private/shadow.grammar",    # absolute grammar outside the folder
-    "../private/ok.grammar",            # a valid grammar, but outside the folder
-    "/proc/self/environ",
-])
+@pytest.mark.parametrize(
+    "target",
+    [
+        "{root}/private/shadow",  # absolute, not a .grammar
+        "../private/shadow",  # relative, leaves the folder
+        "{root}/private/shadow.grammar",  # absolute grammar outside the folder
+        "../private/ok.grammar",  # a valid grammar, but outside the folder
+        "/proc/self/environ",
+    ],
+)
 def test_use_outside_the_folder_or_not_a_grammar_is_refused_without_quoting(secret, target, capsys):
     root, folder = secret
     main_file = folder / "main.grammar"

@@ -37,8 +37,18 @@ def test_filtered_colour_keeps_exact_labels(ctx, library, style, output_dir):  #
     """The mipmapped path: the terminal, label and glass flag come from the nearest texels, equal
     to the numpy twin's on every pixel, while the colour is filtered."""
     _, compiled = library
-    compare(ctx, compiled, style, output_dir, seed=7, facade=(40.0, 32.0), size=(120, 96), min_terminals=3,
-            nearest=False, allowed=0)
+    compare(
+        ctx,
+        compiled,
+        style,
+        output_dir,
+        seed=7,
+        facade=(40.0, 32.0),
+        size=(120, 96),
+        min_terminals=3,
+        nearest=False,
+        allowed=0,
+    )
 
 
 @pytest.mark.parametrize("nearest", [True, False])
@@ -46,7 +56,9 @@ def test_the_benchmarks_conditions_facade_matches_numpy(ctx, nearest, output_dir
     from cityshade.grammar import library_path, load
 
     compiled = compile_grammars({"conditions": load(library_path("conditions.grammar"))})
-    cpu, _ = compare(ctx, compiled, "conditions", output_dir, facade=(20.0, 16.0), size=(120, 96), nearest=nearest, allowed=0)
+    cpu, _ = compare(
+        ctx, compiled, "conditions", output_dir, facade=(20.0, 16.0), size=(120, 96), nearest=nearest, allowed=0
+    )
     assert len(np.unique(cpu.terminal)) >= 4  # wall and the three windows
 
 
@@ -59,8 +71,12 @@ def test_dusk_shows_rooms_through_holes(library):
 
 def test_seeds_vary_a_style(library):
     _, compiled = library
-    images = [evaluate_facade(compiled, compiled.address("brick"), (20.0, 16.0), (60, 48), seed_vector(s),
-                              tile_array(32)).terminal for s in range(4)]
+    images = [
+        evaluate_facade(
+            compiled, compiled.address("brick"), (20.0, 16.0), (60, 48), seed_vector(s), tile_array(32)
+        ).terminal
+        for s in range(4)
+    ]
     assert len({im.tobytes() for im in images}) > 1
 
 

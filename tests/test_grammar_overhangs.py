@@ -69,13 +69,16 @@ def test_overhang_reaches_its_margins_and_nothing_else(left, middle, right, befo
     assert np.all(over[inside] == "C")
 
 
-@pytest.mark.parametrize("text, message", [
-    ("S->SplitX(Rel, 1, A, Rel, 1, O)\nO->Overhang(1.5, 0, A)\nA->Color(1, 0, 0)\n", "in [0, 1] metres, got 1.5"),
-    ("S->SplitX(Rel, 1, A, Rel, 1, O)\nO->Overhang(0.2, -0.1, A)\nA->Color(1, 0, 0)\n", "got -0.1"),
-    ("S->Layer(A, O)\nO->Overhang(0.2, 0.2, A)\nA->Color(1, 0, 0)\n", "Layer cannot hold an Overhang"),
-    ("S->SplitX(Tile, 2, O)\nO->Overhang(0.2, 0.2, A)\nA->Color(1, 0, 0)\n", "SplitX cannot hold an Overhang"),
-    ("S->RepeatX(2, Al)\nAl->O\nO->Overhang(0.2, 0.2, A)\nA->Color(1, 0, 0)\n", "RepeatX cannot hold an Overhang"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("S->SplitX(Rel, 1, A, Rel, 1, O)\nO->Overhang(1.5, 0, A)\nA->Color(1, 0, 0)\n", "in [0, 1] metres, got 1.5"),
+        ("S->SplitX(Rel, 1, A, Rel, 1, O)\nO->Overhang(0.2, -0.1, A)\nA->Color(1, 0, 0)\n", "got -0.1"),
+        ("S->Layer(A, O)\nO->Overhang(0.2, 0.2, A)\nA->Color(1, 0, 0)\n", "Layer cannot hold an Overhang"),
+        ("S->SplitX(Tile, 2, O)\nO->Overhang(0.2, 0.2, A)\nA->Color(1, 0, 0)\n", "SplitX cannot hold an Overhang"),
+        ("S->RepeatX(2, Al)\nAl->O\nO->Overhang(0.2, 0.2, A)\nA->Color(1, 0, 0)\n", "RepeatX cannot hold an Overhang"),
+    ],
+)
 def test_misplaced_or_too_wide_overhangs_are_located(text, message):
     with pytest.raises(GrammarError) as caught:
         loads(text, "o.grammar")

@@ -25,17 +25,18 @@ def test_fig12_parses_unchanged():
 
 
 def test_semicolons_comments_and_multiline_arguments():
-    grammar = loads("# a comment\nS->SplitX(Abs, 1.0, W,   # trailing comment\n"
-                    "   Rel, 2, W);\n" + WALL)
+    grammar = loads("# a comment\nS->SplitX(Abs, 1.0, W,   # trailing comment\n   Rel, 2, W);\n" + WALL)
     assert grammar.rules["S"].values == (-1.0, 1.0, "W", 1.0, 2.0, "W")
 
 
 def test_namespaces_reuse_and_override(tmp_path):
     (tmp_path / "base.grammar").write_text("Facade->RepeatX(2, Win)\nWin->Mat(Color, Fit>window1, 0, 0, 1, 1)\n")
     main = tmp_path / "main.grammar"
-    main.write_text('use "base.grammar" as Old\nuse "base.grammar" as New\n'
-                    "S->SplitY(Rel, 1, Old.Facade, Rel, 1, New.Facade)\n"
-                    "New.Win->Mat(Color, Fit>window3, 0, 0, 1, 1)\n")
+    main.write_text(
+        'use "base.grammar" as Old\nuse "base.grammar" as New\n'
+        "S->SplitY(Rel, 1, Old.Facade, Rel, 1, New.Facade)\n"
+        "New.Win->Mat(Color, Fit>window3, 0, 0, 1, 1)\n"
+    )
     grammar = load(main)
     assert grammar.start == "S"
     assert grammar.rules["Old.Facade"].children == ("Old.Win",)
@@ -55,28 +56,37 @@ def test_library_uses_namespaces_and_compiles_small():
     assert compiled.nbytes / 22 <= 16
 
 
-@pytest.mark.parametrize("text, expected", [
-    ("S->SplitX(Rel, 1, Wal)\nWall->Skip(0)\n", ["bad.grammar:1:19: error: undefined rule 'Wal'", "did you mean the rule 'Wall'?"]),
-    ("S->SplitZ(Rel, 1, W)\n" + WALL, ["bad.grammar:1:4: error: unknown operator 'SplitZ'", "did you mean the operator 'Split"]),
-    (WALL + "W->Skip(0)\n", ["bad.grammar:2:1: error: rule 'W' is defined twice", "line 1"]),
-    ("S->RepeatX(2)\n", ["bad.grammar:1:4: error: RepeatX takes (size, rule, [rounding]) but got 1 argument"]),
-    ("S->SplitX(Rel, 1)\n", ["SplitX takes ((policy, size, rule)...) but got 2 arguments"]),
-    ("S->RepeatX(W, 2)\n" + WALL, ["1:12: error: RepeatX expects a size in metres > 0 here, not 'W'"]),
-    ("S->SplitX(Rell, 1, W)\n" + WALL, ["1:11: error: SplitX expects Abs, Rel or Tile here", "'Rel'"]),
-    ("S->Mat(Colour, Rep:wall1, 0, 0, 1, 1)\n", ["1:8: error: Mat expects Color, Normal or Specular", "'Color'"]),
-    ("S->Rand(0, 0.5, W, 0.4, W)\n" + WALL, ["1:4: error: Rand weights sum to 0.9, not 1"]),
-    ("S->RepeatX(-2, W)\n" + WALL, ["1:12: error: size must be > 0, got -2"]),
-    ("S->SplitY(Abs, 0, W)\n" + WALL, ["1:16: error: size must be > 0, got 0"]),
-    ("S->Mat(Color, Rep:wal1, 0, 0, 1, 1)\n", ["1:15: error: unknown texture 'wal1'", "'wall1'"]),
-    ("S->Mat(Color, Fit>window1, 0, 0, 2, 1)\n", ["1:34: error: a fitted texture's rectangle needs four values"]),
-    ("S->Skip(1.5)\n", ["1:9: error: Skip expects a whole number >= 0 here, got 1.5"]),
-    ("A->RepeatX(1, B)\nB->RepeatY(1, C)\nC->Layer(A, W)\n" + WALL, ["rules form a cycle: A -> B -> C -> A"]),
-    ("S->Layer(W S)", ["1:12: error: unexpected 'S'; expected '(' or ')' or ','", "^", "is a ',' missing"]),
-    ("S->Layer(W", ["the file ends in the middle of a rule"]),
-    ("S Layer(W)", ["1:3: error: unexpected 'Layer'; expected '(' or '->'"]),
-    ("", ["bad.grammar:1:1: error: the grammar is empty"]),
-    ("# only a comment\n", ["the grammar is empty"]),
-])
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        (
+            "S->SplitX(Rel, 1, Wal)\nWall->Skip(0)\n",
+            ["bad.grammar:1:19: error: undefined rule 'Wal'", "did you mean the rule 'Wall'?"],
+        ),
+        (
+            "S->SplitZ(Rel, 1, W)\n" + WALL,
+            ["bad.grammar:1:4: error: unknown operator 'SplitZ'", "did you mean the operator 'Split"],
+        ),
+        (WALL + "W->Skip(0)\n", ["bad.grammar:2:1: error: rule 'W' is defined twice", "line 1"]),
+        ("S->RepeatX(2)\n", ["bad.grammar:1:4: error: RepeatX takes (size, rule, [rounding]) but got 1 argument"]),
+        ("S->SplitX(Rel, 1)\n", ["SplitX takes ((policy, size, rule)...) but got 2 arguments"]),
+        ("S->RepeatX(W, 2)\n" + WALL, ["1:12: error: RepeatX expects a size in metres > 0 here, not 'W'"]),
+        ("S->SplitX(Rell, 1, W)\n" + WALL, ["1:11: error: SplitX expects Abs, Rel or Tile here", "'Rel'"]),
+        ("S->Mat(Colour, Rep:wall1, 0, 0, 1, 1)\n", ["1:8: error: Mat expects Color, Normal or Specular", "'Color'"]),
+        ("S->Rand(0, 0.5, W, 0.4, W)\n" + WALL, ["1:4: error: Rand weights sum to 0.9, not 1"]),
+        ("S->RepeatX(-2, W)\n" + WALL, ["1:12: error: size must be > 0, got -2"]),
+        ("S->SplitY(Abs, 0, W)\n" + WALL, ["1:16: error: size must be > 0, got 0"]),
+        ("S->Mat(Color, Rep:wal1, 0, 0, 1, 1)\n", ["1:15: error: unknown texture 'wal1'", "'wall1'"]),
+        ("S->Mat(Color, Fit>window1, 0, 0, 2, 1)\n", ["1:34: error: a fitted texture's rectangle needs four values"]),
+        ("S->Skip(1.5)\n", ["1:9: error: Skip expects a whole number >= 0 here, got 1.5"]),
+        ("A->RepeatX(1, B)\nB->RepeatY(1, C)\nC->Layer(A, W)\n" + WALL, ["rules form a cycle: A -> B -> C -> A"]),
+        ("S->Layer(W S)", ["1:12: error: unexpected 'S'; expected '(' or ')' or ','", "^", "is a ',' missing"]),
+        ("S->Layer(W", ["the file ends in the middle of a rule"]),
+        ("S Layer(W)", ["1:3: error: unexpected 'Layer'; expected '(' or '->'"]),
+        ("", ["bad.grammar:1:1: error: the grammar is empty"]),
+        ("# only a comment\n", ["the grammar is empty"]),
+    ],
+)
 def test_bad_input_messages(text, expected):
     message = error_of(text)
     for part in expected:
@@ -146,7 +156,8 @@ def test_alias_errors_are_located():
 def test_an_alias_overrides_a_namespaced_rule(tmp_path):
     (tmp_path / "base.grammar").write_text("Facade->RepeatX(2, Win)\nWin->Mat(Color, Fit>window1, 0, 0, 1, 1)\n")
     main = tmp_path / "main.grammar"
-    main.write_text('use "base.grammar" as B\nS->Layer(B.Facade)\nB.Win->Arch\n'
-                    "Arch->Mat(Color, Fit>window3, 0, 0, 1, 1)\n")
+    main.write_text(
+        'use "base.grammar" as B\nS->Layer(B.Facade)\nB.Win->Arch\nArch->Mat(Color, Fit>window3, 0, 0, 1, 1)\n'
+    )
     compiled = compile_grammars({"g": load(main)})
     assert compiled.address("g", "B.Win") == compiled.address("g", "Arch")

@@ -60,7 +60,7 @@ def test_grammar_start_and_files_switch_the_facades(fig11):
 
 def test_ssao_is_a_pass_of_the_frame():
     names = [p.name for p in frame_passes(fig11_settings("deferred", "full"))]
-    assert names[names.index("resolve") + 1:] == ["ssao", "tone map"]
+    assert names[names.index("resolve") + 1 :] == ["ssao", "tone map"]
     assert "ssao" not in [p.name for p in frame_passes(fig11_settings("deferred", "full").with_(ssao=False))]
 
 
@@ -77,7 +77,8 @@ def test_ssao_only_darkens_and_at_most_by_its_strength(fig11, output_dir):
     sky = np.frombuffer(renderer.targets.resolved.depth.read(), np.float32).reshape(height, width)[::-1] >= 1.0
     tone = np.hstack([lit, on]) / max(lit.max(), 1e-6)
     Image.fromarray((np.clip(tone, 0, 1) ** (1 / 2.2) * 255).round().astype(np.uint8)).save(
-        output_dir / "grammar_ssao_off_on.png")
+        output_dir / "grammar_ssao_off_on.png"
+    )
     step = 2e-3 * np.maximum(lit, 1.0)  # half-float rounding of the output
     assert sky.any() and (on[sky] == lit[sky]).all(), "the sky is untouched"
     assert (on <= lit + step).all(), "SSAO never brightens"

@@ -136,8 +136,10 @@ def test_rand_sizes_stay_in_range_fill_the_scope_and_are_stable(low, spread, see
     width = high + 2.0
     u = (np.arange(SAMPLES, dtype=np.float32) + 0.5) / SAMPLES * width
     uv = np.stack([u, np.full_like(u, 0.5)], axis=1)
-    runs = [evaluate(compiled, compiled.address("g"), uv, (width, 1.0), seed_vector(seed), tile_array(16)).terminal
-            for _ in range(2)]
+    runs = [
+        evaluate(compiled, compiled.address("g"), uv, (width, 1.0), seed_vector(seed), tile_array(16)).terminal
+        for _ in range(2)
+    ]
     assert np.array_equal(runs[0], runs[1])
     step = width / SAMPLES
     drawn = np.count_nonzero(runs[0] == compiled.address("g", "P0")) * step
@@ -152,8 +154,13 @@ def test_rand_sizes_vary_with_the_seed():
     compiled = compile_grammars({"g": loads(text)})
     u = (np.arange(SAMPLES, dtype=np.float32) + 0.5) / SAMPLES * 8
     uv = np.stack([u, np.full_like(u, 0.5)], axis=1)
-    widths = {np.count_nonzero(evaluate(compiled, compiled.address("g"), uv, (8.0, 1.0), seed_vector(s),
-                                        tile_array(16)).terminal == compiled.address("g", "P0")) for s in range(6)}
+    widths = {
+        np.count_nonzero(
+            evaluate(compiled, compiled.address("g"), uv, (8.0, 1.0), seed_vector(s), tile_array(16)).terminal
+            == compiled.address("g", "P0")
+        )
+        for s in range(6)
+    }
     assert len(widths) >= 4
 
 
@@ -161,7 +168,7 @@ def test_rand_sizes_vary_with_the_seed():
 @given(tile=st.sampled_from([0.75, 1.0, 1.5]), k=st.integers(1, 4), offset=st.integers(-3, 3))
 def test_parameters_carry_each_elements_value(tile, k, offset):
     """Cell(split.index + offset) passes each element's own value: Case picks by it."""
-    text = (f"S->RepeatX({tile}, Cell(split.index + {offset}))\nCell(i)->Case(i % {k} == 0, P0, P1)\n" + colours(2))
+    text = f"S->RepeatX({tile}, Cell(split.index + {offset}))\nCell(i)->Case(i % {k} == 0, P0, P1)\n" + colours(2)
     compiled, terminal = run_along_x(text, 9.0)
     count = max(int(np.floor(9.0 / tile + 0.5)), 1)
     centres = ((np.arange(count) + 0.5) * (9.0 / count) / 9.0 * SAMPLES).astype(int)

@@ -28,8 +28,9 @@ def _choices(text: str, cells: int = 2000, seed: int = 0):
 def test_choices_at_the_same_corner_are_independent():
     """An outer and an inner RandUni decide at the same corner; with one stream the inner choice
     would copy the outer one (X always P0, Y always P3)."""
-    text = ("S->RepeatX(0.5, Pick)\nPick->RandUni(0, X, Y)\nX->RandUni(0, P0, P1)\nY->RandUni(0, P2, P3)\n"
-            + "".join(f"P{i}->Mat(Color, 0, {i / 4:.2f}, 0.5, 0.5, 1)\n" for i in range(4)))
+    text = "S->RepeatX(0.5, Pick)\nPick->RandUni(0, X, Y)\nX->RandUni(0, P0, P1)\nY->RandUni(0, P2, P3)\n" + "".join(
+        f"P{i}->Mat(Color, 0, {i / 4:.2f}, 0.5, 0.5, 1)\n" for i in range(4)
+    )
     compiled, terminal = _choices(text)
     shares = np.array([np.mean(terminal == compiled.address("g", f"P{i}")) for i in range(4)])
     assert np.all(np.abs(shares - 0.25) < 0.05), shares
@@ -60,8 +61,9 @@ def test_the_sides_of_a_building_choose_independently():
     uv = np.stack([np.arange(20, dtype=np.float32) + 0.5, np.full(20, 0.5, np.float32)], axis=1)
 
     def choices(seed, face):
-        return evaluate(compiled, compiled.address("g"), uv, (20.0, 1.0), facade_seed_vector(seed, face),
-                        tile_array(16)).terminal
+        return evaluate(
+            compiled, compiled.address("g"), uv, (20.0, 1.0), facade_seed_vector(seed, face), tile_array(16)
+        ).terminal
 
     agree = [np.mean(choices(seed, 0) == choices(seed, side)) for seed in range(30) for side in (4, 8, 12)]
     assert 0.4 < np.mean(agree) < 0.6, np.mean(agree)
@@ -76,8 +78,18 @@ def test_a_choice_with_no_stack_entry_is_made_once_per_building():
     uv = np.stack([np.arange(8, dtype=np.float32) + 0.5, np.full(8, 0.5, np.float32)], axis=1)
     picked = []
     for seed in range(20):
-        sides = [evaluate(compiled, compiled.address("g"), uv, (8.0, 1.0), facade_seed_vector(seed, face),
-                          tile_array(16), building_seed=seed_vector(seed)).terminal for face in (0, 4, 8, 12)]
+        sides = [
+            evaluate(
+                compiled,
+                compiled.address("g"),
+                uv,
+                (8.0, 1.0),
+                facade_seed_vector(seed, face),
+                tile_array(16),
+                building_seed=seed_vector(seed),
+            ).terminal
+            for face in (0, 4, 8, 12)
+        ]
         assert all((side == sides[0][0]).all() for side in sides)  # one choice for every bay and side
         picked.append(int(sides[0][0]))
     assert len(set(picked)) == 2  # but not the same for every building

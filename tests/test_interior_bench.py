@@ -10,8 +10,17 @@ import pytest
 from PIL import Image
 
 from cityshade.bench._harness import MIN_TIMED_FRAMES, write
-from cityshade.bench.interior import (FULL, QUICK, SETTINGS, TARGETS, Plan, comparison_camera, comparison_picture, run_plan,
-                                      scaled_rooms)
+from cityshade.bench.interior import (
+    FULL,
+    QUICK,
+    SETTINGS,
+    TARGETS,
+    Plan,
+    comparison_camera,
+    comparison_picture,
+    run_plan,
+    scaled_rooms,
+)
 from cityshade.interior import POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer

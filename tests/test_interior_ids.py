@@ -56,13 +56,31 @@ def twin(renderer):
 def _params(renderer) -> InteriorParams:
     sprites = assets.furniture_sprites()
     s = renderer.settings
-    return InteriorParams(lights=s.lights, time=s.animation_time, variants=renderer.textures.room_variants,
-                          glass_rect=renderer.textures.glass_rect, sprite_alpha=sprites[..., 3] / 255.0)
+    return InteriorParams(
+        lights=s.lights,
+        time=s.animation_time,
+        variants=renderer.textures.room_variants,
+        glass_rect=renderer.textures.glass_rect,
+        sprite_alpha=sprites[..., 3] / 255.0,
+    )
 
 
 def _colorise(ids: np.ndarray) -> np.ndarray:
-    palette = np.array([[0, 0, 0], [150, 150, 150], [240, 240, 90], [150, 90, 40], [90, 160, 240], [40, 90, 200],
-                        [240, 60, 60], [220, 120, 220], [90, 90, 90], [40, 40, 40]], dtype=np.uint8)
+    palette = np.array(
+        [
+            [0, 0, 0],
+            [150, 150, 150],
+            [240, 240, 90],
+            [150, 90, 40],
+            [90, 160, 240],
+            [40, 90, 200],
+            [240, 60, 60],
+            [220, 120, 220],
+            [90, 90, 90],
+            [40, 40, 40],
+        ],
+        dtype=np.uint8,
+    )
     room_tint = ((ids[..., 1] * 2654435761) >> 24).astype(np.uint8)[..., None] // 4
     return np.clip(palette[ids[..., 0] % 10].astype(int) + room_tint, 0, 255).astype(np.uint8)
 
@@ -87,10 +105,13 @@ def test_gpu_ids_match_numpy_twin(renderer, twin, view, output_dir):
     flat_share = (differ & ~curved).mean()
     curved_share = (differ & curved).sum() / max(curved.sum(), 1)
     faces, counts = np.unique(gpu[..., 0], return_counts=True)
-    print(f"{view}: {differ.sum()} of {differ.size} pixels differ in face/room/building: {(differ & ~curved).sum()} "
-          f"on flat buildings or the ground, {(differ & curved).sum()} of {curved.sum()} on curved ones ({curved_share:.2%}); "
-          f"of {rooms.sum()} room pixels {lit_differ.sum()} differ in light, {variant_differ.sum()} in variant; "
-          + "faces: " + ", ".join(f"{FACE_NAMES[int(f)]}={c}" for f, c in zip(faces, counts)))
+    print(
+        f"{view}: {differ.sum()} of {differ.size} pixels differ in face/room/building: {(differ & ~curved).sum()} "
+        f"on flat buildings or the ground, {(differ & curved).sum()} of {curved.sum()} on curved ones ({curved_share:.2%}); "
+        f"of {rooms.sum()} room pixels {lit_differ.sum()} differ in light, {variant_differ.sum()} in variant; "
+        + "faces: "
+        + ", ".join(f"{FACE_NAMES[int(f)]}={c}" for f, c in zip(faces, counts))
+    )
     assert flat_share <= MAX_MISMATCH_FLAT, f"{(differ & ~curved).sum()} pixels differ on flat buildings"
     assert curved_share <= MAX_MISMATCH_CURVED, f"{(differ & curved).sum()} pixels differ on curved buildings"
     assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"

@@ -52,9 +52,11 @@ def test_glass_without_an_interior_shows_no_room_on_gpu_and_twin(gl_context, out
     house, shed = ref[..., 2] == 1, ref[..., 2] == 2
     house_rooms = house & (ref[..., 3] & SEEN).astype(bool)
     shed_glass = (with_rooms[..., 2] == 2) & (with_rooms[..., 3] & SEEN).astype(bool) & ~id_edges(with_rooms)
-    print(f"{differ.sum()} of {differ.size} pixels differ in face/room/building ({(differ & ~edges).sum()} away from "
-          f"edges), {(room_differ & ~edges).sum()} room ids away from edges; house room pixels "
-          f"{house_rooms.sum()}, shed pixels {shed.sum()}, shed glass {shed_glass.sum()}")
+    print(
+        f"{differ.sum()} of {differ.size} pixels differ in face/room/building ({(differ & ~edges).sum()} away from "
+        f"edges), {(room_differ & ~edges).sum()} room ids away from edges; house room pixels "
+        f"{house_rooms.sum()}, shed pixels {shed.sum()}, shed glass {shed_glass.sum()}"
+    )
     assert not (differ & ~edges).any(), "pixels differ away from any edge of the twin's picture"
     assert not (room_differ & ~edges).any()
     assert (house & (gpu[..., 3] & SEEN).astype(bool)).sum() > 200, "the view must look into the house's rooms"
@@ -66,7 +68,9 @@ def test_glass_without_an_interior_shows_no_room_on_gpu_and_twin(gl_context, out
     # windows, not the shed's
     changed = np.abs(lit - dark) > 2
     house_glass = house_rooms & ~edges
-    print(f"all lights on vs off: {(changed & house_glass).sum()} of {house_glass.sum()} house glass pixels change, "
-          f"{(changed & shed_glass).sum()} of {shed_glass.sum()} shed glass pixels")
+    print(
+        f"all lights on vs off: {(changed & house_glass).sum()} of {house_glass.sum()} house glass pixels change, "
+        f"{(changed & shed_glass).sum()} of {shed_glass.sum()} shed glass pixels"
+    )
     assert (changed & house_glass).sum() > 50
     assert not (changed & shed_glass).any()

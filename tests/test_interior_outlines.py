@@ -46,14 +46,19 @@ def _twin_of(renderer, city):
     """twin(camera, labels) -> the twin's id AOV of the renderer's city (room state or grammar labels)."""
     grammar = _grammar(city.masses)
     s = renderer.settings
-    params = InteriorParams(lights=s.lights, time=s.animation_time, variants=renderer.textures.room_variants,
-                            glass_rect=renderer.textures.glass_rect,
-                            sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
+    params = InteriorParams(
+        lights=s.lights,
+        time=s.animation_time,
+        variants=renderer.textures.room_variants,
+        glass_rect=renderer.textures.glass_rect,
+        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
+    )
     x0, z0, x1, z1 = city.bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
     alpha = assets.facade_texture()[0][..., 3] / 255.0
-    return lambda camera, labels=False: reference_ids(city.masses, camera, SIZE, params, alpha, ground,
-                                                      grammar=grammar, labels=labels)
+    return lambda camera, labels=False: reference_ids(
+        city.masses, camera, SIZE, params, alpha, ground, grammar=grammar, labels=labels
+    )
 
 
 @pytest.fixture(scope="module")
@@ -83,12 +88,15 @@ def test_gpu_ids_match_numpy_twin(renderer, twin, view, output_dir):
     rooms = ~differ & (ref[..., 3] & SEEN).astype(bool)
     state_differ = rooms & (gpu[..., 3] != ref[..., 3])
     faces, counts = np.unique(gpu[..., 0], return_counts=True)
-    print(f"{view}: {differ.sum()} of {differ.size} pixels differ in face/room/building; of {rooms.sum()} room "
-          f"pixels {state_differ.sum()} differ in light or variant; faces: "
-          + ", ".join(f"{FACE_NAMES[int(f)]}={c}" for f, c in zip(faces, counts)))
+    print(
+        f"{view}: {differ.sum()} of {differ.size} pixels differ in face/room/building; of {rooms.sum()} room "
+        f"pixels {state_differ.sum()} differ in light or variant; faces: "
+        + ", ".join(f"{FACE_NAMES[int(f)]}={c}" for f, c in zip(faces, counts))
+    )
     palette = ((gpu[..., 1].astype(np.int64) * 2654435761 + gpu[..., 2] * 97) >> 8) & 0xFFFFFF
     Image.fromarray(np.stack([(palette >> s) & 255 for s in (0, 8, 16)], -1).astype(np.uint8)).save(
-        output_dir / f"outlines_ids_{view}.png")
+        output_dir / f"outlines_ids_{view}.png"
+    )
     assert differ.mean() <= MAX_MISMATCH, f"{differ.sum()} pixels differ"
     assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"
     assert not state_differ.any(), f"{state_differ.sum()} room pixels differ in light or variant"
@@ -112,8 +120,10 @@ def test_gpu_grammar_labels_match_numpy_twin(renderer, twin, view):
 @pytest.mark.parametrize("view", sorted(SCENE.viewpoints))
 def test_no_window_shows_two_rooms(renderer, view):
     count = windows_straddling_rooms(renderer.render_ids(SCENE.camera(view), windows=True))
-    print(f"{view}: {count.windows} windows, {count.straddling} showing two rooms; {count.patches_with_rooms} "
-          f"glass patches show several rooms, {count.patches_of_touching_windows} of them touching windows")
+    print(
+        f"{view}: {count.windows} windows, {count.straddling} showing two rooms; {count.patches_with_rooms} "
+        f"glass patches show several rooms, {count.patches_of_touching_windows} of them touching windows"
+    )
     assert count.windows > 10 and count.straddling == 0
     assert count.patches_with_rooms == count.patches_of_touching_windows
 
@@ -122,8 +132,9 @@ def test_a_grammar_cylinder_matches_its_twin(gl_context):
     """A round tower drawn as a cylinder (48 facets on the GPU, the exact circle in the twin) with
     the brick grammar round its whole circumference: ids and labels differ on at most 2% of its
     pixels (the facets' sagitta, as on the window-bay cylinder of test_interior_ids.py)."""
-    city = City("round", 0, [cylinder((0.0, 0.0), 18.0, 24.0, seed=5, style=4, room_width=4.0)], [],
-                (-30.0, -30.0, 30.0, 30.0))
+    city = City(
+        "round", 0, [cylinder((0.0, 0.0), 18.0, 24.0, seed=5, style=4, room_width=4.0)], [], (-30.0, -30.0, 30.0, 30.0)
+    )
     camera = Camera((9.0, 5.0, -14.0), (9.0, 10.0, 9.0), fov_y=70.0)
     r = Renderer(SIZE, RenderSettings(lights=0.6, animation_time=1.3), ctx=gl_context)
     r.set_city(city)
@@ -138,8 +149,10 @@ def test_a_grammar_cylinder_matches_its_twin(gl_context):
     differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
     same = ~differ & (gpu[..., 2] == 1)
     labels = same & (gpu_labels[..., 3] != ref_labels[..., 3])
-    print(f"grammar cylinder: {differ.sum()} of {on.sum()} pixels differ in ids, {labels.sum()} of {same.sum()} "
-          f"in label; {windows.windows} windows, {windows.straddling} showing two rooms")
+    print(
+        f"grammar cylinder: {differ.sum()} of {on.sum()} pixels differ in ids, {labels.sum()} of {same.sum()} "
+        f"in label; {windows.windows} windows, {windows.straddling} showing two rooms"
+    )
     assert on.sum() > 4000 and differ.sum() <= 0.02 * on.sum() and labels.sum() <= 0.02 * same.sum()
     assert not (differ & ~id_edges(ref)).any()
     assert windows.windows > 20 and windows.straddling == 0

@@ -72,8 +72,10 @@ def test_the_use_sits_above_the_flags_and_unknown_codes_are_refused():
 # --- GPU against the twin ---------------------------------------------------------------------
 
 SIZE = (160, 120)
-MASSES = [box((0.0, 0.0), 16.0, 10.0, 15.0, seed=11, room_width=4.0, floor_height=3.0, use=OFFICE),
-          box((18.0, 0.0), 16.0, 10.0, 15.0, seed=12, room_width=4.0, floor_height=3.0, use=HOME, shop_front=True)]
+MASSES = [
+    box((0.0, 0.0), 16.0, 10.0, 15.0, seed=11, room_width=4.0, floor_height=3.0, use=OFFICE),
+    box((18.0, 0.0), 16.0, 10.0, 15.0, seed=12, room_width=4.0, floor_height=3.0, use=HOME, shop_front=True),
+]
 BOUNDS = (-30.0, -30.0, 50.0, 30.0)
 CAMERA = Camera((17.0, 7.5, -22.0), (17.0, 7.5, 5.0), fov_y=70.0)
 
@@ -103,9 +105,14 @@ def test_office_home_and_shop_rooms_lit_by_hour_match_the_twin(gl_context, outpu
                 gpu_lit, gpu_rooms = _lit_rooms(np.where(same[..., None], gpu, 0), building, ground)
                 ref_lit, _ = _lit_rooms(np.where(same[..., None], ref, 0), building, ground)
                 counts[name, hours] = (len(gpu_lit), len(gpu_rooms), len(gpu_lit ^ ref_lit))
-            print(f"{hours:05.2f}h: {same.sum()} room pixels compared, {pixels_differ.sum()} differ in light; "
-                  + ", ".join(f"{n}: {lit} of {rooms} rooms lit, {wrong} lit differently"
-                              for (n, h), (lit, rooms, wrong) in counts.items() if h == hours))
+            print(
+                f"{hours:05.2f}h: {same.sum()} room pixels compared, {pixels_differ.sum()} differ in light; "
+                + ", ".join(
+                    f"{n}: {lit} of {rooms} rooms lit, {wrong} lit differently"
+                    for (n, h), (lit, rooms, wrong) in counts.items()
+                    if h == hours
+                )
+            )
             assert same.sum() > 1000, "the view must look into both buildings' rooms"
             assert not pixels_differ.any(), f"{pixels_differ.sum()} room pixels differ in light"
     finally:
@@ -117,10 +124,17 @@ def test_office_home_and_shop_rooms_lit_by_hour_match_the_twin(gl_context, outpu
     assert share["shop", 10.0] >= 0.75 and share["shop", 22.0] == 0.0, "the shops below the flats keep their hours"
 
 
-@pytest.mark.parametrize("tags, use", [({"building": "office"}, "office"), ({"building": "apartments"}, "home"),
-                                       ({"building": "yes", "shop": "bakery"}, "shop"),
-                                       ({"building": "yes", "amenity": "school"}, "public"),
-                                       ({"building": "warehouse"}, "industry"), ({"building": "yes"}, "mixed")])
+@pytest.mark.parametrize(
+    "tags, use",
+    [
+        ({"building": "office"}, "office"),
+        ({"building": "apartments"}, "home"),
+        ({"building": "yes", "shop": "bakery"}, "shop"),
+        ({"building": "yes", "amenity": "school"}, "public"),
+        ({"building": "warehouse"}, "industry"),
+        ({"building": "yes"}, "mixed"),
+    ],
+)
 def test_map_buildings_take_their_use_from_the_tags(tags, use):
     building = MapBuilding(0, "way/1", shapely.box(0, 0, 10, 10), kind=tags["building"])
     building_attributes(building, tags, ReadReport())

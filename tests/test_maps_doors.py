@@ -63,7 +63,9 @@ def test_without_an_entrance_the_door_faces_the_street_and_never_a_party_wall():
     data, by_id = _map()
     office = by_id["way/101"]
     assert "doors" in office.guessed and len(office.doors) == 1
-    assert office.doors[0] == pytest.approx(_wall_middles(office.outline)[-1]), "the middle of the wall facing the street"
+    assert office.doors[0] == pytest.approx(_wall_middles(office.outline)[-1]), (
+        "the middle of the wall facing the street"
+    )
     mass = next(m for m in building_masses(data) if m.seed == office.index)
     normal = rotation_y(mass.yaw) @ np.array([mass.doors[0][2], 0.0, mass.doors[0][3]])
     assert normal[[0, 2]] == pytest.approx([1.0, 0.0], abs=0.05), "facing east, toward the street"
@@ -76,8 +78,9 @@ def test_a_street_behind_the_neighbour_does_not_put_the_door_on_the_party_wall(t
     _, by_id = _map(path)
     office = by_id["way/101"]
     west, south_or_north, north_or_south, east = _wall_middles(office.outline)
-    assert office.doors[0] in (pytest.approx(south_or_north), pytest.approx(north_or_south)), \
+    assert office.doors[0] in (pytest.approx(south_or_north), pytest.approx(north_or_south)), (
         "on the south or north wall, not against the flats"
+    )
 
 
 def test_a_mapped_shop_gives_shop_fronts_and_info_counts_doors(capsys):
@@ -120,10 +123,25 @@ def test_map_doors_on_gpu_match_the_twin(gl_context, output_dir):
 def test_geojson_entrance_points_become_doors(tmp_path):
     path = tmp_path / "doors.geojson"
     square = [[24.94, 60.17], [24.9402, 60.17], [24.9402, 60.1701], [24.94, 60.1701], [24.94, 60.17]]
-    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
-        {"type": "Feature", "properties": {"building": "yes"}, "geometry": {"type": "Polygon", "coordinates": [square]}},
-        {"type": "Feature", "properties": {"entrance": "main"},
-         "geometry": {"type": "Point", "coordinates": [24.9401, 60.17]}}]}))
+    path.write_text(
+        json.dumps(
+            {
+                "type": "FeatureCollection",
+                "features": [
+                    {
+                        "type": "Feature",
+                        "properties": {"building": "yes"},
+                        "geometry": {"type": "Polygon", "coordinates": [square]},
+                    },
+                    {
+                        "type": "Feature",
+                        "properties": {"entrance": "main"},
+                        "geometry": {"type": "Point", "coordinates": [24.9401, 60.17]},
+                    },
+                ],
+            }
+        )
+    )
     data, _ = _map(path)
     (building,) = data.buildings
     assert building.doors == [data.entrances[0].position] and "doors" in building.tagged

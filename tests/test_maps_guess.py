@@ -11,8 +11,16 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cityshade.maps import (BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapBuilding, MapData, MapTree, building_masses,
-                            guess_missing, load_map)
+from cityshade.maps import (
+    BUILDING_ATTRIBUTES,
+    TREE_ATTRIBUTES,
+    MapBuilding,
+    MapData,
+    MapTree,
+    building_masses,
+    guess_missing,
+    load_map,
+)
 from cityshade.scene import FLAGS
 
 NUMERIC = ("height", "min_height", "levels", "min_level", "roof_height", "roof_levels", "roof_direction", "roof_angle")
@@ -61,8 +69,9 @@ def test_flat_roofed_house_has_two_storeys():
     assert b.levels == 2 and b.roof_height == 0 and b.height == pytest.approx(6.0)
 
 
-@pytest.mark.parametrize("kind, levels, storey", [("apartments", 5, 3.0), ("office", 6, 3.5), ("retail", 2, 4.0),
-                                                  ("commercial", 4, 3.5)])
+@pytest.mark.parametrize(
+    "kind, levels, storey", [("apartments", 5, 3.0), ("office", 6, 3.5), ("retail", 2, 4.0), ("commercial", 4, 3.5)]
+)
 def test_storeys_and_storey_height_per_type(kind, levels, storey):
     b = guessed(building(kind=kind, size=(40.0, 15.0))).buildings[0]
     assert b.levels == levels and b.roof_shape == "flat"
@@ -76,8 +85,11 @@ def test_unknown_kind_falls_back_to_a_generic_building():
 
 @pytest.mark.parametrize("kind", ["yes", "residential"])
 def test_untyped_footprints_by_size(kind):
-    outbuilding, house, block = guessed(building(0, kind, size=(9.0, 5.0)), building(1, kind, size=(14.0, 10.0), at=(400.0, 0)),
-                                        building(2, kind, size=(40.0, 14.0), at=(0, 400.0))).buildings
+    outbuilding, house, block = guessed(
+        building(0, kind, size=(9.0, 5.0)),
+        building(1, kind, size=(14.0, 10.0), at=(400.0, 0)),
+        building(2, kind, size=(40.0, 14.0), at=(0, 400.0)),
+    ).buildings
     assert outbuilding.levels == 1 and outbuilding.roof_shape == "gabled" and not outbuilding.small_utility
     assert house.levels == 1 and house.roof_levels == 1 and house.roof_shape == "gabled"
     assert block.levels >= 3 and block.roof_shape == "flat"
@@ -91,24 +103,32 @@ def test_a_small_part_is_not_a_house():
 
 
 def test_levels_alone_give_the_height_and_height_alone_gives_the_levels():
-    by_levels, by_height = guessed(building(0, "apartments", levels=8.0), building(1, "apartments", height=21.0)).buildings
+    by_levels, by_height = guessed(
+        building(0, "apartments", levels=8.0), building(1, "apartments", height=21.0)
+    ).buildings
     assert by_levels.height == pytest.approx(24.0)
     assert by_height.levels == 7
 
 
 def test_ridge_runs_along_the_long_side():
     """roof:direction is where the main face looks (OpenStreetMap): across the ridge."""
-    east_west, north_south = guessed(building(0, "house", size=(12.0, 7.0)),
-                                     building(1, "house", size=(7.0, 12.0), at=(500.0, 500.0))).buildings
-    assert east_west.roof_direction % 180.0 == pytest.approx(0.0) and north_south.roof_direction % 180.0 == pytest.approx(90.0)
+    east_west, north_south = guessed(
+        building(0, "house", size=(12.0, 7.0)), building(1, "house", size=(7.0, 12.0), at=(500.0, 500.0))
+    ).buildings
+    assert east_west.roof_direction % 180.0 == pytest.approx(
+        0.0
+    ) and north_south.roof_direction % 180.0 == pytest.approx(90.0)
 
 
 # --------------------------------------------------------------------------- flags
 
 
 def test_every_attribute_is_tagged_or_guessed_and_tagged_values_are_kept():
-    data = guessed(building(0, "apartments", levels=6.0, roof_shape="hipped"), building(1, "shed", size=(4.0, 3.0)),
-                   trees=[MapTree("node/1", (5.0, 5.0), genus="Pinus", tagged={"genus"})])
+    data = guessed(
+        building(0, "apartments", levels=6.0, roof_shape="hipped"),
+        building(1, "shed", size=(4.0, 3.0)),
+        trees=[MapTree("node/1", (5.0, 5.0), genus="Pinus", tagged={"genus"})],
+    )
     for b in data.buildings:
         for name in BUILDING_ATTRIBUTES:
             assert (name in b.tagged) != (name in b.guessed), name
@@ -118,7 +138,9 @@ def test_every_attribute_is_tagged_or_guessed_and_tagged_values_are_kept():
     first = data.buildings[0]
     assert first.levels == 6 and first.roof_shape == "hipped" and first.tagged == {"levels", "roof_shape"}
     tree = data.trees[0]
-    assert tree.genus == "Pinus" and tree.leaf_type == "needleleaved" and tree.guessed == set(TREE_ATTRIBUTES) - {"genus"}
+    assert (
+        tree.genus == "Pinus" and tree.leaf_type == "needleleaved" and tree.guessed == set(TREE_ATTRIBUTES) - {"genus"}
+    )
     assert tree.height > 0 and tree.crown_diameter > 0
 
 
@@ -180,9 +202,13 @@ def test_roof_above_the_building_is_cut_to_the_building():
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.dictionaries(st.sampled_from(["height", "min_height", "levels", "min_level", "roof_height", "roof_levels"]),
-                       st.one_of(st.floats(-50, 300), st.just(float("nan")))),
-       st.sampled_from(["yes", "house", "shed", "church", "roof", "apartments"]))
+@given(
+    st.dictionaries(
+        st.sampled_from(["height", "min_height", "levels", "min_level", "roof_height", "roof_levels"]),
+        st.one_of(st.floats(-50, 300), st.just(float("nan"))),
+    ),
+    st.sampled_from(["yes", "house", "shed", "church", "roof", "apartments"]),
+)
 def test_never_a_negative_size(tags, kind):
     b = guessed(building(kind=kind, **tags)).buildings[0]
     assert 0 <= b.min_height < b.height
@@ -194,8 +220,9 @@ def test_never_a_negative_size(tags, kind):
 
 
 def test_small_footprints_are_one_storey_utility_buildings():
-    tiny, tagged_tiny = guessed(building(0, "yes", size=(5.0, 4.0)), building(1, "yes", size=(5.0, 4.0), at=(300.0, 0.0),
-                                                                            levels=2.0)).buildings
+    tiny, tagged_tiny = guessed(
+        building(0, "yes", size=(5.0, 4.0)), building(1, "yes", size=(5.0, 4.0), at=(300.0, 0.0), levels=2.0)
+    ).buildings
     assert tiny.levels == 1 and tiny.small_utility and tiny.height < 5
     assert tagged_tiny.levels == 2 and not tagged_tiny.small_utility
 
@@ -263,8 +290,11 @@ def test_info_counts_tagged_and_guessed_per_attribute(helsinki_pbf, capsys):
     guess_missing(data)
     assert counts["levels"]["tagged"] == sum("levels" in b.tagged for b in data.buildings)
     # Only the contradiction rules move a tagged value to the guesses.
-    moved = sum(n for (what, why), n in data.report.repaired.items()
-                if why.startswith("levels") or "levels read as counted" in why)
+    moved = sum(
+        n
+        for (what, why), n in data.report.repaired.items()
+        if why.startswith("levels") or "levels read as counted" in why
+    )
     assert counts["levels"]["tagged"] == tagged_levels - moved and counts["levels"]["tagged"] > 200
 
 
@@ -279,11 +309,13 @@ def test_a_dome_does_not_spread_to_the_ordinary_buildings_around():
 
 
 def test_guessing_twice_changes_nothing():
-    data = guessed(*_neighbourhood(6.0), building(30, "yes", at=(900.0, 0.0), levels=2.0, height=60.0),
-                   building(31, "yes", at=(0.0, 900.0), height=10.0, min_height=12.0),
-                   building(32, "apartments", size=(40.0, 24.0), at=(900.0, 900.0), height=18.0, levels=6.0,
-                            roof_shape="gabled"),
-                   building(33, "yes", size=(30.0, 20.0), at=(-900.0, 0.0), levels=2.7, min_level=2.5))
+    data = guessed(
+        *_neighbourhood(6.0),
+        building(30, "yes", at=(900.0, 0.0), levels=2.0, height=60.0),
+        building(31, "yes", at=(0.0, 900.0), height=10.0, min_height=12.0),
+        building(32, "apartments", size=(40.0, 24.0), at=(900.0, 900.0), height=18.0, levels=6.0, roof_shape="gabled"),
+        building(33, "yes", size=(30.0, 20.0), at=(-900.0, 0.0), levels=2.7, min_level=2.5),
+    )
     gabled = data.buildings[-2]
     assert gabled.height - gabled.roof_height >= 6 * 2.5 and "roof_height" in gabled.guessed
     before = [[getattr(b, n) for n in NUMERIC + BUILDING_ATTRIBUTES] for b in data.buildings]

@@ -39,8 +39,9 @@ def test_tint_follows_face_and_building():
 
 
 def test_render_tints_the_guessed_building_orange_and_the_tagged_one_blue():
-    tagged = MapBuilding(0, "way/1", shapely.box(-30, -8, -10, 8), levels=6.0, roof_shape="flat",
-                         tagged={"levels", "roof_shape"})
+    tagged = MapBuilding(
+        0, "way/1", shapely.box(-30, -8, -10, 8), levels=6.0, roof_shape="flat", tagged={"levels", "roof_shape"}
+    )
     silent = MapBuilding(1, "way/2", shapely.box(10, -8, 30, 8))
     city = map_city(MapData(Path("two.osm"), (25.0, 60.2), "EPSG:32635", buildings=[tagged, silent]))
     image, _ = render_city(city, camera="aerial", size=(128, 72), frames=0, time="12:00", samples=0, aov="guessed")

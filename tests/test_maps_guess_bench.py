@@ -15,8 +15,14 @@ from cityshade.maps import MapBuilding, MapData
 def _street(levels=(2.0, 4.0, 6.0, 8.0, 4.0, 6.0, 2.0, 8.0, 4.0, 6.0)) -> MapData:
     buildings = []
     for i, value in enumerate(levels):
-        b = MapBuilding(i, f"way/{i}", shapely.box(30.0 * i, 0, 30.0 * i + 20, 15), levels=value, roof_shape="hipped",
-                        tagged={"levels", "roof_shape"})
+        b = MapBuilding(
+            i,
+            f"way/{i}",
+            shapely.box(30.0 * i, 0, 30.0 * i + 20, 15),
+            levels=value,
+            roof_shape="hipped",
+            tagged={"levels", "roof_shape"},
+        )
         buildings.append(b)
     buildings.append(MapBuilding(len(levels), "way/99", shapely.box(0, 100, 20, 115)))
     return MapData(Path("street.osm"), (25.0, 60.0), "EPSG:32635", buildings=buildings)

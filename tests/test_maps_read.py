@@ -27,15 +27,36 @@ def _by_id(data, source_id):
 def test_every_simple_3d_buildings_tag_is_read_and_marked_tagged(tagged):
     (office,) = _by_id(tagged, "way/100")
     assert (office.kind, office.height, office.levels, office.roof_shape, office.roof_height) == (
-        "office", 21.5, 6.0, "gabled", 3.0)
+        "office",
+        21.5,
+        6.0,
+        "gabled",
+        3.0,
+    )
     assert (office.roof_direction, office.roof_orientation, office.roof_angle, office.roof_levels) == (
-        45.0, "across", 30.0, 1.0)
+        45.0,
+        "across",
+        30.0,
+        1.0,
+    )
     assert office.building_colour == pytest.approx((211 / 255,) * 3)
     assert office.roof_colour == pytest.approx((0xA5 / 255, 0x2A / 255, 0x2A / 255))
     assert (office.building_material, office.roof_material, office.use) == ("brick", "metal", "office")
-    assert office.tagged == {"height", "levels", "roof_shape", "roof_height", "roof_direction", "roof_orientation",
-                             "roof_angle", "roof_levels", "building_colour", "roof_colour", "building_material",
-                             "roof_material", "use"}
+    assert office.tagged == {
+        "height",
+        "levels",
+        "roof_shape",
+        "roof_height",
+        "roof_direction",
+        "roof_orientation",
+        "roof_angle",
+        "roof_levels",
+        "building_colour",
+        "roof_colour",
+        "building_material",
+        "roof_material",
+        "use",
+    }
     assert not tagged.report.fallbacks and not tagged.report.skipped
 
 
@@ -75,15 +96,27 @@ def test_projection_is_utm_about_the_centre_with_true_metres(tagged):
 def test_roads_railways_trees_lamps_and_areas(tagged):
     roads = {r.source_id: r for r in tagged.roads}
     primary, footway, residential = roads["way/300"], roads["way/301"], roads["way/302"]
-    assert (primary.width, primary.lanes, primary.lit, primary.oneway, primary.bridge, primary.layer,
-            primary.sidewalk) == (12.0, 4, True, True, True, 1, "both")  # 4 lanes x 3 m
+    assert (
+        primary.width,
+        primary.lanes,
+        primary.lit,
+        primary.oneway,
+        primary.bridge,
+        primary.layer,
+        primary.sidewalk,
+    ) == (12.0, 4, True, True, True, 1, "both")  # 4 lanes x 3 m
     assert footway.width == 3.5 and residential.width == 6.5  # tagged width; class default
     assert primary.line.length == pytest.approx(111.0, rel=0.01)
     (tram,) = tagged.railways
     assert tram.kind == "tram" and tram.gauge == 1.0
     tree = next(t for t in tagged.trees if t.source_id == "node/51")
     assert (tree.height, tree.crown_diameter, tree.leaf_type, tree.genus, tree.species) == (
-        12.0, 6.0, "broadleaved", "Tilia", "Tilia cordata")
+        12.0,
+        6.0,
+        "broadleaved",
+        "Tilia",
+        "Tilia cordata",
+    )
     row = [t for t in tagged.trees if t.source_id.startswith("way/304#")]
     assert len(row) == 8 and all(t.leaf_type == "needleleaved" for t in row)  # 55.5 m every 8 m
     (lamp,) = tagged.lamps
@@ -91,8 +124,19 @@ def test_roads_railways_trees_lamps_and_areas(tagged):
     assert sorted(a.kind for a in tagged.areas) == ["park", "water"]
 
 
-@pytest.mark.parametrize("text, metres", [("12", 12.0), ("12.5 m", 12.5), ("12,5", 12.5), ("40 ft", 12.192),
-                                          ("12'6\"", 3.81), ("tall", None), ("nan", None), ("1e308", None)])
+@pytest.mark.parametrize(
+    "text, metres",
+    [
+        ("12", 12.0),
+        ("12.5 m", 12.5),
+        ("12,5", 12.5),
+        ("40 ft", 12.192),
+        ("12'6\"", 3.81),
+        ("tall", None),
+        ("nan", None),
+        ("1e308", None),
+    ],
+)
 def test_lengths(text, metres):
     assert length(text) == (pytest.approx(metres) if metres is not None else None)
 
@@ -115,8 +159,10 @@ def test_geojson_polygons_holes_multipolygons_points_and_skipped_types(tmp_path)
     outer, hole = _square(24.0, 60.0, 0.0006), _square(24.0002, 60.0002)
     features = [
         _feature({"type": "Polygon", "coordinates": [outer, hole]}, height=12),
-        _feature({"type": "MultiPolygon", "coordinates": [[_square(24.001, 60.0)], [_square(24.002, 60.0)]]},
-                 **{"building:levels": "3"}),
+        _feature(
+            {"type": "MultiPolygon", "coordinates": [[_square(24.001, 60.0)], [_square(24.002, 60.0)]]},
+            **{"building:levels": "3"},
+        ),
         _feature({"type": "Polygon", "coordinates": [_square(24.003, 60.0)]}, natural="water"),
         _feature({"type": "Point", "coordinates": [24.0, 60.001]}, natural="tree", genus="Acer"),
         _feature({"type": "Point", "coordinates": [24.001, 60.001]}, highway="street_lamp"),
@@ -143,19 +189,37 @@ def test_geojson_polygons_holes_multipolygons_points_and_skipped_types(tmp_path)
 def test_geojson_in_metres_keeps_its_units(tmp_path):
     square = [[1000.0, 2000.0], [1030.0, 2000.0], [1030.0, 2020.0], [1000.0, 2020.0], [1000.0, 2000.0]]
     path = tmp_path / "metres.geojson"
-    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
-        _feature({"type": "Polygon", "coordinates": [square]}, height=12)]}))
+    path.write_text(
+        json.dumps(
+            {
+                "type": "FeatureCollection",
+                "features": [_feature({"type": "Polygon", "coordinates": [square]}, height=12)],
+            }
+        )
+    )
     data = load_map(path)
     assert data.crs == "local" and data.buildings[0].footprint_area == pytest.approx(600.0)
 
 
 def test_geojson_legacy_crs_member_is_honoured(tmp_path):
     # ETRS-TM35FIN (EPSG:3067) metres near Helsinki
-    square = [[385000.0, 6672000.0], [385020.0, 6672000.0], [385020.0, 6672010.0], [385000.0, 6672010.0],
-              [385000.0, 6672000.0]]
+    square = [
+        [385000.0, 6672000.0],
+        [385020.0, 6672000.0],
+        [385020.0, 6672010.0],
+        [385000.0, 6672010.0],
+        [385000.0, 6672000.0],
+    ]
     path = tmp_path / "tm35.geojson"
-    path.write_text(json.dumps({"type": "FeatureCollection", "crs": {"type": "name", "properties": {
-        "name": "urn:ogc:def:crs:EPSG::3067"}}, "features": [_feature({"type": "Polygon", "coordinates": [square]})]}))
+    path.write_text(
+        json.dumps(
+            {
+                "type": "FeatureCollection",
+                "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::3067"}},
+                "features": [_feature({"type": "Polygon", "coordinates": [square]})],
+            }
+        )
+    )
     data = load_map(path)
     assert data.crs == "EPSG:32635" and data.origin[1] == pytest.approx(60.17, abs=0.01)
     assert data.buildings[0].footprint_area == pytest.approx(200.0, rel=0.002)
@@ -163,25 +227,73 @@ def test_geojson_legacy_crs_member_is_honoured(tmp_path):
 
 def _cityjson(tmp_path, lods=("2",), **extra):
     # a 10 x 8 m house (ground z = 2) with walls to z = 8 and a gabled roof to z = 11, plus a 2 m high part
-    v = [[0, 0, 2], [10, 0, 2], [10, 8, 2], [0, 8, 2], [0, 0, 8], [10, 0, 8], [10, 8, 8], [0, 8, 8],
-         [0, 4, 11], [10, 4, 11], [10, 8, 2], [14, 8, 2], [14, 12, 2], [10, 12, 2], [10, 8, 4], [14, 8, 4],
-         [14, 12, 4], [10, 12, 4]]
-    house = [[[[0, 3, 2, 1]], [[0, 1, 5, 4]], [[1, 2, 6, 9, 5]], [[2, 3, 7, 6]], [[3, 0, 4, 8, 7]],
-              [[4, 5, 9, 8]], [[6, 7, 8, 9]]]]
-    shed = [[[[10, 13, 12, 11]], [[10, 11, 15, 14]], [[11, 12, 16, 15]], [[12, 13, 17, 16]], [[13, 10, 14, 17]],
-             [[14, 15, 16, 17]]]]
-    semantics = {"surfaces": [{"type": "GroundSurface"}, {"type": "WallSurface"}, {"type": "RoofSurface"}],
-                 "values": [[0, 1, 1, 1, 1, 2, 2]]}
+    v = [
+        [0, 0, 2],
+        [10, 0, 2],
+        [10, 8, 2],
+        [0, 8, 2],
+        [0, 0, 8],
+        [10, 0, 8],
+        [10, 8, 8],
+        [0, 8, 8],
+        [0, 4, 11],
+        [10, 4, 11],
+        [10, 8, 2],
+        [14, 8, 2],
+        [14, 12, 2],
+        [10, 12, 2],
+        [10, 8, 4],
+        [14, 8, 4],
+        [14, 12, 4],
+        [10, 12, 4],
+    ]
+    house = [
+        [
+            [[0, 3, 2, 1]],
+            [[0, 1, 5, 4]],
+            [[1, 2, 6, 9, 5]],
+            [[2, 3, 7, 6]],
+            [[3, 0, 4, 8, 7]],
+            [[4, 5, 9, 8]],
+            [[6, 7, 8, 9]],
+        ]
+    ]
+    shed = [
+        [
+            [[10, 13, 12, 11]],
+            [[10, 11, 15, 14]],
+            [[11, 12, 16, 15]],
+            [[12, 13, 17, 16]],
+            [[13, 10, 14, 17]],
+            [[14, 15, 16, 17]],
+        ]
+    ]
+    semantics = {
+        "surfaces": [{"type": "GroundSurface"}, {"type": "WallSurface"}, {"type": "RoofSurface"}],
+        "values": [[0, 1, 1, 1, 1, 2, 2]],
+    }
     objects = {
-        "house": {"type": "Building", "attributes": {"roof:colour": "red"}, "children": ["shed"],
-                  "geometry": [{"type": "Solid", "lod": lod, "boundaries": house, "semantics": semantics}
-                               for lod in lods]},
-        "shed": {"type": "BuildingPart", "parents": ["house"],
-                 "geometry": [{"type": "MultiSurface", "lod": "1", "boundaries": shed[0]}]},
+        "house": {
+            "type": "Building",
+            "attributes": {"roof:colour": "red"},
+            "children": ["shed"],
+            "geometry": [{"type": "Solid", "lod": lod, "boundaries": house, "semantics": semantics} for lod in lods],
+        },
+        "shed": {
+            "type": "BuildingPart",
+            "parents": ["house"],
+            "geometry": [{"type": "MultiSurface", "lod": "1", "boundaries": shed[0]}],
+        },
         "tree": {"type": "SolitaryVegetationObject"},
     }
-    document = {"type": "CityJSON", "version": "2.0", "transform": {"scale": [1, 1, 1], "translate": [0, 0, 0]},
-                "CityObjects": objects, "vertices": v, **extra}
+    document = {
+        "type": "CityJSON",
+        "version": "2.0",
+        "transform": {"scale": [1, 1, 1], "translate": [0, 0, 0]},
+        "CityObjects": objects,
+        "vertices": v,
+        **extra,
+    }
     path = tmp_path / "house.city.json"
     path.write_text(json.dumps(document))
     return path
@@ -202,8 +314,11 @@ def test_cityjson_heights_from_geometry_and_semantic_surfaces(tmp_path):
 
 
 def test_cityjson_reference_system_is_projected(tmp_path):
-    path = _cityjson(tmp_path, transform={"scale": [0.001, 0.001, 0.001], "translate": [85000.0, 446000.0, 0.0]},
-                     metadata={"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415"})
+    path = _cityjson(
+        tmp_path,
+        transform={"scale": [0.001, 0.001, 0.001], "translate": [85000.0, 446000.0, 0.0]},
+        metadata={"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415"},
+    )
     document = json.loads(path.read_text())
     document["vertices"] = (np.asarray(document["vertices"]) * 1000).astype(int).tolist()
     path.write_text(json.dumps(document))
@@ -224,8 +339,12 @@ def test_helsinki_extract(helsinki_pbf):
     sea = sum(a.polygon.area for a in data.areas if a.source_id == "coastline")
     assert sea > 50_000.0  # the harbour and Kaisaniemenlahti
     buildings = shapely.union_all([b.outline for b in outlines])
-    assert shapely.intersection(buildings, shapely.union_all(
-        [a.polygon for a in data.areas if a.source_id == "coastline"])).area < 0.01 * buildings.area
+    assert (
+        shapely.intersection(
+            buildings, shapely.union_all([a.polygon for a in data.areas if a.source_id == "coastline"])
+        ).area
+        < 0.01 * buildings.area
+    )
 
 
 def test_info_prints_counts_and_reasons(capsys):
@@ -242,17 +361,26 @@ def test_info_json_counts_tagged_and_guessed_per_attribute(capsys, tmp_path):
     from cityshade.cli import main
 
     path = tmp_path / "two.geojson"
-    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
-        _feature({"type": "Polygon", "coordinates": [_square(24.0, 60.0)]}, height="tall"),
-        _feature({"type": "Polygon", "coordinates": [_square(24.001, 60.0)]}, height=9, natural="water"),
-        _feature({"type": "Polygon", "coordinates": [_square(24.002, 60.0)]}, **{"building:levels": 4})]}))
+    path.write_text(
+        json.dumps(
+            {
+                "type": "FeatureCollection",
+                "features": [
+                    _feature({"type": "Polygon", "coordinates": [_square(24.0, 60.0)]}, height="tall"),
+                    _feature({"type": "Polygon", "coordinates": [_square(24.001, 60.0)]}, height=9, natural="water"),
+                    _feature({"type": "Polygon", "coordinates": [_square(24.002, 60.0)]}, **{"building:levels": 4}),
+                ],
+            }
+        )
+    )
     assert main(["info", str(path), "--json"]) == 0
     info = json.loads(capsys.readouterr().out)
     assert info["buildings"] == 2 and info["water_m2"] == pytest.approx(11.13 * 22.33, rel=0.01)
     assert info["building_attributes"]["levels"]["tagged"] == 1
     assert info["building_attributes"]["height"] == {"tagged": 0, "guessed": 2}
-    assert info["fallbacks"] == [{"what": "height", "why": "not a number", "count": 1,
-                                  "example": "feature/0 height=tall"}]
+    assert info["fallbacks"] == [
+        {"what": "height", "why": "not a number", "count": 1, "example": "feature/0 height=tall"}
+    ]
 
 
 def test_info_on_a_bad_file_is_one_line_and_exit_2(capsys, tmp_path):
@@ -270,20 +398,31 @@ def test_tiled_extract_repeats_every_building_on_a_grid(helsinki_pbf, tmp_path):
     assert info["tiles"] == 2 and info["buildings"] >= 1000
     tiled, original = load_map(tmp_path / "tiled.osm.pbf"), load_map(helsinki_pbf)
     # every building way is copied, also those the original draws through their relation instead
-    ways = sum(b.source_id.startswith("way/") for b in original.buildings) + original.report.skipped[
-        ("building", "outer ring of a building relation, which is drawn instead")]
+    ways = (
+        sum(b.source_id.startswith("way/") for b in original.buildings)
+        + original.report.skipped[("building", "outer ring of a building relation, which is drawn instead")]
+    )
     assert len(tiled.buildings) == 2 * ways
-    first, second = tiled.buildings[: ways], tiled.buildings[ways:]
+    first, second = tiled.buildings[:ways], tiled.buildings[ways:]
     assert [b.footprint_area for b in first] == pytest.approx([b.footprint_area for b in second], rel=0.01)
     assert min(b.outline.bounds[0] for b in second) > max(b.outline.bounds[2] for b in first)  # side by side
 
 
-@pytest.mark.parametrize("tags, kind", [
-    ({"natural": "water"}, "water"), ({"waterway": "riverbank"}, "water"), ({"leisure": "park"}, "park"),
-    ({"landuse": "grass"}, "grass"), ({"landuse": "forest"}, "forest"), ({"natural": "wood"}, "forest"),
-    ({"landuse": "meadow"}, "meadow"), ({"landuse": "farmland"}, "farmland"), ({"natural": "beach"}, "sand"),
-    ({"highway": "pedestrian", "area": "yes"}, "pavement"),
-])
+@pytest.mark.parametrize(
+    "tags, kind",
+    [
+        ({"natural": "water"}, "water"),
+        ({"waterway": "riverbank"}, "water"),
+        ({"leisure": "park"}, "park"),
+        ({"landuse": "grass"}, "grass"),
+        ({"landuse": "forest"}, "forest"),
+        ({"natural": "wood"}, "forest"),
+        ({"landuse": "meadow"}, "meadow"),
+        ({"landuse": "farmland"}, "farmland"),
+        ({"natural": "beach"}, "sand"),
+        ({"highway": "pedestrian", "area": "yes"}, "pavement"),
+    ],
+)
 def test_land_use_kinds(tmp_path, tags, kind):
     path = tmp_path / "area.geojson"
     path.write_text(json.dumps(_feature({"type": "Polygon", "coordinates": [_square(24.0, 60.0)]}, **tags)))
@@ -294,9 +433,11 @@ def test_land_use_kinds(tmp_path, tags, kind):
 def test_coastline_makes_the_sea_on_its_right(tmp_path):
     # the coastline runs west to east: land (with the buildings) to the north, sea to the south
     coast = {"type": "LineString", "coordinates": [[24.0, 60.001], [24.004, 60.001]]}
-    features = [_feature(coast, natural="coastline"),
-                _feature({"type": "Polygon", "coordinates": [_square(24.0, 60.002)]}),
-                _feature({"type": "Polygon", "coordinates": [_square(24.004, 60.0)]}, leisure="park")]
+    features = [
+        _feature(coast, natural="coastline"),
+        _feature({"type": "Polygon", "coordinates": [_square(24.0, 60.002)]}),
+        _feature({"type": "Polygon", "coordinates": [_square(24.004, 60.0)]}, leisure="park"),
+    ]
     path = tmp_path / "coast.geojson"
     path.write_text(json.dumps({"type": "FeatureCollection", "features": features}))
     data = load_map(path)
@@ -308,12 +449,17 @@ def test_coastline_makes_the_sea_on_its_right(tmp_path):
     assert not sea.polygon.intersects(data.buildings[0].outline)
 
 
-@pytest.mark.parametrize("tags, use", [
-    ({"building": "yes", "shop": "bakery"}, "retail"), ({"building": "yes", "office": "company"}, "office"),
-    ({"building": "yes", "amenity": "school"}, "school"), ({"building": "church", "amenity": "place_of_worship"},
-                                                            "church"),
-    ({"building:part": "yes"}, None), ({"building": "yes"}, None),
-])
+@pytest.mark.parametrize(
+    "tags, use",
+    [
+        ({"building": "yes", "shop": "bakery"}, "retail"),
+        ({"building": "yes", "office": "company"}, "office"),
+        ({"building": "yes", "amenity": "school"}, "school"),
+        ({"building": "church", "amenity": "place_of_worship"}, "church"),
+        ({"building:part": "yes"}, None),
+        ({"building": "yes"}, None),
+    ],
+)
 def test_building_use(tags, use):
     from cityshade.maps._tags import use_of
 
@@ -321,9 +467,16 @@ def test_building_use(tags, use):
 
 
 def test_tunnel_roads_and_unknown_lines(tmp_path):
-    features = [_feature({"type": "LineString", "coordinates": [[24.0, 60.0], [24.001, 60.0]]},
-                         highway="secondary", tunnel="yes", layer="-1", width="wide"),
-                _feature({"type": "LineString", "coordinates": [[24.0, 60.001], [24.001, 60.001]]}, barrier="fence")]
+    features = [
+        _feature(
+            {"type": "LineString", "coordinates": [[24.0, 60.0], [24.001, 60.0]]},
+            highway="secondary",
+            tunnel="yes",
+            layer="-1",
+            width="wide",
+        ),
+        _feature({"type": "LineString", "coordinates": [[24.0, 60.001], [24.001, 60.001]]}, barrier="fence"),
+    ]
     path = tmp_path / "lines.geojson"
     path.write_text(json.dumps({"type": "FeatureCollection", "features": features}))
     data = load_map(path)
@@ -345,10 +498,15 @@ def test_measure_load_runs_the_reader_in_a_fresh_process(tmp_path):
 
 
 def test_a_building_way_that_is_also_a_relations_outer_ring_is_drawn_once(tmp_path):
-    text = (DATA / "tagged.osm").read_text().replace(
-        '<way id="110"><nd ref="11"/><nd ref="12"/><nd ref="13"/><nd ref="14"/><nd ref="11"/></way>',
-        '<way id="110"><nd ref="11"/><nd ref="12"/><nd ref="13"/><nd ref="14"/><nd ref="11"/>'
-        '<tag k="building" v="yes"/></way>')
+    text = (
+        (DATA / "tagged.osm")
+        .read_text()
+        .replace(
+            '<way id="110"><nd ref="11"/><nd ref="12"/><nd ref="13"/><nd ref="14"/><nd ref="11"/></way>',
+            '<way id="110"><nd ref="11"/><nd ref="12"/><nd ref="13"/><nd ref="14"/><nd ref="11"/>'
+            '<tag k="building" v="yes"/></way>',
+        )
+    )
     path = tmp_path / "twice.osm"
     path.write_text(text)
     data = load_map(path)

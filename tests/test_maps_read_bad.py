@@ -26,8 +26,12 @@ def _osm(tmp_path, nodes, ways="", name="map.osm", prolog='<?xml version="1.0" e
 
 def _way(way_id, refs, **tags):
     tags = tags or {"building": "yes"}
-    return (f'<way id="{way_id}">' + "".join(f'<nd ref="{r}"/>' for r in refs)
-            + "".join(f'<tag k="{k.replace("__", ":")}" v="{v}"/>' for k, v in tags.items()) + "</way>")
+    return (
+        f'<way id="{way_id}">'
+        + "".join(f'<nd ref="{r}"/>' for r in refs)
+        + "".join(f'<tag k="{k.replace("__", ":")}" v="{v}"/>' for k, v in tags.items())
+        + "</way>"
+    )
 
 
 def _square_nodes(first=1, corners=SQUARE):
@@ -44,8 +48,9 @@ def _refused(path, *needles):
     return message
 
 
-@pytest.mark.parametrize("lat, lon", [("nan", "24.0004"), ("inf", "24.0004"), ("1e308", "24.0004"),
-                                      ("abc", "24.0004"), ("60.0", "-inf")])
+@pytest.mark.parametrize(
+    "lat, lon", [("nan", "24.0004"), ("inf", "24.0004"), ("1e308", "24.0004"), ("abc", "24.0004"), ("60.0", "-inf")]
+)
 def test_unreadable_coordinates_name_the_line_and_node(tmp_path, lat, lon):
     nodes = _square_nodes()
     nodes[1] = (2, lat, lon)
@@ -62,9 +67,16 @@ def test_latitude_out_of_range_skips_the_building_and_says_why(tmp_path):
 
 def test_node_without_latitude_skips_its_building(tmp_path):
     path = tmp_path / "nolat.osm"
-    path.write_text('<?xml version="1.0"?>\n<osm version="0.6">\n' + "".join(
-        f'<node id="{i}" lon="{lon}"' + ("" if i == 2 else f' lat="{lat}"') + "/>"
-        for i, lat, lon in _square_nodes()) + TREE + _way(10, [1, 2, 3, 4, 1]) + "</osm>")
+    path.write_text(
+        '<?xml version="1.0"?>\n<osm version="0.6">\n'
+        + "".join(
+            f'<node id="{i}" lon="{lon}"' + ("" if i == 2 else f' lat="{lat}"') + "/>"
+            for i, lat, lon in _square_nodes()
+        )
+        + TREE
+        + _way(10, [1, 2, 3, 4, 1])
+        + "</osm>"
+    )
     data = load_map(path)
     assert not data.buildings and len(data.trees) == 1
     assert data.report.examples[("building", "refers to a missing node or a bad location")] == "way/10"
@@ -77,8 +89,9 @@ def test_a_file_that_is_not_osm_is_refused(tmp_path):
 
 
 def test_missing_node_and_unclosed_way_are_counted_and_the_rest_loads(tmp_path):
-    nodes = _square_nodes() + _square_nodes(11, [(60.001, 24.0), (60.001, 24.0004), (60.0012, 24.0004),
-                                                 (60.0012, 24.0)])
+    nodes = _square_nodes() + _square_nodes(
+        11, [(60.001, 24.0), (60.001, 24.0004), (60.0012, 24.0004), (60.0012, 24.0)]
+    )
     ways = _way(10, [1, 2, 3, 77, 1]) + _way(20, [11, 12, 13, 14]) + _way(30, [11, 12, 13, 14, 11])
     data = load_map(_osm(tmp_path, nodes, ways))
     assert [b.source_id for b in data.buildings] == ["way/30"]
@@ -96,10 +109,13 @@ def test_duplicate_node_ids_use_the_last_and_are_counted(tmp_path):
     assert len(data.buildings) == 1
 
 
-@pytest.mark.parametrize("corners, parts", [
-    ([(60.0, 24.0), (60.0002, 24.0004), (60.0, 24.0004), (60.0002, 24.0)], 2),  # a bow tie
-    ([(60.0, 24.0), (60.0, 24.0004), (60.0002, 24.0004), (60.0, 24.0002), (60.0002, 24.0)], 2),  # touches itself
-])
+@pytest.mark.parametrize(
+    "corners, parts",
+    [
+        ([(60.0, 24.0), (60.0002, 24.0004), (60.0, 24.0004), (60.0002, 24.0)], 2),  # a bow tie
+        ([(60.0, 24.0), (60.0, 24.0004), (60.0002, 24.0004), (60.0, 24.0002), (60.0002, 24.0)], 2),  # touches itself
+    ],
+)
 def test_self_intersecting_outlines_are_made_valid_keeping_each_polygon(tmp_path, corners, parts):
     nodes = _square_nodes(1, corners)
     refs = list(range(1, len(corners) + 1)) + [1]
@@ -117,14 +133,21 @@ def test_zero_area_outline_is_skipped_and_nothing_usable_exits_2(tmp_path):
     assert data.report.skipped[("building", "zero area (under 0.5 m²)")] == 1 and not data.buildings
 
 
-@pytest.mark.parametrize("key, value, why", [
-    ("height", "tall", "not a number"), ("height", "-5", "out of range 0..1000"),
-    ("height", "0", "out of range 0..1000"),
-    ("height", "1e308", "not a number"), ("height", "5000", "out of range 0..1000"),
-    ("building__levels", "10000", "out of range 0..200"), ("roof__angle", "120", "out of range 0..90"),
-    ("roof__shape", "banana", "unknown value"), ("roof__colour", "bricky", "unknown value"),
-    ("roof__direction", "up", "unknown value"),
-])
+@pytest.mark.parametrize(
+    "key, value, why",
+    [
+        ("height", "tall", "not a number"),
+        ("height", "-5", "out of range 0..1000"),
+        ("height", "0", "out of range 0..1000"),
+        ("height", "1e308", "not a number"),
+        ("height", "5000", "out of range 0..1000"),
+        ("building__levels", "10000", "out of range 0..200"),
+        ("roof__angle", "120", "out of range 0..90"),
+        ("roof__shape", "banana", "unknown value"),
+        ("roof__colour", "bricky", "unknown value"),
+        ("roof__direction", "up", "unknown value"),
+    ],
+)
 def test_unreadable_and_absurd_tag_values_fall_back_and_are_counted(tmp_path, key, value, why):
     data = load_map(_osm(tmp_path, _square_nodes(), _way(10, [1, 2, 3, 4, 1], building="yes", **{key: value})))
     (building,) = data.buildings
@@ -134,15 +157,20 @@ def test_unreadable_and_absurd_tag_values_fall_back_and_are_counted(tmp_path, ke
     assert building.tagged == set()
 
 
-@pytest.mark.parametrize("doctype", [
-    '<!DOCTYPE osm [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;">'
-    '<!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">]>\n',
-    '<!DOCTYPE osm [<!ENTITY x SYSTEM "file:///etc/hostname">]>\n',
-])
+@pytest.mark.parametrize(
+    "doctype",
+    [
+        '<!DOCTYPE osm [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;">'
+        '<!ENTITY c "&b;&b;&b;&b;&b;&b;&b;&b;&b;&b;">]>\n',
+        '<!DOCTYPE osm [<!ENTITY x SYSTEM "file:///etc/hostname">]>\n',
+    ],
+)
 def test_entity_bombs_and_external_entities_are_refused_unexpanded(tmp_path, doctype):
     path = tmp_path / "entities.osm"
-    path.write_text(f'<?xml version="1.0"?>\n{doctype}<osm version="0.6"><node id="1" lat="60" lon="24">'
-                    '<tag k="natural" v="tree"/><tag k="genus" v="&x;&c;"/></node></osm>')
+    path.write_text(
+        f'<?xml version="1.0"?>\n{doctype}<osm version="0.6"><node id="1" lat="60" lon="24">'
+        '<tag k="natural" v="tree"/><tag k="genus" v="&x;&c;"/></node></osm>'
+    )
     message = _refused(path, "declares a document type or entities")
     hostname = Path("/etc/hostname")
     if hostname.is_file() and hostname.read_text().strip():
@@ -174,16 +202,21 @@ def test_a_huge_outline_loads_simplified(tmp_path):
     angles = np.linspace(0.0, 2.0 * np.pi, 20_000, endpoint=False)
     ring = np.stack([24.0 + 0.001 * np.cos(angles), 60.0 + 0.0005 * np.sin(angles)], axis=1).tolist()
     path = tmp_path / "round.geojson"
-    path.write_text(json.dumps({"type": "Feature", "properties": {}, "geometry": {
-        "type": "Polygon", "coordinates": [ring + ring[:1]]}}))
+    path.write_text(
+        json.dumps(
+            {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [ring + ring[:1]]}}
+        )
+    )
     (building,) = load_map(path).buildings
     assert len(building.outline.exterior.coords) < 5_000
     assert building.footprint_area == pytest.approx(np.pi * 55.7 * 55.6, rel=0.02)
 
 
 def _geojson(tmp_path, *geometries_or_features, name="bad.geojson") -> Path:
-    features = [g if g is not None and g.get("type") == "Feature"
-                else {"type": "Feature", "properties": {}, "geometry": g} for g in geometries_or_features]
+    features = [
+        g if g is not None and g.get("type") == "Feature" else {"type": "Feature", "properties": {}, "geometry": g}
+        for g in geometries_or_features
+    ]
     path = tmp_path / name
     path.write_text(json.dumps({"type": "FeatureCollection", "features": features}, allow_nan=True))
     return path
@@ -192,22 +225,37 @@ def _geojson(tmp_path, *geometries_or_features, name="bad.geojson") -> Path:
 GOOD = {"type": "Polygon", "coordinates": [[[24.0, 60.0], [24.0004, 60.0], [24.0004, 60.0002], [24.0, 60.0]]]}
 
 
-@pytest.mark.parametrize("geometry, why", [
-    ({"type": "Polygon", "coordinates": []}, "Polygon coordinates are not rings"),
-    ({"type": "Polygon", "coordinates": None}, "Polygon coordinates are not rings"),
-    ({"type": "Polygon", "coordinates": [24.0, 60.0, 24.1, 60.1]}, "Polygon coordinates are not rings"),
-    ({"type": "Polygon", "coordinates": [[24.0, 60.0, 24.1]]}, "Polygon coordinates are not rings"),
-    ({"type": "Polygon", "coordinates": [[["a", "b"], [1, 2], [3, 4]]]}, "Polygon coordinates are not rings"),
-    ({"type": "MultiPolygon", "coordinates": [[]]}, "MultiPolygon coordinates are not rings"),
-    ({"type": "Polygon", "coordinates": [[[24.0, 60.0], [float("nan"), 60.0], [24.0004, 60.0002], [24.0, 60.0]]]},
-     "longitude/latitude not finite or out of range"),
-    ({"type": "Polygon", "coordinates": [[[24.0, 60.0], [float("inf"), 60.0], [24.0004, 60.0002], [24.0, 60.0]]]},
-     "longitude/latitude not finite or out of range"),
-    ({"type": "Polygon", "coordinates": [[[24.0, 60.0], [1e308, 60.0], [24.0004, 60.0002], [24.0, 60.0]]]},
-     "longitude/latitude not finite or out of range"),
-    ({"type": "GeometryCollection", "geometries": [GOOD]}, "geometry type 'GeometryCollection' is not read"),
-    (None, "no geometry"),
-])
+@pytest.mark.parametrize(
+    "geometry, why",
+    [
+        ({"type": "Polygon", "coordinates": []}, "Polygon coordinates are not rings"),
+        ({"type": "Polygon", "coordinates": None}, "Polygon coordinates are not rings"),
+        ({"type": "Polygon", "coordinates": [24.0, 60.0, 24.1, 60.1]}, "Polygon coordinates are not rings"),
+        ({"type": "Polygon", "coordinates": [[24.0, 60.0, 24.1]]}, "Polygon coordinates are not rings"),
+        ({"type": "Polygon", "coordinates": [[["a", "b"], [1, 2], [3, 4]]]}, "Polygon coordinates are not rings"),
+        ({"type": "MultiPolygon", "coordinates": [[]]}, "MultiPolygon coordinates are not rings"),
+        (
+            {
+                "type": "Polygon",
+                "coordinates": [[[24.0, 60.0], [float("nan"), 60.0], [24.0004, 60.0002], [24.0, 60.0]]],
+            },
+            "longitude/latitude not finite or out of range",
+        ),
+        (
+            {
+                "type": "Polygon",
+                "coordinates": [[[24.0, 60.0], [float("inf"), 60.0], [24.0004, 60.0002], [24.0, 60.0]]],
+            },
+            "longitude/latitude not finite or out of range",
+        ),
+        (
+            {"type": "Polygon", "coordinates": [[[24.0, 60.0], [1e308, 60.0], [24.0004, 60.0002], [24.0, 60.0]]]},
+            "longitude/latitude not finite or out of range",
+        ),
+        ({"type": "GeometryCollection", "geometries": [GOOD]}, "geometry type 'GeometryCollection' is not read"),
+        (None, "no geometry"),
+    ],
+)
 def test_geojson_geometry_that_cannot_be_read_is_skipped_and_counted(tmp_path, geometry, why):
     data = load_map(_geojson(tmp_path, GOOD, geometry))
     assert len(data.buildings) == 1
@@ -219,8 +267,11 @@ def test_geojson_geometry_that_cannot_be_read_is_skipped_and_counted(tmp_path, g
 def test_geojson_self_touching_and_unclosed_rings_are_repaired(tmp_path):
     touching = [[24.0, 60.0], [24.0004, 60.0], [24.0004, 60.0002], [24.0002, 60.0], [24.0, 60.0002], [24.0, 60.0]]
     unclosed = [[24.001, 60.0], [24.0014, 60.0], [24.0014, 60.0002], [24.001, 60.0002]]
-    data = load_map(_geojson(tmp_path, {"type": "Polygon", "coordinates": [touching]},
-                             {"type": "Polygon", "coordinates": [unclosed]}))
+    data = load_map(
+        _geojson(
+            tmp_path, {"type": "Polygon", "coordinates": [touching]}, {"type": "Polygon", "coordinates": [unclosed]}
+        )
+    )
     assert len(data.buildings) == 3 and all(b.outline.is_valid for b in data.buildings)
     ((what, why),) = [key for key in data.report.repaired if key[0] == "building"]
     assert why.startswith("invalid outline") and data.report.examples[(what, why)] == "feature/0"
@@ -242,22 +293,32 @@ def test_geojson_with_nothing_usable_exits_2_with_the_reason(tmp_path):
 def test_geojson_thousand_digit_integers_drop_their_feature(tmp_path):
     path = tmp_path / "digits.geojson"
     big = "9" * 5000
-    path.write_text('{"type": "FeatureCollection", "features": [' + json.dumps({"type": "Feature", "properties": {},
-                    "geometry": GOOD}) + ', {"type": "Feature", "properties": {"height": ' + big + '}, "geometry": '
-                    '{"type": "Polygon", "coordinates": [[[24.001, 60], [' + big + ', 60], [24.0014, 60.0002], '
-                    '[24.001, 60]]]}}]}')
+    path.write_text(
+        '{"type": "FeatureCollection", "features": ['
+        + json.dumps({"type": "Feature", "properties": {}, "geometry": GOOD})
+        + ', {"type": "Feature", "properties": {"height": '
+        + big
+        + '}, "geometry": '
+        '{"type": "Polygon", "coordinates": [[[24.001, 60], [' + big + ", 60], [24.0014, 60.0002], "
+        "[24.001, 60]]]}}]}"
+    )
     data = load_map(path)
     assert len(data.buildings) == 1
     assert data.report.examples[("building", "longitude/latitude not finite or out of range")] == "feature/1"
 
 
 def test_geojson_properties_that_are_lists_or_strings_are_ignored_and_counted(tmp_path):
-    path = _geojson(tmp_path, {"type": "Feature", "properties": "tall", "geometry": GOOD},
-                    {"type": "Feature", "properties": {"height": [1, 2], "building:levels": 3}, "geometry": GOOD})
+    path = _geojson(
+        tmp_path,
+        {"type": "Feature", "properties": "tall", "geometry": GOOD},
+        {"type": "Feature", "properties": {"height": [1, 2], "building:levels": 3}, "geometry": GOOD},
+    )
     data = load_map(path)
     assert [b.levels for b in data.buildings] == [None, 3.0]
-    assert data.report.fallbacks == {("properties", "not an object (ignored)"): 1,
-                                     ("height", "a list or object where a value belongs (ignored)"): 1}
+    assert data.report.fallbacks == {
+        ("properties", "not an object (ignored)"): 1,
+        ("height", "a list or object where a value belongs (ignored)"): 1,
+    }
 
 
 def test_deep_nesting_and_invalid_json_are_one_line(tmp_path):
@@ -274,9 +335,21 @@ def test_deep_nesting_and_invalid_json_are_one_line(tmp_path):
 
 def test_cityjson_with_broken_boundaries_skips_the_object(tmp_path):
     path = tmp_path / "broken.city.json"
-    path.write_text(json.dumps({"type": "CityJSON", "version": "2.0", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0]],
-                                "CityObjects": {"a": {"type": "Building", "geometry": [
-                                    {"type": "MultiSurface", "lod": "1", "boundaries": [[[0, 1, 99]]]}]}}}))
+    path.write_text(
+        json.dumps(
+            {
+                "type": "CityJSON",
+                "version": "2.0",
+                "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0]],
+                "CityObjects": {
+                    "a": {
+                        "type": "Building",
+                        "geometry": [{"type": "MultiSurface", "lod": "1", "boundaries": [[[0, 1, 99]]]}],
+                    }
+                },
+            }
+        )
+    )
     _refused(path, "nothing usable", "CityObject/a", "malformed geometry")
 
 

@@ -200,8 +200,14 @@ def test_courtyards_have_walls_facing_in_and_roofs_with_a_hole(shape):
     inside = (roof[:, 0] > 10 + 1e-6) & (roof[:, 0] < 20 - 1e-6) & (-roof[:, 2] > 5 + 1e-6) & (-roof[:, 2] < 15 - 1e-6)
     assert not inside.any(), "no roof over the courtyard"
     centres = tris.mean(axis=1)
-    courtyard_walls = (np.abs(normals[:, 1]) < 1e-6) & (np.abs(centres[:, 0] - 15) <= 5 + 1e-6) & (np.abs(-centres[:, 2] - 10) <= 5 + 1e-6)
-    towards = np.einsum("ij,ij->i", np.array([15.0, -10.0]) - centres[courtyard_walls][:, [0, 2]], normals[courtyard_walls][:, [0, 2]])
+    courtyard_walls = (
+        (np.abs(normals[:, 1]) < 1e-6)
+        & (np.abs(centres[:, 0] - 15) <= 5 + 1e-6)
+        & (np.abs(-centres[:, 2] - 10) <= 5 + 1e-6)
+    )
+    towards = np.einsum(
+        "ij,ij->i", np.array([15.0, -10.0]) - centres[courtyard_walls][:, [0, 2]], normals[courtyard_walls][:, [0, 2]]
+    )
     assert courtyard_walls.sum() >= 8 and np.all(towards > 0)
 
 
@@ -210,7 +216,9 @@ def test_floating_parts_have_an_underside_and_no_wall_below_min_height():
     tris, normals = triangles(mass)
     assert tris[..., 1].min() == pytest.approx(6.0)
     under = normals[:, 1] < -0.99
-    assert np.all(np.isclose(tris[under][..., 1], 6.0)) and area_vectors(tris[under])[:, 1].sum() == pytest.approx(-100.0)
+    assert np.all(np.isclose(tris[under][..., 1], 6.0)) and area_vectors(tris[under])[:, 1].sum() == pytest.approx(
+        -100.0
+    )
     assert np.allclose(closure(tris), 0.0, atol=1e-6)  # closed all round
     assert volume(tris) == pytest.approx(600.0)
 
@@ -221,7 +229,9 @@ def test_building_roof_is_a_canopy_with_a_roof_and_no_walls(min_height):
     tris, normals = triangles(mass)
     assert not np.any(np.abs(normals[:, 1]) < 0.5), "no walls"
     assert np.allclose(tris[..., 1], 4.0)  # a roof and its underside, up where the roof is
-    assert area_vectors(tris)[:, 1].sum() == pytest.approx(0.0) and (normals[:, 1] > 0).sum() == (normals[:, 1] < 0).sum()
+    assert (
+        area_vectors(tris)[:, 1].sum() == pytest.approx(0.0) and (normals[:, 1] > 0).sum() == (normals[:, 1] < 0).sum()
+    )
 
 
 def test_a_pitched_canopy_keeps_its_eaves_above_head_height():
@@ -233,9 +243,19 @@ def test_a_pitched_canopy_keeps_its_eaves_above_head_height():
 
 def test_outlines_replaced_by_parts_are_not_drawn_and_parts_are():
     outline = MapBuilding(0, "way/1", shapely.box(0, 0, 20, 20), height=10.0, replaced_by_parts=True)
-    parts = [MapBuilding(1, "way/2", shapely.box(0, 0, 10, 20), height=10.0, is_part=True, parent=0),
-             MapBuilding(2, "way/3", shapely.box(10, 0, 20, 20), height=25.0, is_part=True, parent=0,
-                         roof_shape="dome", roof_height=5.0)]
+    parts = [
+        MapBuilding(1, "way/2", shapely.box(0, 0, 10, 20), height=10.0, is_part=True, parent=0),
+        MapBuilding(
+            2,
+            "way/3",
+            shapely.box(10, 0, 20, 20),
+            height=25.0,
+            is_part=True,
+            parent=0,
+            roof_shape="dome",
+            roof_height=5.0,
+        ),
+    ]
     masses = masses_of(outline, *parts)
     assert sorted(m.height for m in masses) == [10.0, 25.0]
     assert [m.seed for m in masses] == [1, 2]
@@ -254,10 +274,18 @@ def test_colours_and_materials_reach_the_building_record():
     assert plain["tint"][3] == 0.0  # the style's own tint
 
 
-@pytest.mark.parametrize("use,kind,grammar", [("residential", "apartments", None), ("office", "office", "office"),
-                                              ("retail", "retail", "shops"), ("industrial", "warehouse", "brick"),
-                                              ("school", "school", "classical"), ("church", "church", "classical"),
-                                              (None, "house", "brick")])
+@pytest.mark.parametrize(
+    "use,kind,grammar",
+    [
+        ("residential", "apartments", None),
+        ("office", "office", "office"),
+        ("retail", "retail", "shops"),
+        ("industrial", "warehouse", "brick"),
+        ("school", "school", "classical"),
+        ("church", "church", "classical"),
+        (None, "house", "brick"),
+    ],
+)
 def test_facade_style_by_use(use, kind, grammar):
     """The style a use picks is the facade the registry draws: no glass offices on houses."""
     from cityshade.grammar import BUILDING_STYLES
@@ -269,7 +297,9 @@ def test_facade_style_by_use(use, kind, grammar):
 def test_object_space_turns_with_the_outline():
     turned = shapely.affinity.rotate(shapely.box(0, 0, 30, 10), 30, origin=(0, 0))
     mass = one(turned, roof_shape="gabled")
-    assert math.degrees(mass.yaw) % 180 == pytest.approx(30.0, abs=1e-6) or math.degrees(-mass.yaw) % 180 == pytest.approx(150.0, abs=1e-6)
+    assert math.degrees(mass.yaw) % 180 == pytest.approx(30.0, abs=1e-6) or math.degrees(
+        -mass.yaw
+    ) % 180 == pytest.approx(150.0, abs=1e-6)
     assert_closed_and_outward(mass, turned)
     points = ridge(mass)
     direction = points.max(axis=0) - points.min(axis=0)
@@ -279,26 +309,72 @@ def test_object_space_turns_with_the_outline():
 
 def roof_gallery():
     """One building per roof shape in two rows, each with its own roof material."""
-    materials = ["roofing_felt", "roof_tiles", "slate", "copper", "metal", "roof_tiles", "metal",
-                 "slate", "copper", "metal", "glass", "roof_tiles", "wood"]
+    materials = [
+        "roofing_felt",
+        "roof_tiles",
+        "slate",
+        "copper",
+        "metal",
+        "roof_tiles",
+        "metal",
+        "slate",
+        "copper",
+        "metal",
+        "glass",
+        "roof_tiles",
+        "wood",
+    ]
     buildings = []
     for i, shape in enumerate(ROOF_SHAPES):
         x, y = (i % 7) * 26.0, -(i // 7) * 28.0
         round_outline = shape in ("dome", "onion", "cone")
         outline = shapely.Point(x + 9, y + 6).buffer(8, 12) if round_outline else shapely.box(x, y, x + 18, y + 12)
-        buildings.append(MapBuilding(i, f"way/{i}", outline, height=9.0 if shape == "flat" else 14.0, levels=3,
-                                     roof_shape=shape, roof_height=None if shape in ("dome", "onion") else 5.0,
-                                     roof_material=materials[i], building_material="plaster"))
+        buildings.append(
+            MapBuilding(
+                i,
+                f"way/{i}",
+                outline,
+                height=9.0 if shape == "flat" else 14.0,
+                levels=3,
+                roof_shape=shape,
+                roof_height=None if shape in ("dome", "onion") else 5.0,
+                roof_material=materials[i],
+                building_material="plaster",
+            )
+        )
     # a third row: the skeleton roofs over an L, a courtyard block, and a bridge between two houses
-    skeletons = [(shapely.affinity.translate(L_SHAPE, 0, -62), "gabled"), (shapely.affinity.translate(L_SHAPE, 30, -62), "hipped"),
-                 (shapely.affinity.translate(courtyard(), 60, -62), "mansard"), (shapely.affinity.translate(L_SHAPE, 100, -62), "gambrel")]
+    skeletons = [
+        (shapely.affinity.translate(L_SHAPE, 0, -62), "gabled"),
+        (shapely.affinity.translate(L_SHAPE, 30, -62), "hipped"),
+        (shapely.affinity.translate(courtyard(), 60, -62), "mansard"),
+        (shapely.affinity.translate(L_SHAPE, 100, -62), "gambrel"),
+    ]
     for outline, shape in skeletons:
-        buildings.append(MapBuilding(len(buildings), f"way/{len(buildings)}", outline, height=15.0, levels=3,
-                                     roof_shape=shape, roof_height=4.0, roof_material="roof_tiles", building_colour=(0.85, 0.8, 0.6)))
-    buildings += [MapBuilding(len(buildings), "way/b1", shapely.box(130, -62, 140, -42), height=12.0),
-                  MapBuilding(len(buildings) + 1, "way/b2", shapely.box(156, -62, 166, -42), height=12.0),
-                  MapBuilding(len(buildings) + 2, "way/bridge", shapely.box(140, -56, 156, -50), height=11.0, min_height=7.0,
-                              building_colour=(0.5, 0.6, 0.75))]
+        buildings.append(
+            MapBuilding(
+                len(buildings),
+                f"way/{len(buildings)}",
+                outline,
+                height=15.0,
+                levels=3,
+                roof_shape=shape,
+                roof_height=4.0,
+                roof_material="roof_tiles",
+                building_colour=(0.85, 0.8, 0.6),
+            )
+        )
+    buildings += [
+        MapBuilding(len(buildings), "way/b1", shapely.box(130, -62, 140, -42), height=12.0),
+        MapBuilding(len(buildings) + 1, "way/b2", shapely.box(156, -62, 166, -42), height=12.0),
+        MapBuilding(
+            len(buildings) + 2,
+            "way/bridge",
+            shapely.box(140, -56, 156, -50),
+            height=11.0,
+            min_height=7.0,
+            building_colour=(0.5, 0.6, 0.75),
+        ),
+    ]
     return masses_of(*buildings)
 
 
@@ -371,15 +447,26 @@ def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, material):
             gpu = target.read(0)[::-1].reshape(-1, 4)  # read() is top row first
             reference = roof_pattern(material, local.astype(np.float32), np.float32(normal))
             differs = np.abs(gpu - reference).max(axis=1) > 1e-4
-            assert differs.mean() <= 0.005, f"material {material}, normal {normal}: {differs.sum()} of {len(differs)} pixels differ"
+            assert differs.mean() <= 0.005, (
+                f"material {material}, normal {normal}: {differs.sum()} of {len(differs)} pixels differ"
+            )
     finally:
         vao.release()
         target.release()
 
 
 def test_a_guessed_direction_leaves_the_ridge_to_the_orientation():
-    building = MapBuilding(0, "way/1", shapely.box(0, 0, 20, 10), height=14.0, roof_shape="gabled", roof_height=RISE,
-                           roof_direction=90.0, roof_orientation="along", guessed={"roof_direction", "roof_orientation"})
+    building = MapBuilding(
+        0,
+        "way/1",
+        shapely.box(0, 0, 20, 10),
+        height=14.0,
+        roof_shape="gabled",
+        roof_height=RISE,
+        roof_direction=90.0,
+        roof_orientation="along",
+        guessed={"roof_direction", "roof_orientation"},
+    )
     (mass,) = masses_of(building)
     points = ridge(mass)
     assert np.ptp(points[:, 0]) == pytest.approx(20.0) and np.ptp(points[:, 1]) == pytest.approx(0.0, abs=1e-6)

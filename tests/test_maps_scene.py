@@ -21,7 +21,7 @@ def _prisms(map_data):
     masses = []
     for b in map_data.buildings:
         x0, y0, x1, y1 = b.outline.bounds
-        (sx, sz), = to_scene([(x0, y1)])
+        ((sx, sz),) = to_scene([(x0, y1)])
         masses.append(box((sx, sz), x1 - x0, y1 - y0, b.height or 10.0))
     return masses
 
@@ -41,11 +41,14 @@ def square(x, y, size):
 def block_map() -> MapData:
     """Nine 30 m buildings on a 60 m grid, streets between them: an east-west avenue 20 m wide and
     narrow north-south residential streets."""
-    buildings = [MapBuilding(i, f"way/{i}", square(60 * (i % 3), 60 * (i // 3), 30.0), height=12.0 + 6 * i)
-                 for i in range(9)]
+    buildings = [
+        MapBuilding(i, f"way/{i}", square(60 * (i % 3), 60 * (i // 3), 30.0), height=12.0 + 6 * i) for i in range(9)
+    ]
     roads = [Road("way/100", shapely.LineString([(-20, 45), (170, 45)]), "primary", 20.0, lanes=4)]
-    roads += [Road(f"way/{101 + k}", shapely.LineString([(45 + 60 * k, -20), (45 + 60 * k, 170)]), "residential", 6.0)
-              for k in range(2)]
+    roads += [
+        Road(f"way/{101 + k}", shapely.LineString([(45 + 60 * k, -20), (45 + 60 * k, 170)]), "residential", 6.0)
+        for k in range(2)
+    ]
     return MapData(Path("blocks.osm"), HELSINKI, "EPSG:32635", buildings=buildings, roads=roads)
 
 
@@ -69,7 +72,7 @@ def test_aerial_frustum_holds_every_building():
     for b in map_data.buildings:
         x0, y0, x1, y1 = b.outline.bounds
         for x, y in ((x0, y0), (x0, y1), (x1, y0), (x1, y1)):
-            (sx, sz), = to_scene([(x, y)])
+            ((sx, sz),) = to_scene([(x, y)])
             corners += [(sx, 0.0, sz), (sx, b.height, sz)]
     clip = np.c_[np.array(corners), np.ones(len(corners))] @ camera.view_projection(16 / 9).T
     ndc = clip[:, :3] / clip[:, 3:4]
@@ -115,17 +118,35 @@ def run_cli(*args) -> tuple[int, str]:
 def test_render_map_cli_aerial_and_spot_camera(helsinki_pbf, tmp_path):
     for camera in ("aerial", "24.9449,60.1699,1.7,90"):
         out = tmp_path / "h.png"
-        code, text = run_cli("render", "--map", str(helsinki_pbf), "--camera", camera, "--size", "64x36",
-                             "--samples", "0", "--date", "2025-03-20", "--time", "12:00", "--out", str(out))
+        code, text = run_cli(
+            "render",
+            "--map",
+            str(helsinki_pbf),
+            "--camera",
+            camera,
+            "--size",
+            "64x36",
+            "--samples",
+            "0",
+            "--date",
+            "2025-03-20",
+            "--time",
+            "12:00",
+            "--out",
+            str(out),
+        )
         assert code == 0 and out.is_file(), text
         out.unlink()
 
 
-@pytest.mark.parametrize("option, value, words", [
-    ("--camera", "24.9,60.1,tall,0", "lon,lat,height,heading"),
-    ("--date", "2025-13-01", "YYYY-MM-DD"),
-    ("--time", "25:00", "HH:MM"),
-])
+@pytest.mark.parametrize(
+    "option, value, words",
+    [
+        ("--camera", "24.9,60.1,tall,0", "lon,lat,height,heading"),
+        ("--date", "2025-13-01", "YYYY-MM-DD"),
+        ("--time", "25:00", "HH:MM"),
+    ],
+)
 def test_render_map_cli_bad_values_one_line_exit_2(helsinki_pbf, tmp_path, option, value, words):
     out = tmp_path / "h.png"
     code, text = run_cli("render", "--map", str(helsinki_pbf), option, value, "--size", "32x18", "--out", str(out))
@@ -142,8 +163,18 @@ def test_video_and_viewer_take_a_map(helsinki_pbf, tmp_path):
     city, camera, placed = city_from_map(helsinki_pbf, "street", "2025-06-21", "21:00")
     assert camera == "street" and placed["sun"][0] < 10  # evening sun low over Helsinki
     sky = sky_clock(city.origin, "2025-06-21")
-    out = render_video(tmp_path / "h.mp4", city, "walk", frames=2, fps=2, size=(64, 36), start_time="21:00",
-                       end_time="23:30", progress=False, sky=sky)
+    out = render_video(
+        tmp_path / "h.mp4",
+        city,
+        "walk",
+        frames=2,
+        fps=2,
+        size=(64, 36),
+        start_time="21:00",
+        end_time="23:30",
+        progress=False,
+        sky=sky,
+    )
     assert out.stat().st_size > 0
     viewer = open_viewer(city, camera, RenderSettings(samples=0, **placed), window="headless", size=(64, 36), sky=sky)
     try:
@@ -157,8 +188,9 @@ def test_video_and_viewer_take_a_map(helsinki_pbf, tmp_path):
 def test_bench_osm_json_carries_methods_and_timing():
     from cityshade.bench.osm import OsmResult
 
-    result = OsmResult("device", methods={"helsinki_load_seconds": "how"}, timing={"samples_per_point": 4,
-                                                                                   "interleaved": True})
+    result = OsmResult(
+        "device", methods={"helsinki_load_seconds": "how"}, timing={"samples_per_point": 4, "interleaved": True}
+    )
     result.ratios["helsinki_load_seconds"] = 1.5
     payload = result.to_json()
     assert payload["timing"] == {"samples_per_point": 4, "interleaved": True}
@@ -189,8 +221,14 @@ def test_date_without_a_map_is_refused(tmp_path):
 def test_buildings_get_a_use_from_their_use_or_kind():
     from cityshade.maps._masses import use_code
 
-    cases = {("retail", "yes"): "shop", (None, "apartments"): "home", ("office", "yes"): "office",
-             ("school", "yes"): "public", (None, "warehouse"): "industry", ("parking", "yes"): "mixed",
-             (None, "yes"): "mixed"}
+    cases = {
+        ("retail", "yes"): "shop",
+        (None, "apartments"): "home",
+        ("office", "yes"): "office",
+        ("school", "yes"): "public",
+        (None, "warehouse"): "industry",
+        ("parking", "yes"): "mixed",
+        (None, "yes"): "mixed",
+    }
     for (use, kind), want in cases.items():
         assert use_code(types.SimpleNamespace(use=use, kind=kind)) == USES[want]

@@ -10,8 +10,16 @@ import pytest
 import shapely
 
 from cityshade.maps import Area, MapBuilding, MapData, MapTree, Road, to_scene
-from cityshade.maps._ground import (BASE_DEPTH, GROUND_LAND, LAND_CELL, GROUND_ASPHALT, GROUND_GRASS, GROUND_PAVEMENT,
-                                    GROUND_WATER, ground_mesh)
+from cityshade.maps._ground import (
+    BASE_DEPTH,
+    GROUND_LAND,
+    LAND_CELL,
+    GROUND_ASPHALT,
+    GROUND_GRASS,
+    GROUND_PAVEMENT,
+    GROUND_WATER,
+    ground_mesh,
+)
 from cityshade.maps._streets import street_surfaces
 from cityshade.maps._trees import MAX_FOREST_TREES, map_trees, model_size
 
@@ -79,8 +87,11 @@ def test_layers_do_not_overlap_so_nothing_can_z_fight():
 
 def test_no_ground_road_inside_a_building_bridges_lifted_tunnels_left_out():
     building = MapBuilding(0, "way/9", shapely.box(40, -20, 60, 20), height=20.0)
-    roads = [road(0, 0, 100, 0, sidewalk="no"), road(0, 50, 100, 50, layer=-1, tunnel=True),
-             road(0, 100, 100, 100, layer=2, bridge=True)]
+    roads = [
+        road(0, 0, 100, 0, sidewalk="no"),
+        road(0, 50, 100, 50, layer=-1, tunnel=True),
+        road(0, 100, 100, 100, layer=2, bridge=True),
+    ]
     mesh = ground_mesh(make_map(roads=roads, buildings=[building]))
     ground = faces(mesh, GROUND_ASPHALT)
     assert ground and all(building.outline.intersection(t).area < 1e-6 for t in ground)
@@ -107,9 +118,12 @@ def test_lane_markings_centre_and_dividers_stop_at_crossings():
 
 
 def test_map_trees_size_and_species():
-    trees = [MapTree("node/1", (0.0, 0.0), height=20.0, genus="Picea"),
-             MapTree("node/2", (5.0, 0.0), crown_diameter=8.0, genus="Tilia"),
-             MapTree("node/3", (10.0, 0.0), leaf_type="needleleaved"), MapTree("node/4", (15.0, 0.0), genus="Betula")]
+    trees = [
+        MapTree("node/1", (0.0, 0.0), height=20.0, genus="Picea"),
+        MapTree("node/2", (5.0, 0.0), crown_diameter=8.0, genus="Tilia"),
+        MapTree("node/3", (10.0, 0.0), leaf_type="needleleaved"),
+        MapTree("node/4", (15.0, 0.0), genus="Betula"),
+    ]
     records = map_trees(make_map(trees=trees))
     from cityshade.trees import SPECIES_ORDER
 
@@ -151,4 +165,3 @@ def test_the_shaders_get_the_ground_materials_from_python():
 
     assert len(MAP_GROUND_MATERIALS) == 8 and all(CONSTANTS[k] == v for k, v in MAP_GROUND_MATERIALS.items())
     assert sorted({GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, *MAP_GROUND_MATERIALS.values()}) == list(range(11))
-

@@ -20,24 +20,31 @@ NIGHT, NOON = (-30.0, 0.0), (50.0, 180.0)
 
 def test_light_grid_lists_exactly_the_lamps_within_reach_of_each_cell():
     rng = np.random.default_rng(4)
-    lamps = np.c_[rng.uniform(-200, 200, 300), np.full(300, 5.7), rng.uniform(-150, 150, 300),
-                  rng.uniform(8, 30, 300)].astype(np.float32)
+    lamps = np.c_[
+        rng.uniform(-200, 200, 300), np.full(300, 5.7), rng.uniform(-150, 150, 300), rng.uniform(8, 30, 300)
+    ].astype(np.float32)
     grid = light_grid(lamps)
     assert grid.starts[-1] == len(grid.indices)
     for cell in range(grid.cells[0] * grid.cells[1]):
-        listed = grid.indices[grid.starts[cell]:grid.starts[cell + 1]]
+        listed = grid.indices[grid.starts[cell] : grid.starts[cell + 1]]
         assert np.array_equal(listed, lamps_reaching_cell(lamps, grid, cell)), cell
     assert 0 < len(grid.indices) / len(lamps) < 40  # each lamp in a handful of cells, not everywhere
 
 
 def lamp_square(with_lamps: bool = True) -> MapData:
     """A 200 m paved square with a grid of lamps and one building in a corner."""
-    lamps = [Lamp(f"node/{i}", (float(x), float(y)), height=6.0 + (i % 3))
-             for i, (x, y) in enumerate((x, y) for x in range(-60, 61, 24) for y in range(-60, 61, 30))]
-    return MapData(Path("square.osm"), (24.94, 60.17), "EPSG:32635",
-                   buildings=[MapBuilding(0, "way/1", shapely.box(80, 80, 95, 95), height=12.0)],
-                   areas=[Area("way/2", shapely.box(-100, -100, 100, 100), "pavement")],
-                   lamps=lamps if with_lamps else [])
+    lamps = [
+        Lamp(f"node/{i}", (float(x), float(y)), height=6.0 + (i % 3))
+        for i, (x, y) in enumerate((x, y) for x in range(-60, 61, 24) for y in range(-60, 61, 30))
+    ]
+    return MapData(
+        Path("square.osm"),
+        (24.94, 60.17),
+        "EPSG:32635",
+        buildings=[MapBuilding(0, "way/1", shapely.box(80, 80, 95, 95), height=12.0)],
+        areas=[Area("way/2", shapely.box(-100, -100, 100, 100), "pavement")],
+        lamps=lamps if with_lamps else [],
+    )
 
 
 @pytest.fixture(scope="module")

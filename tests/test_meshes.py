@@ -41,7 +41,9 @@ def test_dense_outlines_are_simplified_within_the_tolerance():
     pts = _wavy(50_000, 20.0)  # a vertex every 2.5 mm
     simple = simplified_outline(pts)
     assert 50 < len(simple) < 5000
-    assert shapely.hausdorff_distance(shapely.Polygon(pts).exterior,
-                                      shapely.Polygon(simple).exterior) <= OUTLINE_TOLERANCE * 1.01
+    assert (
+        shapely.hausdorff_distance(shapely.Polygon(pts).exterior, shapely.Polygon(simple).exterior)
+        <= OUTLINE_TOLERANCE * 1.01
+    )
     mass = BuildingMass("prism", (0.0, 0.0), tuple(map(tuple, pts)), 25.0)
     assert _roof_area(building_vertices(mass, 0)) == pytest.approx(shapely.Polygon(pts).area, rel=1e-3)

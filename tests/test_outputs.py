@@ -21,8 +21,18 @@ FIG12 = str(library_path("fig12.grammar"))
 def _commands(out: Path) -> dict[str, list[str]]:
     return {
         "grammar render": ["grammar", "render", FIG12, "--cpu", "--size", "16x16", "--out", str(out)],
-        "grammar labels": ["grammar", "render", FIG12, "--cpu", "--size", "16x16", "--out", str(out.parent / "ok.png"),
-                           "--labels", str(out)],
+        "grammar labels": [
+            "grammar",
+            "render",
+            FIG12,
+            "--cpu",
+            "--size",
+            "16x16",
+            "--out",
+            str(out.parent / "ok.png"),
+            "--labels",
+            str(out),
+        ],
         "compress": ["compress", "--layout", "F1", "--facade", "1x1", "--texel", "0.1", "--out", str(out)],
         "render": ["render", "--size", "8x8", "--out", str(out)],
         "video": ["video", "--size", "8x8", "--frames", "1", "--out", str(out)],

@@ -10,8 +10,18 @@ from PIL import Image
 from cityshade import assets
 from cityshade.bench.relief import CityChunks, city_frames, flyover_camera
 from cityshade.gl import programs as gl_programs
-from cityshade.relief import (DetailMaps, FacadeView, GpuFacade, compress, draw_facades, facade_camera, generate_bay,
-                              paper_facade, slab_faces, trace_view)
+from cityshade.relief import (
+    DetailMaps,
+    FacadeView,
+    GpuFacade,
+    compress,
+    draw_facades,
+    facade_camera,
+    generate_bay,
+    paper_facade,
+    slab_faces,
+    trace_view,
+)
 from cityshade.relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES
 from cityshade.render import assign_facades
 from cityshade.relief._reference import MISS
@@ -38,8 +48,17 @@ def test_repeated_bay_matches_reference(gl_context):
     view.target.use()
     ctx.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
     rows, cols = wall.shape
-    draw_facades(ctx, programs, gpu, camera, "bcfdm", slab_faces(cols, rows, gpu.slab_depth, sides=False),
-                 SINGLE_FACADE, 1.0, tiled=True)
+    draw_facades(
+        ctx,
+        programs,
+        gpu,
+        camera,
+        "bcfdm",
+        slab_faces(cols, rows, gpu.slab_depth, sides=False),
+        SINGLE_FACADE,
+        1.0,
+        tiled=True,
+    )
     out, ref = view.read(), trace_view(wall, camera, SIZE)
     # Away from the wall's border (where the repeat goes on but the reference's maps end)...
     x, y = ref.point[..., 0], ref.point[..., 1]
@@ -87,18 +106,27 @@ def test_flyover_chunk_culling_keeps_the_picture(gl_context):
     print(f"chunk culling drew {drawn[1]} of {drawn[0]} facades")
     assert drawn[1] < 0.9 * drawn[0]
     assert (pictures[0].material != MISS).mean() > 0.2
-    assert np.array_equal(pictures[0].material, pictures[1].material) and np.array_equal(pictures[0].face, pictures[1].face)
+    assert np.array_equal(pictures[0].material, pictures[1].material) and np.array_equal(
+        pictures[0].face, pictures[1].face
+    )
     view.release()
     gpu.release()
 
 
-RELIEF_STREET = City("relief street", 0, [
-    box((0.0, 0.0), 18.0, 12.0, 16.0, style=2, seed=21, room_width=4.5, floor_height=3.2),  # relief
-    box((24.0, 0.0), 12.0, 12.0, 16.0, seed=22, room_width=4.0),                               # window bay
-], [], (-30.0, -30.0, 50.0, 30.0), {
-    "oblique": Camera((-3.0, 5.5, -9.0), (12.0, 7.0, 2.0), fov_y=60.0),
-    "grazing": Camera((-4.0, 2.0, -3.0), (18.0, 6.0, -0.5), fov_y=50.0),
-})
+RELIEF_STREET = City(
+    "relief street",
+    0,
+    [
+        box((0.0, 0.0), 18.0, 12.0, 16.0, style=2, seed=21, room_width=4.5, floor_height=3.2),  # relief
+        box((24.0, 0.0), 12.0, 12.0, 16.0, seed=22, room_width=4.0),  # window bay
+    ],
+    [],
+    (-30.0, -30.0, 50.0, 30.0),
+    {
+        "oblique": Camera((-3.0, 5.5, -9.0), (12.0, 7.0, 2.0), fov_y=60.0),
+        "grazing": Camera((-4.0, 2.0, -3.0), (18.0, 6.0, -0.5), fov_y=50.0),
+    },
+)
 CITY_SIZE = (160, 120)
 
 
@@ -114,8 +142,13 @@ def test_city_relief_glass_leads_into_the_rooms_as_the_twin_says(gl_context, vie
     gpu = renderer.render_ids(camera, room_state=True)
     colour = render_finite(renderer, camera)
     textures = renderer.textures
-    params = InteriorParams(lights=0.6, time=1.3, variants=textures.room_variants, glass_rect=textures.glass_rect,
-                            sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0)
+    params = InteriorParams(
+        lights=0.6,
+        time=1.3,
+        variants=textures.room_variants,
+        glass_rect=textures.glass_rect,
+        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
+    )
     alpha = assets.facade_texture()[0][..., 3] / 255.0
     x0, z0, x1, z1 = RELIEF_STREET.bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
@@ -128,10 +161,12 @@ def test_city_relief_glass_leads_into_the_rooms_as_the_twin_says(gl_context, vie
     differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
     state_differ = ~differ & (gpu[..., 3] != ref[..., 3])
     moved = rooms & np.any(ref[..., :2] != flat[..., :2], axis=-1)  # what the recess changes
-    print(f"{view}: {(differ & on_relief).sum()} of {on_relief.sum()} relief-building pixels differ "
-          f"({(differ & ~on_relief).sum()} elsewhere), {state_differ.sum()} differ in light or variant; "
-          f"{rooms.sum()} room pixels through relief glass, {moved.sum()} of them another face or room than "
-          f"at the wall point")
+    print(
+        f"{view}: {(differ & on_relief).sum()} of {on_relief.sum()} relief-building pixels differ "
+        f"({(differ & ~on_relief).sum()} elsewhere), {state_differ.sum()} differ in light or variant; "
+        f"{rooms.sum()} room pixels through relief glass, {moved.sum()} of them another face or room than "
+        f"at the wall point"
+    )
     assert rooms.sum() > 300, "the view must look through relief glass into rooms"
     assert moved.sum() > 0.05 * rooms.sum(), "the view must show rooms entered from the recessed pane"
     assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"

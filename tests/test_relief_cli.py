@@ -17,8 +17,24 @@ def pngs(tmp_path):
 @pytest.mark.parametrize("method", ["svd", "bmf"])
 def test_compress_stats_verify(tmp_path, pngs, capsys, method):
     out = tmp_path / "f.cfdm"
-    assert main(["compress", "--height", str(pngs[0]), "--material", str(pngs[1]), "--texel", "0.05",
-                 "--method", method, "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "compress",
+                "--height",
+                str(pngs[0]),
+                "--material",
+                str(pngs[1]),
+                "--texel",
+                "0.05",
+                "--method",
+                method,
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     assert main(["compress", "--stats", str(out)]) == 0
     stats = capsys.readouterr().out
     assert "150x200 texels" in stats and f"method {method}" in stats and "boxes" in stats
@@ -32,7 +48,10 @@ def test_verify_reports_a_different_image(tmp_path, pngs, capsys):
     material = np.array(Image.open(pngs[1]))
     material[5, 5] += 1
     Image.fromarray(material).save(tmp_path / "other.png")
-    assert main(["compress", "--verify", str(out), "--height", str(pngs[0]), "--material", str(tmp_path / "other.png")]) == 1
+    assert (
+        main(["compress", "--verify", str(out), "--height", str(pngs[0]), "--material", str(tmp_path / "other.png")])
+        == 1
+    )
     assert "material differ from the given images" in capsys.readouterr().err
 
 
@@ -51,14 +70,33 @@ def test_damaged_files_exit_2(tmp_path, pngs, capsys):
 def test_bad_inputs_write_nothing(tmp_path, pngs, capsys):
     Image.fromarray(np.zeros((20, 20), np.uint16)).save(tmp_path / "small.png")
     out = tmp_path / "never.cfdm"
-    assert main(["compress", "--height", str(pngs[0]), "--material", str(tmp_path / "small.png"), "--out", str(out)]) == 2
+    assert (
+        main(["compress", "--height", str(pngs[0]), "--material", str(tmp_path / "small.png"), "--out", str(out)]) == 2
+    )
     assert "must have the same size" in capsys.readouterr().err
     noise = np.random.default_rng(0).integers(0, 60000, (64, 64)).astype(np.uint16)
     Image.fromarray(noise).save(tmp_path / "noise.png")
-    assert main(["compress", "--height", str(tmp_path / "noise.png"), "--material", str(tmp_path / "noise.png"),
-                 "--max-terms", "100", "--out", str(out)]) == 2
+    assert (
+        main(
+            [
+                "compress",
+                "--height",
+                str(tmp_path / "noise.png"),
+                "--material",
+                str(tmp_path / "noise.png"),
+                "--max-terms",
+                "100",
+                "--out",
+                str(out),
+            ]
+        )
+        == 2
+    )
     assert "noise.png: depth map: the BMF factorisation needs more than 100 terms" in capsys.readouterr().err
-    assert main(["compress", "--layout", "F1", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)]) == 2
+    assert (
+        main(["compress", "--layout", "F1", "--height", str(pngs[0]), "--material", str(pngs[1]), "--out", str(out)])
+        == 2
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["h.png", "m.png", "noise.png", "small.png"]
 
 
@@ -66,8 +104,10 @@ def test_compress_a_grammar_file(tmp_path, capsys):
     from cityshade.grammar import library_path
 
     out = tmp_path / "brick.cfdm"
-    assert main(["compress", str(library_path("brick.grammar")), "--facade", "6x8", "--texel", "0.1",
-                 "--out", str(out)]) == 0
+    assert (
+        main(["compress", str(library_path("brick.grammar")), "--facade", "6x8", "--texel", "0.1", "--out", str(out)])
+        == 0
+    )
     assert main(["compress", "--stats", str(out)]) == 0
     assert "60x80 texels" in capsys.readouterr().out
     assert main(["compress", "--verify", str(out)]) == 0
@@ -78,26 +118,37 @@ def test_compress_a_grammar_file(tmp_path, capsys):
     assert not (tmp_path / "x.cfdm").exists()
 
 
-@pytest.mark.parametrize("args, message", [
-    ([], "compress needs --out FILE (or --stats FILE / --verify FILE)"),
-    (["--out", "x.cfdm"], "give a source: GRAMMAR_FILE, --layout NAME, or --height PNG --material PNG"),
-    (["--layout", "F1", "--height", "h.png", "--material", "m.png", "--out", "x.cfdm"], "give one source"),
-    (["brick.grammar", "--layout", "F1", "--out", "x.cfdm"], "give one source"),
-    (["--height", "h.png", "--out", "x.cfdm"], "--height and --material go together"),
-    (["--material", "m.png", "--out", "x.cfdm"], "--height and --material go together"),
-    (["--stats", "a.cfdm", "--verify", "a.cfdm"], "--stats and --verify cannot be combined"),
-    (["--layout", "F1", "--out", "x.cfdm", "--stats", "a.cfdm"], "--out and --stats cannot be combined"),
-    (["--out", "x.cfdm", "--verify", "a.cfdm"], "--out and --verify cannot be combined"),
-    (["--stats", "a.cfdm", "--layout", "F1"], "--stats reads only its file; drop --layout"),
-    (["--stats", "a.cfdm", "--method", "svd", "--texel", "0.1"], "--stats reads only its file; drop --texel, --method"),
-    (["--verify", "a.cfdm", "--method", "svd"], "--verify decompresses the file as it was made"),
-    (["--verify", "a.cfdm", "--max-terms", "10"], "--verify decompresses the file as it was made"),
-    (["--layout", "F1", "--rule", "Facade", "--out", "x.cfdm"], "--rule go with GRAMMAR_FILE"),
-    (["--layout", "F1", "--seed", "3", "--out", "x.cfdm"], "--seed go with GRAMMAR_FILE"),
-    (["--height", "h.png", "--material", "m.png", "--facade", "6x8", "--out", "x.cfdm"],
-     "--facade sizes a GRAMMAR_FILE or --layout facade"),
-    (["--layout", "F1", "--depth-unit", "0.02", "--out", "x.cfdm"], "--depth-unit goes with --height and --material"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        ([], "compress needs --out FILE (or --stats FILE / --verify FILE)"),
+        (["--out", "x.cfdm"], "give a source: GRAMMAR_FILE, --layout NAME, or --height PNG --material PNG"),
+        (["--layout", "F1", "--height", "h.png", "--material", "m.png", "--out", "x.cfdm"], "give one source"),
+        (["brick.grammar", "--layout", "F1", "--out", "x.cfdm"], "give one source"),
+        (["--height", "h.png", "--out", "x.cfdm"], "--height and --material go together"),
+        (["--material", "m.png", "--out", "x.cfdm"], "--height and --material go together"),
+        (["--stats", "a.cfdm", "--verify", "a.cfdm"], "--stats and --verify cannot be combined"),
+        (["--layout", "F1", "--out", "x.cfdm", "--stats", "a.cfdm"], "--out and --stats cannot be combined"),
+        (["--out", "x.cfdm", "--verify", "a.cfdm"], "--out and --verify cannot be combined"),
+        (["--stats", "a.cfdm", "--layout", "F1"], "--stats reads only its file; drop --layout"),
+        (
+            ["--stats", "a.cfdm", "--method", "svd", "--texel", "0.1"],
+            "--stats reads only its file; drop --texel, --method",
+        ),
+        (["--verify", "a.cfdm", "--method", "svd"], "--verify decompresses the file as it was made"),
+        (["--verify", "a.cfdm", "--max-terms", "10"], "--verify decompresses the file as it was made"),
+        (["--layout", "F1", "--rule", "Facade", "--out", "x.cfdm"], "--rule go with GRAMMAR_FILE"),
+        (["--layout", "F1", "--seed", "3", "--out", "x.cfdm"], "--seed go with GRAMMAR_FILE"),
+        (
+            ["--height", "h.png", "--material", "m.png", "--facade", "6x8", "--out", "x.cfdm"],
+            "--facade sizes a GRAMMAR_FILE or --layout facade",
+        ),
+        (
+            ["--layout", "F1", "--depth-unit", "0.02", "--out", "x.cfdm"],
+            "--depth-unit goes with --height and --material",
+        ),
+    ],
+)
 def test_bad_combinations_are_one_line_and_exit_2(tmp_path, monkeypatch, capsys, args, message):
     """Each option belongs to one use of the command: one that would do nothing is refused, before
     anything is read or written."""
@@ -118,5 +169,20 @@ def test_verify_against_a_layout_and_a_grammar_seed(tmp_path, capsys):
     assert "decompress exactly to the given images" in capsys.readouterr().out
     assert main(["compress", "--verify", str(out), "--layout", "F3", "--facade", "2x3", "--texel", "0.1"]) == 1
     seeded = tmp_path / "seeded.cfdm"
-    assert main(["compress", str(library_path("brick.grammar")), "--seed", "5", "--facade", "4x4", "--texel", "0.2",
-                 "--out", str(seeded)]) == 0
+    assert (
+        main(
+            [
+                "compress",
+                str(library_path("brick.grammar")),
+                "--seed",
+                "5",
+                "--facade",
+                "4x4",
+                "--texel",
+                "0.2",
+                "--out",
+                str(seeded),
+            ]
+        )
+        == 0
+    )

@@ -6,8 +6,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cityshade.errors import CityshadeError
-from cityshade.relief import (METHODS, PAPER_FACADES, detail_matrices, factorize, greedy_biclique, pack_bits,
-                              paper_facade, unpack_bits)
+from cityshade.relief import (
+    METHODS,
+    PAPER_FACADES,
+    detail_matrices,
+    factorize,
+    greedy_biclique,
+    pack_bits,
+    paper_facade,
+    unpack_bits,
+)
 from relief_strategies import piecewise_constant
 
 
@@ -44,10 +52,7 @@ def test_greedy_biclique_is_complete_and_on_maximum(matrix):
 
 
 def test_biclique_prefers_the_largest_clique():
-    edges = np.array([[1, 1, 0, 0],
-                      [1, 1, 1, 1],
-                      [1, 1, 1, 0],
-                      [1, 1, 0, 0]], bool)
+    edges = np.array([[1, 1, 0, 0], [1, 1, 1, 1], [1, 1, 1, 0], [1, 1, 0, 0]], bool)
     rows, cols = greedy_biclique(edges, np.ones(4, int), np.ones(4, int))
     assert rows.tolist() == [True, True, True, True] and cols.tolist() == [True, True, False, False]
 

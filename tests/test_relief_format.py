@@ -7,8 +7,20 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from cityshade.errors import CityshadeError
-from cityshade.relief import (MAP_NAMES, VERSION, DetailMaps, compress, detail_matrices, from_bytes, generate_facade,
-                              load_png_maps, read_compressed, save_png_maps, to_bytes, write_compressed)
+from cityshade.relief import (
+    MAP_NAMES,
+    VERSION,
+    DetailMaps,
+    compress,
+    detail_matrices,
+    from_bytes,
+    generate_facade,
+    load_png_maps,
+    read_compressed,
+    save_png_maps,
+    to_bytes,
+    write_compressed,
+)
 from cityshade.relief._format import MAGIC
 from relief_strategies import piecewise_constant
 

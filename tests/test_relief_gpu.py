@@ -37,7 +37,9 @@ def test_gpu_decodes_every_texel_exactly(gl, codec, mod37):
     decoded = decode_on_gpu(ctx, gpu, codec, programs, lsb_mod37=mod37)
     matrices, _ = detail_matrices(maps)
     for name, matrix in matrices.items():
-        assert np.array_equal(decoded[name], matrix), f"{codec}: {name} differs at {np.argwhere(decoded[name] != matrix)[:3]}"
+        assert np.array_equal(decoded[name], matrix), (
+            f"{codec}: {name} differs at {np.argwhere(decoded[name] != matrix)[:3]}"
+        )
     gpu.release()
 
 
@@ -65,7 +67,9 @@ def test_fdm_matches_reference(gl, facade, view, output_dir):
         save(output_dir, f"{name}_{view}", gpu)
         differ = (gpu.material != ref.material) | (gpu.face != ref.face)
         edges = hit_edges(ref)
-        print(f"{name} {view}: {differ.sum()} of {differ.size} pixels differ, all on edges: {not (differ & ~edges).any()}")
+        print(
+            f"{name} {view}: {differ.sum()} of {differ.size} pixels differ, all on edges: {not (differ & ~edges).any()}"
+        )
         assert not (differ & ~edges).any(), f"{name}: off-edge mismatches at {np.argwhere(differ & ~edges)[:5]}"
         assert differ.mean() < 0.005
         both = (gpu.material != MISS) & ~differ

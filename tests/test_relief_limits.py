@@ -25,10 +25,10 @@ def file_bytes():
 def forge(data: bytes, change) -> bytes:
     """The file with its header changed by `change(header)` and a correct checksum."""
     magic, version, length = PREFIX.unpack_from(data)
-    header = json.loads(data[PREFIX.size:PREFIX.size + length])
+    header = json.loads(data[PREFIX.size : PREFIX.size + length])
     change(header)
     text = json.dumps(header).encode()
-    body = PREFIX.pack(magic, version, len(text)) + text + data[PREFIX.size + length:-4]
+    body = PREFIX.pack(magic, version, len(text)) + text + data[PREFIX.size + length : -4]
     return body + struct.pack("<I", zlib.crc32(body))
 
 
@@ -41,9 +41,9 @@ FORGERIES = {
     "shape disagrees with sections": (lambda h: h.update(shape=[81, 60]), "make it"),
     "terms disagree with sections": (lambda h: h["terms"].update(depth=h["terms"]["depth"] + 40), "make it"),
     "negative terms": (lambda h: h["terms"].update(depth=-1), "terms"),
-    "too many terms": (lambda h: h["terms"].update(depth=10 ** 9), "terms"),
-    "section too large": (lambda h: _section(h, "depth.x").update(shape=[10 ** 6, 10 ** 6]), "make it"),
-    "offset past the end": (lambda h: _section(h, "boxes").update(offset=10 ** 12), "runs past the end"),
+    "too many terms": (lambda h: h["terms"].update(depth=10**9), "terms"),
+    "section too large": (lambda h: _section(h, "depth.x").update(shape=[10**6, 10**6]), "make it"),
+    "offset past the end": (lambda h: _section(h, "boxes").update(offset=10**12), "runs past the end"),
     "nan texel": (lambda h: h.update(texel=float("nan")), "texel must be a positive number"),
     "unknown method": (lambda h: h.update(method="zip"), "unknown method"),
     "missing section": (lambda h: h["sections"].pop(), "missing"),
@@ -62,7 +62,7 @@ def test_forged_headers_with_valid_checksums_are_refused_quickly(file_bytes, nam
 
 
 def test_header_length_beyond_the_file(file_bytes):
-    body = PREFIX.pack(file_bytes[:8], 1, 10 ** 9) + file_bytes[PREFIX.size:-4]
+    body = PREFIX.pack(file_bytes[:8], 1, 10**9) + file_bytes[PREFIX.size : -4]
     with pytest.raises(CityshadeError, match="longer than the file"):
         from_bytes(body + struct.pack("<I", zlib.crc32(body)), "long.cfdm")
 
@@ -71,8 +71,15 @@ def test_the_unforged_file_still_reads(file_bytes):
     assert from_bytes(forge(file_bytes, lambda h: None)).shape == (80, 60)
 
 
-@pytest.mark.parametrize("args", [["compress", "--stats", "/dev/zero"], ["compress", "--verify", "/dev/zero"],
-                                  ["grammar", "check", "/dev/zero"], ["compress", "/dev/zero", "--out", "x.cfdm"]])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["compress", "--stats", "/dev/zero"],
+        ["compress", "--verify", "/dev/zero"],
+        ["grammar", "check", "/dev/zero"],
+        ["compress", "/dev/zero", "--out", "x.cfdm"],
+    ],
+)
 def test_endless_inputs_are_refused(args, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     code = main(args)

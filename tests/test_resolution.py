@@ -60,11 +60,22 @@ def test_scaling_up_and_down_has_a_gap_between():
         scaler = ResolutionScale(15.0, scale=0.5)
         for _ in range(scaler.settle):
             scaler.update(1 / fps)
-        assert {"down": scaler.scale < 0.5, "stays": scaler.scale == 0.5, "up": scaler.scale > 0.5}[moves], (fps, scaler.scale)
+        assert {"down": scaler.scale < 0.5, "stays": scaler.scale == 0.5, "up": scaler.scale > 0.5}[moves], (
+            fps,
+            scaler.scale,
+        )
 
 
-@pytest.mark.parametrize("bad", [dict(target_fps=0.0), dict(target_fps=-5.0), dict(target_fps=float("nan")),
-                                 dict(target_fps=15.0, minimum=0.0), dict(target_fps=15.0, minimum=1.5)])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        dict(target_fps=0.0),
+        dict(target_fps=-5.0),
+        dict(target_fps=float("nan")),
+        dict(target_fps=15.0, minimum=0.0),
+        dict(target_fps=15.0, minimum=1.5),
+    ],
+)
 def test_bad_rates_and_minimums_are_refused(bad):
     with pytest.raises(UsageError):
         ResolutionScale(**bad)

@@ -15,8 +15,12 @@ import pytest
 def test_a_signal_during_video_leaves_nothing(tmp_path, signum):
     out = tmp_path / "city.mp4"
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    process = subprocess.Popen([sys.executable, "-m", "cityshade", "video", "--size", "64x36", "--frames", "2000",
-                                "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "cityshade", "video", "--size", "64x36", "--frames", "2000", "--out", str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        env=env,
+    )
     deadline = time.monotonic() + 120
     while not list(tmp_path.glob(".city.mp4.*")) and time.monotonic() < deadline and process.poll() is None:
         time.sleep(0.2)
@@ -34,9 +38,22 @@ def test_a_signal_during_compress_exits_cleanly(tmp_path, signum):
     from cityshade.grammar import library_path
 
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    process = subprocess.Popen([sys.executable, "-m", "cityshade", "compress", str(library_path("dusk.grammar")),
-                                "--facade", "60x60", "--out", str(tmp_path / "f.cfdm")],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+    process = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "cityshade",
+            "compress",
+            str(library_path("dusk.grammar")),
+            "--facade",
+            "60x60",
+            "--out",
+            str(tmp_path / "f.cfdm"),
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        env=env,
+    )
     time.sleep(4.0)
     assert process.poll() is None, "compress finished before the signal; give it more work"
     process.send_signal(signum)

@@ -39,7 +39,9 @@ def test_a_render_larger_than_memory_names_the_size_that_fits(tmp_path, one_gib,
     need = 16384 * 12288 * per_pixel / 2**30
     fits = budget.largest_fitting((16384, 12288), 2**30 / per_pixel)
     assert f"a render at 16384x12288 needs about {need:.1f} GiB" in line
-    assert line.endswith(f"the largest --size that fits is {fits[0]}x{fits[1]}") and fits[0] * fits[1] * per_pixel <= 2**30
+    assert (
+        line.endswith(f"the largest --size that fits is {fits[0]}x{fits[1]}") and fits[0] * fits[1] * per_pixel <= 2**30
+    )
     assert fits[0] / fits[1] == pytest.approx(4 / 3, rel=1e-3) and not out.exists()
 
 
@@ -67,17 +69,23 @@ class _Context:
 
 
 def test_targets_beyond_the_gl_limits_are_refused():
-    with pytest.raises(UsageError, match=r"larger than this OpenGL allows \(4096 pixels a side\); the largest "
-                                         r"--size that fits is 4096x2048"):
+    with pytest.raises(
+        UsageError,
+        match=r"larger than this OpenGL allows \(4096 pixels a side\); the largest "
+        r"--size that fits is 4096x2048",
+    ):
         check_gl_size(_Context(), (8000, 4000))
     check_gl_size(_Context(), (4096, 4096))
 
 
-@pytest.mark.parametrize("args", [
-    ["--layout", "F1", "--facade", "1000x1000"],
-    [FIG12, "--facade", "1000x1000"],
-    [FIG12, "--facade", "100x100", "--texel", "0.001"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--layout", "F1", "--facade", "1000x1000"],
+        [FIG12, "--facade", "1000x1000"],
+        [FIG12, "--facade", "100x100", "--texel", "0.001"],
+    ],
+)
 def test_compress_facades_beyond_the_texel_limit(tmp_path, args, capsys):
     assert main(["compress", *args, "--out", str(tmp_path / "f.cfdm")]) == 2
     line = _one_line(capsys)

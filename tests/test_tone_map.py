@@ -38,8 +38,10 @@ def test_display_is_the_hdr_frame_tone_mapped_with_the_hours_exposure(renderer, 
     hdr = renderer.read_hdr()
     exposure = Daylight.at(hours).exposure
     off = np.abs(image - tone_map(hdr, exposure)).max(axis=-1)
-    print(f"{hours:g} h: exposure {exposure:.2f}; {int((off > 1).sum())} of {off.size} pixels differ from the twin "
-          f"by more than 1/255 (max {off.max():.0f})")
+    print(
+        f"{hours:g} h: exposure {exposure:.2f}; {int((off > 1).sum())} of {off.size} pixels differ from the twin "
+        f"by more than 1/255 (max {off.max():.0f})"
+    )
     assert (off <= 1).all()
     unexposed = np.abs(image - tone_map(hdr, 1.0)).max(axis=-1) > 1  # the same frame with exposure off
     assert unexposed.mean() > 0.5, "exposure changes the picture"

@@ -36,8 +36,9 @@ def test_each_cascade_covers_its_slice_of_the_view():
     assert splits[0] == 0.5 and np.isclose(splits[-1], 150.0) and np.all(np.diff(splits) > 0)
     sun = np.array([0.4, 0.6, 0.3])
     for i in range(3):
-        m = texture_matrix(cascade_view_projection(inv, 0.5, 500, splits[i], splits[i + 1], sun / np.linalg.norm(sun),
-                                                   1024, 100.0))
+        m = texture_matrix(
+            cascade_view_projection(inv, 0.5, 500, splits[i], splits[i + 1], sun / np.linalg.norm(sun), 1024, 100.0)
+        )
         mid = (splits[i] + splits[i + 1]) / 2
         point = m @ np.array([0.0, 2.0, -mid, 1.0])
         assert np.all((point[:3] > 0) & (point[:3] < 1))
@@ -53,13 +54,19 @@ def test_the_frame_redraws_each_cascade_at_its_rate(gl_context):
 
     city = park_scene()
     start = city.camera("park")
-    renderer = Renderer((64, 48), RenderSettings(samples=0, god_rays=False, time_of_day=parse_time(SCENE_TIME)),
-                        ctx=gl_context)
+    renderer = Renderer(
+        (64, 48), RenderSettings(samples=0, god_rays=False, time_of_day=parse_time(SCENE_TIME)), ctx=gl_context
+    )
     renderer.set_city(city)
     for frame in range(5):
         step = np.array([0.7 * frame, 0.0, 0.0])
-        camera = Camera(tuple(start.eye + step), tuple(np.asarray(start.target) + step),
-                        fov_y=start.fov_y, near=start.near, far=start.far)
+        camera = Camera(
+            tuple(start.eye + step),
+            tuple(np.asarray(start.target) + step),
+            fov_y=start.fov_y,
+            near=start.near,
+            far=start.far,
+        )
         shadows = renderer.shadows
         before = None if shadows is None else ([m.read() for m in shadows.maps], [m.copy() for m in shadows.matrices])
         renderer.render(camera)

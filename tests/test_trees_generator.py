@@ -12,8 +12,9 @@ def test_same_seed_same_tree_and_other_seed_other_tree(name):
     a, b, c = (generate_tree(SPECIES[name], seed) for seed in (4, 4, 5))
     assert np.array_equal(a.lods[0].branches, b.lods[0].branches)
     assert np.array_equal(a.lods[0].cards, b.lods[0].cards)
-    assert a.lods[0].branches.shape != c.lods[0].branches.shape or \
-        not np.allclose(a.lods[0].branches, c.lods[0].branches)
+    assert a.lods[0].branches.shape != c.lods[0].branches.shape or not np.allclose(
+        a.lods[0].branches, c.lods[0].branches
+    )
 
 
 @settings(max_examples=6, deadline=None)

@@ -80,7 +80,7 @@ def test_goldens_reject_a_hole(oak_image):
     for variant, view in GOLDENS:
         image = oak_image(variant, view).copy()
         h, w = image.shape[:2]
-        image[h // 2 - 6:h // 2 + 6, w // 2 - 6:w // 2 + 6] = 0
+        image[h // 2 - 6 : h // 2 + 6, w // 2 - 6 : w // 2 + 6] = 0
         check_golden_rejects(image, GOLDEN / f"oak_{variant}{view}.png", "a 12x12 black hole")
 
 

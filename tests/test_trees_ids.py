@@ -23,6 +23,7 @@ BACKGROUND = (-1.0, -1.0, -1.0)  # no shaded colour is negative
 @pytest.fixture(scope="module")
 def programs(gl_context):
     from cityshade.gl import ProgramCache
+
     return ProgramCache(gl_context)
 
 
@@ -45,7 +46,8 @@ def test_tree_faces_where_trunk_and_leaves_are(gl_context, programs, species, ou
     tree.release()
     faces = ids[..., 0]
     Image.fromarray(np.select([faces == FACE["trunk"], faces == FACE["foliage"]], [80, 200], 0).astype(np.uint8)).save(
-        output_dir / f"trees_ids_{species}.png")
+        output_dir / f"trees_ids_{species}.png"
+    )
     # each part alone: its face exactly where the alpha-tested colour pass draws it, nothing else
     trunk_differ = int(np.count_nonzero((trunk_ids[..., 0] == FACE["trunk"]) != trunk))
     leaf_differ = int(np.count_nonzero((leaf_ids[..., 0] == FACE["foliage"]) != leaves))
@@ -54,9 +56,11 @@ def test_tree_faces_where_trunk_and_leaves_are(gl_context, programs, species, ou
     # the whole tree: the nearer part's face (leaves drawn after trunks win ties, depth test <=)
     want = np.select([leaves & (leaf_z <= trunk_z), trunk], [FACE["foliage"], FACE["trunk"]], FACE["none"])
     whole_differ = int(np.count_nonzero(faces != want))
-    print(f"{species}: {trunk.sum()} trunk and {leaves.sum()} leaf pixels alone, {np.sum(faces == FACE['trunk'])} "
-          f"trunk and {np.sum(faces == FACE['foliage'])} foliage in the whole tree; differ: trunk {trunk_differ}, "
-          f"leaves {leaf_differ}, whole {whole_differ} of {faces.size}")
+    print(
+        f"{species}: {trunk.sum()} trunk and {leaves.sum()} leaf pixels alone, {np.sum(faces == FACE['trunk'])} "
+        f"trunk and {np.sum(faces == FACE['foliage'])} foliage in the whole tree; differ: trunk {trunk_differ}, "
+        f"leaves {leaf_differ}, whole {whole_differ} of {faces.size}"
+    )
     assert trunk.sum() > 100 and leaves.sum() > 500 and np.sum(faces == FACE["trunk"]) > 20
     assert trunk_differ == 0 and leaf_differ == 0 and whole_differ == 0
     assert not ids[..., 1:].any()  # no room, building or label on a tree
@@ -80,9 +84,11 @@ def test_trees_change_no_building_pixel_they_do_not_cover(gl_context, monkeypatc
     with_trees, without = got[True], got[False]
     on_tree = np.isin(with_trees[..., 0], [FACE["trunk"], FACE["foliage"]])
     changed = np.any(with_trees != without, axis=2)
-    print(f"street: {np.sum(with_trees[..., 0] == FACE['trunk'])} trunk, "
-          f"{np.sum(with_trees[..., 0] == FACE['foliage'])} foliage pixels; {np.count_nonzero(changed & ~on_tree)} "
-          f"other pixels changed; {culled} of {count} trees out of view")
+    print(
+        f"street: {np.sum(with_trees[..., 0] == FACE['trunk'])} trunk, "
+        f"{np.sum(with_trees[..., 0] == FACE['foliage'])} foliage pixels; {np.count_nonzero(changed & ~on_tree)} "
+        f"other pixels changed; {culled} of {count} trees out of view"
+    )
     assert np.sum(with_trees[..., 0] == FACE["trunk"]) > 0 and np.sum(with_trees[..., 0] == FACE["foliage"]) > 0
     assert not np.any(changed & ~on_tree)
     assert not with_trees[on_tree][:, 1:].any()

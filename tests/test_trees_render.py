@@ -16,6 +16,7 @@ from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas
 from trees_scene import SIZE, one_tree, render, save
 
+
 @pytest.fixture(scope="module")
 def ctx(gl_context):
     return gl_context
@@ -38,13 +39,23 @@ def capture_fins(ctx, programs, positions, normals, eye, depth, fade=(1e6, 2e6))
     vbo, ibo = ctx.buffer(verts.tobytes()), ctx.buffer(instance.tobytes())
     layout, attributes = PARTS["fins"][1], PARTS["fins"][2]
     fmt = " ".join(f if a in program else f"{int(f[:-1]) * 4}x" for f, a in zip(layout.split(), attributes))
-    vao = ctx.vertex_array(program, [(vbo, fmt, *[a for a in attributes if a in program]),
-                                     (ibo, "4f 4f/i", "in_place", "in_params")])
-    FRAME_BLOCK.write(ctx, u_inv_view_proj=np.identity(4), u_camera=np.asarray(eye, float), u_time=0.0,
-                      u_sun_dir=np.zeros(3), u_exposure=1.0, u_sun_color=np.zeros(3), u_sky_ambient=np.zeros(3),
-                      u_ground_ambient=np.zeros(3))
-    set_uniforms(program, u_view_proj=np.identity(4), u_relief_depth=depth, u_fin_fade=np.array(fade, float),
-                 u_wind=np.zeros(3))
+    vao = ctx.vertex_array(
+        program, [(vbo, fmt, *[a for a in attributes if a in program]), (ibo, "4f 4f/i", "in_place", "in_params")]
+    )
+    FRAME_BLOCK.write(
+        ctx,
+        u_inv_view_proj=np.identity(4),
+        u_camera=np.asarray(eye, float),
+        u_time=0.0,
+        u_sun_dir=np.zeros(3),
+        u_exposure=1.0,
+        u_sun_color=np.zeros(3),
+        u_sky_ambient=np.zeros(3),
+        u_ground_ambient=np.zeros(3),
+    )
+    set_uniforms(
+        program, u_view_proj=np.identity(4), u_relief_depth=depth, u_fin_fade=np.array(fade, float), u_wind=np.zeros(3)
+    )
     sampler_units(program)  # each sampler on a unit of its own: samplers of two types may not share one
     out = ctx.buffer(np.full(len(positions) * 6 * 4, np.nan, np.float32).tobytes())
     target = RenderTarget(ctx, (4, 4))  # transform feedback still wants a complete framebuffer bound
@@ -86,7 +97,7 @@ def test_fins_match_the_numpy_reference_on_a_trunk(ctx, programs, faded):
     assert len(captured) == len(quads) * 6  # two triangles per fin, none for the other triangles
     # Strip order V0, V3, V1, V2 as triangles (V0 V3 V1) (V1 V3 V2) -> compare as point sets.
     for k, quad in enumerate(quads):
-        fin = captured[6 * k: 6 * k + 6]
+        fin = captured[6 * k : 6 * k + 6]
         expected = np.array([quad[0], quad[3], quad[1], quad[2]])
         got = np.unique(np.round(fin[:, :3], 4), axis=0)
         assert len(got) == len(np.unique(np.round(expected, 4), axis=0))  # a fin faded to 0 at one end is a triangle
@@ -201,7 +212,7 @@ def test_wind_sways_the_crown_and_not_the_trunk_base(ctx, programs):
     moved = np.abs(calm - gust).max(axis=2) > 0.02
     rows = SIZE[1]
     assert moved[: rows // 2].mean() > 0.01  # leaves and upper branches move
-    assert moved[-rows // 8:].mean() < 0.002  # the trunk's foot stays put
+    assert moved[-rows // 8 :].mean() < 0.002  # the trunk's foot stays put
 
 
 def test_lod_cross_fade_has_no_pop_along_a_path(ctx, programs, output_dir):

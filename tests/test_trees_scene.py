@@ -20,8 +20,14 @@ def test_a_tower_shades_the_ground_and_a_roof_on_its_far_side_from_the_sun(outpu
     centre = np.array([5.0, 0.0, 5.0])
     shed = centre - flat * 16  # a low building in the tower's shadow: buildings receive too
     masses = [box((0.0, 0.0), 10.0, 10.0, 30.0), box((shed[0] - 3, shed[2] - 3), 6.0, 6.0, 3.0)]
-    city = City("tower", 1, masses, [(-80.0, -80.0, 80.0, 80.0, GROUND_PAVEMENT)], (-80.0, -80.0, 80.0, 80.0),
-                {"top": Camera((5.0, 160.0, 5.1), (5.0, 0.0, 5.0), fov_y=50.0, near=1.0, far=400.0)})
+    city = City(
+        "tower",
+        1,
+        masses,
+        [(-80.0, -80.0, 80.0, 80.0, GROUND_PAVEMENT)],
+        (-80.0, -80.0, 80.0, 80.0),
+        {"top": Camera((5.0, 160.0, 5.1), (5.0, 0.0, 5.0), fov_y=50.0, near=1.0, far=400.0)},
+    )
     camera = city.camera("top")
     shots = {}
     for shadows in (True, False):
@@ -72,10 +78,11 @@ def test_god_rays_brighten_toward_the_sun_only():
         images[rays] = render_finite(renderer, camera).astype(float).mean(axis=2)
         renderer.release()
     daylight, aspect = Daylight.at(parse_time(SCENE_TIME)), SIZE[0] / SIZE[1]
-    sun = god_ray_uniforms(camera.view_projection(aspect), camera.eye, daylight.sun_direction,
-                           daylight.sun_color)["u_sun_screen"]
+    sun = god_ray_uniforms(camera.view_projection(aspect), camera.eye, daylight.sun_direction, daylight.sun_color)[
+        "u_sun_screen"
+    ]
     added = images[True] - images[False]
-    y, x = np.mgrid[0:SIZE[1], 0:SIZE[0]]
+    y, x = np.mgrid[0 : SIZE[1], 0 : SIZE[0]]
     near = np.hypot(x / SIZE[0] - sun[0], (1 - y / SIZE[1]) - sun[1]) < 0.25
     print(f"god rays add {added[near].mean():.1f}/255 near the sun, {added[~near].mean():.1f}/255 elsewhere")
     assert near.any() and added[near].mean() > 3 and added[near].mean() > 2 * added[~near].mean()

@@ -16,8 +16,17 @@ from cityshade.scene._paths import PATHS
 
 
 def test_video_has_every_frame_and_the_evening_darkens(tmp_path):
-    out = render_video(tmp_path / "dusk.mp4", city="interior", path="orbit", frames=4, fps=4, size=(64, 48),
-                       start_time="17:00", end_time="21:00", progress=False)
+    out = render_video(
+        tmp_path / "dusk.mp4",
+        city="interior",
+        path="orbit",
+        frames=4,
+        fps=4,
+        size=(64, 48),
+        start_time="17:00",
+        end_time="21:00",
+        progress=False,
+    )
     frames = [np.asarray(f, dtype=float) for f in imageio.get_reader(out)]
     assert len(frames) == 4 and frames[0].shape == (48, 64, 3)
     assert frames[-1].mean() < frames[0].mean()
@@ -43,7 +52,11 @@ def test_bad_path_name_writes_nothing(tmp_path):
 
 def test_zero_frames_is_one_line_exit_2_and_no_file(tmp_path):
     out = tmp_path / "none.mp4"
-    result = subprocess.run([sys.executable, "-m", "cityshade", "video", "--frames", "0", "--out", str(out)],
-                            capture_output=True, text=True, timeout=120)
+    result = subprocess.run(
+        [sys.executable, "-m", "cityshade", "video", "--frames", "0", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
     assert "frames and fps must be at least 1" in result.stderr and not out.exists()

@@ -72,12 +72,21 @@ def test_every_movement_key_moves_its_way(viewer, key, direction):
     right = np.cross(forward, [0.0, 1.0, 0.0])
     right /= np.linalg.norm(right)
     viewer.press(key)
-    viewer.fly.move(("W" in viewer.held) - ("S" in viewer.held), ("D" in viewer.held) - ("A" in viewer.held),
-                    ("E" in viewer.held) - ("Q" in viewer.held), 0.1)
+    viewer.fly.move(
+        ("W" in viewer.held) - ("S" in viewer.held),
+        ("D" in viewer.held) - ("A" in viewer.held),
+        ("E" in viewer.held) - ("Q" in viewer.held),
+        0.1,
+    )
     viewer.release(key)
     moved = viewer.fly.position - start
-    axis = {"back": -forward, "left": -right, "right": right, "down": np.array([0.0, -1.0, 0.0]),
-            "up": np.array([0.0, 1.0, 0.0])}[direction]
+    axis = {
+        "back": -forward,
+        "left": -right,
+        "right": right,
+        "down": np.array([0.0, -1.0, 0.0]),
+        "up": np.array([0.0, 1.0, 0.0]),
+    }[direction]
     assert np.dot(moved, axis) > 1.0 and np.linalg.norm(moved - axis * np.dot(moved, axis)) < 1e-6
 
 

@@ -70,8 +70,15 @@ def test_corners_are_turns_beyond_thirty_degrees():
 
 def test_courtyards_continue_the_room_columns_and_mesh_rows_carry_the_face():
     hole = ((8.0, 8.0), (8.0, 16.0), (16.0, 16.0), (16.0, 8.0))  # clockwise
-    mass = BuildingMass("prism", (0.0, 0.0), ((0.0, 0.0), (24.0, 0.0), (24.0, 24.0), (0.0, 24.0)), 14.0,
-                        holes=(hole,), room_width=4.0, floor_height=3.0)
+    mass = BuildingMass(
+        "prism",
+        (0.0, 0.0),
+        ((0.0, 0.0), (24.0, 0.0), (24.0, 24.0), (0.0, 24.0)),
+        14.0,
+        holes=(hole,),
+        room_width=4.0,
+        floor_height=3.0,
+    )
     v = building_vertices(mass, 0)
     walls = v[v["ids"][:, 1] != SURFACE_ROOF]
     inner = np.all((walls["local"][:, [0, 2]] >= 8 - 1e-6) & (walls["local"][:, [0, 2]] <= 16 + 1e-6), axis=1)

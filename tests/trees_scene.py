@@ -20,14 +20,30 @@ def one_tree(ctx, programs, species="oak", **settings):
 
 
 def write_frame_block(ctx, camera, daylight, time=0.0, aspect=1.0):
-    FRAME_BLOCK.write(ctx, u_inv_view_proj=np.linalg.inv(camera.view_projection(aspect)), u_camera=camera.eye,
-                      u_time=time, u_sun_dir=daylight.sun_direction, u_exposure=daylight.exposure,
-                      u_sun_color=daylight.sun_color, u_sky_ambient=daylight.sky_ambient,
-                      u_ground_ambient=daylight.ground_ambient)
+    FRAME_BLOCK.write(
+        ctx,
+        u_inv_view_proj=np.linalg.inv(camera.view_projection(aspect)),
+        u_camera=camera.eye,
+        u_time=time,
+        u_sun_dir=daylight.sun_direction,
+        u_exposure=daylight.exposure,
+        u_sun_color=daylight.sun_color,
+        u_sky_ambient=daylight.sky_ambient,
+        u_ground_ambient=daylight.ground_ambient,
+    )
 
 
-def render(ctx, tree_pass, camera, samples=4, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
-           background=(0.0, 0.0, 0.0), fade=None, time=0.0):
+def render(
+    ctx,
+    tree_pass,
+    camera,
+    samples=4,
+    shadows=None,
+    parts=("trunks", "fins", "leaves", "fronds"),
+    background=(0.0, 0.0, 0.0),
+    fade=None,
+    time=0.0,
+):
     daylight = Daylight.at(16.0)
     tree_pass.prepare(camera.eye)
     write_frame_block(ctx, camera, daylight, time)

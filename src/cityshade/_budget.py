@@ -34,16 +34,21 @@ def check_image_memory(size: tuple[int, int], bytes_per_pixel: float, what: str,
     if need <= budget:
         return
     fits = largest_fitting(size, budget / bytes_per_pixel)
-    raise UsageError(f"{what} at {size[0]}x{size[1]} needs about {need / 2**30:.1f} GiB ({bytes_per_pixel:g} bytes a "
-                     f"pixel) but {budget / 2**30:.1f} GiB may be used here; the largest {option} that fits is "
-                     f"{fits[0]}x{fits[1]}")
+    raise UsageError(
+        f"{what} at {size[0]}x{size[1]} needs about {need / 2**30:.1f} GiB ({bytes_per_pixel:g} bytes a "
+        f"pixel) but {budget / 2**30:.1f} GiB may be used here; the largest {option} that fits is "
+        f"{fits[0]}x{fits[1]}"
+    )
 
 
 def check_gl_size(ctx, size: tuple[int, int], what: str = "the image", option: str = "--size"):
     """Raises UsageError if the OpenGL implementation cannot hold a render target of `size`."""
-    limit = min(ctx.info["GL_MAX_TEXTURE_SIZE"], ctx.info["GL_MAX_RENDERBUFFER_SIZE"],
-                *ctx.info["GL_MAX_VIEWPORT_DIMS"])
+    limit = min(
+        ctx.info["GL_MAX_TEXTURE_SIZE"], ctx.info["GL_MAX_RENDERBUFFER_SIZE"], *ctx.info["GL_MAX_VIEWPORT_DIMS"]
+    )
     if max(size) > limit:
         fits = [max(1, math.floor(side * limit / max(size))) for side in size]
-        raise UsageError(f"{what} at {size[0]}x{size[1]} is larger than this OpenGL allows ({limit} pixels a side); "
-                         f"the largest {option} that fits is {fits[0]}x{fits[1]}")
+        raise UsageError(
+            f"{what} at {size[0]}x{size[1]} is larger than this OpenGL allows ({limit} pixels a side); "
+            f"the largest {option} that fits is {fits[0]}x{fits[1]}"
+        )

@@ -30,8 +30,13 @@ def _umask() -> int:
 
 
 def _kind(mode: int) -> str:
-    for test, name in ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
-                       (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a directory")):
+    for test, name in (
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISFIFO, "a FIFO"),
+        (stat.S_ISSOCK, "a socket"),
+        (stat.S_ISDIR, "a directory"),
+    ):
         if test(mode):
             return name
     return "not a regular file"
@@ -45,8 +50,9 @@ def output_target(path: Path) -> Path:
     real = Path(os.path.realpath(path))
     for tree in _SYSTEM_TREES:
         if real == tree or tree in real.parents:
-            raise UsageError(f"cannot write {shown!r}: it is under {tree}, a kernel file system; "
-                             "choose another output path")
+            raise UsageError(
+                f"cannot write {shown!r}: it is under {tree}, a kernel file system; choose another output path"
+            )
     try:
         mode = os.stat(real).st_mode
     except (FileNotFoundError, NotADirectoryError):
@@ -69,8 +75,10 @@ def output_target(path: Path) -> Path:
     except (OSError, ValueError):
         name_max = 255
     if len(os.fsencode(real.name)) + len(os.fsencode(real.suffix)) + _TEMP_EXTRA > name_max:
-        raise UsageError(f"cannot write {shown!r}: the file name is too long for this file system "
-                         f"(at most {name_max - _TEMP_EXTRA - len(os.fsencode(real.suffix))} bytes here)")
+        raise UsageError(
+            f"cannot write {shown!r}: the file name is too long for this file system "
+            f"(at most {name_max - _TEMP_EXTRA - len(os.fsencode(real.suffix))} bytes here)"
+        )
     return real
 
 

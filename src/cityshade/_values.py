@@ -32,8 +32,9 @@ def parse_size(text: str) -> tuple[int, int]:
     try:
         return check_size((int(match.group(1)), int(match.group(2))))
     except UsageError:
-        raise UsageError(f"invalid size {text!r}; use WIDTHxHEIGHT with each from 1 to {MAX_SIDE}, "
-                         "e.g. 1280x720") from None
+        raise UsageError(
+            f"invalid size {text!r}; use WIDTHxHEIGHT with each from 1 to {MAX_SIDE}, e.g. 1280x720"
+        ) from None
 
 
 def check_lights(value) -> float | None:

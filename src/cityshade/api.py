@@ -12,11 +12,19 @@ from .render import Renderer, RenderSettings, guessed_aov, parse_time
 from .scene import City, make_city
 
 
-def render_city(city: str | City = "default", seed: int | None = None, camera: str = "street",
-                size: tuple[int, int] = (1280, 720), lights: float | None = None, time: str = "19:10",
-                interior_mapping: bool = True, frames: int = 3, profile: bool = False,
-                aov: str | None = None,
-                **settings) -> tuple[np.ndarray, dict]:
+def render_city(
+    city: str | City = "default",
+    seed: int | None = None,
+    camera: str = "street",
+    size: tuple[int, int] = (1280, 720),
+    lights: float | None = None,
+    time: str = "19:10",
+    interior_mapping: bool = True,
+    frames: int = 3,
+    profile: bool = False,
+    aov: str | None = None,
+    **settings,
+) -> tuple[np.ndarray, dict]:
     """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame
     (its median time over `frames` frames after a first one that compiles and uploads). With
     `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run.
@@ -35,8 +43,9 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
         raise UsageError(f"unknown render setting {unknown[0]!r}; see cityshade.RenderSettings")
     layout = city if isinstance(city, City) else make_city(city, seed)
     view = layout.camera(camera)
-    renderer = Renderer(size, RenderSettings(lights=lights, time_of_day=parse_time(time),
-                                             interior_mapping=interior_mapping, **settings))
+    renderer = Renderer(
+        size, RenderSettings(lights=lights, time_of_day=parse_time(time), interior_mapping=interior_mapping, **settings)
+    )
     try:
         renderer.set_city(layout)
         image = renderer.render(view)  # the first frame compiles shaders and uploads: not timed
@@ -48,10 +57,15 @@ def render_city(city: str | City = "default", seed: int | None = None, camera: s
                 passes.setdefault(name, []).append(seconds)
         if aov == "guessed":
             image = guessed_aov(image, renderer.render_ids(view), layout.masses)
-        info = {"frame_ms": statistics.median(times) * 1000 if times else float("nan"), "frames": frames,
-                "device": renderer.device, "buildings": len(layout.masses), "samples": renderer.samples,
-                "trees": len(renderer.trees.trees) if renderer.trees is not None else 0,
-                "pass_ms": {name: statistics.median(s) * 1000 for name, s in passes.items()}}
+        info = {
+            "frame_ms": statistics.median(times) * 1000 if times else float("nan"),
+            "frames": frames,
+            "device": renderer.device,
+            "buildings": len(layout.masses),
+            "samples": renderer.samples,
+            "trees": len(renderer.trees.trees) if renderer.trees is not None else 0,
+            "pass_ms": {name: statistics.median(s) * 1000 for name, s in passes.items()},
+        }
     finally:
         renderer.release()
     return image, info

@@ -15,15 +15,35 @@ from .errors import CityshadeError
 from .render import Renderer, RenderSettings, ResolutionScale, parse_time, upscale
 from .scene import Camera, City, make_city
 
-MOVE_SPEED = 25.0       # metres per second
-LOOK_SPEED = 0.15       # degrees per pixel of mouse motion
-TIME_STEP = 0.25        # hours per key press
+MOVE_SPEED = 25.0  # metres per second
+LOOK_SPEED = 0.15  # degrees per pixel of mouse motion
+TIME_STEP = 0.25  # hours per key press
 DEFAULT_TARGET_FPS = 15.0
 
 TOGGLES = {"I": "interior_mapping", "P": "depth_prepass", "F": "furniture", "L": "lod", "C": "curtains"}
-KEY_NAMES = ("W", "A", "S", "D", "Q", "E", "I", "P", "F", "L", "C", "M", "T", "G", "LEFT_BRACKET", "RIGHT_BRACKET", "ESCAPE")
-HELP = ("WASD move, Q/E down/up, drag mouse to look, I interiors, P prepass, F furniture, L LOD, "
-        "C curtains, M MSAA, [ ] fewer/more lit rooms, T/G later/earlier, Esc quit")
+KEY_NAMES = (
+    "W",
+    "A",
+    "S",
+    "D",
+    "Q",
+    "E",
+    "I",
+    "P",
+    "F",
+    "L",
+    "C",
+    "M",
+    "T",
+    "G",
+    "LEFT_BRACKET",
+    "RIGHT_BRACKET",
+    "ESCAPE",
+)
+HELP = (
+    "WASD move, Q/E down/up, drag mouse to look, I interiors, P prepass, F furniture, L LOD, "
+    "C curtains, M MSAA, [ ] fewer/more lit rooms, T/G later/earlier, Esc quit"
+)
 
 
 class FlyCamera:
@@ -113,11 +133,17 @@ class CityViewer(mglw.WindowConfig):
         ms = 1000 * float(np.median(self.frame_times)) if self.frame_times else float("nan")
         lights = "auto" if s.lights is None else f"{s.lights:.2f}"
         hours = s.time_of_day % 24
-        scale = f"  scale {self.resolution.scale:.2f} (target {self.resolution.target_fps:g} fps)" if self.resolution else ""
-        return (f"cityshade  {1000 / ms if ms else 0:.1f} fps ({ms:.1f} ms){scale}  interiors {'on' if s.interior_mapping else 'off'}"
-                f"  prepass {'on' if s.depth_prepass else 'off'}  furniture {'on' if s.furniture else 'off'}"
-                f"  LOD {'on' if s.lod else 'off'}  MSAA {self.renderer.samples}x  c={lights}"
-                f"  {int(hours):02d}:{int(hours % 1 * 60):02d}")
+        scale = (
+            f"  scale {self.resolution.scale:.2f} (target {self.resolution.target_fps:g} fps)"
+            if self.resolution
+            else ""
+        )
+        return (
+            f"cityshade  {1000 / ms if ms else 0:.1f} fps ({ms:.1f} ms){scale}  interiors {'on' if s.interior_mapping else 'off'}"
+            f"  prepass {'on' if s.depth_prepass else 'off'}  furniture {'on' if s.furniture else 'off'}"
+            f"  LOD {'on' if s.lod else 'off'}  MSAA {self.renderer.samples}x  c={lights}"
+            f"  {int(hours):02d}:{int(hours % 1 * 60):02d}"
+        )
 
     # --- input: keys by name, so the same actions run whatever the window backend ----------
     def press(self, name: str):
@@ -164,9 +190,15 @@ class CityViewer(mglw.WindowConfig):
         self.renderer.resize((width, height))
 
 
-def open_viewer(city: str | City = "default", camera: str = "street", settings: RenderSettings | None = None,
-                window: str = "pyglet", size: tuple[int, int] = (1280, 720), sky=None,
-                target_fps: float | None = DEFAULT_TARGET_FPS) -> CityViewer:
+def open_viewer(
+    city: str | City = "default",
+    camera: str = "street",
+    settings: RenderSettings | None = None,
+    window: str = "pyglet",
+    size: tuple[int, int] = (1280, 720),
+    sky=None,
+    target_fps: float | None = DEFAULT_TARGET_FPS,
+) -> CityViewer:
     """Creates the viewer (window + renderer) without entering the main loop. `sky` (hours -> settings,
     e.g. `maps.sky_clock`) moves the sun and moon with the clock keys. `target_fps`: the frame rate
     the internal resolution is scaled to keep (None or 0: always full resolution)."""
@@ -185,24 +217,40 @@ def open_viewer(city: str | City = "default", camera: str = "street", settings: 
     except CityshadeError:
         raise
     except Exception as exc:  # no display, no GL 4.3: one line, no traceback
-        raise CityshadeError(f"could not open a {window} window ({exc}); "
-                             "on a machine without a display use `cityshade render` instead") from None
+        raise CityshadeError(
+            f"could not open a {window} window ({exc}); on a machine without a display use `cityshade render` instead"
+        ) from None
 
 
 def register(subparsers):
     parser = subparsers.add_parser("view", help="interactive viewer: " + HELP)
     parser.add_argument("--city", default="default")
-    parser.add_argument("--map", type=Path, default=None, metavar="FILE",
-                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    parser.add_argument(
+        "--map",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
+    )
     parser.add_argument("--camera", default="street", help="viewpoint name, or lon,lat,height,heading with --map")
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--time", default="19:10", help="time of day HH:MM")
     parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
-    parser.add_argument("--samples", type=int, default=0, choices=(0, 2, 4, 8),
-                        help="MSAA samples to start with (M toggles; off by default: llvmpipe shades every sample)")
-    parser.add_argument("--target-fps", type=float, default=DEFAULT_TARGET_FPS, metavar="N",
-                        help="keep N frames per second by drawing at a lower resolution and stretching it to "
-                             f"the window (default {DEFAULT_TARGET_FPS:g}; 0: always full resolution)")
+    parser.add_argument(
+        "--samples",
+        type=int,
+        default=0,
+        choices=(0, 2, 4, 8),
+        help="MSAA samples to start with (M toggles; off by default: llvmpipe shades every sample)",
+    )
+    parser.add_argument(
+        "--target-fps",
+        type=float,
+        default=DEFAULT_TARGET_FPS,
+        metavar="N",
+        help="keep N frames per second by drawing at a lower resolution and stretching it to "
+        f"the window (default {DEFAULT_TARGET_FPS:g}; 0: always full resolution)",
+    )
     parser.set_defaults(run=_run)
 
 

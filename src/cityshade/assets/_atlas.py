@@ -29,6 +29,6 @@ def room_atlas(textures: dict, padding: int = 4) -> tuple[np.ndarray, dict]:
     for f, stack in enumerate(stacks):
         padded = np.pad(stack, ((0, 0), (padding, padding), (padding, padding), (0, 0)), mode="edge")
         # (variants, cell, cell, 4) -> one row of the grid, variants side by side.
-        atlas[f * cell:(f + 1) * cell] = padded.transpose(1, 0, 2, 3).reshape(cell, variants * cell, 4)
+        atlas[f * cell : (f + 1) * cell] = padded.transpose(1, 0, 2, 3).reshape(cell, variants * cell, 4)
     layout = {"tile": tile, "padding": padding, "columns": variants, "rows": len(FACES), "face_order": list(FACES)}
     return atlas, layout

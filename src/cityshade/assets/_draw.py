@@ -58,9 +58,11 @@ def hash01(ix: np.ndarray, iy: np.ndarray, seed: int) -> np.ndarray:
 
 
 def _mix_bits(ix, iy, seed: int) -> np.ndarray:
-    h = (ix.astype(np.int64).astype(np.uint64) * _HASH_MULT[0]) ^ (
-        iy.astype(np.int64).astype(np.uint64) * _HASH_MULT[1]
-    ) ^ (np.uint64(seed & 0xFFFFFFFF) * _HASH_MULT[2])
+    h = (
+        (ix.astype(np.int64).astype(np.uint64) * _HASH_MULT[0])
+        ^ (iy.astype(np.int64).astype(np.uint64) * _HASH_MULT[1])
+        ^ (np.uint64(seed & 0xFFFFFFFF) * _HASH_MULT[2])
+    )
     h ^= h >> np.uint64(29)
     h *= np.uint64(0xBF58476D1CE4E5B9)
     h ^= h >> np.uint64(32)

@@ -24,15 +24,27 @@ CEILING_BAND = 0.955
 
 BOOK_COLOURS = np.array(
     [
-        (0.55, 0.12, 0.10), (0.12, 0.20, 0.42), (0.16, 0.36, 0.20), (0.78, 0.60, 0.22),
-        (0.40, 0.24, 0.14), (0.86, 0.82, 0.70), (0.12, 0.12, 0.13), (0.62, 0.30, 0.45),
+        (0.55, 0.12, 0.10),
+        (0.12, 0.20, 0.42),
+        (0.16, 0.36, 0.20),
+        (0.78, 0.60, 0.22),
+        (0.40, 0.24, 0.14),
+        (0.86, 0.82, 0.70),
+        (0.12, 0.12, 0.13),
+        (0.62, 0.30, 0.45),
     ],
     np.float32,
 )
 PRODUCT_COLOURS = np.array(
     [
-        (0.90, 0.20, 0.15), (0.95, 0.75, 0.10), (0.15, 0.55, 0.85), (0.20, 0.70, 0.35),
-        (0.95, 0.95, 0.92), (0.85, 0.40, 0.65), (0.98, 0.55, 0.15), (0.35, 0.30, 0.75),
+        (0.90, 0.20, 0.15),
+        (0.95, 0.75, 0.10),
+        (0.15, 0.55, 0.85),
+        (0.20, 0.70, 0.35),
+        (0.95, 0.95, 0.92),
+        (0.85, 0.40, 0.65),
+        (0.98, 0.55, 0.15),
+        (0.35, 0.30, 0.75),
     ],
     np.float32,
 )
@@ -108,7 +120,7 @@ def ceiling_panels(f: Face, lights=((0.2, 0.45), (0.55, 0.8))):
 
 def ceiling_lamp(f: Face, radius=0.09, rim=(0.85, 0.8, 0.7), glow=0.3):
     r = np.hypot(f.u - 0.5, f.v - 0.5)
-    f.img *= (1 + glow * np.exp(-(r / 0.25) ** 2))[..., None]
+    f.img *= (1 + glow * np.exp(-((r / 0.25) ** 2)))[..., None]
     f.fill(r < radius * 1.25, rim)
     f.fill(r < radius, (1.0, 0.97, 0.85))
 
@@ -347,8 +359,11 @@ ROOM_STYLES: tuple[RoomStyle, ...] = (
         floor=((0.42, 0.45, 0.5), carpet),
         wall=((0.82, 0.83, 0.82), plaster),
         wall_x=(_step(whiteboard, (0.97, 0.97, 0.97)), _step(desk, (0.62, 0.5, 0.38), u0=0.15, u1=0.85)),
-        wall_z=(_step(window, (0.85, 0.85, 0.86), u0=0.12, u1=0.52), _step(radiator, (0.9, 0.9, 0.9), u0=0.17, u1=0.47),
-                _step(door, (0.55, 0.42, 0.3), centre=0.76)),
+        wall_z=(
+            _step(window, (0.85, 0.85, 0.86), u0=0.12, u1=0.52),
+            _step(radiator, (0.9, 0.9, 0.9), u0=0.17, u1=0.47),
+            _step(door, (0.55, 0.42, 0.3), centre=0.76),
+        ),
         skirting=(0.3, 0.3, 0.32),
     ),
     RoomStyle(
@@ -356,7 +371,10 @@ ROOM_STYLES: tuple[RoomStyle, ...] = (
         ceiling=((0.95, 0.92, 0.86), _step(ceiling_lamp, radius=0.08, rim=(0.75, 0.6, 0.4))),
         floor=((0.6, 0.42, 0.26), planks, _step(rug, (0.6, 0.2, 0.18), (0.85, 0.75, 0.5))),
         wall=((0.86, 0.72, 0.5), _step(wallpaper, (0.8, 0.62, 0.42))),
-        wall_x=(_step(door, (0.92, 0.9, 0.86), centre=0.25), _step(pictures, (0.35, 0.22, 0.12), count=1, u0=0.5, u1=0.9)),
+        wall_x=(
+            _step(door, (0.92, 0.9, 0.86), centre=0.25),
+            _step(pictures, (0.35, 0.22, 0.12), count=1, u0=0.5, u1=0.9),
+        ),
         wall_z=(_step(sofa, (0.3, 0.42, 0.55)), _step(pictures, (0.15, 0.12, 0.1), count=3, v0=0.55, v1=0.78)),
         skirting=(0.95, 0.94, 0.9),
     ),
@@ -366,15 +384,20 @@ ROOM_STYLES: tuple[RoomStyle, ...] = (
         floor=((0.9, 0.9, 0.88), _step(tiles, (0.2, 0.22, 0.25), count=8)),
         wall=((0.78, 0.86, 0.8), plaster),
         wall_x=(_step(counter, (0.35, 0.52, 0.48), u1=0.74), _step(fridge, (0.9, 0.9, 0.9))),
-        wall_z=(_step(window, (0.95, 0.95, 0.95), u0=0.2, u1=0.55, curtains=(0.85, 0.3, 0.25)),
-                _step(door, (0.7, 0.78, 0.75), centre=0.8)),
+        wall_z=(
+            _step(window, (0.95, 0.95, 0.95), u0=0.2, u1=0.55, curtains=(0.85, 0.3, 0.25)),
+            _step(door, (0.7, 0.78, 0.75), centre=0.8),
+        ),
     ),
     RoomStyle(
         "bedroom",
         ceiling=((0.93, 0.92, 0.95), _step(ceiling_lamp, radius=0.06, rim=(0.9, 0.7, 0.75), glow=0.2)),
         floor=((0.72, 0.6, 0.58), carpet),
         wall=((0.62, 0.7, 0.82), plaster),
-        wall_x=(_step(bed, (0.75, 0.35, 0.4)), _step(pictures, (0.9, 0.9, 0.9), count=1, v0=0.62, v1=0.82, u0=0.3, u1=0.7)),
+        wall_x=(
+            _step(bed, (0.75, 0.35, 0.4)),
+            _step(pictures, (0.9, 0.9, 0.9), count=1, v0=0.62, v1=0.82, u0=0.3, u1=0.7),
+        ),
         wall_z=(_step(wardrobe, (0.68, 0.52, 0.36)), _step(door, (0.95, 0.95, 0.95), centre=0.75)),
     ),
     RoomStyle(
@@ -401,8 +424,10 @@ ROOM_STYLES: tuple[RoomStyle, ...] = (
         floor=((0.42, 0.27, 0.16), _step(planks, plank_width=0.07), _step(rug, (0.2, 0.3, 0.22), (0.7, 0.6, 0.35))),
         wall=((0.2, 0.35, 0.27), plaster),
         wall_x=(_step(shelf_unit, (0.38, 0.24, 0.14)),),
-        wall_z=(_step(shelf_unit, (0.38, 0.24, 0.14), u0=0.04, u1=0.55, salt=7),
-                _step(pictures, (0.75, 0.6, 0.25), count=1, u0=0.6, u1=0.98, v0=0.45, v1=0.75)),
+        wall_z=(
+            _step(shelf_unit, (0.38, 0.24, 0.14), u0=0.04, u1=0.55, salt=7),
+            _step(pictures, (0.75, 0.6, 0.25), count=1, u0=0.6, u1=0.98, v0=0.45, v1=0.75),
+        ),
         skirting=(0.3, 0.2, 0.12),
     ),
     RoomStyle(
@@ -411,7 +436,10 @@ ROOM_STYLES: tuple[RoomStyle, ...] = (
         floor=((0.5, 0.5, 0.49), concrete),
         wall=((0.62, 0.3, 0.2), brick),
         wall_x=(_step(window, (0.15, 0.15, 0.16), u0=0.1, u1=0.9),),
-        wall_z=(_step(pictures, (0.1, 0.1, 0.1), count=2, v0=0.45, v1=0.72), _step(sofa, (0.3, 0.36, 0.32), u0=0.25, u1=0.75)),
+        wall_z=(
+            _step(pictures, (0.1, 0.1, 0.1), count=2, v0=0.45, v1=0.72),
+            _step(sofa, (0.3, 0.36, 0.32), u0=0.25, u1=0.75),
+        ),
         skirting=(0.2, 0.2, 0.2),
     ),
 )

@@ -65,7 +65,11 @@ def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.nd
     # Soft clouds on a plane above the viewer, fading out toward the horizon.
     lift = np.maximum(y, 0) + 0.12
     px, pz = x / lift * 2.5, z / lift * 2.5
-    cloud = 0.55 * value_noise(px, pz, 21) + 0.3 * value_noise(px * 2.3, pz * 2.3, 22) + 0.15 * value_noise(px * 5, pz * 5, 23)
+    cloud = (
+        0.55 * value_noise(px, pz, 21)
+        + 0.3 * value_noise(px * 2.3, pz * 2.3, 22)
+        + 0.15 * value_noise(px * 5, pz * 5, 23)
+    )
     cover = np.clip((cloud - 0.5) / 0.2, 0, 1) * np.clip(y / 0.15, 0, 1) * 0.75
     cloud_colour = _mix(
         np.broadcast_to(np.float32([0.95, 0.95, 0.98]), sky.shape),
@@ -77,7 +81,9 @@ def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.nd
     disc = cos_sun > np.cos(SUN_RADIUS)
     sky[disc] = sun_colour * SUN_RADIANCE
 
-    ground = _mix(horizon * 0.25, np.broadcast_to(np.float32([0.02, 0.02, 0.025]), horizon.shape), np.clip(-y * 6, 0, 1))
+    ground = _mix(
+        horizon * 0.25, np.broadcast_to(np.float32([0.02, 0.02, 0.025]), horizon.shape), np.clip(-y * 6, 0, 1)
+    )
     sky = np.where((y < 0)[..., None], ground, sky)
     return sky.astype(np.float32)
 

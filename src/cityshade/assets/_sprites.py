@@ -36,7 +36,9 @@ class Sprite:
 
     def box(self, u0, v0, u1, v1, colour):
         cu, cv = (u0 + u1) / 2, (v0 + v1) / 2
-        self.fill(d.rect(self.u, self.v, u0, v0, u1, v1), colour, self.round_shade(cu, cv, (u1 - u0) * 1.5, (v1 - v0) * 1.5))
+        self.fill(
+            d.rect(self.u, self.v, u0, v0, u1, v1), colour, self.round_shade(cu, cv, (u1 - u0) * 1.5, (v1 - v0) * 1.5)
+        )
 
     def limb(self, p0, p1, radius, colour):
         self.fill(d.capsule(self.u, self.v, p0, p1, radius), colour, self.round_shade(*p0, 0.3, 0.3))

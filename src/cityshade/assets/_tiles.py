@@ -20,8 +20,17 @@ from . import _draw as d
 # Semantic labels of the label AOV (index = value written per pixel; 0 = nothing).
 LABELS = ("none", "wall", "window", "door", "balcony", "shop", "roof", "room", "cornice")
 # A colour per label for label images (uint8 RGB).
-LABEL_COLOURS = ((0, 0, 0), (200, 170, 130), (60, 120, 220), (150, 60, 30), (230, 200, 40),
-                 (220, 60, 160), (170, 40, 40), (90, 200, 120), (240, 240, 240))
+LABEL_COLOURS = (
+    (0, 0, 0),
+    (200, 170, 130),
+    (60, 120, 220),
+    (150, 60, 30),
+    (230, 200, 40),
+    (220, 60, 160),
+    (170, 40, 40),
+    (90, 200, 120),
+    (240, 240, 240),
+)
 PLANES = ("color", "normal", "specular")
 
 
@@ -42,8 +51,16 @@ class Paint:
     def blank(cls, size: int, colour, seed: int) -> "Paint":
         u, v = d.uv_grid(size)
         zeros = np.zeros((size, size), np.float32)
-        return cls(u, v, d.canvas(size, size, colour), np.ones((size, size), bool), zeros.copy(),
-                   np.full((size, size), 0.08, np.float32), np.zeros((size, size), bool), seed)
+        return cls(
+            u,
+            v,
+            d.canvas(size, size, colour),
+            np.ones((size, size), bool),
+            zeros.copy(),
+            np.full((size, size), 0.08, np.float32),
+            np.zeros((size, size), bool),
+            seed,
+        )
 
     def fill(self, mask, colour, height=None, spec=None, tone=None):
         if tone is not None:
@@ -199,7 +216,7 @@ def _floor(p: Paint):
 
 def _ceiling(p: Paint):
     r = np.hypot(p.u - 0.5, p.v - 0.5)
-    p.fill(np.ones_like(p.alpha), (0.92, 0.9, 0.86), tone=1 + 0.3 * np.exp(-(r / 0.3) ** 2))
+    p.fill(np.ones_like(p.alpha), (0.92, 0.9, 0.86), tone=1 + 0.3 * np.exp(-((r / 0.3) ** 2)))
     p.fill(r < 0.08, (1.0, 0.96, 0.8))
 
 

@@ -69,22 +69,33 @@ def time_interleaved(ctx, draws: dict[str, Callable[[int], None]], frames: int, 
 
 def timing_record(frames: int, warmup: int = 1) -> dict:
     """The `timing` entry of a result timed with time_interleaved."""
-    return {"samples_per_point": frames, "interleaved": True, "warmup_frames": warmup,
-            "statistic": "median; spread: interquartile range (q3 - q1)"}
+    return {
+        "samples_per_point": frames,
+        "interleaved": True,
+        "warmup_frames": warmup,
+        "statistic": "median; spread: interquartile range (q3 - q1)",
+    }
 
 
-def method_record(*, cull_back_faces: bool, depth_prepass: bool, frustum_culling: bool, msaa: int,
-                  size: tuple[int, int], **more) -> dict:
+def method_record(
+    *, cull_back_faces: bool, depth_prepass: bool, frustum_culling: bool, msaa: int, size: tuple[int, int], **more
+) -> dict:
     """What one compared method ran with, for the result's `methods`."""
-    return {"cull_back_faces": cull_back_faces, "depth_prepass": depth_prepass, "frustum_culling": frustum_culling,
-            "msaa": int(msaa), "size": [int(size[0]), int(size[1])], **more}
+    return {
+        "cull_back_faces": cull_back_faces,
+        "depth_prepass": depth_prepass,
+        "frustum_culling": frustum_culling,
+        "msaa": int(msaa),
+        "size": [int(size[0]), int(size[1])],
+        **more,
+    }
 
 
 @dataclass
 class BenchResult:
     name: str
     device: str
-    timing: dict = field(default_factory=dict)   # timing_record(...)
+    timing: dict = field(default_factory=dict)  # timing_record(...)
     methods: dict[str, dict] = field(default_factory=dict)  # method name -> method_record(...)
     tables: list[dict] = field(default_factory=list)  # {"title", "columns", "rows"}
     ratios: dict[str, float] = field(default_factory=dict)
@@ -110,11 +121,27 @@ class BenchResult:
         }
 
     def to_markdown(self) -> str:
-        out = [f"# bench {self.name}", "", f"Device: {self.device}", "", f"Timing: {json.dumps(self.timing)}", "",
-               "## Methods", ""] + [f"- {name}: {json.dumps(record)}" for name, record in self.methods.items()] + [""]
+        out = (
+            [
+                f"# bench {self.name}",
+                "",
+                f"Device: {self.device}",
+                "",
+                f"Timing: {json.dumps(self.timing)}",
+                "",
+                "## Methods",
+                "",
+            ]
+            + [f"- {name}: {json.dumps(record)}" for name, record in self.methods.items()]
+            + [""]
+        )
         for table in self.tables:
-            out += [f"## {table['title']}", "", "| " + " | ".join(table["columns"]) + " |",
-                    "|" + "---|" * len(table["columns"])]
+            out += [
+                f"## {table['title']}",
+                "",
+                "| " + " | ".join(table["columns"]) + " |",
+                "|" + "---|" * len(table["columns"]),
+            ]
             out += ["| " + " | ".join(_fmt(v) for v in row) + " |" for row in table["rows"]]
             out.append("")
         out += ["## Ratios", "", "| ratio | value | target |", "|---|---|---|"]
@@ -156,5 +183,7 @@ def write(result: BenchResult, out_dir: Path, json_path: Path | None = None, con
     write_text(out_dir / f"{result.name}.md", result.to_markdown())
     if json_path is not None:
         write_text(json_path, payload)
-    console.print(f"wrote {out_dir / (result.name + '.json')}, {out_dir / (result.name + '.md')}"
-                  + "".join(f", {p}" for p in result.plots))
+    console.print(
+        f"wrote {out_dir / (result.name + '.json')}, {out_dir / (result.name + '.md')}"
+        + "".join(f", {p}" for p in result.plots)
+    )

@@ -29,8 +29,17 @@ def _throughput(out: Path, samples: int, config, workers: int, map_path, city) -
     """(seconds until every actor is ready, samples per second after that)."""
     marks = {}
     start = time.perf_counter()
-    generate(out, samples, config, map_path, city, workers=workers, seed=SEED, progress=False,
-             on_workers=lambda pids: marks.setdefault("ready", time.perf_counter()))
+    generate(
+        out,
+        samples,
+        config,
+        map_path,
+        city,
+        workers=workers,
+        seed=SEED,
+        progress=False,
+        on_workers=lambda pids: marks.setdefault("ready", time.perf_counter()),
+    )
     end = time.perf_counter()
     return marks["ready"] - start, samples / (end - marks["ready"])
 
@@ -67,13 +76,20 @@ def run(quick: bool = False, out_dir: Path | None = None) -> BenchResult:
             ready, rate = _throughput(Path(folder) / f"w{workers}", samples, config, workers, map_path, city)
             rates[workers] = rate
             rows.append([workers, samples, round(ready, 2), round(rate, 3)])
-    result.add_table(f"{map_path.name if map_path else 'district'}: {samples} samples of {size[0]}x{size[1]}",
-                     ["workers", "samples", "start-up s", "samples/s"], rows)
+    result.add_table(
+        f"{map_path.name if map_path else 'district'}: {samples} samples of {size[0]}x{size[1]}",
+        ["workers", "samples", "start-up s", "samples/s"],
+        rows,
+    )
     rgb, full = _output_cost(load_source(map_path, city), config, 3 if quick else 8)
-    result.add_table("one sample's work (median)", ["work", "ms"],
-                     [["frame (RGB) only", round(rgb * 1000, 1)], ["all outputs, files written", round(full * 1000, 1)]])
+    result.add_table(
+        "one sample's work (median)",
+        ["work", "ms"],
+        [["frame (RGB) only", round(rgb * 1000, 1)], ["all outputs, files written", round(full * 1000, 1)]],
+    )
     result.ratios = {"workers_2_over_1_throughput": rates[2] / rates[1], "all_outputs_over_rgb_time": full / rgb}
     result.targets = {"workers_2_over_1_throughput": ">= 1.5", "all_outputs_over_rgb_time": "<= 1.5"}
-    result.notes.append(f"{os.cpu_count()} CPUs shared with whatever else runs; llvmpipe threads per worker = "
-                        "cpu_count / workers")
+    result.notes.append(
+        f"{os.cpu_count()} CPUs shared with whatever else runs; llvmpipe threads per worker = cpu_count / workers"
+    )
     return result

@@ -16,8 +16,21 @@ from ..export import export_city, map_export_city
 from ._harness import BenchResult
 
 HELSINKI = Path(__file__).resolve().parents[3] / "data" / "Helsinki.osm.pbf"
-COLUMNS = ["extract", "format", "texel m", "buildings", "read s", "export s", "MB", "bytes/building",
-           "atlas pages", "atlas Mtexels", "facade m²", "texels/m² facade", "triangles"]
+COLUMNS = [
+    "extract",
+    "format",
+    "texel m",
+    "buildings",
+    "read s",
+    "export s",
+    "MB",
+    "bytes/building",
+    "atlas pages",
+    "atlas Mtexels",
+    "facade m²",
+    "texels/m² facade",
+    "triangles",
+]
 
 
 def _row(name: str, path: Path, fmt: str, texel: float, tmp: Path) -> list:
@@ -26,9 +39,21 @@ def _row(name: str, path: Path, fmt: str, texel: float, tmp: Path) -> list:
     read = time.perf_counter() - began
     out = tmp / f"{name}.{fmt if fmt != '3dtiles' else 'tiles'}"
     s = export_city(export, out, fmt, texel)
-    return [name, fmt, texel, s["buildings"], round(read, 1), s["seconds"], round(s["bytes"] / 1e6, 2),
-            round(s["bytes"] / max(s["buildings"], 1)), len(s["atlas_pages"]), round(s["atlas_texels"] / 1e6, 2),
-            round(s["facade_m2"]), round(s["atlas_texels"] / max(s["facade_m2"], 1e-9), 2), s["triangles"]]
+    return [
+        name,
+        fmt,
+        texel,
+        s["buildings"],
+        round(read, 1),
+        s["seconds"],
+        round(s["bytes"] / 1e6, 2),
+        round(s["bytes"] / max(s["buildings"], 1)),
+        len(s["atlas_pages"]),
+        round(s["atlas_texels"] / 1e6, 2),
+        round(s["facade_m2"]),
+        round(s["atlas_texels"] / max(s["facade_m2"], 1e-9), 2),
+        s["triangles"],
+    ]
 
 
 def run(quick: bool = False, out_dir: Path | None = None) -> BenchResult:
@@ -51,11 +76,13 @@ def run(quick: bool = False, out_dir: Path | None = None) -> BenchResult:
             tiled_extract(HELSINKI, extract, 100_000)
             rows.append(_row("Helsinki tiled to 100,000", extract, "glb", 1.0, tmp))
     result.add_table("export: time and size", COLUMNS, rows)
-    result.notes.append("Facades are baked on the GPU (llvmpipe on a machine without one); 'read s' is load_map + "
-                        "map_city (guessing, roofs, ground), 'export s' the bake, meshes, PNGs and writing. Facade "
-                        "m² counts every wall, window-bay walls (one repeated bay texture, no atlas) included; "
-                        "atlas texels per m² stay below 1/texel² also because all walls of one side of a "
-                        "building share one canvas (the grammar's scope is the building's width). 3D Tiles "
-                        "atlases include the coarser levels' smaller ones.")
+    result.notes.append(
+        "Facades are baked on the GPU (llvmpipe on a machine without one); 'read s' is load_map + "
+        "map_city (guessing, roofs, ground), 'export s' the bake, meshes, PNGs and writing. Facade "
+        "m² counts every wall, window-bay walls (one repeated bay texture, no atlas) included; "
+        "atlas texels per m² stay below 1/texel² also because all walls of one side of a "
+        "building share one canvas (the grammar's scope is the building's width). 3D Tiles "
+        "atlases include the coarser levels' smaller ones."
+    )
     result.notes.append("Map data © OpenStreetMap contributors, ODbL 1.0.")
     return result

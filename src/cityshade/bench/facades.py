@@ -36,14 +36,23 @@ PATHS = ("forward", "deferred")
 # fig. 11 measures the facades: the frame without what the paper's city lacks (MSAA, trees, shadows,
 # god rays, rooms behind the glass); buildings not culled; SSAO as in the paper's deferred pipeline;
 # daylight. The grammars not in the library are compiled after it.
-FIG11_SETTINGS = RenderSettings(samples=0, trees=False, shadows=False, god_rays=False, interior_mapping=False,
-                                culling="off", ssao=True, time_of_day=14.0,
-                                grammar_files=tuple(str(library_path(f"{name}.grammar"))
-                                                    for name in ("simple", "conditions")))
+FIG11_SETTINGS = RenderSettings(
+    samples=0,
+    trees=False,
+    shadows=False,
+    god_rays=False,
+    interior_mapping=False,
+    culling="off",
+    ssao=True,
+    time_of_day=14.0,
+    grammar_files=tuple(str(library_path(f"{name}.grammar")) for name in ("simple", "conditions")),
+)
 # forward: depth prepass, then the grammar where the depth test passes; deferred: G-buffer, the
 # grammar once per pixel, then the buildings pass reads it back
-PATH_SETTINGS = {"forward": dict(grammar_deferred=False, depth_prepass=True),
-                 "deferred": dict(grammar_deferred=True, depth_prepass=False)}
+PATH_SETTINGS = {
+    "forward": dict(grammar_deferred=False, depth_prepass=True),
+    "deferred": dict(grammar_deferred=True, depth_prepass=False),
+}
 GRAMMAR_STYLE = {name: number for number, name in BUILDING_STYLES.items()}["office"]  # any grammar style
 # Fig. 11: frames per second / ms per frame at 1024x768 on a GeForce GTX 470.
 PAPER_FIG11 = {
@@ -52,11 +61,16 @@ PAPER_FIG11 = {
     "closeup": {"simple": (82, 12), "random": (70, 14), "full": (25, 40)},
 }
 PAPER_RULES, PAPER_BYTES = 330, 5928  # §6: the grammar of fig. 10
-TARGETS = {"random_over_simple": "<= 1.1 (paper ~1.2)", "full_over_simple": "<= 2.0 (paper ~4.4)",
-           "conditions_over_simple": "<= 1.3",
-           "bytes_per_rule": "<= 16 (paper 18)", "deferred_over_forward": "report (< 1: deferred is faster)",
-           "city_deferred_over_forward": "report (the city's default follows the faster)",
-           "windows_straddling_rooms_district": "0", "windows_straddling_rooms_osm": "0"}
+TARGETS = {
+    "random_over_simple": "<= 1.1 (paper ~1.2)",
+    "full_over_simple": "<= 2.0 (paper ~4.4)",
+    "conditions_over_simple": "<= 1.3",
+    "bytes_per_rule": "<= 16 (paper 18)",
+    "deferred_over_forward": "report (< 1: deferred is faster)",
+    "city_deferred_over_forward": "report (the city's default follows the faster)",
+    "windows_straddling_rooms_district": "0",
+    "windows_straddling_rooms_osm": "0",
+}
 PITCH = 32.0
 CITY_SIZE = (640, 360)
 WINDOWS_SIZE = (960, 540)  # piers between windows stay a pixel wide or more in the street views
@@ -69,8 +83,17 @@ def city_masses(count: int, seed: int = 11):
     sizes = rng.uniform(16.0, 24.0, (count, 2))
     heights = rng.choice(np.arange(3.2, 60.0, 3.2), count)
     seeds = rng.integers(0, 1 << 30, count)
-    return [box((float(k % side) * PITCH, float(k // side) * PITCH), float(sizes[k, 0]), float(sizes[k, 1]),
-                float(heights[k]), seed=int(seeds[k]), style=GRAMMAR_STYLE) for k in range(count)], side
+    return [
+        box(
+            (float(k % side) * PITCH, float(k // side) * PITCH),
+            float(sizes[k, 0]),
+            float(sizes[k, 1]),
+            float(heights[k]),
+            seed=int(seeds[k]),
+            style=GRAMMAR_STYLE,
+        )
+        for k in range(count)
+    ], side
 
 
 def fig11_city(count: int) -> tuple[City, int]:
@@ -91,8 +114,13 @@ def views(side: int) -> dict[str, Camera]:
     mid = (side // 2) * PITCH
     street_x = mid + 28.0  # between two columns of lots
     return {
-        "distance": Camera((-0.15 * extent, 0.12 * extent + 60.0, -0.15 * extent), (0.45 * extent, 0.0, 0.45 * extent),
-                           fov_y=55.0, near=2.0, far=4.0 * extent + 500.0),
+        "distance": Camera(
+            (-0.15 * extent, 0.12 * extent + 60.0, -0.15 * extent),
+            (0.45 * extent, 0.0, 0.45 * extent),
+            fov_y=55.0,
+            near=2.0,
+            far=4.0 * extent + 500.0,
+        ),
         "street": Camera((street_x, 1.7, mid - 60.0), (street_x - 6.0, 14.0, mid + 80.0), fov_y=66.0, far=4000.0),
         "closeup": Camera((mid + 6.0, 4.0, mid - 7.0), (mid + 12.0, 6.5, mid), fov_y=60.0, far=4000.0),
     }
@@ -134,8 +162,11 @@ def library_bytes_per_rule() -> tuple[int, int, float]:
     grammars["simple"] = load(library_path("simple.grammar"))
     grammars["conditions"] = load(library_path("conditions.grammar"))
     compiled = compile_grammars(grammars)
-    written = {(r.source.definition.location.path, r.source.definition.location.line)
-               for g in grammars.values() for r in g.rules.values()}
+    written = {
+        (r.source.definition.location.path, r.source.definition.location.line)
+        for g in grammars.values()
+        for r in g.rules.values()
+    }
     return len(written), compiled.nbytes, compiled.nbytes / len(written)
 
 
@@ -158,8 +189,9 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     try:
         for view, camera in cameras.items():
             for grammar in GRAMMARS:
-                timed = time_interleaved(ctx, {path: (lambda i, s=fig11_settings(path, grammar): draw(s, camera))
-                                               for path in PATHS}, frames)
+                timed = time_interleaved(
+                    ctx, {path: (lambda i, s=fig11_settings(path, grammar): draw(s, camera)) for path in PATHS}, frames
+                )
                 for path, value in timed.items():
                     ms[(view, grammar, path)], iqr[(view, grammar, path)] = value.ms()
                 # the last frame drawn (deferred)
@@ -168,57 +200,113 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         renderer.release()
 
     city_ms = city_frame_ms(ctx, CITY_SIZE, frames)
-    straddling = {"district": straddling_windows(ctx, make_city("default")),
-                  "osm": straddling_windows(ctx, map_city(load_map(HELSINKI)))}
+    straddling = {
+        "district": straddling_windows(ctx, make_city("default")),
+        "osm": straddling_windows(ctx, map_city(load_map(HELSINKI))),
+    }
     result = BenchResult("facades", describe_context(ctx), timing=timing_record(frames))
     for path in PATHS:
         result.methods[f"fig. 11 {path}"] = method_record(
-            cull_back_faces=False, depth_prepass=path == "forward", frustum_culling=False, msaa=0, size=size,
-            grammar_deferred=path == "deferred", ssao=True,
+            cull_back_faces=False,
+            depth_prepass=path == "forward",
+            frustum_culling=False,
+            msaa=0,
+            size=size,
+            grammar_deferred=path == "deferred",
+            ssao=True,
             note="the city's frame without trees, shadows, god rays or rooms behind the glass (ground and sky "
-                 "drawn, tone mapped); forward: depth prepass, then the grammar where the depth test passes; "
-                 "deferred: G-buffer, grammar once per pixel, buildings pass reading it back")
+            "drawn, tone mapped); forward: depth prepass, then the grammar where the depth test passes; "
+            "deferred: G-buffer, grammar once per pixel, buildings pass reading it back",
+        )
         result.methods[f"city frame, grammar {path}"] = method_record(
-            cull_back_faces=False, depth_prepass=True, frustum_culling=True, msaa=RenderSettings().samples,
-            size=CITY_SIZE, grammar_deferred=path == "deferred")
+            cull_back_faces=False,
+            depth_prepass=True,
+            frustum_culling=True,
+            msaa=RenderSettings().samples,
+            size=CITY_SIZE,
+            grammar_deferred=path == "deferred",
+        )
     rows = []
     for view in cameras:
         for grammar in GRAMMARS:
             fps, paper_ms = PAPER_FIG11[view].get(grammar, ("-", "-"))  # the paper has no conditions
             fwd, dfr = ms[(view, grammar, "forward")], ms[(view, grammar, "deferred")]
-            rows.append([view, grammar, fwd, iqr[(view, grammar, "forward")], dfr, iqr[(view, grammar, "deferred")],
-                         round(dfr / fwd, 3), paper_ms, fps])
-    result.add_table(f"Fig. 11: ms per frame, {count} buildings at {size[0]}x{size[1]} (paper: GTX 470, 1024x768)",
-                     ["view", "grammar", "forward ms", "forward IQR ms", "deferred ms", "deferred IQR ms",
-                      "deferred/forward", "paper ms", "paper fps"],
-                     rows)
+            rows.append(
+                [
+                    view,
+                    grammar,
+                    fwd,
+                    iqr[(view, grammar, "forward")],
+                    dfr,
+                    iqr[(view, grammar, "deferred")],
+                    round(dfr / fwd, 3),
+                    paper_ms,
+                    fps,
+                ]
+            )
+    result.add_table(
+        f"Fig. 11: ms per frame, {count} buildings at {size[0]}x{size[1]} (paper: GTX 470, 1024x768)",
+        [
+            "view",
+            "grammar",
+            "forward ms",
+            "forward IQR ms",
+            "deferred ms",
+            "deferred IQR ms",
+            "deferred/forward",
+            "paper ms",
+            "paper fps",
+        ],
+        rows,
+    )
     best = {key[:2]: min(ms[(*key[:2], p)] for p in PATHS) for key in ms}
 
     def over_simple(grammar):
         return _geomean([best[(v, grammar)] / best[(v, "simple")] for v in cameras])
 
-    result.add_table("The city's frame (default city, street camera, 640x360, interiors on): grammar facades "
-                     "by path", ["path", "ms per frame", "IQR ms"], [[p, *v.ms()] for p, v in city_ms.items()])
+    result.add_table(
+        "The city's frame (default city, street camera, 640x360, interiors on): grammar facades by path",
+        ["path", "ms per frame", "IQR ms"],
+        [[p, *v.ms()] for p, v in city_ms.items()],
+    )
     rules, nbytes, per_rule = library_bytes_per_rule()
-    result.add_table("§6: grammar texture of the whole library", ["", "rules", "bytes", "bytes per rule"],
-                     [["ours", rules, nbytes, round(per_rule, 2)],
-                      ["paper (fig. 10)", PAPER_RULES, PAPER_BYTES, round(PAPER_BYTES / PAPER_RULES, 2)]])
+    result.add_table(
+        "§6: grammar texture of the whole library",
+        ["", "rules", "bytes", "bytes per rule"],
+        [
+            ["ours", rules, nbytes, round(per_rule, 2)],
+            ["paper (fig. 10)", PAPER_RULES, PAPER_BYTES, round(PAPER_BYTES / PAPER_RULES, 2)],
+        ],
+    )
     result.ratios = {
         "random_over_simple": round(over_simple("random"), 3),
         "full_over_simple": round(over_simple("full"), 3),
         "conditions_over_simple": round(over_simple("conditions"), 3),
         "bytes_per_rule": round(per_rule, 2),
-        "deferred_over_forward": round(_geomean([ms[(v, g, "deferred")] / ms[(v, g, "forward")]
-                                                 for v in cameras for g in GRAMMARS]), 3),
+        "deferred_over_forward": round(
+            _geomean([ms[(v, g, "deferred")] / ms[(v, g, "forward")] for v in cameras for g in GRAMMARS]), 3
+        ),
         "city_deferred_over_forward": round(city_ms["deferred"].median / city_ms["forward"].median, 3),
         "windows_straddling_rooms_district": straddling["district"]["straddling"],
         "windows_straddling_rooms_osm": straddling["osm"]["straddling"],
     }
-    result.add_table(f"Windows showing more than one room, over each city's viewpoints at {WINDOWS_SIZE[0]}x"
-                     f"{WINDOWS_SIZE[1]}", ["city", "windows", "showing two or more rooms",
-                                            "glass patches showing several rooms", "of them: touching windows"],
-                     [[name, *counts.values()] for name, counts in
-                      (("district (default city)", straddling["district"]), ("Helsinki extract", straddling["osm"]))])
+    result.add_table(
+        f"Windows showing more than one room, over each city's viewpoints at {WINDOWS_SIZE[0]}x{WINDOWS_SIZE[1]}",
+        [
+            "city",
+            "windows",
+            "showing two or more rooms",
+            "glass patches showing several rooms",
+            "of them: touching windows",
+        ],
+        [
+            [name, *counts.values()]
+            for name, counts in (
+                ("district (default city)", straddling["district"]),
+                ("Helsinki extract", straddling["osm"]),
+            )
+        ],
+    )
     result.targets = dict(TARGETS)
     faster = "deferred" if result.ratios["deferred_over_forward"] < 1 else "forward"
     result.notes += [
@@ -246,8 +334,13 @@ def _plot(ms, cameras, out_dir: Path) -> Path:
     x = np.arange(len(labels))
     for offset, path in ((-0.2, "forward"), (0.2, "deferred")):
         ax.bar(x + offset, [ms[(v, g, path)] for v in cameras for g in GRAMMARS], 0.4, label=path)
-    ax.plot(x, [PAPER_FIG11[v].get(g, (0, np.nan))[1] for v in cameras for g in GRAMMARS], "k_", markersize=18,
-            label="paper (GTX 470)")
+    ax.plot(
+        x,
+        [PAPER_FIG11[v].get(g, (0, np.nan))[1] for v in cameras for g in GRAMMARS],
+        "k_",
+        markersize=18,
+        label="paper (GTX 470)",
+    )
     ax.set_xticks(x, labels, fontsize=7)
     ax.set_ylabel("ms per frame")
     ax.legend(fontsize=8)

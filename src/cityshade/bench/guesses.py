@@ -49,10 +49,14 @@ def evaluate(map_data, folds: int = FOLDS, seed: int = SEED) -> dict:
     levels, heights, roofs = _truth(map_data)
     evaluated = sorted(set(levels) | set(heights) | set(roofs))
     if len(evaluated) < folds:
-        raise UsageError(f"{map_data.source}: only {len(evaluated)} buildings with a tagged size or roof; "
-                         f"need at least {folds} to measure the guesses")
+        raise UsageError(
+            f"{map_data.source}: only {len(evaluated)} buildings with a tagged size or roof; "
+            f"need at least {folds} to measure the guesses"
+        )
     order = np.random.default_rng(seed).permutation(evaluated)
-    errors = {name: {"levels": [], "height": [], "roof": []} for name in ("model", "defaults", "constant_10m", "median")}
+    errors = {
+        name: {"levels": [], "height": [], "roof": []} for name in ("model", "defaults", "constant_10m", "median")
+    }
     for fold in np.array_split(order, folds):
         held = set(int(i) for i in fold)
         guessed = copy.deepcopy(map_data)
@@ -105,8 +109,11 @@ def tiled(map_data, count: int):
     for k in range(copies):
         shift = np.array([(k % across) * (x1 - x0 + 50.0), (k // across) * (y1 - y0 + 50.0)])
         for b, outline in zip(source, shapely.transform(outlines, lambda c, shift=shift: c + shift)):
-            buildings.append(dataclasses.replace(b, index=len(buildings), outline=outline, parent=None,
-                                                 tagged=set(b.tagged), guessed=set(b.guessed)))
+            buildings.append(
+                dataclasses.replace(
+                    b, index=len(buildings), outline=outline, parent=None, tagged=set(b.tagged), guessed=set(b.guessed)
+                )
+            )
     return dataclasses.replace(map_data, buildings=buildings[:count], trees=[], report=ReadReport())
 
 
@@ -121,12 +128,16 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     counts = scores.pop("counts")
     result = BenchResult("guesses", "cpu")
-    rows = [[name, round(s["levels_mae"], 3), round(s["height_mae_m"], 3), round(s["roof_shape_accuracy"], 3)]
-            for name, s in scores.items()]
+    rows = [
+        [name, round(s["levels_mae"], 3), round(s["height_mae_m"], 3), round(s["roof_shape_accuracy"], 3)]
+        for name, s in scores.items()
+    ]
     result.add_table(
         f"Helsinki extract, {counts['folds']}-fold (seed {SEED}): {counts['levels']} tagged levels, "
         f"{counts['height']} tagged heights, {counts['roof_shape']} tagged roof shapes",
-        ["guesser", "levels MAE (storeys)", "height MAE (m)", "roof shape accuracy"], rows)
+        ["guesser", "levels MAE (storeys)", "height MAE (m)", "roof shape accuracy"],
+        rows,
+    )
     model, old, median = scores["model"], scores["constant_10m"], scores["median"]
     result.ratios = {
         "levels_mae": model["levels_mae"],
@@ -144,9 +155,15 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     speed = f"guess_{len(many.buildings) // 1000}k"
     result.ratios[f"{speed}_seconds"] = seconds
     result.ratios[f"{speed}_cpu_seconds"] = cpu
-    result.targets = {"levels_mae": "<= 1.0", "height_mae_m": "<= 3.0", "roof_shape_accuracy": "> always flat",
-                      f"{speed}_seconds": "seconds"}
-    result.notes.append(f"{speed}_seconds (wall) and _cpu_seconds (this process): guess_missing on the Helsinki "
-                        f"buildings tiled to {len(many.buildings):,} (100,000 without --quick, 20,000 with).")
+    result.targets = {
+        "levels_mae": "<= 1.0",
+        "height_mae_m": "<= 3.0",
+        "roof_shape_accuracy": "> always flat",
+        f"{speed}_seconds": "seconds",
+    }
+    result.notes.append(
+        f"{speed}_seconds (wall) and _cpu_seconds (this process): guess_missing on the Helsinki "
+        f"buildings tiled to {len(many.buildings):,} (100,000 without --quick, 20,000 with)."
+    )
     result.notes.append("Map data © OpenStreetMap contributors, ODbL 1.0.")
     return result

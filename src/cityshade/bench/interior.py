@@ -28,14 +28,28 @@ from ..render import Renderer, RenderSettings
 from ..scene import Camera, City, grid_city
 from ._harness import MIN_TIMED_FRAMES, BenchResult, Timing, method_record, time_interleaved, timing_record
 
-SETTINGS = RenderSettings(samples=0, furniture=False, curtains=False, lod=False, shadows=False, trees=False,
-                          god_rays=False, grammar_deferred=False, culling="frustum")  # the same chunks as the rooms
+SETTINGS = RenderSettings(
+    samples=0,
+    furniture=False,
+    curtains=False,
+    lod=False,
+    shadows=False,
+    trees=False,
+    god_rays=False,
+    grammar_deferred=False,
+    culling="frustum",
+)  # the same chunks as the rooms
 BUILDING_COUNTS = (1, 10, 100, 500, 1000)
 TEXTURE_SIZES = (256, 64, 16)
 ROOM_COUNTS = (1_000, 10_000, 100_000, 1_000_000, 4_000_000)
 PAPER_SECONDS = 5.0  # the paper counts frames rendered in five seconds
-PAPER = {"zcull_off": 881, "zcull_on": 1265, "textures": {256: 999, 64: 1032, 16: 1053},
-         "reflective": 5100, "interior_mapping": 999}
+PAPER = {
+    "zcull_off": 881,
+    "zcull_on": 1265,
+    "textures": {256: 999, 64: 1032, 16: 1053},
+    "reflective": 5100,
+    "interior_mapping": 999,
+}
 TARGETS = {
     "rooms_4m_over_1k": "<= 1.02",
     "im_over_reflective": "<= 2.0 (paper 5.1)",
@@ -54,12 +68,22 @@ def method(settings: RenderSettings, size) -> dict:
     """What a variant runs with: the polygonised path culls back faces (render/_frame.py), interior
     mapping draws them without (its depth prepass rejects back faces before shading); both are culled
     by chunk against the frustum."""
-    return method_record(cull_back_faces=settings.polygonised_interiors, depth_prepass=settings.depth_prepass,
-                         frustum_culling=True, msaa=settings.samples, size=size,
-                         interior=("polygonised" if settings.polygonised_interiors else
-                                   "interior mapping" if settings.interior_mapping else "reflective only"),
-                         furniture=settings.furniture and settings.interior_mapping,
-                         room_texture_size=settings.room_texture_size)
+    return method_record(
+        cull_back_faces=settings.polygonised_interiors,
+        depth_prepass=settings.depth_prepass,
+        frustum_culling=True,
+        msaa=settings.samples,
+        size=size,
+        interior=(
+            "polygonised"
+            if settings.polygonised_interiors
+            else "interior mapping"
+            if settings.interior_mapping
+            else "reflective only"
+        ),
+        furniture=settings.furniture and settings.interior_mapping,
+        room_texture_size=settings.room_texture_size,
+    )
 
 
 def timed(renderer: Renderer, camera: Camera, variants: dict[str, RenderSettings], frames: int) -> dict[str, Timing]:
@@ -115,12 +139,38 @@ def _fig9(result: BenchResult, renderer: Renderer, rounds: int, counts) -> dict[
         timing = timed(renderer, overview_camera(city), {"im": im, "poly": poly}, rounds)
         t = times[n] = {k: v.median for k, v in timing.items()}
         im_triangles = renderer.city.building_vertex_count // 3
-        rows.append([n, *timing["im"].ms(), *timing["poly"].ms(), round(frames_in(t["im"])),
-                     round(frames_in(t["poly"])), round(t["poly"] / t["im"], 2),
-                     im_triangles, im_triangles + renderer.city.polygonised().triangle_count, 10 * n, 158 * n])
-    result.add_table("(a) fig. 9: buildings vs frame time, interior mapping (IM) vs polygonised interiors (P)",
-                     ["buildings", "IM ms", "IM IQR ms", "P ms", "P IQR ms", "IM frames/5 s", "P frames/5 s", "P / IM time",
-                      "IM triangles", "P triangles", "paper IM polys", "paper P polys"], rows)
+        rows.append(
+            [
+                n,
+                *timing["im"].ms(),
+                *timing["poly"].ms(),
+                round(frames_in(t["im"])),
+                round(frames_in(t["poly"])),
+                round(t["poly"] / t["im"], 2),
+                im_triangles,
+                im_triangles + renderer.city.polygonised().triangle_count,
+                10 * n,
+                158 * n,
+            ]
+        )
+    result.add_table(
+        "(a) fig. 9: buildings vs frame time, interior mapping (IM) vs polygonised interiors (P)",
+        [
+            "buildings",
+            "IM ms",
+            "IM IQR ms",
+            "P ms",
+            "P IQR ms",
+            "IM frames/5 s",
+            "P frames/5 s",
+            "P / IM time",
+            "IM triangles",
+            "P triangles",
+            "paper IM polys",
+            "paper P polys",
+        ],
+        rows,
+    )
     for n in (10, 1000):
         if n in times:
             result.ratios[f"polygonised_over_im_at_{n}"] = times[n]["poly"] / times[n]["im"]
@@ -160,21 +210,46 @@ def _prepass(result: BenchResult, renderer: Renderer, rounds: int, angles, build
         rows.append([angle, *timing["off"].ms(), *timing["on"].ms(), round(t["off"] / t["on"], 2)])
     speedup = sums["off"] / sums["on"]
     rows.append(["sum", round(sums["off"] * 1e3, 2), "", round(sums["on"] * 1e3, 2), "", round(speedup, 2)])
-    rows.append(["paper (frames/5 s)", PAPER["zcull_off"], "", PAPER["zcull_on"], "",
-                 round(PAPER["zcull_on"] / PAPER["zcull_off"], 2)])
-    result.add_table(f"(b) z-cull: depth prepass off vs on, camera orbiting a grid of {buildings} buildings",
-                     ["orbit angle", "off ms", "off IQR ms", "on ms", "on IQR ms", "speed-up"], rows)
+    rows.append(
+        [
+            "paper (frames/5 s)",
+            PAPER["zcull_off"],
+            "",
+            PAPER["zcull_on"],
+            "",
+            round(PAPER["zcull_on"] / PAPER["zcull_off"], 2),
+        ]
+    )
+    result.add_table(
+        f"(b) z-cull: depth prepass off vs on, camera orbiting a grid of {buildings} buildings",
+        ["orbit angle", "off ms", "off IQR ms", "on ms", "on IQR ms", "speed-up"],
+        rows,
+    )
     result.ratios["prepass_speedup"] = speedup
 
 
 def _textures(result: BenchResult, base: Renderer, city: City, camera: Camera, rounds: int):
     renderers = {size: _renderer_for(base, SETTINGS.with_(room_texture_size=size), city) for size in TEXTURE_SIZES}
-    timing = time_interleaved(base.ctx, {size: (lambda i, r=r: r.draw(camera)) for size, r in renderers.items()}, rounds)
+    timing = time_interleaved(
+        base.ctx, {size: (lambda i, r=r: r.draw(camera)) for size, r in renderers.items()}, rounds
+    )
     t = {k: v.median for k, v in timing.items()}
-    rows = [[size, *timing[size].ms(), round(frames_in(t[size])), round(t[256] / t[size], 3),
-             PAPER["textures"][size], round(PAPER["textures"][size] / PAPER["textures"][256], 3)] for size in TEXTURE_SIZES]
-    result.add_table("(c) room texture resolution (four textures)",
-                     ["texels", "ms", "IQR ms", "frames/5 s", "speed vs 256", "paper frames/5 s", "paper speed vs 256"], rows)
+    rows = [
+        [
+            size,
+            *timing[size].ms(),
+            round(frames_in(t[size])),
+            round(t[256] / t[size], 3),
+            PAPER["textures"][size],
+            round(PAPER["textures"][size] / PAPER["textures"][256], 3),
+        ]
+        for size in TEXTURE_SIZES
+    ]
+    result.add_table(
+        "(c) room texture resolution (four textures)",
+        ["texels", "ms", "IQR ms", "frames/5 s", "speed vs 256", "paper frames/5 s", "paper speed vs 256"],
+        rows,
+    )
     result.ratios["texture16_speedup"] = t[256] / t[16]
     for r in renderers.values():
         r.release()
@@ -189,8 +264,11 @@ def _rooms_table(result: BenchResult, base: Renderer, city: City, camera: Camera
     t = {k: v.median for k, v in timing.items()}
     first, last = min(t), max(t)
     rows = [[rooms, *timing[rooms].ms(), round(frames_in(t[rooms])), round(t[rooms] / t[first], 3)] for rooms in t]
-    result.add_table("(d) rooms per building (paper: no change from 1,000 to 4,000,000)",
-                     ["rooms per building", "ms", "IQR ms", "frames/5 s", f"time / {first} rooms"], rows)
+    result.add_table(
+        "(d) rooms per building (paper: no change from 1,000 to 4,000,000)",
+        ["rooms per building", "ms", "IQR ms", "frames/5 s", f"time / {first} rooms"],
+        rows,
+    )
     result.ratios["rooms_4m_over_1k"] = t[last] / t[first]
     for r in renderers.values():
         r.release()
@@ -201,20 +279,36 @@ def _reflective(result: BenchResult, renderer: Renderer, city: City, camera: Cam
     timing = timed(renderer, camera, VARIANTS, rounds)
     t = {k: v.median for k, v in timing.items()}
     base = t["reflective-only windows"]
-    paper = {"reflective-only windows": PAPER["reflective"], "interior mapping (paper's version)": PAPER["interior_mapping"]}
-    rows = [[k, *timing[k].ms(), round(frames_in(v)), round(v / base, 2), paper.get(k, ""),
-             round(PAPER["reflective"] / paper[k], 2) if k in paper else ""] for k, v in t.items()]
-    result.add_table("(e) cost of interior mapping against reflective-only windows (street view)",
-                     ["windows", "ms", "IQR ms", "frames/5 s", "time / reflective", "paper frames/5 s", "paper time / reflective"],
-                     rows)
+    paper = {
+        "reflective-only windows": PAPER["reflective"],
+        "interior mapping (paper's version)": PAPER["interior_mapping"],
+    }
+    rows = [
+        [
+            k,
+            *timing[k].ms(),
+            round(frames_in(v)),
+            round(v / base, 2),
+            paper.get(k, ""),
+            round(PAPER["reflective"] / paper[k], 2) if k in paper else "",
+        ]
+        for k, v in t.items()
+    ]
+    result.add_table(
+        "(e) cost of interior mapping against reflective-only windows (street view)",
+        ["windows", "ms", "IQR ms", "frames/5 s", "time / reflective", "paper frames/5 s", "paper time / reflective"],
+        rows,
+    )
     result.ratios["im_over_reflective"] = t["interior mapping (paper's version)"] / base
     renderer.set_settings(SETTINGS)
 
 
-VARIANTS = {"reflective-only windows": SETTINGS.with_(interior_mapping=False),
-            "interior mapping (paper's version)": SETTINGS,
-            "interior mapping, furniture + curtains": SETTINGS.with_(furniture=True, curtains=True),
-            "polygonised interiors": SETTINGS.with_(polygonised_interiors=True)}
+VARIANTS = {
+    "reflective-only windows": SETTINGS.with_(interior_mapping=False),
+    "interior mapping (paper's version)": SETTINGS,
+    "interior mapping, furniture + curtains": SETTINGS.with_(furniture=True, curtains=True),
+    "polygonised interiors": SETTINGS.with_(polygonised_interiors=True),
+}
 
 
 def comparison_picture(renderer: Renderer, city: City, camera: Camera) -> np.ndarray:
@@ -248,7 +342,9 @@ class Plan:
 
 
 FULL = Plan((1024, 768), 11, BUILDING_COUNTS, tuple(range(0, 360, 45)), 100, 36, ROOM_COUNTS)
-QUICK = Plan((320, 240), MIN_TIMED_FRAMES, BUILDING_COUNTS, (0, 90, 180, 270), 64, 16, (ROOM_COUNTS[0], ROOM_COUNTS[-1]))
+QUICK = Plan(
+    (320, 240), MIN_TIMED_FRAMES, BUILDING_COUNTS, (0, 90, 180, 270), 64, 16, (ROOM_COUNTS[0], ROOM_COUNTS[-1])
+)
 
 
 def run(quick: bool, out_dir: Path) -> BenchResult:
@@ -258,8 +354,13 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
 def run_plan(plan: Plan, out_dir: Path) -> BenchResult:
     renderer = Renderer(plan.size, SETTINGS)
     result = BenchResult("interior", renderer.device, targets=dict(TARGETS), timing=timing_record(plan.rounds))
-    result.methods = {name: method(settings, plan.size) for name, settings in
-                      {**VARIANTS, "interior mapping without prepass": SETTINGS.with_(depth_prepass=False)}.items()}
+    result.methods = {
+        name: method(settings, plan.size)
+        for name, settings in {
+            **VARIANTS,
+            "interior mapping without prepass": SETTINGS.with_(depth_prepass=False),
+        }.items()
+    }
     out_dir.mkdir(parents=True, exist_ok=True)
     picture = comparison_picture(renderer, grid_city(4), comparison_camera())
     path = out_dir / "interior_vs_polygonised.png"

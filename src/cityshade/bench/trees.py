@@ -43,13 +43,17 @@ def _shadow_pass_ms(renderer: Renderer, camera, frames: int) -> dict[str, tuple[
             inputs.view.frame_index = 1 + i % 8  # skip frame 0, which draws every cascade to fill them
             run_passes(inputs, shadows)
             calls[name].append(renderer.shadows.stats.draw_calls)
+
         return run
 
-    timing = time_interleaved(renderer.ctx, {"rated": draw("rated", PAPER_RATES), "every": draw("every", EVERY_FRAME)},
-                              frames, warmup=0)
+    timing = time_interleaved(
+        renderer.ctx, {"rated": draw("rated", PAPER_RATES), "every": draw("every", EVERY_FRAME)}, frames, warmup=0
+    )
     renderer.shadows.rates = PAPER_RATES
-    return {name: (round(float(np.mean(t.samples)) * 1e3, 2), t.ms()[1], float(np.mean(calls[name])))
-            for name, t in timing.items()}
+    return {
+        name: (round(float(np.mean(t.samples)) * 1e3, 2), t.ms()[1], float(np.mean(calls[name])))
+        for name, t in timing.items()
+    }
 
 
 def run(quick: bool, out_dir: Path) -> BenchResult:
@@ -65,10 +69,15 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         base_trees, base_frame = renderer.trees.settings, renderer.settings
 
         def method(**more):
-            return method_record(cull_back_faces=False, depth_prepass=base_frame.depth_prepass, frustum_culling=True,
-                                 msaa=renderer.samples, size=size,
-                                 culling="buildings by chunk; trees by LOD distance, near to far, not by frustum",
-                                 **more)
+            return method_record(
+                cull_back_faces=False,
+                depth_prepass=base_frame.depth_prepass,
+                frustum_culling=True,
+                msaa=renderer.samples,
+                size=size,
+                culling="buildings by chunk; trees by LOD distance, near to far, not by frustum",
+                **more,
+            )
 
         result.methods["all techniques"] = method()
         rows, costs = [], {}
@@ -79,26 +88,40 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
                     renderer.trees.settings = trees
                     renderer.set_settings(frame)
                     renderer.draw(camera)
+
                 return run
 
-            timing = time_interleaved(renderer.ctx, {"on": draw(base_trees, base_frame),
-                                                     "off": draw(base_trees.with_(**tree_off),
-                                                                 base_frame.with_(**frame_off))}, frames, warmup=2)
+            timing = time_interleaved(
+                renderer.ctx,
+                {
+                    "on": draw(base_trees, base_frame),
+                    "off": draw(base_trees.with_(**tree_off), base_frame.with_(**frame_off)),
+                },
+                frames,
+                warmup=2,
+            )
             renderer.trees.settings = base_trees
             renderer.set_settings(base_frame)
             on, off = timing["on"].median, timing["off"].median
             costs[name] = on / off
             rows.append([name, *timing["on"].ms(), *timing["off"].ms(), round(on / off, 3)])
             result.methods[f"{name} off"] = method(switched_off={**tree_off, **frame_off})
-        result.add_table(f"Frame time, tree scene ({len(renderer.trees.trees)} trees, {size[0]}x{size[1]}, "
-                         f"{renderer.samples}x MSAA)",
-                         ["feature", "on (ms)", "on IQR (ms)", "off (ms)", "off IQR (ms)", "on / off"], rows)
+        result.add_table(
+            f"Frame time, tree scene ({len(renderer.trees.trees)} trees, {size[0]}x{size[1]}, "
+            f"{renderer.samples}x MSAA)",
+            ["feature", "on (ms)", "on IQR (ms)", "off (ms)", "off IQR (ms)", "on / off"],
+            rows,
+        )
 
         shadow = _shadow_pass_ms(renderer, camera, cycle)
-        result.add_table(f"Shadow pass per frame (mean over {cycle} frames, whole 1/2/4 cycles)",
-                         ["cascade updates", "ms / frame", "IQR ms (schedule and noise)", "draw calls / frame"],
-                         [["rates 1 / 2 / 4, casters filtered (paper)", *shadow["rated"]],
-                          ["all three every frame, all casters", *shadow["every"]]])
+        result.add_table(
+            f"Shadow pass per frame (mean over {cycle} frames, whole 1/2/4 cycles)",
+            ["cascade updates", "ms / frame", "IQR ms (schedule and noise)", "draw calls / frame"],
+            [
+                ["rates 1 / 2 / 4, casters filtered (paper)", *shadow["rated"]],
+                ["all three every frame, all casters", *shadow["every"]],
+            ],
+        )
         rated_ms, every_ms = shadow["rated"][0], shadow["every"][0]
 
         result.ratios["csm_rate_saving"] = every_ms / rated_ms

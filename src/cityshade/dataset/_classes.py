@@ -13,22 +13,73 @@ from ..assets import LABELS
 from ..interior import FACE_NAMES
 
 CLASSES = (
-    "sky", "road", "pavement", "lane_marking", "grass", "water", "wall", "window", "door", "shop_front",
-    "balcony_relief", "roof", "tree_trunk", "lamp", "rail", "bare_ground", "foliage",
+    "sky",
+    "road",
+    "pavement",
+    "lane_marking",
+    "grass",
+    "water",
+    "wall",
+    "window",
+    "door",
+    "shop_front",
+    "balcony_relief",
+    "roof",
+    "tree_trunk",
+    "lamp",
+    "rail",
+    "bare_ground",
+    "foliage",
 )
 IGNORE = 255  # the class image's value for classes a config ignores
-CLASS_COLOURS = np.array([
-    (112, 160, 220), (60, 60, 64), (170, 160, 150), (250, 250, 250), (80, 170, 60), (30, 80, 190),
-    (200, 170, 130), (60, 200, 230), (150, 60, 30), (230, 60, 160), (230, 200, 40), (170, 40, 40),
-    (90, 55, 30), (255, 140, 0), (120, 90, 160), (150, 120, 70), (20, 110, 30),
-], np.uint8)
+CLASS_COLOURS = np.array(
+    [
+        (112, 160, 220),
+        (60, 60, 64),
+        (170, 160, 150),
+        (250, 250, 250),
+        (80, 170, 60),
+        (30, 80, 190),
+        (200, 170, 130),
+        (60, 200, 230),
+        (150, 60, 30),
+        (230, 60, 160),
+        (230, 200, 40),
+        (170, 40, 40),
+        (90, 55, 30),
+        (255, 140, 0),
+        (120, 90, 160),
+        (150, 120, 70),
+        (20, 110, 30),
+    ],
+    np.uint8,
+)
 
 # ground materials (scene GROUND_* 0..2, maps' 3..10) -> class
-GROUND_CLASSES = ("road", "pavement", "grass", "water", "lane_marking", "rail", "rail", "bare_ground", "bare_ground",
-                  "lamp", "lamp")
+GROUND_CLASSES = (
+    "road",
+    "pavement",
+    "grass",
+    "water",
+    "lane_marking",
+    "rail",
+    "rail",
+    "bare_ground",
+    "bare_ground",
+    "lamp",
+    "lamp",
+)
 # facade grammar labels -> class ('room' is what shows through a window's glass, 'cornice' is relief)
-LABEL_CLASSES = {"wall": "wall", "window": "window", "room": "window", "door": "door", "balcony": "balcony_relief",
-                 "shop": "shop_front", "roof": "roof", "cornice": "balcony_relief"}
+LABEL_CLASSES = {
+    "wall": "wall",
+    "window": "window",
+    "room": "window",
+    "door": "door",
+    "balcony": "balcony_relief",
+    "shop": "shop_front",
+    "roof": "roof",
+    "cornice": "balcony_relief",
+}
 
 FACE_CODES = {name: code for code, name in FACE_NAMES.items()}
 FACE_EXTERIOR, FACE_ROOF, FACE_GROUND = FACE_CODES["exterior"], FACE_CODES["roof"], FACE_CODES["ground"]

@@ -9,21 +9,37 @@ from ..errors import UsageError
 
 def register(subparsers):
     parser = subparsers.add_parser("dataset", help="labelled renders (RGB, depth, normals, classes, instances) on Ray")
-    parser.add_argument("--map", type=Path, default=None, metavar="FILE",
-                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    parser.add_argument(
+        "--map",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
+    )
     parser.add_argument("--city", default=None, metavar="NAME", help="a built-in city with streets: default")
     parser.add_argument("--samples", type=int, default=None, metavar="N", help="number of samples")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR", help="dataset folder")
     parser.add_argument("--config", type=Path, default=None, metavar="FILE.toml", help="settings (docs/datasets.md)")
     parser.add_argument("--workers", type=int, default=1, metavar="K", help="Ray actors, one renderer each")
-    parser.add_argument("--address", default=None, help="join this Ray cluster (host:port or auto) instead of "
-                        "starting a local runtime")
+    parser.add_argument(
+        "--address", default=None, help="join this Ray cluster (host:port or auto) instead of starting a local runtime"
+    )
     parser.add_argument("--seed", type=int, default=0, metavar="S", help="views, dates and times follow from it")
     parser.add_argument("--resume", action="store_true", help="complete a dataset folder made with the same settings")
-    parser.add_argument("--shards", type=int, default=None, metavar="SAMPLES",
-                        help="also write WebDataset tar shards of SAMPLES samples each to DIR/shards/")
-    parser.add_argument("--preview", type=Path, default=None, metavar="DIR",
-                        help="write DIR/preview.png: samples of the dataset in DIR with their labels over them")
+    parser.add_argument(
+        "--shards",
+        type=int,
+        default=None,
+        metavar="SAMPLES",
+        help="also write WebDataset tar shards of SAMPLES samples each to DIR/shards/",
+    )
+    parser.add_argument(
+        "--preview",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="write DIR/preview.png: samples of the dataset in DIR with their labels over them",
+    )
     parser.set_defaults(run=run)
 
 
@@ -41,16 +57,18 @@ def run(args) -> int:
         config = load_config(args.config)
         from ._run import generate
 
-        rows = generate(args.out, args.samples, config, args.map, args.city, args.workers, args.address, args.seed,
-                        args.resume)
+        rows = generate(
+            args.out, args.samples, config, args.map, args.city, args.workers, args.address, args.seed, args.resume
+        )
         print(f"wrote {args.out}: {len(rows)} samples listed in {args.out / 'manifest.parquet'}")
         if args.shards is not None:
             from ._shards import write_shards
 
             print(f"wrote {len(write_shards(args.out, args.shards))} shards to {args.out / 'shards'}")
     elif args.preview is None or args.shards is not None:
-        raise UsageError("give --map FILE or --city NAME with --samples N --out DIR [--shards SAMPLES], "
-                         "or --preview DIR")
+        raise UsageError(
+            "give --map FILE or --city NAME with --samples N --out DIR [--shards SAMPLES], or --preview DIR"
+        )
     if args.preview is not None:
         from ._preview import write_preview
 

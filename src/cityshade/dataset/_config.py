@@ -18,9 +18,13 @@ from ._classes import CLASSES
 DEFAULTS: dict[str, dict] = {
     "image": {"width": 320, "height": 240, "fov": 66.0},
     "views": {
-        "pedestrian": 0.4, "vehicle": 0.3, "aerial": 0.3,  # shares of the three kinds of view
-        "pedestrian_height": 1.7, "vehicle_height": [1.2, 2.5],
-        "aerial_height": [60.0, 250.0], "aerial_pitch": [30.0, 60.0],
+        "pedestrian": 0.4,
+        "vehicle": 0.3,
+        "aerial": 0.3,  # shares of the three kinds of view
+        "pedestrian_height": 1.7,
+        "vehicle_height": [1.2, 2.5],
+        "aerial_height": [60.0, 250.0],
+        "aerial_pitch": [30.0, 60.0],
         "across": 0.5,  # share of street views looking across the street instead of along it
     },
     "time": {"dates": ["2025-03-01", "2025-10-31"], "hours": [8.0, 18.0]},
@@ -116,7 +120,9 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
             if key not in DEFAULTS[section]:
                 _fail(where, f"{section}.{key}", table[key], f"unknown key; keys: {', '.join(DEFAULTS[section])}")
     get = lambda section, key: data.get(section, {}).get(key, DEFAULTS[section][key])  # noqa: E731
-    shares = {k: float(_number(where, f"views.{k}", get("views", k), 0.0, 1.0)) for k in ("pedestrian", "vehicle", "aerial")}
+    shares = {
+        k: float(_number(where, f"views.{k}", get("views", k), 0.0, 1.0)) for k in ("pedestrian", "vehicle", "aerial")
+    }
     if sum(shares.values()) <= 0:
         _fail(where, "views", shares, "at least one kind of view needs a share above 0")
     return DatasetConfig(
@@ -124,7 +130,9 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
         height=int(_number(where, "image.height", get("image", "height"), 8, 4096, integer=True)),
         fov=float(_number(where, "image.fov", get("image", "fov"), 5.0, 150.0)),
         **shares,
-        pedestrian_height=float(_number(where, "views.pedestrian_height", get("views", "pedestrian_height"), 0.3, 10.0)),
+        pedestrian_height=float(
+            _number(where, "views.pedestrian_height", get("views", "pedestrian_height"), 0.3, 10.0)
+        ),
         vehicle_height=_pair(where, "views.vehicle_height", get("views", "vehicle_height"), 0.3, 10.0),
         aerial_height=_pair(where, "views.aerial_height", get("views", "aerial_height"), 10.0, 5000.0),
         aerial_pitch=_pair(where, "views.aerial_pitch", get("views", "aerial_pitch"), 5.0, 89.0),
@@ -147,4 +155,3 @@ def load_config(path: Path | None) -> DatasetConfig:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise UsageError(f"{path}: not valid TOML: {exc}") from None
     return parse_config(data, str(path))
-

@@ -49,7 +49,9 @@ def check_record(folder: Path, record: dict, resume: bool):
             raise UsageError(f"{path}: unreadable dataset record; choose another --out") from None
         for key in sorted(set(old) | set(record)):
             if old.get(key) != record.get(key):
-                raise UsageError(f"--resume: {folder} was made with {key} = {old.get(key)!r}, "
-                                 f"this run has {record.get(key)!r}; use the same settings or another --out")
+                raise UsageError(
+                    f"--resume: {folder} was made with {key} = {old.get(key)!r}, "
+                    f"this run has {record.get(key)!r}; use the same settings or another --out"
+                )
         return
     write_atomic(path, json.dumps(record, indent=1, sort_keys=True).encode())

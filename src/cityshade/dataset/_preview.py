@@ -44,8 +44,15 @@ def sample_row(folder: Path, row: dict) -> np.ndarray:
     palette[: len(CLASS_COLOURS)] = CLASS_COLOURS
     instance = np.load(folder / row["instance"])
     depth = np.load(folder / row["depth"])
-    return np.concatenate([rgb, _overlay(rgb, palette[classes], classes != IGNORE), _depth_picture(depth),
-                           _overlay(rgb, _instance_colours(instance), instance > 0)], axis=1)
+    return np.concatenate(
+        [
+            rgb,
+            _overlay(rgb, palette[classes], classes != IGNORE),
+            _depth_picture(depth),
+            _overlay(rgb, _instance_colours(instance), instance > 0),
+        ],
+        axis=1,
+    )
 
 
 def write_preview(folder: Path, out: Path | None = None, count: int = 8) -> Path:

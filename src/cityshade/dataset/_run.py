@@ -42,8 +42,10 @@ def check_address(address: str):
     try:
         socket.create_connection((host, int(port)), timeout=5.0).close()
     except (OSError, ValueError):
-        raise UsageError(f"--address {address}: no Ray cluster answers there; start one with `ray start --head` "
-                         "or leave out --address for a local runtime") from None
+        raise UsageError(
+            f"--address {address}: no Ray cluster answers there; start one with `ray start --head` "
+            "or leave out --address for a local runtime"
+        ) from None
 
 
 def _start_ray(workers: int, address: str | None) -> bool:
@@ -58,8 +60,13 @@ def _start_ray(workers: int, address: str | None) -> bool:
         except ConnectionError as exc:
             raise UsageError(f"--address {address}: {exc}") from None
         return True
-    ray.init(num_cpus=workers, include_dashboard=False, _node_ip_address="127.0.0.1", logging_level="ERROR",
-             log_to_driver=False)
+    ray.init(
+        num_cpus=workers,
+        include_dashboard=False,
+        _node_ip_address="127.0.0.1",
+        logging_level="ERROR",
+        log_to_driver=False,
+    )
     return True
 
 
@@ -99,9 +106,19 @@ def _remove_temporaries(out: Path):
         path.unlink(missing_ok=True)
 
 
-def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | None = None, city: str | None = None,
-             workers: int = 1, address: str | None = None, seed: int = 0, resume: bool = False,
-             progress: bool = True, on_workers=None) -> list[dict]:
+def generate(
+    out: Path,
+    samples: int,
+    config: DatasetConfig,
+    map_path: Path | None = None,
+    city: str | None = None,
+    workers: int = 1,
+    address: str | None = None,
+    seed: int = 0,
+    resume: bool = False,
+    progress: bool = True,
+    on_workers=None,
+) -> list[dict]:
     """Renders samples 0..samples-1 into `out`; returns the manifest's rows. `on_workers(pids)` is
     called once the actors run (to watch or stop them)."""
     from ._source import load_source
@@ -120,10 +137,13 @@ def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | No
         raise UsageError(f"{record['source']} has no streets to stand on; use --city default or a map with roads")
     check_record(out, record, resume)
     (out / "samples").mkdir(parents=True, exist_ok=True)
-    done = {row["index"]: row for row in read_manifest(out)
-            if all((out / row[name]).exists() for name in ("rgb", "depth", "normal", "class", "instance", "meta"))}
+    done = {
+        row["index"]: row
+        for row in read_manifest(out)
+        if all((out / row[name]).exists() for name in ("rgb", "depth", "normal", "class", "instance", "meta"))
+    }
     views = [sample_view(i, seed, config, source.streets, source.has_date) for i in range(samples) if i not in done]
-    batches = [views[k:k + config.batch] for k in range(0, len(views), config.batch)]
+    batches = [views[k : k + config.batch] for k in range(0, len(views), config.batch)]
     try:
         if batches:
             _render(out, batches, samples, done, config, map_path, city, workers, address, progress, on_workers)
@@ -133,8 +153,15 @@ def generate(out: Path, samples: int, config: DatasetConfig, map_path: Path | No
     return read_manifest(out)
 
 
-def render_frames(jobs, size: tuple[int, int], map_path: Path | None = None, city: str | None = None,
-                  workers: int = 1, address: str | None = None, batch: int = 4):
+def render_frames(
+    jobs,
+    size: tuple[int, int],
+    map_path: Path | None = None,
+    city: str | None = None,
+    workers: int = 1,
+    address: str | None = None,
+    batch: int = 4,
+):
     """Yields the RGB frames of `jobs` (camera, RenderSettings) in order, rendered by `workers` actors
     (`cityshade video --workers`); each frame draws every shadow cascade, so any actor gives the same one."""
     import ray
@@ -146,7 +173,7 @@ def render_frames(jobs, size: tuple[int, int], map_path: Path | None = None, cit
         check_address(address)
     config = parse_config({"image": {"width": size[0], "height": size[1]}})
     numbered = [(i, camera, settings) for i, (camera, settings) in enumerate(jobs)]
-    batches = [numbered[k:k + batch] for k in range(0, len(numbered), batch)]
+    batches = [numbered[k : k + batch] for k in range(0, len(numbered), batch)]
     started = _start_ray(workers, address)
     try:
         threads = max(1, (os.cpu_count() or 1) // workers) if address is None else 1
@@ -165,8 +192,19 @@ def render_frames(jobs, size: tuple[int, int], map_path: Path | None = None, cit
             ray.shutdown()
 
 
-def _render(out: Path, batches, samples: int, done: dict, config: DatasetConfig, map_path, city, workers: int,
-            address, progress: bool, on_workers):
+def _render(
+    out: Path,
+    batches,
+    samples: int,
+    done: dict,
+    config: DatasetConfig,
+    map_path,
+    city,
+    workers: int,
+    address,
+    progress: bool,
+    on_workers,
+):
     """Deals `batches` to the actors; adds each returned manifest row to `done` as it arrives."""
     import ray
     from ray.util import ActorPool
@@ -189,8 +227,10 @@ def _render(out: Path, batches, samples: int, done: dict, config: DatasetConfig,
                     last = time.monotonic()
     except ray.exceptions.RayError as exc:  # an actor that cannot start or render: say why, in one line
         lines = [line for line in str(exc).splitlines() if line.strip()]
-        raise CityshadeError(f"a dataset worker failed: {lines[-1] if lines else type(exc).__name__}; "
-                             f"{len(done)} complete samples are kept, --resume continues") from None
+        raise CityshadeError(
+            f"a dataset worker failed: {lines[-1] if lines else type(exc).__name__}; "
+            f"{len(done)} complete samples are kept, --resume continues"
+        ) from None
     finally:
         if started:
             ray.shutdown()

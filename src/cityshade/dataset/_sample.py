@@ -25,8 +25,14 @@ from ._source import Source
 from ._views import View
 
 GL_TO_CV = np.diag([1.0, -1.0, -1.0])  # OpenGL camera (y up, looks down -z) -> OpenCV (y down, looks down +z)
-SUFFIXES = {"rgb": "rgb.png", "depth": "depth.npy", "normal": "normal.npy", "class": "class.png",
-            "instance": "instance.npy", "meta": "json"}  # the meta JSON is written last: it marks a complete sample
+SUFFIXES = {
+    "rgb": "rgb.png",
+    "depth": "depth.npy",
+    "normal": "normal.npy",
+    "class": "class.png",
+    "instance": "instance.npy",
+    "meta": "json",
+}  # the meta JSON is written last: it marks a complete sample
 
 
 def sample_files(index: int) -> dict[str, str]:
@@ -110,7 +116,9 @@ class SampleRenderer:
             from pyproj import Transformer
 
             self._to_lonlat = Transformer.from_crs(source.city.crs, "EPSG:4326", always_xy=True)
-            self._origin = Transformer.from_crs("EPSG:4326", source.city.crs, always_xy=True).transform(*source.city.origin)
+            self._origin = Transformer.from_crs("EPSG:4326", source.city.crs, always_xy=True).transform(
+                *source.city.origin
+            )
 
     def sky(self, view: View) -> tuple[dict, dict]:
         """(render settings for the sun and moon, the record of the sun and the time)."""
@@ -119,21 +127,33 @@ class SampleRenderer:
             daylight = Daylight.at(view.hours)
             toward = daylight.sky_sun
             azimuth = float(np.degrees(np.arctan2(toward[0], -toward[2])) % 360.0)
-            return {}, {"date": None, "local_time": clock,
-                        "sun": {"elevation": daylight.sun_elevation, "azimuth": azimuth}}
+            return {}, {
+                "date": None,
+                "local_time": clock,
+                "sun": {"elevation": daylight.sun_elevation, "azimuth": azimuth},
+            }
         from ..maps import sky_clock
 
         bodies = sky_clock(self.source.city.origin, view.date)(view.hours)
-        return bodies, {"date": view.date, "local_time": clock,
-                        "sun": {"elevation": bodies["sun"][0], "azimuth": bodies["sun"][1]}}
+        return bodies, {
+            "date": view.date,
+            "local_time": clock,
+            "sun": {"elevation": bodies["sun"][0], "azimuth": bodies["sun"][1]},
+        }
 
     def geographic(self, view: View) -> dict | None:
         if self._to_lonlat is None:
             return None
         x, y, z = view.eye
         lon, lat = self._to_lonlat.transform(self._origin[0] + x, self._origin[1] - z)
-        return {"lon": lon, "lat": lat, "height_m": y, "heading_deg": view.heading, "pitch_deg": view.pitch,
-                "crs": self.source.city.crs}
+        return {
+            "lon": lon,
+            "lat": lat,
+            "height_m": y,
+            "heading_deg": view.heading,
+            "pitch_deg": view.pitch,
+            "crs": self.source.city.crs,
+        }
 
     def frame(self, camera, settings: RenderSettings) -> np.ndarray:
         """One RGB frame with these settings, every shadow cascade drawn afresh."""
@@ -154,35 +174,60 @@ class SampleRenderer:
         frame_z = linear_depth(r.depth(), camera.near, camera.far)
         ids = r.render_ids(camera)
         k = intrinsics(view.fov, self.config.width, self.config.height)
-        arrays.update(depth=frame_z, normal=normals_from_depth(frame_z, k),
-                      **{"class": class_image(ids, self.config.ignore)}, instance=instance_image(ids))
+        arrays.update(
+            depth=frame_z,
+            normal=normals_from_depth(frame_z, k),
+            **{"class": class_image(ids, self.config.ignore)},
+            instance=instance_image(ids),
+        )
         return arrays
 
     def write(self, view: View, out: Path) -> dict:
         """Renders `view` and writes its files (each atomically, the JSON last); returns its manifest row."""
         arrays = self.render(view)
         files = sample_files(view.index)
-        for name, data in (("rgb", _png(arrays["rgb"])), ("depth", _npy(arrays["depth"])),
-                           ("normal", _npy(arrays["normal"])), ("class", _png(arrays["class"])),
-                           ("instance", _npy(arrays["instance"]))):
+        for name, data in (
+            ("rgb", _png(arrays["rgb"])),
+            ("depth", _npy(arrays["depth"])),
+            ("normal", _npy(arrays["normal"])),
+            ("class", _png(arrays["class"])),
+            ("instance", _npy(arrays["instance"])),
+        ):
             write_atomic(out / files[name], data)
         _, when = self.sky(view)
         visible = np.unique(arrays["instance"])
         meta = {
-            "index": view.index, "kind": view.kind, "width": self.config.width, "height": self.config.height,
+            "index": view.index,
+            "kind": view.kind,
+            "width": self.config.width,
+            "height": self.config.height,
             "K": intrinsics(view.fov, self.config.width, self.config.height).tolist(),
-            "world_to_camera": extrinsics(view).tolist(), "convention": "OpenCV (x right, y down, z forward); "
-            "world: scene metres, x east, y up, z south", "eye": list(view.eye), "fov_y_deg": view.fov,
-            "near": view.near, "geographic": self.geographic(view), **when,
+            "world_to_camera": extrinsics(view).tolist(),
+            "convention": "OpenCV (x right, y down, z forward); world: scene metres, x east, y up, z south",
+            "eye": list(view.eye),
+            "fov_y_deg": view.fov,
+            "near": view.near,
+            "geographic": self.geographic(view),
+            **when,
             "instances": {str(int(i)): self.source.instances[int(i) - 1] for i in visible if i > 0},
             "files": {k: os.path.basename(v) for k, v in files.items()},
         }
         write_atomic(out / files["meta"], json.dumps(meta, indent=1).encode())
         geo = meta["geographic"] or {}
-        return {"index": view.index, "kind": view.kind, **files, "lon": geo.get("lon"), "lat": geo.get("lat"),
-                "height_m": view.eye[1], "heading_deg": view.heading, "pitch_deg": view.pitch, "date": view.date,
-                "local_time": when["local_time"], "sun_elevation": when["sun"]["elevation"],
-                "sun_azimuth": when["sun"]["azimuth"]}
+        return {
+            "index": view.index,
+            "kind": view.kind,
+            **files,
+            "lon": geo.get("lon"),
+            "lat": geo.get("lat"),
+            "height_m": view.eye[1],
+            "heading_deg": view.heading,
+            "pitch_deg": view.pitch,
+            "date": view.date,
+            "local_time": when["local_time"],
+            "sun_elevation": when["sun"]["elevation"],
+            "sun_azimuth": when["sun"]["azimuth"],
+        }
 
     def release(self):
         self.renderer.release()

@@ -27,12 +27,12 @@ def write_shards(folder: Path, per_shard: int) -> list[Path]:
     for k in range(0, len(rows), per_shard):
         buffer = io.BytesIO()
         with tarfile.open(fileobj=buffer, mode="w", format=tarfile.USTAR_FORMAT) as tar:
-            for row in rows[k:k + per_shard]:
+            for row in rows[k : k + per_shard]:
                 for name in SUFFIXES:
                     path = folder / row[name]
                     _member(tar, path.name, path.read_bytes())
         paths.append(folder / "shards" / f"{k // per_shard:06d}.tar")
         write_atomic(paths[-1], buffer.getvalue())
-    for stale in sorted((folder / "shards").glob("*.tar"))[len(paths):]:
+    for stale in sorted((folder / "shards").glob("*.tar"))[len(paths) :]:
         stale.unlink()
     return paths

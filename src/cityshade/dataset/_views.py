@@ -19,9 +19,24 @@ from ..scene import Camera, City
 from ._config import DatasetConfig
 
 KINDS = ("pedestrian", "vehicle", "aerial")
-STREET_KINDS = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential",
-                "living_street", "pedestrian", "service", "primary_link", "secondary_link", "tertiary_link",
-                "trunk_link", "motorway_link", "road")
+STREET_KINDS = (
+    "motorway",
+    "trunk",
+    "primary",
+    "secondary",
+    "tertiary",
+    "unclassified",
+    "residential",
+    "living_street",
+    "pedestrian",
+    "service",
+    "primary_link",
+    "secondary_link",
+    "tertiary_link",
+    "trunk_link",
+    "motorway_link",
+    "road",
+)
 BUILT_IN_STREET_WIDTH = 11.0  # the default city's 16 m streets less the pavements reaching into them
 TRIES = 32  # street points tried before a view inside a building is given up
 
@@ -45,10 +60,16 @@ class Streets:
                 points = to_scene(np.asarray(road.line.coords)[:, :2])
                 segments += list(zip(points[:-1], points[1:]))
                 widths += [road.width] * (len(points) - 1)
-        outlines = [shapely.Polygon(to_scene(np.asarray(b.outline.exterior.coords)[:, :2]))
-                    for b in map_data.buildings if b.drawn]
-        return cls(np.asarray(segments, float).reshape(-1, 2, 2), np.asarray(widths, float),
-                   shapely.STRtree(outlines) if outlines else None)
+        outlines = [
+            shapely.Polygon(to_scene(np.asarray(b.outline.exterior.coords)[:, :2]))
+            for b in map_data.buildings
+            if b.drawn
+        ]
+        return cls(
+            np.asarray(segments, float).reshape(-1, 2, 2),
+            np.asarray(widths, float),
+            shapely.STRtree(outlines) if outlines else None,
+        )
 
     @classmethod
     def from_city(cls, city: City) -> "Streets":

@@ -98,10 +98,23 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
         lo, hi = facade[:, :2].min(axis=0) - texel, facade[:, :2].max(axis=0) + texel
         cols, rows = (int(np.ceil(v)) for v in (hi - lo) / texel)
         normal = walls["normal"][sides == side][0].astype(np.float64)
-        out.append(Canvas(index, int(side), float(lo[0]), float(lo[1]), max(cols, 1), max(rows, 1),
-                          side_width(mass, normal), float(mass.extent[1]), start, facade_seed_vector(mass.seed, int(side)),
-                          seed_vector(mass.seed),
-                          (float(room[0]), float(room[1])), float(mass.lights)))
+        out.append(
+            Canvas(
+                index,
+                int(side),
+                float(lo[0]),
+                float(lo[1]),
+                max(cols, 1),
+                max(rows, 1),
+                side_width(mass, normal),
+                float(mass.extent[1]),
+                start,
+                facade_seed_vector(mass.seed, int(side)),
+                seed_vector(mass.seed),
+                (float(room[0]), float(room[1])),
+                float(mass.lights),
+            )
+        )
     return out
 
 
@@ -118,12 +131,16 @@ def check_size(canvases: list[Canvas], texel: float):
         return
     widest = max(max(c.cols, c.rows) for c in canvases)
     if widest > ATLAS_LIMIT:
-        raise UsageError(f"--texel {texel:g}: a facade needs a {widest}-texel atlas side, over the "
-                         f"{ATLAS_LIMIT}-texel GPU limit; use --texel {largest_fitting_texel(texel, widest / ATLAS_LIMIT):g} or more")
+        raise UsageError(
+            f"--texel {texel:g}: a facade needs a {widest}-texel atlas side, over the "
+            f"{ATLAS_LIMIT}-texel GPU limit; use --texel {largest_fitting_texel(texel, widest / ATLAS_LIMIT):g} or more"
+        )
     total = sum(c.cols * c.rows for c in canvases)
     if total > MAX_TEXELS:
-        raise UsageError(f"--texel {texel:g}: the facades need {total:,} atlas texels, over the limit of "
-                         f"{MAX_TEXELS:,}; use --texel {largest_fitting_texel(texel, np.sqrt(total / MAX_TEXELS) * 1.05):g} or more")
+        raise UsageError(
+            f"--texel {texel:g}: the facades need {total:,} atlas texels, over the limit of "
+            f"{MAX_TEXELS:,}; use --texel {largest_fitting_texel(texel, np.sqrt(total / MAX_TEXELS) * 1.05):g} or more"
+        )
 
 
 def pack(canvases: list[Canvas]) -> list[tuple[int, int]]:
@@ -172,14 +189,24 @@ def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]
     """The numpy twin of shaders/export/bake.glsl with GRAMMAR_NEAREST: (rows, cols, ...) arrays, bottom row first."""
     grid = texel_grid(canvas, texel).reshape(-1, 2)
     uv = np.stack([canvas.width - grid[:, 0], grid[:, 1]], axis=1)
-    result = evaluate(library_texture(), canvas.start, uv, (canvas.width, canvas.height), canvas.seed, tiles,
-                      building_seed=canvas.building_seed)
+    result = evaluate(
+        library_texture(),
+        canvas.start,
+        uv,
+        (canvas.width, canvas.height),
+        canvas.seed,
+        tiles,
+        building_seed=canvas.building_seed,
+    )
     shape = (canvas.rows, canvas.cols)
     return {
         "colour": np.concatenate([result.color, result.specular[:, :1]], axis=1).reshape(*shape, 4),
         "normal": np.concatenate([result.normal, result.specular[:, 1:]], axis=1).reshape(*shape, 4),
-        "ids": np.stack([result.terminal + 1, result.label, result.glass.astype(np.int32),
-                         np.zeros_like(result.label)], axis=1).reshape(*shape, 4).astype(np.uint32),
+        "ids": np.stack(
+            [result.terminal + 1, result.label, result.glass.astype(np.int32), np.zeros_like(result.label)], axis=1
+        )
+        .reshape(*shape, 4)
+        .astype(np.uint32),
     }
 
 
@@ -201,8 +228,11 @@ class GpuBaker:
         from ..gl import RenderTarget, draw_fullscreen
 
         cols, rows = size
-        out = {"colour": np.zeros((rows, cols, 4), np.float32), "normal": np.zeros((rows, cols, 4), np.float32),
-               "ids": np.zeros((rows, cols, 4), np.uint32)}
+        out = {
+            "colour": np.zeros((rows, cols, 4), np.float32),
+            "normal": np.zeros((rows, cols, 4), np.float32),
+            "ids": np.zeros((rows, cols, 4), np.uint32),
+        }
         target = RenderTarget(self.ctx, (cols, min(rows, STRIP)), colors=(("f4", 4), ("f4", 4), ("u4", 4)))
         try:
             self.ctx.disable(moderngl.DEPTH_TEST)
@@ -226,7 +256,7 @@ class GpuBaker:
                 for name, texture in zip(("colour", "normal", "ids"), target.colors):
                     dtype = np.uint32 if name == "ids" else np.float32
                     data = np.frombuffer(texture.read(), dtype).reshape(-1, cols, 4)
-                    out[name][y0:y0 + height] = data[:height]
+                    out[name][y0 : y0 + height] = data[:height]
         finally:
             target.release()
         return out
@@ -273,7 +303,9 @@ def bake_atlas(canvases: list[Canvas], texel: float) -> Atlas:
         for page, size in enumerate(sizes):
             on_page = [c for c in canvases if c.page == page]
             images = _encode(baker.bake_page(on_page, size, texel), on_page, texel)
-            for store, image in zip((atlas.base_colour, atlas.metallic_roughness, atlas.normal, atlas.emissive), images):
+            for store, image in zip(
+                (atlas.base_colour, atlas.metallic_roughness, atlas.normal, atlas.emissive), images
+            ):
                 store.append(image)
     finally:
         baker.release()

@@ -11,16 +11,28 @@ from ..scene import CITIES
 def register(subparsers):
     parser = subparsers.add_parser("export", help="export a city as glTF (GLB) or a 3D Tiles tileset")
     source = parser.add_mutually_exclusive_group(required=True)
-    source.add_argument("--map", type=Path, metavar="FILE",
-                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    source.add_argument(
+        "--map",
+        type=Path,
+        metavar="FILE",
+        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
+    )
     source.add_argument("--city", choices=tuple(CITIES), help="a built-in city layout")
     parser.add_argument("--out", type=Path, required=True, help="the .glb/.gltf file, or the tileset's directory")
     parser.add_argument("--format", default=None, help="glb, gltf or 3dtiles (default: from --out's suffix, else glb)")
     parser.add_argument("--texel", type=float, default=0.05, help="metres per facade atlas texel (default 0.05)")
-    parser.add_argument("--lod", type=int, default=0,
-                        help="level of detail: 0 full; from 1 flat-topped prisms; each level doubles the texel")
-    parser.add_argument("--region", default=None, metavar="MINLON,MINLAT,MAXLON,MAXLAT",
-                        help="export only the buildings, ground and trees inside this box (maps only)")
+    parser.add_argument(
+        "--lod",
+        type=int,
+        default=0,
+        help="level of detail: 0 full; from 1 flat-topped prisms; each level doubles the texel",
+    )
+    parser.add_argument(
+        "--region",
+        default=None,
+        metavar="MINLON,MINLAT,MAXLON,MAXLAT",
+        help="export only the buildings, ground and trees inside this box (maps only)",
+    )
     parser.set_defaults(run=run)
 
 

@@ -26,9 +26,17 @@ SURFACE_ROOF = 1  # scene vertex ids[:, 1]: 0 wall, 1 roof (scene/_meshes.py)
 GROUND_Y = (0.0, 0.02, 0.04)  # the built-in city's asphalt plane, pavements and grass, stacked
 # linear base colours of the ground materials (ids of shaders/city/ground.glsl and map_ground.glsl)
 GROUND_COLOURS = {
-    0: (0.05, 0.05, 0.055), 1: (0.22, 0.21, 0.2), 2: (0.09, 0.2, 0.05), 3: (0.03, 0.08, 0.12),
-    4: (0.8, 0.8, 0.78), 5: (0.18, 0.16, 0.14), 6: (0.14, 0.12, 0.1), 7: (0.16, 0.15, 0.12), 8: (0.45, 0.4, 0.3),
-    9: (0.1, 0.1, 0.1), 10: (1.0, 0.85, 0.6),
+    0: (0.05, 0.05, 0.055),
+    1: (0.22, 0.21, 0.2),
+    2: (0.09, 0.2, 0.05),
+    3: (0.03, 0.08, 0.12),
+    4: (0.8, 0.8, 0.78),
+    5: (0.18, 0.16, 0.14),
+    6: (0.14, 0.12, 0.1),
+    7: (0.16, 0.15, 0.12),
+    8: (0.45, 0.4, 0.3),
+    9: (0.1, 0.1, 0.1),
+    10: (1.0, 0.85, 0.6),
 }
 BARK_COLOUR = (0.12, 0.08, 0.05, 1.0)
 LEAF_COLOUR = (0.08, 0.18, 0.04, 1.0)
@@ -50,7 +58,11 @@ class Stats:
 
 def simplified(mass):
     """A coarse level's building: the same outline as a flat-topped prism to the roof's top."""
-    return replace(mass, roof=Roof(colour=mass.roof.colour, material=mass.roof.material)) if mass.shape == "prism" else mass
+    return (
+        replace(mass, roof=Roof(colour=mass.roof.colour, material=mass.roof.material))
+        if mass.shape == "prism"
+        else mass
+    )
 
 
 def bay_tint(record) -> np.ndarray:
@@ -97,10 +109,17 @@ class BuildingWriter:
 
     def _page_materials(self, atlas: Atlas) -> list[int]:
         doc = self.doc
-        return [doc.material(f"facades {p}", base_texture=doc.texture(atlas.base_colour[p], name=f"facade colour {p}"),
-                             mr_texture=doc.texture(atlas.metallic_roughness[p]), roughness=1.0,
-                             normal_texture=doc.texture(atlas.normal[p]), emissive_texture=doc.texture(atlas.emissive[p]))
-                for p in range(len(atlas.sizes))]
+        return [
+            doc.material(
+                f"facades {p}",
+                base_texture=doc.texture(atlas.base_colour[p], name=f"facade colour {p}"),
+                mr_texture=doc.texture(atlas.metallic_roughness[p]),
+                roughness=1.0,
+                normal_texture=doc.texture(atlas.normal[p]),
+                emissive_texture=doc.texture(atlas.emissive[p]),
+            )
+            for p in range(len(atlas.sizes))
+        ]
 
     def _building(self, i, mass, verts, atlas, pages, bays, roofs):
         rot = rotation_y(mass.yaw)
@@ -119,25 +138,39 @@ class BuildingWriter:
                 for canvas in self.canvases[i]:
                     sel = sides == canvas.side
                     uv = atlas_uv(canvas, walls["facade"][sel], atlas.sizes[canvas.page], self.texel)
-                    primitives.append(self.doc.primitive(pages[canvas.page], walls["position"][sel], normals[sel], uv,
-                                                         tangents=tangents[sel]))
+                    primitives.append(
+                        self.doc.primitive(
+                            pages[canvas.page], walls["position"][sel], normals[sel], uv, tangents=tangents[sel]
+                        )
+                    )
             else:
                 facade = walls["facade"]
                 uv = np.column_stack([facade[:, 0] / facade[:, 2], -facade[:, 1] / mass.room_size[1]])
                 tint = bay_tint(record)
-                primitives.append(self.doc.primitive(bays, walls["position"], normals, uv,
-                                                     colours=np.tile(np.append(tint, 1.0), (len(walls), 1))))
+                primitives.append(
+                    self.doc.primitive(
+                        bays, walls["position"], normals, uv, colours=np.tile(np.append(tint, 1.0), (len(walls), 1))
+                    )
+                )
         if roof.any():
             colour = np.append(record["roof"][:3], 1.0)
-            primitives.append(self.doc.primitive(roofs, verts["position"][roof], verts["normal"][roof] @ rot.T,
-                                                 colours=np.tile(colour, (int(roof.sum()), 1))))
+            primitives.append(
+                self.doc.primitive(
+                    roofs,
+                    verts["position"][roof],
+                    verts["normal"][roof] @ rot.T,
+                    colours=np.tile(colour, (int(roof.sum()), 1)),
+                )
+            )
         if not primitives:
             return
         self.stats.buildings += 1
         self.stats.triangles += len(verts) // 3
         style = BUILDING_STYLES[mass.style] if i in self.canvases else "window bays"
         metadata = dict(self.metadata[i], facade=style)
-        self.doc.feature(metadata, primitives, [self.doc.gltf.accessors[p.attributes.POSITION].count for p in primitives])
+        self.doc.feature(
+            metadata, primitives, [self.doc.gltf.accessors[p.attributes.POSITION].count for p in primitives]
+        )
         self.doc.node(f"building {metadata['source_id']}", primitives, extras=metadata)
 
 
@@ -151,7 +184,14 @@ def ground_triangles(city) -> np.ndarray:
     out = []
     for a0, b0, a1, b1, material in rects:
         y = GROUND_Y[min(material, 2)]
-        corners = [(a0, y, b0), (a0, y, b1), (a1, y, b1), (a0, y, b0), (a1, y, b1), (a1, y, b0)]  # counter-clockwise from above
+        corners = [
+            (a0, y, b0),
+            (a0, y, b1),
+            (a1, y, b1),
+            (a0, y, b0),
+            (a1, y, b1),
+            (a1, y, b0),
+        ]  # counter-clockwise from above
         out += [(*c, material) for c in corners]
     return np.asarray(out, np.float32)
 
@@ -190,8 +230,10 @@ def add_trees(doc: Document, trees, stats: Stats, seed: int = 0):
     for index in sorted({int(s) for s in trees["species"]}):
         name = SPECIES_ORDER[index]
         mesh = generate_tree(SPECIES[name], seed + index).lods[0]
-        parts = [(bark, mesh.branches[:, 0:3], mesh.branches[:, 3:6], mesh.branch_indices),
-                 (leaves, *_card_quads(mesh.cards, mesh.card_indices))]
+        parts = [
+            (bark, mesh.branches[:, 0:3], mesh.branches[:, 3:6], mesh.branch_indices),
+            (leaves, *_card_quads(mesh.cards, mesh.card_indices)),
+        ]
         if len(mesh.frond_indices):
             parts.append((leaves, mesh.fronds[:, 0:3], mesh.fronds[:, 3:6], mesh.frond_indices))
         primitives = [doc.indexed_primitive(m, p, n, i) for m, p, n, i in parts if len(i)]
@@ -200,6 +242,12 @@ def add_trees(doc: Document, trees, stats: Stats, seed: int = 0):
         yaw = mine["yaw"].astype(np.float64)
         rotations = np.column_stack([np.zeros(len(yaw)), np.sin(yaw / 2), np.zeros(len(yaw)), np.cos(yaw / 2)])
         scales = np.repeat(mine["scale"][:, None], 3, axis=1)
-        doc.instanced(f"trees {name}", primitives, mine["position"], rotations, scales,
-                      extras={"kind": "trees", "species": name, "count": len(mine)})
+        doc.instanced(
+            f"trees {name}",
+            primitives,
+            mine["position"],
+            rotations,
+            scales,
+            extras={"kind": "trees", "species": name, "count": len(mine)},
+        )
         stats.tree_instances += len(mine)

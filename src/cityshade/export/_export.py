@@ -22,9 +22,12 @@ def frame_extras(export: ExportCity) -> dict:
     """The scene frame and, for maps, where it stands on Earth (asset and scene `extras`)."""
     extras = {"units": "metres", "frame": "x east, y up, z south (north is -z)"}
     if export.origin is not None:
-        extras.update(origin={"longitude": export.origin[0], "latitude": export.origin[1], "height": 0.0},
-                      crs=export.crs, attribution=ATTRIBUTION,
-                      note="scene (x, z) = map metres (east, -north) from the origin in the crs")
+        extras.update(
+            origin={"longitude": export.origin[0], "latitude": export.origin[1], "height": 0.0},
+            crs=export.crs,
+            attribution=ATTRIBUTION,
+            note="scene (x, z) = map metres (east, -north) from the origin in the crs",
+        )
     return extras
 
 
@@ -34,8 +37,9 @@ def city_trees(city):
     return layout_trees(city) if city.trees is None else city.trees
 
 
-def city_document(export: ExportCity, texel: float, lod: int, masses=None, metadata=None,
-                  ground: bool = True, trees: bool = True) -> tuple[object, Stats]:
+def city_document(
+    export: ExportCity, texel: float, lod: int, masses=None, metadata=None, ground: bool = True, trees: bool = True
+) -> tuple[object, Stats]:
     """(GLTF2, stats) of the city, or of some of its masses; lod >= 1 simplifies roofs, and each
     level doubles the texel size."""
     masses = export.city.masses if masses is None else masses
@@ -44,7 +48,7 @@ def city_document(export: ExportCity, texel: float, lod: int, masses=None, metad
         masses = [simplified(m) for m in masses]
     stats = Stats()
     doc = Document(frame_extras(export))
-    BuildingWriter(doc, masses, metadata, texel * 2 ** lod, stats).write()
+    BuildingWriter(doc, masses, metadata, texel * 2**lod, stats).write()
     if ground:
         add_ground(doc, export.city, stats)
     if trees:
@@ -104,8 +108,14 @@ def export_city(export: ExportCity, out: Path, fmt: str = "glb", texel: float = 
         summary = _write(export, out, fmt, texel, lod)
     except OSError as exc:  # the temporary file or directory beside `out` (nothing is left behind)
         raise UsageError(f"cannot write {str(out)!r}: {exc.strerror or exc}; choose another --out") from None
-    summary.update(format=fmt, out=str(out), seconds=round(time.perf_counter() - began, 3),
-                   bytes=size_of(out), texel=texel, lod=lod)
+    summary.update(
+        format=fmt,
+        out=str(out),
+        seconds=round(time.perf_counter() - began, 3),
+        bytes=size_of(out),
+        texel=texel,
+        lod=lod,
+    )
     return summary
 
 
@@ -124,9 +134,14 @@ def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int) -> d
 
 
 def summary_of(stats: Stats) -> dict:
-    return {"buildings": stats.buildings, "triangles": stats.triangles, "tree_instances": stats.tree_instances,
-            "facade_m2": round(stats.facade_area, 1), "atlas_pages": [list(s) for s in stats.atlas_sizes],
-            "atlas_texels": stats.atlas_texels}
+    return {
+        "buildings": stats.buildings,
+        "triangles": stats.triangles,
+        "tree_instances": stats.tree_instances,
+        "facade_m2": round(stats.facade_area, 1),
+        "atlas_pages": [list(s) for s in stats.atlas_sizes],
+        "atlas_texels": stats.atlas_texels,
+    }
 
 
 def size_of(path: Path) -> int:

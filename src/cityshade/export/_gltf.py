@@ -13,14 +13,24 @@ INSTANCING = "EXT_mesh_gpu_instancing"
 FEATURES, METADATA = "EXT_mesh_features", "EXT_structural_metadata"
 # The building class of EXT_structural_metadata: property -> (type, from a metadata dict)
 BUILDING_PROPERTIES = {
-    "source_id": "STRING", "kind": "STRING", "part_of": "STRING", "height": "FLOAT32", "min_height": "FLOAT32",
-    "levels": "FLOAT32", "roof_shape": "STRING", "facade": "STRING",
+    "source_id": "STRING",
+    "kind": "STRING",
+    "part_of": "STRING",
+    "height": "FLOAT32",
+    "min_height": "FLOAT32",
+    "levels": "FLOAT32",
+    "roof_shape": "STRING",
+    "facade": "STRING",
     "tags": "STRING",  # JSON object text
-    "tagged": "STRING", "guessed": "STRING",  # comma-separated attribute names
+    "tagged": "STRING",
+    "guessed": "STRING",  # comma-separated attribute names
 }
 NO_DATA = -1.0
-_COMPONENTS = {np.dtype(np.float32): gl.FLOAT, np.dtype(np.uint32): gl.UNSIGNED_INT,
-               np.dtype(np.uint16): gl.UNSIGNED_SHORT}
+_COMPONENTS = {
+    np.dtype(np.float32): gl.FLOAT,
+    np.dtype(np.uint32): gl.UNSIGNED_INT,
+    np.dtype(np.uint16): gl.UNSIGNED_SHORT,
+}
 _TYPES = {1: gl.SCALAR, 2: gl.VEC2, 3: gl.VEC3, 4: gl.VEC4}
 
 
@@ -45,8 +55,9 @@ class Document:
 
     def _view(self, data: bytes, target: int | None = None) -> int:
         self.blob.extend(b"\0" * (-len(self.blob) % 8))  # EXT_structural_metadata wants 8-byte alignment
-        self.gltf.bufferViews.append(gl.BufferView(buffer=0, byteOffset=len(self.blob), byteLength=len(data),
-                                                   target=target))
+        self.gltf.bufferViews.append(
+            gl.BufferView(buffer=0, byteOffset=len(self.blob), byteLength=len(data), target=target)
+        )
         self.blob.extend(data)
         return len(self.gltf.bufferViews) - 1
 
@@ -55,8 +66,9 @@ class Document:
         array = np.ascontiguousarray(array)
         width = 1 if array.ndim == 1 else array.shape[1]
         view = self._view(array.tobytes(), target)
-        accessor = gl.Accessor(bufferView=view, componentType=_COMPONENTS[array.dtype], count=len(array),
-                               type=_TYPES[width])
+        accessor = gl.Accessor(
+            bufferView=view, componentType=_COMPONENTS[array.dtype], count=len(array), type=_TYPES[width]
+        )
         if bounds:
             accessor.min = [float(v) for v in array.reshape(len(array), -1).min(axis=0)]
             accessor.max = [float(v) for v in array.reshape(len(array), -1).max(axis=0)]
@@ -68,17 +80,27 @@ class Document:
         wrap = gl.REPEAT if repeat else gl.CLAMP_TO_EDGE
         key = (wrap,)
         if key not in self.samplers:
-            self.gltf.samplers.append(gl.Sampler(magFilter=gl.LINEAR, minFilter=gl.LINEAR_MIPMAP_LINEAR,
-                                                 wrapS=wrap, wrapT=wrap))
+            self.gltf.samplers.append(
+                gl.Sampler(magFilter=gl.LINEAR, minFilter=gl.LINEAR_MIPMAP_LINEAR, wrapS=wrap, wrapT=wrap)
+            )
             self.samplers[key] = len(self.gltf.samplers) - 1
         view = self._view(png_bytes(image))
         self.gltf.images.append(gl.Image(bufferView=view, mimeType="image/png", name=name))
         self.gltf.textures.append(gl.Texture(source=len(self.gltf.images) - 1, sampler=self.samplers[key]))
         return len(self.gltf.textures) - 1
 
-    def material(self, name: str, colour=(1.0, 1.0, 1.0, 1.0), roughness: float = 0.9, metallic: float = 0.0,
-                 base_texture: int | None = None, mr_texture: int | None = None, normal_texture: int | None = None,
-                 emissive_texture: int | None = None, double_sided: bool = False) -> int:
+    def material(
+        self,
+        name: str,
+        colour=(1.0, 1.0, 1.0, 1.0),
+        roughness: float = 0.9,
+        metallic: float = 0.0,
+        base_texture: int | None = None,
+        mr_texture: int | None = None,
+        normal_texture: int | None = None,
+        emissive_texture: int | None = None,
+        double_sided: bool = False,
+    ) -> int:
         pbr = gl.PbrMetallicRoughness(baseColorFactor=list(colour), metallicFactor=metallic, roughnessFactor=roughness)
         if base_texture is not None:
             pbr.baseColorTexture = gl.TextureInfo(index=base_texture)
@@ -95,8 +117,9 @@ class Document:
 
     def primitive(self, material: int, positions, normals, uv=None, tangents=None, colours=None) -> gl.Primitive:
         """A triangle list (three vertices per triangle, no indices)."""
-        attributes = gl.Attributes(POSITION=self.accessor(positions.astype(np.float32), bounds=True),
-                                   NORMAL=self.accessor(unit(normals)))
+        attributes = gl.Attributes(
+            POSITION=self.accessor(positions.astype(np.float32), bounds=True), NORMAL=self.accessor(unit(normals))
+        )
         if uv is not None:
             attributes.TEXCOORD_0 = self.accessor(uv.astype(np.float32))
         if tangents is not None:
@@ -106,10 +129,15 @@ class Document:
         return gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES)
 
     def indexed_primitive(self, material: int, positions, normals, indices) -> gl.Primitive:
-        attributes = gl.Attributes(POSITION=self.accessor(positions.astype(np.float32), bounds=True),
-                                   NORMAL=self.accessor(unit(normals)))
-        return gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES,
-                            indices=self.accessor(indices.astype(np.uint32), target=gl.ELEMENT_ARRAY_BUFFER))
+        attributes = gl.Attributes(
+            POSITION=self.accessor(positions.astype(np.float32), bounds=True), NORMAL=self.accessor(unit(normals))
+        )
+        return gl.Primitive(
+            attributes=attributes,
+            material=material,
+            mode=gl.TRIANGLES,
+            indices=self.accessor(indices.astype(np.uint32), target=gl.ELEMENT_ARRAY_BUFFER),
+        )
 
     def feature(self, metadata: dict, primitives: list[gl.Primitive], vertices: list[int]) -> int:
         """Makes the primitives one feature (EXT_mesh_features) whose row of the building property
@@ -118,8 +146,7 @@ class Document:
         self.features.append(metadata)
         for primitive, count in zip(primitives, vertices):
             primitive.attributes._FEATURE_ID_0 = self.accessor(np.full(count, row, np.float32))
-            primitive.extensions = {FEATURES: {"featureIds": [{"attribute": 0, "propertyTable": 0,
-                                                                "featureCount": 0}]}}
+            primitive.extensions = {FEATURES: {"featureIds": [{"attribute": 0, "propertyTable": 0, "featureCount": 0}]}}
         return row
 
     def _property_table(self):
@@ -135,8 +162,11 @@ class Document:
             texts = [_text(v) for v in values]
             encoded = [t.encode("utf-8") for t in texts]
             offsets = np.concatenate([[0], np.cumsum([len(e) for e in encoded])]).astype(np.uint32)
-            properties[name] = {"values": self._view(b"".join(encoded) or b"\0"), "stringOffsets": self._view(offsets.tobytes()),
-                                "stringOffsetType": "UINT32"}
+            properties[name] = {
+                "values": self._view(b"".join(encoded) or b"\0"),
+                "stringOffsets": self._view(offsets.tobytes()),
+                "stringOffsetType": "UINT32",
+            }
             schema[name] = {"type": "STRING"}
         self.gltf.extensions[METADATA] = {
             "schema": {"id": "cityshade", "classes": {"building": {"properties": schema}}},
@@ -148,8 +178,9 @@ class Document:
                     primitive.extensions[FEATURES]["featureIds"][0]["featureCount"] = len(rows)
         self.gltf.extensionsUsed += [FEATURES, METADATA]
 
-    def node(self, name: str, primitives: list[gl.Primitive], extras: dict | None = None,
-             extensions: dict | None = None) -> int:
+    def node(
+        self, name: str, primitives: list[gl.Primitive], extras: dict | None = None, extensions: dict | None = None
+    ) -> int:
         """A mesh of the primitives and a root node showing it."""
         self.gltf.meshes.append(gl.Mesh(name=name, primitives=primitives))
         node = gl.Node(name=name, mesh=len(self.gltf.meshes) - 1, extras=extras or {})
@@ -161,11 +192,13 @@ class Document:
 
     def instanced(self, name: str, primitives, translations, rotations, scales, extras=None) -> int:
         """A mesh drawn at many places through EXT_mesh_gpu_instancing."""
-        extension = {"attributes": {
-            "TRANSLATION": self.accessor(translations.astype(np.float32), target=None),
-            "ROTATION": self.accessor(rotations.astype(np.float32), target=None),
-            "SCALE": self.accessor(scales.astype(np.float32), target=None),
-        }}
+        extension = {
+            "attributes": {
+                "TRANSLATION": self.accessor(translations.astype(np.float32), target=None),
+                "ROTATION": self.accessor(rotations.astype(np.float32), target=None),
+                "SCALE": self.accessor(scales.astype(np.float32), target=None),
+            }
+        }
         if INSTANCING not in self.gltf.extensionsUsed:
             self.gltf.extensionsUsed.append(INSTANCING)
         return self.node(name, primitives, extras, {INSTANCING: extension})

@@ -39,19 +39,34 @@ def parse_region(text: str) -> tuple[float, float, float, float]:
 def _map_metadata(building, buildings) -> dict:
     parent = buildings[building.parent].source_id if building.parent is not None else None
     return {
-        "source_id": building.source_id, "kind": building.kind, "part": building.is_part, "part_of": parent,
-        "tags": dict(building.tags), "height": building.height, "min_height": building.min_height,
-        "levels": building.levels, "roof_shape": building.roof_shape,
-        "tagged": sorted(building.tagged), "guessed": sorted(building.guessed),
+        "source_id": building.source_id,
+        "kind": building.kind,
+        "part": building.is_part,
+        "part_of": parent,
+        "tags": dict(building.tags),
+        "height": building.height,
+        "min_height": building.min_height,
+        "levels": building.levels,
+        "roof_shape": building.roof_shape,
+        "tagged": sorted(building.tagged),
+        "guessed": sorted(building.guessed),
     }
 
 
 def _layout_metadata(city: City, index: int, mass) -> dict:
     walls = mass.wall_top - mass.base
     return {
-        "source_id": f"{city.name}/{index}", "kind": "yes", "part": False, "part_of": None, "tags": {}, "height": float(mass.height),
-        "min_height": float(mass.base), "levels": max(1, round(walls / mass.floor_height)),
-        "roof_shape": mass.roof.shape, "tagged": [], "guessed": sorted(mass.guessed),
+        "source_id": f"{city.name}/{index}",
+        "kind": "yes",
+        "part": False,
+        "part_of": None,
+        "tags": {},
+        "height": float(mass.height),
+        "min_height": float(mass.base),
+        "levels": max(1, round(walls / mass.floor_height)),
+        "roof_shape": mass.roof.shape,
+        "tagged": [],
+        "guessed": sorted(mass.guessed),
     }
 
 
@@ -132,12 +147,22 @@ def crop(export: ExportCity, region, region_text: str) -> ExportCity:
     city = export.city
     keep = np.flatnonzero(_inside(mass_centres(city.masses), box))
     if not len(keep):
-        raise UsageError(f"--region {region_text}: no building of {city.name} lies in it; "
-                         f"the data's buildings lie around lon,lat {export.origin[0]:.5f},{export.origin[1]:.5f}")
+        raise UsageError(
+            f"--region {region_text}: no building of {city.name} lies in it; "
+            f"the data's buildings lie around lon,lat {export.origin[0]:.5f},{export.origin[1]:.5f}"
+        )
     ground = clip_ground(city.ground_mesh, box)
     trees = city.trees
     if trees is not None and len(trees):
         trees = trees[_inside(trees["position"][:, [0, 2]].astype(np.float64), box)]
-    cropped = replace(city, masses=[city.masses[i] for i in keep], ground_mesh=ground, trees=trees,
-                      bounds=box, ground=[], parks=[], streets=[])
+    cropped = replace(
+        city,
+        masses=[city.masses[i] for i in keep],
+        ground_mesh=ground,
+        trees=trees,
+        bounds=box,
+        ground=[],
+        parks=[],
+        streets=[],
+    )
     return replace(export, city=cropped, metadata=[export.metadata[i] for i in keep])

@@ -68,8 +68,9 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
     from ._export import city_document, summary_of, write_directory
 
     if export.origin is None:
-        raise UsageError("--format 3dtiles needs a map (--map FILE): a built-in city has no place on Earth; "
-                         "use --format glb")
+        raise UsageError(
+            "--format 3dtiles needs a map (--map FILE): a built-in city has no place on Earth; use --format glb"
+        )
     masses = export.city.masses
     bounds = [building_vertices(m, i)["position"] for i, m in enumerate(masses)]
     lo = np.array([b.min(axis=0) for b in bounds])
@@ -82,8 +83,15 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
     def tile(node: _Node, folder: Path) -> dict:
         members = node.members
         level = lod + _height(node)  # leaves at lod, each coarser level one more
-        gltf, stats = city_document(export, texel, level, [masses[i] for i in members],
-                                    [export.metadata[i] for i in members], ground=False, trees=False)
+        gltf, stats = city_document(
+            export,
+            texel,
+            level,
+            [masses[i] for i in members],
+            [export.metadata[i] for i in members],
+            ground=False,
+            trees=False,
+        )
         name = f"tiles/b{node.key}.glb"
         (folder / name).write_bytes(glb_bytes(gltf))
         totals["tiles"] += 1
@@ -92,13 +100,17 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
         if node.children:
             diagonal = float(np.linalg.norm((node_hi - node_lo)[[0, 2]]))
             roof = max(masses[i].roof.height for i in members)
-            error = max(diagonal / 30.0, roof, 4 * texel * 2 ** level)
+            error = max(diagonal / 30.0, roof, 4 * texel * 2**level)
         else:
             error = 0.0
             stats.leaf = True
             totals["buildings_in_leaves"] += stats.buildings
-        entry = {"boundingVolume": {"box": box(node_lo, node_hi)}, "geometricError": round(error, 3),
-                 "refine": "REPLACE", "content": {"uri": name}}
+        entry = {
+            "boundingVolume": {"box": box(node_lo, node_hi)},
+            "geometricError": round(error, 3),
+            "refine": "REPLACE",
+            "content": {"uri": name},
+        }
         if node.children:
             entry["children"] = [tile(c, folder) for c in node.children]
         return entry
@@ -116,21 +128,32 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
             all_hi = np.maximum(all_hi, ground[:, :3].max(axis=0))
         root_error = max(buildings["geometricError"] * 2, float(np.linalg.norm((all_hi - all_lo)[[0, 2]])) / 10)
         tileset = {
-            "asset": {"version": "1.1", "generator": "cityshade export",
-                      "extras": {"attribution": "© OpenStreetMap contributors, ODbL 1.0"}},
+            "asset": {
+                "version": "1.1",
+                "generator": "cityshade export",
+                "extras": {"attribution": "© OpenStreetMap contributors, ODbL 1.0"},
+            },
             "geometricError": round(root_error * 2, 3),
-            "root": {"transform": enu_to_ecef(*export.origin), "boundingVolume": {"box": box(all_lo, all_hi)},
-                     "geometricError": round(root_error, 3), "refine": "ADD",
-                     "content": {"uri": "tiles/ground.glb"}, "children": [buildings]},
+            "root": {
+                "transform": enu_to_ecef(*export.origin),
+                "boundingVolume": {"box": box(all_lo, all_hi)},
+                "geometricError": round(root_error, 3),
+                "refine": "ADD",
+                "content": {"uri": "tiles/ground.glb"},
+                "children": [buildings],
+            },
         }
         (folder / "tileset.json").write_text(json.dumps(tileset, indent=1), encoding="utf-8")
 
     write_directory(out, fill)
     leaves, ground = stats_all[:-1], stats_all[-1]
     summary = summary_of(ground)
-    summary.update(totals, buildings=totals["buildings_in_leaves"],
-                   facade_m2=round(sum(s.facade_area for s in leaves if s.leaf), 1),
-                   triangles=ground.triangles + sum(s.triangles for s in leaves if s.leaf),
-                   atlas_pages=[list(p) for s in stats_all for p in s.atlas_sizes],
-                   atlas_texels=sum(s.atlas_texels for s in stats_all))
+    summary.update(
+        totals,
+        buildings=totals["buildings_in_leaves"],
+        facade_m2=round(sum(s.facade_area for s in leaves if s.leaf), 1),
+        triangles=ground.triangles + sum(s.triangles for s in leaves if s.leaf),
+        atlas_pages=[list(p) for s in stats_all for p in s.atlas_sizes],
+        atlas_texels=sum(s.atlas_texels for s in stats_all),
+    )
     return summary

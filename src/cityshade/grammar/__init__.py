@@ -31,8 +31,15 @@ def load_library() -> dict[str, Grammar]:
     return {style: load(library_path(f"{style}.grammar")) for style in LIBRARY_STYLES}
 
 
-from ._city import (BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min_widths,  # noqa: E402 (needs load_library)
-                    library_texture, library_texture_with)
+# the city's facades need load_library above
+from ._city import (  # noqa: E402
+    BUILDING_STYLES,
+    FACADE_GRAMMAR,
+    GRAMMAR_SHAPES,
+    library_min_widths,
+    library_texture,
+    library_texture_with,
+)
 from ._fit import min_width  # noqa: E402
 from ._frame_pass import DeferredGrammarPass  # noqa: E402
 from ._gpu import GrammarTextures, shader_defines  # noqa: E402
@@ -40,9 +47,37 @@ from ._random import FACADE_INDICES, facade_seed_vector, seed_cells, seed_vector
 from ._reference import evaluate  # noqa: E402
 
 __all__ = [
-    "BUILDING_STYLES", "FACADE_GRAMMAR", "GRAMMAR_SHAPES", "library_texture", "library_texture_with", "seed_cells", "seed_vector", "evaluate",
-    "DeferredGrammarPass", "GrammarTextures", "shader_defines", "Grammar", "Rule", "TexRef", "CompiledGrammars", "Diagnostic", "GrammarError", "Location", "SourceGrammar",
-    "FACADE_INDICES", "facade_seed_vector",
-    "LIBRARY_STYLES", "check", "costs", "compile_grammars", "library_path", "load", "loads", "load_library",
-    "load_source", "parse_string", "library_min_widths", "min_width",
+    "BUILDING_STYLES",
+    "FACADE_GRAMMAR",
+    "GRAMMAR_SHAPES",
+    "library_texture",
+    "library_texture_with",
+    "seed_cells",
+    "seed_vector",
+    "evaluate",
+    "DeferredGrammarPass",
+    "GrammarTextures",
+    "shader_defines",
+    "Grammar",
+    "Rule",
+    "TexRef",
+    "CompiledGrammars",
+    "Diagnostic",
+    "GrammarError",
+    "Location",
+    "SourceGrammar",
+    "FACADE_INDICES",
+    "facade_seed_vector",
+    "LIBRARY_STYLES",
+    "check",
+    "costs",
+    "compile_grammars",
+    "library_path",
+    "load",
+    "loads",
+    "load_library",
+    "load_source",
+    "parse_string",
+    "library_min_widths",
+    "min_width",
 ]

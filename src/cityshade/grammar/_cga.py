@@ -23,32 +23,106 @@ from PIL import ImageColor
 from ..errors import UsageError
 from ._limits import MAX_PARAMS
 
-_TOKEN = re.compile(r"""
+_TOKEN = re.compile(
+    r"""
     (?P<ws>\s+) | (?P<comment>//[^\n]*|\#[^\n]*|/\*.*?\*/) | (?P<arrow>-->)
   | (?P<num>\d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+) | (?P<str>"[^"\n]*"|'[^'\n]*'(?=\s*[,)]))
   | (?P<name>[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*\.?)
   | (?P<op>==|!=|<=|>=|&&|\|\||[-+*/%<>!~'(){}\[\]|:,=@^.;])
-  | (?P<bad>.)""", re.VERBOSE | re.DOTALL)
+  | (?P<bad>.)""",
+    re.VERBOSE | re.DOTALL,
+)
 
 # CGA operations that change 3D geometry or the scope: dropped (the facade is the scope).
-_DROPPED = {"extrude", "s", "t", "r", "center", "alignScopeToAxes", "alignScopeToGeometry", "rotateScope",
-            "setPivot", "mirror", "mirrorScope", "reverseNormals", "cleanupGeometry", "roofGable", "roofHip",
-            "roofShed", "roofPyramid", "taper", "offset", "innerRectangle", "setback", "shapeO", "shapeU",
-            "shapeL", "footprint", "convexify", "deleteUV", "normalizeUV", "scaleUV", "rotateUV", "tileUV",
-            "projectUV", "setupProjection", "set", "print", "report", "label", "comp", "envelope",
-            "translateUV", "primitiveCube", "primitiveQuad", "primitiveCylinder", "primitiveSphere", "resetGeometry",
-            "trim", "insertAlongUV", "scatter", "setNormals", "softenNormals", "modify", "copy"}
+_DROPPED = {
+    "extrude",
+    "s",
+    "t",
+    "r",
+    "center",
+    "alignScopeToAxes",
+    "alignScopeToGeometry",
+    "rotateScope",
+    "setPivot",
+    "mirror",
+    "mirrorScope",
+    "reverseNormals",
+    "cleanupGeometry",
+    "roofGable",
+    "roofHip",
+    "roofShed",
+    "roofPyramid",
+    "taper",
+    "offset",
+    "innerRectangle",
+    "setback",
+    "shapeO",
+    "shapeU",
+    "shapeL",
+    "footprint",
+    "convexify",
+    "deleteUV",
+    "normalizeUV",
+    "scaleUV",
+    "rotateUV",
+    "tileUV",
+    "projectUV",
+    "setupProjection",
+    "set",
+    "print",
+    "report",
+    "label",
+    "comp",
+    "envelope",
+    "translateUV",
+    "primitiveCube",
+    "primitiveQuad",
+    "primitiveCylinder",
+    "primitiveSphere",
+    "resetGeometry",
+    "trim",
+    "insertAlongUV",
+    "scatter",
+    "setNormals",
+    "softenNormals",
+    "modify",
+    "copy",
+}
 _QUERIES = ("inside", "overlaps", "touches", "occlusion")
 # Texture and asset names -> library tiles, first match wins.
-_TILES = (("door", "Fit>door1"), ("shop", "Fit>shop_front1"), ("balcon", "Fit>balcony_rail1"),
-          ("rail", "Fit>balcony_rail1"), ("sill", "Fit>sill"), ("cornice", "Fit>cornice1"), ("ledge", "Fit>cornice2"),
-          ("awning", "Fit>awning"), ("glass", "Fit>glass"), ("win", "Fit>window1"), ("roof", "Rep:roof_tiles"),
-          ("brick", "Rep:wall1"), ("stone", "Rep:stone_ashlar"), ("concrete", "Rep:concrete"),
-          ("stucco", "Rep:plaster_white"), ("plaster", "Rep:plaster_white"), ("wall", "Rep:wall2"))
+_TILES = (
+    ("door", "Fit>door1"),
+    ("shop", "Fit>shop_front1"),
+    ("balcon", "Fit>balcony_rail1"),
+    ("rail", "Fit>balcony_rail1"),
+    ("sill", "Fit>sill"),
+    ("cornice", "Fit>cornice1"),
+    ("ledge", "Fit>cornice2"),
+    ("awning", "Fit>awning"),
+    ("glass", "Fit>glass"),
+    ("win", "Fit>window1"),
+    ("roof", "Rep:roof_tiles"),
+    ("brick", "Rep:wall1"),
+    ("stone", "Rep:stone_ashlar"),
+    ("concrete", "Rep:concrete"),
+    ("stucco", "Rep:plaster_white"),
+    ("plaster", "Rep:plaster_white"),
+    ("wall", "Rep:wall2"),
+)
 # Rule names -> the label of the colours they set (first match wins; otherwise wall).
-_LABELS = (("window", "window"), ("glass", "window"), ("door", "door"), ("entr", "door"), ("balcon", "balcony"),
-           ("rail", "balcony"), ("shop", "shop"), ("roof", "roof"), ("cornice", "cornice"), ("ledge", "cornice"),
-           ("sill", "cornice"))
+_LABELS = (
+    ("window", "window"),
+    ("glass", "window"),
+    ("door", "door"),
+    ("entr", "door"),
+    ("balcon", "balcony"),
+    ("rail", "balcony"),
+    ("shop", "shop"),
+    ("roof", "roof"),
+    ("cornice", "cornice"),
+    ("ledge", "cornice"),
+    ("sill", "cornice"),
+)
 _CONDITION_NAMES = {"split.index", "split.total", "scope.sx", "scope.sy"}
 
 
@@ -107,7 +181,7 @@ def _single_layer(op: str) -> str | None:
     """X for the operator text Layer(X) of one successor (X may carry arguments), else None."""
     if not op.startswith("Layer(") or not op.endswith(")"):
         return None
-    inner, depth = op[len("Layer("):-1], 0
+    inner, depth = op[len("Layer(") : -1], 0
     for char in inner:
         depth += (char == "(") - (char == ")")
         if char == "," and depth == 0:
@@ -260,8 +334,9 @@ class _Importer:
         self.next()  # '='
         line = name.line
         tokens = []
-        while self.peek() is not None and not (self.peek().line != line and (
-                self.rule_starts() or self.peek().text in ("attr", "const", "@"))):
+        while self.peek() is not None and not (
+            self.peek().line != line and (self.rule_starts() or self.peek().text in ("attr", "const", "@"))
+        ):
             tokens.append(self.next())
         self.values[name.text] = self.value(tokens)
 
@@ -281,8 +356,11 @@ class _Importer:
         if self.at("("):
             params = tuple(t.text for t in self.balanced("(", ")") if t.kind == "name")
             if len(params) > MAX_PARAMS:
-                self.note(head.line, f"{len(params)} parameters of {head.text}",
-                          f"only the first {MAX_PARAMS} are kept (the GPU's limit)")
+                self.note(
+                    head.line,
+                    f"{len(params)} parameters of {head.text}",
+                    f"only the first {MAX_PARAMS} are kept (the GPU's limit)",
+                )
                 params = params[:MAX_PARAMS]
         self.next()  # -->
         body = self.body_tokens()
@@ -301,8 +379,11 @@ class _Importer:
 
     def body_tokens(self) -> list[_Tok]:
         out = []
-        while self.peek() is not None and not self.rule_starts() and not (
-                self.peek().kind == "name" and self.peek().text in ("attr", "const") or self.at("@")):
+        while (
+            self.peek() is not None
+            and not self.rule_starts()
+            and not (self.peek().kind == "name" and self.peek().text in ("attr", "const") or self.at("@"))
+        ):
             out.append(self.next())
         return out
 
@@ -326,24 +407,26 @@ class _Importer:
         branches, i = [], 0
         while i < len(body):
             if body[i].text == "else":
-                branches.append((None, body[i + 2:]))
+                branches.append((None, body[i + 2 :]))
                 break
             j = i + 1
             depth = 0
             while j < len(body) and not (depth == 0 and body[j].text == ":" and body[j].kind == "op"):
                 depth += (body[j].text in "([{") - (body[j].text in ")]}") if body[j].kind == "op" else 0
                 j += 1
-            head = body[i + 1:j] if keyword == "case" else body[i:j - 1]
+            head = body[i + 1 : j] if keyword == "case" else body[i : j - 1]
             k = j + 1
             depth = 0
             while k < len(body):
                 t = body[k]
-                if depth == 0 and (t.text in ("case", "else") or (
-                        keyword == "%" and t.kind == "num" and k + 1 < len(body) and body[k + 1].text == "%")):
+                if depth == 0 and (
+                    t.text in ("case", "else")
+                    or (keyword == "%" and t.kind == "num" and k + 1 < len(body) and body[k + 1].text == "%")
+                ):
                     break
                 depth += (t.text in "([{") - (t.text in ")]}") if t.kind == "op" else 0
                 k += 1
-            branches.append((head, body[j + 1:k]))
+            branches.append((head, body[j + 1 : k]))
             i = k
         return branches
 
@@ -397,8 +480,11 @@ class _Importer:
             elif tok.kind in ("num",) or (tok.kind == "op" and tok.text not in ("'", "~", "{", "}", "[", "]")):
                 words.append(tok.text)
             else:
-                self.note(line, f"condition {' '.join(t.text for t in tokens)!r} uses {tok.text}",
-                          "the condition is taken as false")
+                self.note(
+                    line,
+                    f"condition {' '.join(t.text for t in tokens)!r} uses {tok.text}",
+                    "the condition is taken as false",
+                )
                 return "0"
         text = " ".join(words)
         from ._syntax import parse_expression  # the cityshade parser decides what it reads
@@ -419,11 +505,11 @@ class _Importer:
             tok = tokens[i]
             if tok.kind == "name" and i + 1 < len(tokens) and tokens[i + 1].text == "(":
                 j = _partner(tokens, i + 1, "(", ")")
-                args = tokens[i + 2:j]
+                args = tokens[i + 2 : j]
                 i = j + 1
                 if tok.text == "split" and i < len(tokens) and tokens[i].text == "{":
                     k = _partner(tokens, i, "{", "}")
-                    parts = tokens[i + 1:k]
+                    parts = tokens[i + 1 : k]
                     if k >= len(tokens):
                         self.note(tok.line, "split(...){ is never closed", "its parts are read to the end of the rule")
                     i = k + 1
@@ -471,9 +557,14 @@ class _Importer:
         out: list[tuple[str, str]] = []
         for kind, text in layers:
             previous = out[-1] if out else None
-            if (kind == "op" and text.startswith("Mat(") and previous is not None and previous[0] == "op"
-                    and previous[1].startswith("Color(")):
-                rgb = ", ".join(previous[1][len("Color("):-1].split(", ")[:3])  # a Tint has no label
+            if (
+                kind == "op"
+                and text.startswith("Mat(")
+                and previous is not None
+                and previous[0] == "op"
+                and previous[1].startswith("Color(")
+            ):
+                rgb = ", ".join(previous[1][len("Color(") : -1].split(", ")[:3])  # a Tint has no label
                 out[-1] = ("op", f"Tint({rgb}, {self.fresh(name, text)})")
             else:
                 out.append((kind, text))
@@ -500,14 +591,17 @@ class _Importer:
 
     def comp(self, tokens, i, line, name) -> str:
         """comp(f){ front: A | side: B | top: R }: the facade is the front's (or sides') rule."""
-        inner = tokens[i + 1:self.skip_braces(tokens, i) - 1]
+        inner = tokens[i + 1 : self.skip_braces(tokens, i) - 1]
         chosen = None
         for selector in ("front", "side", "street.front", "all"):
             for k, tok in enumerate(inner[:-2]):
                 if tok.text == selector and inner[k + 1].text == ":" and inner[k + 2].kind == "name":
                     chosen = chosen or self.rule_name(inner[k + 2].text)
-        self.note(tokens[i].line, "comp(f){...}", f"only the facade is kept: {chosen or 'none found'}; roofs and "
-                  "other faces are dropped")
+        self.note(
+            tokens[i].line,
+            "comp(f){...}",
+            f"only the facade is kept: {chosen or 'none found'}; roofs and other faces are dropped",
+        )
         if chosen is None:
             return self.skip()
         self.referenced.setdefault(chosen, tokens[i].line)
@@ -524,7 +618,7 @@ class _Importer:
             inner = tokens[2:-1]
             comma = [k for k, t in enumerate(inner) if t.text == ","]
             if comma:
-                low, high = self.value(inner[:comma[0]]), self.value(inner[comma[0] + 1:])
+                low, high = self.value(inner[: comma[0]]), self.value(inner[comma[0] + 1 :])
                 if low is not None and high is not None and 0 < low <= high:
                     return policy, f"rand({_number(low)}, {_number(high)})"
         value = self.value(tokens)
@@ -540,7 +634,7 @@ class _Importer:
             if tokens[i].text == "{":
                 end = self.skip_braces(tokens, i)
                 repeated = end < len(tokens) and tokens[end].text == "*"
-                parts.append((None, None, tokens[i + 1:end - 1], repeated))
+                parts.append((None, None, tokens[i + 1 : end - 1], repeated))
                 i = end + repeated
             else:
                 j, depth = i, 0
@@ -550,7 +644,7 @@ class _Importer:
                 part = tokens[i:j]
                 colon = next((k for k, t in enumerate(part) if t.text == ":"), None)
                 if colon is not None:
-                    parts.append((part[:colon], part[colon + 1:], None, False))
+                    parts.append((part[:colon], part[colon + 1 :], None, False))
                 i = j
             if i < len(tokens) and tokens[i].text == "|":
                 i += 1
@@ -565,8 +659,12 @@ class _Importer:
             sizes, successor = parts[0][0], parts[0][1]
             policy, value = self.size(sizes, line)
             if policy == "Abs":
-                self.note(line, "an absolute repeat {size: X}*", "repeated the nearest whole number of times, "
-                          "stretched to fill the scope (CGA leaves the remainder)")
+                self.note(
+                    line,
+                    "an absolute repeat {size: X}*",
+                    "repeated the nearest whole number of times, "
+                    "stretched to fill the scope (CGA leaves the remainder)",
+                )
             return f"Repeat{axis}({value}, {self.target(successor, line, name)})"
         if repeat:
             parts = [(None, None, parts_tokens, True)]
@@ -588,12 +686,18 @@ class _Importer:
                         self.note(line, "a repeated part of rand size", f"a fixed size {value}, the middle")
                     target = self.target(inner[0][1], line, name)
                 else:
-                    total = sum(float(self.size(p[0], line)[1].split("(")[-1].split(",")[0].rstrip(")"))
-                                for p in inner if p[0] is not None)
+                    total = sum(
+                        float(self.size(p[0], line)[1].split("(")[-1].split(",")[0].rstrip(")"))
+                        for p in inner
+                        if p[0] is not None
+                    )
                     value = _number(total if total > 0 else 1.0)
                     target = self.fresh(name, self.split(args, group, False, line, name))
-                    self.note(line, "a repeated group of several parts",
-                              "one Tile of their summed size holding a Split of the parts")
+                    self.note(
+                        line,
+                        "a repeated group of several parts",
+                        "one Tile of their summed size holding a Split of the parts",
+                    )
                 out.append(("Tile" if tiles == 1 else "Rel", value, target))
                 continue
             policy, value = self.size(sizes, line)
@@ -602,8 +706,12 @@ class _Importer:
                 fractions.append(len(out))
             out.append((policy, value, target))
         if fractions:
-            self.note(line, "relative sizes ('r)", "written as floating (Rel) parts: exact when they sum to 1 "
-                      "and stand alone, otherwise they share the scope with the floating parts")
+            self.note(
+                line,
+                "relative sizes ('r)",
+                "written as floating (Rel) parts: exact when they sum to 1 "
+                "and stand alone, otherwise they share the scope with the floating parts",
+            )
         text = ", ".join(f"{'Rel' if p == 'Frac' else p}, {v}, {t}" for p, v, t in out)
         return f"Split{axis}({text})"
 
@@ -672,5 +780,7 @@ def translate(text: str, path: str = "<cga>") -> Translation:
         tok = importer.peek() or (importer.toks[-1] if importer.toks else None)
         where = f"{path}:{tok.line}" if tok else path
         shown = tok.text[:40] if tok else ""
-        raise CgaError(f"{where}: error: cannot read the CGA at {shown!r} (the importer knows the facade "
-                       "subset: rules, attr, split, repeat, case, %, color, texture, i); nothing was written") from None
+        raise CgaError(
+            f"{where}: error: cannot read the CGA at {shown!r} (the importer knows the facade "
+            "subset: rules, attr, split, repeat, case, %, color, texture, i); nothing was written"
+        ) from None

@@ -115,20 +115,32 @@ def _check_rule(src: SourceRule, names: dict[str, SourceRule], tiles: dict[str, 
     definition = src.definition
     op = definition.operator
     if op not in OPERATORS and src.resolve(op) in names:  # Floor(split.index) as a whole rule: an alias
-        call = Arg("expr", "a reference", definition.operator_location,
-                   Expr("call", definition.operator_location, name=op, args=tuple(a.expr for a in definition.args)))
+        call = Arg(
+            "expr",
+            "a reference",
+            definition.operator_location,
+            Expr("call", definition.operator_location, name=op, args=tuple(a.expr for a in definition.args)),
+        )
         target = _value(call, Kind.RULE, src, names, tiles, errors, op)
         return None if target is None else Rule(src.name, ALIAS, (target,), src)
     if op not in OPERATORS:
-        errors.append(Diagnostic(definition.operator_location, f"unknown operator '{op}'",
-                                 suggest(op, OPERATORS, "operator")
-                                 or f"operators: {', '.join(o for o in OPERATORS if o != ALIAS)}"))
+        errors.append(
+            Diagnostic(
+                definition.operator_location,
+                f"unknown operator '{op}'",
+                suggest(op, OPERATORS, "operator") or f"operators: {', '.join(o for o in OPERATORS if o != ALIAS)}",
+            )
+        )
         return None
     sig = OPERATORS[op]
     args = definition.args
     if not sig.arity_ok(len(args)):
-        errors.append(Diagnostic(definition.operator_location,
-                                 f"{op} takes ({sig.describe()}) but got {len(args)} argument{'s' * (len(args) != 1)}"))
+        errors.append(
+            Diagnostic(
+                definition.operator_location,
+                f"{op} takes ({sig.describe()}) but got {len(args)} argument{'s' * (len(args) != 1)}",
+            )
+        )
         return None
     count_before = len(errors)
     values = tuple(_value(arg, kind, src, names, tiles, errors, op) for arg, kind in zip(args, _kinds(op, len(args))))
@@ -145,8 +157,10 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
 
     if kind is Kind.LABEL:
         if arg.kind != "name" or arg.text not in LABELS[1:]:
-            return fail(f"{op} expects a label here, not {arg.text!r}",
-                        suggest(arg.text, LABELS[1:], "label") or "labels: " + ", ".join(LABELS[1:]))
+            return fail(
+                f"{op} expects a label here, not {arg.text!r}",
+                suggest(arg.text, LABELS[1:], "label") or "labels: " + ", ".join(LABELS[1:]),
+            )
         return LABELS.index(arg.text)
     params = src.definition.params
     if kind is Kind.CONDITION:
@@ -158,14 +172,21 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
             return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
         full = src.resolve(arg.text)
         if full not in names:
-            local = [n[len(src.namespace) + 1:] if src.namespace else n for n in names
-                     if not src.namespace or n.startswith(src.namespace + ".")]
-            return fail(f"undefined rule '{arg.text}'", suggest(arg.text, local, "rule") or "define it as "
-                        f"{arg.text}->Operator(...)")
+            local = [
+                n[len(src.namespace) + 1 :] if src.namespace else n
+                for n in names
+                if not src.namespace or n.startswith(src.namespace + ".")
+            ]
+            return fail(
+                f"undefined rule '{arg.text}'",
+                suggest(arg.text, local, "rule") or f"define it as {arg.text}->Operator(...)",
+            )
         wanted = names[full].definition.params
         if wanted:
-            return fail(f"rule '{arg.text}' takes {len(wanted)} parameter{'s' * (len(wanted) > 1)} "
-                        f"({', '.join(wanted)})", f"write {arg.text}({', '.join(wanted)})")
+            return fail(
+                f"rule '{arg.text}' takes {len(wanted)} parameter{'s' * (len(wanted) > 1)} ({', '.join(wanted)})",
+                f"write {arg.text}({', '.join(wanted)})",
+            )
         return full
     if kind in (Kind.POLICY, Kind.USAGE, Kind.ROUNDING):
         table = {Kind.POLICY: POLICIES, Kind.USAGE: USAGES, Kind.ROUNDING: ROUNDINGS}[kind]
@@ -187,15 +208,19 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
         return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
     value = arg.value
     if not abs(value) <= limits.HALF_MAX:
-        return fail(f"{shorten(arg.text)} does not fit the GPU's 16-bit numbers",
-                    f"numbers of a grammar are at most {limits.HALF_MAX:g} in magnitude")
+        return fail(
+            f"{shorten(arg.text)} does not fit the GPU's 16-bit numbers",
+            f"numbers of a grammar are at most {limits.HALF_MAX:g} in magnitude",
+        )
     if kind is Kind.SIZE and not np.float16(value) > 0:
         return fail(f"size must be > 0, got {arg.text}", "sizes are metres; use a positive number of at least 1e-7")
     if kind is Kind.FRACTION and not 0 <= value <= 1:
         return fail(f"a colour channel is in [0, 1], got {arg.text}")
     if kind is Kind.MARGIN and not 0 <= value <= limits.MAX_OVERHANG:
-        return fail(f"an overhang's margin is in [0, {limits.MAX_OVERHANG:g}] metres, got {arg.text}",
-                    "a part reaches at most that far over its neighbours")
+        return fail(
+            f"an overhang's margin is in [0, {limits.MAX_OVERHANG:g}] metres, got {arg.text}",
+            "a part reaches at most that far over its neighbours",
+        )
     if kind is Kind.WEIGHT and not 0 < value <= 1:
         return fail(f"weight must be in (0, 1], got {arg.text}")
     if kind is Kind.COUNT:
@@ -212,8 +237,10 @@ def _bound(arg: Arg, src: SourceRule, names, errors, fail):
         return fail(f"undefined rule '{call.name}'", suggest(call.name, names, "rule"))
     wanted = names[full].definition.params
     if len(call.args) != len(wanted):
-        return fail(f"rule '{call.name}' takes {len(wanted)} argument{'s' * (len(wanted) != 1)}, "
-                    f"got {len(call.args)}", f"it is defined as {call.name}({', '.join(wanted)})")
+        return fail(
+            f"rule '{call.name}' takes {len(wanted)} argument{'s' * (len(wanted) != 1)}, got {len(call.args)}",
+            f"it is defined as {call.name}({', '.join(wanted)})",
+        )
     if not wanted:  # B() is B
         return full
     if len(wanted) > limits.MAX_PARAMS:
@@ -225,8 +252,10 @@ def _bound(arg: Arg, src: SourceRule, names, errors, fail):
     depth = max(i + stack_depth(v) for i, v in enumerate(values))
     tokens = sum(len(program(v)) for v in values)
     if depth > limits.MAX_EXPR_STACK or tokens > limits.MAX_CASE_TOKENS:
-        return fail(f"the arguments of {call.name}(...) need {tokens} steps and {depth} stack values; "
-                    f"the GPU limits are {limits.MAX_CASE_TOKENS} and {limits.MAX_EXPR_STACK}")
+        return fail(
+            f"the arguments of {call.name}(...) need {tokens} steps and {depth} stack values; "
+            f"the GPU limits are {limits.MAX_CASE_TOKENS} and {limits.MAX_EXPR_STACK}"
+        )
     return Bound(full, values)
 
 
@@ -250,8 +279,13 @@ def _operator_checks(rule: Rule, errors: list):
     if rule.operator == "Rand":
         total = sum(rule.values[1::2])
         if abs(total - 1.0) > 1e-3:
-            errors.append(Diagnostic(definition.operator_location, f"Rand weights sum to {total:g}, not 1",
-                                     "make the weights add up to 1.0, or use RandUni for equal chances"))
+            errors.append(
+                Diagnostic(
+                    definition.operator_location,
+                    f"Rand weights sum to {total:g}, not 1",
+                    "make the weights add up to 1.0, or use RandUni for equal chances",
+                )
+            )
     if rule.operator in ("SplitX", "SplitY"):
         policies = rule.values[0::3]
         for policy, size, arg in zip(policies, rule.values[1::3], definition.args[1::3]):
@@ -259,32 +293,55 @@ def _operator_checks(rule: Rule, errors: list):
                 errors.append(Diagnostic(arg.location, "a Tile's size is fixed", "use rand for Abs or Rel parts"))
         if policies.count(TILE) > 1:
             second = [i for i, p in enumerate(policies) if p == TILE][1]
-            errors.append(Diagnostic(definition.args[3 * second].location, "a Split has at most one Tile part",
-                                     "nest a second Split for a second run of tiles"))
+            errors.append(
+                Diagnostic(
+                    definition.args[3 * second].location,
+                    "a Split has at most one Tile part",
+                    "nest a second Split for a second run of tiles",
+                )
+            )
         for policy, what in ((1, "relative"), (-1, "absolute")):
             total = sum(getattr(size, "high", size) for p, size in zip(policies, rule.values[1::3]) if p == policy)
             if total > limits.HALF_MAX:
-                errors.append(Diagnostic(definition.operator_location,
-                                         f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "
-                                         f"numbers hold ({limits.HALF_MAX:g})", "use smaller sizes"))
+                errors.append(
+                    Diagnostic(
+                        definition.operator_location,
+                        f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "
+                        f"numbers hold ({limits.HALF_MAX:g})",
+                        "use smaller sizes",
+                    )
+                )
     if rule.operator in ("SplitX", "SplitY", "Rand") and len(rule.children) > limits.MAX_PARTS:
-        errors.append(Diagnostic(definition.operator_location,
-                                 f"{rule.operator} has {len(rule.children)} parts; the GPU limit is {limits.MAX_PARTS}",
-                                 "nest two operators instead"))
+        errors.append(
+            Diagnostic(
+                definition.operator_location,
+                f"{rule.operator} has {len(rule.children)} parts; the GPU limit is {limits.MAX_PARTS}",
+                "nest two operators instead",
+            )
+        )
     if rule.operator == "Case":
         conditions = rule.values[0:-1:2]
         tokens = sum(len(program(c)) + 1 for c in conditions)
         if tokens > limits.MAX_CASE_TOKENS:
-            errors.append(Diagnostic(definition.operator_location,
-                                     f"the conditions of this Case take {tokens} steps; the GPU limit is "
-                                     f"{limits.MAX_CASE_TOKENS}", "split it into two Cases"))
+            errors.append(
+                Diagnostic(
+                    definition.operator_location,
+                    f"the conditions of this Case take {tokens} steps; the GPU limit is {limits.MAX_CASE_TOKENS}",
+                    "split it into two Cases",
+                )
+            )
         for condition, arg in zip(conditions, definition.args[0::2]):
             if stack_depth(condition) > limits.MAX_EXPR_STACK:
-                errors.append(Diagnostic(arg.location, f"this condition nests deeper than {limits.MAX_EXPR_STACK} "
-                                                       "values", "write it with fewer parentheses"))
+                errors.append(
+                    Diagnostic(
+                        arg.location,
+                        f"this condition nests deeper than {limits.MAX_EXPR_STACK} values",
+                        "write it with fewer parentheses",
+                    )
+                )
     if rule.operator in ("Mat", "MatAlpha"):
         for start in range(1, len(rule.values), 5):
-            tex, params = rule.values[start], rule.values[start + 1:start + 5]
+            tex, params = rule.values[start], rule.values[start + 1 : start + 5]
             outside = [i for i, p in enumerate(params) if not 0 <= p <= 1]
             if tex.fit and outside:
                 arg = definition.args[start + 1 + outside[0]]
@@ -295,6 +352,7 @@ def _operator_checks(rule: Rule, errors: list):
 def _overhang_errors(rules: dict[str, Rule]) -> list[Diagnostic]:
     """An Overhang is drawn by the Split that holds it (the Split reads its margins): it may be
     referenced only as a Split's Abs or Rel part, by name (an alias of it is the same texels)."""
+
     def overhang(name: str) -> bool:
         rule = rules[name]
         while rule.operator == ALIAS and isinstance(rule.values[0], str):
@@ -311,9 +369,13 @@ def _overhang_errors(rules: dict[str, Rule]) -> list[Diagnostic]:
             if isinstance(value, str) and (split_part or rule.operator == ALIAS):
                 continue
             alias = rule.operator == ALIAS
-            found.append(Diagnostic(definition.operator_location if alias else definition.args[position].location,
-                                    f"{'a reference with arguments' if alias else rule.operator} cannot hold an Overhang",
-                                    "an Overhang is an Abs or Rel part of a SplitX or SplitY, named without arguments"))
+            found.append(
+                Diagnostic(
+                    definition.operator_location if alias else definition.args[position].location,
+                    f"{'a reference with arguments' if alias else rule.operator} cannot hold an Overhang",
+                    "an Overhang is an Abs or Rel part of a SplitX or SplitY, named without arguments",
+                )
+            )
     return found
 
 
@@ -352,9 +414,14 @@ def _index_errors(rules: dict[str, Rule]) -> list[Diagnostic]:
         for condition in rule.values[0:-1:2]:
             for k, where in _index_equalities(condition):
                 if not (k == int(k) and 0 <= k < largest):
-                    found.append(Diagnostic(where, f"split.index is never {k:g} here: it runs from 0 to {largest - 1} "
-                                                   f"(the Splits that lead here have at most {largest} parts)",
-                                            "count parts from 0, or test split.last"))
+                    found.append(
+                        Diagnostic(
+                            where,
+                            f"split.index is never {k:g} here: it runs from 0 to {largest - 1} "
+                            f"(the Splits that lead here have at most {largest} parts)",
+                            "count parts from 0, or test split.last",
+                        )
+                    )
     return found
 
 
@@ -387,10 +454,15 @@ def _walk(rules: dict[str, Rule]) -> tuple[list[str], list[Diagnostic]]:
                 state[done] = 2
                 order.append(done)
             elif state.get(child) == 1:
-                cycle = path[path.index(child):] + [child]
+                cycle = path[path.index(child) :] + [child]
                 first = rules[child].source.definition
-                found.append(Diagnostic(first.location, "rules form a cycle: " + " -> ".join(cycle),
-                                        "every chain of rules must end in Mat, MatAlpha, Skip or SkipMask"))
+                found.append(
+                    Diagnostic(
+                        first.location,
+                        "rules form a cycle: " + " -> ".join(cycle),
+                        "every chain of rules must end in Mat, MatAlpha, Skip or SkipMask",
+                    )
+                )
             elif child not in state:
                 state[child] = 1
                 path.append(child)
@@ -433,10 +505,12 @@ def costs(rules: dict[str, Rule]) -> dict[str, Cost]:
             memo[name] = replace(kids[0], steps=kids[0].steps + rule.binds)  # a Bind is one step
             continue
         steps = sum(k.steps for k in kids) if rule.operator == "Layer" else max(k.steps for k in kids)
-        memo[name] = Cost(1 + steps + rule.binds * (len(kids) if rule.operator == "Layer" else 1),
-                          max(k.layers for k in kids) + (rule.operator == "Layer"),
-                          max(k.stack for k in kids) + (rule.operator == "RandStack"),
-                          max(k.intrusions for k in kids) + (rule.operator == "Intrusion"))
+        memo[name] = Cost(
+            1 + steps + rule.binds * (len(kids) if rule.operator == "Layer" else 1),
+            max(k.layers for k in kids) + (rule.operator == "Layer"),
+            max(k.stack for k in kids) + (rule.operator == "RandStack"),
+            max(k.intrusions for k in kids) + (rule.operator == "Intrusion"),
+        )
     return memo
 
 
@@ -447,7 +521,11 @@ def _limit_errors(rules: dict[str, Rule]) -> list[Diagnostic]:
         over = table[name].exceeded()
         # Report where a limit is first crossed, not at every rule above it.
         if over and not any(table[c].exceeded() for c in rule.children):
-            found.append(Diagnostic(rule.source.definition.location,
-                                    f"rule '{name}' nests deeper than the GPU evaluator allows: " + "; ".join(over),
-                                    "flatten the grammar (fewer nested operators on one path)"))
+            found.append(
+                Diagnostic(
+                    rule.source.definition.location,
+                    f"rule '{name}' nests deeper than the GPU evaluator allows: " + "; ".join(over),
+                    "flatten the grammar (fewer nested operators on one path)",
+                )
+            )
     return found

@@ -20,19 +20,41 @@ def register(subparsers):
     render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
     render.add_argument("file", type=Path, metavar="FILE")
     render.add_argument("--rule", default=None, help="start rule (default: the file's first rule)")
-    render.add_argument("--facade", type=parse_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres")
+    render.add_argument(
+        "--facade", type=parse_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres"
+    )
     render.add_argument("--seed", type=check_seed, default=0, help="the facade's random seed, 0 to 2^31-1")
-    render.add_argument("--levels", type=lambda v: check_count(v, "--levels"), default=None, metavar="N",
-                        help="building.levels for conditions (default: the facade height / 3.2 m, rounded)")
-    render.add_argument("--style", type=lambda v: check_count(v, "--style"), default=0, metavar="N",
-                        help="building.style for conditions")
+    render.add_argument(
+        "--levels",
+        type=lambda v: check_count(v, "--levels"),
+        default=None,
+        metavar="N",
+        help="building.levels for conditions (default: the facade height / 3.2 m, rounded)",
+    )
+    render.add_argument(
+        "--style",
+        type=lambda v: check_count(v, "--style"),
+        default=0,
+        metavar="N",
+        help="building.style for conditions",
+    )
     from ..scene import USES
 
-    render.add_argument("--use", choices=list(USES), default="mixed",
-                        help="building.use for conditions (building.height is the facade's height)")
-    render.add_argument("--face", type=int, choices=range(FACADE_INDICES), default=0, metavar="K",
-                        help=f"which facade of the building, 0 to {FACADE_INDICES - 1} (in the city: its face's "
-                             "first room column): each has its own random stream")
+    render.add_argument(
+        "--use",
+        choices=list(USES),
+        default="mixed",
+        help="building.use for conditions (building.height is the facade's height)",
+    )
+    render.add_argument(
+        "--face",
+        type=int,
+        choices=range(FACADE_INDICES),
+        default=0,
+        metavar="K",
+        help=f"which facade of the building, 0 to {FACADE_INDICES - 1} (in the city: its face's "
+        "first room column): each has its own random stream",
+    )
     render.add_argument("--size", type=parse_size, default=(640, 512), metavar="WxH", help="image size in pixels")
     render.add_argument("--cpu", action="store_true", help="use the numpy reference evaluator")
     render.add_argument("--out", type=Path, default=Path("out/facade.png"), metavar="PNG")
@@ -41,8 +63,9 @@ def register(subparsers):
 
     imports = commands.add_parser("import", help="translate a CityEngine CGA rule file (its facade subset)")
     imports.add_argument("file", type=Path, metavar="FILE.cga")
-    imports.add_argument("--out", type=Path, default=None, metavar="FILE.grammar",
-                         help="write the grammar here (default: print it)")
+    imports.add_argument(
+        "--out", type=Path, default=None, metavar="FILE.grammar", help="write the grammar here (default: print it)"
+    )
     imports.set_defaults(run=_import)
 
 
@@ -58,8 +81,10 @@ def _check(args) -> int:
             print(str(exc), file=sys.stderr)
             failed = True
             continue
-        print(f"{path}: ok, {len(grammar.rules)} rules, {compiled.used} texels ({compiled.nbytes} bytes), "
-              f"start rule {grammar.start}")
+        print(
+            f"{path}: ok, {len(grammar.rules)} rules, {compiled.used} texels ({compiled.nbytes} bytes), "
+            f"start rule {grammar.start}"
+        )
     return 1 if failed else 0
 
 
@@ -88,11 +113,16 @@ def _import(args) -> int:
     try:
         loads(grammar_text, name)  # a translation that does not check is reported, and not written
     except GrammarError as exc:
-        raise CgaError(f"{args.file}: error: the translation does not check (recursive rules, or arguments "
-                       f"that do not match a rule's parameters, cannot be translated); nothing was written:\n"
-                       f"{exc}") from None
-    print(f"{args.file}: {len(translation.notes)} construct{'s' * (len(translation.notes) != 1)} not translated "
-          "as written (listed above)", file=sys.stderr)
+        raise CgaError(
+            f"{args.file}: error: the translation does not check (recursive rules, or arguments "
+            f"that do not match a rule's parameters, cannot be translated); nothing was written:\n"
+            f"{exc}"
+        ) from None
+    print(
+        f"{args.file}: {len(translation.notes)} construct{'s' * (len(translation.notes) != 1)} not translated "
+        "as written (listed above)",
+        file=sys.stderr,
+    )
     if args.out is None:
         sys.stdout.write(grammar_text)
         return 0
@@ -129,8 +159,16 @@ def _render(args) -> int:
     tiles = tile_array(128)
     if args.cpu:
         check_image_memory(args.size, CPU_BYTES_PER_PIXEL, "grammar render --cpu")
-        result = evaluate_facade(compiled, start, args.facade, args.size, facade_seed_vector(args.seed, args.face),
-                                 tiles, building, seed_vector(args.seed))
+        result = evaluate_facade(
+            compiled,
+            start,
+            args.facade,
+            args.size,
+            facade_seed_vector(args.seed, args.face),
+            tiles,
+            building,
+            seed_vector(args.seed),
+        )
         colour, labels = result.color, result.label
     else:
         from ..gl import create_context

@@ -61,8 +61,10 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
         # in texels after the pairs; the sums are then made per scope by the evaluators.
         policies, sizes, children = v[0::3], v[1::3], v[2::3]
         low = [getattr(size, "low", size) for size in sizes]
-        parts = [(size if policy == TILE else policy * size, -address_of(child) - 1 if policy == TILE
-                  else address_of(child)) for policy, size, child in zip(policies, low, children)]
+        parts = [
+            (size if policy == TILE else policy * size, -address_of(child) - 1 if policy == TILE else address_of(child))
+            for policy, size, child in zip(policies, low, children)
+        ]
         rel = sum(size for policy, size in zip(policies, low) if policy == 1)
         absolute = sum(size for policy, size in zip(policies, low) if policy < 0)
         tiles = [size for policy, size in zip(policies, low) if policy == TILE]
@@ -117,13 +119,13 @@ def _encode(rule: Rule, address_of) -> list[list[float]]:
 def _pairs(parts: list[tuple[float, int]]) -> list[list[float]]:
     flat = [x for part in parts for x in part]
     flat += [0.0] * (-len(flat) % 4)
-    return [flat[i:i + 4] for i in range(0, len(flat), 4)]
+    return [flat[i : i + 4] for i in range(0, len(flat), 4)]
 
 
 def _packed(head: list[float], refs: list[int]) -> list[list[float]]:
     flat = head + refs
     flat += [0.0] * (-len(flat) % 4)
-    return [flat[i:i + 4] for i in range(0, len(flat), 4)]
+    return [flat[i : i + 4] for i in range(0, len(flat), 4)]
 
 
 def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
@@ -140,6 +142,7 @@ def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
         return by_content[content]
 
     for gname, grammar in grammars.items():
+
         def address_of(rule_name, grammar=grammar, gname=gname) -> int:
             if isinstance(rule_name, Bound):  # the Bind texels: the arguments' tokens, then the rule
                 tokens = [t for value in rule_name.args for t in program(value)]
@@ -159,12 +162,23 @@ def compile_grammars(grammars: dict[str, Grammar]) -> CompiledGrammars:
     if len(texels) > limits.MAX_TEXELS:
         first = next(iter(grammars.values()))
         where = first.rules[first.start].source.definition.location
-        raise GrammarError([Diagnostic(where, f"the rules need {len(texels)} texels; the grammar texture holds "
-                                              f"{limits.MAX_TEXELS}", "split the styles over fewer rules")],
-                           first.sources)
+        raise GrammarError(
+            [
+                Diagnostic(
+                    where,
+                    f"the rules need {len(texels)} texels; the grammar texture holds {limits.MAX_TEXELS}",
+                    "split the styles over fewer rules",
+                )
+            ],
+            first.sources,
+        )
     rows = max(1, -(-len(texels) // limits.TEXTURE_WIDTH))
     data = np.zeros((rows * limits.TEXTURE_WIDTH, 4), np.float32)
     if texels:
         data[: len(texels)] = np.asarray(texels, np.float32)
-    return CompiledGrammars(data.astype(np.float16).reshape(rows, limits.TEXTURE_WIDTH, 4), len(texels),
-                            addresses, {g: gr.start for g, gr in grammars.items()})
+    return CompiledGrammars(
+        data.astype(np.float16).reshape(rows, limits.TEXTURE_WIDTH, 4),
+        len(texels),
+        addresses,
+        {g: gr.start for g, gr in grammars.items()},
+    )

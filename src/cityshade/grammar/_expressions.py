@@ -17,9 +17,18 @@ from ..scene import USES
 from ._diagnostics import Diagnostic, Location, suggest
 
 # Variable -> slot in the evaluator's variable vector (eval.glsl grammar_variable()).
-VARIABLES = {"split.index": 0, "split.total": 1, "scope.sx": 2, "scope.sy": 3,
-             "facade.width": 4, "facade.height": 5, "building.levels": 6, "building.style": 7,
-             "building.use": 8, "building.height": 9}
+VARIABLES = {
+    "split.index": 0,
+    "split.total": 1,
+    "scope.sx": 2,
+    "scope.sy": 3,
+    "facade.width": 4,
+    "facade.height": 5,
+    "building.levels": 6,
+    "building.style": 7,
+    "building.use": 8,
+    "building.height": 9,
+}
 BUILDING = VARIABLES["building.levels"]  # the building's four attributes follow, in this order
 PARAMETER = len(VARIABLES)  # rule parameter k is variable PARAMETER + k
 # Named numbers: building.use == use.office. The codes are the scene's (cityshade.scene.USES).
@@ -29,8 +38,21 @@ DERIVED = {"split.first": "split.index == 0", "split.last": "split.index == spli
 
 # Token codes (the first channel of a token; keep in step with eval.glsl grammar_condition()).
 PUSH, VARIABLE, CASE = 0, 1, 2
-BINARY = {"+": 3, "-": 4, "*": 5, "/": 6, "%": 7, "==": 8, "!=": 9, "<": 10, "<=": 11, ">": 12, ">=": 13,
-          "&&": 14, "||": 15}
+BINARY = {
+    "+": 3,
+    "-": 4,
+    "*": 5,
+    "/": 6,
+    "%": 7,
+    "==": 8,
+    "!=": 9,
+    "<": 10,
+    "<=": 11,
+    ">": 12,
+    ">=": 13,
+    "&&": 14,
+    "||": 15,
+}
 NOT, NEG = 16, 17
 
 
@@ -53,31 +75,46 @@ def check_expr(expr: Expr, errors: list[Diagnostic], params: tuple[str, ...] = (
     if expr.op == "var":
         if expr.name in DERIVED:
             from ._syntax import parse_expression
+
             return check_expr(parse_expression(DERIVED[expr.name], expr.location), errors)
         if expr.name in params:
             return Expr("var", expr.location, name=expr.name, value=PARAMETER + params.index(expr.name))
         if expr.name in CONSTANTS:
             return Expr("num", expr.location, value=CONSTANTS[expr.name])
         if expr.name.startswith("use."):
-            errors.append(Diagnostic(expr.location, f"unknown use '{expr.name}'",
-                                     suggest(expr.name, list(CONSTANTS), "use") or "uses: " + ", ".join(CONSTANTS)))
+            errors.append(
+                Diagnostic(
+                    expr.location,
+                    f"unknown use '{expr.name}'",
+                    suggest(expr.name, list(CONSTANTS), "use") or "uses: " + ", ".join(CONSTANTS),
+                )
+            )
             return None
         if expr.name not in VARIABLES:
             names = list(VARIABLES) + list(DERIVED) + list(params)
-            errors.append(Diagnostic(expr.location, f"unknown variable '{expr.name}' in a condition",
-                                     suggest(expr.name, names, "variable") or "variables: " + ", ".join(names)))
+            errors.append(
+                Diagnostic(
+                    expr.location,
+                    f"unknown variable '{expr.name}' in a condition",
+                    suggest(expr.name, names, "variable") or "variables: " + ", ".join(names),
+                )
+            )
             return None
         return expr
     if expr.op == "call":
-        errors.append(Diagnostic(expr.location, f"'{expr.name}(...)' cannot be used in a condition",
-                                 "conditions use numbers, variables and operators"))
+        errors.append(
+            Diagnostic(
+                expr.location,
+                f"'{expr.name}(...)' cannot be used in a condition",
+                "conditions use numbers, variables and operators",
+            )
+        )
         return None
     args = [check_expr(a, errors, params) for a in expr.args]
     if any(a is None for a in args):
         return None
     if expr.op in ("/", "%") and args[1].op == "num" and args[1].value == 0:
-        errors.append(Diagnostic(expr.location, f"'{expr.op}' by zero",
-                                 "divide by a number that is not 0"))
+        errors.append(Diagnostic(expr.location, f"'{expr.op}' by zero", "divide by a number that is not 0"))
         return None
     folded = Expr(expr.op, expr.location, args=tuple(args))
     if all(a.op == "num" for a in args):
@@ -99,10 +136,19 @@ def apply(op: str, a, b=None, xp=None):
         safe = xp.where(b == 0, f(1), b)
         out = a / safe if op == "/" else a - safe * xp.floor(a / safe)
         return xp.where(b == 0, f(0), out).astype(f)
-    table = {"+": lambda: a + b, "-": lambda: a - b, "*": lambda: a * b,
-             "==": lambda: a == b, "!=": lambda: a != b, "<": lambda: a < b, "<=": lambda: a <= b,
-             ">": lambda: a > b, ">=": lambda: a >= b,
-             "&&": lambda: (a != 0) & (b != 0), "||": lambda: (a != 0) | (b != 0)}
+    table = {
+        "+": lambda: a + b,
+        "-": lambda: a - b,
+        "*": lambda: a * b,
+        "==": lambda: a == b,
+        "!=": lambda: a != b,
+        "<": lambda: a < b,
+        "<=": lambda: a <= b,
+        ">": lambda: a > b,
+        ">=": lambda: a >= b,
+        "&&": lambda: (a != 0) & (b != 0),
+        "||": lambda: (a != 0) | (b != 0),
+    }
     return xp.asarray(table[op]()).astype(f)
 
 

@@ -17,9 +17,13 @@ def _size(value) -> float:
 def _width(rule: Rule, widths: dict[str, float]) -> float:
     kids = [widths[name] for name in rule.children]
     if rule.operator == "SplitX":  # fixed parts keep their size; floating ones may shrink to what they hold
-        parts = [rule.values[i:i + 3] for i in range(0, len(rule.values) - 2, 3)]
-        return sum(max(_size(size), widths[getattr(child, "name", child)]) if policy == ABS
-                   else widths[getattr(child, "name", child)] for policy, size, child in parts)
+        parts = [rule.values[i : i + 3] for i in range(0, len(rule.values) - 2, 3)]
+        return sum(
+            max(_size(size), widths[getattr(child, "name", child)])
+            if policy == ABS
+            else widths[getattr(child, "name", child)]
+            for policy, size, child in parts
+        )
     if rule.operator == "Case":  # a Case may choose by the facade's width: the narrowest choice
         return min(kids)
     return max(kids, default=0.0)  # every other operator: the widest of what it may run

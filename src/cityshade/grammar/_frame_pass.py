@@ -44,14 +44,18 @@ class DeferredGrammarPass:
     def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
         """The full-screen evaluation into the bound result target, reading the G-buffer."""
         gbuffer = self.gbuffer
-        program = f.gpu.programs.get("grammar/deferred.glsl", {**shader_defines(), "BUILDING_LOD": f.view.settings.building_lod,
-                                                            "NO_SHADOWS": f.gpu.shadows is None})
+        program = f.gpu.programs.get(
+            "grammar/deferred.glsl",
+            {**shader_defines(), "BUILDING_LOD": f.view.settings.building_lod, "NO_SHADOWS": f.gpu.shadows is None},
+        )
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
         if f.gpu.shadows is not None:
             f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)
         f.gpu.city.records.bind_to_storage_buffer(0)  # the buildings' attributes for conditions
-        bind_textures(program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors, gbuffer.depth))))
+        bind_textures(
+            program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors, gbuffer.depth)))
+        )
         draw_fullscreen(program)
 
     def bind_results(self, program):

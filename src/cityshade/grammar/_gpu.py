@@ -18,8 +18,9 @@ MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
 
 def shader_defines(nearest: bool = False) -> dict[str, object]:
     """The #defines every program that includes grammar/eval.glsl needs."""
-    return dict(limits.DEFINES, GRAMMAR_NEAREST=nearest, GRAMMAR_FIRST_BUILDING=BUILDING,
-                GRAMMAR_FIRST_PARAMETER=PARAMETER)
+    return dict(
+        limits.DEFINES, GRAMMAR_NEAREST=nearest, GRAMMAR_FIRST_BUILDING=BUILDING, GRAMMAR_FIRST_PARAMETER=PARAMETER
+    )
 
 
 class GrammarTextures:
@@ -40,8 +41,9 @@ class GrammarTextures:
 
     def bind(self, program):
         """Binds the three textures to the program's samplers and sets the tile uniforms."""
-        bind_textures(program, {"u_grammar_rules": self.rules, "u_grammar_noise": self.noise,
-                                "u_grammar_tiles": self.tile_array})
+        bind_textures(
+            program, {"u_grammar_rules": self.rules, "u_grammar_noise": self.noise, "u_grammar_tiles": self.tile_array}
+        )
         if "u_grammar_tile_size" in program:
             program["u_grammar_tile_size"] = self.tiles.size
         if "u_grammar_tile_labels" in program:
@@ -60,7 +62,9 @@ class FacadeRenderer:
         self.textures = textures
         self.program = programs(ctx).get("grammar/facade.glsl", shader_defines(nearest))
 
-    def render(self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    def render(
+        self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(colour HxWx4 float, ids HxWx4 uint32), top row first; `seed` is the building's seed
         vector and `face` which of its facades (its own stream: _random.facade_seed_vector)."""
         target = RenderTarget(self.ctx, tuple(size), colors=(("f2", 4), ("u4", 4)))

@@ -58,15 +58,23 @@ def read_source(path: Path) -> str:
     except InputError as exc:
         raise GrammarError([Diagnostic(where, exc.reason)], {}) from None
     if b"\0" in data:
-        raise GrammarError([Diagnostic(where, "this is a binary file, not a grammar",
-                                       "grammar files are UTF-8 text with rules Name->Operator(args)")])
+        raise GrammarError(
+            [
+                Diagnostic(
+                    where,
+                    "this is a binary file, not a grammar",
+                    "grammar files are UTF-8 text with rules Name->Operator(args)",
+                )
+            ]
+        )
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
-        raise GrammarError([Diagnostic(Location(str(path), line, column), "the file is not UTF-8 text",
-                                       "save the grammar as UTF-8")]) from None
+        raise GrammarError(
+            [Diagnostic(Location(str(path), line, column), "the file is not UTF-8 text", "save the grammar as UTF-8")]
+        ) from None
     return text
 
 
@@ -87,8 +95,9 @@ def parse_string(text: str, name: str = "<string>") -> SourceGrammar:
 
 def _include(path: Path, namespace: str, sources: dict[str, str], chain: list[Path]) -> dict[str, SourceRule]:
     """An included file's rules. Its text is quoted in later errors only once it parsed as a grammar."""
-    return _collect(_parse_file(path, sources, quote_syntax_errors=False), path, path.parent, namespace, sources,
-                    chain)[0]
+    return _collect(
+        _parse_file(path, sources, quote_syntax_errors=False), path, path.parent, namespace, sources, chain
+    )[0]
 
 
 def _parse_file(path: Path, sources: dict[str, str], quote_syntax_errors: bool) -> SourceFile:
@@ -107,30 +116,54 @@ def _parse_file(path: Path, sources: dict[str, str], quote_syntax_errors: bool) 
     return parsed
 
 
-def _collect(parsed: SourceFile, path: Path, folder: Path | None, namespace: str, sources: dict[str, str],
-             chain: list[Path]):
+def _collect(
+    parsed: SourceFile, path: Path, folder: Path | None, namespace: str, sources: dict[str, str], chain: list[Path]
+):
     where = Location(str(path), 1, 1)
     if not parsed.rules and not parsed.uses:
-        raise GrammarError([Diagnostic(where, "the grammar is empty: it defines no rules",
-                                       "add rules like Facade->SplitY(Abs, 3.0, Ground, Rel, 1.0, Upper)")], sources)
+        raise GrammarError(
+            [
+                Diagnostic(
+                    where,
+                    "the grammar is empty: it defines no rules",
+                    "add rules like Facade->SplitY(Abs, 3.0, Ground, Rel, 1.0, Upper)",
+                )
+            ],
+            sources,
+        )
     errors: list[Diagnostic] = []
     included: dict[str, SourceRule] = {}
     seen_namespaces: dict[str, Location] = {}
     for use in parsed.uses:
         if use.namespace in seen_namespaces:
-            errors.append(Diagnostic(use.location, f"namespace '{use.namespace}' is used twice",
-                                     "give each included file its own namespace"))
+            errors.append(
+                Diagnostic(
+                    use.location,
+                    f"namespace '{use.namespace}' is used twice",
+                    "give each included file its own namespace",
+                )
+            )
             continue
         seen_namespaces[use.namespace] = use.location
         if not use.file.endswith(GRAMMAR_SUFFIX):
-            errors.append(Diagnostic(use.location, f"'{shorten(use.file)}' is not a {GRAMMAR_SUFFIX} file",
-                                     f"a grammar may only use other {GRAMMAR_SUFFIX} files"))
+            errors.append(
+                Diagnostic(
+                    use.location,
+                    f"'{shorten(use.file)}' is not a {GRAMMAR_SUFFIX} file",
+                    f"a grammar may only use other {GRAMMAR_SUFFIX} files",
+                )
+            )
             continue
         target = _find_include(folder, use.file)
         if target is None:
             where_from = f"{folder or '.'} (or a folder below it)" if folder is not None else "nowhere but the library"
-            errors.append(Diagnostic(use.location, f"included file '{shorten(use.file)}' not found",
-                                     f"a use names a file in {where_from} or a library style"))
+            errors.append(
+                Diagnostic(
+                    use.location,
+                    f"included file '{shorten(use.file)}' not found",
+                    f"a use names a file in {where_from} or a library style",
+                )
+            )
             continue
         if target.resolve() in [p.resolve() for p in chain + [path]]:
             cycle = " -> ".join(p.name for p in chain + [path, target])
@@ -143,8 +176,13 @@ def _collect(parsed: SourceFile, path: Path, folder: Path | None, namespace: str
         full = f"{namespace}.{rule.name}" if namespace else rule.name
         if full in own:
             first = own[full].definition.location
-            errors.append(Diagnostic(rule.location, f"rule '{rule.name}' is defined twice",
-                                     f"the first definition is at line {first.line}; rename one of them"))
+            errors.append(
+                Diagnostic(
+                    rule.location,
+                    f"rule '{rule.name}' is defined twice",
+                    f"the first definition is at line {first.line}; rename one of them",
+                )
+            )
             continue
         own[full] = SourceRule(full, namespace, rule)
     if errors:
@@ -164,7 +202,6 @@ def _find_include(folder: Path | None, name: str) -> Path | None:
     for root in roots:
         candidate = root / name
         inside = Path(root).resolve()
-        if (not Path(name).is_absolute() and inside in candidate.resolve().parents
-                and candidate.resolve().is_file()):
+        if not Path(name).is_absolute() and inside in candidate.resolve().parents and candidate.resolve().is_file():
             return candidate
     return None

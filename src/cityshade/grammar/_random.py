@@ -74,13 +74,17 @@ def facade_cells(cells, face) -> np.ndarray:
     with their index (a 32-bit integer hash); every cell stays in [1, 2047]."""
     cells = np.asarray(cells, np.int64).reshape(-1, 2)
     face = np.broadcast_to(np.asarray(face, np.int64), len(cells)).astype(np.uint32)
-    h = (cells[:, 0].astype(np.uint32) | (cells[:, 1].astype(np.uint32) << np.uint32(11))) ^ (face * np.uint32(0x9E3779B1))
+    h = (cells[:, 0].astype(np.uint32) | (cells[:, 1].astype(np.uint32) << np.uint32(11))) ^ (
+        face * np.uint32(0x9E3779B1)
+    )
     h ^= h >> np.uint32(16)
     h = h * np.uint32(0x7FEB352D)
     h ^= h >> np.uint32(15)
     h = h * np.uint32(0x846CA68B)
     h ^= h >> np.uint32(16)
-    hashed = np.stack([np.uint32(1) + h % np.uint32(2047), np.uint32(1) + (h >> np.uint32(11)) % np.uint32(2047)], axis=-1)
+    hashed = np.stack(
+        [np.uint32(1) + h % np.uint32(2047), np.uint32(1) + (h >> np.uint32(11)) % np.uint32(2047)], axis=-1
+    )
     return np.where((face == 0)[:, None], cells, hashed).astype(np.int32)
 
 

@@ -207,8 +207,7 @@ class _Evaluator:
         with np.errstate(divide="ignore", invalid="ignore"):
             count = np.where(tiled, np.maximum(np.floor((size - absolute - relative) / tile + F(0.5)), F(1)), F(0))
         floating = relative + count * tile
-        scale = np.where(floating > 0, np.maximum(size - absolute, F(0)) / np.where(floating > 0, floating, F(1)),
-                         F(0))
+        scale = np.where(floating > 0, np.maximum(size - absolute, F(0)) / np.where(floating > 0, floating, F(1)), F(0))
         pos = p.lb[idx, a].copy()
         t = p.t[idx, a]
         chosen_pos, chosen_w = pos.copy(), np.zeros_like(pos)
@@ -233,8 +232,11 @@ class _Evaluator:
             chosen_w = np.where(overhang, span + before + after, np.where(hit, np.where(is_tile, w, span), chosen_w))
             chosen_index = np.where(overhang, index, np.where(hit, index + k, chosen_index))
             after_tile |= is_tile
-            target = np.where(overhang, child[:, 3].astype(np.int32),
-                              np.where(hit, np.where(is_tile, -ref - F(1), ref).astype(np.int32), target))
+            target = np.where(
+                overhang,
+                child[:, 3].astype(np.int32),
+                np.where(hit, np.where(is_tile, -ref - F(1), ref).astype(np.int32), target),
+            )
             searching &= ~hit
             over |= overhang
             pos = pos + span
@@ -247,8 +249,7 @@ class _Evaluator:
         """Runs postfix tokens per pixel (eval.glsl grammar_program): the rule of the first test
         taken (-1 if none) and the value stack."""
         rows = np.arange(len(idx))
-        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.params[idx]],
-                                   axis=1)
+        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.params[idx]], axis=1)
         stack = np.zeros((len(idx), limits.MAX_EXPR_STACK), F)
         sp = np.zeros(len(idx), np.int32)
         target = np.full(len(idx), -1, np.int32)
@@ -416,14 +417,16 @@ class _Evaluator:
         new_local = np.select(
             [f == 1, f == 2, f == 3, f == 4],
             [np.stack([pz, py], 1), np.stack([px, py], 1), np.stack([depth - pz, py], 1), np.stack([px, pz], 1)],
-            np.stack([px, depth - pz], 1))
+            np.stack([px, depth - pz], 1),
+        )
         new_size = np.select(
-            [(f == 1) | (f == 3), f == 2],
-            [np.stack([depth, size[:, 1]], 1), size], np.stack([size[:, 0], depth], 1))
+            [(f == 1) | (f == 3), f == 2], [np.stack([depth, size[:, 1]], 1), size], np.stack([size[:, 0], depth], 1)
+        )
         new_d = np.select(
             [f == 1, f == 2, f == 3, f == 4],
             [np.stack([dz, dy, -dx], 1), d, np.stack([-dz, dy, dx], 1), np.stack([dx, dz, -dy], 1)],
-            np.stack([dx, -dz, dy], 1))
+            np.stack([dx, -dz, dy], 1),
+        )
         new_lb = lb + face.astype(F)[:, None] * p.s[idx]
         p.lb[idx] = new_lb
         p.size[idx] = new_size
@@ -486,18 +489,43 @@ class _Evaluator:
         written = (head[:, 0] == 12) & (head[:, 2] == 0) & (head[:, 3] >= 2)  # Color(r, g, b, label)
         constant = np.where(written, head[:, 3].astype(np.int32) - 1, WALL_LABEL)
         label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)], np.where(p.best_addr >= 0, constant, 0))
-        return Evaluation(p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass,
-                          p.best_scope)
+        return Evaluation(
+            p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass, p.best_scope
+        )
 
 
-_HANDLERS = {1: "op_repeat", 2: "op_repeat", 3: "op_split", 4: "op_split", 5: "op_rand", 6: "op_rand_uni",
-             7: "op_rand_stack", 8: "op_layer", 9: "op_skip", 10: "op_skip_mask", 11: "op_intrusion",
-             12: "op_mat", 13: "op_mat", 14: "op_case", 15: "op_bind", 16: "op_tint",
-             17: "op_overhang"}
+_HANDLERS = {
+    1: "op_repeat",
+    2: "op_repeat",
+    3: "op_split",
+    4: "op_split",
+    5: "op_rand",
+    6: "op_rand_uni",
+    7: "op_rand_stack",
+    8: "op_layer",
+    9: "op_skip",
+    10: "op_skip_mask",
+    11: "op_intrusion",
+    12: "op_mat",
+    13: "op_mat",
+    14: "op_case",
+    15: "op_bind",
+    16: "op_tint",
+    17: "op_overhang",
+}
 
 
-def evaluate(compiled: CompiledGrammars, start: int, uv: np.ndarray, facade, seed, tiles: TileArray,
-             directions: np.ndarray | None = None, building=(0, 0, 0, 0), building_seed=None) -> Evaluation:
+def evaluate(
+    compiled: CompiledGrammars,
+    start: int,
+    uv: np.ndarray,
+    facade,
+    seed,
+    tiles: TileArray,
+    directions: np.ndarray | None = None,
+    building=(0, 0, 0, 0),
+    building_seed=None,
+) -> Evaluation:
     """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
     `building` is (building.levels, building.style, building.use, building.height) for conditions;
     `building_seed` the building's seed vector (entry 0 of the seed stack; None: `seed`, the facade's).
@@ -537,19 +565,37 @@ def shade(result: Evaluation, rays: np.ndarray, light=FACADE_LIGHT) -> np.ndarra
     half = to_light + to_eye
     half /= np.linalg.norm(half, axis=-1, keepdims=True)
     spec = result.specular[..., 0] * np.maximum(np.sum(result.normal * half, axis=-1), F(0)) ** (
-        F(1) + F(128) * result.specular[..., 1])
+        F(1) + F(128) * result.specular[..., 1]
+    )
     return result.color * (F(0.35) + F(0.65) * diffuse)[..., None] + spec[..., None]
 
 
-def evaluate_facade(compiled: CompiledGrammars, start: int, facade, size, seed, tiles: TileArray,
-                    building=(0, 0, 0, 0), building_seed=None) -> Evaluation:
+def evaluate_facade(
+    compiled: CompiledGrammars,
+    start: int,
+    facade,
+    size,
+    seed,
+    tiles: TileArray,
+    building=(0, 0, 0, 0),
+    building_seed=None,
+) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
     parts = []
     for first in range(0, len(uv), CHUNK_PIXELS):  # pixels are independent: tiles bound the work arrays
-        part = evaluate(compiled, start, uv[first:first + CHUNK_PIXELS], facade, seed, tiles,
-                        rays[first:first + CHUNK_PIXELS], building, building_seed)
-        part.color = shade(part, rays[first:first + CHUNK_PIXELS])
+        part = evaluate(
+            compiled,
+            start,
+            uv[first : first + CHUNK_PIXELS],
+            facade,
+            seed,
+            tiles,
+            rays[first : first + CHUNK_PIXELS],
+            building,
+            building_seed,
+        )
+        part.color = shade(part, rays[first : first + CHUNK_PIXELS])
         parts.append(part)
     result = Evaluation(**{name: np.concatenate([vars(p)[name] for p in parts]) for name in vars(parts[0])})
     cols, rows = size

@@ -1,12 +1,12 @@
 """The text syntax of §3 / fig. 12, parsed with lark into rules that remember where they were written.
 
-    # comment
-    use "brick.grammar" as Brick          # namespace: Brick.Rule names the included rules
-    S->Layer(Wall, Assets)
-    Assets->SplitY(Abs, 3.0, BottomFloor,
-                   Rel, 1.0, Middle);     # arguments may span lines, ';' is optional
-    Wall1->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)
-    Window->Wall1                         # an alias: Window is Wall1
+# comment
+use "brick.grammar" as Brick          # namespace: Brick.Rule names the included rules
+S->Layer(Wall, Assets)
+Assets->SplitY(Abs, 3.0, BottomFloor,
+               Rel, 1.0, Middle);     # arguments may span lines, ';' is optional
+Wall1->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)
+Window->Wall1                         # an alias: Window is Wall1
 """
 
 from __future__ import annotations
@@ -65,10 +65,23 @@ COMMENT: /#[^\n]*/
 """
 
 _TOKEN_WORDS = {
-    "ARROW": "'->'", "LPAR": "'('", "RPAR": "')'", "COMMA": "','", "SEMICOLON": "';'",
-    "NAME": "a name", "NUMBER": "a number", "TEXREF": "a texture Rep:name or Fit>name",
-    "STRING": "a quoted file name", "USE": "'use'", "AS": "'as'", "$END": "the end of the file",
-    "OROR": "'||'", "ANDAND": "'&&'", "COMPARE": "a comparison", "ADDOP": "'+' or '-'", "MULOP": "'*', '/' or '%'",
+    "ARROW": "'->'",
+    "LPAR": "'('",
+    "RPAR": "')'",
+    "COMMA": "','",
+    "SEMICOLON": "';'",
+    "NAME": "a name",
+    "NUMBER": "a number",
+    "TEXREF": "a texture Rep:name or Fit>name",
+    "STRING": "a quoted file name",
+    "USE": "'use'",
+    "AS": "'as'",
+    "$END": "the end of the file",
+    "OROR": "'||'",
+    "ANDAND": "'&&'",
+    "COMPARE": "a comparison",
+    "ADDOP": "'+' or '-'",
+    "MULOP": "'*', '/' or '%'",
     "NOT": "'!'",
 }
 
@@ -114,8 +127,9 @@ class SourceFile:
 
 @lru_cache(maxsize=1)
 def _parser() -> Lark:
-    return Lark(_LARK_GRAMMAR, parser="lalr", propagate_positions=True, maybe_placeholders=False,
-                start=["start", "expr"])
+    return Lark(
+        _LARK_GRAMMAR, parser="lalr", propagate_positions=True, maybe_placeholders=False, start=["start", "expr"]
+    )
 
 
 def _expr(path: str, node) -> Expr:
@@ -192,13 +206,14 @@ def _syntax_diagnostic(exc: UnexpectedInput, text: str, path: str) -> Diagnostic
         lines = text.rstrip().split("\n") or [""]
         loc = Location(path, len(lines), len(lines[-1]) + 1)
         expected = _expected_words(getattr(exc, "expected", ()))
-        return Diagnostic(loc, f"the file ends in the middle of a rule; expected {expected}",
-                          "close the argument list with ')'")
+        return Diagnostic(
+            loc, f"the file ends in the middle of a rule; expected {expected}", "close the argument list with ')'"
+        )
     if isinstance(exc, UnexpectedCharacters):
         char = text[exc.pos_in_stream] if exc.pos_in_stream < len(text) else "?"
         loc = Location(path, exc.line, exc.column)
         hint = "rules look like Name->Operator(arg, ...); '#' starts a comment"
-        if char in ":>" :
+        if char in ":>":
             hint = "texture references are written Rep:name (tiled) or Fit>name (fitted)"
         return Diagnostic(loc, f"unexpected character {char!r}", hint)
     token = exc.token

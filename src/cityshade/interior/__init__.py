@@ -8,6 +8,22 @@ from ._reference import GrammarFacades, InteriorParams, find_room, reference_ids
 from ._solids import cast_masses
 from ._windows import WindowCount, windows_straddling_rooms
 
-__all__ = ["GrammarFacades", "FACE_CODES", "FACE_NAMES", "InteriorParams", "POLYGONISED_LAYERS", "cast_masses", "find_room", "pcg_hash",
-           "polygonised_vertices", "quad_counts", "reference_ids", "room_grid", "room_id", "room_state", "trace",
-           "WindowCount", "windows_straddling_rooms"]
+__all__ = [
+    "GrammarFacades",
+    "FACE_CODES",
+    "FACE_NAMES",
+    "InteriorParams",
+    "POLYGONISED_LAYERS",
+    "cast_masses",
+    "find_room",
+    "pcg_hash",
+    "polygonised_vertices",
+    "quad_counts",
+    "reference_ids",
+    "room_grid",
+    "room_id",
+    "room_state",
+    "trace",
+    "WindowCount",
+    "windows_straddling_rooms",
+]

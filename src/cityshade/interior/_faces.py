@@ -16,12 +16,22 @@ FACE_TRUNK = 10  # tree trunks, branches and their silhouette fins
 FACE_FOLIAGE = 11  # leaf cards and conifer fronds
 
 FACE_NAMES = {
-    FACE_NONE: "none", FACE_EXTERIOR: "exterior", FACE_CEILING: "ceiling", FACE_FLOOR: "floor",
-    FACE_WALL_X: "wall x", FACE_WALL_Z: "wall z", FACE_FURNITURE: "furniture", FACE_CURTAIN: "curtain",
-    FACE_ROOF: "roof", FACE_GROUND: "ground", FACE_TRUNK: "trunk", FACE_FOLIAGE: "foliage",
+    FACE_NONE: "none",
+    FACE_EXTERIOR: "exterior",
+    FACE_CEILING: "ceiling",
+    FACE_FLOOR: "floor",
+    FACE_WALL_X: "wall x",
+    FACE_WALL_Z: "wall z",
+    FACE_FURNITURE: "furniture",
+    FACE_CURTAIN: "curtain",
+    FACE_ROOF: "roof",
+    FACE_GROUND: "ground",
+    FACE_TRUNK: "trunk",
+    FACE_FOLIAGE: "foliage",
 }
 
 FACE_CODES = {f"FACE_{name.upper().replace(' ', '_')}": code for code, name in FACE_NAMES.items()}
+
 
 def room_state(lit, variant):
     """The id AOV's fourth channel with ID_ROOM_STATE (building.glsl) where a room is seen:

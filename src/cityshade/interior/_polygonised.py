@@ -73,8 +73,10 @@ def polygonised_vertices(masses: Sequence[BuildingMass]) -> dict[str, np.ndarray
     rows: dict[str, list[np.ndarray]] = {name: [] for name in LAYERS}
     for index, mass in enumerate(masses):
         if mass.shape != "prism" or len(mass.footprint) != 4:
-            raise ValueError(f"polygonised interiors need box buildings; building {index} is a {mass.shape} "
-                             f"with {len(mass.footprint)} footprint corners")
+            raise ValueError(
+                f"polygonised interiors need box buildings; building {index} is a {mass.shape} "
+                f"with {len(mass.footprint)} footprint corners"
+            )
         rot = rotation_y(mass.yaw)
         origin = np.array([mass.position[0], 0.0, mass.position[1]])
         for name, quads in _quads(mass).items():

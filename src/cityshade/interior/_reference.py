@@ -12,13 +12,29 @@ from ..assets import LABELS, TileArray
 from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
 from ..relief import GLASS, DetailMaps, trace_reference
 from ..scene import USE_COUNT, USES, BuildingMass, door_hit
-from ._faces import (FACE_CEILING, FACE_CURTAIN, FACE_EXTERIOR, FACE_FLOOR, FACE_FURNITURE, FACE_GROUND, FACE_ROOF,
-                     FACE_WALL_X, FACE_WALL_Z, room_state)
+from ._faces import (
+    FACE_CEILING,
+    FACE_CURTAIN,
+    FACE_EXTERIOR,
+    FACE_FLOOR,
+    FACE_FURNITURE,
+    FACE_GROUND,
+    FACE_ROOF,
+    FACE_WALL_X,
+    FACE_WALL_Z,
+    room_state,
+)
 from ._hash import hash3, unit_float
 from ._solids import cast_masses
 
 SALT_LIGHT, SALT_VARIANT, SALT_FURNITURE, SALT_PHASE, SALT_CURTAIN, SALT_ROOM_DEPTH = (
-    0x1000, 0x2000, 0x3000, 0x4000, 0x5000, 0x7000)
+    0x1000,
+    0x2000,
+    0x3000,
+    0x4000,
+    0x5000,
+    0x7000,
+)
 FURNITURE_DEPTH = 0.45
 CURTAIN_DEPTH = 0.08
 SPRITE_WIDTH = 0.55
@@ -36,7 +52,7 @@ class InteriorParams:
     time: float
     variants: int
     glass_rect: tuple[float, float, float, float]
-    sprite_alpha: np.ndarray      # (kinds, frames, H, W) alpha, row 0 at the bottom
+    sprite_alpha: np.ndarray  # (kinds, frames, H, W) alpha, row 0 at the bottom
     furniture: bool = True
     curtains: bool = True
     room_variation: bool = True
@@ -69,8 +85,14 @@ def lit_threshold(mass: BuildingMass, floor: np.ndarray, params: InteriorParams)
     return (shares[use] * np.float32(mass.lights)).astype(np.float64)
 
 
-def find_room(window: np.ndarray, facade: np.ndarray, face: np.ndarray, columns: np.ndarray, mass: BuildingMass,
-              params: InteriorParams) -> dict:
+def find_room(
+    window: np.ndarray,
+    facade: np.ndarray,
+    face: np.ndarray,
+    columns: np.ndarray,
+    mass: BuildingMass,
+    params: InteriorParams,
+) -> dict:
     """The room behind windows (N, 4: u0, v0, u1, v1 of the glass's rectangle in facade coordinates,
     or a point) on faces with facade rows (u, v, bay, storey), face rows (width, base, top, depth)
     and room columns (first bay, last bay): cell, box (face frame), id, lit, variant."""
@@ -84,15 +106,23 @@ def find_room(window: np.ndarray, facade: np.ndarray, face: np.ndarray, columns:
     cx = np.where(j == bays - 1, columns[:, 1], columns[:, 0] + j)
     cz = np.zeros_like(cx)
     middle = (j > 0) & (j < bays - 1)
-    depth = depth * np.where(middle, 1.0 + (unit_float(hash3(cx, cy, cz, seed ^ SALT_ROOM_DEPTH)) - 0.5) * 2.0 * jitter, 1.0)
-    lo = np.stack([np.minimum(j * bay, window[:, 0]), np.minimum(base + cy * storey, window[:, 1]), np.zeros(len(j))], axis=1)
-    hi = np.stack([np.maximum((j + 1) * bay, window[:, 2]), np.maximum(base + (cy + 1) * storey, window[:, 3]), depth], axis=1)
+    depth = depth * np.where(
+        middle, 1.0 + (unit_float(hash3(cx, cy, cz, seed ^ SALT_ROOM_DEPTH)) - 0.5) * 2.0 * jitter, 1.0
+    )
+    lo = np.stack(
+        [np.minimum(j * bay, window[:, 0]), np.minimum(base + cy * storey, window[:, 1]), np.zeros(len(j))], axis=1
+    )
+    hi = np.stack(
+        [np.maximum((j + 1) * bay, window[:, 2]), np.maximum(base + (cy + 1) * storey, window[:, 3]), depth], axis=1
+    )
     lit = unit_float(hash3(cx, cy, cz, seed ^ SALT_LIGHT)) < lit_threshold(mass, cy, params)
     variant = (hash3(cx, cy, cz, seed ^ SALT_VARIANT) % np.uint64(params.variants)).astype(np.int64)
     return {"cell": (cx, cy, cz), "lo": lo, "hi": hi, "id": room_id(cx, cy, cz), "lit": lit, "variant": variant}
 
 
-def trace(p: np.ndarray, d: np.ndarray, room: dict, mass: BuildingMass, params: InteriorParams) -> tuple[np.ndarray, ...]:
+def trace(
+    p: np.ndarray, d: np.ndarray, room: dict, mass: BuildingMass, params: InteriorParams
+) -> tuple[np.ndarray, ...]:
     """Per ray (facade point p and unit direction d in the face's frame, face_frame; the room it
     enters, find_room): face code, room id, distance t from the facade, whether the room is lit and
     its texture variant, as the interior shader decides them."""
@@ -104,7 +134,9 @@ def trace(p: np.ndarray, d: np.ndarray, room: dict, mass: BuildingMass, params: 
         tt = (far - p) / d
     ty_wins = (tt[:, 1] <= tt[:, 0]) & (tt[:, 1] <= tt[:, 2])
     tx_wins = ~ty_wins & (tt[:, 0] <= tt[:, 2])
-    face = np.where(ty_wins, np.where(d[:, 1] > 0, FACE_CEILING, FACE_FLOOR), np.where(tx_wins, FACE_WALL_X, FACE_WALL_Z))
+    face = np.where(
+        ty_wins, np.where(d[:, 1] > 0, FACE_CEILING, FACE_FLOOR), np.where(tx_wins, FACE_WALL_X, FACE_WALL_Z)
+    )
     t = np.where(ty_wins, tt[:, 1], np.where(tx_wins, tt[:, 0], tt[:, 2]))
 
     seed = mass.seed
@@ -159,7 +191,9 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
     # near a corner or the roof line meets the repeat the GPU samples there.
     bays = int(np.ceil(np.max(start[:, 0]) / cols)) + 3
     floors = int(np.ceil(np.max(start[:, 1]) / rows)) + 3
-    wall = DetailMaps(np.tile(maps.depth, (floors, bays)), np.tile(maps.material, (floors, bays)), maps.texel, maps.depth_unit)
+    wall = DetailMaps(
+        np.tile(maps.depth, (floors, bays)), np.tile(maps.material, (floors, bays)), maps.texel, maps.depth_unit
+    )
     margin = np.array([cols, rows, 0.0])
     hits = trace_reference(wall, start + margin, direction)
     offset = np.nan_to_num(hits.point - margin - start) / scale
@@ -179,8 +213,16 @@ class GrammarFacades:
     min_widths: dict[int, float]
 
 
-def grammar_entry(grammar: GrammarFacades, building: int, mass: BuildingMass, d: np.ndarray, n: np.ndarray,
-                  facade: np.ndarray, face: np.ndarray, columns: np.ndarray):
+def grammar_entry(
+    grammar: GrammarFacades,
+    building: int,
+    mass: BuildingMass,
+    d: np.ndarray,
+    n: np.ndarray,
+    facade: np.ndarray,
+    face: np.ndarray,
+    columns: np.ndarray,
+):
     """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
     true size of each face: per ray, whether it meets glass, its label as the id pass writes it, and
     the rectangle of the window it belongs to (facade coordinates, find_room)."""
@@ -198,21 +240,43 @@ def grammar_entry(grammar: GrammarFacades, building: int, mass: BuildingMass, d:
         rows = np.nonzero(which.ravel() == k)[0]
         uv = np.stack([width - facade[rows, 0], facade[rows, 1] - base], axis=1)
         levels = np.floor((top - base) / facade[rows[0], 3] + 0.5)
-        g = evaluate_grammar(grammar.compiled, start, uv, (width, top - base), facade_seed_vector(mass.seed, int(side)),
-                             grammar.tiles, rays[rows], (levels, mass.style, mass.use, mass.extent[1]),
-                             building_seed=seed_vector(mass.seed))
+        g = evaluate_grammar(
+            grammar.compiled,
+            start,
+            uv,
+            (width, top - base),
+            facade_seed_vector(mass.seed, int(side)),
+            grammar.tiles,
+            rays[rows],
+            (levels, mass.style, mass.use, mass.extent[1]),
+            building_seed=seed_vector(mass.seed),
+        )
         glass[rows] = g.glass
         label[rows] = np.where(g.glass, ROOM_LABEL, g.label)
         lower, extent = g.scope[:, :2].astype(np.float64), g.scope[:, 2:].astype(np.float64)
-        window[rows] = np.stack([width - lower[:, 0] - extent[:, 0], base + lower[:, 1], width - lower[:, 0],
-                                 base + lower[:, 1] + extent[:, 1]], axis=1)
+        window[rows] = np.stack(
+            [
+                width - lower[:, 0] - extent[:, 0],
+                base + lower[:, 1],
+                width - lower[:, 0],
+                base + lower[:, 1] + extent[:, 1],
+            ],
+            axis=1,
+        )
     return glass, label, window
 
 
-def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], params: InteriorParams,
-                  facade_alpha: np.ndarray, ground_bounds: tuple[float, float, float, float],
-                  relief: dict | None = None, grammar: GrammarFacades | None = None,
-                  labels: bool = False) -> np.ndarray:
+def reference_ids(
+    masses: list[BuildingMass],
+    camera,
+    size: tuple[int, int],
+    params: InteriorParams,
+    facade_alpha: np.ndarray,
+    ground_bounds: tuple[float, float, float, float],
+    relief: dict | None = None,
+    grammar: GrammarFacades | None = None,
+    labels: bool = False,
+) -> np.ndarray:
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
@@ -249,16 +313,29 @@ def reference_ids(masses: list[BuildingMass], camera, size: tuple[int, int], par
             walls = sel[~roof]
             if len(walls):
                 glass[~roof], label, window[~roof] = grammar_entry(
-                    grammar, b, mass, hits.direction[walls], hits.normal[walls], hits.facade[walls],
-                    hits.face[walls], hits.columns[walls])
+                    grammar,
+                    b,
+                    mass,
+                    hits.direction[walls],
+                    hits.normal[walls],
+                    hits.facade[walls],
+                    hits.face[walls],
+                    hits.columns[walls],
+                )
                 if labels:
                     out[walls, 3] = label
         elif b in relief:
             glass = np.zeros(len(sel), dtype=bool)
             walls = sel[~roof]
             if len(walls):
-                glass[~roof], entry[walls] = relief_entry(relief[b], hits.local[walls], hits.direction[walls],
-                                                          hits.normal[walls], hits.facade[walls], hits.face[walls, 1])
+                glass[~roof], entry[walls] = relief_entry(
+                    relief[b],
+                    hits.local[walls],
+                    hits.direction[walls],
+                    hits.normal[walls],
+                    hits.facade[walls],
+                    hits.face[walls, 1],
+                )
         else:
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)

@@ -72,7 +72,9 @@ def _inside_polygon(x: np.ndarray, z: np.ndarray, ring: np.ndarray) -> np.ndarra
 def _rings(mass: BuildingMass) -> list[np.ndarray]:
     """The outline counter-clockwise and its courtyards clockwise (the building on their left),
     each without repeated corners."""
-    polygon = shapely.orient_polygons(shapely.Polygon(_counter_clockwise(np.asarray(mass.footprint, float)), mass.holes))
+    polygon = shapely.orient_polygons(
+        shapely.Polygon(_counter_clockwise(np.asarray(mass.footprint, float)), mass.holes)
+    )
     rings = [np.asarray(polygon.exterior.coords)[:-1], *(np.asarray(r.coords)[:-1] for r in polygon.interiors)]
     return [ring[np.any(np.roll(ring, -1, axis=0) != ring, axis=1)] for ring in rings]
 
@@ -108,8 +110,10 @@ def _prism(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float):
             ok = (t > 1e-9) & (along >= 0) & (along <= length) & (hit[:, 1] >= 0) & (hit[:, 1] <= height) & (t < best)
             best = np.where(ok, t, best)
             normal[ok] = outward
-            facade[ok] = np.stack([faces.along[k] + along[ok], hit[ok, 1], np.full(ok.sum(), faces.bay[k]),
-                                   np.full(ok.sum(), storey)], axis=1)
+            facade[ok] = np.stack(
+                [faces.along[k] + along[ok], hit[ok, 1], np.full(ok.sum(), faces.bay[k]), np.full(ok.sum(), storey)],
+                axis=1,
+            )
             face[ok] = (faces.width[k], 0.0, height, faces.depth[k])
             columns[ok] = faces.columns[k]
     with np.errstate(divide="ignore", invalid="ignore"):  # level rays never meet the roof
@@ -186,9 +190,17 @@ SOLIDS = {"prism": _prism, "cylinder": _cylinder, "dome": _dome}
 def cast_masses(masses: list[BuildingMass], eye: np.ndarray, dirs: np.ndarray) -> SolidHits:
     """Nearest hit of rays (eye (3,), unit dirs (N, 3), world space) with the masses' solids."""
     n = len(dirs)
-    out = SolidHits(np.full(n, np.inf), np.full(n, -1, dtype=np.int64), np.zeros(n, dtype=bool),
-                    np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 4)), np.zeros((n, 4)),
-                    np.zeros((n, 2), dtype=np.int64))
+    out = SolidHits(
+        np.full(n, np.inf),
+        np.full(n, -1, dtype=np.int64),
+        np.zeros(n, dtype=bool),
+        np.zeros((n, 3)),
+        np.zeros((n, 3)),
+        np.zeros((n, 3)),
+        np.zeros((n, 4)),
+        np.zeros((n, 4)),
+        np.zeros((n, 2), dtype=np.int64),
+    )
     for index, mass in enumerate(masses):
         rot = object_to_world(mass.yaw)
         eye_local = rot.T @ (eye - np.array([mass.position[0], 0.0, mass.position[1]]))

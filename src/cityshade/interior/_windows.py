@@ -54,9 +54,20 @@ def windows_straddling_rooms(ids: np.ndarray) -> WindowCount:
     _, _, _, windows_per_patch = _groups(patch_keys, windows)
     rows, cols = np.nonzero(seen)
     examples = tuple(
-        (int(keys[k] >> 32), tuple(int(r) for r in np.unique(rooms[inverse == k])), int(np.sum(inverse == k)),
-         (int(rows[first[k]]), int(cols[first[k]])))
-        for k in np.nonzero(rooms_per_window > 1)[0])
+        (
+            int(keys[k] >> 32),
+            tuple(int(r) for r in np.unique(rooms[inverse == k])),
+            int(np.sum(inverse == k)),
+            (int(rows[first[k]]), int(cols[first[k]])),
+        )
+        for k in np.nonzero(rooms_per_window > 1)[0]
+    )
     several = rooms_per_patch > 1
-    return WindowCount(len(keys), int(np.sum(rooms_per_window > 1)), len(rooms_per_patch), int(np.sum(several)),
-                       int(np.sum(several & (windows_per_patch > 1))), examples)
+    return WindowCount(
+        len(keys),
+        int(np.sum(rooms_per_window > 1)),
+        len(rooms_per_patch),
+        int(np.sum(several)),
+        int(np.sum(several & (windows_per_patch > 1))),
+        examples,
+    )

@@ -1,8 +1,19 @@
 """Real cities from map data (OpenStreetMap, GeoJSON, CityJSON) as one model in local metres."""
 
 from ._model import (
-    AREA_KINDS, BUILDING_ATTRIBUTES, ROOF_SHAPES, TREE_ATTRIBUTES, Area, Lamp, MapBuilding, MapData, MapTree,
-    Railway, ReadReport, Road, to_scene,
+    AREA_KINDS,
+    BUILDING_ATTRIBUTES,
+    ROOF_SHAPES,
+    TREE_ATTRIBUTES,
+    Area,
+    Lamp,
+    MapBuilding,
+    MapData,
+    MapTree,
+    Railway,
+    ReadReport,
+    Road,
+    to_scene,
 )
 from ._guess import guess_missing
 from ._load import load_map
@@ -14,10 +25,33 @@ from ._scene import map_city
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
 
 __all__ = [
-
-    "AREA_KINDS", "BUILDING_ATTRIBUTES", "ROOF_SHAPES", "TREE_ATTRIBUTES", "Area", "Lamp", "MapBuilding", "MapData",
-    "MapTree", "Railway", "ReadReport", "Road", "building_masses", "facade_style", "guess_missing", "load_map", "to_scene",
-    "measure_load", "tiled_extract",
-    "aerial_camera", "spot_camera", "street_camera", "street_segment", "city_from_map", "map_city", "sky_settings",
-    "sky_clock", "sun_and_moon", "require_map_for_date",
+    "AREA_KINDS",
+    "BUILDING_ATTRIBUTES",
+    "ROOF_SHAPES",
+    "TREE_ATTRIBUTES",
+    "Area",
+    "Lamp",
+    "MapBuilding",
+    "MapData",
+    "MapTree",
+    "Railway",
+    "ReadReport",
+    "Road",
+    "building_masses",
+    "facade_style",
+    "guess_missing",
+    "load_map",
+    "to_scene",
+    "measure_load",
+    "tiled_extract",
+    "aerial_camera",
+    "spot_camera",
+    "street_camera",
+    "street_segment",
+    "city_from_map",
+    "map_city",
+    "sky_settings",
+    "sky_clock",
+    "sun_and_moon",
+    "require_map_for_date",
 ]

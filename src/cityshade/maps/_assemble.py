@@ -45,27 +45,62 @@ ENTRANCE_SNAP = 0.5  # metres: an entrance this near a building's wall stands on
 ENTRANCE_ORDER = ("main", "yes", "staircase", "shop", "secondary", "home", "side", "service", "garage")
 # Carriageway width in metres by highway class when neither `width` nor `lanes` is tagged.
 ROAD_WIDTHS = {
-    "motorway": 14.0, "trunk": 12.0, "primary": 10.0, "secondary": 9.0, "tertiary": 8.0,
-    "unclassified": 6.0, "residential": 6.5, "service": 4.0, "living_street": 5.0, "pedestrian": 6.0,
-    "motorway_link": 5.0, "trunk_link": 5.0, "primary_link": 5.0, "secondary_link": 5.0, "tertiary_link": 5.0,
-    "track": 3.0, "busway": 3.5, "footway": 2.0, "cycleway": 2.0, "path": 1.5, "steps": 2.0,
-    "bridleway": 2.0, "corridor": 2.0,
+    "motorway": 14.0,
+    "trunk": 12.0,
+    "primary": 10.0,
+    "secondary": 9.0,
+    "tertiary": 8.0,
+    "unclassified": 6.0,
+    "residential": 6.5,
+    "service": 4.0,
+    "living_street": 5.0,
+    "pedestrian": 6.0,
+    "motorway_link": 5.0,
+    "trunk_link": 5.0,
+    "primary_link": 5.0,
+    "secondary_link": 5.0,
+    "tertiary_link": 5.0,
+    "track": 3.0,
+    "busway": 3.5,
+    "footway": 2.0,
+    "cycleway": 2.0,
+    "path": 1.5,
+    "steps": 2.0,
+    "bridleway": 2.0,
+    "corridor": 2.0,
 }
 DEFAULT_ROAD_WIDTH = 5.0
 NOT_ROADS = {"proposed", "construction", "abandoned", "razed", "disused", "platform", "elevator", "no"}
 RAILWAYS = {"rail", "tram", "light_rail", "subway", "narrow_gauge", "monorail", "funicular", "preserved"}
 # (key, value) -> area kind; the first matching key of a feature decides.
 AREA_TAGS = {
-    ("natural", "water"): "water", ("waterway", "riverbank"): "water", ("landuse", "reservoir"): "water",
-    ("landuse", "basin"): "water", ("leisure", "swimming_pool"): "water",
-    ("leisure", "park"): "park", ("leisure", "garden"): "park", ("leisure", "playground"): "park",
-    ("landuse", "grass"): "grass", ("landuse", "village_green"): "grass", ("landuse", "recreation_ground"): "grass",
-    ("leisure", "pitch"): "grass", ("landuse", "cemetery"): "grass", ("natural", "grassland"): "meadow",
-    ("landuse", "meadow"): "meadow", ("natural", "heath"): "meadow", ("natural", "scrub"): "meadow",
-    ("landuse", "forest"): "forest", ("natural", "wood"): "forest",
-    ("landuse", "farmland"): "farmland", ("landuse", "orchard"): "farmland", ("landuse", "allotments"): "farmland",
-    ("natural", "beach"): "sand", ("natural", "sand"): "sand",
-    ("place", "square"): "pavement", ("amenity", "parking"): "pavement", ("highway", "pedestrian"): "pavement",
+    ("natural", "water"): "water",
+    ("waterway", "riverbank"): "water",
+    ("landuse", "reservoir"): "water",
+    ("landuse", "basin"): "water",
+    ("leisure", "swimming_pool"): "water",
+    ("leisure", "park"): "park",
+    ("leisure", "garden"): "park",
+    ("leisure", "playground"): "park",
+    ("landuse", "grass"): "grass",
+    ("landuse", "village_green"): "grass",
+    ("landuse", "recreation_ground"): "grass",
+    ("leisure", "pitch"): "grass",
+    ("landuse", "cemetery"): "grass",
+    ("natural", "grassland"): "meadow",
+    ("landuse", "meadow"): "meadow",
+    ("natural", "heath"): "meadow",
+    ("natural", "scrub"): "meadow",
+    ("landuse", "forest"): "forest",
+    ("natural", "wood"): "forest",
+    ("landuse", "farmland"): "farmland",
+    ("landuse", "orchard"): "farmland",
+    ("landuse", "allotments"): "farmland",
+    ("natural", "beach"): "sand",
+    ("natural", "sand"): "sand",
+    ("place", "square"): "pavement",
+    ("amenity", "parking"): "pavement",
+    ("highway", "pedestrian"): "pavement",
 }
 
 
@@ -123,8 +158,10 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
     for raw, geometry in zip(raws, projected):
         raw.geometry = geometry
         if "surfaces" in raw.fixed:  # CityJSON's semantic surfaces: plan position to map metres, z kept
-            raw.fixed["surfaces"] = {kind: [np.column_stack([projection.points(ring[:, :2]), ring[:, 2]])
-                                            for ring in rings] for kind, rings in raw.fixed["surfaces"].items()}
+            raw.fixed["surfaces"] = {
+                kind: [np.column_stack([projection.points(ring[:, :2]), ring[:, 2]]) for ring in rings]
+                for kind, rings in raw.fixed["surfaces"].items()
+            }
     raws = _finite(raws, report, geographic=False)  # points the projection cannot reach from the centre
     data = MapData(path, projection.origin, projection.crs, report=report)
     coast, named_parents, shops = [], [], []
@@ -208,8 +245,15 @@ def _add_buildings(data: MapData, raw: Raw) -> list[MapBuilding]:
     kind = tags.get("building:part" if is_part else "building", "yes")
     records = []
     for outline in _polygons(raw, data.report):
-        building = MapBuilding(index=len(data.buildings), source_id=raw.source_id, outline=outline, kind=kind,
-                               is_part=is_part, has_walls=kind != "roof", tags=tags)
+        building = MapBuilding(
+            index=len(data.buildings),
+            source_id=raw.source_id,
+            outline=outline,
+            kind=kind,
+            is_part=is_part,
+            has_walls=kind != "roof",
+            tags=tags,
+        )
         building_attributes(building, tags, data.report)
         for name, value in raw.fixed.items():
             setattr(building, name, value)
@@ -241,13 +285,24 @@ def _add_line(data: MapData, raw: Raw) -> None:
         gauge = number(tags.get("gauge", "").split(";")[0])  # millimetres
         tagged_gauge = {"gauge": gauge / 1000.0} if gauge and 300.0 <= gauge <= 3000.0 else {}
         for line in lines:
-            data.railways.append(Railway(raw.source_id, line, railway, layer=_layer(tags), bridge=_yes(tags, "bridge"),
-                                         tunnel=_yes(tags, "tunnel"), tags=tags, **tagged_gauge))
+            data.railways.append(
+                Railway(
+                    raw.source_id,
+                    line,
+                    railway,
+                    layer=_layer(tags),
+                    bridge=_yes(tags, "bridge"),
+                    tunnel=_yes(tags, "tunnel"),
+                    tags=tags,
+                    **tagged_gauge,
+                )
+            )
     elif tags.get("natural") == "tree_row":
         for line in lines:
             count = max(2, int(round(line.length / TREE_ROW_SPACING)) + 1)
-            for i, point in enumerate(shapely.line_interpolate_point(line, np.linspace(0.0, 1.0, count),
-                                                                     normalized=True)):
+            for i, point in enumerate(
+                shapely.line_interpolate_point(line, np.linspace(0.0, 1.0, count), normalized=True)
+            ):
                 tree = _tree(f"{raw.source_id}#{i}", (point.x, point.y), tags, data.report)
                 data.trees.append(tree)
     elif not (highway or railway):
@@ -275,10 +330,20 @@ def _road(source_id: str, line, tags: dict[str, str], report: ReadReport) -> Roa
         width = None
     if width is None:
         width = lanes * LANE_WIDTH if lanes else ROAD_WIDTHS.get(kind, DEFAULT_ROAD_WIDTH)
-    return Road(source_id, line, kind, float(width), lanes=lanes, layer=_layer(tags),
-                bridge=_yes(tags, "bridge"), tunnel=_yes(tags, "tunnel"), lit=_yes(tags, "lit"),
-                oneway=tags.get("oneway", "no") in ("yes", "1", "true", "-1") or kind == "motorway",
-                sidewalk=tags.get("sidewalk"), tags=tags)
+    return Road(
+        source_id,
+        line,
+        kind,
+        float(width),
+        lanes=lanes,
+        layer=_layer(tags),
+        bridge=_yes(tags, "bridge"),
+        tunnel=_yes(tags, "tunnel"),
+        lit=_yes(tags, "lit"),
+        oneway=tags.get("oneway", "no") in ("yes", "1", "true", "-1") or kind == "motorway",
+        sidewalk=tags.get("sidewalk"),
+        tags=tags,
+    )
 
 
 def _tree(source_id: str, position, tags: dict[str, str], report: ReadReport) -> MapTree:
@@ -314,8 +379,13 @@ def _add_point(data: MapData, raw: Raw, shops: list) -> None:
         data.trees.append(_tree(raw.source_id, point, tags, data.report))
     elif tags.get("highway") == "street_lamp":
         height = length(tags.get("height", ""))
-        data.lamps.append(Lamp(raw.source_id, (float(point[0]), float(point[1])),
-                               height=height if height and 1.0 <= height <= 30.0 else LAMP_HEIGHT))
+        data.lamps.append(
+            Lamp(
+                raw.source_id,
+                (float(point[0]), float(point[1])),
+                height=height if height and 1.0 <= height <= 30.0 else LAMP_HEIGHT,
+            )
+        )
     if tags.get("entrance", "no") != "no":
         data.entrances.append(Entrance(raw.source_id, (float(point[0]), float(point[1])), tags["entrance"]))
     if "shop" in tags:
@@ -343,8 +413,9 @@ def _link_entrances(data: MapData, shops: list) -> None:
             data.buildings[b].doors.append(data.entrances[i].position)
             data.buildings[b].tagged.add("doors")
         for i in sorted(set(range(len(data.entrances))) - set(entrance.tolist())):
-            data.report.skip("entrance", f"not on a building's wall (within {ENTRANCE_SNAP} m)",
-                             data.entrances[i].source_id)
+            data.report.skip(
+                "entrance", f"not on a building's wall (within {ENTRANCE_SNAP} m)", data.entrances[i].source_id
+            )
     if shops:
         _, building = tree.query(np.array(shops, dtype=object), predicate="within")
         for b in set(building.tolist()):

@@ -16,9 +16,22 @@ AERIAL_PITCH = 45.0  # degrees below the horizon
 AERIAL_HEADING = 0.0  # the first heading tried: the camera looks north
 STREET_FOV = 66.0
 EYE_HEIGHT = 1.7
-DRIVEN = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential",
-          "living_street", "pedestrian", "motorway_link", "trunk_link", "primary_link", "secondary_link",
-          "tertiary_link")
+DRIVEN = (
+    "motorway",
+    "trunk",
+    "primary",
+    "secondary",
+    "tertiary",
+    "unclassified",
+    "residential",
+    "living_street",
+    "pedestrian",
+    "motorway_link",
+    "trunk_link",
+    "primary_link",
+    "secondary_link",
+    "tertiary_link",
+)
 FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
 
 
@@ -54,8 +67,9 @@ def aerial_camera(bounds: tuple[float, float, float, float], top: float, aspect:
     eye = centre - forward * distance
     # the nearest ground is about half the distance away: a large near plane keeps roads apart from the
     # ground; the shadows reach the far side of the map
-    return Camera(tuple(eye), tuple(centre), fov_y=AERIAL_FOV, near=max(0.5, distance / 40), far=FAR,
-                  shadow_far=2.0 * distance)
+    return Camera(
+        tuple(eye), tuple(centre), fov_y=AERIAL_FOV, near=max(0.5, distance / 40), far=FAR, shadow_far=2.0 * distance
+    )
 
 
 def _fit_distance(corners: np.ndarray, centre: np.ndarray, forward: np.ndarray, aspect: float) -> float:
@@ -65,7 +79,9 @@ def _fit_distance(corners: np.ndarray, centre: np.ndarray, forward: np.ndarray, 
         near, far = far, far * 1.5
     for _ in range(30):
         middle = (near + far) / 2
-        near, far = (near, middle) if _fits(corners, centre - forward * middle, forward, AERIAL_FOV, aspect) else (middle, far)
+        near, far = (
+            (near, middle) if _fits(corners, centre - forward * middle, forward, AERIAL_FOV, aspect) else (middle, far)
+        )
     return far
 
 
@@ -107,8 +123,13 @@ def street_camera(map_data: MapData, outlines=()) -> Camera | None:
     eye = _eye_point(a, b)
     target = eye + (b - a) / np.linalg.norm(b - a) * 60.0
     (ex, ez), (tx, tz) = to_scene([eye, target])
-    return Camera((float(ex), EYE_HEIGHT, float(ez)), (float(tx), EYE_HEIGHT + 6.0, float(tz)), fov_y=STREET_FOV,
-                  near=0.3, far=FAR)
+    return Camera(
+        (float(ex), EYE_HEIGHT, float(ez)),
+        (float(tx), EYE_HEIGHT + 6.0, float(tz)),
+        fov_y=STREET_FOV,
+        near=0.3,
+        far=FAR,
+    )
 
 
 def parse_camera_spot(text: str) -> tuple[float, float, float, float] | None:
@@ -120,10 +141,16 @@ def parse_camera_spot(text: str) -> tuple[float, float, float, float] | None:
         values = [float(p) for p in parts]
     except ValueError:
         values = []
-    if len(values) != 4 or not all(np.isfinite(values)) or not (-180 <= values[0] <= 180 and -90 <= values[1] <= 90) \
-            or values[2] < 0:
-        raise UsageError(f"invalid --camera {text!r}; use lon,lat,height,heading (degrees, degrees, metres above "
-                         "the ground, degrees clockwise from north), e.g. 24.9449,60.1699,1.7,90")
+    if (
+        len(values) != 4
+        or not all(np.isfinite(values))
+        or not (-180 <= values[0] <= 180 and -90 <= values[1] <= 90)
+        or values[2] < 0
+    ):
+        raise UsageError(
+            f"invalid --camera {text!r}; use lon,lat,height,heading (degrees, degrees, metres above "
+            "the ground, degrees clockwise from north), e.g. 24.9449,60.1699,1.7,90"
+        )
     return tuple(values)
 
 
@@ -139,5 +166,10 @@ def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float,
     x, z = to_scene([east - east0, north - north0])
     pitch = -min(45.0, float(np.degrees(np.arctan2(max(height - 20.0, 0.0), 300.0))))
     eye = np.array([x, max(height, 0.3), z])
-    return Camera(tuple(eye), tuple(eye + heading_vector(heading, pitch) * 50.0), fov_y=STREET_FOV,
-                  near=max(0.3, height / 100), far=FAR)
+    return Camera(
+        tuple(eye),
+        tuple(eye + heading_vector(heading, pitch) * 50.0),
+        fov_y=STREET_FOV,
+        near=max(0.3, height / 100),
+        far=FAR,
+    )

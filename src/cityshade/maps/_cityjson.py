@@ -62,8 +62,11 @@ def _faces(geometry: dict) -> list[tuple[list, object]]:
         shell_values = [v[0] if v else None for v in values] if values else [None] * len(shells)
     else:
         raise ValueError(f"geometry type {str(kind)[:40]!r}")
-    return [(face, face_values[i] if face_values else None)
-            for shell, face_values in zip(shells, shell_values) for i, face in enumerate(shell)]
+    return [
+        (face, face_values[i] if face_values else None)
+        for shell, face_values in zip(shells, shell_values)
+        for i, face in enumerate(shell)
+    ]
 
 
 def _listed(value) -> list:
@@ -85,12 +88,15 @@ def _best_geometry(obj: dict) -> dict | None:
             return float(g.get("lod", 0))
         except (TypeError, ValueError):
             return 0.0
+
     return max(geometries, key=lod)
 
 
 def _surfaces(geometry: dict, vertices: np.ndarray) -> dict[str, list[np.ndarray]]:
-    names = [s.get("type", "unclassified") if isinstance(s, dict) else "unclassified"
-             for s in (geometry.get("semantics") or {}).get("surfaces", [])]
+    names = [
+        s.get("type", "unclassified") if isinstance(s, dict) else "unclassified"
+        for s in (geometry.get("semantics") or {}).get("surfaces", [])
+    ]
     surfaces: dict[str, list[np.ndarray]] = {}
     for rings, value in _faces(geometry):
         name = names[value] if isinstance(value, int) and 0 <= value < len(names) else "unclassified"
@@ -123,8 +129,9 @@ def _tags(obj: dict) -> dict[str, str]:
     attributes = obj.get("attributes")
     if not isinstance(attributes, dict):
         return {}
-    return {str(k): str(v) for k, v in attributes.items()
-            if isinstance(v, (str, int, float)) and not isinstance(v, bool)}
+    return {
+        str(k): str(v) for k, v in attributes.items() if isinstance(v, (str, int, float)) and not isinstance(v, bool)
+    }
 
 
 def read_cityjson(path: Path, text: str) -> MapData:
@@ -138,8 +145,12 @@ def read_cityjson(path: Path, text: str) -> MapData:
     for name, obj in objects.items():
         element = f"CityObject/{name}"
         if not isinstance(obj, dict) or obj.get("type") not in BUILDING_TYPES:
-            report.skip("CityObject", f"type {str(obj.get('type') if isinstance(obj, dict) else obj)[:30]!r} "
-                        "is not a Building or BuildingPart", element)
+            report.skip(
+                "CityObject",
+                f"type {str(obj.get('type') if isinstance(obj, dict) else obj)[:30]!r} "
+                "is not a Building or BuildingPart",
+                element,
+            )
             continue
         geometry = _best_geometry(obj)
         if geometry is None:

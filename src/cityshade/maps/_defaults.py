@@ -34,15 +34,34 @@ SMALL_METAL = TypeDefaults(1, 8.0, "flat", "metal", "metal", small=True)  # silo
 # building=* value -> defaults. Anything missing here is `yes` (an unknown building).
 DEFAULTS: dict[str, TypeDefaults] = {
     "yes": TypeDefaults(3, 3.2, "flat", "plaster", "roofing_felt"),
-    "apartments": RESIDENTIAL, "residential": RESIDENTIAL, "dormitory": RESIDENTIAL,
+    "apartments": RESIDENTIAL,
+    "residential": RESIDENTIAL,
+    "dormitory": RESIDENTIAL,
     "terrace": TypeDefaults(2, 3.0, "gabled", "wood", "metal"),
-    "house": HOUSE, "detached": HOUSE, "semidetached_house": HOUSE, "bungalow": HOUSE, "farm": HOUSE,
-    "cabin": SMALL_WOOD, "hut": SMALL_WOOD, "sauna": SMALL_WOOD, "shed": SMALL_WOOD, "toilets": SMALL_WOOD,
-    "boathouse": SMALL_WOOD, "barn": TypeDefaults(1, 5.0, "gabled", "wood", "metal"),
+    "house": HOUSE,
+    "detached": HOUSE,
+    "semidetached_house": HOUSE,
+    "bungalow": HOUSE,
+    "farm": HOUSE,
+    "cabin": SMALL_WOOD,
+    "hut": SMALL_WOOD,
+    "sauna": SMALL_WOOD,
+    "shed": SMALL_WOOD,
+    "toilets": SMALL_WOOD,
+    "boathouse": SMALL_WOOD,
+    "barn": TypeDefaults(1, 5.0, "gabled", "wood", "metal"),
     "greenhouse": TypeDefaults(1, 2.8, "gabled", "glass", "glass", small=True),
-    "garage": SMALL_FLAT, "garages": SMALL_FLAT, "carport": SMALL_FLAT, "kiosk": SMALL_FLAT,
-    "shelter": SMALL_FLAT, "service": SMALL_FLAT, "transformer_tower": SMALL_FLAT, "bunker": SMALL_FLAT,
-    "silo": SMALL_METAL, "storage_tank": SMALL_METAL, "tank": SMALL_METAL,
+    "garage": SMALL_FLAT,
+    "garages": SMALL_FLAT,
+    "carport": SMALL_FLAT,
+    "kiosk": SMALL_FLAT,
+    "shelter": SMALL_FLAT,
+    "service": SMALL_FLAT,
+    "transformer_tower": SMALL_FLAT,
+    "bunker": SMALL_FLAT,
+    "silo": SMALL_METAL,
+    "storage_tank": SMALL_METAL,
+    "tank": SMALL_METAL,
     "roof": TypeDefaults(1, 4.0, "flat", "concrete", "metal"),
     "commercial": TypeDefaults(4, 3.5, "flat", "plaster", "roofing_felt"),
     "retail": TypeDefaults(2, 4.0, "flat", "brick", "roofing_felt"),
@@ -72,8 +91,24 @@ DEFAULTS: dict[str, TypeDefaults] = {
 SMALL_FOOTPRINT = 30.0  # m²: below this any building is a shed-like one-storey volume
 DEFAULT_ROOF_ANGLE = 30.0  # degrees, a sheet-metal gable
 # Kinds whose storeys are legitimately tall (halls, naves, tanks): levels and height never contradict there.
-TALL_STOREYS = {"church", "cathedral", "chapel", "stadium", "sports_hall", "warehouse", "silo", "storage_tank",
-                "tank", "hangar", "industrial", "train_station", "transportation", "barn", "tower", "water_tower"}
+TALL_STOREYS = {
+    "church",
+    "cathedral",
+    "chapel",
+    "stadium",
+    "sports_hall",
+    "warehouse",
+    "silo",
+    "storage_tank",
+    "tank",
+    "hangar",
+    "industrial",
+    "train_station",
+    "transportation",
+    "barn",
+    "tower",
+    "water_tower",
+}
 STOREY_RANGE = (2.2, 6.0)  # metres per storey outside which tagged levels and height disagree
 MAX_LEVELS = 165  # more than the tallest building on Earth: a typing error
 
@@ -131,8 +166,13 @@ def settle_top(building: MapBuilding, report: ReadReport):
     """A top not above the bottom is almost always measured from the bottom (a part's own size)."""
     height = _tag(building, "height")
     if height is not None and building.min_height is not None and height <= building.min_height:
-        _retag(building, "height", building.min_height + height, report,
-               "height not above min_height: read as measured from min_height")
+        _retag(
+            building,
+            "height",
+            building.min_height + height,
+            report,
+            "height not above min_height: read as measured from min_height",
+        )
 
 
 def resolve_contradictions(building: MapBuilding, report: ReadReport):
@@ -154,13 +194,23 @@ def resolve_contradictions(building: MapBuilding, report: ReadReport):
         settle_top(building, report)
     levels, min_level = _tag(building, "levels"), _tag(building, "min_level")
     if levels is not None and min_level is not None and levels <= min_level:
-        _retag(building, "levels", min_level + levels, report,
-               "min_level not below levels: levels read as counted from min_level")
+        _retag(
+            building,
+            "levels",
+            min_level + levels,
+            report,
+            "min_level not below levels: levels read as counted from min_level",
+        )
     height, roof_height = _tag(building, "height"), _tag(building, "roof_height")
     bottom = _tag(building, "min_height") or 0.0
     if height is not None and roof_height is not None and roof_height > height - bottom:
-        _retag(building, "roof_height", height - bottom, report,
-               "roof_height above the building: cut to the building's height")
+        _retag(
+            building,
+            "roof_height",
+            height - bottom,
+            report,
+            "roof_height above the building: cut to the building's height",
+        )
     levels = _tag(building, "levels")
     if height is not None and levels and building.kind not in TALL_STOREYS:
         walls = height - (_tag(building, "roof_height") or 0.0) - bottom

@@ -42,7 +42,8 @@ def place_doors(map_data: MapData) -> None:
     middle = a + d / 2
     outward = np.stack([d[:, 1], -d[:, 0]], axis=1) / np.maximum(length, 1e-9)[:, None]
     inside, _ = shapely.STRtree([b.outline for b in drawn]).query(
-        shapely.points(middle + PARTY_WALL_PROBE * outward), predicate="within")
+        shapely.points(middle + PARTY_WALL_PROBE * outward), predicate="within"
+    )
     shared = np.zeros(len(a), dtype=bool)
     shared[inside] = True
     roads = np.array([r.line for r in map_data.roads if not r.tunnel], dtype=object)

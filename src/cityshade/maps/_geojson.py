@@ -36,8 +36,10 @@ def parse_json(path: Path, text: str):
     except json.JSONDecodeError as exc:
         raise UsageError(f"{path}:{exc.lineno}:{exc.colno}: error: invalid JSON: {exc.msg}") from None
     except RecursionError:
-        raise UsageError(f"{path}: JSON nested too deeply to be a map (arrays or objects inside each other "
-                         "about a thousand levels deep)") from None
+        raise UsageError(
+            f"{path}: JSON nested too deeply to be a map (arrays or objects inside each other "
+            "about a thousand levels deep)"
+        ) from None
 
 
 def _positions(value) -> np.ndarray | None:

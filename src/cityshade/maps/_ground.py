@@ -13,13 +13,30 @@ import mapbox_earcut as earcut
 import numpy as np
 import shapely
 
-from ..scene import (GROUND_ASPHALT, GROUND_BALLAST, GROUND_GRASS, GROUND_LAND, GROUND_MARKING, GROUND_PAVEMENT,
-                     GROUND_RAIL, GROUND_SAND, GROUND_WATER)
+from ..scene import (
+    GROUND_ASPHALT,
+    GROUND_BALLAST,
+    GROUND_GRASS,
+    GROUND_LAND,
+    GROUND_MARKING,
+    GROUND_PAVEMENT,
+    GROUND_RAIL,
+    GROUND_SAND,
+    GROUND_WATER,
+)
 from ._model import MapData, to_scene
 from ._streets import StreetSurfaces, street_surfaces
 
-AREA_MATERIALS = {"water": GROUND_WATER, "grass": GROUND_GRASS, "park": GROUND_GRASS, "forest": GROUND_GRASS,
-                  "meadow": GROUND_GRASS, "farmland": GROUND_GRASS, "pavement": GROUND_PAVEMENT, "sand": GROUND_SAND}
+AREA_MATERIALS = {
+    "water": GROUND_WATER,
+    "grass": GROUND_GRASS,
+    "park": GROUND_GRASS,
+    "forest": GROUND_GRASS,
+    "meadow": GROUND_GRASS,
+    "farmland": GROUND_GRASS,
+    "pavement": GROUND_PAVEMENT,
+    "sand": GROUND_SAND,
+}
 HORIZON = 400_000.0  # metres of land plane around the map: its edge sinks below the horizon seen from 3 km up
 LAND_MARGIN = 2000.0  # metres of finely divided land around the map's bounds
 LAND_CELL = 250.0  # metres: the land grid's cell under the map (coarser for maps over 32 km wide)
@@ -81,8 +98,11 @@ def ground_mesh(map_data: MapData, streets: StreetSurfaces | None = None) -> np.
     """All ground triangles of a map: areas, pavements, roads, tracks, paint and the land plane."""
     streets = street_surfaces(map_data) if streets is None else streets
     # highest priority first: what is already taken is cut from everything below
-    layers = [(streets.carriageway, GROUND_ASPHALT), (streets.ballast, GROUND_BALLAST),
-              (streets.pavement, GROUND_PAVEMENT)]
+    layers = [
+        (streets.carriageway, GROUND_ASPHALT),
+        (streets.ballast, GROUND_BALLAST),
+        (streets.pavement, GROUND_PAVEMENT),
+    ]
     by_material: dict[int, list] = {}
     for area in map_data.areas:
         by_material.setdefault(AREA_MATERIALS.get(area.kind, GROUND_GRASS), []).append(area.polygon)

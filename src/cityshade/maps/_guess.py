@@ -15,7 +15,13 @@ import numpy as np
 import shapely
 
 from ._defaults import (
-    DEFAULT_ROOF_ANGLE, HOUSE, MATERIAL_COLOURS, SMALL_FOOTPRINT, defaults_for, resolve_contradictions, settle_top,
+    DEFAULT_ROOF_ANGLE,
+    HOUSE,
+    MATERIAL_COLOURS,
+    SMALL_FOOTPRINT,
+    defaults_for,
+    resolve_contradictions,
+    settle_top,
 )
 from ._doors import place_doors
 from ._learn import Estimates, estimate
@@ -112,7 +118,9 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
         _set(building, "min_height", building.min_level * storey)
         settle_top(building, report)
     if building.height is None and building.levels is None and not small and np.isfinite(estimates.block_height[i]):
-        _set(building, "height", max(float(estimates.block_height[i]), building.min_height + building.roof_height + 2.0))
+        _set(
+            building, "height", max(float(estimates.block_height[i]), building.min_height + building.roof_height + 2.0)
+        )
     if building.levels is None:
         if building.height is not None:
             walls = max(building.height - building.roof_height - building.min_height, 0.0)
@@ -157,7 +165,11 @@ def _roof_height(building: MapBuilding, short_side: float) -> float:
     half_width = short_side / 2
     if building.roof_shape in ("dome", "round"):
         return float(min(half_width, 12.0))
-    angle = building.roof_angle if building.roof_angle is not None else ROOF_ANGLES.get(building.roof_shape, DEFAULT_ROOF_ANGLE)
+    angle = (
+        building.roof_angle
+        if building.roof_angle is not None
+        else ROOF_ANGLES.get(building.roof_shape, DEFAULT_ROOF_ANGLE)
+    )
     rise = half_width * math.tan(math.radians(min(angle, 75.0)))
     if building.roof_shape == "skillion":
         rise *= 2  # one slope across the whole width

@@ -33,13 +33,17 @@ def _lengths_km(lines) -> dict[str, float]:
 
 
 def _origin_counts(records, attributes) -> dict[str, dict[str, int]]:
-    return {name: {"tagged": sum(name in r.tagged for r in records), "guessed": sum(name in r.guessed for r in records)}
-            for name in attributes}
+    return {
+        name: {"tagged": sum(name in r.tagged for r in records), "guessed": sum(name in r.guessed for r in records)}
+        for name in attributes
+    }
 
 
 def _report(counter: Counter, examples: dict) -> list[dict]:
-    return [{"what": what, "why": why, "count": count, "example": examples.get((what, why))}
-            for (what, why), count in counter.most_common()]
+    return [
+        {"what": what, "why": why, "count": count, "example": examples.get((what, why))}
+        for (what, why), count in counter.most_common()
+    ]
 
 
 def _doors(data: MapData) -> dict[str, int]:
@@ -47,32 +51,42 @@ def _doors(data: MapData) -> dict[str, int]:
     on the street side; and how many drawn buildings have shop fronts."""
     drawn = [b for b in data.buildings if b.drawn]
     grounded = [b for b in drawn if on_ground(b)]
-    return {"entrances": len(data.entrances),
-            "from_entrances": sum(len(b.doors) for b in grounded if "doors" in b.tagged),
-            "guessed": sum(len(b.doors) for b in grounded if "doors" in b.guessed),
-            "buildings_with_shop_fronts": sum(b.shop_front for b in drawn)}
+    return {
+        "entrances": len(data.entrances),
+        "from_entrances": sum(len(b.doors) for b in grounded if "doors" in b.tagged),
+        "guessed": sum(len(b.doors) for b in grounded if "doors" in b.guessed),
+        "buildings_with_shop_fronts": sum(b.shop_front for b in drawn),
+    }
 
 
 def summary(data: MapData) -> dict:
     """The numbers `info` prints, as a JSON-ready dict (guessing must already have run)."""
     outlines = [b for b in data.buildings if not b.is_part]
     parts = [b for b in data.buildings if b.is_part]
-    areas = {kind: shapely.union_all([a.polygon for a in data.areas if a.kind == kind]).area
-             for kind in sorted({a.kind for a in data.areas})}
+    areas = {
+        kind: shapely.union_all([a.polygon for a in data.areas if a.kind == kind]).area
+        for kind in sorted({a.kind for a in data.areas})
+    }
     return {
-        "file": str(data.source), "crs": data.crs, "origin_lon_lat": list(data.origin),
-        "buildings": len(outlines), "parts": len(parts),
+        "file": str(data.source),
+        "crs": data.crs,
+        "origin_lon_lat": list(data.origin),
+        "buildings": len(outlines),
+        "parts": len(parts),
         "outlines_replaced_by_parts": sum(b.replaced_by_parts for b in outlines),
         "roofs_without_walls": sum(not b.has_walls for b in data.buildings),
         "roof_shapes": dict(Counter(b.roof_shape or "none" for b in data.buildings).most_common()),
-        "roof_shapes_tagged": dict(Counter(b.roof_shape for b in data.buildings
-                                           if "roof_shape" in b.tagged).most_common()),
+        "roof_shapes_tagged": dict(
+            Counter(b.roof_shape for b in data.buildings if "roof_shape" in b.tagged).most_common()
+        ),
         "building_attributes": _origin_counts(data.buildings, BUILDING_ATTRIBUTES),
-        "roads_km": _lengths_km(data.roads), "railways_km": _lengths_km(data.railways),
+        "roads_km": _lengths_km(data.roads),
+        "railways_km": _lengths_km(data.railways),
         "area_m2": {kind: round(area, 1) for kind, area in areas.items()},
         "water_m2": round(areas.get("water", 0.0), 1),
         "green_m2": round(sum(areas.get(kind, 0.0) for kind in GREEN), 1),
-        "trees": len(data.trees), "tree_attributes": _origin_counts(data.trees, TREE_ATTRIBUTES),
+        "trees": len(data.trees),
+        "tree_attributes": _origin_counts(data.trees, TREE_ATTRIBUTES),
         "street_lamps": len(data.lamps),
         "doors": _doors(data),
         "repaired": _report(data.report.repaired, data.report.examples),
@@ -83,23 +97,30 @@ def summary(data: MapData) -> dict:
 
 def _text(info: dict) -> str:
     lon, lat = info["origin_lon_lat"]
-    lines = [f"{info['file']}  ({info['crs']}, origin {lon:.6f}, {lat:.6f})",
-             f"buildings: {info['buildings']}  parts: {info['parts']}  outlines replaced by parts: "
-             f"{info['outlines_replaced_by_parts']}  roofs without walls: {info['roofs_without_walls']}",
-             "roof shapes: " + ", ".join(f"{k} {v}" for k, v in info["roof_shapes"].items()),
-             "roof shapes tagged: " + (", ".join(f"{k} {v}" for k, v in info["roof_shapes_tagged"].items()) or "none"),
-             "building attributes (tagged / guessed):"]
+    lines = [
+        f"{info['file']}  ({info['crs']}, origin {lon:.6f}, {lat:.6f})",
+        f"buildings: {info['buildings']}  parts: {info['parts']}  outlines replaced by parts: "
+        f"{info['outlines_replaced_by_parts']}  roofs without walls: {info['roofs_without_walls']}",
+        "roof shapes: " + ", ".join(f"{k} {v}" for k, v in info["roof_shapes"].items()),
+        "roof shapes tagged: " + (", ".join(f"{k} {v}" for k, v in info["roof_shapes_tagged"].items()) or "none"),
+        "building attributes (tagged / guessed):",
+    ]
     lines += [f"  {name:18s} {c['tagged']:7d} / {c['guessed']:d}" for name, c in info["building_attributes"].items()]
     road_total = sum(info["roads_km"].values())
     lines.append(f"roads: {road_total:.2f} km  " + ", ".join(f"{k} {v:.2f}" for k, v in info["roads_km"].items()))
     if info["railways_km"]:
         lines.append("railways km: " + ", ".join(f"{k} {v:.2f}" for k, v in info["railways_km"].items()))
-    lines.append(f"water: {info['water_m2']:.0f} m²  green: {info['green_m2']:.0f} m²  ("
-                 + ", ".join(f"{k} {v:.0f}" for k, v in info["area_m2"].items()) + ")")
+    lines.append(
+        f"water: {info['water_m2']:.0f} m²  green: {info['green_m2']:.0f} m²  ("
+        + ", ".join(f"{k} {v:.0f}" for k, v in info["area_m2"].items())
+        + ")"
+    )
     lines.append(f"trees: {info['trees']}  street lamps: {info['street_lamps']}")
     doors = info["doors"]
-    lines.append(f"doors: {doors['from_entrances']} at mapped entrances ({doors['entrances']} entrances mapped), "
-                 f"{doors['guessed']} guessed on the street side; shop fronts: {doors['buildings_with_shop_fronts']}")
+    lines.append(
+        f"doors: {doors['from_entrances']} at mapped entrances ({doors['entrances']} entrances mapped), "
+        f"{doors['guessed']} guessed on the street side; shop fronts: {doors['buildings_with_shop_fronts']}"
+    )
     for section in ("repaired", "skipped", "fallbacks"):
         for entry in info[section]:
             example = f" (e.g. {entry['example']})" if entry["example"] else ""
@@ -120,8 +141,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def register(subparsers) -> None:
-    parser = subparsers.add_parser("info", help="what a map file holds (OpenStreetMap, GeoJSON, CityJSON)",
-                                   description=__doc__.split("\n\n")[0])
+    parser = subparsers.add_parser(
+        "info", help="what a map file holds (OpenStreetMap, GeoJSON, CityJSON)", description=__doc__.split("\n\n")[0]
+    )
     parser.add_argument("file", type=Path, metavar="FILE", help=".osm.pbf, .osm, .geojson, .json or .city.json")
     parser.add_argument("--json", action="store_true", help="print the same as JSON")
     parser.set_defaults(run=run)

@@ -20,8 +20,22 @@ MAPPED_NEARBY = 20.0  # no lamp is placed this close to a mapped one
 KERB_OFFSET = 0.8  # metres beyond the carriageway's edge
 
 # the 12 triangles of a unit box [0, 1]^3 as corner indices (bit 0: x, bit 1: y, bit 2: z)
-_BOX = np.array([(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
-                 (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)])
+_BOX = np.array(
+    [
+        (0, 1, 3),
+        (0, 3, 2),
+        (4, 6, 7),
+        (4, 7, 5),
+        (0, 4, 5),
+        (0, 5, 1),
+        (2, 3, 7),
+        (2, 7, 6),
+        (0, 2, 6),
+        (0, 6, 4),
+        (1, 5, 7),
+        (1, 7, 3),
+    ]
+)
 _CORNERS = np.array([((i >> 0) & 1, (i >> 1) & 1, (i >> 2) & 1) for i in range(8)], float)
 
 
@@ -46,8 +60,10 @@ def lit_road_lamps(map_data: MapData) -> list[Lamp]:
         mapped = shapely.points([lamp.position for lamp in map_data.lamps])
         near = shapely.STRtree(mapped).query(shapely.points(points), predicate="dwithin", distance=MAPPED_NEARBY)[0]
         points = np.delete(points, np.unique(near), axis=0)
-    return [Lamp(f"lit road lamp {i}", (float(x), float(y)), LIT_ROAD_HEIGHT, from_lit_road=True)
-            for i, (x, y) in enumerate(points)]
+    return [
+        Lamp(f"lit road lamp {i}", (float(x), float(y)), LIT_ROAD_HEIGHT, from_lit_road=True)
+        for i, (x, y) in enumerate(points)
+    ]
 
 
 def lamp_lights(map_data: MapData) -> np.ndarray:
@@ -74,7 +90,8 @@ def lamp_posts(lights: np.ndarray) -> np.ndarray:
         return np.zeros((0, 4), np.float32)
     x, bulb, z = lights[:, 0], lights[:, 1], lights[:, 2]
     top = bulb + HEAD_DEPTH
-    post = boxes(np.c_[x - POST_HALF, np.zeros_like(x), z - POST_HALF], np.c_[x + POST_HALF, bulb, z + POST_HALF],
-                 GROUND_POST)
+    post = boxes(
+        np.c_[x - POST_HALF, np.zeros_like(x), z - POST_HALF], np.c_[x + POST_HALF, bulb, z + POST_HALF], GROUND_POST
+    )
     head = boxes(np.c_[x - HEAD_HALF, bulb, z - HEAD_HALF], np.c_[x + HEAD_HALF, top, z + HEAD_HALF], GROUND_BULB)
     return np.concatenate([post, head])

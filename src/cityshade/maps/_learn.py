@@ -83,7 +83,7 @@ class _Neighbours:
         self.own = kernel[reach, reach]
         size = tuple(n + 2 * reach for n in self.shape)
         padded = np.zeros(size)
-        padded[:kernel.shape[0], :kernel.shape[1]] = kernel
+        padded[: kernel.shape[0], : kernel.shape[1]] = kernel
         self.kernel = np.fft.rfft2(np.roll(padded, (-reach, -reach), axis=(0, 1)))
         self.fft_size = size
         outlines = np.array([b.outline for b in buildings], dtype=object)
@@ -137,17 +137,19 @@ def _levels(buildings, shape, centres, default_levels, neighbours: _Neighbours) 
     around, around_weight = neighbours.mean(residual, tagged)
     block, block_weight = neighbours.block_mean(residual, tagged)
     around = np.where(around_weight > 0, around, typical)
-    features = np.column_stack([
-        around,
-        np.where(block_weight > 0, block, around),  # the block first, the surroundings where it has no tag
-        block_weight > 0,
-        np.log(np.maximum(shape.area, 1.0)),
-        shape.compactness,
-        np.log(shape.elongation),
-        _density(shape, centres),
-        np.array([b.is_part for b in buildings], float),
-        np.log(default_levels),
-    ])
+    features = np.column_stack(
+        [
+            around,
+            np.where(block_weight > 0, block, around),  # the block first, the surroundings where it has no tag
+            block_weight > 0,
+            np.log(np.maximum(shape.area, 1.0)),
+            shape.compactness,
+            np.log(shape.elongation),
+            _density(shape, centres),
+            np.array([b.is_part for b in buildings], float),
+            np.log(default_levels),
+        ]
+    )
     train = features[tagged]
     mean, scale = train.mean(axis=0), train.std(axis=0) + 1e-9
     x = (features - mean) / scale
@@ -173,8 +175,10 @@ def _storeys(buildings, kinds, default_storey) -> np.ndarray:
 
 
 def _roof_shapes(buildings, kinds, defaults, neighbours: _Neighbours) -> np.ndarray:
-    shapes = np.array([b.roof_shape if "roof_shape" in b.tagged and b.roof_shape in ROOF_SHAPES else "" for b in buildings],
-                      dtype=object)
+    shapes = np.array(
+        [b.roof_shape if "roof_shape" in b.tagged and b.roof_shape in ROOF_SHAPES else "" for b in buildings],
+        dtype=object,
+    )
     known = shapes != ""
     code = {s: n for n, s in enumerate(ROOF_SHAPES)}
     # The prior: the regional default, plus the map's own mix of roofs for the building's type.

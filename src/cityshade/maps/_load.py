@@ -44,8 +44,13 @@ def _format(path: Path) -> str:
     if text.startswith(b"{"):
         return "cityjson" if b'"CityJSON"' in head or path.name.lower().endswith(".city.json") else "geojson"
     name = path.name.lower()
-    for ending, kind in ((".pbf", "osm"), (".osm", "osm"), (".city.json", "cityjson"),
-                         (".geojson", "geojson"), (".json", "geojson")):
+    for ending, kind in (
+        (".pbf", "osm"),
+        (".osm", "osm"),
+        (".city.json", "cityjson"),
+        (".geojson", "geojson"),
+        (".json", "geojson"),
+    ):
         if name.endswith(ending):
             return kind
     raise UsageError(f"{path}: not a map file this reader knows; use {FORMATS}")
@@ -53,8 +58,10 @@ def _format(path: Path) -> str:
 
 def read_json_text(path: Path, size: int) -> str:
     if size > MAX_JSON_BYTES:
-        raise UsageError(f"{path}: {size:,} bytes of JSON is above the {MAX_JSON_BYTES:,}-byte limit; "
-                         "split the file or convert it to .osm.pbf")
+        raise UsageError(
+            f"{path}: {size:,} bytes of JSON is above the {MAX_JSON_BYTES:,}-byte limit; "
+            "split the file or convert it to .osm.pbf"
+        )
     try:
         return path.read_bytes().decode("utf-8-sig")
     except OSError as exc:

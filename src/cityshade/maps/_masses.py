@@ -24,29 +24,98 @@ CANOPY_MIN_HEIGHT = 2.5  # building=roof with nothing tagged: a roof on pillars 
 # into a facade (cityshade.render.choose_facade): 0 the window bay with rooms, 1 the office grammar
 # (glass), 3 classical, 4 brick, 5 shop fronts, 6 dusk; 2 and 7 relief bays on box buildings.
 STYLE_BY_USE = {
-    "residential": 0, "apartments": 0, "dormitory": 0, "house": 4, "detached": 4, "terrace": 4,
-    "semidetached_house": 4, "bungalow": 4, "cabin": 4,
-    "commercial": 5, "retail": 5, "shop": 5, "supermarket": 5, "kiosk": 5, "hotel": 6,
+    "residential": 0,
+    "apartments": 0,
+    "dormitory": 0,
+    "house": 4,
+    "detached": 4,
+    "terrace": 4,
+    "semidetached_house": 4,
+    "bungalow": 4,
+    "cabin": 4,
+    "commercial": 5,
+    "retail": 5,
+    "shop": 5,
+    "supermarket": 5,
+    "kiosk": 5,
+    "hotel": 6,
     "office": 1,
-    "industrial": 4, "warehouse": 4, "factory": 4, "garage": 4, "garages": 4, "shed": 4, "hangar": 4,
-    "civic": 3, "public": 3, "government": 3, "school": 3, "university": 3, "college": 3, "hospital": 3,
-    "church": 3, "cathedral": 3, "chapel": 3, "mosque": 3, "synagogue": 3, "temple": 3, "museum": 3,
-    "train_station": 3, "transportation": 3,
+    "industrial": 4,
+    "warehouse": 4,
+    "factory": 4,
+    "garage": 4,
+    "garages": 4,
+    "shed": 4,
+    "hangar": 4,
+    "civic": 3,
+    "public": 3,
+    "government": 3,
+    "school": 3,
+    "university": 3,
+    "college": 3,
+    "hospital": 3,
+    "church": 3,
+    "cathedral": 3,
+    "chapel": 3,
+    "mosque": 3,
+    "synagogue": 3,
+    "temple": 3,
+    "museum": 3,
+    "train_station": 3,
+    "transportation": 3,
 }
 STYLES = 8
 
 # What decides when a building's rooms are lit (cityshade.scene.LIT_SCHEDULE), by its use or kind;
 # anything else (building=yes with no use) is "mixed".
 USE_BY_KIND = {
-    **dict.fromkeys(("residential", "apartments", "dormitory", "house", "detached", "terrace", "semidetached_house",
-                     "bungalow", "cabin", "farm", "hotel"), "home"),
+    **dict.fromkeys(
+        (
+            "residential",
+            "apartments",
+            "dormitory",
+            "house",
+            "detached",
+            "terrace",
+            "semidetached_house",
+            "bungalow",
+            "cabin",
+            "farm",
+            "hotel",
+        ),
+        "home",
+    ),
     **dict.fromkeys(("office", "bank"), "office"),
-    **dict.fromkeys(("commercial", "retail", "shop", "supermarket", "kiosk", "restaurant", "cafe", "bar", "pub",
-                     "fast_food"), "shop"),
+    **dict.fromkeys(
+        ("commercial", "retail", "shop", "supermarket", "kiosk", "restaurant", "cafe", "bar", "pub", "fast_food"),
+        "shop",
+    ),
     **dict.fromkeys(("industrial", "warehouse", "factory", "manufacture"), "industry"),
-    **dict.fromkeys(("civic", "public", "government", "school", "kindergarten", "university", "college", "hospital",
-                     "church", "cathedral", "chapel", "mosque", "synagogue", "temple", "place_of_worship", "museum", "library",
-                     "townhall", "train_station", "transportation"), "public"),
+    **dict.fromkeys(
+        (
+            "civic",
+            "public",
+            "government",
+            "school",
+            "kindergarten",
+            "university",
+            "college",
+            "hospital",
+            "church",
+            "cathedral",
+            "chapel",
+            "mosque",
+            "synagogue",
+            "temple",
+            "place_of_worship",
+            "museum",
+            "library",
+            "townhall",
+            "train_station",
+            "transportation",
+        ),
+        "public",
+    ),
 }
 
 
@@ -80,7 +149,11 @@ def heights(building: MapBuilding) -> tuple[float, float, float]:
     if not building.has_walls and building.min_height is None:
         base = min(height, CANOPY_MIN_HEIGHT)
     walls = height - (building.roof_height or 0.0) - base
-    floor = walls / (levels - (building.min_level or 0.0)) if levels and levels > (building.min_level or 0.0) else defaults.storey
+    floor = (
+        walls / (levels - (building.min_level or 0.0))
+        if levels and levels > (building.min_level or 0.0)
+        else defaults.storey
+    )
     return float(base), float(height), float(np.clip(floor, *FLOOR_HEIGHT_RANGE))
 
 
@@ -116,19 +189,38 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
     exterior = _to_local(np.asarray(polygon.exterior.coords)[:-1], yaw)
     low = exterior.min(axis=0)
     exterior -= low
-    holes = tuple(tuple(map(tuple, (_to_local(np.asarray(r.coords)[:-1], yaw) - low).tolist())) for r in polygon.interiors)
+    holes = tuple(
+        tuple(map(tuple, (_to_local(np.asarray(r.coords)[:-1], yaw) - low).tolist())) for r in polygon.interiors
+    )
     c, s = np.cos(yaw), np.sin(yaw)
     origin = (float(c * low[0] + s * low[1]), float(-s * low[0] + c * low[1]))
     local = shapely.Polygon(exterior, [np.asarray(h) for h in holes])
-    doors = mass_doors(_to_local(to_scene(building.doors), yaw) - low, local) if building.doors and base <= 0 and building.has_walls else ()
+    doors = (
+        mass_doors(_to_local(to_scene(building.doors), yaw) - low, local)
+        if building.doors and base <= 0 and building.has_walls
+        else ()
+    )
     roof = building_roof(building, local, yaw, height - base)
     if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
         return None
     return BuildingMass(
-        "prism", origin, tuple(map(tuple, exterior.tolist())), height, yaw=yaw, floor_height=floor,
-        seed=building.index, style=facade_style(building), use=use_code(building), shop_front=building.shop_front,
-        holes=holes, base=base, roof=roof,
-        walls=building.has_walls, doors=doors, wall_colour=building.building_colour, wall_material=building.building_material,
+        "prism",
+        origin,
+        tuple(map(tuple, exterior.tolist())),
+        height,
+        yaw=yaw,
+        floor_height=floor,
+        seed=building.index,
+        style=facade_style(building),
+        use=use_code(building),
+        shop_front=building.shop_front,
+        holes=holes,
+        base=base,
+        roof=roof,
+        walls=building.has_walls,
+        doors=doors,
+        wall_colour=building.building_colour,
+        wall_material=building.building_material,
         guessed=frozenset(building.guessed),
         # A shed or sauna: no rooms behind its few windows, only dark panes.
         **({"interior": False, "furniture": False, "curtains": False, "lights": 0.0} if building.small_utility else {}),

@@ -21,14 +21,36 @@ import shapely
 
 # Roof shapes of the Simple 3D Buildings scheme that cityshade builds (OpenStreetMap `roof:shape` values).
 ROOF_SHAPES = (
-    "flat", "gabled", "hipped", "half-hipped", "pyramidal", "skillion", "gambrel", "mansard",
-    "dome", "onion", "round", "cone", "saltbox",
+    "flat",
+    "gabled",
+    "hipped",
+    "half-hipped",
+    "pyramidal",
+    "skillion",
+    "gambrel",
+    "mansard",
+    "dome",
+    "onion",
+    "round",
+    "cone",
+    "saltbox",
 )
 
 # The attributes whose origin (tagged or guessed) a building record keeps.
 BUILDING_ATTRIBUTES = (
-    "height", "min_height", "levels", "min_level", "roof_shape", "roof_height", "roof_levels",
-    "roof_direction", "roof_orientation", "building_colour", "roof_colour", "building_material", "roof_material",
+    "height",
+    "min_height",
+    "levels",
+    "min_level",
+    "roof_shape",
+    "roof_height",
+    "roof_levels",
+    "roof_direction",
+    "roof_orientation",
+    "building_colour",
+    "roof_colour",
+    "building_material",
+    "roof_material",
 )
 TREE_ATTRIBUTES = ("height", "crown_diameter", "leaf_type", "genus")
 
@@ -213,7 +235,9 @@ class MapData:
 
     def bounds(self) -> tuple[float, float, float, float]:
         """(min x, min y, max x, max y) in map metres over buildings, roads and areas."""
-        geometries = [b.outline for b in self.buildings] + [r.line for r in self.roads] + [a.polygon for a in self.areas]
+        geometries = (
+            [b.outline for b in self.buildings] + [r.line for r in self.roads] + [a.polygon for a in self.areas]
+        )
         if not geometries:
             return (0.0, 0.0, 0.0, 0.0)
         return tuple(float(v) for v in shapely.total_bounds(geometries))

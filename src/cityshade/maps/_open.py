@@ -10,8 +10,9 @@ from ._cameras import parse_camera_spot, spot_camera
 from ._scene import map_city
 
 
-def city_from_map(path: Path, camera: str = "street", date: str | None = None,
-                  time: str = "19:10") -> tuple[City, str, dict]:
+def city_from_map(
+    path: Path, camera: str = "street", date: str | None = None, time: str = "19:10"
+) -> tuple[City, str, dict]:
     """(city, camera name, render settings) for `cityshade render/view/video --map FILE`.
 
     `camera` is a viewpoint name or 'lon,lat,height,heading' (added to the city's viewpoints under
@@ -27,6 +28,7 @@ def city_from_map(path: Path, camera: str = "street", date: str | None = None,
     elif camera == "street" and "street" not in city.viewpoints:
         camera = "aerial"  # a map without a driven road
     elif camera not in city.viewpoints:
-        raise UsageError(f"unknown camera {camera!r} for a map; use {', '.join(city.viewpoints)} "
-                         "or lon,lat,height,heading")
+        raise UsageError(
+            f"unknown camera {camera!r} for a map; use {', '.join(city.viewpoints)} or lon,lat,height,heading"
+        )
     return city, camera, sky_settings(date, time, city.origin)

@@ -69,8 +69,10 @@ def check_xml(path: Path, kind: str = "osm") -> None:
         with _open(path, kind) as stream:
             _scan_xml(path, stream)
     except (OSError, EOFError, zlib.error) as exc:
-        raise UsageError(f"{path}: not a readable OpenStreetMap file ({kind} data damaged or cut short: "
-                         f"{str(exc)[:80] or type(exc).__name__}); check that the download is complete") from None
+        raise UsageError(
+            f"{path}: not a readable OpenStreetMap file ({kind} data damaged or cut short: "
+            f"{str(exc)[:80] or type(exc).__name__}); check that the download is complete"
+        ) from None
 
 
 def _scan_xml(path: Path, stream) -> None:
@@ -79,18 +81,22 @@ def _scan_xml(path: Path, stream) -> None:
     start = head.find(b"<osm")
     prolog = head if start < 0 else head[:start]
     if b"<!DOCTYPE" in prolog.upper() or b"<!ENTITY" in prolog.upper():
-        raise UsageError(f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
-                         "never need; refusing it (entities could expand without bound or read local files)")
+        raise UsageError(
+            f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
+            "never need; refusing it (entities could expand without bound or read local files)"
+        )
     stream.seek(0)
     line = 1
     while chunk := stream.read(SCAN_BYTES) + stream.readline():
         match = _EXPONENT.search(chunk)
         if match:
-            node = re.search(rb'id="(-?\d+)"', chunk[chunk.rfind(b"<", 0, match.start()):match.start()])
+            node = re.search(rb'id="(-?\d+)"', chunk[chunk.rfind(b"<", 0, match.start()) : match.start()])
             at = line + chunk.count(b"\n", 0, match.start())
             where = f"{path}:{at}" + (f": node/{node.group(1).decode()}" if node else "")
-            raise UsageError(f"{where}: coordinate {match.group(0).decode('ascii', 'replace')[:40]} has an "
-                             "exponent; write latitude and longitude as plain decimals within ±90 and ±180")
+            raise UsageError(
+                f"{where}: coordinate {match.group(0).decode('ascii', 'replace')[:40]} has an "
+                "exponent; write latitude and longitude as plain decimals within ±90 and ±180"
+            )
         line += chunk.count(b"\n")
 
 
@@ -114,8 +120,10 @@ def _ring(nodes) -> list[tuple[float, float] | None]:
 
 
 def _area_polygon(area) -> shapely.Geometry:
-    polygons = [shapely.Polygon(_ring(outer), [_ring(inner) for inner in area.inner_rings(outer)])
-                for outer in area.outer_rings()]
+    polygons = [
+        shapely.Polygon(_ring(outer), [_ring(inner) for inner in area.inner_rings(outer)])
+        for outer in area.outer_rings()
+    ]
     return polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(polygons)
 
 
@@ -137,8 +145,7 @@ def _line_kind(tags) -> str:
 
 
 def _wanted_line(tags: dict[str, str]) -> bool:
-    return ("highway" in tags or tags.get("railway") in RAILWAYS
-            or tags.get("natural") in ("tree_row", "coastline"))
+    return "highway" in tags or tags.get("railway") in RAILWAYS or tags.get("natural") in ("tree_row", "coastline")
 
 
 class _Collector:
@@ -173,8 +180,9 @@ class _Collector:
             return
         element = f"way/{way.id}"
         coords = _coordinates(way)
-        missing = ((coords is None or not way.nodes[0].location.valid())
-                   and any(point is None for point in _ring(way.nodes)))
+        missing = (coords is None or not way.nodes[0].location.valid()) and any(
+            point is None for point in _ring(way.nodes)
+        )
         if polygon:
             # closed ways are built here rather than by the assembler, which drops a self-intersecting
             # ring without a word; `assemble` repairs it with make_valid and counts it
@@ -226,8 +234,9 @@ class _Collector:
     def finish(self) -> None:
         for relation, what in self.area_relations.items():
             if relation not in self.areas_from_relations:
-                self.report.skip(what, "multipolygon could not be assembled (open or missing members)",
-                                 f"relation/{relation}")
+                self.report.skip(
+                    what, "multipolygon could not be assembled (open or missing members)", f"relation/{relation}"
+                )
         self.raws = [raw for raw in self.raws if not self._drawn_by_relation(raw)]
 
     def _drawn_by_relation(self, raw: Raw) -> bool:
@@ -280,7 +289,9 @@ def read_osm(path: Path) -> MapData:
             dispatch[item.type_str()](item)
     except (RuntimeError, ValueError, osmium.InvalidLocationError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise UsageError(f"{_where(path, kind, message)}: not a readable OpenStreetMap file ({message}); "
-                         "check that it is a complete .osm.pbf or .osm XML export") from None
+        raise UsageError(
+            f"{_where(path, kind, message)}: not a readable OpenStreetMap file ({message}); "
+            "check that it is a complete .osm.pbf or .osm XML export"
+        ) from None
     collector.finish()
     return assemble(path, collector.raws, report)

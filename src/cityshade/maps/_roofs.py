@@ -56,8 +56,11 @@ def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, h
     metres tall from its base (the roof takes at most what leaves `MIN_WALL` of wall)."""
     shape = building.roof_shape if building.roof_shape in ROOF_SHAPES else "flat"
     block = building.has_walls and not building.small_utility and (building.levels or 0) >= PARAPET_LEVELS
-    flat = Roof(colour=building.roof_colour, material=building.roof_material,
-                parapet=PARAPET if block and height >= PARAPET + MIN_WALL else 0.0)
+    flat = Roof(
+        colour=building.roof_colour,
+        material=building.roof_material,
+        parapet=PARAPET if block and height >= PARAPET + MIN_WALL else 0.0,
+    )
     if shape == "flat":
         return flat
     direction = _direction(building, yaw)

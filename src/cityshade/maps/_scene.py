@@ -37,6 +37,16 @@ def map_city(map_data: MapData) -> City:
         viewpoints["street"] = street
     lights = lamp_lights(map_data)
     ground = np.concatenate([ground_mesh(map_data), lamp_posts(lights)])
-    return City(map_data.name, 0, masses, [], bounds, viewpoints, ground_mesh=ground, trees=map_trees(map_data),
-                lamps=lights,
-                origin=map_data.origin, crs=map_data.crs)
+    return City(
+        map_data.name,
+        0,
+        masses,
+        [],
+        bounds,
+        viewpoints,
+        ground_mesh=ground,
+        trees=map_trees(map_data),
+        lamps=lights,
+        origin=map_data.origin,
+        crs=map_data.crs,
+    )

@@ -12,11 +12,38 @@ import shapely
 
 from ._model import MapData
 
-DRIVEN = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential", "living_street",
-          "service", "motorway_link", "trunk_link", "primary_link", "secondary_link", "tertiary_link", "road", "busway")
+DRIVEN = (
+    "motorway",
+    "trunk",
+    "primary",
+    "secondary",
+    "tertiary",
+    "unclassified",
+    "residential",
+    "living_street",
+    "service",
+    "motorway_link",
+    "trunk_link",
+    "primary_link",
+    "secondary_link",
+    "tertiary_link",
+    "road",
+    "busway",
+)
 WITH_PAVEMENT = DRIVEN[:7] + DRIVEN[9:15]  # not service roads
-CENTRE_LINE = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential",
-               "primary_link", "secondary_link", "tertiary_link", "trunk_link")
+CENTRE_LINE = (
+    "motorway",
+    "trunk",
+    "primary",
+    "secondary",
+    "tertiary",
+    "unclassified",
+    "residential",
+    "primary_link",
+    "secondary_link",
+    "tertiary_link",
+    "trunk_link",
+)
 SKIPPED = ("corridor", "elevator", "proposed", "construction", "platform", "raceway")  # indoors, not built, not a way
 PAVEMENT_WIDTH = 2.5
 MARKING_WIDTH = 0.15
@@ -143,7 +170,9 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
     walls = [b.outline for b in map_data.buildings if b.drawn and b.has_walls and not (b.min_height or 0) > 0]
     if walls and not carriageway.is_empty:
         tree = shapely.STRtree(walls)
-        touched = np.unique(tree.query(shapely.get_parts(shapely.union(carriageway, pavement)), predicate="intersects")[1])
+        touched = np.unique(
+            tree.query(shapely.get_parts(shapely.union(carriageway, pavement)), predicate="intersects")[1]
+        )
         if len(touched):
             blocked = _union(np.asarray(walls, dtype=object)[touched])
             carriageway = shapely.difference(carriageway, blocked)
@@ -154,8 +183,15 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
 
     railways = [r for r in map_data.railways if not r.tunnel]
     on_ground = [r for r in railways if not r.bridge]
-    ballast = _union(shapely.buffer(np.array([r.line for r in on_ground if r.kind not in ("tram",)] +
-                                             [shapely.LineString()], dtype=object)[:-1], BALLAST_WIDTH / 2, quad_segs=2))
+    ballast = _union(
+        shapely.buffer(
+            np.array([r.line for r in on_ground if r.kind not in ("tram",)] + [shapely.LineString()], dtype=object)[
+                :-1
+            ],
+            BALLAST_WIDTH / 2,
+            quad_segs=2,
+        )
+    )
     rails = shapely.GeometryCollection(list(rail_strips(on_ground)))  # overlaps at switches: same paint, no union
 
     decks = []

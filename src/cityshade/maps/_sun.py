@@ -28,8 +28,10 @@ def parse_date(text: str) -> dt.date:
 def require_map_for_date(date: str | None, map_path) -> None:
     """--date places the sun over a map's longitude and latitude: without --map it has nothing to do."""
     if date is not None and map_path is None:
-        raise UsageError(f"--date {date} needs --map FILE: the date places the sun over the map's place; "
-                         "for the built-in cities use --time alone")
+        raise UsageError(
+            f"--date {date} needs --map FILE: the date places the sun over the map's place; "
+            "for the built-in cities use --time alone"
+        )
 
 
 def utc_time(origin: tuple[float, float], date: dt.date, hours: float) -> dt.datetime:

@@ -27,33 +27,63 @@ FOOT = 0.3048
 INCH = 0.0254
 
 _METRES = re.compile(r"^\s*(-?[0-9]+(?:[.,][0-9]+)?)\s*(m|metres|meters|metre|meter)?\s*$", re.IGNORECASE)
-_FEET = re.compile(r"^\s*([0-9]+(?:\.[0-9]+)?)\s*(?:ft|feet|')\s*"
-                   r"(?:([0-9]+(?:\.[0-9]+)?)\s*(?:\"|in|inch|inches))?\s*$", re.IGNORECASE)
+_FEET = re.compile(
+    r"^\s*([0-9]+(?:\.[0-9]+)?)\s*(?:ft|feet|')\s*"
+    r"(?:([0-9]+(?:\.[0-9]+)?)\s*(?:\"|in|inch|inches))?\s*$",
+    re.IGNORECASE,
+)
 _NUMBER = re.compile(r"^\s*(-?[0-9]+(?:[.,][0-9]+)?)\s*$")
 
 # (smallest, largest) accepted value of each numeric attribute; outside it the value is dropped.
 RANGES = {
-    "height": (0.0, 1000.0), "min_height": (0.0, 1000.0), "levels": (0.0, 200.0), "min_level": (0.0, 200.0),
-    "roof_levels": (0.0, 50.0), "roof_height": (0.0, 300.0), "roof_angle": (0.0, 90.0),
+    "height": (0.0, 1000.0),
+    "min_height": (0.0, 1000.0),
+    "levels": (0.0, 200.0),
+    "min_level": (0.0, 200.0),
+    "roof_levels": (0.0, 50.0),
+    "roof_height": (0.0, 300.0),
+    "roof_angle": (0.0, 90.0),
 }
 # OpenStreetMap key of each typed attribute.
 KEYS = {
-    "height": "height", "min_height": "min_height", "levels": "building:levels", "min_level": "building:min_level",
-    "roof_levels": "roof:levels", "roof_height": "roof:height", "roof_angle": "roof:angle",
-    "roof_shape": "roof:shape", "roof_direction": "roof:direction", "roof_orientation": "roof:orientation",
-    "building_colour": "building:colour", "roof_colour": "roof:colour",
-    "building_material": "building:material", "roof_material": "roof:material",
+    "height": "height",
+    "min_height": "min_height",
+    "levels": "building:levels",
+    "min_level": "building:min_level",
+    "roof_levels": "roof:levels",
+    "roof_height": "roof:height",
+    "roof_angle": "roof:angle",
+    "roof_shape": "roof:shape",
+    "roof_direction": "roof:direction",
+    "roof_orientation": "roof:orientation",
+    "building_colour": "building:colour",
+    "roof_colour": "roof:colour",
+    "building_material": "building:material",
+    "roof_material": "roof:material",
 }
 LENGTHS = ("height", "min_height", "roof_height")
 COUNTS = ("levels", "min_level", "roof_levels", "roof_angle")
 
-COMPASS = {name: 22.5 * i for i, name in enumerate(
-    "N NNE NE ENE E ESE SE SSE S SSW SW WSW W WNW NW NNW".split())}
+COMPASS = {name: 22.5 * i for i, name in enumerate("N NNE NE ENE E ESE SE SSE S SSW SW WSW W WNW NW NNW".split())}
 ROOF_SYNONYMS = {
-    "pitched": "gabled", "gable": "gabled", "hip": "hipped", "half_hipped": "half-hipped",
-    "halfhipped": "half-hipped", "pyramid": "pyramidal", "cone": "cone", "conical": "cone",
-    "domed": "dome", "onion": "onion", "round": "round", "lean_to": "skillion", "shed": "skillion",
-    "mono-pitched": "skillion", "flat": "flat", "saltbox": "saltbox", "mansard": "mansard", "gambrel": "gambrel",
+    "pitched": "gabled",
+    "gable": "gabled",
+    "hip": "hipped",
+    "half_hipped": "half-hipped",
+    "halfhipped": "half-hipped",
+    "pyramid": "pyramidal",
+    "cone": "cone",
+    "conical": "cone",
+    "domed": "dome",
+    "onion": "onion",
+    "round": "round",
+    "lean_to": "skillion",
+    "shed": "skillion",
+    "mono-pitched": "skillion",
+    "flat": "flat",
+    "saltbox": "saltbox",
+    "mansard": "mansard",
+    "gambrel": "gambrel",
 }
 
 
@@ -134,11 +164,15 @@ def building_attributes(building: MapBuilding, tags: dict[str, str], report: Rea
         if value is not None:
             setattr(building, name, value)
             building.tagged.add(name)
-    parsers = {"roof_shape": roof_shape, "roof_direction": direction,
-               "roof_orientation": lambda v: v.strip().lower() if v.strip().lower() in ("along", "across") else None,
-               "building_colour": colour, "roof_colour": colour,
-               "building_material": lambda v: v.strip().lower() or None,
-               "roof_material": lambda v: v.strip().lower() or None}
+    parsers = {
+        "roof_shape": roof_shape,
+        "roof_direction": direction,
+        "roof_orientation": lambda v: v.strip().lower() if v.strip().lower() in ("along", "across") else None,
+        "building_colour": colour,
+        "roof_colour": colour,
+        "building_material": lambda v: v.strip().lower() or None,
+        "roof_material": lambda v: v.strip().lower() or None,
+    }
     for name, parse in parsers.items():
         text = tags.get(KEYS[name])
         if text is None:

@@ -63,8 +63,11 @@ def tiled_extract(source: Path | str, target: Path | str, buildings: int = 100_0
                 writer.add_node(osmium.osm.mutable.Node(id=tile * stride + new, location=(lon + dlon, lat + dlat)))
         for tile in range(tiles):
             for i, (tags, refs) in enumerate(ways):
-                writer.add_way(osmium.osm.mutable.Way(id=tile * len(ways) + i + 1, tags=tags,
-                                                      nodes=[tile * stride + node_ids[ref] for ref in refs]))
+                writer.add_way(
+                    osmium.osm.mutable.Way(
+                        id=tile * len(ways) + i + 1, tags=tags, nodes=[tile * stride + node_ids[ref] for ref in refs]
+                    )
+                )
     finally:
         writer.close()
     return {"buildings": tiles * len(ways), "tiles": tiles, "nodes": tiles * stride}

@@ -63,7 +63,9 @@ def forest_trees(map_data: MapData) -> list[MapTree]:
     for wood in woods:
         leaf = wood.tags.get("leaf_type")
         for i, (x, y) in enumerate(forest_points(wood.polygon, spacing, wood.source_id)):
-            mixed = leaf if leaf in ("broadleaved", "needleleaved") else ("needleleaved" if i % 3 == 0 else "broadleaved")
+            mixed = (
+                leaf if leaf in ("broadleaved", "needleleaved") else ("needleleaved" if i % 3 == 0 else "broadleaved")
+            )
             planted.append(MapTree(f"{wood.source_id}#{i}", (float(x), float(y)), leaf_type=mixed))
     return planted[:MAX_FOREST_TREES]
 

@@ -39,7 +39,9 @@ class CompressedFacade:
 
     def maps(self) -> DetailMaps:
         out = self.decompress()
-        return DetailMaps(out["depth"].astype(np.uint16), out["material"].astype(np.uint16), self.texel, self.depth_unit)
+        return DetailMaps(
+            out["depth"].astype(np.uint16), out["material"].astype(np.uint16), self.texel, self.depth_unit
+        )
 
     def raw_nbytes(self) -> dict[str, int]:
         """GPU bytes of the uncompressed maps: R16UI D and M, R32UI A plus the box list."""
@@ -59,8 +61,13 @@ def detail_matrices(maps: DetailMaps) -> tuple[dict[str, np.ndarray], np.ndarray
     return {"depth": maps.depth, "material": maps.material, "boxes": index}, boxes
 
 
-def compress(maps: DetailMaps, method: str, max_terms: int | None = None,
-             on_map: Callable[[str], None] | None = None, source: str = "facade") -> CompressedFacade:
+def compress(
+    maps: DetailMaps,
+    method: str,
+    max_terms: int | None = None,
+    on_map: Callable[[str], None] | None = None,
+    source: str = "facade",
+) -> CompressedFacade:
     """Builds A and factorises D, M and A; on_map(name) is called after each map (progress);
     source names the facade in errors."""
     matrices, boxes = detail_matrices(maps)

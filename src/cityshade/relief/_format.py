@@ -91,8 +91,8 @@ def from_bytes(data: bytes, source: str = "<bytes>") -> CompressedFacade:
     if header_len > len(data) - _PREFIX.size - 4:
         raise CityshadeError(f"{source}: malformed compressed facade header (longer than the file)")
     try:
-        header = json.loads(data[_PREFIX.size:_PREFIX.size + header_len].decode("utf-8"))
-        payload = data[_PREFIX.size + header_len:-4]
+        header = json.loads(data[_PREFIX.size : _PREFIX.size + header_len].decode("utf-8"))
+        payload = data[_PREFIX.size + header_len : -4]
         expected = _expected_sections(header, source)
         arrays = {}
         for sec in header["sections"]:
@@ -104,8 +104,10 @@ def from_bytes(data: bytes, source: str = "<bytes>") -> CompressedFacade:
             if name == "boxes" and len(declared) == 2 and 0 <= declared[0] <= MAX_TEXELS and declared[1] == 4:
                 shape = declared
             if sec["dtype"] != dtype_text or declared != shape:
-                raise ValueError(f"section {name} is {sec['dtype']} {declared}; the facade's size and terms "
-                                 f"make it {dtype_text} {shape}")
+                raise ValueError(
+                    f"section {name} is {sec['dtype']} {declared}; the facade's size and terms "
+                    f"make it {dtype_text} {shape}"
+                )
             dtype, offset = np.dtype(dtype_text), int(sec["offset"])
             if offset < 0 or offset + math.prod(shape) * dtype.itemsize > len(payload):
                 raise ValueError(f"section {name} runs past the end")
@@ -119,8 +121,14 @@ def from_bytes(data: bytes, source: str = "<bytes>") -> CompressedFacade:
             if header["method"] == "bmf":
                 x, y = unpack_bits(x, terms), unpack_bits(y, terms)
             factors[name] = Factors(header["method"], np.array(x), np.array(s, np.float32), np.array(y))
-        return CompressedFacade(header["method"], float(header["texel"]), float(header["depth_unit"]), factors,
-                                np.array(arrays["boxes"], np.uint16), {n: str(header["digests"][n]) for n in MAP_NAMES})
+        return CompressedFacade(
+            header["method"],
+            float(header["texel"]),
+            float(header["depth_unit"]),
+            factors,
+            np.array(arrays["boxes"], np.uint16),
+            {n: str(header["digests"][n]) for n in MAP_NAMES},
+        )
     except (KeyError, ValueError, TypeError, UnicodeDecodeError, OverflowError, AttributeError) as exc:
         raise CityshadeError(f"{source}: malformed compressed facade header ({exc})") from None
 
@@ -142,6 +150,7 @@ def _expected_sections(header: dict, source: str) -> dict[str, tuple[str, list[i
         if not (isinstance(terms, int) and 0 <= terms <= MAX_TERMS):
             raise ValueError(f"{name} has {terms!r} terms; at most {MAX_TERMS}")
         width, dtype = (-(-terms // 32), "<u4") if method == "bmf" else (terms, "<f4")
-        out.update({f"{name}.x": (dtype, [rows, width]), f"{name}.s": ("<f4", [terms]),
-                    f"{name}.y": (dtype, [cols, width])})
+        out.update(
+            {f"{name}.x": (dtype, [rows, width]), f"{name}.s": ("<f4", [terms]), f"{name}.y": (dtype, [cols, width])}
+        )
     return out

@@ -26,8 +26,12 @@ BOXES_BINDING = 5  # matches trace.glsl
 
 def renderer_defines(renderer: str, lsb_mod37: bool = False, tiled: bool = False) -> dict[str, object]:
     tracer, codec = RENDERERS[renderer]
-    return {f"TRACER_{tracer.upper()}": True, f"CODEC_{codec.upper()}": True, "BMF_LSB_MOD37": lsb_mod37,
-            "RELIEF_TILED": tiled}
+    return {
+        f"TRACER_{tracer.upper()}": True,
+        f"CODEC_{codec.upper()}": True,
+        "BMF_LSB_MOD37": lsb_mod37,
+        "RELIEF_TILED": tiled,
+    }
 
 
 def _texture(ctx: moderngl.Context, array: np.ndarray, dtype: str) -> moderngl.Texture:
@@ -53,23 +57,26 @@ def _set_array(program: moderngl.Program, name: str, values: list[int]):
     """Sets a uniform array; the driver drops trailing elements a variant never reads."""
     if name in program:
         uniform = program[name]
-        uniform.value = values[:uniform.array_length] if uniform.array_length > 1 else values[0]
+        uniform.value = values[: uniform.array_length] if uniform.array_length > 1 else values[0]
 
 
 class GpuFacade:
     """Textures of D, M, A uncompressed and factorised (both ways unless `compressed` gives the
     factorisations to use), plus the box list."""
 
-    def __init__(self, ctx: moderngl.Context, maps: DetailMaps,
-                 compressed: dict[str, CompressedFacade] | None = None):
+    def __init__(self, ctx: moderngl.Context, maps: DetailMaps, compressed: dict[str, CompressedFacade] | None = None):
         self.maps = maps
         matrices, boxes = detail_matrices(maps)
         self.compressed = compressed or {m: compress(maps, m) for m in ("svd", "bmf")}
-        self.raw = [_texture(ctx, matrices["depth"], "u2"), _texture(ctx, matrices["material"], "u2"),
-                    _texture(ctx, matrices["boxes"], "u4")]
+        self.raw = [
+            _texture(ctx, matrices["depth"], "u2"),
+            _texture(ctx, matrices["material"], "u2"),
+            _texture(ctx, matrices["boxes"], "u4"),
+        ]
         packed_boxes = boxes.astype(np.uint32)
-        words = np.column_stack([packed_boxes[:, 0] | packed_boxes[:, 1] << 16,
-                                 packed_boxes[:, 2] | packed_boxes[:, 3] << 16]).astype(np.uint32)
+        words = np.column_stack(
+            [packed_boxes[:, 0] | packed_boxes[:, 1] << 16, packed_boxes[:, 2] | packed_boxes[:, 3] << 16]
+        ).astype(np.uint32)
         self.boxes = create_buffer(ctx, words)
         self.codec_textures = {"raw": {"u_raw": self.raw}}
         for method, facade in self.compressed.items():
@@ -88,8 +95,10 @@ class GpuFacade:
                     "u_bmf_s": [_texture_array(ctx, [f.s[None, :] for f in fs], "f4")],
                 }
         # Per map: SVD terms, or BMF words of 32 terms.
-        self.counts = {method: [f.terms if method == "svd" else -(-f.terms // 32) for f in facade.factors.values()]
-                       for method, facade in self.compressed.items()}
+        self.counts = {
+            method: [f.terms if method == "svd" else -(-f.terms // 32) for f in facade.factors.values()]
+            for method, facade in self.compressed.items()
+        }
 
     @property
     def slab_depth(self) -> float:
@@ -115,8 +124,9 @@ class GpuFacade:
         self.boxes.release()
 
 
-def decode_on_gpu(ctx: moderngl.Context, facade: GpuFacade, codec: str, programs: ProgramCache,
-                  lsb_mod37: bool = False) -> dict[str, np.ndarray]:
+def decode_on_gpu(
+    ctx: moderngl.Context, facade: GpuFacade, codec: str, programs: ProgramCache, lsb_mod37: bool = False
+) -> dict[str, np.ndarray]:
     """Every texel of D, M, A as the shaders decode it with one codec (for exactness checks)."""
     program = programs.get("relief/decode.glsl", {f"CODEC_{codec.upper()}": True, "BMF_LSB_MOD37": lsb_mod37})
     rows, cols = facade.maps.shape

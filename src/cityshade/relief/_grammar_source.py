@@ -17,16 +17,28 @@ from ._maps import DetailMaps
 
 # label -> (depth in cm behind the outermost surface, material)
 LABEL_RELIEF = {
-    "none": (WALL_D, WALL), "wall": (WALL_D, WALL), "window": (FRAME_D, FRAME), "door": (DOOR_D, WOOD),
-    "balcony": (SILL, STONE), "shop": (FRAME_D, FRAME), "roof": (CORNICE, STONE), "room": (GLASS_D, GLASS),
+    "none": (WALL_D, WALL),
+    "wall": (WALL_D, WALL),
+    "window": (FRAME_D, FRAME),
+    "door": (DOOR_D, WOOD),
+    "balcony": (SILL, STONE),
+    "shop": (FRAME_D, FRAME),
+    "roof": (CORNICE, STONE),
+    "room": (GLASS_D, GLASS),
     "cornice": (CORNICE, STONE),
 }
 _DEPTH = np.array([LABEL_RELIEF[name][0] for name in LABELS], np.uint16)
 _MATERIAL = np.array([LABEL_RELIEF[name][1] for name in LABELS], np.uint16)
 
 
-def grammar_maps(path: Path, rule: str | None, facade: tuple[float, float], texel: float, seed: int = 1,
-                 on_rows: Callable[[int], None] | None = None) -> DetailMaps:
+def grammar_maps(
+    path: Path,
+    rule: str | None,
+    facade: tuple[float, float],
+    texel: float,
+    seed: int = 1,
+    on_rows: Callable[[int], None] | None = None,
+) -> DetailMaps:
     """D and M of a grammar facade `facade` metres wide and high; on_rows(n) reports progress."""
     grammar = load(path)
     if rule is not None:
@@ -43,8 +55,8 @@ def grammar_maps(path: Path, rule: str | None, facade: tuple[float, float], texe
         y = (np.arange(r0, min(rows, r0 + chunk), dtype=np.float32) + 0.5) * texel
         uv = np.stack(np.meshgrid(x, y), axis=-1).reshape(-1, 2)
         result = evaluate(compiled, start, uv, facade, seed_vector(seed), tiles)
-        label[r0:r0 + len(y)] = result.label.reshape(len(y), cols)
-        glass[r0:r0 + len(y)] = result.glass.reshape(len(y), cols)
+        label[r0 : r0 + len(y)] = result.label.reshape(len(y), cols)
+        glass[r0 : r0 + len(y)] = result.glass.reshape(len(y), cols)
         if on_rows:
             on_rows(len(y))
     depth = np.where(glass, GLASS_D, _DEPTH[label]).astype(np.uint16)

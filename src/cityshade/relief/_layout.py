@@ -56,11 +56,13 @@ class _Canvas:
     def fill(self, x0: float, y0: float, x1: float, y1: float, depth: int, material: int):
         """Paints the rectangle [x0, x1) x [y0, y1) given in metres (y up from the facade bottom)."""
         c0, c1, r0, r1 = (int(round(v / self.texel)) for v in (x0, x1, y0, y1))
-        self.depth[max(r0, 0):max(r1, 0), max(c0, 0):max(c1, 0)] = depth
-        self.material[max(r0, 0):max(r1, 0), max(c0, 0):max(c1, 0)] = material
+        self.depth[max(r0, 0) : max(r1, 0), max(c0, 0) : max(c1, 0)] = depth
+        self.material[max(r0, 0) : max(r1, 0), max(c0, 0) : max(c1, 0)] = material
 
 
-def generate_facade(cols: int, rows: int, layout: FacadeLayout = FacadeLayout(), texel: float = PAPER_TEXEL) -> DetailMaps:
+def generate_facade(
+    cols: int, rows: int, layout: FacadeLayout = FacadeLayout(), texel: float = PAPER_TEXEL
+) -> DetailMaps:
     canvas = _Canvas(cols, rows, texel)
     width, height = cols * texel, rows * texel
     bays = max(1, int(width // layout.bay_width))

@@ -16,8 +16,13 @@ from ._reference import FACE_FRONT, FACE_NEG_X, FACE_NEG_Y, FACE_POS_X, FACE_POS
 
 MESH_VERTEX = np.dtype([("pos", "<f4", 3), ("face", "<i4"), ("material", "<i4")])
 # Outward normal of each face in map space (x along, y up, z depth into the wall).
-OUTWARD = {FACE_FRONT: (0, 0, -1), FACE_NEG_X: (-1, 0, 0), FACE_POS_X: (1, 0, 0), FACE_NEG_Y: (0, -1, 0),
-           FACE_POS_Y: (0, 1, 0)}
+OUTWARD = {
+    FACE_FRONT: (0, 0, -1),
+    FACE_NEG_X: (-1, 0, 0),
+    FACE_POS_X: (1, 0, 0),
+    FACE_NEG_Y: (0, -1, 0),
+    FACE_POS_Y: (0, 1, 0),
+}
 
 
 def _wound(corners: tuple, face: int) -> tuple:
@@ -72,14 +77,18 @@ def relief_mesh(maps: DetailMaps) -> tuple[np.ndarray, np.ndarray]:
         keys = np.stack([left, right, higher], axis=-1)
         for y0, y1, (dl, dr, m) in _runs(keys, lambda k: k[0] != k[1]):
             face = FACE_POS_X if dl < dr else FACE_NEG_X  # facing the deeper side
-            quads.append(((c, y0, min(dl, dr)), (c, y1, min(dl, dr)), (c, y1, max(dl, dr)), (c, y0, max(dl, dr)), face, m))
+            quads.append(
+                ((c, y0, min(dl, dr)), (c, y1, min(dl, dr)), (c, y1, max(dl, dr)), (c, y0, max(dl, dr)), face, m)
+            )
     for r in range(1, rows):
         below, above = depth[r - 1], depth[r]
         higher = np.where(below < above, material[r - 1], material[r])
         keys = np.stack([below, above, higher], axis=-1)
         for x0, x1, (db, da, m) in _runs(keys, lambda k: k[0] != k[1]):
             face = FACE_POS_Y if db < da else FACE_NEG_Y
-            quads.append(((x0, r, min(db, da)), (x1, r, min(db, da)), (x1, r, max(db, da)), (x0, r, max(db, da)), face, m))
+            quads.append(
+                ((x0, r, min(db, da)), (x1, r, min(db, da)), (x1, r, max(db, da)), (x0, r, max(db, da)), face, m)
+            )
     vertices = np.zeros(4 * len(quads), MESH_VERTEX)
     for q, (*corners, face, m) in enumerate(quads):
         for k, corner in enumerate(_wound(tuple(corners), face)):

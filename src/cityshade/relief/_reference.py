@@ -18,8 +18,13 @@ from ._maps import DetailMaps
 
 # Hit faces by outward normal in map space; the shaders use the same numbers (trace.glsl).
 FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y, FACE_POS_Y = range(5)
-RELIEF_FACE_CODES = {"FACE_FRONT": FACE_FRONT, "FACE_NEG_X": FACE_NEG_X, "FACE_POS_X": FACE_POS_X,
-                     "FACE_NEG_Y": FACE_NEG_Y, "FACE_POS_Y": FACE_POS_Y}  # the shaders' FACE_* of relief
+RELIEF_FACE_CODES = {
+    "FACE_FRONT": FACE_FRONT,
+    "FACE_NEG_X": FACE_NEG_X,
+    "FACE_POS_X": FACE_POS_X,
+    "FACE_NEG_Y": FACE_NEG_Y,
+    "FACE_POS_Y": FACE_POS_Y,
+}  # the shaders' FACE_* of relief
 MISS = -1
 
 
@@ -84,8 +89,11 @@ def trace_reference(maps: DetailMaps, origins: np.ndarray, directions: np.ndarra
         hit = np.isfinite(t_best)
         axis = np.argmax(t_near_axis[rows, best], axis=1)
         sign = np.sign(dc[rows, 0, axis])
-        face_id = np.select([axis == 2, (axis == 0) & (sign > 0), axis == 0, sign > 0],
-                            [FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y], FACE_POS_Y)
+        face_id = np.select(
+            [axis == 2, (axis == 0) & (sign > 0), axis == 0, sign > 0],
+            [FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y],
+            FACE_POS_Y,
+        )
         material[sl] = np.where(hit, cell_material[near][best], MISS)
         face[sl] = np.where(hit, face_id, MISS)
         t_hit[sl] = t_best

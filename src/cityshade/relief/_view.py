@@ -31,8 +31,14 @@ def map_scale(maps: DetailMaps) -> np.ndarray:
     return np.array([maps.texel, maps.texel, -maps.depth_unit])
 
 
-def facade_camera(maps: DetailMaps, azimuth: float, elevation: float, distance: float,
-                  target: tuple[float, float] = (0.5, 0.5), fov_y: float = 40.0) -> Camera:
+def facade_camera(
+    maps: DetailMaps,
+    azimuth: float,
+    elevation: float,
+    distance: float,
+    target: tuple[float, float] = (0.5, 0.5),
+    fov_y: float = 40.0,
+) -> Camera:
     """A camera looking at a point of the facade (target as fractions of its size) from a direction
     given in degrees: azimuth from the facade normal towards +x, elevation above the horizontal."""
     width, height = maps.size_m
@@ -85,8 +91,17 @@ class FacadeView:
         rows, cols = facade.maps.shape
         self.target.use()
         self.ctx.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        draw_facades(self.ctx, self.programs, facade, camera, renderer, slab_faces(cols, rows, facade.slab_depth),
-                     SINGLE_FACADE, self.size[0] / self.size[1], lsb_mod37)
+        draw_facades(
+            self.ctx,
+            self.programs,
+            facade,
+            camera,
+            renderer,
+            slab_faces(cols, rows, facade.slab_depth),
+            SINGLE_FACADE,
+            self.size[0] / self.size[1],
+            lsb_mod37,
+        )
 
     def read(self) -> FacadeImages:
         color = self.target.read(0)[..., :3].astype(np.float32)
@@ -94,8 +109,9 @@ class FacadeView:
         point = self.target.read(2)[..., :3].astype(np.float64)
         hit = ids[..., 0] > 0
         point[~hit] = np.nan
-        return FacadeImages(color, np.where(hit, ids[..., 0] - 1, MISS), np.where(hit, ids[..., 1], MISS),
-                            ids[..., 2], point)
+        return FacadeImages(
+            color, np.where(hit, ids[..., 0] - 1, MISS), np.where(hit, ids[..., 1], MISS), ids[..., 2], point
+        )
 
     def release(self):
         self.target.release()
@@ -111,14 +127,33 @@ def trace_view(maps: DetailMaps, camera: Camera, size: tuple[int, int]) -> Hits:
 
 def write_frame_block(ctx: moderngl.Context, camera: Camera, aspect: float):
     """The camera and the sun of the relief views; no ambient light, time or exposure."""
-    FRAME_BLOCK.write(ctx, u_inv_view_proj=np.linalg.inv(camera.view_projection(aspect)), u_camera=camera.eye,
-                      u_time=0.0, u_sun_dir=SUN, u_exposure=1.0, u_sun_color=np.ones(3), u_sky_ambient=np.zeros(3),
-                      u_ground_ambient=np.zeros(3))
+    FRAME_BLOCK.write(
+        ctx,
+        u_inv_view_proj=np.linalg.inv(camera.view_projection(aspect)),
+        u_camera=camera.eye,
+        u_time=0.0,
+        u_sun_dir=SUN,
+        u_exposure=1.0,
+        u_sun_color=np.ones(3),
+        u_sky_ambient=np.zeros(3),
+        u_ground_ambient=np.zeros(3),
+    )
 
 
-def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacade, camera: Camera, renderer: str,
-                 vertices: np.ndarray, frames: np.ndarray, aspect: float, lsb_mod37: bool = False,
-                 depth_only: bool = False, tiled: bool = False, after_prepass: bool = False):
+def draw_facades(
+    ctx: moderngl.Context,
+    programs: ProgramCache,
+    facade: GpuFacade,
+    camera: Camera,
+    renderer: str,
+    vertices: np.ndarray,
+    frames: np.ndarray,
+    aspect: float,
+    lsb_mod37: bool = False,
+    depth_only: bool = False,
+    tiled: bool = False,
+    after_prepass: bool = False,
+):
     """Draws every frame (FRAME_DTYPE) as an instance of the facade into the bound framebuffer;
     depth_only draws just the quads' depth, for a prepass, and after_prepass then traces only the
     pixels that passed it (depth writes must be off); tiled repeats the maps across quads larger
@@ -128,8 +163,11 @@ def draw_facades(ctx: moderngl.Context, programs: ProgramCache, facade: GpuFacad
     buffers = draw_buffers(ctx)  # rewritten each draw, made once
     quads = buffers.write("relief quads", np.ascontiguousarray(vertices, VERTEX_DTYPE))
     instances = buffers.write("relief frames", np.ascontiguousarray(frames, FRAME_DTYPE))
-    vao = buffers.vertex_array(program.glo, program, [(quads, "3f4 i4", "in_position", "in_face"),
-                                                      (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")])
+    vao = buffers.vertex_array(
+        program.glo,
+        program,
+        [(quads, "3f4 i4", "in_position", "in_face"), (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")],
+    )
     facade.bind(program, RENDERERS[renderer][1])
     write_frame_block(ctx, camera, aspect)
     set_uniforms(program, u_view_proj=camera.view_projection(aspect), u_map_scale=np.abs(map_scale(facade.maps)))
@@ -152,9 +190,14 @@ class MeshFacade:
         program = programs.get("relief/mesh.glsl")
         instances = self.instances.write("frames", np.ascontiguousarray(frames, FRAME_DTYPE))
         vao = self.instances.vertex_array(
-            program.glo, program, [(self.vbo, "3f4 i4 i4", "in_position", "in_face", "in_material"),
-                                   (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out")],
-            index_buffer=self.ibo)
+            program.glo,
+            program,
+            [
+                (self.vbo, "3f4 i4 i4", "in_position", "in_face", "in_material"),
+                (instances, "3f4 3f4 3f4/i", "in_origin", "in_along", "in_out"),
+            ],
+            index_buffer=self.ibo,
+        )
         write_frame_block(ctx, camera, aspect)
         set_uniforms(program, u_view_proj=camera.view_projection(aspect), u_map_scale=np.abs(map_scale(self.maps)))
         ctx.enable(moderngl.DEPTH_TEST)

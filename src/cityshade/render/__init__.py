@@ -17,14 +17,35 @@ from ._resolution import ResolutionScale
 from ._settings import RenderSettings
 from ._upscale import upscale, upscale_reference
 
-__all__ = ["boxes_visible", "frustum_planes", "Daylight", "parse_time", "FACADE_KINDS", "FacadeKind", "assign_facades", "choose_facade", "FrameTargets", "guessed_aov", "GLState", "Pass", "frame_passes", "id_passes", "run_passes", "Renderer",
-           "RenderSettings", "ResolutionScale", "upscale", "upscale_reference"]
+__all__ = [
+    "boxes_visible",
+    "frustum_planes",
+    "Daylight",
+    "parse_time",
+    "FACADE_KINDS",
+    "FacadeKind",
+    "assign_facades",
+    "choose_facade",
+    "FrameTargets",
+    "guessed_aov",
+    "GLState",
+    "Pass",
+    "frame_passes",
+    "id_passes",
+    "run_passes",
+    "Renderer",
+    "RenderSettings",
+    "ResolutionScale",
+    "upscale",
+    "upscale_reference",
+]
 
 
 class _DeprecatedCall(types.ModuleType):
     def __call__(self, *args, **kwargs):
-        warnings.warn("cityshade.render(...) is deprecated; use cityshade.render_image(...)", DeprecationWarning,
-                      stacklevel=2)
+        warnings.warn(
+            "cityshade.render(...) is deprecated; use cityshade.render_image(...)", DeprecationWarning, stacklevel=2
+        )
         from ..api import render_image
 
         return render_image(*args, **kwargs)

@@ -128,8 +128,17 @@ def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> d
         widest = own[np.argmax(own["face"][:, 0])]
         width, base, top = (float(v) for v in widest["face"][:3])
         storeys = int(np.floor((top - base) / widest["facade"][3] + 0.5))
-        faces[int(i)] = (int(records["facade"][i, 1]), width, top - base, storeys, masses[i].style, masses[i].seed,
-                         int(widest["ids"][2]), masses[i].use, float(masses[i].extent[1]))
+        faces[int(i)] = (
+            int(records["facade"][i, 1]),
+            width,
+            top - base,
+            storeys,
+            masses[i].style,
+            masses[i].seed,
+            int(widest["ids"][2]),
+            masses[i].use,
+            float(masses[i].extent[1]),
+        )
     return faces
 
 
@@ -153,9 +162,16 @@ def grammar_colours(faces: dict[int, tuple], count: int) -> np.ndarray:
         part = slice(first, first + buildings_per_chunk)
         each = lambda a: np.repeat(a[part], per, axis=0)  # noqa: E731 (per point of the chunk's buildings)
         uv = (np.tile(unit, (len(index[part]), 1)) * each(size)).astype(np.float32)
-        result = evaluate(compiled, each(start), uv, each(size), each(seeds), tiles,
-                          building=np.stack([each(storeys), each(style), each(use), each(mass_height)], axis=1),
-                          building_seed=each(building_seeds))
+        result = evaluate(
+            compiled,
+            each(start),
+            uv,
+            each(size),
+            each(seeds),
+            tiles,
+            building=np.stack([each(storeys), each(style), each(use), each(mass_height)], axis=1),
+            building_seed=each(building_seeds),
+        )
         colour = _linear(np.asarray(result.color, np.float64)).reshape(-1, per, 3)
         glass = np.asarray(result.glass).reshape(-1, per)
         colours[index[part]] = [_wall_mean(c, g) for c, g in zip(colour, glass)]

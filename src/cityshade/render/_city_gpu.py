@@ -54,7 +54,9 @@ class CityGPU:
         vertices = self.chunks.vertices
         self.building_count = len(city.masses)
         self.building_vertex_count = len(vertices)
-        self.visibility = BuildingVisibility(ctx, building_boxes(vertices, *building_ranges(vertices, self.building_count)))
+        self.visibility = BuildingVisibility(
+            ctx, building_boxes(vertices, *building_ranges(vertices, self.building_count))
+        )
         self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
         self.records = create_buffer(ctx, records)
         self._record_array = records  # as assigned, for start_grammars_at
@@ -68,8 +70,7 @@ class CityGPU:
     def _vao(self, program, vbo, fmt, attributes):
         return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
 
-    def draw_buildings(self, program, view_projection: np.ndarray | None = None,
-                       draws: moderngl.Buffer | None = None):
+    def draw_buildings(self, program, view_projection: np.ndarray | None = None, draws: moderngl.Buffer | None = None):
         """All buildings in one call; with `draws` (commands of BuildingVisibility), one multi-draw
         indirect call of a command per building, in the same order; with a view-projection, only
         the chunks inside its frustum (one call per run of neighbouring visible chunks)."""

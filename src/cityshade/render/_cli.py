@@ -8,14 +8,16 @@ from ..arguments import check_seed, check_writable, parse_lights, parse_size, sa
 from ..errors import UsageError
 from ..scene import CITIES
 
+
 def _trees_scene(args) -> int:
     """A park at low sun seen toward the sun: back-lit leaves, god rays, cascaded shadows."""
     from ..api import render_city
     from ..trees import SCENE_TIME, park_scene
 
     camera = args.camera if args.camera != "street" else "park"
-    image, info = render_city(city=park_scene(), camera=camera, size=parse_size(args.size), time=SCENE_TIME,
-                              samples=args.samples)
+    image, info = render_city(
+        city=park_scene(), camera=camera, size=parse_size(args.size), time=SCENE_TIME, samples=args.samples
+    )
     save_png(image, args.out)
     print(f"wrote {args.out}: {info['trees']} trees, frame {info['frame_ms']:.1f} ms on {info['device']}")
     return 0
@@ -35,29 +37,57 @@ def print_profile(pass_ms: dict[str, float]):
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
-    parser.add_argument("--map", "--footprints", dest="map", type=Path, default=None, metavar="FILE",
-                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    parser.add_argument(
+        "--map",
+        "--footprints",
+        dest="map",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
+    )
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=check_seed, default=None, help="layout seed, 0 to 2^31-1")
-    parser.add_argument("--camera", default="street",
-                        help="named viewpoint of the city, or lon,lat,height,heading for a city from --map")
+    parser.add_argument(
+        "--camera",
+        default="street",
+        help="named viewpoint of the city, or lon,lat,height,heading for a city from --map",
+    )
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
-    parser.add_argument("--lights", default=None,
-                        help="share of lit rooms, 0..1, for every building (default: by each building's use and --time)")
+    parser.add_argument(
+        "--lights",
+        default=None,
+        help="share of lit rooms, 0..1, for every building (default: by each building's use and --time)",
+    )
     parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
     parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
-    parser.add_argument("--building-lod", action="store_true",
-                        help="far facades drop relief, grammar and rooms for their own mean colour (dithered); "
-                             "the first frame evaluates every grammar building once (about 14 ms each here)")
-    parser.add_argument("--samples", type=int, default=4, choices=(0, 2, 4, 8),
-                        help="MSAA samples (0: off; llvmpipe shades every sample, so 0 is about 4x faster there)")
-    parser.add_argument("--aov", choices=("guessed",), default=None,
-                        help="with --map: tint walls whose height and roofs whose shape the map did not give "
-                             "(orange) apart from what it gave (blue)")
+    parser.add_argument(
+        "--building-lod",
+        action="store_true",
+        help="far facades drop relief, grammar and rooms for their own mean colour (dithered); "
+        "the first frame evaluates every grammar building once (about 14 ms each here)",
+    )
+    parser.add_argument(
+        "--samples",
+        type=int,
+        default=4,
+        choices=(0, 2, 4, 8),
+        help="MSAA samples (0: off; llvmpipe shades every sample, so 0 is about 4x faster there)",
+    )
+    parser.add_argument(
+        "--aov",
+        choices=("guessed",),
+        default=None,
+        help="with --map: tint walls whose height and roofs whose shape the map did not give "
+        "(orange) apart from what it gave (blue)",
+    )
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
-    parser.add_argument("--profile", action="store_true",
-                        help="print each pass's wall time (ctx.finish() around it) and the frame total")
+    parser.add_argument(
+        "--profile",
+        action="store_true",
+        help="print each pass's wall time (ctx.finish() around it) and the frame total",
+    )
     parser.set_defaults(run=run)
 
 
@@ -81,13 +111,26 @@ def run(args) -> int:
         from ..maps import city_from_map
 
         city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time)
-    image, info = render_city(city=city, seed=args.seed, camera=args.camera, size=size, lights=lights,
-                              time=args.time, interior_mapping=not args.no_interiors, samples=args.samples,
-                              profile=args.profile, aov=args.aov, building_lod=args.building_lod, **sky)
+    image, info = render_city(
+        city=city,
+        seed=args.seed,
+        camera=args.camera,
+        size=size,
+        lights=lights,
+        time=args.time,
+        interior_mapping=not args.no_interiors,
+        samples=args.samples,
+        profile=args.profile,
+        aov=args.aov,
+        building_lod=args.building_lod,
+        **sky,
+    )
     save_png(image, args.out)
     if args.profile:
         print_profile(info["pass_ms"])
     msaa = f"{info['samples']}x MSAA" if info["samples"] else "no MSAA"
-    print(f"wrote {args.out} ({size[0]}x{size[1]}, {msaa}): {info['buildings']} buildings, "
-          f"frame {info['frame_ms']:.1f} ms (median of {info['frames']}) on {info['device']}")
+    print(
+        f"wrote {args.out} ({size[0]}x{size[1]}, {msaa}): {info['buildings']} buildings, "
+        f"frame {info['frame_ms']:.1f} ms (median of {info['frames']}) on {info['device']}"
+    )
     return 0

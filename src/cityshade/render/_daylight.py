@@ -54,11 +54,11 @@ MOONLIGHT = np.array([0.55, 0.65, 0.9]) * 0.08  # full moon radiance in the unit
 @dataclass(frozen=True)
 class Daylight:
     hours: float
-    sun_direction: np.ndarray   # unit vector toward the light that casts shadows (the moon at night)
+    sun_direction: np.ndarray  # unit vector toward the light that casts shadows (the moon at night)
     sun_color: np.ndarray
     sky_ambient: np.ndarray
     ground_ambient: np.ndarray
-    dusk: float                 # 0 = day, 1 = night
+    dusk: float  # 0 = day, 1 = night
     exposure: float
     sky_sun: np.ndarray | None = None  # toward the sun itself, for the sky (None: sun_direction)
     moon_direction: np.ndarray | None = None  # toward the moon when it is up and the sun is down
@@ -67,8 +67,9 @@ class Daylight:
     sun_elevation: float = 0.0  # degrees
 
     @classmethod
-    def at(cls, hours: float, sun: tuple[float, float] | None = None,
-           moon: tuple[float, float, float] | None = None) -> "Daylight":
+    def at(
+        cls, hours: float, sun: tuple[float, float] | None = None, moon: tuple[float, float, float] | None = None
+    ) -> "Daylight":
         """The light at clock time `hours`; `sun` = (elevation, azimuth) in degrees places the sun
         (otherwise a clock sun), `moon` = (elevation, azimuth, lit fraction) lights the night."""
         if sun is None:
@@ -89,7 +90,17 @@ class Daylight:
             moon_direction = compass_direction(moon[0], moon[1])
             light = moon_direction
             sun_color = MOONLIGHT * moon[2] * _smoothstep(0.0, 10.0, moon[0])
-        return cls(hours, light, sun_color, sky, ground, float(dusk), float(exposure),
-                   sky_sun=direction, moon_direction=moon_direction,
-                   street_lights=1.0 - _smoothstep(-2.0, 1.0, elevation),
-                   moon_lit=float(moon[2]) if moon is not None else 0.0, sun_elevation=elevation)
+        return cls(
+            hours,
+            light,
+            sun_color,
+            sky,
+            ground,
+            float(dusk),
+            float(exposure),
+            sky_sun=direction,
+            moon_direction=moon_direction,
+            street_lights=1.0 - _smoothstep(-2.0, 1.0, elevation),
+            moon_lit=float(moon[2]) if moon is not None else 0.0,
+            sun_elevation=elevation,
+        )

@@ -17,7 +17,16 @@ from typing import Callable
 import moderngl
 import numpy as np
 
-from ..gl import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, ProgramCache, RenderTarget, bind_textures, draw_fullscreen, set_uniforms
+from ..gl import (
+    FRAME_BLOCK,
+    MAX_USES,
+    SHADING_BLOCK,
+    ProgramCache,
+    RenderTarget,
+    bind_textures,
+    draw_fullscreen,
+    set_uniforms,
+)
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, lit_shares
@@ -111,27 +120,51 @@ class FrameInputs:
 
     def building_defines(self, **extra) -> dict:
         s = self.view.settings
-        return {"INTERIOR_MAPPING": s.interior_mapping, "IM_SINGLE_ATLAS": s.single_atlas, "INTERIOR_LOD": s.lod,
-                "BUILDING_LOD": s.building_lod, "NO_SHADOWS": self.gpu.shadows is None, **extra}
+        return {
+            "INTERIOR_MAPPING": s.interior_mapping,
+            "IM_SINGLE_ATLAS": s.single_atlas,
+            "INTERIOR_LOD": s.lod,
+            "BUILDING_LOD": s.building_lod,
+            "NO_SHADOWS": self.gpu.shadows is None,
+            **extra,
+        }
 
     def write_frame_blocks(self):
         """The values programs share, once per frame: camera, sun and sky for every program
         (cityshade.gl.FRAME_BLOCK), rooms, windows and lamps for the city's (SHADING_BLOCK)."""
         s, d, t = self.view.settings, self.view.daylight, self.gpu.textures
-        FRAME_BLOCK.write(self.gpu.ctx, u_inv_view_proj=np.linalg.inv(self.view.view_projection),
-                          u_camera=self.view.camera.eye, u_time=s.animation_time, u_sun_dir=d.sun_direction,
-                          u_exposure=d.exposure, u_sun_color=d.sun_color, u_sky_ambient=d.sky_ambient,
-                          u_ground_ambient=d.ground_ambient)
+        FRAME_BLOCK.write(
+            self.gpu.ctx,
+            u_inv_view_proj=np.linalg.inv(self.view.view_projection),
+            u_camera=self.view.camera.eye,
+            u_time=s.animation_time,
+            u_sun_dir=d.sun_direction,
+            u_exposure=d.exposure,
+            u_sun_color=d.sun_color,
+            u_sky_ambient=d.sky_ambient,
+            u_ground_ambient=d.ground_ambient,
+        )
         mask = (FLAG_FURNITURE * s.furniture) | (FLAG_CURTAINS * s.curtains) | (FLAG_ROOM_VARIATION * s.room_variation)
         layout = t.atlas_layout
         shares = lit_shares(d.hours, s.lights)
         SHADING_BLOCK.write(
-            self.gpu.ctx, u_lit_share=np.pad(shares, (0, MAX_USES - len(shares))), u_street_lights=d.street_lights,
-            u_room_variants=t.room_variants, u_sprite_kinds=t.sprite_kinds, u_sprite_frames=t.sprite_frames,
-            u_glass_rect=t.glass_rect, u_room_light=ROOM_LIGHT, u_room_dark=ROOM_DARK, u_feature_mask=int(mask),
-            u_lod_range=s.lod_range, u_window_tint=WINDOW_TINT, u_bay_mean=bay_mean(), u_relief_mean=relief_mean(),
+            self.gpu.ctx,
+            u_lit_share=np.pad(shares, (0, MAX_USES - len(shares))),
+            u_street_lights=d.street_lights,
+            u_room_variants=t.room_variants,
+            u_sprite_kinds=t.sprite_kinds,
+            u_sprite_frames=t.sprite_frames,
+            u_glass_rect=t.glass_rect,
+            u_room_light=ROOM_LIGHT,
+            u_room_dark=ROOM_DARK,
+            u_feature_mask=int(mask),
+            u_lod_range=s.lod_range,
+            u_window_tint=WINDOW_TINT,
+            u_bay_mean=bay_mean(),
+            u_relief_mean=relief_mean(),
             u_building_lod=lod_distances(s.building_lod_pixels, self.view.size[1], self.view.camera.fov_y),
-            u_atlas_layout=(layout["tile"], layout["padding"], t.atlas.width, t.atlas.height))
+            u_atlas_layout=(layout["tile"], layout["padding"], t.atlas.width, t.atlas.height),
+        )
 
     def room_textures(self) -> dict:
         """The textures of the interior-mapped rooms (shaders/interior/interior.glsl), by sampler name."""
@@ -178,6 +211,7 @@ class Pass:
 
 
 # -- what the passes draw ---------------------------------------------------------------------------
+
 
 def grammar_gbuffer(f: FrameInputs):
     f.gpu.textures.grammar_pass.draw_gbuffer(f, f.gpu.textures.grammar, set_uniforms)
@@ -259,8 +293,11 @@ def ssao(f: FrameInputs):
     program = f.gpu.programs.get("frame/ssao.glsl")
     resolved, camera = f.gpu.targets.resolved, f.view.camera
     bind_textures(program, {"u_color": resolved.colors[0], "u_depth": resolved.depth})
-    set_uniforms(program, u_near_far=(camera.near, camera.far),
-                 u_pixels_per_metre=f.view.size[1] / (2 * np.tan(np.radians(camera.fov_y) / 2)))
+    set_uniforms(
+        program,
+        u_near_far=(camera.near, camera.far),
+        u_pixels_per_metre=f.view.size[1] / (2 * np.tan(np.radians(camera.fov_y) / 2)),
+    )
     draw_fullscreen(program)
 
 
@@ -272,7 +309,9 @@ def tone_map(f: FrameInputs):
     program = f.gpu.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.view.settings.god_rays})
     bind_textures(program, {"u_hdr": f.gpu.targets.get(tone_map_source(f.view.settings)).colors[0]})
     v = f.view
-    set_uniforms(program, **god_ray_uniforms(v.view_projection, v.camera.eye, v.daylight.sun_direction, v.daylight.sun_color))
+    set_uniforms(
+        program, **god_ray_uniforms(v.view_projection, v.camera.eye, v.daylight.sun_direction, v.daylight.sun_color)
+    )
     draw_fullscreen(program)
 
 
@@ -309,12 +348,27 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
         passes.append(Pass("cull", cull_pass, (*CITY, "depth pyramid"), "building draws", OFF))
     if settings.grammar_deferred:
         # Krecklau §4: a G-buffer, then one full-screen grammar evaluation per pixel, shadowed
-        passes.append(Pass("grammar g-buffer", grammar_gbuffer, (*CITY, *grammar), "grammar_gbuffer",
-                           clear=(0.0, 0.0, 0.0, 0.0)))
-        passes.append(Pass("grammar evaluation", grammar_evaluation, ("grammar_gbuffer", *grammar, *shadows),
-                           "grammar_result", OFF, clear=(0.0, 0.0, 0.0, 0.0)))
-    facade_inputs = (*CITY, *ROOM_TEXTURES, *grammar, "relief maps", *shadows,
-                     *(("grammar_result",) if settings.grammar_deferred else ()))
+        passes.append(
+            Pass("grammar g-buffer", grammar_gbuffer, (*CITY, *grammar), "grammar_gbuffer", clear=(0.0, 0.0, 0.0, 0.0))
+        )
+        passes.append(
+            Pass(
+                "grammar evaluation",
+                grammar_evaluation,
+                ("grammar_gbuffer", *grammar, *shadows),
+                "grammar_result",
+                OFF,
+                clear=(0.0, 0.0, 0.0, 0.0),
+            )
+        )
+    facade_inputs = (
+        *CITY,
+        *ROOM_TEXTURES,
+        *grammar,
+        "relief maps",
+        *shadows,
+        *(("grammar_result",) if settings.grammar_deferred else ()),
+    )
     if settings.polygonised_interiors:
         # interior-mapping §3.1's baseline: exteriors with the glass cut out, real floors, ceilings
         # and walls (a floor and the ceiling below it share a plane: back faces culled), then the
@@ -322,13 +376,34 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
         passes.append(Pass("exteriors", polygonised_exteriors, facade_inputs, "hdr", GLState(cull=True), clear=black))
         room_depth = "<"
         if settings.depth_prepass:  # the rooms' own z-cull: each visible room pixel shaded once
-            passes.append(Pass("room depth prepass", draw_interior_depth, ("room geometry",), "hdr",
-                               GLState(colour_write=False, cull=True)))
+            passes.append(
+                Pass(
+                    "room depth prepass",
+                    draw_interior_depth,
+                    ("room geometry",),
+                    "hdr",
+                    GLState(colour_write=False, cull=True),
+                )
+            )
             room_depth = "<="
-        passes.append(Pass("rooms", polygonised_rooms, ("room geometry", *ROOM_TEXTURES), "hdr",
-                           GLState(depth_func=room_depth, cull=True)))
-        passes.append(Pass("window glass", polygonised_glass, facade_inputs, "hdr",
-                           GLState(depth_write=False, cull=True, blend=(moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA))))
+        passes.append(
+            Pass(
+                "rooms",
+                polygonised_rooms,
+                ("room geometry", *ROOM_TEXTURES),
+                "hdr",
+                GLState(depth_func=room_depth, cull=True),
+            )
+        )
+        passes.append(
+            Pass(
+                "window glass",
+                polygonised_glass,
+                facade_inputs,
+                "hdr",
+                GLState(depth_write=False, cull=True, blend=(moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA)),
+            )
+        )
         shading_depth = "<"
     elif settings.depth_prepass:
         # interior-mapping §3.1 "z-cull": every opaque surface into the z-buffer first, so the
@@ -339,14 +414,25 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
         shading_depth = "<"
     # facades; behind the glass, interior-mapped rooms
     if not settings.polygonised_interiors:
-        passes.append(Pass("buildings", draw_buildings, facade_inputs, "hdr", GLState(depth_func=shading_depth),
-                           clear=None if settings.depth_prepass else black))
+        passes.append(
+            Pass(
+                "buildings",
+                draw_buildings,
+                facade_inputs,
+                "hdr",
+                GLState(depth_func=shading_depth),
+                clear=None if settings.depth_prepass else black,
+            )
+        )
     # streets, pavements, parks; they receive the shadows
-    passes.append(Pass("ground", draw_ground, (*CITY, "environment", *shadows), "hdr", GLState(depth_func=shading_depth)))
+    passes.append(
+        Pass("ground", draw_ground, (*CITY, "environment", *shadows), "hdr", GLState(depth_func=shading_depth))
+    )
     if settings.trees:
         # trunks, fins, leaf cards, fronds with alpha to coverage (render/_trees.py sets cull per part)
-        passes.append(Pass("trees", trees, ("trees", "tree textures", "environment", *shadows), "hdr",
-                           GLState(depth_func="<=")))
+        passes.append(
+            Pass("trees", trees, ("trees", "tree textures", "environment", *shadows), "hdr", GLState(depth_func="<="))
+        )
     passes.append(Pass("sky", draw_sky, ("environment",), "hdr", GLState(depth_func="<=")))  # where nothing was drawn
     passes.append(Pass("resolve", resolve, ("hdr",), "resolved", OFF))  # multisampled HDR -> single-sample HDR
     if settings.ssao:
@@ -364,12 +450,22 @@ def id_passes(settings: RenderSettings, room_state: bool = False, windows: bool 
     (a key per window of its building, 0: none)."""
 
     def id_buildings(f: FrameInputs):
-        draw_buildings(f, {"ID_PASS": True, "ID_ROOM_STATE": room_state, "ID_WINDOW": windows, "INTERIOR_LOD": False,
-                                "BUILDING_LOD": False})
+        draw_buildings(
+            f,
+            {
+                "ID_PASS": True,
+                "ID_ROOM_STATE": room_state,
+                "ID_WINDOW": windows,
+                "INTERIOR_LOD": False,
+                "BUILDING_LOD": False,
+            },
+        )
 
     inputs = (*CITY, "grammar textures", "relief maps")
-    passes = [Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
-              Pass("ground ids", id_ground, CITY, "ids")]
+    passes = [
+        Pass("building ids", id_buildings, inputs, "ids", clear=(0.0, 0.0, 0.0, 0.0)),
+        Pass("ground ids", id_ground, CITY, "ids"),
+    ]
     if settings.trees:
         # trunks and fins FACE_TRUNK, leaf cards and fronds FACE_FOLIAGE, alpha-tested
         passes.append(Pass("tree ids", id_trees, ("trees", "tree textures"), "ids", GLState(depth_func="<=")))

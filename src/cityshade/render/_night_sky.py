@@ -17,8 +17,9 @@ def night_amount(sun_elevation: float) -> float:
     return t * t * (3 - 2 * t)
 
 
-def night_sky(radiance: np.ndarray, directions: np.ndarray, night: float, moon: np.ndarray | None = None,
-              moon_lit: float = 1.0) -> np.ndarray:
+def night_sky(
+    radiance: np.ndarray, directions: np.ndarray, night: float, moon: np.ndarray | None = None, moon_lit: float = 1.0
+) -> np.ndarray:
     """Radiance (..., 3) darkened toward the night sky by `night` (0..1), with the moon's disc toward
     unit vector `moon` (lit fraction `moon_lit`)."""
     dirs = directions / np.linalg.norm(directions, axis=-1, keepdims=True)

@@ -36,8 +36,12 @@ def frame_bytes_per_pixel(samples: int) -> int:
 class Renderer:
     """Renders a City from a Camera. Headless by default; pass a window's context to draw on screen."""
 
-    def __init__(self, size: tuple[int, int] = (1280, 720), settings: RenderSettings | None = None,
-                 ctx: moderngl.Context | None = None):
+    def __init__(
+        self,
+        size: tuple[int, int] = (1280, 720),
+        settings: RenderSettings | None = None,
+        ctx: moderngl.Context | None = None,
+    ):
         self.size = check_size(size)
         self.settings = settings or RenderSettings()
         check_image_memory(self.size, frame_bytes_per_pixel(self.settings.samples), "a render")
@@ -117,8 +121,9 @@ class Renderer:
             radiance = assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sky_sun), dusk=daylight.dusk)
             night = night_amount(daylight.sun_elevation)
             if night > 0.0 or daylight.moon_direction is not None:
-                radiance = night_sky(radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction,
-                                     daylight.moon_lit)
+                radiance = night_sky(
+                    radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction, daylight.moon_lit
+                )
             self.env = upload_cubemap(self.ctx, radiance)
             self._env_key = key
         return daylight
@@ -134,8 +139,16 @@ class Renderer:
         if self.settings.grammar_deferred:
             self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
         s = self.settings
-        gpu = FrameResources(self.ctx, self.programs, self.city, self.textures, self.env, self.targets,
-                             shadows=self.shadows if s.shadows else None, trees=self.trees if s.trees else None)
+        gpu = FrameResources(
+            self.ctx,
+            self.programs,
+            self.city,
+            self.textures,
+            self.env,
+            self.targets,
+            shadows=self.shadows if s.shadows else None,
+            trees=self.trees if s.trees else None,
+        )
         return FrameInputs(gpu, FrameView(camera, s, daylight, self.size, self.frame_index - 1))
 
     def _start_grammars(self):
@@ -145,13 +158,16 @@ class Renderer:
             return
         compiled = self.textures.grammar.compiled
         if start is not None and start not in compiled.starts:
-            raise UsageError(f"unknown grammar_start {start!r}; allowed: {', '.join(compiled.starts)} "
-                             "(or add its file to grammar_files)")
+            raise UsageError(
+                f"unknown grammar_start {start!r}; allowed: {', '.join(compiled.starts)} "
+                "(or add its file to grammar_files)"
+            )
         self.city.start_grammars_at(None if start is None else compiled.address(start))
         self._grammar_start = (start,)
 
-    def draw(self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None,
-             profile: bool = False) -> RenderTarget:
+    def draw(
+        self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None, profile: bool = False
+    ) -> RenderTarget:
         """Draws one frame; returns the display target (also blitted to `framebuffer` if given).
         With `profile`, each pass is timed on its own (ctx.finish() around it) into last_pass_seconds."""
         self._current()

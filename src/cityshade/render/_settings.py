@@ -11,38 +11,38 @@ CULLING = ("gpu", "frustum", "off")
 
 @dataclass(frozen=True)
 class RenderSettings:
-    interior_mapping: bool = True     # off: the reflective-only windows baseline (paper §3.2)
+    interior_mapping: bool = True  # off: the reflective-only windows baseline (paper §3.2)
     polygonised_interiors: bool = False  # baseline of paper §3.1: real floors, ceilings, walls instead
-    depth_prepass: bool = True        # paper §3.1 "z-cull"
-    single_atlas: bool = False        # paper §3.2: one atlas texture instead of four
-    furniture: bool = True            # paper §2.4 furniture planes
+    depth_prepass: bool = True  # paper §3.1 "z-cull"
+    single_atlas: bool = False  # paper §3.2: one atlas texture instead of four
+    furniture: bool = True  # paper §2.4 furniture planes
     curtains: bool = True
-    room_variation: bool = True       # paper §4.3 displaced walls
-    lod: bool = True                  # interiors fade to lit-window colours far away
+    room_variation: bool = True  # paper §4.3 displaced walls
+    lod: bool = True  # interiors fade to lit-window colours far away
     lod_range: tuple[float, float] = (220.0, 320.0)
-    building_lod: bool = False        # far facades: relief untraced, then a style's mean colour (city/lod.glsl)
+    building_lod: bool = False  # far facades: relief untraced, then a style's mean colour (city/lod.glsl)
     # pixels a room spans where each cross-fade band starts and ends: relief traced straight into the
     # wall over the first band, the style's mean colour over the second (render/_building_lod.py)
     building_lod_pixels: tuple[float, float, float, float] = (16.0, 12.0, 8.0, 6.0)
     room_texture_size: int = 256
     room_variants: int = 8
-    samples: int = 4                  # MSAA of the HDR target
-    trees: bool = True                # street rows and park groves (SpeedTree ch. 4)
-    shadows: bool = True              # cascaded shadow maps (SpeedTree §4.3.2)
-    god_rays: bool = True             # radial blur of bright pixels around the sun (SpeedTree §4.5)
-    lights: float | None = None       # probability c; None: from the time of day
-    time_of_day: float = 19.17        # hours (19:10, dusk)
+    samples: int = 4  # MSAA of the HDR target
+    trees: bool = True  # street rows and park groves (SpeedTree ch. 4)
+    shadows: bool = True  # cascaded shadow maps (SpeedTree §4.3.2)
+    god_rays: bool = True  # radial blur of bright pixels around the sun (SpeedTree §4.5)
+    lights: float | None = None  # probability c; None: from the time of day
+    time_of_day: float = 19.17  # hours (19:10, dusk)
     sun: tuple[float, float] | None = None  # (elevation, azimuth) degrees over a map; None: from time_of_day
     moon: tuple[float, float, float] | None = None  # (elevation, azimuth, lit fraction): moonlight at night
-    animation_time: float = 0.0       # seconds, drives furniture sprites
-    grammar_deferred: bool = True     # facade grammars in a deferred pass (Krecklau §4); measured faster
-    culling: str = "gpu"              # buildings: "gpu" (frustum and hierarchical depth, render/_visibility.py),
-                                      # "frustum" (96 m chunks on the CPU), "off" (all drawn)
-    ssao: bool = False                # screen-space ambient occlusion of the lit frame (Krecklau §4's pipeline)
+    animation_time: float = 0.0  # seconds, drives furniture sprites
+    grammar_deferred: bool = True  # facade grammars in a deferred pass (Krecklau §4); measured faster
+    culling: str = "gpu"  # buildings: "gpu" (frustum and hierarchical depth, render/_visibility.py),
+    # "frustum" (96 m chunks on the CPU), "off" (all drawn)
+    ssao: bool = False  # screen-space ambient occlusion of the lit frame (Krecklau §4's pipeline)
     grammar_files: tuple[str, ...] = ()  # grammar files compiled into the facade texture after the library
-                                      # styles, each named by its file stem
+    # styles, each named by its file stem
     grammar_start: str | None = None  # every grammar facade starts at this grammar (a library style or a
-                                      # grammar_files stem); None: each building's own style
+    # grammar_files stem); None: each building's own style
 
     def __post_init__(self):
         if self.culling not in CULLING:

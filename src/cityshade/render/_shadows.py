@@ -39,8 +39,14 @@ class ShadowStats:
 
 
 class CascadedShadows:
-    def __init__(self, ctx: moderngl.Context, resolution: int = 1024, shadow_far: float = 160.0,
-                 rates=PAPER_RATES, caster_reach: float = 120.0):
+    def __init__(
+        self,
+        ctx: moderngl.Context,
+        resolution: int = 1024,
+        shadow_far: float = 160.0,
+        rates=PAPER_RATES,
+        caster_reach: float = 120.0,
+    ):
         self.ctx = ctx
         self.resolution = resolution
         self.shadow_far = shadow_far
@@ -72,8 +78,9 @@ class CascadedShadows:
         ctx.depth_func = "<"
         ctx.polygon_offset = (1.5, 4.0)
         for index, casters in cascades_due(frame, self.rates):
-            view_proj = cascade_view_projection(inv, camera.near, camera.far, splits[index], splits[index + 1],
-                                                sun, self.resolution, self.caster_reach)
+            view_proj = cascade_view_projection(
+                inv, camera.near, camera.far, splits[index], splits[index + 1], sun, self.resolution, self.caster_reach
+            )
             self.targets[index].use()
             self.targets[index].fbo.clear(depth=1.0)
             calls = draw_casters(view_proj, sun, casters)
@@ -90,7 +97,7 @@ class CascadedShadows:
         bind_textures(program, {f"u_shadow_map{i}": depth for i, depth in enumerate(self.maps)})
         # a variant that reads only the first cascades has a shorter array after compilation
         matrices = program["u_shadow_matrix"]
-        matrices.write(np.stack([m.T for m in self.matrices[:matrices.array_length]]).astype("f4").tobytes())
+        matrices.write(np.stack([m.T for m in self.matrices[: matrices.array_length]]).astype("f4").tobytes())
         if "u_shadow_bias" in program:
             bias = program["u_shadow_bias"]
             bias.write(np.full(bias.array_length, SHADOW_BIAS, "f4").tobytes())
@@ -105,6 +112,7 @@ def shadow_pass(f):
     (buildings as depth-only, trees through the tree pass); `f` is the frame's FrameInputs."""
     if f.gpu.shadows is None:
         return
+
     def draw_casters(view_proj, sun, casters) -> int:
         calls = 0
         if "buildings" in casters:

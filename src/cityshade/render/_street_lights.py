@@ -65,8 +65,9 @@ def light_grid(lamps: np.ndarray) -> LightGrid:
     order = np.lexsort((lamp, cell))
     starts = np.zeros(nx * nz + 1, np.int64)
     np.add.at(starts, cell + 1, 1)
-    return LightGrid((float(low[0]), float(low[1])), (nx, nz), np.cumsum(starts).astype(np.uint32),
-                     lamp[order].astype(np.uint32))
+    return LightGrid(
+        (float(low[0]), float(low[1])), (nx, nz), np.cumsum(starts).astype(np.uint32), lamp[order].astype(np.uint32)
+    )
 
 
 def lamps_reaching_cell(lamps: np.ndarray, grid: LightGrid, cell: int) -> np.ndarray:
@@ -91,8 +92,12 @@ class StreetLightsGPU:
     def bind(self, program):
         for buffer, binding in zip(self.buffers, (BINDING_LAMPS, BINDING_CELLS, BINDING_INDICES)):
             buffer.bind_to_storage_buffer(binding)
-        set_uniforms(program, u_lamp_origin=np.array(self.grid.origin, float), u_lamp_cells=self.grid.cells,
-                     u_lamp_cell_size=CELL)
+        set_uniforms(
+            program,
+            u_lamp_origin=np.array(self.grid.origin, float),
+            u_lamp_cells=self.grid.cells,
+            u_lamp_cell_size=CELL,
+        )
 
     def release(self):
         for buffer in self.buffers:

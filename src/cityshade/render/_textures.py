@@ -32,8 +32,9 @@ class CityTextures:
     grammar_pass: DeferredGrammarPass  # targets of the deferred grammar evaluation
 
     @classmethod
-    def create(cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8,
-               grammar_files: tuple[str, ...] = ()) -> "CityTextures":
+    def create(
+        cls, ctx: moderngl.Context, room_size: int = 256, variants: int = 8, grammar_files: tuple[str, ...] = ()
+    ) -> "CityTextures":
         rooms_np = assets.room_textures(size=room_size, variants=variants)
         # one array, face after face (shaders/interior/interior.glsl room_layer)
         rooms = upload_texture(ctx, np.concatenate([rooms_np[face] for face in ROOM_FACES]), "srgb", repeat=False)
@@ -45,8 +46,20 @@ class CityTextures:
         sprites = upload_texture(ctx, sprites_np.reshape(kinds * frames, *sprites_np.shape[2:]), "srgb", repeat=False)
         curtain = upload_texture(ctx, assets.curtain_texture(), "srgb")
         grammar = GrammarTextures(ctx, library_texture_with(grammar_files), assets.tile_array())
-        return cls(rooms, atlas, layout, upload_texture(ctx, facade_np, "srgb"), tuple(float(g) for g in glass), sprites,
-                   kinds, frames, curtain, variants, grammar, DeferredGrammarPass(ctx))
+        return cls(
+            rooms,
+            atlas,
+            layout,
+            upload_texture(ctx, facade_np, "srgb"),
+            tuple(float(g) for g in glass),
+            sprites,
+            kinds,
+            frames,
+            curtain,
+            variants,
+            grammar,
+            DeferredGrammarPass(ctx),
+        )
 
     def release(self):
         for tex in (self.rooms, self.atlas, self.facade, self.sprites, self.curtain):

@@ -12,8 +12,21 @@ from dataclasses import dataclass, replace
 import moderngl
 import numpy as np
 
-from ..trees import (BRANCH_ATTRIBUTES, BRANCH_LAYOUT, CARD_ATTRIBUTES, CARD_LAYOUT, FROND_ATTRIBUTES, FROND_LAYOUT,
-                     SPECIES, SPECIES_ORDER, bark_textures, generate_tree, leaf_textures, light_basis, lod_alphas)
+from ..trees import (
+    BRANCH_ATTRIBUTES,
+    BRANCH_LAYOUT,
+    CARD_ATTRIBUTES,
+    CARD_LAYOUT,
+    FROND_ATTRIBUTES,
+    FROND_LAYOUT,
+    SPECIES,
+    SPECIES_ORDER,
+    bark_textures,
+    generate_tree,
+    leaf_textures,
+    light_basis,
+    lod_alphas,
+)
 from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
 from ._culling import boxes_visible, frustum_planes
 from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
@@ -74,8 +87,9 @@ class _Part:
 class TreePass:
     """All trees of a scene: one model per species, instanced by the records in `trees`."""
 
-    def __init__(self, ctx: moderngl.Context, programs, trees: np.ndarray, settings: TreeSettings | None = None,
-                 seed: int = 0):
+    def __init__(
+        self, ctx: moderngl.Context, programs, trees: np.ndarray, settings: TreeSettings | None = None, seed: int = 0
+    ):
         self.ctx = ctx
         self.programs = programs
         self.settings = settings or TreeSettings()
@@ -98,11 +112,16 @@ class TreePass:
         }
         # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
         capacity = {index: max(int(np.sum(trees["species"] == index)), 1) for index in self.models}
-        self.instances = {(index, lod): (create_buffer(ctx, reserve=capacity[index] * INSTANCE_FLOATS * 4), 0)
-                          for index in self.models for lod in (0, 1)}
+        self.instances = {
+            (index, lod): (create_buffer(ctx, reserve=capacity[index] * INSTANCE_FLOATS * 4), 0)
+            for index in self.models
+            for lod in (0, 1)
+        }
         # (species, lod) -> draw commands of trees/cull.glsl, one per instance and mesh
-        self.commands = {key: create_buffer(ctx, reserve=capacity[key[0]] * len(MESHES) * COMMAND_WORDS * 4)
-                         for key in self.instances}
+        self.commands = {
+            key: create_buffer(ctx, reserve=capacity[key[0]] * len(MESHES) * COMMAND_WORDS * 4)
+            for key in self.instances
+        }
         self.culled = False  # whether the commands of the instances written last are current
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
         self._vaos = VertexArrays(ctx)
@@ -150,9 +169,18 @@ class TreePass:
                 continue
             counts = tuple(self.parts[species, lod, mesh].count for mesh in MESHES)
             buffer.bind_to_storage_buffer(1)
-            run_cull(self.ctx, "trees/cull.glsl", count, self.commands[species, lod], view_projection, pyramid,
-                     u_instance_count=count, u_tree_height=self.models[species].height, u_sway=self.sway(),
-                     u_index_counts=counts)
+            run_cull(
+                self.ctx,
+                "trees/cull.glsl",
+                count,
+                self.commands[species, lod],
+                view_projection,
+                pyramid,
+                u_instance_count=count,
+                u_tree_height=self.models[species].height,
+                u_sway=self.sway(),
+                u_index_counts=counts,
+            )
         self.culled = True
 
     def instance_boxes(self, species: int, lod: int) -> np.ndarray:
@@ -183,9 +211,12 @@ class TreePass:
         _, layout, attributes, _ = PARTS[part]
         gpu = self.parts[species, lod, "trunks" if part == "fins" else part]
         instances = self.instances[species, lod][0]
-        return self._vaos.get((program.glo, species, lod, part), program,
-                              [(gpu.vbo, layout, *attributes), (instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
-                              index_buffer=gpu.ibo)
+        return self._vaos.get(
+            (program.glo, species, lod, part),
+            program,
+            [(gpu.vbo, layout, *attributes), (instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
+            index_buffer=gpu.ibo,
+        )
 
     def _draw_part(self, program, part: str, mode=moderngl.TRIANGLES) -> int:
         bind_textures(program, {name: self.textures[name] for name in PART_SAMPLERS[part]})
@@ -199,8 +230,12 @@ class TreePass:
                 continue
             if part in BRANCHES:
                 bark = self.models[species].species
-                set_uniforms(program, u_bark_layer=float(bark.bark_layer), u_relief_depth=bark.relief_depth,
-                             u_bark_tile=bark.bark_tile)
+                set_uniforms(
+                    program,
+                    u_bark_layer=float(bark.bark_layer),
+                    u_relief_depth=bark.relief_depth,
+                    u_bark_tile=bark.bark_tile,
+                )
             vao = self._vao(program, species, lod, part)
             if self.culled:  # one command per instance, in instance order (trees/cull.glsl)
                 first = MESHES.index("trunks" if part == "fins" else part) * prepared
@@ -217,8 +252,15 @@ class TreePass:
     def _common(self) -> dict:
         return dict(u_wind=np.array(self.settings.wind, float))
 
-    def draw(self, uniforms: dict, view: np.ndarray, shadows=None, parts=("trunks", "fins", "leaves", "fronds"),
-             ids: bool = False, env: moderngl.TextureCube | None = None) -> int:
+    def draw(
+        self,
+        uniforms: dict,
+        view: np.ndarray,
+        shadows=None,
+        parts=("trunks", "fins", "leaves", "fronds"),
+        ids: bool = False,
+        env: moderngl.TextureCube | None = None,
+    ) -> int:
         """Main pass into the bound (multisampled HDR) target. `uniforms` holds u_view_proj; the
         camera, sun, sky and time come from the frame block (cityshade.gl.FRAME_BLOCK), which the
         caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
@@ -227,13 +269,23 @@ class TreePass:
         mix). `env` is the sky's radiance, for the leaves' sky light. Returns the number of draw calls."""
         s, ctx = self.settings, self.ctx
         alpha_to_coverage = s.alpha_to_coverage and not ids
-        base = dict(ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None),
-                    ID_PASS=ids)
-        cards = {"u_card_right": view[0, :3], "u_card_up": view[1, :3], "u_card_shift": np.zeros(3),
-                 "u_specular_fade": np.array(s.specular_fade), "u_leaf_depth": s.leaf_depth,
-                 "u_normal_bias": s.normal_bias}
-        values = {"trunks": {}, "fins": {"u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach},
-                  "leaves": cards, "fronds": cards}  # each part's own uniforms, beside the shared ones
+        base = dict(
+            ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None), ID_PASS=ids
+        )
+        cards = {
+            "u_card_right": view[0, :3],
+            "u_card_up": view[1, :3],
+            "u_card_shift": np.zeros(3),
+            "u_specular_fade": np.array(s.specular_fade),
+            "u_leaf_depth": s.leaf_depth,
+            "u_normal_bias": s.normal_bias,
+        }
+        values = {
+            "trunks": {},
+            "fins": {"u_fin_fade": np.array(s.fin_fade), "u_fin_reach": s.fin_reach},
+            "leaves": cards,
+            "fronds": cards,
+        }  # each part's own uniforms, beside the shared ones
         programs = {
             "trunks": self._program("trunks", RELIEF=s.relief, **base),
             "fins": self._program("fins", **base),
@@ -264,8 +316,11 @@ class TreePass:
     def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters) -> int:
         """The trees' casters of one cascade; leaf cards face the light and move toward it."""
         right, up = light_basis(sun_dir)
-        cards = {"u_card_right": right, "u_card_up": up,
-                 "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift}
+        cards = {
+            "u_card_right": right,
+            "u_card_up": up,
+            "u_card_shift": np.asarray(sun_dir, float) * self.settings.card_shift,
+        }
         calls = 0
         for part in ("trunks", "fronds", "leaves"):
             if part not in casters:
@@ -296,5 +351,10 @@ def draw_trees(f, ids: bool = False) -> int:
     trees.prepare(view.camera.eye, view.view_projection if ids else None)  # the id AOV's trees: only those in view
     if view.settings.culling == "gpu" and not ids:  # behind the buildings' hierarchical depth, when this frame built it
         trees.cull(view.view_projection, f.gpu.city.visibility.pyramid if f.gpu.camera_draws is not None else None)
-    return trees.draw({"u_view_proj": view.view_projection}, view.camera.view(), None if ids else f.gpu.shadows,
-                      ids=ids, env=f.gpu.env)
+    return trees.draw(
+        {"u_view_proj": view.view_projection},
+        view.camera.view(),
+        None if ids else f.gpu.shadows,
+        ids=ids,
+        env=f.gpu.env,
+    )

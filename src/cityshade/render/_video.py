@@ -17,9 +17,20 @@ from ._renderer import Renderer
 from ._settings import RenderSettings
 
 
-def render_video(out: Path, city: str | City = "default", path: str = "orbit", frames: int = 48, fps: int = 24,
-                 size: tuple[int, int] = (640, 360), start_time: str = "19:10", end_time: str | None = None,
-                 progress: bool = True, sky=None, workers: int | None = None, map_path: Path | None = None) -> Path:
+def render_video(
+    out: Path,
+    city: str | City = "default",
+    path: str = "orbit",
+    frames: int = 48,
+    fps: int = 24,
+    size: tuple[int, int] = (640, 360),
+    start_time: str = "19:10",
+    end_time: str | None = None,
+    progress: bool = True,
+    sky=None,
+    workers: int | None = None,
+    map_path: Path | None = None,
+) -> Path:
     """Renders `frames` frames along a camera path into an H.264 MP4 (written whole or not at all).
     With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up.
     `sky` (hours -> settings, e.g. `maps.sky_clock`) places the sun and moon for each frame's time.
@@ -43,8 +54,9 @@ def render_video(out: Path, city: str | City = "default", path: str = "orbit", f
     if workers:
         from ..dataset import render_frames
 
-        pictures = render_frames((job(i) for i in range(frames)), size, map_path,
-                                 None if map_path else layout.name, workers)
+        pictures = render_frames(
+            (job(i) for i in range(frames)), size, map_path, None if map_path else layout.name, workers
+        )
     else:
         renderer = Renderer(size, base)
         renderer.set_city(layout)
@@ -57,9 +69,13 @@ def render_video(out: Path, city: str | City = "default", path: str = "orbit", f
 
         pictures = serial()
     try:
-        with atomic_output(out) as tmp, imageio.get_writer(tmp, fps=fps, codec="libx264", quality=8,
-                                                          macro_block_size=1, ffmpeg_log_level="error") as writer, \
-                Progress(disable=not progress) as bar:
+        with (
+            atomic_output(out) as tmp,
+            imageio.get_writer(
+                tmp, fps=fps, codec="libx264", quality=8, macro_block_size=1, ffmpeg_log_level="error"
+            ) as writer,
+            Progress(disable=not progress) as bar,
+        ):
             task = bar.add_task(f"rendering {out.name}", total=frames)
             for picture in pictures:
                 with signals_deferred():
@@ -74,8 +90,13 @@ def render_video(out: Path, city: str | City = "default", path: str = "orbit", f
 def register(subparsers):
     parser = subparsers.add_parser("video", help="render a camera path to MP4")
     parser.add_argument("--city", default="default")
-    parser.add_argument("--map", type=Path, default=None, metavar="FILE",
-                        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON")
+    parser.add_argument(
+        "--map",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
+    )
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--path", default="orbit", help=f"camera path: {', '.join(PATHS)}")
     parser.add_argument("--frames", type=int, default=48)
@@ -84,8 +105,13 @@ def register(subparsers):
     parser.add_argument("--time", default="19:10", help="time of day at the start, HH:MM")
     parser.add_argument("--until", default=None, help="time of day at the end, HH:MM (animates dusk)")
     parser.add_argument("--out", type=Path, default=Path("out/city.mp4"))
-    parser.add_argument("--workers", type=int, default=None, metavar="K",
-                        help="render the frames on K Ray actors (as cityshade dataset does)")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="K",
+        help="render the frames on K Ray actors (as cityshade dataset does)",
+    )
     parser.set_defaults(run=_run)
 
 
@@ -113,7 +139,18 @@ def _run(args) -> int:
         sky = sky_clock(city.origin, args.date)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers {args.workers}: give at least 1")
-    render_video(args.out, city, args.path, args.frames, args.fps, size, args.time, args.until, sky=sky,
-                 workers=args.workers, map_path=args.map)
+    render_video(
+        args.out,
+        city,
+        args.path,
+        args.frames,
+        args.fps,
+        size,
+        args.time,
+        args.until,
+        sky=sky,
+        workers=args.workers,
+        map_path=args.map,
+    )
     print(f"wrote {args.out} ({args.frames} frames, {size[0]}x{size[1]}, {args.fps} fps)")
     return 0

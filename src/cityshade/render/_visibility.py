@@ -93,13 +93,18 @@ def hiz_twin(depth: np.ndarray) -> list[np.ndarray]:
         for y in range(h):
             ys = slice(2 * y, finer.shape[0] if y == h - 1 else 2 * y + 2)
             for x in range(w):
-                out[y, x] = finer[ys, 2 * x: finer.shape[1] if x == w - 1 else 2 * x + 2].max()
+                out[y, x] = finer[ys, 2 * x : finer.shape[1] if x == w - 1 else 2 * x + 2].max()
         levels.append(out)
     return levels
 
 
-def visible_twin(boxes: np.ndarray, view_projection: np.ndarray, eye=None, pyramid: list[np.ndarray] | None = None,
-                 viewport: tuple[int, int] | None = None) -> np.ndarray:
+def visible_twin(
+    boxes: np.ndarray,
+    view_projection: np.ndarray,
+    eye=None,
+    pyramid: list[np.ndarray] | None = None,
+    viewport: tuple[int, int] | None = None,
+) -> np.ndarray:
     """frame/cull.glsl (and trees/cull.glsl) in numpy: which boxes are drawn. Frustum only; with
     `eye`, the occluders; with `pyramid` (hiz_twin's or the GPU's levels) and `viewport`, the Hi-Z
     test too."""
@@ -121,13 +126,21 @@ def visible_twin(boxes: np.ndarray, view_projection: np.ndarray, eye=None, pyram
                 level += 1
                 top = np.array(pyramid[level].shape[::-1]) - 1
                 a, b = np.minimum(first[i] >> level, top), np.minimum(last[i] >> level, top)
-            farthest[i] = pyramid[level][a[1]: b[1] + 1, a[0]: b[0] + 1].max()
+            farthest[i] = pyramid[level][a[1] : b[1] + 1, a[0] : b[0] + 1].max()
         drawn &= ~(in_front & (nearest > farthest + np.float32(DEPTH_MARGIN)))
     return drawn
 
 
-def run_cull(ctx: moderngl.Context, path: str, count: int, out: moderngl.Buffer, view_projection: np.ndarray,
-             pyramid: moderngl.Texture | None = None, defines: dict | None = None, **uniforms):
+def run_cull(
+    ctx: moderngl.Context,
+    path: str,
+    count: int,
+    out: moderngl.Buffer,
+    view_projection: np.ndarray,
+    pyramid: moderngl.Texture | None = None,
+    defines: dict | None = None,
+    **uniforms,
+):
     """Runs a cull compute shader (`path`, one invocation per box; its inputs bound by the caller)
     that writes draw commands into `out`: frustum test, and with `pyramid` (a max-depth pyramid of
     the view's depth, as large as its viewport) the Hi-Z test."""
@@ -136,8 +149,12 @@ def run_cull(ctx: moderngl.Context, path: str, count: int, out: moderngl.Buffer,
     program["u_planes"].write(frustum_planes(view_projection).astype(np.float32).tobytes())
     if pyramid is not None:
         bind_textures(program, {"u_hiz": pyramid})
-        uniforms.update(u_cull_view_proj=view_projection, u_viewport=pyramid.size,
-                        u_hiz_top=len(pyramid_levels(pyramid.size)) - 1, u_depth_margin=DEPTH_MARGIN)
+        uniforms.update(
+            u_cull_view_proj=view_projection,
+            u_viewport=pyramid.size,
+            u_hiz_top=len(pyramid_levels(pyramid.size)) - 1,
+            u_depth_margin=DEPTH_MARGIN,
+        )
     set_uniforms(program, **uniforms)
     out.bind_to_storage_buffer(2)
     program.run(-(-count // GROUP))
@@ -158,11 +175,26 @@ class BuildingVisibility:
         self.camera_draws = create_buffer(ctx, reserve=size)  # frustum and Hi-Z
         self.pyramid: moderngl.Texture | None = None
 
-    def _run(self, out: moderngl.Buffer, view_projection: np.ndarray, defines: dict | None = None,
-             pyramid: moderngl.Texture | None = None, **uniforms) -> moderngl.Buffer:
+    def _run(
+        self,
+        out: moderngl.Buffer,
+        view_projection: np.ndarray,
+        defines: dict | None = None,
+        pyramid: moderngl.Texture | None = None,
+        **uniforms,
+    ) -> moderngl.Buffer:
         self.box_buffer.bind_to_storage_buffer(1)
-        run_cull(self.ctx, "frame/cull.glsl", self.count, out, view_projection, pyramid, defines,
-                 u_box_count=self.count, **uniforms)
+        run_cull(
+            self.ctx,
+            "frame/cull.glsl",
+            self.count,
+            out,
+            view_projection,
+            pyramid,
+            defines,
+            u_box_count=self.count,
+            **uniforms,
+        )
         return out
 
     def frustum(self, view_projection: np.ndarray) -> moderngl.Buffer:
@@ -197,8 +229,10 @@ class BuildingVisibility:
 
     def read_pyramid(self) -> list[np.ndarray]:
         """The pyramid's levels as float32 arrays (row 0 the bottom row)."""
-        return [np.frombuffer(self.pyramid.read(level=level), np.float32).reshape(h, w)
-                for level, (w, h) in enumerate(pyramid_levels(self.pyramid.size))]
+        return [
+            np.frombuffer(self.pyramid.read(level=level), np.float32).reshape(h, w)
+            for level, (w, h) in enumerate(pyramid_levels(self.pyramid.size))
+        ]
 
     def drawn(self, commands: moderngl.Buffer) -> np.ndarray:
         """Which boxes (in `boxes` order; their building is boxes["draw"][:, 2]) a command buffer
@@ -213,6 +247,7 @@ class BuildingVisibility:
 
 
 # -- the frame's passes (render/_frame.py): `f` is the frame's FrameInputs ------------------------------
+
 
 def occluder_pass(f):
     """The big buildings in the frustum, depth-only, into the frame's depth buffer."""

@@ -17,7 +17,15 @@ import shapely
 
 from ._buildings import BuildingMass, room_sizes
 from ._extrusions import gable_rows, roof_rows, wall_quads, wall_rows
-from ._meshes import SURFACE_ROOF, SURFACE_WALL, VERTEX_DTYPE, building_records, mass_rows, simplified_outline, vertex_records
+from ._meshes import (
+    SURFACE_ROOF,
+    SURFACE_WALL,
+    VERTEX_DTYPE,
+    building_records,
+    mass_rows,
+    simplified_outline,
+    vertex_records,
+)
 from ._records import BUILDING_DTYPE
 from ._roofs import flat_rows, roof_triangles, upward
 from ._wall_faces import ring_faces
@@ -52,8 +60,11 @@ def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     if not masses:
         return np.zeros(0, VERTEX_DTYPE), np.zeros(0, BUILDING_DTYPE)
     sections = _Sections()
-    rooms = room_sizes(np.array([m.extent for m in masses]), np.array([m.room_width for m in masses]),
-                       np.array([m.floor_height for m in masses]))
+    rooms = room_sizes(
+        np.array([m.extent for m in masses]),
+        np.array([m.room_width for m in masses]),
+        np.array([m.floor_height for m in masses]),
+    )
     prisms = np.flatnonzero([m.shape == "prism" for m in masses])
     points, counts = _outlines([masses[i] for i in prisms])
     plain = counts >= 3
@@ -81,8 +92,9 @@ def _ring_next(counts: np.ndarray) -> np.ndarray:
 def _outlines(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     """(points, corners per mass) of the prisms' outlines as _prism_triangles meshes them:
     simplified where dense, repeated corners dropped, counter-clockwise."""
-    footprints = [np.asarray(m.footprint, np.float64) if len(m.footprint) > PLAIN_OUTLINE else m.footprint
-                  for m in masses]
+    footprints = [
+        np.asarray(m.footprint, np.float64) if len(m.footprint) > PLAIN_OUTLINE else m.footprint for m in masses
+    ]
     footprints = [simplified_outline(f) if isinstance(f, np.ndarray) else f for f in footprints]
     counts = np.array([len(f) for f in footprints], dtype=np.int64)
     points = np.array(list(chain.from_iterable(footprints)), dtype=np.float64).reshape(-1, 2)
@@ -101,8 +113,14 @@ def _outlines(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     return points[order], counts
 
 
-def _prism_rows(masses: list[BuildingMass], rooms: np.ndarray, index: np.ndarray, points: np.ndarray, counts: np.ndarray,
-                sections: _Sections):
+def _prism_rows(
+    masses: list[BuildingMass],
+    rooms: np.ndarray,
+    index: np.ndarray,
+    points: np.ndarray,
+    counts: np.ndarray,
+    sections: _Sections,
+):
     """The rows of the prisms masses[index] with outlines (points, counts), added to `sections`."""
     if not len(index):
         return
@@ -129,8 +147,9 @@ def _prism_rows(masses: list[BuildingMass], rooms: np.ndarray, index: np.ndarray
     # walls: each outline's edges, then its courtyards' (as oriented), mass by mass
     a, b, owner, rank = [points], [points[_ring_next(counts)]], [ring], [np.zeros(len(points))]
     if len(hole_owner):
-        courtyards, of = shapely.get_rings(polygons[hole_owner[np.r_[0, np.flatnonzero(np.diff(hole_owner)) + 1]]],
-                                           return_index=True)
+        courtyards, of = shapely.get_rings(
+            polygons[hole_owner[np.r_[0, np.flatnonzero(np.diff(hole_owner)) + 1]]], return_index=True
+        )
         courtyards = courtyards[np.r_[1, np.diff(of)] == 0]  # each polygon's first ring is its outline
         coords, which = shapely.get_coordinates(courtyards, return_index=True)
         open_ring = np.r_[which[1:] == which[:-1], False]  # the closing point repeats the first
@@ -159,8 +178,11 @@ def _prism_rows(masses: list[BuildingMass], rooms: np.ndarray, index: np.ndarray
     up = flat_top[owner]
     sections.add("roof", np.repeat(index[owner[up]], 3), roof_rows(*flat_rows(tris[up], top[owner[up]])))
     down = underside[owner]
-    sections.add("underside", np.repeat(index[owner[down]], 3),
-                 roof_rows(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False)))
+    sections.add(
+        "underside",
+        np.repeat(index[owner[down]], 3),
+        roof_rows(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False)),
+    )
 
     # pitched and pointed roofs and parapets, mass by mass
     for k in np.flatnonzero(~flat_top):
@@ -204,6 +226,7 @@ def _wall_rows(a, b, owner, rank, room_width, base, top, storey):
     positions, normals, along = wall_quads(a, b, base[ring_owner][ring], top[ring_owner][ring])
     edge = np.repeat(np.arange(len(a)), 6)
     vertex_owner = ring_owner[ring][edge]
-    rows = wall_rows(positions, normals, faces, edge, along, (base[vertex_owner], top[vertex_owner]),
-                     storey[vertex_owner])
+    rows = wall_rows(
+        positions, normals, faces, edge, along, (base[vertex_owner], top[vertex_owner]), storey[vertex_owner]
+    )
     return rows, next_column

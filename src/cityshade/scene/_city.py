@@ -13,11 +13,18 @@ from ._camera import Camera
 GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
 GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_PAVEMENT, "GROUND_GRASS": GROUND_GRASS}
 # and those of cities from maps (shaders/city/map_ground.glsl): water, paint, tracks, land, lamps
-GROUND_WATER, GROUND_MARKING, GROUND_RAIL, GROUND_BALLAST, GROUND_LAND, GROUND_SAND, GROUND_POST, GROUND_BULB = range(3, 11)
+GROUND_WATER, GROUND_MARKING, GROUND_RAIL, GROUND_BALLAST, GROUND_LAND, GROUND_SAND, GROUND_POST, GROUND_BULB = range(
+    3, 11
+)
 MAP_GROUND_MATERIALS = {
-    "GROUND_WATER": GROUND_WATER, "GROUND_MARKING": GROUND_MARKING, "GROUND_RAIL": GROUND_RAIL,
-    "GROUND_BALLAST": GROUND_BALLAST, "GROUND_LAND": GROUND_LAND, "GROUND_SAND": GROUND_SAND,
-    "GROUND_POST": GROUND_POST, "GROUND_BULB": GROUND_BULB,
+    "GROUND_WATER": GROUND_WATER,
+    "GROUND_MARKING": GROUND_MARKING,
+    "GROUND_RAIL": GROUND_RAIL,
+    "GROUND_BALLAST": GROUND_BALLAST,
+    "GROUND_LAND": GROUND_LAND,
+    "GROUND_SAND": GROUND_SAND,
+    "GROUND_POST": GROUND_POST,
+    "GROUND_BULB": GROUND_BULB,
 }
 
 
@@ -81,9 +88,15 @@ def _massing(rng, lot, seed, centre_distance, setback=1.0) -> BuildingMass:
     floors = int(min(max(rng.gamma(2.0, 3.0 + 8.0 * tall), 2), 45))
     floor_height = rng.choice([3.0, 3.2, 3.5])
     return box(
-        (x0 + setback, z0 + setback), w, d, floors * floor_height,
-        floor_height=floor_height, room_width=float(rng.uniform(3.6, 5.5)), seed=seed,
-        style=int(rng.integers(0, 8)), lights=float(rng.uniform(0.6, 1.3)),
+        (x0 + setback, z0 + setback),
+        w,
+        d,
+        floors * floor_height,
+        floor_height=floor_height,
+        room_width=float(rng.uniform(3.6, 5.5)),
+        seed=seed,
+        style=int(rng.integers(0, 8)),
+        lights=float(rng.uniform(0.6, 1.3)),
     )
 
 
@@ -109,16 +122,35 @@ def default_city(seed: int = 7, blocks: int = 6) -> City:
                 continue
             cx, cz = (x0 + x1) / 2, (z0 + z1) / 2
             if (bi, bj) == special_block:
-                masses.append(cylinder((x0 + 4, z0 + 4), 26.0, 96.0, floor_height=3.4, room_width=4.5,
-                                       seed=int(rng.integers(1 << 30)), style=1))
-                masses.append(dome((x0 + 6, z1 - 36), 34.0, floor_height=3.6, room_width=4.0,
-                                   seed=int(rng.integers(1 << 30)), style=2))
+                masses.append(
+                    cylinder(
+                        (x0 + 4, z0 + 4),
+                        26.0,
+                        96.0,
+                        floor_height=3.4,
+                        room_width=4.5,
+                        seed=int(rng.integers(1 << 30)),
+                        style=1,
+                    )
+                )
+                masses.append(
+                    dome(
+                        (x0 + 6, z1 - 36),
+                        34.0,
+                        floor_height=3.6,
+                        room_width=4.0,
+                        seed=int(rng.integers(1 << 30)),
+                        style=2,
+                    )
+                )
                 masses.append(box((x1 - 28, z0 + 2), 26.0, 20.0, 24.0, seed=int(rng.integers(1 << 30)), style=3))
                 continue
             for lot in _subdivide_block(rng, x0, z0, x1, z1):
                 masses.append(_massing(rng, lot, int(rng.integers(1 << 30)), np.hypot(cx, cz)))
     streets = [(-half, -half + k * pitch - street / 2, half, -half + k * pitch + street / 2) for k in range(blocks + 1)]
-    streets += [(-half + k * pitch - street / 2, -half, -half + k * pitch + street / 2, half) for k in range(blocks + 1)]
+    streets += [
+        (-half + k * pitch - street / 2, -half, -half + k * pitch + street / 2, half) for k in range(blocks + 1)
+    ]
     main_x = -half + (blocks // 2 - 1) * pitch  # the street west of the tower and dome block
     viewpoints = {
         "street": Camera((main_x - 5.0, 1.7, 96.0), (main_x + 40.0, 24.0, 30.0), fov_y=66.0),
@@ -137,9 +169,18 @@ def grid_city(count: int = 100, seed: int = 1, spacing: float = 40.0, floors: in
     masses = []
     for k in range(count):
         i, j = divmod(k, side)
-        masses.append(box((i * spacing - side * spacing / 2, j * spacing - side * spacing / 2), width, width,
-                          floors * 3.2, floor_height=3.2, room_width=4.0, seed=int(rng.integers(1 << 30)),
-                          wall_jitter=0.0))
+        masses.append(
+            box(
+                (i * spacing - side * spacing / 2, j * spacing - side * spacing / 2),
+                width,
+                width,
+                floors * 3.2,
+                floor_height=3.2,
+                room_width=4.0,
+                seed=int(rng.integers(1 << 30)),
+                wall_jitter=0.0,
+            )
+        )
     half = side * spacing / 2
     viewpoints = {
         "orbit": Camera((half * 1.2, half * 0.6 + 40, half * 1.2), (0.0, 30.0, 0.0), fov_y=55.0),
@@ -180,15 +221,46 @@ def outlines_city(seed: int = 0) -> City:
     bend = np.radians(np.arange(0.0, 90.1, 7.5))  # a street front bending 7.5 degrees per wall
     curved = np.vstack([np.stack([30 * np.sin(bend), 30 - 30 * np.cos(bend)], axis=1), [(12.0, 30.0), (0.0, 12.0)]])
     masses = [
-        BuildingMass("prism", (0.0, 0.0), ((0.0, 0.0), (26.0, 0.0), (26.0, 11.0), (11.0, 11.0), (11.0, 24.0), (0.0, 24.0)),
-                     19.0, seed=seed + 21, room_width=4.2, floor_height=3.2),
-        BuildingMass("prism", (36.0, -2.0), tuple(map(tuple, _ring(32, 8.0))), 31.0, seed=seed + 22, style=3,
-                     room_width=4.0, floor_height=3.4),
-        BuildingMass("prism", (0.0, 40.0), ((0.0, 0.0), (30.0, 0.0), (30.0, 28.0), (0.0, 28.0)), 16.0, seed=seed + 23,
-                     style=4, holes=(((9.0, 9.0), (9.0, 19.0), (21.0, 19.0), (21.0, 9.0)),), room_width=4.5,
-                     floor_height=3.1),
-        BuildingMass("prism", (42.0, 36.0), tuple(map(tuple, curved)), 22.0, seed=seed + 24, style=1, room_width=4.0,
-                     floor_height=3.5),
+        BuildingMass(
+            "prism",
+            (0.0, 0.0),
+            ((0.0, 0.0), (26.0, 0.0), (26.0, 11.0), (11.0, 11.0), (11.0, 24.0), (0.0, 24.0)),
+            19.0,
+            seed=seed + 21,
+            room_width=4.2,
+            floor_height=3.2,
+        ),
+        BuildingMass(
+            "prism",
+            (36.0, -2.0),
+            tuple(map(tuple, _ring(32, 8.0))),
+            31.0,
+            seed=seed + 22,
+            style=3,
+            room_width=4.0,
+            floor_height=3.4,
+        ),
+        BuildingMass(
+            "prism",
+            (0.0, 40.0),
+            ((0.0, 0.0), (30.0, 0.0), (30.0, 28.0), (0.0, 28.0)),
+            16.0,
+            seed=seed + 23,
+            style=4,
+            holes=(((9.0, 9.0), (9.0, 19.0), (21.0, 19.0), (21.0, 9.0)),),
+            room_width=4.5,
+            floor_height=3.1,
+        ),
+        BuildingMass(
+            "prism",
+            (42.0, 36.0),
+            tuple(map(tuple, curved)),
+            22.0,
+            seed=seed + 24,
+            style=1,
+            room_width=4.0,
+            floor_height=3.5,
+        ),
     ]
     viewpoints = {
         "l_shape": Camera((30.0, 7.0, 26.0), (8.0, 9.0, 6.0), fov_y=65.0),

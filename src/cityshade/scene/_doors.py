@@ -17,8 +17,13 @@ DOOR_HEIGHT = 2.3
 DOOR_PLANE = 0.15  # metres off the plane through the door's point that still count as its wall
 DOOR_FACING = 0.9  # cosine between a wall's normal and the door's above which the wall can hold it
 MAX_DOORS = 4
-DOOR_CONSTANTS = {"DOOR_WIDTH": DOOR_WIDTH, "DOOR_HEIGHT": DOOR_HEIGHT, "DOOR_PLANE": DOOR_PLANE,
-                  "DOOR_FACING": DOOR_FACING, "MAX_DOORS": MAX_DOORS}
+DOOR_CONSTANTS = {
+    "DOOR_WIDTH": DOOR_WIDTH,
+    "DOOR_HEIGHT": DOOR_HEIGHT,
+    "DOOR_PLANE": DOOR_PLANE,
+    "DOOR_FACING": DOOR_FACING,
+    "MAX_DOORS": MAX_DOORS,
+}
 
 
 def door_on_edge(a, b, point) -> tuple[float, float, float, float] | None:
@@ -57,8 +62,14 @@ def door_hit(local: np.ndarray, normal: np.ndarray, doors) -> tuple[np.ndarray, 
         off_x, off_z = local[:, 0] - x, local[:, 2] - z
         across = off_x * nx + off_z * nz
         along = off_x * -nz + off_z * nx  # the way the outline runs: counter-clockwise seen from above
-        inside = ((normal[:, 0] * nx + normal[:, 2] * nz > DOOR_FACING) & (np.abs(across) < DOOR_PLANE)
-                  & (np.abs(along) < DOOR_WIDTH / 2) & (local[:, 1] >= 0.0) & (local[:, 1] < DOOR_HEIGHT) & ~hit)
+        inside = (
+            (normal[:, 0] * nx + normal[:, 2] * nz > DOOR_FACING)
+            & (np.abs(across) < DOOR_PLANE)
+            & (np.abs(along) < DOOR_WIDTH / 2)
+            & (local[:, 1] >= 0.0)
+            & (local[:, 1] < DOOR_HEIGHT)
+            & ~hit
+        )
         uv[inside] = np.stack([along[inside] / DOOR_WIDTH + 0.5, local[inside, 1] / DOOR_HEIGHT], axis=1)
         hit |= inside
     return hit, uv

@@ -51,10 +51,12 @@ def wall_rows(positions, normals, faces: WallFaces, edge: np.ndarray, along: np.
     depth) and its room columns (first bay, last bay). `edge` is each vertex's entry in `faces`,
     `along` its metres from that edge's start; span and storey once or per vertex."""
     count = len(positions)
-    facade = np.column_stack([faces.along[edge] + along, positions[:, 1], faces.bay[edge],
-                              np.broadcast_to(storey, count)])
-    face = np.column_stack([faces.width[edge], np.broadcast_to(span[0], count), np.broadcast_to(span[1], count),
-                            faces.depth[edge]])
+    facade = np.column_stack(
+        [faces.along[edge] + along, positions[:, 1], faces.bay[edge], np.broadcast_to(storey, count)]
+    )
+    face = np.column_stack(
+        [faces.width[edge], np.broadcast_to(span[0], count), np.broadcast_to(span[1], count), faces.depth[edge]]
+    )
     return positions, normals, facade, face, faces.columns[edge]
 
 
@@ -66,8 +68,9 @@ def gable_rows(walls: Triangles, mass, first_column: int):
     columns = np.full((len(length), 2), first_column, dtype=np.int64)
     faces = WallFaces(np.zeros(len(length)), length, bay, bay, columns)
     storey, _ = storeys(mass.base, mass.wall_top, mass.floor_height)
-    return wall_rows(walls.positions, walls.normals, faces, np.arange(len(length)), walls.along,
-                     (mass.base, mass.height), storey)
+    return wall_rows(
+        walls.positions, walls.normals, faces, np.arange(len(length)), walls.along, (mass.base, mass.height), storey
+    )
 
 
 def roof_rows(positions: np.ndarray, normals: np.ndarray):

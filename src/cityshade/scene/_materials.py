@@ -20,17 +20,38 @@ ROOF_MATERIALS = {
     "stone": (3, (0.55, 0.53, 0.5)),
     "gravel": (9, (0.5, 0.48, 0.45)),
 }
-ROOF_ALIASES = {"asphalt": "roofing_felt", "tar_paper": "roofing_felt", "tile": "roof_tiles", "tiles": "roof_tiles",
-                "clay": "roof_tiles", "eternit": "slate", "plants": "grass", "steel": "metal", "tin": "metal",
-                "zinc": "metal", "aluminium": "metal", "thatch": "wood", "wood_shingles": "wood", "pebblestone": "gravel"}
+ROOF_ALIASES = {
+    "asphalt": "roofing_felt",
+    "tar_paper": "roofing_felt",
+    "tile": "roof_tiles",
+    "tiles": "roof_tiles",
+    "clay": "roof_tiles",
+    "eternit": "slate",
+    "plants": "grass",
+    "steel": "metal",
+    "tin": "metal",
+    "zinc": "metal",
+    "aluminium": "metal",
+    "thatch": "wood",
+    "wood_shingles": "wood",
+    "pebblestone": "gravel",
+}
 PLAIN_ROOF = (0, (0.6012, 0.5926, 0.5839))  # untagged roofs of the procedural district: a plain grey
 
 # wall material -> sRGB colour the facade is tinted with
 WALL_MATERIALS = {
-    "brick": (0.62, 0.32, 0.24), "concrete": (0.68, 0.68, 0.66), "glass": (0.5, 0.62, 0.7),
-    "metal": (0.6, 0.63, 0.66), "wood": (0.6, 0.4, 0.28), "plaster": (0.9, 0.85, 0.72),
-    "stone": (0.74, 0.71, 0.65), "sandstone": (0.82, 0.72, 0.55), "limestone": (0.85, 0.82, 0.74),
-    "timber_framing": (0.85, 0.8, 0.7), "steel": (0.6, 0.63, 0.66), "cement_block": (0.66, 0.66, 0.64),
+    "brick": (0.62, 0.32, 0.24),
+    "concrete": (0.68, 0.68, 0.66),
+    "glass": (0.5, 0.62, 0.7),
+    "metal": (0.6, 0.63, 0.66),
+    "wood": (0.6, 0.4, 0.28),
+    "plaster": (0.9, 0.85, 0.72),
+    "stone": (0.74, 0.71, 0.65),
+    "sandstone": (0.82, 0.72, 0.55),
+    "limestone": (0.85, 0.82, 0.74),
+    "timber_framing": (0.85, 0.8, 0.7),
+    "steel": (0.6, 0.63, 0.66),
+    "cement_block": (0.66, 0.66, 0.64),
 }
 
 
@@ -52,10 +73,22 @@ def wall_tint(colour, material: str | None):
     return WALL_MATERIALS.get(material)
 
 
-(ROOF_PLAIN, ROOF_TILES, ROOF_METAL, ROOF_SLATE, ROOF_COPPER, ROOF_CONCRETE, ROOF_GLASS, ROOF_GRASS, ROOF_WOOD,
- ROOF_GRAVEL) = range(10)
+(
+    ROOF_PLAIN,
+    ROOF_TILES,
+    ROOF_METAL,
+    ROOF_SLATE,
+    ROOF_COPPER,
+    ROOF_CONCRETE,
+    ROOF_GLASS,
+    ROOF_GRASS,
+    ROOF_WOOD,
+    ROOF_GRAVEL,
+) = range(10)
 # roof.glsl's pattern ids (cityshade.shader_constants)
-ROOF_PATTERNS = {name: value for name, value in globals().items() if name.startswith("ROOF_") and isinstance(value, int)}
+ROOF_PATTERNS = {
+    name: value for name, value in globals().items() if name.startswith("ROOF_") and isinstance(value, int)
+}
 
 
 def _smoothstep(e0: float, e1: float, x: np.ndarray) -> np.ndarray:
@@ -70,7 +103,9 @@ def _fract(x: np.ndarray) -> np.ndarray:
 def _stone(cx: np.ndarray, cy: np.ndarray) -> np.ndarray:
     """A stone's own shade, 0..1, from its integer cell (an avalanche hash in uint32, as stone() in roof.glsl)."""
     with np.errstate(over="ignore"):
-        h = (cx.astype(np.int64).astype(np.uint32) * np.uint32(0x9E3779B1)) ^ (cy.astype(np.int64).astype(np.uint32) * np.uint32(0x85EBCA77))
+        h = (cx.astype(np.int64).astype(np.uint32) * np.uint32(0x9E3779B1)) ^ (
+            cy.astype(np.int64).astype(np.uint32) * np.uint32(0x85EBCA77)
+        )
         h ^= h >> np.uint32(15)
         h *= np.uint32(0x2C1B3C6D)
         h ^= h >> np.uint32(12)

@@ -98,8 +98,10 @@ def _prism_triangles(mass: BuildingMass, smooth: bool):
     ring = ring[::-1]
     walls = _curved_walls(ring, centre, radius, mass)
     top = _roof_triangles(ring[:-1])
-    roof = roof_rows(np.stack([top[:, 0], np.full(len(top), height), top[:, 1]], axis=1),
-                     np.broadcast_to([0.0, 1.0, 0.0], (len(top), 3)))
+    roof = roof_rows(
+        np.stack([top[:, 0], np.full(len(top), height), top[:, 1]], axis=1),
+        np.broadcast_to([0.0, 1.0, 0.0], (len(top), 3)),
+    )
     return walls, roof
 
 
@@ -149,8 +151,9 @@ def mass_rows(mass: BuildingMass):
     return _prism_triangles(mass, smooth=mass.shape == "cylinder")
 
 
-def vertex_records(rows, surface: np.ndarray, building: np.ndarray, cos_yaw: np.ndarray, sin_yaw: np.ndarray,
-                   origin: np.ndarray) -> np.ndarray:
+def vertex_records(
+    rows, surface: np.ndarray, building: np.ndarray, cos_yaw: np.ndarray, sin_yaw: np.ndarray, origin: np.ndarray
+) -> np.ndarray:
     """(local, normal, facade, face, room columns) rows as VERTEX_DTYPE records: their surface kind,
     building index, the rotation about +y and the world origin (x, z), each given per row or once."""
     out = np.zeros(len(rows[0]), dtype=VERTEX_DTYPE)
@@ -162,8 +165,9 @@ def vertex_records(rows, surface: np.ndarray, building: np.ndarray, cos_yaw: np.
     local = out["local"].astype(np.float64)
     x, z = local[:, 0], local[:, 2]
     # rotation_y(yaw) applied term by term: the same floats for one building or a city at once
-    out["position"] = np.column_stack([cos_yaw * x + sin_yaw * z + origin[..., 0], local[:, 1],
-                                       cos_yaw * z - sin_yaw * x + origin[..., 1]])
+    out["position"] = np.column_stack(
+        [cos_yaw * x + sin_yaw * z + origin[..., 0], local[:, 1], cos_yaw * z - sin_yaw * x + origin[..., 1]]
+    )
     return out
 
 
@@ -172,7 +176,9 @@ def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
     walls, roof = mass_rows(mass)
     rows = tuple(np.concatenate([w, r]) for w, r in zip(walls, roof))
     surface = np.repeat([SURFACE_WALL, SURFACE_ROOF], [len(walls[0]), len(roof[0])])
-    return vertex_records(rows, surface, index, np.cos(mass.yaw), np.sin(mass.yaw), np.asarray(mass.position, np.float64))
+    return vertex_records(
+        rows, surface, index, np.cos(mass.yaw), np.sin(mass.yaw), np.asarray(mass.position, np.float64)
+    )
 
 
 def building_records(masses: list[BuildingMass], rooms: np.ndarray | None = None) -> np.ndarray:

@@ -17,8 +17,9 @@ def orbit(city: City, t: float) -> Camera:
     angle = 2 * np.pi * t
     eye = centre + np.array([radius * np.cos(angle), 0.35 * radius, radius * np.sin(angle)])
     # far enough for a map's ground to reach the horizon; the near plane grows with the distance
-    return Camera(tuple(eye), tuple(centre + np.array([0.0, 20.0, 0.0])), fov_y=55.0, near=max(0.5, radius / 40),
-                  far=1_000_000.0)
+    return Camera(
+        tuple(eye), tuple(centre + np.array([0.0, 20.0, 0.0])), fov_y=55.0, near=max(0.5, radius / 40), far=1_000_000.0
+    )
 
 
 def walk(city: City, t: float) -> Camera:

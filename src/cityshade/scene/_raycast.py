@@ -16,7 +16,7 @@ def intersect(origin: np.ndarray, dirs: np.ndarray, triangles: np.ndarray, chunk
     e1 = triangles[:, 1] - a
     e2 = triangles[:, 2] - a
     for start in range(0, n, chunk):
-        d = dirs[start:start + chunk][:, None, :]
+        d = dirs[start : start + chunk][:, None, :]
         p = np.cross(d, e2[None])
         det = np.sum(e1[None] * p, axis=-1)
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -18,8 +18,13 @@ FLAG_SHOP_FRONT = 16  # shops on the ground floor: its rooms are lit in opening 
 
 # for the shaders (cityshade.shader_constants)
 SHAPE_CODES = {f"SHAPE_{name.upper()}": code for name, code in SHAPES.items()}
-FLAGS = {"FLAG_FURNITURE": FLAG_FURNITURE, "FLAG_CURTAINS": FLAG_CURTAINS, "FLAG_ROOM_VARIATION": FLAG_ROOM_VARIATION,
-         "FLAG_NO_INTERIOR": FLAG_NO_INTERIOR, "FLAG_SHOP_FRONT": FLAG_SHOP_FRONT}
+FLAGS = {
+    "FLAG_FURNITURE": FLAG_FURNITURE,
+    "FLAG_CURTAINS": FLAG_CURTAINS,
+    "FLAG_ROOM_VARIATION": FLAG_ROOM_VARIATION,
+    "FLAG_NO_INTERIOR": FLAG_NO_INTERIOR,
+    "FLAG_SHOP_FRONT": FLAG_SHOP_FRONT,
+}
 
 BUILDING_DTYPE = np.dtype(
     [
@@ -27,7 +32,11 @@ BUILDING_DTYPE = np.dtype(
         ("room", "<f4", 4),
         ("extent", "<f4", 4),
         ("ids", "<i4", 4),
-        ("facade", "<i4", 4),  # x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed
+        (
+            "facade",
+            "<i4",
+            4,
+        ),  # x: technique (0 window bay, 1 grammar, 2 relief), y: grammar start rule, zw: grammar seed
         ("tint", "<f4", 4),  # rgb: linear facade tint; w: 1 if tinted (tagged colour or material), 0: the style's own
         ("roof", "<f4", 4),  # rgb: linear roof colour; w: roof material id (ROOF_* in shaders/city/roof.glsl)
         ("doors", "<f4", (MAX_DOORS, 4)),  # per door: x, z on the outline, outward normal x, z (zero: none); _doors.py

@@ -64,7 +64,8 @@ class Triangles:
             return Triangles.empty()
         walls = all(p.along is not None for p in parts)
         return Triangles(
-            np.concatenate([p.positions for p in parts]), np.concatenate([p.normals for p in parts]),
+            np.concatenate([p.positions for p in parts]),
+            np.concatenate([p.normals for p in parts]),
             np.concatenate([p.along for p in parts]) if walls else None,
             np.concatenate([p.edge_length for p in parts]) if walls else None,
         )
@@ -96,8 +97,9 @@ def flat_rows(tris: np.ndarray, y: np.ndarray | float, up: bool = True) -> tuple
     if not up:
         tris = tris[:, ::-1]
     points = tris.reshape(-1, 2)
-    positions = np.column_stack([points[:, 0], np.broadcast_to(np.repeat(y, 3) if np.ndim(y) else y, len(points)),
-                                 points[:, 1]])
+    positions = np.column_stack(
+        [points[:, 0], np.broadcast_to(np.repeat(y, 3) if np.ndim(y) else y, len(points)), points[:, 1]]
+    )
     normals = np.zeros_like(positions)
     normals[:, 1] = 1.0 if up else -1.0
     return positions, normals
@@ -187,8 +189,13 @@ def _walls_under(planes: np.ndarray, ring: np.ndarray, top: float) -> Triangles:
     bend[:, [0, -1]] = True
     last = np.maximum.accumulate(np.where(bend, np.arange(t.shape[1]), 0), axis=1)
     t, height = np.take_along_axis(t, last, axis=1), np.take_along_axis(height, last, axis=1)
-    chain = np.concatenate([np.stack([length, np.zeros(len(a))], axis=1)[:, None],
-                            np.stack([t * length[:, None], height], axis=2)[:, ::-1]], axis=1)
+    chain = np.concatenate(
+        [
+            np.stack([length, np.zeros(len(a))], axis=1)[:, None],
+            np.stack([t * length[:, None], height], axis=2)[:, ::-1],
+        ],
+        axis=1,
+    )
     tris = np.stack([np.zeros_like(chain[:, 1:]), chain[:, 1:], chain[:, :-1]], axis=2)  # clockwise: facing out
     u, v = tris[..., 0], tris[..., 1]
     cross = (u[..., 1] - u[..., 0]) * (v[..., 2] - v[..., 0]) - (v[..., 1] - v[..., 0]) * (u[..., 2] - u[..., 0])
@@ -196,8 +203,9 @@ def _walls_under(planes: np.ndarray, ring: np.ndarray, top: float) -> Triangles:
     tris = tris[edge, keep]  # (n, 3, 2) of (along, rise)
     e = ((b - a) / length[:, None])[edge]
     along = tris[..., 0]
-    positions = np.stack([a[edge, 0, None] + along * e[:, 0, None], top + tris[..., 1],
-                          a[edge, 1, None] + along * e[:, 1, None]], axis=2).reshape(-1, 3)
+    positions = np.stack(
+        [a[edge, 0, None] + along * e[:, 0, None], top + tris[..., 1], a[edge, 1, None] + along * e[:, 1, None]], axis=2
+    ).reshape(-1, 3)
     normals = np.repeat(np.column_stack([e[:, 1], np.zeros(len(e)), -e[:, 0]]), 3, axis=0)
     return Triangles(positions, normals, along.ravel(), np.repeat(length[edge], 3))
 
@@ -253,8 +261,10 @@ def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles
     if not ends:  # one plane per strip across the ridge
         cuts = [v for v, _ in profile]
         cuts[0], cuts[-1] = v0 - 1.0, v1 + 1.0
-        strips = [np.outer([a, b, b, a], across) + np.outer([u0 - 1.0, u0 - 1.0, u1 + 1.0, u1 + 1.0], along)
-                  for a, b in zip(cuts[:-1], cuts[1:])]
+        strips = [
+            np.outer([a, b, b, a], across) + np.outer([u0 - 1.0, u0 - 1.0, u1 + 1.0, u1 + 1.0], along)
+            for a, b in zip(cuts[:-1], cuts[1:])
+        ]
         return plane_roof(polygon, top, np.asarray(planes), strips)
     for end in ends:
         planes += _profile_planes(along, end)
@@ -270,8 +280,14 @@ def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangle
     if not polygon.contains(shapely.Point(centre)):
         centre = np.asarray(polygon.representative_point().coords)[0]
     flat_grid = centre + (ring[None] - centre) * profile[:, 0, None, None]  # (rings, points + 1, 2)
-    grid = np.stack([flat_grid[..., 0], np.broadcast_to(top + roof.height * profile[:, 1, None], flat_grid.shape[:2]),
-                     flat_grid[..., 1]], axis=2)
+    grid = np.stack(
+        [
+            flat_grid[..., 0],
+            np.broadcast_to(top + roof.height * profile[:, 1, None], flat_grid.shape[:2]),
+            flat_grid[..., 1],
+        ],
+        axis=2,
+    )
     a0, b0, a1, b1 = grid[:-1, :-1], grid[:-1, 1:], grid[1:, :-1], grid[1:, 1:]
     first, second = np.cross(b1 - a0, b0 - a0), np.cross(a1 - a0, b1 - a0)  # area-weighted, outward
     if roof.shape == "pyramidal":
@@ -289,8 +305,12 @@ def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangle
         right = rows + np.roll(gentle, -1, axis=1) * np.roll(rows, -1, axis=1)  # at its second
         n0, n1, n2 = left[:-1], right[1:], right[:-1]
         m0, m1, m2 = left[:-1], left[1:], right[1:]
-    tris = np.concatenate([np.stack([a0, b1, b0], axis=2).reshape(-1, 3, 3), np.stack([a0, a1, b1], axis=2).reshape(-1, 3, 3)])
-    normals = np.concatenate([np.stack([n0, n1, n2], axis=2).reshape(-1, 3, 3), np.stack([m0, m1, m2], axis=2).reshape(-1, 3, 3)])
+    tris = np.concatenate(
+        [np.stack([a0, b1, b0], axis=2).reshape(-1, 3, 3), np.stack([a0, a1, b1], axis=2).reshape(-1, 3, 3)]
+    )
+    normals = np.concatenate(
+        [np.stack([n0, n1, n2], axis=2).reshape(-1, 3, 3), np.stack([m0, m1, m2], axis=2).reshape(-1, 3, 3)]
+    )
     area = np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), axis=1)
     keep = area > 1e-9  # the quads that meet at the apex are triangles
     normals = normals[keep].reshape(-1, 3)
@@ -301,10 +321,22 @@ def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangle
 POINTED_PROFILES = {
     "pyramidal": [(1.0, 0.0), (0.0, 1.0)],
     "cone": [(1.0, 0.0), (0.0, 1.0)],
-    "dome": list(zip(np.cos(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)), np.sin(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)))),
+    "dome": list(
+        zip(np.cos(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)), np.sin(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)))
+    ),
     # a bulb wider than its drum, drawn in to a point
-    "onion": [(1.0, 0.0), (1.18, 0.1), (1.25, 0.22), (1.2, 0.34), (1.0, 0.46), (0.7, 0.58), (0.4, 0.7),
-              (0.2, 0.8), (0.08, 0.9), (0.0, 1.0)],
+    "onion": [
+        (1.0, 0.0),
+        (1.18, 0.1),
+        (1.25, 0.22),
+        (1.2, 0.34),
+        (1.0, 0.46),
+        (0.7, 0.58),
+        (0.4, 0.7),
+        (0.2, 0.8),
+        (0.08, 0.9),
+        (0.0, 1.0),
+    ],
 }
 
 
@@ -455,8 +487,9 @@ def _parapet_roof(polygon: shapely.Polygon, top: float, parapet: float) -> Trian
         return flat(polygon, top)
     rim = shapely.difference(polygon, inner)
     low = top - parapet
-    return Triangles.join([flat(rim, top), *(flat(p, low) for p in parts),
-                           *(_inward_faces(p, low, top) for p in parts)])
+    return Triangles.join(
+        [flat(rim, top), *(flat(p, low) for p in parts), *(_inward_faces(p, low, top) for p in parts)]
+    )
 
 
 def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
@@ -467,7 +500,9 @@ def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
     (hipped where the shape has no skeleton form), follow the straight skeleton; other ridged shapes
     span the outline's extent across the ridge. Pointed shapes over a courtyard are flat."""
     if roof.shape == "flat" or roof.height <= 0:
-        return (_parapet_roof(polygon, top, roof.parapet) if roof.parapet > 0 else flat(polygon, top)), Triangles.empty()
+        return (
+            _parapet_roof(polygon, top, roof.parapet) if roof.parapet > 0 else flat(polygon, top)
+        ), Triangles.empty()
     if roof.shape in POINTED_PROFILES:
         return _pointed(polygon, top, roof) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
     x0, z0, x1, z1 = polygon.bounds

@@ -28,8 +28,13 @@ def skeleton_triangles(polygon: shapely.Polygon) -> np.ndarray | None:
     angles = [[HIP] * len(ring) for ring in rings]
     contours = [[(float(x), float(z), 0.0) for x, z in ring] for ring in rings]
     data = {
-        "objects": [{"shape_mode": 0, "restrict_height": False, "height": 0.0, "planes": [contours], "angles": [angles]}],
-        "only_tests_for_valid": False, "force_z_zero": False, "join_mode": 0, "verbose": False,
+        "objects": [
+            {"shape_mode": 0, "restrict_height": False, "height": 0.0, "planes": [contours], "angles": [angles]}
+        ],
+        "only_tests_for_valid": False,
+        "force_z_zero": False,
+        "join_mode": 0,
+        "verbose": False,
     }
     with contextlib.redirect_stdout(io.StringIO()):
         result = _extrude(data)

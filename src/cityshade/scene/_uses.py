@@ -21,20 +21,40 @@ from __future__ import annotations
 import numpy as np
 
 USE_MIXED, USE_HOME, USE_OFFICE, USE_SHOP, USE_INDUSTRY, USE_PUBLIC = range(6)
-USES = {"mixed": USE_MIXED, "home": USE_HOME, "office": USE_OFFICE, "shop": USE_SHOP, "industry": USE_INDUSTRY,
-        "public": USE_PUBLIC}
+USES = {
+    "mixed": USE_MIXED,
+    "home": USE_HOME,
+    "office": USE_OFFICE,
+    "shop": USE_SHOP,
+    "industry": USE_INDUSTRY,
+    "public": USE_PUBLIC,
+}
 USE_COUNT = len(USES)
 USE_SHIFT = 8  # the flags' low bits are FLAG_*; the use sits above them
 USE_MASK = 0xF
 # for the shaders (cityshade.shader_constants)
-USE_CODES = {**{f"USE_{name.upper()}": code for name, code in USES.items()}, "USE_COUNT": USE_COUNT,
-             "USE_SHIFT": USE_SHIFT, "USE_MASK": USE_MASK}
+USE_CODES = {
+    **{f"USE_{name.upper()}": code for name, code in USES.items()},
+    "USE_COUNT": USE_COUNT,
+    "USE_SHIFT": USE_SHIFT,
+    "USE_MASK": USE_MASK,
+}
 
 # Per use: (hour, share of lit rooms) points; linear between them, wrapping around midnight.
 LIT_SCHEDULE: dict[int, tuple[tuple[float, float], ...]] = {
     USE_MIXED: ((0, 0.5), (3, 0.2), (6, 0.15), (9, 0.12), (16, 0.12), (18.5, 0.45), (21, 0.78), (23, 0.72)),
-    USE_HOME: ((0, 0.3), (1.5, 0.1), (5, 0.05), (6.5, 0.4), (8, 0.3), (9, 0.08), (16, 0.08), (18, 0.5),
-               (21, 0.8), (23, 0.55)),
+    USE_HOME: (
+        (0, 0.3),
+        (1.5, 0.1),
+        (5, 0.05),
+        (6.5, 0.4),
+        (8, 0.3),
+        (9, 0.08),
+        (16, 0.08),
+        (18, 0.5),
+        (21, 0.8),
+        (23, 0.55),
+    ),
     USE_OFFICE: ((0, 0.02), (6, 0.03), (7.5, 0.45), (8.5, 0.85), (16.5, 0.85), (18, 0.4), (20, 0.1), (22, 0.03)),
     USE_SHOP: ((0, 0.0), (8, 0.0), (9, 0.95), (20.5, 0.95), (21.5, 0.0)),
     USE_INDUSTRY: ((0, 0.08), (6, 0.1), (7, 0.75), (16.5, 0.75), (17.5, 0.2), (22, 0.08)),

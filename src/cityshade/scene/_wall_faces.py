@@ -47,8 +47,9 @@ def wall_faces(lengths: np.ndarray, directions: np.ndarray, nominal_bay: float, 
     return replace(faces, columns=faces.columns + first_column)
 
 
-def ring_faces(lengths: np.ndarray, directions: np.ndarray, counts: np.ndarray,
-               nominal_bay: np.ndarray) -> tuple[WallFaces, np.ndarray]:
+def ring_faces(
+    lengths: np.ndarray, directions: np.ndarray, counts: np.ndarray, nominal_bay: np.ndarray
+) -> tuple[WallFaces, np.ndarray]:
     """wall_faces of many closed rings at once, their edges stored one ring after another (`counts`
     edges each, none empty), each ring with its nominal bay width and room columns from 0; also
     each ring's column count (ring_columns). A ring's numbers do not depend on the other rings."""

@@ -62,8 +62,16 @@ def _up_for(sun_dir):
     return np.array([0.0, 0.0, 1.0]) if abs(sun_dir[1]) > 0.99 else np.array([0.0, 1.0, 0.0])
 
 
-def cascade_view_projection(inv_view_proj: np.ndarray, near: float, far: float, z0: float, z1: float,
-                            sun_dir, resolution: int, caster_reach: float) -> np.ndarray:
+def cascade_view_projection(
+    inv_view_proj: np.ndarray,
+    near: float,
+    far: float,
+    z0: float,
+    z1: float,
+    sun_dir,
+    resolution: int,
+    caster_reach: float,
+) -> np.ndarray:
     """Light view-projection of the view-frustum slice [z0, z1] (distances along the view).
 
     The slice is wrapped in a sphere, so the box does not change size as the camera turns, and its
@@ -72,7 +80,7 @@ def cascade_view_projection(inv_view_proj: np.ndarray, near: float, far: float, 
     """
     corners = []
     for z in (z0, z1):
-        ndc_z = ((far + near) / (far - near) - 2 * far * near / ((far - near) * z))
+        ndc_z = (far + near) / (far - near) - 2 * far * near / ((far - near) * z)
         for x in (-1, 1):
             for y in (-1, 1):
                 p = inv_view_proj @ np.array([x, y, ndc_z, 1.0])

@@ -18,8 +18,7 @@ def fin_width(points: np.ndarray, eye: np.ndarray, depth: float, fade: tuple[flo
     return depth * (1.0 - t * t * (3.0 - 2.0 * t))
 
 
-def extrude_fins(positions: np.ndarray, normals: np.ndarray, eye, depth: float,
-                 fade: tuple[float, float] = (1e9, 2e9)):
+def extrude_fins(positions: np.ndarray, normals: np.ndarray, eye, depth: float, fade: tuple[float, float] = (1e9, 2e9)):
     """Fins of a triangle list. positions, normals: (T, 3, 3) world space, per-vertex smooth normals.
 
     Returns (triangle index (F,), quads (F, 4, 3) as V0, V1, V2, V3) in triangle order, the order

@@ -156,11 +156,17 @@ def _mesh_branch(branch: Branch, species: Species, radial: int, per_metre: float
     positions = centres[:, None] + normals * radii[:, None, None]
     v = ts * length / species.bark_tile
     uv = np.stack(np.broadcast_arrays((angle / (2 * np.pi) * u_repeats)[None, :], v[:, None]), axis=-1)
-    verts = np.concatenate([
-        positions, normals, tangents, uv,
-        np.broadcast_to(radii[:, None, None], (rings, radial + 1, 1)),
-        np.broadcast_to(winds[:, None, None], (rings, radial + 1, 1)),
-    ], axis=-1).reshape(-1, 13)
+    verts = np.concatenate(
+        [
+            positions,
+            normals,
+            tangents,
+            uv,
+            np.broadcast_to(radii[:, None, None], (rings, radial + 1, 1)),
+            np.broadcast_to(winds[:, None, None], (rings, radial + 1, 1)),
+        ],
+        axis=-1,
+    ).reshape(-1, 13)
     i, j = np.meshgrid(np.arange(rings - 1), np.arange(radial), indexing="ij")
     a = i * (radial + 1) + j
     b, c, d = a + 1, a + radial + 1, a + radial + 2
@@ -182,7 +188,7 @@ def _leaf_cards(leaf_branches, species: Species, rng, keep: float, scale: float)
     verts = np.zeros((len(cards) * 4, 9), np.float32)
     corners = np.array([(-1, -1), (1, -1), (1, 1), (-1, 1)], np.float32)
     for k, (center, size, wind, spin) in enumerate(cards):
-        rows = verts[4 * k: 4 * k + 4]
+        rows = verts[4 * k : 4 * k + 4]
         rows[:, 0:3] = center
         rows[:, 3:5] = corners
         rows[:, 5] = size

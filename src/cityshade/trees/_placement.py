@@ -7,9 +7,15 @@ import numpy as np
 from ._species import SPECIES
 
 SPECIES_ORDER = tuple(SPECIES)  # species index in instance records
-TREE_DTYPE = np.dtype([
-    ("position", "3f4"), ("yaw", "f4"), ("scale", "f4"), ("phase", "f4"), ("species", "i4"),
-])
+TREE_DTYPE = np.dtype(
+    [
+        ("position", "3f4"),
+        ("yaw", "f4"),
+        ("scale", "f4"),
+        ("phase", "f4"),
+        ("species", "i4"),
+    ]
+)
 
 
 def tree_instances(positions, species, rng: np.random.Generator) -> np.ndarray:
@@ -53,10 +59,12 @@ def street_trees(streets, seed: int, spacing: float = 18.0, inset: float = 1.2, 
         edges = (z0 + inset, z1 - inset) if along_x else (x0 + inset, x1 - inset)
         row = np.stack([np.broadcast_to(e, s.shape) for e in edges], axis=1)  # (spots, both kerbs)
         s = np.broadcast_to(s[:, None], row.shape)
-        x, z = ((s, row) if along_x else (row, s))
+        x, z = (s, row) if along_x else (row, s)
         x, z = x.ravel(), z.ravel()  # spot by spot, both kerbs each
         others = np.delete(rects, index, axis=0)[:, None]
-        crossing = (others[..., 0] - 4 < x) & (x < others[..., 2] + 4) & (others[..., 1] - 4 < z) & (z < others[..., 3] + 4)
+        crossing = (
+            (others[..., 0] - 4 < x) & (x < others[..., 2] + 4) & (others[..., 1] - 4 < z) & (z < others[..., 3] + 4)
+        )
         free = ~crossing.any(axis=0)
         positions += [(float(a), 0.0, float(b)) for a, b in zip(x[free], z[free])]
     return tree_instances(positions, species, rng)

@@ -13,10 +13,14 @@ def park_scene(seed: int = 3) -> City:
     park = (-45.0, -40.0, 45.0, 40.0)
     ground = [(-60.0, -55.0, 60.0, 55.0, GROUND_PAVEMENT), (*park, GROUND_GRASS)]
     # Buildings along the park's north and south sides, in the low sun's long shadows.
-    masses = [box((x, -70.0), 18.0, 14.0, h, seed=seed + i, style=i % 8)
-              for i, (x, h) in enumerate(zip(range(-60, 60, 20), (22, 35, 18, 40, 26, 30)))]
-    masses += [box((x, 56.0), 18.0, 14.0, h, seed=seed + 10 + i, style=(i + 3) % 8)
-               for i, (x, h) in enumerate(zip(range(-60, 60, 20), (28, 20, 45, 24, 32, 19)))]
+    masses = [
+        box((x, -70.0), 18.0, 14.0, h, seed=seed + i, style=i % 8)
+        for i, (x, h) in enumerate(zip(range(-60, 60, 20), (22, 35, 18, 40, 26, 30)))
+    ]
+    masses += [
+        box((x, 56.0), 18.0, 14.0, h, seed=seed + 10 + i, style=(i + 3) % 8)
+        for i, (x, h) in enumerate(zip(range(-60, 60, 20), (28, 20, 45, 24, 32, 19)))
+    ]
     viewpoints = {
         "park": Camera((30.0, 1.8, 4.0), (-20.0, 7.0, 0.0), fov_y=60.0, near=0.2, far=1500.0),
         "closeup": Camera((12.0, 2.5, 9.0), (0.0, 4.0, 2.0), fov_y=55.0, near=0.1, far=1500.0),

@@ -81,8 +81,9 @@ def bark_textures() -> BarkTextures:
         tint = periodic_noise((BARK_SIZE, BARK_SIZE), rng, 2.0)[..., None]
         rgb = np.array(dark) + (np.array(light) - np.array(dark)) * (height[..., None] * 0.8 + tint * 0.2)
         colors.append(np.concatenate([rgb, height[..., None]], axis=-1))
-        normals.append(np.concatenate([height_to_normal(height, 6.0) * 0.5 + 0.5,
-                                       np.ones_like(height)[..., None]], axis=-1))
+        normals.append(
+            np.concatenate([height_to_normal(height, 6.0) * 0.5 + 0.5, np.ones_like(height)[..., None]], axis=-1)
+        )
     return BarkTextures(_to_uint8(colors), _to_uint8(normals))
 
 
@@ -124,8 +125,18 @@ def _leaf_cell(rng, count, length, width, hue, spread_from_center):
         else:
             base = rng.uniform(size * 0.25, size * 0.75, 2) - axis * length * 0.3
         color = np.array(hue) * rng.uniform(0.75, 1.15) + rng.normal(0, 0.02, 3)
-        _paint_leaf(cell, detail, ids, leaf, base, axis, length * rng.uniform(0.8, 1.1),
-                    width * rng.uniform(0.8, 1.2), np.clip(color, 0, 1), rng.uniform(0, 1))
+        _paint_leaf(
+            cell,
+            detail,
+            ids,
+            leaf,
+            base,
+            axis,
+            length * rng.uniform(0.8, 1.1),
+            width * rng.uniform(0.8, 1.2),
+            np.clip(color, 0, 1),
+            rng.uniform(0, 1),
+        )
     detail[..., 3] = (ids % 251) / 255.0
     return cell, detail
 
@@ -144,8 +155,7 @@ def _frond_cell(rng):
             axis /= np.linalg.norm(axis)
             length = 70 * (1 - 0.5 * v / size) * rng.uniform(0.85, 1.1)
             hue = np.array((0.10, 0.28, 0.12)) * rng.uniform(0.8, 1.2)
-            _paint_leaf(cell, detail, ids, leaf, np.array([size / 2, v]), axis, length, 2.2, hue,
-                        rng.uniform(0, 1))
+            _paint_leaf(cell, detail, ids, leaf, np.array([size / 2, v]), axis, length, 2.2, hue, rng.uniform(0, 1))
             leaf += 1
     stem = np.abs(np.arange(size) + 0.5 - size / 2) < 2.5
     cell[:, stem] = (0.25, 0.17, 0.08, 1.0)
@@ -167,6 +177,6 @@ def leaf_textures() -> LeafTextures:
     detail = np.zeros((n * s, n * s, 4))
     for index, (c, d) in enumerate(cells):
         row, col = divmod(index, n)
-        color[row * s:(row + 1) * s, col * s:(col + 1) * s] = c
-        detail[row * s:(row + 1) * s, col * s:(col + 1) * s] = d
+        color[row * s : (row + 1) * s, col * s : (col + 1) * s] = c
+        detail[row * s : (row + 1) * s, col * s : (col + 1) * s] = d
     return LeafTextures(_to_uint8(color), _to_uint8(detail))
