@@ -93,8 +93,7 @@ def _grammar_city(gl_context, tmp_path, text: str, masses, path: str, size) -> R
 
 def _city_pixels(renderer, camera, points, name, output_dir):
     """Draws the city; the image (int RGB) and the (row, column) of world points."""
-    renderer.draw(camera)
-    image = renderer.read().astype(int)
+    image = render_finite(renderer, camera).astype(int)
     Image.fromarray(image.astype(np.uint8)).save(output_dir / f"{name}_{renderer.settings.grammar_deferred}.png")
     height, width = image.shape[:2]
     clip = camera.view_projection(width / height) @ np.array([[*p, 1.0] for p in points]).T
