@@ -119,23 +119,24 @@ def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> d
     """Per grammar building (index), the face its cheap colour is taken over: its widest grammar
     wall face as (start rule, width, height, storeys, style, seed, face index, use, height of the
     mass), the storeys counted as shaders/grammar/building.glsl does."""
-    walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+    grammar = np.flatnonzero(records["facade"][:, 0] == FACADE_GRAMMAR)
+    walls = vertices[(vertices["ids"][:, 1] == SURFACE_WALL) & np.isin(vertices["ids"][:, 0], grammar)]
+    # per building its first vertex on its widest face: a stable sort by building, widest first
+    walls = walls[np.lexsort((-walls["face"][:, 0], walls["ids"][:, 0]))]
+    buildings, first = np.unique(walls["ids"][:, 0], return_index=True)  # no wall: every face too narrow
+    widest = walls[first]
+    width, base, top = (widest["face"][:, k].astype(np.float64) for k in range(3))
+    storeys = np.floor((top - base) / widest["facade"][:, 3] + 0.5).astype(int)
     faces = {}
-    for i in np.flatnonzero(records["facade"][:, 0] == FACADE_GRAMMAR):
-        own = walls[walls["ids"][:, 0] == i]
-        if not len(own):
-            continue  # every face too narrow: plain walls only
-        widest = own[np.argmax(own["face"][:, 0])]
-        width, base, top = (float(v) for v in widest["face"][:3])
-        storeys = int(np.floor((top - base) / widest["facade"][3] + 0.5))
-        faces[int(i)] = (
+    for k, i in enumerate(buildings.tolist()):
+        faces[i] = (
             int(records["facade"][i, 1]),
-            width,
-            top - base,
-            storeys,
+            float(width[k]),
+            float(top[k] - base[k]),
+            int(storeys[k]),
             masses[i].style,
             masses[i].seed,
-            int(widest["ids"][2]),
+            int(widest["ids"][k, 2]),
             masses[i].use,
             float(masses[i].extent[1]),
         )
