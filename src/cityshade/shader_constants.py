@@ -27,6 +27,7 @@ CONSTANTS: dict[str, int | str] = {
     "GRAMMAR_WALL_LABEL": LABELS.index("wall"),
     "GRAMMAR_ROOM_LABEL": LABELS.index("room"),
     "GRAMMAR_DOOR_LABEL": LABELS.index("door"),
+    "GRAMMAR_WINDOW_LABEL": LABELS.index("window"),
     **DOOR_CONSTANTS,  # DOOR_WIDTH, DOOR_HEIGHT, DOOR_PLANE, DOOR_FACING, MAX_DOORS: scene/_doors.py
     "RELIEF_GLASS": f"{GLASS}u",  # compared with the uint materials of the relief maps
     **RELIEF_FACE_CODES,  # FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y, FACE_POS_Y

@@ -125,6 +125,7 @@ class FrameInputs:
             "IM_SINGLE_ATLAS": s.single_atlas,
             "INTERIOR_LOD": s.lod,
             "BUILDING_LOD": s.building_lod,
+            "RELIEF_OFF": not s.relief,
             "NO_SHADOWS": self.gpu.shadows is None,
             **extra,
         }

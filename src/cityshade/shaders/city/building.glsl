@@ -93,6 +93,7 @@ void main() {
     vec3 color;
     vec3 surface = v_local;  // where a ray through the glass enters the building
     bool cheap = false;      // the cheapest level of detail (city/lod.glsl): no grammar, relief nor rooms traced
+    bool traced = false;     // a grammar window's relief was traced (relief/building.glsl)
     if (v_ids.y == SURFACE_ROOF) {
         face = FACE_ROOF;
 #if defined POLYGONISED_WINDOWS
@@ -124,7 +125,10 @@ void main() {
         else if (relief && lod_relief_flat(s))  // parallax under a pixel: traced straight into the wall
             f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, -n);
 #endif
-        else if (grammar) f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
+        else if (grammar) {
+            f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
+            traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, f, opening);
+        }
         else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
         else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;
@@ -133,7 +137,7 @@ void main() {
 #if !defined ID_PASS
         color = facade_light(f, rot, d, shadow_factor(v_world));  // where it is glass, the room shows (below)
 #if defined GRAMMAR_DEFERRED
-        if (grammar && !cheap) color = grammar_deferred_color();  // lit by the deferred pass
+        if (grammar && !cheap && !traced) color = grammar_deferred_color();  // lit by the deferred pass
 #endif
 #endif
 #if defined POLYGONISED_EXTERIOR
