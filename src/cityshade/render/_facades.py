@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min_widths, library_texture, seed_cells
-from ..relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES
+from ..relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, relief_atlas
 from ..scene import SHAPES, SURFACE_PLAIN_WALL, SURFACE_WALL, BuildingMass
 
 NARROW_FACES = "plain wall (face narrower than its grammar)"  # the count assign_facades keeps of them
@@ -103,3 +103,16 @@ def _plain_narrow_faces(vertices: np.ndarray, needs: np.ndarray) -> int:
 
 def _widths() -> str:
     return ", ".join(f"{style} {width:g} m" for style, width in library_min_widths().items())
+
+
+def styles_with_relief(masses) -> tuple[list[int], list[int]]:
+    """(the building styles that have relief, every style the buildings use): a style has relief when
+    its buildings take the relief bay, or a grammar style whose windows have openings in the atlas."""
+    used = sorted({m.style for m in masses})
+    openings = relief_atlas().styles
+    relief = []
+    for style in used:
+        kinds = [choose_facade(m) for m in masses if m.style == style]
+        if any(k.code == FACADE_RELIEF or (k.grammar_style is not None and openings.get(k.grammar_style)) for k in kinds):
+            relief.append(style)
+    return relief, used
