@@ -99,9 +99,9 @@ def test_openings_line_up_with_the_flat_grammar(style):
     openings = style_openings(compiled, style, number)
     face = (17.3, 12.9)
     tiles = tile_array(128)
-    uv = (np.stack(np.meshgrid(np.arange(0.05, face[0], 0.1), np.arange(0.05, face[1], 0.1)), -1).reshape(-1, 2)).astype(
-        np.float32
-    )
+    uv = (
+        np.stack(np.meshgrid(np.arange(0.05, face[0], 0.1), np.arange(0.05, face[1], 0.1)), -1).reshape(-1, 2)
+    ).astype(np.float32)
     building = (4, number, 0, face[1])
     result = evaluate(compiled, compiled.address(style), uv, face, seed_vector(5), tiles, building=building)
     checked = 0

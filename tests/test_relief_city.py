@@ -71,7 +71,7 @@ def test_repeated_bay_matches_reference(gl_context):
     gpu.release()
 
 
-def test_a_quarter_of_the_box_buildings_gets_relief():
+def test_an_eighth_of_the_box_buildings_gets_the_relief_bay():
     city = default_city()
     _, records = batch(city.masses)
     count = assign_facades(records, city.masses)["relief bay"]
@@ -80,7 +80,7 @@ def test_a_quarter_of_the_box_buildings_gets_relief():
     due = [i for i in boxes if city.masses[i].style in RELIEF_STYLES]
     assert count == len(marked) and list(marked) == due  # every box building of a relief style, nothing else
     print(f"relief on {count} of {len(boxes)} box buildings ({count / len(boxes):.3f})")
-    assert 0.2 < count / len(boxes) < 0.3  # styles are uniform over 0..7: two of eight
+    assert 0.07 < count / len(boxes) < 0.19  # styles are uniform over 0..7: one of eight (style 2)
 
 
 def test_flyover_chunk_culling_keeps_the_picture(gl_context):

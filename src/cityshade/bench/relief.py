@@ -38,8 +38,8 @@ from ..relief import (
     slab_faces,
     trace_view,
 )
-from ..render import boxes_visible, frustum_planes
-from ..scene import Camera
+from ..render import Renderer, RenderSettings, boxes_visible, frustum_planes
+from ..scene import Camera, make_city
 from ._harness import BenchResult, method_record, time_interleaved, timing_record
 
 # Paper Table 1 (KB): NOCOMP, WINRAR, SVD, BIN for heightfield, material, acceleration, total.
@@ -75,6 +75,7 @@ TARGETS = {
     "geometry_over_bcfdm_time": ">= 40",
     "fdm_mismatch_fraction": "== 0 (edges only)",
     "f2_bmf_factorisation_s": "< 10",
+    "city_switch_over_exact_everywhere": "report (< 1: the switch saves time)",
 }
 
 
@@ -421,8 +422,58 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     _table2(result, ctx, programs, facades, quick)
     _mismatch(result, ctx, programs, facades, quick)
     _table3(result, ctx, programs, facades, quick)
+    _city_switch(result, ctx, quick)
     _plot(result, out_dir)
     return result
+
+
+SWITCH_SIZE = {True: (480, 270), False: (960, 540)}
+EXACT_EVERYWHERE = 1e9  # metres: grammar windows traced at every distance
+
+
+def _city_switch(result: BenchResult, ctx, quick: bool):
+    """The default city's frame with the distance switch (BCFDM nearer than RenderSettings.relief_range,
+    the flat grammar beyond) against the exact tracer at every distance: time side by side, and the
+    share of pixels whose colour the switch changes (its error against the exact tracer)."""
+    city, size = make_city("default"), SWITCH_SIZE[quick]
+    switch_m = RenderSettings().relief_range
+    renderers = {
+        "switch": Renderer(size, RenderSettings(samples=0), ctx=ctx),
+        "exact everywhere": Renderer(size, RenderSettings(samples=0, relief_range=EXACT_EVERYWHERE), ctx=ctx),
+    }
+    rows, ratios = [], []
+    try:
+        for renderer in renderers.values():
+            renderer.set_city(city)
+        for name in ("street", "closeup"):
+            camera = city.camera(name)
+            timed = time_interleaved(
+                ctx, {k: (lambda i, r=r: r.draw(camera)) for k, r in renderers.items()}, FRAMES[quick]
+            )
+            images = {k: r.targets.display.read()[..., :3].astype(int) for k, r in renderers.items()}
+            differ = np.abs(images["switch"] - images["exact everywhere"]).max(axis=-1) > 2
+            ms = {k: v.median for k, v in timed.items()}
+            ratios.append(ms["switch"] / ms["exact everywhere"])
+            rows.append(
+                [
+                    name,
+                    round(ms["switch"], 1),
+                    round(ms["exact everywhere"], 1),
+                    round(ratios[-1], 3),
+                    int(differ.sum()),
+                    round(float(differ.mean()), 4),
+                ]
+            )
+    finally:
+        for renderer in renderers.values():
+            renderer.release()
+    result.add_table(
+        f"City: distance switch (traced nearer than {switch_m:g} m, flat beyond) vs the exact tracer everywhere, "
+        f"default city at {size[0]}x{size[1]}",
+        ["camera", "switch ms", "exact everywhere ms", "switch/exact", "pixels that differ", "share"],
+        rows,
+    )
+    result.ratios["city_switch_over_exact_everywhere"] = round(math.prod(ratios) ** (1 / len(ratios)), 3)
 
 
 def _plot(result: BenchResult, out_dir: Path):

@@ -29,7 +29,14 @@ def cache_dir() -> Path:
 
 def cache_key(maps: DetailMaps, method: str) -> str:
     """The file's name: the format version, the method, the texel and depth unit and D and M."""
-    parts = [f"cfdm{VERSION}", method, repr(maps.texel), repr(maps.depth_unit), digest(maps.depth), digest(maps.material)]
+    parts = [
+        f"cfdm{VERSION}",
+        method,
+        repr(maps.texel),
+        repr(maps.depth_unit),
+        digest(maps.depth),
+        digest(maps.material),
+    ]
     return hashlib.sha256("/".join(parts).encode()).hexdigest()[:32]
 
 

@@ -27,7 +27,6 @@ from ._maps import DetailMaps
 FACADE_RELIEF = 2  # the record's facade.x for relief-bay facades (shaders/relief/building.glsl)
 RELIEF_STYLES = (2,)  # building styles drawn with the relief bay (no grammar style of their own)
 RELIEF_SHAPES = ("prism",)  # flat walls only
-RELIEF_RANGE = 60.0  # metres: grammar windows are traced nearer than this, flat beyond (bench relief)
 MAX_OPENINGS = 64  # shaders/relief/building.glsl RELIEF_MAX_OPENINGS
 
 
@@ -76,7 +75,9 @@ def stack_bmf(parts: list[CompressedFacade]) -> CompressedFacade:
         factors[name] = Factors("bmf", np.concatenate(xs, 1), np.concatenate(ss), np.concatenate(ys, 1))
     first = parts[0]
     digests = {name: digest(f.reconstruct()) for name, f in factors.items()}
-    return CompressedFacade("bmf", first.texel, first.depth_unit, factors, np.concatenate(boxes).astype(np.uint16), digests)
+    return CompressedFacade(
+        "bmf", first.texel, first.depth_unit, factors, np.concatenate(boxes).astype(np.uint16), digests
+    )
 
 
 def _stack_maps(parts: list[DetailMaps]) -> DetailMaps:
@@ -118,15 +119,14 @@ def relief_atlas() -> ReliefAtlas:
 
 
 class CityRelief:
-    """The relief atlas on the GPU, ready to bind for the buildings' program; range: metres within
-    which grammar windows are traced."""
+    """The relief atlas on the GPU, ready to bind for the buildings' program."""
 
-    def __init__(self, ctx: moderngl.Context, range_m: float = RELIEF_RANGE):
+    def __init__(self, ctx: moderngl.Context):
         self.atlas = relief_atlas()
         self.facade = GpuFacade(ctx, self.atlas.maps, {"bmf": self.atlas.bmf})
-        self.range_m = range_m
 
-    def bind(self, program: moderngl.Program):
+    def bind(self, program: moderngl.Program, range_m: float):
+        """range_m: metres within which grammar windows are traced (RenderSettings.relief_range)."""
         a = self.atlas
         terminals = sorted(a.terminals.items())
         values = {
@@ -134,7 +134,7 @@ class CityRelief:
             "u_relief_bay": a.bay,
             "u_relief_openings": len(terminals),
             "u_relief_profile": (PROFILE[0] + 2, PROFILE[1] + 2),
-            "u_relief_range": self.range_m,
+            "u_relief_range": range_m,
         }
         for name, value in values.items():
             if name in program:

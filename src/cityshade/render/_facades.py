@@ -113,6 +113,8 @@ def styles_with_relief(masses) -> tuple[list[int], list[int]]:
     relief = []
     for style in used:
         kinds = [choose_facade(m) for m in masses if m.style == style]
-        if any(k.code == FACADE_RELIEF or (k.grammar_style is not None and openings.get(k.grammar_style)) for k in kinds):
+        if any(
+            k.code == FACADE_RELIEF or (k.grammar_style is not None and openings.get(k.grammar_style)) for k in kinds
+        ):
             relief.append(style)
     return relief, used

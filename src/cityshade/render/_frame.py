@@ -240,7 +240,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     f.gpu.textures.grammar.bind(program)
     if f.view.settings.grammar_deferred:
         f.gpu.textures.grammar_pass.bind_results(program)
-    f.gpu.city.relief.bind(program)
+    f.gpu.city.relief.bind(program, f.view.settings.relief_range)
     f.gpu.city.street_lights.bind(program)
     if defines.get("BUILDING_LOD", f.view.settings.building_lod):
         f.gpu.city.bind_lod_colours()
