@@ -12,6 +12,7 @@ from PIL import Image
 
 from cityshade import assets
 from cityshade.grammar import FACADE_GRAMMAR, library_min_widths, library_texture
+from cityshade.relief import relief_atlas
 from cityshade.interior import FACE_NAMES, GrammarFacades, InteriorParams, reference_ids, windows_straddling_rooms
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer, RenderSettings, assign_facades, choose_facade
@@ -35,11 +36,14 @@ def renderer(gl_context):
 
 
 def _grammar(masses=MASSES) -> GrammarFacades:
+    """The grammar facades of `masses`, their windows recessed as the renderer draws them."""
     _, records = batch(masses)
     assign_facades(records, masses)
     starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
     widths = {i: library_min_widths()[choose_facade(masses[i]).grammar_style] for i in starts}
-    return GrammarFacades(library_texture(), assets.tile_array(), starts, widths)
+    return GrammarFacades(
+        library_texture(), assets.tile_array(), starts, widths, relief_atlas(), RenderSettings().relief_range
+    )
 
 
 def _twin_of(renderer, city):
