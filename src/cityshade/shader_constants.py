@@ -9,7 +9,7 @@ from .assets import LABELS
 from .gl import declare_constants
 from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
-from .relief import FACADE_RELIEF, GLASS, RELIEF_FACE_CODES
+from .relief import FACADE_RELIEF, GLASS, MATERIALS, RELIEF_FACE_CODES
 from .scene import FLAGS, GROUND_MATERIALS, MAP_GROUND_MATERIALS, ROOF_PATTERNS, SHAPE_CODES, SURFACE_CODES, USE_CODES
 from .scene import DOOR_CONSTANTS
 
@@ -30,6 +30,8 @@ CONSTANTS: dict[str, int | str] = {
     "GRAMMAR_WINDOW_LABEL": LABELS.index("window"),
     **DOOR_CONSTANTS,  # DOOR_WIDTH, DOOR_HEIGHT, DOOR_PLANE, DOOR_FACING, MAX_DOORS: scene/_doors.py
     "RELIEF_GLASS": f"{GLASS}u",  # compared with the uint materials of the relief maps
+    "RELIEF_FRAME": f"{MATERIALS.index('frame')}u",
+    "RELIEF_WALL": f"{MATERIALS.index('wall')}u",
     **RELIEF_FACE_CODES,  # FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y, FACE_POS_Y
 }
 

@@ -40,6 +40,7 @@ class ReliefAtlas:
     bmf: CompressedFacade  # its factorisation, stacked from the parts'
     bay: tuple[int, int, int, int]  # the bay's region: first row, columns, rows, 1 (repeats)
     terminals: dict[int, int]  # glazed terminal's rule address -> first row of its opening
+    colours: dict[int, tuple]  # glazed terminal's rule address -> sRGB (frame, reveal), StyleOpenings.colours
     styles: dict[str, str]  # grammar style -> the method its openings were compressed with ("" none)
 
 
@@ -97,7 +98,7 @@ def relief_atlas() -> ReliefAtlas:
     bay = generate_bay()
     parts = [bay]
     packed = [cached_compress(bay, "bmf", "city window bay")[0]]
-    terminals, styles, row = {}, {}, bay.shape[0]
+    terminals, colours, styles, row = {}, {}, {}, bay.shape[0]
     for number, style in BUILDING_STYLES.items():
         try:
             openings = style_openings(compiled, style, number)
@@ -111,11 +112,15 @@ def relief_atlas() -> ReliefAtlas:
         packed.append(best if best.method == "bmf" else cached_compress(openings.maps, "bmf", style)[0])
         parts.append(openings.maps)
         for k, terminal in enumerate(openings.terminals):
-            terminals.setdefault(terminal, row + k * openings.region_shape[0])
+            if terminal not in terminals:
+                terminals[terminal] = row + k * openings.region_shape[0]
+                colours[terminal] = openings.colours[k]
         row += openings.maps.shape[0]
     if len(terminals) > MAX_OPENINGS:
         raise ValueError(f"{len(terminals)} glazed terminals; the city's shader holds {MAX_OPENINGS}")
-    return ReliefAtlas(_stack_maps(parts), stack_bmf(packed), (0, bay.shape[1], bay.shape[0], 1), terminals, styles)
+    return ReliefAtlas(
+        _stack_maps(parts), stack_bmf(packed), (0, bay.shape[1], bay.shape[0], 1), terminals, colours, styles
+    )
 
 
 class CityRelief:
@@ -143,6 +148,11 @@ class CityRelief:
             uniform = program["u_relief_terminals"]
             padded = terminals + [(-1, -1)] * (uniform.array_length - len(terminals))
             uniform.value = padded[: uniform.array_length]
+        if "u_relief_colours" in program:
+            uniform = program["u_relief_colours"]
+            flat = [c for terminal, _ in terminals for c in a.colours[terminal]]
+            flat += [(0.0, 0.0, 0.0)] * (uniform.array_length - len(flat))
+            uniform.value = flat[: uniform.array_length]
         self.facade.bind(program, "bmf")
 
     def release(self):

@@ -24,6 +24,7 @@ uniform float u_relief_depth_unit;  // metres per depth step
 uniform ivec4 u_relief_bay;         // the window bay's region (first row, columns, rows, 1: repeats)
 uniform int u_relief_openings;      // how many glazed terminals have a window opening
 uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address, first atlas row of its opening
+uniform vec3 u_relief_colours[2 * RELIEF_MAX_OPENINGS];  // per opening: sRGB frame, reveal (the flat grammar's)
 uniform ivec2 u_relief_profile;     // an opening's columns and rows, the ring of wall texels included
 uniform float u_relief_range;       // metres: openings are traced nearer than this, flat grammar beyond
 
@@ -38,13 +39,14 @@ bool has_relief_facade(Building b) {
 // start: the wall point in map space; scale: map units per metre along (mesh u, up, into the wall).
 // The result's point is where the ray meets the relief (the room behind recessed glass shows from
 // there); no specular.
-FacadeResult relief_traced(Building b, vec3 n, vec3 wall, vec3 start, vec3 scale, vec3 d) {
+FacadeResult relief_traced(Building b, vec3 n, vec3 wall, vec3 start, vec3 scale, vec3 d, out uint material) {
     vec3 up = vec3(0.0, 1.0, 0.0);
     vec3 along = normalize(cross(n, up));  // the direction mesh u grows (right to left seen from outside)
     ReliefHit h = relief_trace(start, vec3(dot(d, along), d.y, -dot(d, n)) * scale, FACE_FRONT);
     vec3 offset = (h.point - start) / scale;
     vec3 normal = h.face == FACE_NEG_X ? -along : h.face == FACE_POS_X ? along
                 : h.face == FACE_NEG_Y ? -up : h.face == FACE_POS_Y ? up : n;
+    material = h.material;
     vec3 albedo = srgb_to_linear(relief_albedo(h.material, h.point.xy / scale.xy, h.face));
     return FacadeResult(albedo * building_tint(b), normal, vec2(0.0), h.hit && h.material == RELIEF_GLASS ? 1.0 : 0.0,
                         wall + along * offset.x + up * offset.y - n * offset.z, 0u);
@@ -56,13 +58,14 @@ FacadeResult relief_traced(Building b, vec3 n, vec3 wall, vec3 start, vec3 scale
 FacadeResult relief_building(Building b, vec3 n, vec3 wall, vec2 facade, vec2 spacing, vec3 d) {
     relief_region = u_relief_bay;
     vec3 scale = vec3(vec2(u_relief_bay.yz) / spacing, 1.0 / u_relief_depth_unit);  // map units per metre
-    return relief_traced(b, n, wall, vec3(facade, 0.0) * scale, scale, d);
+    uint material;
+    return relief_traced(b, n, wall, vec3(facade, 0.0) * scale, scale, d, material);
 }
 
-// The atlas row of a glazed terminal's opening, -1 for none.
-int relief_opening_row(int terminal) {
+// The index of a glazed terminal's opening, -1 for none.
+int relief_opening(int terminal) {
     for (int i = 0; i < u_relief_openings; i++)
-        if (u_relief_terminals[i].x == terminal) return u_relief_terminals[i].y;
+        if (u_relief_terminals[i].x == terminal) return i;
     return -1;
 }
 
@@ -78,14 +81,18 @@ bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, 
 #else
     if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL))) return false;
     GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, dFdx(facade), dFdy(facade));
-    int row = relief_opening_row(g.terminal);
-    if (row < 0) return false;
+    int opening_index = relief_opening(g.terminal);
+    if (opening_index < 0) return false;
     vec4 rect = grammar_window(g.scope, face);
     vec2 inner = vec2(u_relief_profile - 2);
-    relief_region = ivec4(row, u_relief_profile, 0);
+    relief_region = ivec4(u_relief_terminals[opening_index].y, u_relief_profile, 0);
     vec3 scale = vec3(inner / (rect.zw - rect.xy), 1.0 / u_relief_depth_unit);
     vec3 start = vec3(1.0 + (facade - rect.xy) * scale.xy, 0.0);
-    f = relief_traced(b, n, wall, start, scale, d);
+    uint material;
+    f = relief_traced(b, n, wall, start, scale, d, material);
+    // the frame and the reveal in the flat grammar's colours (the grammar's own, untinted)
+    if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(u_relief_colours[2 * opening_index]);
+    else if (material == RELIEF_WALL) f.albedo = srgb_to_linear(u_relief_colours[2 * opening_index + 1]);
     f.label = f.glass > 0.0 ? uint(GRAMMAR_ROOM_LABEL) : uint(GRAMMAR_WINDOW_LABEL);
     opening = rect;
     return true;
