@@ -154,7 +154,7 @@ def relief_frame_ms(ctx, size, frames: int) -> dict[str, float]:
         for name in ("street", "closeup"):
             camera = city.camera(name)
             timed = time_interleaved(ctx, {k: (lambda i, r=r: r.draw(camera)) for k, r in renderers.items()}, frames)
-            out.update({(name, k): v.median for k, v in timed.items()})
+            out.update({(name, k): v.ms()[0] for k, v in timed.items()})
     finally:
         for renderer in renderers.values():
             renderer.release()
