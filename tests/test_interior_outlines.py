@@ -41,9 +41,7 @@ def _grammar(masses=MASSES) -> GrammarFacades:
     assign_facades(records, masses)
     starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
     widths = {i: library_min_widths()[choose_facade(masses[i]).grammar_style] for i in starts}
-    return GrammarFacades(
-        library_texture(), assets.tile_array(), starts, widths, relief_atlas(), RenderSettings().relief_range
-    )
+    return GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief_atlas())
 
 
 def _twin_of(renderer, city):

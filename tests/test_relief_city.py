@@ -193,16 +193,14 @@ GRAMMAR_STREET = City(
 )
 
 
-DEFAULT_RANGE = RenderSettings().relief_range
-
-
-@pytest.mark.parametrize("view, switch_m", [("along", DEFAULT_RANGE), ("oblique", DEFAULT_RANGE), ("oblique", 14.0)])
+@pytest.mark.parametrize("view, switch_m", [("along", 60.0), ("oblique", 60.0), ("oblique", 14.0), ("oblique", None)])
 def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, output_dir):
     """Grammar facades with recessed windows (each style's openings, cityshade.relief.relief_atlas):
     face, room, building, light, variant and grammar label of the GPU's id AOV against the interior
     twin that traces the same openings with the reference tracer nearer than the switch distance
     and keeps the flat grammar beyond; and the recess matters (the twin without relief differs on a
-    share of the window pixels). At 14 m the view holds both: traced near, flat far."""
+    share of the window pixels). At 14 m the view holds both: traced near, flat far; None is the
+    renderer's default, relief.switch_distance of the view."""
     settings = RenderSettings(lights=0.6, animation_time=1.3, relief_range=switch_m)
     renderer = Renderer(CITY_SIZE, settings, ctx=gl_context)
     renderer.set_city(GRAMMAR_STREET)
@@ -219,7 +217,7 @@ def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, o
         sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
     )
     renderer.release()
-    Image.fromarray(colour).save(output_dir / f"relief_grammar_{view}_{switch_m:g}.png")
+    Image.fromarray(colour).save(output_dir / f"relief_grammar_{view}_{switch_m}.png")
     masses = GRAMMAR_STREET.masses
     _, records = batch(masses)
     assign_facades(records, masses)
@@ -234,8 +232,8 @@ def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, o
         return reference_ids(masses, camera, CITY_SIZE, params, alpha, ground, grammar=grammar, labels=labels)
 
     ref, flat, ref_labels = twin(relief_atlas()), twin(None), twin(relief_atlas(), True)[..., 3]
-    if switch_m < DEFAULT_RANGE:  # the switch falls inside the view: some windows traced, some flat
-        farther = twin(relief_atlas(), switch=DEFAULT_RANGE)
+    if switch_m == 14.0:  # the switch falls inside the view: some windows traced, some flat
+        farther = twin(relief_atlas(), switch=60.0)
         assert np.any(ref[..., :2] != flat[..., :2]) and np.any(ref[..., :2] != farther[..., :2])
     buildings = ref[..., 2] > 0
     differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
@@ -244,7 +242,7 @@ def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, o
     window = buildings & np.isin(ref_labels, [LABELS.index("room"), LABELS.index("window")])
     moved = window & (np.any(ref[..., :2] != flat[..., :2], axis=-1) | (ref_labels != twin(None, True)[..., 3]))
     print(
-        f"{view}, switch at {switch_m:g} m: {differ.sum()} of {buildings.sum()} building pixels differ in face/room/building, "
+        f"{view}, switch at {switch_m} m: {differ.sum()} of {buildings.sum()} building pixels differ in face/room/building, "
         f"{state_differ.sum()} in light or variant, {label_differ.sum()} in label; {window.sum()} window pixels, "
         f"{moved.sum()} of them changed by the recess"
     )

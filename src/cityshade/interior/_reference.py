@@ -10,7 +10,7 @@ import numpy as np
 
 from ..assets import LABELS, TileArray
 from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
-from ..relief import GLASS, PROFILE, DetailMaps, trace_reference
+from ..relief import GLASS, PROFILE, DetailMaps, switch_distance, trace_reference
 from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (
     FACE_CEILING,
@@ -208,14 +208,15 @@ class GrammarFacades:
     renderer's), and per building index the address of its start rule and the narrowest face its
     grammar fits (narrower faces are plain walls: no glass, no label). With `relief` (the city's
     cityshade.relief.relief_atlas()) the windows nearer than relief_range metres are recessed, as
-    the renderer draws them with RenderSettings.relief on."""
+    the renderer draws them with RenderSettings.relief on (None: as the renderer's default,
+    cityshade.relief.switch_distance of the view)."""
 
     compiled: CompiledGrammars
     tiles: TileArray
     starts: dict[int, int]
     min_widths: dict[int, float]
     relief: object | None = None
-    relief_range: float = 60.0
+    relief_range: float | None = None
 
 
 def _opening_entry(atlas, row: int, window, local, d, n, facade):
@@ -250,6 +251,7 @@ def grammar_entry(
     columns: np.ndarray,
     local: np.ndarray,
     distance: np.ndarray,
+    switch_m: float = 0.0,
 ):
     """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
     true size of each face: per ray, whether it meets glass, its label as the id pass writes it, the
@@ -294,7 +296,7 @@ def grammar_entry(
             axis=1,
         )
         if grammar.relief is not None:
-            near = (g.glass | (g.label == WINDOW_LABEL)) & (distance[rows] <= grammar.relief_range)
+            near = (g.glass | (g.label == WINDOW_LABEL)) & (distance[rows] <= switch_m)
             for terminal in np.unique(g.terminal[near]):
                 row = grammar.relief.terminals.get(int(terminal))
                 if row is None:
@@ -329,6 +331,9 @@ def reference_ids(
     camera's far plane."""
     relief = relief or {}
     starts = grammar.starts if grammar is not None else {}
+    switch_m = grammar.relief_range if grammar is not None else None
+    if switch_m is None:
+        switch_m = switch_distance(size[1], camera.fov_y)
     width, height = size
     dirs = camera.pixel_rays(size).reshape(-1, 3)
     eye = camera.eye
@@ -364,6 +369,7 @@ def reference_ids(
                     hits.columns[walls],
                     hits.local[walls],
                     hits.t[walls] * np.linalg.norm(dirs[walls], axis=1),
+                    switch_m,
                 )
                 if labels:
                     out[walls, 3] = label

@@ -9,6 +9,7 @@ of X, the parts' terms side by side), so nothing is factorised again when the ci
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 from functools import lru_cache
@@ -20,7 +21,7 @@ from ._cache import cached_compress, smallest_compression
 from ._compress import MAP_NAMES, CompressedFacade, digest
 from ._factor import Factors
 from ._gpu import GpuFacade
-from ._grammar_source import PROFILE, style_openings
+from ._grammar_source import OPENING_DEPTH, PROFILE, style_openings
 from ._layout import generate_bay
 from ._maps import DetailMaps
 
@@ -28,6 +29,14 @@ FACADE_RELIEF = 2  # the record's facade.x for relief-bay facades (shaders/relie
 RELIEF_STYLES = (2,)  # building styles drawn with the relief bay (no grammar style of their own)
 RELIEF_SHAPES = ("prism",)  # flat walls only
 MAX_OPENINGS = 64  # shaders/relief/building.glsl RELIEF_MAX_OPENINGS
+
+
+def switch_distance(height_px: int, fov_y: float) -> float:
+    """Metres from the eye beyond which a pixel spans more than the pane's depth behind the wall:
+    there the recess moves what a window shows by under a pixel (seen at 45 degrees), and the
+    city draws the flat grammar instead of tracing (docs/relief.md, bench relief)."""
+    pane = OPENING_DEPTH["glass"] * 0.01  # cm -> m
+    return pane * height_px / (2.0 * math.tan(math.radians(fov_y) / 2.0))
 
 
 class ReliefStyleWarning(UserWarning):
