@@ -90,8 +90,9 @@ bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, 
     vec3 start = vec3(1.0 + (facade - rect.xy) * scale.xy, 0.0);
     uint material;
     f = relief_traced(b, n, wall, start, scale, d, material);
-    // the frame and the reveal in the flat grammar's colours (the grammar's own, untinted)
-    if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(u_relief_colours[2 * opening_index]);
+    // the frame and the reveal in the flat grammar's colours (the grammar's own, untinted): the
+    // tile's own colour where the wall point is on the frame too, else the frame's mean colour
+    if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(g.glass ? u_relief_colours[2 * opening_index] : g.color);
     else if (material == RELIEF_WALL) f.albedo = srgb_to_linear(u_relief_colours[2 * opening_index + 1]);
     f.label = f.glass > 0.0 ? uint(GRAMMAR_ROOM_LABEL) : uint(GRAMMAR_WINDOW_LABEL);
     opening = rect;
