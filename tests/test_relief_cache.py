@@ -12,6 +12,7 @@ from cityshade.relief import (
     PROFILE,
     DetailMaps,
     cache_dir,
+    cached_arrays,
     cached_compress,
     compress,
     generate_bay,
@@ -132,3 +133,20 @@ def test_openings_line_up_with_the_flat_grammar(style):
         assert differ.sum() <= 0.03 * glass.size
         checked += 1
     assert checked > 0
+
+
+def test_cached_arrays_hit_and_damage(cache):
+    builds = []
+
+    def build():
+        builds.append(1)
+        return {"a": np.arange(5), "b": np.ones((2, 2))}
+
+    first = cached_arrays("t", "k", ("a", "b"), build)
+    again = cached_arrays("t", "k", ("a", "b"), build)
+    assert len(builds) == 1 and np.array_equal(again["a"], first["a"])
+    path = next(cache.glob("t-k.npz"))
+    path.write_bytes(path.read_bytes()[:40])  # truncated
+    assert np.array_equal(cached_arrays("t", "k", ("a", "b"), build)["b"], first["b"]) and len(builds) == 2
+    np.savez(path, other=np.zeros(1))  # a sound file of other arrays under the name
+    assert set(cached_arrays("t", "k", ("a", "b"), build)) == {"a", "b"} and len(builds) == 3

@@ -5,7 +5,7 @@ binary factorisations, bit packing, the .cfdm file format and a numpy reference 
 """
 
 from ._boxes import free_boxes
-from ._cache import CACHE_ENV, cache_dir, cached_compress, smallest_compression
+from ._cache import CACHE_ENV, cache_dir, cached_arrays, cached_compress, smallest_compression
 from ._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, CityRelief, relief_atlas, stack_bmf, switch_distance
 from ._grammar_source import PROFILE, StyleOpenings, style_openings
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
@@ -38,6 +38,7 @@ __all__ = [
     "switch_distance",
     "CACHE_ENV",
     "cache_dir",
+    "cached_arrays",
     "cached_compress",
     "smallest_compression",
     "PROFILE",

@@ -1,5 +1,6 @@
 """Compressed detail maps cached on disk by the content hash of the maps: a style's maps are
-factorised once per machine, not on every city load.
+factorised once per machine, not on every city load (and, by the hash of their inputs, the
+arrays that are slow to derive: a style's window openings).
 
 The folder is $CITYSHADE_CACHE_DIR, else $XDG_CACHE_HOME/cityshade, else ~/.cache/cityshade. A
 file that cannot be read back (damaged, truncated, another version) or that holds other maps than
@@ -10,7 +11,11 @@ from __future__ import annotations
 
 import hashlib
 import os
+import zipfile
 from pathlib import Path
+from typing import Callable
+
+import numpy as np
 
 from ..errors import CityshadeError
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
@@ -65,3 +70,28 @@ def smallest_compression(maps: DetailMaps, source: str = "facade") -> Compressed
     """BMF or SVD, whichever takes fewer bytes on the GPU (each cached)."""
     options = [cached_compress(maps, method, source)[0] for method in ("bmf", "svd")]
     return min(options, key=lambda f: sum(f.nbytes().values()))
+
+
+def cached_arrays(
+    name: str, key: str, names: tuple[str, ...], build: Callable[[], dict[str, np.ndarray]]
+) -> dict[str, np.ndarray]:
+    """build()'s arrays (named `names`), from `name-key.npz` in the cache when it holds exactly
+    those arrays and reads back (zip checks each member's CRC); else built, written beside it and
+    renamed into place."""
+    path = cache_dir() / f"{name}-{key}.npz"
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if sorted(data.files) == sorted(names):
+                return {k: data[k] for k in names}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile):
+        pass  # absent, damaged or foreign: rebuilt below
+    arrays = build()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        partial = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        with open(partial, "wb") as f:
+            np.savez(f, **arrays)
+        os.replace(partial, path)
+    except OSError:
+        pass  # a read-only cache only costs the work next time
+    return arrays

@@ -9,6 +9,7 @@ of X, the parts' terms side by side), so nothing is factorised again when the ci
 
 from __future__ import annotations
 
+import hashlib
 import math
 import warnings
 from dataclasses import dataclass
@@ -17,12 +18,12 @@ from functools import lru_cache
 import moderngl
 import numpy as np
 
-from ._cache import cached_compress, smallest_compression
+from ._cache import cached_arrays, cached_compress, smallest_compression
 from ._compress import MAP_NAMES, CompressedFacade, digest
 from ._factor import Factors
 from ._gpu import GpuFacade
-from ._grammar_source import OPENING_DEPTH, PROFILE, style_openings
-from ._layout import generate_bay
+from ._grammar_source import OPENING_DEPTH, PROFILE, StyleOpenings, style_openings
+from ._layout import DEPTH_UNIT, generate_bay
 from ._maps import DetailMaps
 
 FACADE_RELIEF = 2  # the record's facade.x for relief-bay facades (shaders/relief/building.glsl)
@@ -98,6 +99,44 @@ def _stack_maps(parts: list[DetailMaps]) -> DetailMaps:
     return DetailMaps(depth, material, parts[0].texel, parts[0].depth_unit)
 
 
+_OPENING_ARRAYS = ("terminals", "depth", "material", "colours")
+
+
+def cached_openings(compiled, style: str, number: int) -> StyleOpenings:
+    """style_openings, cached on disk by a hash of its inputs: the compiled grammar texture, the
+    tiles, the style's start rule and number, the profile and its depths."""
+    from ..assets import tile_array
+
+    digest = hashlib.sha256()
+    for part in (compiled.texels.tobytes(), tile_array(128).layers.tobytes()):
+        digest.update(part)
+    digest.update(repr((compiled.address(style), number, PROFILE, sorted(OPENING_DEPTH.items()), 1)).encode())
+
+    def build():
+        try:
+            o = style_openings(compiled, style, number)
+        except ValueError:  # no glazed terminal: cached as no openings
+            return {
+                "terminals": np.zeros(0, np.int64),
+                "depth": np.zeros((0, 0), np.uint16),
+                "material": np.zeros((0, 0), np.uint16),
+                "colours": np.zeros((0, 2, 3)),
+            }
+        return {
+            "terminals": np.array(o.terminals, np.int64),
+            "depth": o.maps.depth,
+            "material": o.maps.material,
+            "colours": np.array(o.colours, np.float64).reshape(-1, 2, 3),
+        }
+
+    a = cached_arrays(f"openings-{style}", digest.hexdigest()[:32], _OPENING_ARRAYS, build)
+    if not len(a["terminals"]):
+        raise ValueError(f"grammar style {style!r} has no glazed terminal on the probe faces")
+    colours = tuple(tuple(tuple(float(c) for c in rgb) for rgb in pair) for pair in a["colours"])
+    maps = DetailMaps(a["depth"].astype(np.uint16), a["material"].astype(np.uint16), 1.0, DEPTH_UNIT)
+    return StyleOpenings(tuple(int(t) for t in a["terminals"]), maps, colours)
+
+
 @lru_cache(maxsize=1)
 def relief_atlas() -> ReliefAtlas:
     """The city's relief atlas (built once per process; the factorisations come from the disk cache)."""
@@ -110,7 +149,7 @@ def relief_atlas() -> ReliefAtlas:
     terminals, colours, styles, row = {}, {}, {}, bay.shape[0]
     for number, style in BUILDING_STYLES.items():
         try:
-            openings = style_openings(compiled, style, number)
+            openings = cached_openings(compiled, style, number)
         except ValueError as exc:
             warnings.warn(f"{exc}: its facades stay flat", ReliefStyleWarning, stacklevel=2)
             styles[style] = ""
