@@ -40,3 +40,16 @@ def check_writable(path: Path) -> Path:
     """Fails early, with one line, if the output cannot be written (nothing is created)."""
     output_target(path)
     return path
+
+
+def add_grammar_cache_option(parser, default: bool):
+    """--grammar-cache / --no-grammar-cache, for the commands that draw the city's frame."""
+    import argparse
+
+    parser.add_argument(
+        "--grammar-cache",
+        action=argparse.BooleanOptionalAction,
+        default=default,
+        help="shade grammar facades from a page cache of facades evaluated once per texel, evaluating "
+        "per pixel only where a page is not resident yet (docs/scale.md)",
+    )

@@ -11,6 +11,7 @@ from pathlib import Path
 import moderngl_window as mglw
 import numpy as np
 
+from .arguments import add_grammar_cache_option
 from .errors import CityshadeError
 from .render import Renderer, RenderSettings, ResolutionScale, parse_time, upscale
 from .scene import Camera, City, make_city
@@ -251,11 +252,12 @@ def register(subparsers):
         help="keep N frames per second by drawing at a lower resolution and stretching it to "
         f"the window (default {DEFAULT_TARGET_FPS:g}; 0: always full resolution)",
     )
+    add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     parser.set_defaults(run=_run)
 
 
 def _run(args) -> int:
-    settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples)
+    settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples, grammar_cache=args.grammar_cache)
     from .maps import require_map_for_date
 
     require_map_for_date(args.date, args.map)

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..arguments import check_seed, check_writable, parse_lights, parse_size, save_png
+from ..arguments import add_grammar_cache_option, check_seed, check_writable, parse_lights, parse_size, save_png
 from ..errors import UsageError
 from ..scene import CITIES
+from ._settings import RenderSettings
 
 
 def _trees_scene(args) -> int:
@@ -82,6 +83,7 @@ def register(subparsers):
         help="with --map: tint walls whose height and roofs whose shape the map did not give "
         "(orange) apart from what it gave (blue)",
     )
+    add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
     parser.add_argument(
         "--profile",
@@ -123,6 +125,7 @@ def run(args) -> int:
         profile=args.profile,
         aov=args.aov,
         building_lod=args.building_lod,
+        grammar_cache=args.grammar_cache,
         **sky,
     )
     save_png(image, args.out)

@@ -137,7 +137,10 @@ class Renderer:
         self.frame_index += 1
         self._start_grammars()
         if self.settings.grammar_deferred:
-            self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
+            pages = self.settings.grammar_cache_pages if self.settings.grammar_cache else None
+            self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(
+                self.size, pages
+            )
         s = self.settings
         gpu = FrameResources(
             self.ctx,
