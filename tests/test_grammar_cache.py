@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cityshade.grammar._cache import BORDER, CONTENT, FINEST_TEXEL, MAX_PROBES, page_hash, page_table
+from cityshade.grammar._cache import BORDER, CONTENT, FINEST_TEXEL, MAX_PROBES, PAGE, page_hash, page_table
 from cityshade.grammar._random import facade_cells
 from cityshade.grammar._reference import evaluate
 from cityshade.render import Renderer, RenderSettings, frame_passes
@@ -143,7 +143,7 @@ def test_pages_hold_the_numpy_twins_evaluation(gl_context):
             level, page = (y >> 10) & 15, np.array([(y >> 14) & 1023, y >> 24])
             texel = FINEST_TEXEL * 2.0**level
             size = face_size(renderer, key)
-            i = (np.arange(64) + 0.5 - BORDER)[None, :]
+            i = (np.arange(PAGE) + 0.5 - BORDER)[None, :]
             u, v = np.meshgrid(page[0] * CONTENT + i[0], page[1] * CONTENT + i[0])
             uv = np.clip(np.stack([u, v], -1).reshape(-1, 2) * texel, 0.0, size)
             record = records[building]
@@ -159,13 +159,13 @@ def test_pages_hold_the_numpy_twins_evaluation(gl_context):
                 building=(levels, record["ids"][1], use, record["extent"][1]),
                 building_seed=np.asarray(cells, float) / 8.0,
             )
-            ox, oy = slot % cache.per_row * 64, slot // cache.per_row * 64
-            page_ids = ids[oy : oy + 64, ox : ox + 64, 0].reshape(-1)
+            ox, oy = slot % cache.per_row * PAGE, slot // cache.per_row * PAGE
+            page_ids = ids[oy : oy + PAGE, ox : ox + PAGE, 0].reshape(-1)
             gpu_label, gpu_glass = page_ids >> 2, page_ids & 1
             differing += int(np.count_nonzero((gpu_label != twin.label) | (gpu_glass != twin.glass)))
             checked += len(page_ids)
         print(f"{differing} of {checked} texels differ from the twin")
-        assert checked >= 4 * 64 * 64 and differing <= checked * 0.002
+        assert checked >= 4 * PAGE * PAGE and differing <= checked * 0.002
     finally:
         renderer.release()
 

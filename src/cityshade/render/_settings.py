@@ -36,8 +36,8 @@ class RenderSettings:
     moon: tuple[float, float, float] | None = None  # (elevation, azimuth, lit fraction): moonlight at night
     animation_time: float = 0.0  # seconds, drives furniture sprites
     grammar_deferred: bool = True  # facade grammars in a deferred pass (Krecklau §4); measured faster
-    grammar_cache: bool = True  # the deferred pass shades from a page cache of evaluated facades (grammar._cache)
-    grammar_cache_pages: int = 1024  # page slots of the cache's atlas (64 x 64 texels, 32 bytes each)
+    grammar_cache: bool = False  # the deferred pass shades from a page cache of evaluated facades (docs/scale.md)
+    grammar_cache_pages: int = 4096  # page slots of the cache's atlas (32 x 32 texels of 32 bytes: 128 MiB)
     culling: str = "gpu"  # buildings: "gpu" (frustum and hierarchical depth, render/_visibility.py),
     # "frustum" (96 m chunks on the CPU), "off" (all drawn)
     ssao: bool = False  # screen-space ambient occlusion of the lit frame (Krecklau §4's pipeline)
