@@ -11,6 +11,7 @@ import pytest
 from cityshade.grammar._cache import BORDER, CONTENT, FINEST_TEXEL, MAX_PROBES, PAGE, page_hash, page_table
 from cityshade.grammar._random import facade_cells
 from cityshade.grammar._reference import evaluate
+from cityshade.errors import UsageError
 from cityshade.render import Renderer, RenderSettings, frame_passes
 from cityshade.scene import BUILDING_DTYPE, Camera, make_city
 from golden_images import golden_difference
@@ -65,6 +66,11 @@ def compare_along(city, cameras, settings: RenderSettings, gl_context, pages: in
 def assert_equal_within_tolerance(frames: list[dict]):
     assert all(frame["verdict"] is None for frame in frames), frames
     assert frames[-1]["resident"] > 0 and any(frame["evaluated"] > 0 for frame in frames[1:]), frames
+
+
+def test_an_atlas_without_pages_is_refused():
+    with pytest.raises(UsageError, match="grammar_cache_pages must be at least 1, not 0"):
+        RenderSettings(grammar_cache_pages=0)
 
 
 def test_cache_update_is_a_pass_of_the_deferred_frame():

@@ -87,8 +87,6 @@ class GrammarPageCache:
     page table on the GPU."""
 
     def __init__(self, ctx: moderngl.Context, pages: int, budget: int = PAGE_BUDGET):
-        if pages < 1:
-            raise ValueError(f"grammar_cache_pages must be at least 1, not {pages}")
         self.ctx = ctx
         self.pages = pages
         self.budget = budget

@@ -49,6 +49,8 @@ class RenderSettings:
     def __post_init__(self):
         if self.culling not in CULLING:
             raise UsageError(f"unknown culling {self.culling!r}; allowed: {', '.join(CULLING)}")
+        if self.grammar_cache_pages < 1:
+            raise UsageError(f"grammar_cache_pages must be at least 1, not {self.grammar_cache_pages}")
 
     def with_(self, **changes) -> "RenderSettings":
         return replace(self, **changes)
