@@ -1,5 +1,5 @@
 """The grammar page cache: each facade's grammar evaluated once per texel into a fixed atlas of pages,
-and the deferred pass shading from it (docs/scale.md, "Grammar cache").
+and the deferred pass shading from it (docs/scale.md, "The grammar cache").
 
 A page is a square of PAGE x PAGE texels of one wall face (a building and its face index) at one
 mip level: level L has texels of FINEST_TEXEL * 2^L metres, and a page holds CONTENT x CONTENT of
