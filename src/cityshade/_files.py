@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import signal
 import stat
 import tempfile
@@ -99,6 +100,31 @@ def atomic_output(path: Path):
     finally:
         if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
+
+
+@contextlib.contextmanager
+def atomic_folder(path: Path, is_replaceable):
+    """Yields a temporary folder beside `path`; on success it takes `path`'s place (an existing
+    folder there is replaced only when `is_replaceable(path)` says it is an earlier output), on error
+    or a signal it is removed: `path` holds the old folder or the new one, never a half-written one."""
+    path = Path(path)
+    if path.exists() and not (path.is_dir() and (not any(path.iterdir()) or is_replaceable(path))):
+        raise UsageError(f"{str(path)!r} exists and is not an earlier output of this command; choose another folder")
+    output_target(path / "x")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = old = None
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+        yield tmp
+        os.chmod(tmp, 0o777 & ~_umask())
+        if path.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
+            os.replace(path, old / path.name)
+        os.replace(tmp, path)
+    finally:
+        for left in (tmp, old):
+            if left is not None and left.exists():
+                shutil.rmtree(left, ignore_errors=True)
 
 
 def output_folder(path: Path) -> Path:

@@ -15,6 +15,8 @@ from ._guessed import guessed_aov
 from ._renderer import Renderer
 from ._resolution import ResolutionScale
 from ._settings import RenderSettings
+from ._tile_cache import CacheProblem, TileCache, open_tiles, write_tiles
+from ._tile_cli import add_streaming_arguments, streamed_tiles
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
@@ -36,6 +38,12 @@ __all__ = [
     "Renderer",
     "RenderSettings",
     "ResolutionScale",
+    "CacheProblem",
+    "TileCache",
+    "open_tiles",
+    "write_tiles",
+    "add_streaming_arguments",
+    "streamed_tiles",
     "upscale",
     "upscale_reference",
 ]

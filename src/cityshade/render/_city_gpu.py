@@ -4,6 +4,9 @@ and the ground quads. Vertex arrays are cached per program."""
 
 from __future__ import annotations
 
+from collections import Counter
+from dataclasses import dataclass
+
 import moderngl
 import numpy as np
 
@@ -41,31 +44,61 @@ def ground_vertices(city: City) -> np.ndarray:
     return np.asarray(out, dtype=np.float32)
 
 
+@dataclass
+class CityBuildings:
+    """The buildings as the GPU gets them: vertices in chunk order (each building a contiguous
+    range), records with their facades assigned, the cull pass's boxes, and what the cheap far
+    colours and the statistics need. Made once per city; a tile cache (render/_tile_cache.py)
+    stores them cut into tiles."""
+
+    vertices: np.ndarray
+    records: np.ndarray
+    chunks: BuildingChunks
+    facades: Counter
+    lod_faces: dict
+
+    @classmethod
+    def of(cls, city: City) -> CityBuildings:
+        vertices, records = batch(city.masses)
+        facades = assign_facades(records, city.masses, vertices)  # buildings per facade kind (narrow faces: plain)
+        lod_faces = grammar_sample_faces(city.masses, records, vertices)
+        chunks = BuildingChunks(vertices)
+        return cls(chunks.vertices, records, chunks, facades, lod_faces)
+
+    def boxes(self) -> np.ndarray:
+        return building_boxes(self.vertices, *building_ranges(self.vertices, len(self.records)))
+
+
 class CityGPU:
     def __init__(self, ctx: moderngl.Context, city: City):
+        self._upload_city(ctx, city)
+        buildings = CityBuildings.of(city)
+        self.facades = buildings.facades
+        self._lod_faces = buildings.lod_faces
+        self.chunks = buildings.chunks
+        vertices = buildings.vertices
+        self.building_vertex_count = len(vertices)
+        self.visibility = BuildingVisibility(ctx, buildings.boxes())
+        self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
+        self._upload_records(buildings.records)
+
+    def _upload_city(self, ctx: moderngl.Context, city: City):
+        """Everything but the building vertices: ground, street lights, relief maps."""
         self.ctx = ctx
         self.city = city
-        vertices, records = batch(city.masses)
-        self.facades = assign_facades(records, city.masses, vertices)  # buildings per facade kind (narrow faces: plain)
-        self._lod_faces = grammar_sample_faces(city.masses, records, vertices)
+        self.building_count = len(city.masses)
         self._lod_colours: moderngl.Buffer | None = None
         self.relief = CityRelief(ctx)
-        self.chunks = BuildingChunks(vertices)
-        vertices = self.chunks.vertices
-        self.building_count = len(city.masses)
-        self.building_vertex_count = len(vertices)
-        self.visibility = BuildingVisibility(
-            ctx, building_boxes(vertices, *building_ranges(vertices, self.building_count))
-        )
-        self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
-        self.records = create_buffer(ctx, records)
-        self._record_array = records  # as assigned, for start_grammars_at
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
         self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
+
+    def _upload_records(self, records: np.ndarray):
+        self.records = create_buffer(self.ctx, records)
+        self._record_array = records  # as assigned, for start_grammars_at
 
     def _vao(self, program, vbo, fmt, attributes):
         return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])

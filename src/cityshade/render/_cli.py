@@ -7,6 +7,8 @@ from pathlib import Path
 from ..arguments import check_seed, check_writable, parse_lights, parse_size, save_png
 from ..errors import UsageError
 from ..scene import CITIES
+from ._streaming import format_bytes
+from ._tile_cli import add_streaming_arguments, streamed_tiles
 
 
 def _trees_scene(args) -> int:
@@ -82,6 +84,7 @@ def register(subparsers):
         help="with --map: tint walls whose height and roofs whose shape the map did not give "
         "(orange) apart from what it gave (blue)",
     )
+    add_streaming_arguments(parser)
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
     parser.add_argument(
         "--profile",
@@ -101,30 +104,39 @@ def run(args) -> int:
         if args.scene not in SCENES:
             raise UsageError(f"unknown scene {args.scene!r}; allowed: {', '.join(SCENES) or 'none'}")
         return SCENES[args.scene](args)
-    if args.aov is not None and args.map is None:
+    if args.aov is not None and args.map is None and args.tiles is None:
         raise UsageError(f"--aov {args.aov} shows what a map gave and what was guessed; it needs --map FILE")
     from ..maps import require_map_for_date
 
-    require_map_for_date(args.date, args.map)
+    require_map_for_date(args.date, args.map or args.tiles)
     city, sky = args.city, {}
-    if args.map is not None:
-        from ..maps import city_from_map
+    builtin = None
+    if args.memory_budget is not None and args.map is None and args.tiles is None:
+        from ..scene import make_city
 
-        city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time)
-    image, info = render_city(
-        city=city,
-        seed=args.seed,
-        camera=args.camera,
-        size=size,
-        lights=lights,
-        time=args.time,
-        interior_mapping=not args.no_interiors,
-        samples=args.samples,
-        profile=args.profile,
-        aov=args.aov,
-        building_lod=args.building_lod,
-        **sky,
-    )
+        builtin = make_city(args.city, args.seed)
+    with streamed_tiles(args, builtin) as (tiles, budget):
+        if args.map is not None or args.tiles is not None:
+            from ..maps import city_from_map
+
+            made = tiles.city if tiles is not None else None
+            city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time, city=made)
+        image, info = render_city(
+            city=city,
+            seed=args.seed,
+            camera=args.camera,
+            size=size,
+            lights=lights,
+            time=args.time,
+            interior_mapping=not args.no_interiors,
+            samples=args.samples,
+            profile=args.profile,
+            aov=args.aov,
+            building_lod=args.building_lod,
+            tiles=tiles,
+            memory_budget=budget,
+            **sky,
+        )
     save_png(image, args.out)
     if args.profile:
         print_profile(info["pass_ms"])
@@ -133,4 +145,7 @@ def run(args) -> int:
         f"wrote {args.out} ({size[0]}x{size[1]}, {msaa}): {info['buildings']} buildings, "
         f"frame {info['frame_ms']:.1f} ms (median of {info['frames']}) on {info['device']}"
     )
+    if "tiles" in info:
+        t = info["tiles"]
+        print(f"streamed: {t['resident']} of {t['total']} tiles resident, {format_bytes(t['resident_bytes'])}")
     return 0

@@ -19,6 +19,8 @@ from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_
 from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
+from ._streaming import StreamedCityGPU
+from ._tile_cache import TileCache
 from ._textures import CityTextures
 from ._trees import TreePass
 from ..trees import city_trees
@@ -78,7 +80,26 @@ class Renderer:
         self._current()
         if self.city is not None:
             self.city.release()
-        self.city = CityGPU(self.ctx, city)
+        self._set_city_gpu(CityGPU(self.ctx, city), city)
+
+    def set_tiles(self, cache: TileCache, memory_budget: int | None = None, read=None):
+        """A tiled city (render/_tile_cache.py), its buildings streamed around the camera with at
+        most `memory_budget` bytes of tiles resident (None: all of them); `read` replaces the
+        tile reader (tests)."""
+        self._current()
+        if self.city is not None:
+            self.city.release()
+            self.city = None
+        self._set_city_gpu(StreamedCityGPU(self.ctx, cache, memory_budget, read), cache.city)
+
+    def wait_for_tiles(self, camera: Camera):
+        """For a still: loads the tiles `camera` wants (a whole city has them all)."""
+        if isinstance(self.city, StreamedCityGPU):
+            self._current()
+            self.city.wait(camera.eye)
+
+    def _set_city_gpu(self, gpu: CityGPU, city: City):
+        self.city = gpu
         self._grammar_start = None
         if self.trees is not None:
             self.trees.release()
@@ -131,6 +152,8 @@ class Renderer:
     def _inputs(self, camera: Camera) -> FrameInputs:
         if self.city is None:
             raise RuntimeError("no city: call set_city() first")
+        if isinstance(self.city, StreamedCityGPU):
+            self.city.follow(camera.eye)
         daylight = self._daylight()
         if self.settings.shadows and self.shadows is None:
             self.shadows = CascadedShadows(self.ctx)
