@@ -15,6 +15,7 @@ from ._guessed import guessed_aov
 from ._renderer import Renderer
 from ._resolution import ResolutionScale
 from ._settings import RenderSettings
+from ._streaming import check_memory_budget, format_bytes
 from ._tile_cache import CacheProblem, TileCache, open_tiles, write_tiles
 from ._tile_cli import add_streaming_arguments, streamed_tiles
 from ._upscale import upscale, upscale_reference
@@ -38,6 +39,8 @@ __all__ = [
     "Renderer",
     "RenderSettings",
     "ResolutionScale",
+    "check_memory_budget",
+    "format_bytes",
     "CacheProblem",
     "TileCache",
     "open_tiles",

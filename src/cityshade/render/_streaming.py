@@ -44,6 +44,20 @@ def format_bytes(count: float) -> str:
     raise AssertionError("unreachable")
 
 
+def check_memory_budget(tiles: list[Tile], budget: int | None, eye):
+    """Raises UsageError (one line) if the tile nearest the eye alone is over the budget."""
+    if not tiles or budget is None:
+        return
+    x, z = float(eye[0]), float(eye[2])
+    nearest = min(tiles, key=lambda tile: tile.distance(x, z))
+    if nearest.resident_bytes > budget:
+        raise UsageError(
+            f"memory budget {format_bytes(budget)} is too small for the nearest tile "
+            f"({nearest.file}: {format_bytes(nearest.resident_bytes)}, {nearest.buildings} buildings); "
+            f"give --memory-budget {format_bytes(nearest.resident_bytes)} or more"
+        )
+
+
 class TileStreamer:
     """Which tiles are resident around the camera; `load(index, vertices)` and `release(index)` are
     called on the thread that calls `update` (the GL thread), `read(index)` on the worker."""
@@ -79,18 +93,6 @@ class TileStreamer:
 
     def _by_distance(self, x: float, z: float) -> list[int]:
         return sorted(range(len(self.tiles)), key=lambda i: (self.tiles[i].distance(x, z), i))
-
-    def check_budget(self, x: float, z: float):
-        """Raises UsageError (one line) if the tile nearest (x, z) alone is over the budget."""
-        if not self.tiles:
-            return
-        nearest = self.tiles[self._by_distance(x, z)[0]]
-        if nearest.resident_bytes > self.budget:
-            raise UsageError(
-                f"memory budget {format_bytes(self.budget)} is too small for the nearest tile "
-                f"({nearest.file}: {format_bytes(nearest.resident_bytes)}, {nearest.buildings} buildings); "
-                f"give --memory-budget {format_bytes(nearest.resident_bytes)} or more"
-            )
 
     def wanted(self, x: float, z: float) -> list[int]:
         """The tiles nearest (x, z), nearest first, as many as fit the budget together."""
@@ -267,7 +269,7 @@ class StreamedCityGPU(CityGPU):
 
     def wait(self, eye):
         """Loads every tile the camera at `eye` wants before returning (for a single still)."""
-        self.streamer.check_budget(float(eye[0]), float(eye[2]))
+        check_memory_budget(self.streamer.tiles, self.streamer.budget, eye)
         self.streamer.wait(float(eye[0]), float(eye[2]))
         self._moved_boxes()
         self._upload_boxes()

@@ -115,7 +115,7 @@ def streamed_tiles(args, city=None):
             if folder is None:
                 folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="cityshade-tiles-"))) / "tiles"
             cache, how = _open_or_make(folder, args.map, source, city)
-        _notice(f"tile cache {how} in {time.perf_counter() - start:.1f} s: {_describe(cache, budget)}")
+        print(f"tile cache {how} in {time.perf_counter() - start:.1f} s: {_describe(cache, budget)}")
         yield cache, budget
 
 
