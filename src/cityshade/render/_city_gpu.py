@@ -58,10 +58,10 @@ class CityBuildings:
     lod_faces: dict
 
     @classmethod
-    def of(cls, city: City) -> CityBuildings:
-        vertices, records = batch(city.masses)
-        facades = assign_facades(records, city.masses, vertices)  # buildings per facade kind (narrow faces: plain)
-        lod_faces = grammar_sample_faces(city.masses, records, vertices)
+    def of(cls, masses: list) -> CityBuildings:
+        vertices, records = batch(masses)
+        facades = assign_facades(records, masses, vertices)  # buildings per facade kind (narrow faces: plain)
+        lod_faces = grammar_sample_faces(masses, records, vertices)
         chunks = BuildingChunks(vertices)
         return cls(chunks.vertices, records, chunks, facades, lod_faces)
 
@@ -72,7 +72,7 @@ class CityBuildings:
 class CityGPU:
     def __init__(self, ctx: moderngl.Context, city: City):
         self._upload_city(ctx, city)
-        buildings = CityBuildings.of(city)
+        buildings = CityBuildings.of(city.masses)
         self.facades = buildings.facades
         self._lod_faces = buildings.lod_faces
         self.chunks = buildings.chunks

@@ -25,17 +25,24 @@ def boxes_visible(planes: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndar
     return np.all(distance >= 0, axis=1)
 
 
+def building_cells(vertices: np.ndarray, chunk_size: float = CHUNK_SIZE) -> np.ndarray:
+    """(buildings, 2) int64: the chunk (x, z cell) of each building, by the mean of its vertices."""
+    building = vertices["ids"][:, 0]
+    count = int(building.max()) + 1 if len(building) else 0
+    centre = np.zeros((count, 2))
+    np.add.at(centre, building, vertices["position"][:, [0, 2]].astype(np.float64))
+    centre /= np.maximum(np.bincount(building, minlength=count), 1)[:, None]
+    return np.floor(centre / chunk_size).astype(np.int64)
+
+
 class BuildingChunks:
     """Reorders a building vertex array chunk by chunk and remembers each chunk's range and box."""
 
     def __init__(self, vertices: np.ndarray, chunk_size: float = CHUNK_SIZE):
         building = vertices["ids"][:, 0]
         positions = vertices["position"].astype(np.float64)
-        count = int(building.max()) + 1 if len(building) else 0
-        centre = np.zeros((count, 2))
-        np.add.at(centre, building, positions[:, [0, 2]])
-        centre /= np.maximum(np.bincount(building, minlength=count), 1)[:, None]
-        cell = np.floor(centre / chunk_size).astype(np.int64)
+        cell = building_cells(vertices, chunk_size)
+        count = len(cell)
         keys = np.unique(cell, axis=0, return_inverse=True)[1].ravel() if count else np.zeros(0, np.int64)
         # by chunk, then building (each building one contiguous range for the cull pass); stable, so
         # triangles stay whole and a building's vertices stay in order

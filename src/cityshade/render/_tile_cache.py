@@ -5,8 +5,9 @@ source file's name, size and SHA-256, and per tile its file, bounds, counts, byt
 `city.pickle` (the City without the tiles' vertices: masses, ground, trees, lamps, viewpoints; the
 building records with their facades assigned; the cull pass's boxes in the whole city's order, each
 box's first vertex counted within its tile) and `tiles/NNNNN.npy` (each tile's vertices, its
-buildings one after another in box order). A tile is the buildings whose box centre falls in one
-square of `tile_size` metres.
+buildings one after another in box order). A tile is the buildings whose masses stand in one square
+of `tile_size` metres; the city is meshed tile by tile, so cutting it never holds more than one
+tile's vertices.
 
 Anything that does not match (another format, cityshade version, vertex layout or source file; a
 missing, truncated or altered file) raises CacheProblem with one line saying what; the caller
@@ -20,7 +21,9 @@ import io
 import json
 import pickle
 import time
-from dataclasses import dataclass
+import warnings
+from collections import Counter
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +32,9 @@ from .._files import atomic_folder
 from ..errors import CityshadeError
 from ..scene import BUILDING_DTYPE, VERTEX_DTYPE, City
 from ._city_gpu import CityBuildings
+from ._culling import building_cells
+from ._facades import NARROW_FACES, GrammarFitWarning
+from ._visibility import BOX_DTYPE
 
 FORMAT = 1
 TILE_SIZE = 256.0  # metres: about a district of a dozen blocks
@@ -111,96 +117,100 @@ def _layouts() -> dict:
     }
 
 
-def cut_tiles(buildings: CityBuildings, tile_size: float = TILE_SIZE):
-    """(boxes with first vertices within their tile, tile of each box, per tile (vertices, bounds,
-    buildings)). Each tile's vertices are its boxes' ranges in box order."""
-    boxes = buildings.boxes()
-    centre = 0.5 * (boxes["lo"][:, [0, 2]] + boxes["hi"][:, [0, 2]])
-    cells = np.floor(centre / tile_size).astype(np.int64)
-    if not len(boxes):
-        return boxes, np.zeros(0, np.int64), []
-    box_tile = np.unique(cells, axis=0, return_inverse=True)[1].ravel()
-    order = np.lexsort((np.arange(len(boxes)), box_tile))  # by tile, then in box order
-    count = boxes["draw"][order, 0].astype(np.int64)
-    first = boxes["draw"][order, 1].astype(np.int64)
-    before = np.cumsum(count) - count  # in the tiles' vertices, one after another
-    tile_sorted = box_tile[order]
-    tile_start = np.flatnonzero(np.r_[True, tile_sorted[1:] != tile_sorted[:-1]])
-    local = before - before[tile_start][tile_sorted]
-    vertices = buildings.vertices[np.repeat(first - before, count) + np.arange(count.sum())]
-    cached = boxes.copy()
-    cached["draw"][order, 1] = local
-    ends = np.r_[before[tile_start][1:], count.sum()]
-    lo = np.minimum.reduceat(boxes["lo"][order], tile_start)
-    hi = np.maximum.reduceat(boxes["hi"][order], tile_start)
-    tiles = []
-    for k, start in enumerate(before[tile_start]):
-        bounds = (float(lo[k, 0]), float(lo[k, 2]), float(hi[k, 0]), float(hi[k, 2]))
-        buildings_in = int(np.diff(np.r_[tile_start, len(order)])[k])
-        tiles.append((vertices[start : ends[k]], bounds, buildings_in))
-    return cached, box_tile, tiles
+def _groups(masses: list, tile_size: float) -> list[np.ndarray]:
+    """Building indices per tile (square cells of where each mass stands), cells in (x, z) order."""
+    position = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
+    cell = np.unique(np.floor(position / tile_size).astype(np.int64), axis=0, return_inverse=True)[1].ravel()
+    order = np.argsort(cell, kind="stable")
+    return np.split(order, np.cumsum(np.bincount(cell))[:-1])
+
+
+def _mesh_tile(masses: list, index: np.ndarray):
+    """Meshes masses[index]: (vertices, boxes, chunk cell per box, CityBuildings with local indices).
+    Boxes are in the whole city's order (chunk cell, then building), their first vertex counted
+    within the tile; vertices and boxes carry the buildings' indices in the whole city."""
+    meshed = CityBuildings.of([masses[i] for i in index])
+    boxes = meshed.boxes()
+    local = boxes["draw"][:, 2].astype(np.int64)
+    cells = building_cells(meshed.vertices)[local]
+    order = np.lexsort((index[local], cells[:, 1], cells[:, 0]))
+    boxes, cells, local = boxes[order], cells[order], local[order]
+    count, first = boxes["draw"][:, 0].astype(np.int64), boxes["draw"][:, 1].astype(np.int64)
+    before = np.cumsum(count) - count
+    vertices = meshed.vertices[np.repeat(first - before, count) + np.arange(count.sum())]
+    vertices["ids"][:, 0] = index[vertices["ids"][:, 0]]
+    boxes["draw"][:, 1], boxes["draw"][:, 2] = before, index[local]
+    return vertices, boxes, cells, meshed
 
 
 def _is_cache(folder: Path) -> bool:
     return (folder / MANIFEST).is_file()
 
 
+def _tile_file(folder: Path, name: str, vertices: np.ndarray) -> tuple[int, str]:
+    stream = io.BytesIO()
+    np.save(stream, vertices, allow_pickle=False)
+    data = stream.getvalue()
+    (folder / name).write_bytes(data)
+    return len(data), _sha256(data)
+
+
 def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size: float = TILE_SIZE) -> dict:
-    """Meshes the city, cuts it into tiles and writes the cache folder whole (or leaves the old one);
-    returns {"tiles", "buildings", "bytes", "seconds"}."""
+    """Meshes the city tile by tile (so at most one tile's vertices are in memory) and writes the
+    cache folder whole (or leaves the old one); returns {"tiles", "buildings", "bytes", "seconds"}."""
     start = time.perf_counter()
-    buildings = CityBuildings.of(city)
-    boxes, box_tile, tiles = cut_tiles(buildings, tile_size)
-    entries, written = [], 0
-    with atomic_folder(folder, _is_cache) as tmp:
+    masses = city.masses
+    records = np.zeros(len(masses), BUILDING_DTYPE)
+    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), {}, [], [], [], []
+    with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
+        warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
         (tmp / TILE_FOLDER).mkdir()
-        for k, (vertices, bounds, count) in enumerate(tiles):
-            stream = io.BytesIO()
-            np.save(stream, vertices, allow_pickle=False)
-            data = stream.getvalue()
-            name = f"{TILE_FOLDER}/{k:05d}.npy"
-            (tmp / name).write_bytes(data)
-            entries.append(Tile(name, bounds, count, len(vertices), len(data), _sha256(data)))
-            written += len(data)
+        for index in _groups(masses, tile_size) if masses else []:
+            vertices, tile_boxes, tile_cells, meshed = _mesh_tile(masses, index)
+            records[index] = meshed.records
+            facades.update(meshed.facades)
+            lod_faces.update({int(index[k]): face for k, face in meshed.lod_faces.items()})
+            if not len(tile_boxes):
+                continue
+            name = f"{TILE_FOLDER}/{len(tiles):05d}.npy"
+            size, digest = _tile_file(tmp, name, vertices)
+            lo, hi = tile_boxes["lo"].min(axis=0), tile_boxes["hi"].max(axis=0)
+            bounds = (float(lo[0]), float(lo[2]), float(hi[0]), float(hi[2]))
+            box_tile.append(np.full(len(tile_boxes), len(tiles)))
+            tiles.append(Tile(name, bounds, len(tile_boxes), len(vertices), size, digest))
+            boxes.append(tile_boxes)
+            cells.append(tile_cells)
+        boxes = np.concatenate(boxes) if boxes else np.zeros(0, BOX_DTYPE)
+        cells = np.concatenate(cells) if cells else np.zeros((0, 2), np.int64)
+        order = np.lexsort((boxes["draw"][:, 2], cells[:, 1], cells[:, 0]))  # as CityGPU orders them
         rest = {
             "city": city,
-            "records": buildings.records,
-            "boxes": boxes,
-            "box_tile": box_tile,
-            "facades": dict(buildings.facades),
-            "lod_faces": buildings.lod_faces,
+            "records": records,
+            "boxes": boxes[order],
+            "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),
+            "facades": dict(facades),
+            "lod_faces": lod_faces,
         }
         data = pickle.dumps(rest, protocol=pickle.HIGHEST_PROTOCOL)
         (tmp / CITY_FILE).write_bytes(data)
-        written += len(data)
         manifest = {
             **_layouts(),
             "source": source,
             "tile_size": tile_size,
-            "buildings": len(city.masses),
+            "buildings": len(masses),
             "city": {"file": CITY_FILE, "bytes": len(data), "sha256": _sha256(data)},
-            "tiles": [
-                {
-                    "file": t.file,
-                    "bounds": t.bounds,
-                    "buildings": t.buildings,
-                    "vertices": t.vertices,
-                    "bytes": t.bytes,
-                    "resident_bytes": t.resident_bytes,
-                    "sha256": t.sha256,
-                }
-                for t in entries
-            ],
+            "tiles": [{**asdict(t), "resident_bytes": t.resident_bytes} for t in tiles],
         }
         text = json.dumps(manifest, indent=1)
         (tmp / MANIFEST).write_text(text)
-        written += len(text)
-    return {
-        "tiles": len(entries),
-        "buildings": len(city.masses),
-        "bytes": written,
-        "seconds": time.perf_counter() - start,
-    }
+    if facades.get(NARROW_FACES):
+        warnings.warn(
+            f"{facades[NARROW_FACES]} wall faces are narrower than their building's grammar fits: drawn as plain walls",
+            GrammarFitWarning,
+            stacklevel=2,
+        )
+    written = sum(t.bytes for t in tiles) + len(data) + len(text)
+    return {"tiles": len(tiles), "buildings": len(masses), "bytes": written, "seconds": time.perf_counter() - start}
 
 
 def _read_checked(folder: Path, name: str, size: int, sha256: str) -> bytes:
