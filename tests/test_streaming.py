@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from cityshade.cli import main
-from cityshade.errors import CityshadeError
+from cityshade.errors import CityshadeError, UsageError
 from cityshade.render import Renderer, RenderSettings, open_tiles, streamed_tiles, write_tiles
 from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
 from cityshade.render._tile_cache import CacheProblem, read_tile
@@ -305,3 +305,35 @@ def test_an_altered_tile_fails_when_read(tagged_tiles, tmp_path, capsys):
     assert "tiles/00000.npy is damaged (its SHA-256 is not the manifest's)" in err
     with pytest.raises(CityshadeError):
         read_tile(open_tiles(tagged_tiles), 0)
+
+
+def test_the_viewer_streams_and_shows_its_tiles(district_tiles):
+    from cityshade.viewer import open_viewer
+
+    budget = district_tiles.total_bytes // 2
+    viewer = open_viewer(
+        settings=RenderSettings(samples=0),
+        window="headless",
+        size=(64, 48),
+        target_fps=None,
+        tiles=district_tiles,
+        memory_budget=budget,
+    )
+    try:
+        streamer = viewer.renderer.city.streamer
+        deadline = time.monotonic() + 60
+        while not streamer.resident and time.monotonic() < deadline:
+            viewer.wnd.use()
+            viewer.on_render(0.0, 0.05)
+        assert streamer.resident and streamer.resident_bytes <= budget
+        assert f"tiles {len(streamer.resident)}/{len(district_tiles.tiles)} " in viewer.wnd.title
+    finally:
+        viewer.renderer.release()
+        viewer.wnd.destroy()
+
+
+def test_the_viewer_refuses_a_budget_below_the_nearest_tile(district_tiles):
+    from cityshade.viewer import open_viewer
+
+    with pytest.raises(UsageError, match="too small for the nearest tile"):
+        open_viewer(window="headless", size=(64, 48), tiles=district_tiles, memory_budget=100)

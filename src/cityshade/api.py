@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import statistics
+from time import perf_counter
 
 import numpy as np
 
@@ -29,7 +30,8 @@ def render_city(
 ) -> tuple[np.ndarray, dict]:
     """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame
     (its median time over `frames` frames after a first one that compiles and uploads). With
-    `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run.
+    `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run;
+    info["city_s"] the seconds the city took to mesh (or stream in) and upload.
     aov="guessed" tints the buildings by what the map gave and what was guessed (render/_guessed.py).
     `tiles` (a tile cache, render.open_tiles) draws its city instead, streamed with at most
     `memory_budget` bytes of tiles resident (None: all); the first frame waits for the tiles its
@@ -54,11 +56,13 @@ def render_city(
         size, RenderSettings(lights=lights, time_of_day=parse_time(time), interior_mapping=interior_mapping, **settings)
     )
     try:
+        start = perf_counter()
         if tiles is not None:
             renderer.set_tiles(tiles, memory_budget)
         else:
             renderer.set_city(layout)
         renderer.wait_for_tiles(view)
+        city_seconds = perf_counter() - start
         image = renderer.render(view)  # the first frame compiles shaders and uploads: not timed
         times, passes = [], {}
         for _ in range(frames):
@@ -76,6 +80,7 @@ def render_city(
             "samples": renderer.samples,
             "trees": len(renderer.trees.trees) if renderer.trees is not None else 0,
             "pass_ms": {name: statistics.median(s) * 1000 for name, s in passes.items()},
+            "city_s": city_seconds,
         }
         if tiles is not None:
             streamer = renderer.city.streamer

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 from ..arguments import check_seed, check_writable, parse_lights, parse_size, save_png
@@ -97,6 +98,8 @@ def register(subparsers):
 def run(args) -> int:
     from ..api import render_city
 
+    start = time.perf_counter()
+
     size = parse_size(args.size)
     lights = None if args.lights is None else parse_lights(args.lights)
     check_writable(args.out)
@@ -121,6 +124,7 @@ def run(args) -> int:
 
             made = tiles.city if tiles is not None else None
             city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time, city=made)
+        before_render = time.perf_counter() - start
         image, info = render_city(
             city=city,
             seed=args.seed,
@@ -147,5 +151,8 @@ def run(args) -> int:
     )
     if "tiles" in info:
         t = info["tiles"]
-        print(f"streamed: {t['resident']} of {t['total']} tiles resident, {format_bytes(t['resident_bytes'])}")
+        print(
+            f"streamed: {t['resident']} of {t['total']} tiles resident, {format_bytes(t['resident_bytes'])}; "
+            f"the city was ready to draw {before_render + info['city_s']:.1f} s after the command started"
+        )
     return 0
