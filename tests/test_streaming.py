@@ -337,3 +337,22 @@ def test_the_viewer_refuses_a_budget_below_the_nearest_tile(district_tiles):
 
     with pytest.raises(UsageError, match="too small for the nearest tile"):
         open_viewer(window="headless", size=(64, 48), tiles=district_tiles, memory_budget=100)
+
+
+def test_a_failed_write_leaves_the_old_cache_whole(tagged_tiles, monkeypatch):
+    """An error (or a signal, which the command turns into one) half-way through writing tiles:
+    the folder still holds the old cache, and no temporary folder is left beside it."""
+    from cityshade.render import _tile_cache
+
+    before = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
+
+    def fail(*args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(_tile_cache, "_tile_file", fail)
+    with pytest.raises(KeyboardInterrupt):
+        write_tiles(make_city("default"), tagged_tiles)
+    after = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
+    assert after == before
+    assert sorted(p.name for p in tagged_tiles.parent.iterdir()) == ["tiles"]
+    open_tiles(tagged_tiles)
