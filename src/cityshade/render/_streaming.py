@@ -75,6 +75,7 @@ class TileStreamer:
         self.resident: dict[int, int] = {}  # tile -> bytes, uploaded
         self.reading: dict[int, int] = {}  # tile -> bytes, asked of the worker
         self.peak_bytes = 0
+        self._bounds = np.array([t.bounds for t in tiles], np.float64).reshape(-1, 4)
         self._requests: queue.Queue[int] = queue.Queue()
         self._done: queue.Queue[tuple[int, np.ndarray | None, BaseException | None]] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="tile reader", daemon=True)
@@ -92,7 +93,13 @@ class TileStreamer:
                 self._done.put((index, None, exc))
 
     def _by_distance(self, x: float, z: float) -> list[int]:
-        return sorted(range(len(self.tiles)), key=lambda i: (self.tiles[i].distance(x, z), i))
+        """Tile indices, nearest (x, z) first (ties: lower index first); Tile.distance for all at once."""
+        x0, z0, x1, z1 = self._bounds.T
+        distance = np.hypot(
+            np.maximum.reduce([x0 - x, np.zeros_like(x0), x - x1]),
+            np.maximum.reduce([z0 - z, np.zeros_like(z0), z - z1]),
+        )
+        return np.argsort(distance, kind="stable").tolist()
 
     def wanted(self, x: float, z: float) -> list[int]:
         """The tiles nearest (x, z), nearest first, as many as fit the budget together."""
@@ -132,11 +139,13 @@ class TileStreamer:
             except queue.Empty:
                 break
             changed |= self._take(*item, wanted)
+        used = self.resident_bytes
         for index in order:
             size = self.tiles[index].resident_bytes
-            if index not in self.resident and index not in self.reading and self.resident_bytes + size <= self.budget:
+            if index not in self.resident and index not in self.reading and used + size <= self.budget:
                 self.reading[index] = size
                 self._requests.put(index)
+                used += size
         self.peak_bytes = max(self.peak_bytes, self.resident_bytes)
         return changed
 
