@@ -293,7 +293,7 @@ def _run(args) -> int:
     city, camera, sky = args.city, args.camera, None
     builtin = make_city(args.city) if args.memory_budget is not None and not (args.map or args.tiles) else None
     with streamed_tiles(args, builtin) as (tiles, budget):
-        if args.map is not None or args.tiles is not None:
+        if args.map is not None or (tiles is not None and tiles.city.origin is not None):  # a map's city
             from .maps import city_from_map, sky_clock
 
             made = tiles.city if tiles is not None else None

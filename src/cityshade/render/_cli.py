@@ -119,7 +119,7 @@ def run(args) -> int:
 
         builtin = make_city(args.city, args.seed)
     with streamed_tiles(args, builtin) as (tiles, budget):
-        if args.map is not None or args.tiles is not None:
+        if args.map is not None or (tiles is not None and tiles.city.origin is not None):  # a map's city
             from ..maps import city_from_map
 
             made = tiles.city if tiles is not None else None
