@@ -155,10 +155,13 @@ class TileStreamer:
 
     def wait(self, x: float, z: float):
         """Updates until every tile wanted at (x, z) is resident (for a single still)."""
+        order = self.wanted(x, z)
+        wanted = set(order)
         self.update(x, z)
-        while not self.complete(x, z):
-            self._take(*self._done.get(), set(self.wanted(x, z)))
-            self.update(x, z)
+        while not all(i in self.resident for i in order):
+            self._take(*self._done.get(), wanted)
+            if any(i not in self.resident and i not in self.reading for i in order):
+                self.update(x, z)  # room left by a read the camera no longer wants
 
     def close(self):
         self._requests.put(_STOP)
