@@ -356,3 +356,16 @@ def test_a_failed_write_leaves_the_old_cache_whole(tagged_tiles, monkeypatch):
     assert after == before
     assert sorted(p.name for p in tagged_tiles.parent.iterdir()) == ["tiles"]
     open_tiles(tagged_tiles)
+
+
+def test_a_folder_of_something_else_is_never_replaced(tmp_path, capsys):
+    other = tmp_path / "photos"
+    other.mkdir()
+    (other / "cat.jpg").write_bytes(b"not a cache")
+    err = one_line_error(capsys, ["tile", str(TAGGED), "--out", str(other)])
+    assert "is not an earlier output of this command" in err
+    err = one_line_error(
+        capsys, ["render", "--map", str(TAGGED), "--tiles", str(other), "--out", str(tmp_path / "a.png")]
+    )
+    assert "is not an earlier output of this command" in err
+    assert [p.name for p in other.iterdir()] == ["cat.jpg"]

@@ -102,15 +102,21 @@ def atomic_output(path: Path):
             os.unlink(tmp)
 
 
+def check_replaceable_folder(path: Path, is_replaceable) -> Path:
+    """Fails with one line unless `path` is missing, an empty folder or one `is_replaceable` accepts."""
+    path = Path(path)
+    if path.exists() and not (path.is_dir() and (not any(path.iterdir()) or is_replaceable(path))):
+        raise UsageError(f"{str(path)!r} exists and is not an earlier output of this command; choose another folder")
+    output_target(path / "x")
+    return path
+
+
 @contextlib.contextmanager
 def atomic_folder(path: Path, is_replaceable):
     """Yields a temporary folder beside `path`; on success it takes `path`'s place (an existing
     folder there is replaced only when `is_replaceable(path)` says it is an earlier output), on error
     or a signal it is removed: `path` holds the old folder or the new one, never a half-written one."""
-    path = Path(path)
-    if path.exists() and not (path.is_dir() and (not any(path.iterdir()) or is_replaceable(path))):
-        raise UsageError(f"{str(path)!r} exists and is not an earlier output of this command; choose another folder")
-    output_target(path / "x")
+    path = check_replaceable_folder(path, is_replaceable)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = old = None
     try:

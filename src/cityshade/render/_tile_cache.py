@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_folder
+from .._files import atomic_folder, check_replaceable_folder
 from ..errors import CityshadeError
 from ..scene import BUILDING_DTYPE, VERTEX_DTYPE, City
 from ._city_gpu import CityBuildings
@@ -145,6 +145,11 @@ def _mesh_tile(masses: list, index: np.ndarray):
 
 def _is_cache(folder: Path) -> bool:
     return (folder / MANIFEST).is_file()
+
+
+def check_cache_folder(folder: Path):
+    """Fails with one line before any work if `folder` cannot take a cache (it holds something else)."""
+    check_replaceable_folder(folder, _is_cache)
 
 
 def _tile_file(folder: Path, name: str, vertices: np.ndarray) -> tuple[int, str]:

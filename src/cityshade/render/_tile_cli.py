@@ -13,7 +13,15 @@ from pathlib import Path
 from ..arguments import parse_memory_size
 from ..errors import UsageError
 from ._streaming import format_bytes
-from ._tile_cache import TILE_SIZE, CacheProblem, TileCache, open_tiles, source_identity, write_tiles
+from ._tile_cache import (
+    TILE_SIZE,
+    CacheProblem,
+    check_cache_folder,
+    TileCache,
+    open_tiles,
+    source_identity,
+    write_tiles,
+)
 
 
 def _map_city(path: Path):
@@ -61,6 +69,7 @@ def register(subparsers):
 
 def run(args) -> int:
     start = time.perf_counter()
+    check_cache_folder(args.out)  # before the map is read
     source = _identity(args.file)
     summary = write_tiles(_map_city(args.file), args.out, source, args.tile_size)
     print(
@@ -120,6 +129,7 @@ def streamed_tiles(args, city=None):
 
 
 def _open_or_make(folder: Path, path: Path | None, source: dict | None, city) -> tuple[TileCache, str]:
+    check_cache_folder(folder)  # a folder of something else is refused, not replaced
     if folder.exists() and path is not None:
         try:
             return open_tiles(folder, source), "read"
