@@ -3,10 +3,10 @@
 `TileStreamer` decides, without any GL: each frame it takes the tiles nearest the camera, in order
 of distance, as long as their bytes fit the budget; a resident tile no longer among them is
 released; a wanted tile not yet resident is asked of a worker thread, which reads and checks its
-file. Tiles the worker has read are handed over at the next `update`, which never waits for the
-worker, so no frame waits on disk (`wait` is for a single still, which waits for its view's tiles).
-Resident bytes, the tiles uploaded plus the tiles being read, never exceed the budget: a read is
-asked for only when its tile fits beside them.
+file. Tiles the worker has read are handed over at the next `update` (UPLOAD_PER_UPDATE bytes a
+frame at most), which never waits for the worker, so no frame waits on disk (`wait` is for a
+single still, which waits for its view's tiles). Resident bytes, the tiles uploaded plus the tiles
+being read, never exceed the budget: a read is asked for only when its tile fits beside them.
 
 `StreamedCityGPU` is a CityGPU whose building vertex buffer is an arena of the budget's size (or
 the whole city's, if smaller) with a slot per resident tile. The records and the cull pass's boxes
@@ -34,6 +34,7 @@ from ._tile_cache import Tile, TileCache, read_tile
 from ._visibility import COMMAND_WORDS, BuildingVisibility
 
 _STOP = -1
+UPLOAD_PER_UPDATE = 32_000_000  # bytes of tiles uploaded per frame at most: no frame stalls on a burst of reads
 
 
 def format_bytes(count: float) -> str:
@@ -133,12 +134,14 @@ class TileStreamer:
             self._release(index)
             del self.resident[index]
             changed = True
-        while True:
+        uploaded = 0
+        while uploaded < UPLOAD_PER_UPDATE:  # the rest waits in the queue for the next frames
             try:
                 item = self._done.get_nowait()
             except queue.Empty:
                 break
             changed |= self._take(*item, wanted)
+            uploaded += self.tiles[item[0]].resident_bytes
         used = self.resident_bytes
         for index in order:
             size = self.tiles[index].resident_bytes
