@@ -203,7 +203,7 @@ class _Arena:
         end = 0
         for key, (first, count) in sorted(self.slots.items(), key=lambda item: item[1][0]):
             if first != end:  # through a scratch buffer: a copy within one buffer must not overlap
-                scratch = self.ctx.buffer(reserve=count * size)
+                scratch = create_buffer(self.ctx, reserve=count * size)
                 self.ctx.copy_buffer(scratch, self.buffer, count * size, read_offset=first * size)
                 self.ctx.copy_buffer(self.buffer, scratch, count * size, write_offset=end * size)
                 scratch.release()
