@@ -167,6 +167,12 @@ class TileStreamer:
                 self.update(x, z)  # room left by a read the camera no longer wants
 
     def close(self):
+        """Stops the worker after the read in hand; the reads still asked for are dropped."""
+        while True:
+            try:
+                self._requests.get_nowait()
+            except queue.Empty:
+                break
         self._requests.put(_STOP)
         self._worker.join()
 
