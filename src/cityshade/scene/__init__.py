@@ -23,7 +23,7 @@ from ._city import (
     make_city,
 )
 from ._footprints import load_footprints
-from ._materials import ROOF_PATTERNS
+from ._materials import ROOF_PARTS, ROOF_PATTERNS
 from ._batch import batch
 from ._meshes import (
     SURFACE_CODES,
@@ -93,6 +93,7 @@ __all__ = [
     "GROUND_RAIL",
     "GROUND_SAND",
     "GROUND_WATER",
+    "ROOF_PARTS",
     "ROOF_PATTERNS",
     "CORNER_TURN",
     "WallFaces",
