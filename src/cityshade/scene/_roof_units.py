@@ -16,14 +16,14 @@ CLEARANCE = 0.8  # metres kept free inside the parapet (a maintenance path) and 
 HOUSING_ROOF = 150.0  # square metres of roof from which a block has a stair and lift housing
 HOUSING_SIZE = ((3.0, 4.5), (2.4, 3.2), (2.6, 3.2))  # (low, high) metres along x, across, high
 UNIT_SIZE = ((0.8, 2.6), (0.7, 1.8), (0.6, 1.5))
-ROOF_PER_UNIT = 120.0  # square metres of roof per ventilation or air-conditioning unit
-MAX_UNITS = 8
+ROOF_PER_UNIT = 200.0  # square metres of roof per ventilation or air-conditioning unit
+MAX_UNITS = 6
 TRIES = 24  # candidate places drawn at once for each box
 
 
 def _place(rng, room: shapely.Geometry, taken: list, size) -> np.ndarray | None:
-    """(x0, z0, x1, z1) of a box of a size drawn in `size` inside `room`, clear of the `taken`
-    boxes by CLEARANCE; None when none of TRIES candidates fits."""
+    """(x0, z0, x1, z1) of a box of a size drawn in `size` inside the (prepared) `room`, clear of
+    the `taken` boxes by CLEARANCE; None when none of TRIES candidates fits."""
     x0, z0, x1, z1 = room.bounds
     (wl, wh), (dl, dh), _ = size
     w = rng.uniform(wl, wh, TRIES)
@@ -32,15 +32,15 @@ def _place(rng, room: shapely.Geometry, taken: list, size) -> np.ndarray | None:
     w, d = np.where(turned, d, w), np.where(turned, w, d)
     x = rng.uniform(x0, x1, TRIES) - w / 2
     z = rng.uniform(z0, z1, TRIES) - d / 2
-    candidates = shapely.box(x, z, x + w, z + d)
-    fits = shapely.contains(room, candidates)
+    box = np.column_stack([x, z, x + w, z + d])
+    fits = np.ones(TRIES, dtype=bool)
     if taken:
-        clear = shapely.union_all([shapely.box(*b).buffer(CLEARANCE, join_style="mitre") for b in taken])
-        fits &= ~shapely.intersects(clear, candidates)
-    if not fits.any():
-        return None
-    k = int(np.argmax(fits))
-    return np.array([x[k], z[k], x[k] + w[k], z[k] + d[k]])
+        t = np.array(taken)
+        near = (box[:, None, :2] < t[None, :, 2:] + CLEARANCE) & (box[:, None, 2:] > t[None, :, :2] - CLEARANCE)
+        fits = ~near.all(axis=2).any(axis=1)
+    k = np.flatnonzero(fits)
+    k = k[shapely.contains(room, shapely.box(*box[k].T))] if len(k) else k
+    return box[k[0]] if len(k) else None
 
 
 def unit_count(area: float) -> int:
@@ -55,6 +55,7 @@ def rooftop_units(roof: shapely.Polygon, y: float, seed: int) -> Triangles:
     room = roof.buffer(-CLEARANCE, join_style="mitre")
     if room.is_empty:
         return Triangles.empty()
+    shapely.prepare(room)
     rng = np.random.default_rng([seed, 0x0F1A7])
     sizes = ([HOUSING_SIZE] if roof.area >= HOUSING_ROOF else []) + [UNIT_SIZE] * unit_count(roof.area)
     placed, heights = [], []
