@@ -10,7 +10,16 @@ from .gl import declare_constants
 from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
 from .relief import FACADE_RELIEF, GLASS, RELIEF_FACE_CODES
-from .scene import FLAGS, GROUND_MATERIALS, MAP_GROUND_MATERIALS, ROOF_PARTS, ROOF_PATTERNS, SHAPE_CODES, SURFACE_CODES, USE_CODES
+from .scene import (
+    FLAGS,
+    GROUND_MATERIALS,
+    MAP_GROUND_MATERIALS,
+    ROOF_PARTS,
+    ROOF_PATTERNS,
+    SHAPE_CODES,
+    SURFACE_CODES,
+    USE_CODES,
+)
 from .scene import DOOR_CONSTANTS
 
 CONSTANTS: dict[str, int | str] = {
