@@ -154,3 +154,13 @@ def test_dormer_windows_show_rooms_and_units_are_roof_in_the_id_pass(gl_context,
     assert rooms[0] > rooms[1]
     roof = sheet & (office_ids[..., 0] == FACE_CODES["FACE_ROOF"])
     assert roof.sum() > 0.9 * sheet.sum()  # from above: the roof, its rim and its units
+
+
+def test_a_tagged_roof_material_without_a_colour_keeps_its_own_colour(masses):
+    """roof:material=slate and no roof:colour: the roof is slate grey, not a guessed plaster colour."""
+    from cityshade.scene import building_record
+    from cityshade.scene._materials import ROOF_MATERIALS, ROOF_SLATE, linear
+
+    record = building_record(masses[HIPPED])
+    assert record["roof"][3] == ROOF_SLATE
+    assert np.allclose(record["roof"][:3], linear(ROOF_MATERIALS["slate"][1]), atol=1e-6)

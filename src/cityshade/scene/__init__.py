@@ -23,7 +23,7 @@ from ._city import (
     make_city,
 )
 from ._footprints import load_footprints
-from ._materials import ROOF_PARTS, ROOF_PATTERNS
+from ._materials import ROOF_PARTS, ROOF_PATTERNS, roof_material
 from ._batch import batch
 from ._meshes import (
     SURFACE_CODES,
@@ -95,6 +95,7 @@ __all__ = [
     "GROUND_WATER",
     "ROOF_PARTS",
     "ROOF_PATTERNS",
+    "roof_material",
     "CORNER_TURN",
     "WallFaces",
     "storeys",

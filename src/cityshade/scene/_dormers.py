@@ -1,8 +1,9 @@
 """Dormers on gabled and hipped roofs with rooms in them (Roof.attic_storey): boxes standing out of
-the two long slopes, evenly spaced along the eaves, one per DORMER_SPACING metres. Each is a closed
+the slopes that rise from the long eaves (outline and courtyards), evenly spaced, one per
+DORMER_SPACING metres, kept where the slope's own face holds the whole dormer. Each is a closed
 solid: its front a wall piece (with the window of the storey behind it, like a gable), its cheeks
-sheet metal, its top flat or a small gable in the roof's material; its back and bottom lie inside the
-roof. Only roofs over outlines that take the exact ridged profiles (_roofs.exact_profile) get them."""
+sheet metal, its top flat or a small gable in the roof's material; its back and bottom lie inside
+the roof."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import numpy as np
 import shapely
 
 from ._materials import ROOF_PART_SHEET, ROOF_PART_SURFACE
-from ._roofs import Roof, Triangles, exact_profile, ridge_frame
+from ._roofs import Roof, Triangles
 
 DORMER_SHAPES = ("gabled", "hipped")
 DORMER_WIDTH = 2.0  # metres along the eaves
@@ -19,7 +20,10 @@ DORMER_SETBACK = 0.4  # metres from the eaves to the dormer's front
 DORMER_TOP = 0.9  # the front's height: this share of the storey (the window's lintel is at 0.82)...
 DORMER_ROOM = 0.8  # ...at most this share of the roof's rise
 DORMER_PITCH = np.tan(np.radians(35.0))  # of a gabled dormer's own roof
-END_MARGIN = 0.8  # metres between a dormer and a gable wall
+END_MARGIN = 0.8  # metres between a dormer and the end of its eaves
+LONG_SIDE = 0.6  # eaves at least this share of the longest edge's length carry dormers
+MIN_SLOPE = 0.15  # metres of rise per metre in from the eaves: flatter (or a gable's edge) has none
+PLANE_TOLERANCE = 0.02  # metres: the roof under a dormer is the plane rising from its eaves
 MIN_STOREY = 0.6  # a front lower than this share of the storey would cut the window: no dormers
 
 # a dormer's corners in its own frame: u along the eaves from its middle, y up from the walls' top,
@@ -56,49 +60,88 @@ def _solid(corners, faces, centres: np.ndarray, e_u: np.ndarray, e_v: np.ndarray
     return Triangles(positions, np.repeat(normals, 3, axis=0))
 
 
-def dormers(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
-    """(roof triangles, wall triangles) of the dormers of `roof` over `polygon` at the walls' `top`:
-    none where the roof has no rooms, is not gabled or hipped, or has too little rise for a window."""
-    if roof.attic_storey <= 0 or roof.shape not in DORMER_SHAPES or not exact_profile(polygon):
+def roof_heights(surface: Triangles, points: np.ndarray) -> np.ndarray:
+    """Heights of the upward-facing roof `surface` over object-space (x, z) points (m, 2); -inf
+    where no roof triangle covers a point."""
+    up = surface.normals[::3, 1] > 0.05
+    tris = surface.positions.reshape(-1, 3, 3)[up]
+    a, b, c = (tris[:, k, [0, 2]] for k in range(3))
+    e1, e2, p = b - a, c - a, points[:, None, :] - a[None]
+    det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (p[..., 0] * e2[:, 1] - p[..., 1] * e2[:, 0]) / det
+        t = (e1[:, 0] * p[..., 1] - e1[:, 1] * p[..., 0]) / det
+    inside = (s >= -1e-9) & (t >= -1e-9) & (s + t <= 1 + 1e-9) & (np.abs(det) > 1e-12)
+    y = tris[:, 0, 1] + s * (tris[:, 1, 1] - tris[:, 0, 1]) + t * (tris[:, 2, 1] - tris[:, 0, 1])
+    return np.where(inside, y, -np.inf).max(axis=1, initial=-np.inf)
+
+
+def _eaves(polygon: shapely.Polygon) -> tuple[np.ndarray, np.ndarray]:
+    """(starts, ends) of the outline's and courtyards' edges as long as LONG_SIDE of their ring's
+    longest, each running with the roof on its left (shapely's orientation: exterior
+    counter-clockwise)."""
+    polygon = shapely.orient_polygons(polygon)
+    starts, ends = [], []
+    for ring in (polygon.exterior, *polygon.interiors):
+        points = np.asarray(ring.coords)
+        length = np.linalg.norm(points[1:] - points[:-1], axis=1)
+        long = (length >= LONG_SIDE * length.max()) & (length >= DORMER_WIDTH + 2 * END_MARGIN)
+        starts.append(points[:-1][long])
+        ends.append(points[1:][long])
+    return np.concatenate(starts), np.concatenate(ends)
+
+
+def dormers(polygon: shapely.Polygon, top: float, roof: Roof, surface: Triangles) -> tuple[Triangles, Triangles]:
+    """(roof triangles, wall triangles) of the dormers of `roof` over `polygon` at the walls' `top`,
+    whose roof `surface` they stand out of: along every long eave where the roof rises from it, as
+    many as fit in the face that rises from that eave (clear of hips, valleys and gables); none
+    where the roof has no rooms, is not gabled or hipped, or has too little rise for a window."""
+    if roof.attic_storey <= 0 or roof.shape not in DORMER_SHAPES:
         return Triangles.empty(), Triangles.empty()
-    across, along, (v0, v1), (u0, u1) = ridge_frame(polygon, roof.direction)
-    half = (v1 - v0) / 2
-    slope = roof.height / half  # metres of rise per metre in from the eaves
-    high = min(DORMER_TOP * roof.attic_storey, DORMER_ROOM * roof.height)
-    if high < MIN_STOREY * roof.attic_storey or high < slope * DORMER_SETBACK + 1.0:
-        return Triangles.empty(), Triangles.empty()
-    rise = DORMER_PITCH * DORMER_WIDTH / 2
-    gabled = roof.seed % 2 == 0 and high + rise <= DORMER_ROOM * roof.height
-    apex = high + rise if gabled else high
-    back = apex / slope + 0.2  # where the dormer's top has sunk into the roof
-    margin = back + END_MARGIN if roof.shape == "hipped" else END_MARGIN  # a hip closes in on the slope's ends
-    usable = (u1 - u0) - 2 * margin
-    count = int(usable // DORMER_SPACING)
-    if count < 1 or back >= half:
-        return Triangles.empty(), Triangles.empty()
-    spots = u0 + margin + (np.arange(count) + 0.5) * usable / count
-    corners = _corners(DORMER_WIDTH, DORMER_SETBACK, back, high, apex)
-    front_faces = FRONT + (FRONT_GABLE if gabled else [])
-    hidden = HIDDEN + (BACK_GABLE if gabled else [])
-    tops = GABLED_TOP if gabled else FLAT_TOP
-    part = np.repeat(
-        [ROOF_PART_SURFACE] * len(hidden) + [ROOF_PART_SHEET] * len(CHEEKS) + [ROOF_PART_SURFACE] * len(tops), 3
-    )
-    along_front = np.array([[corners[c][0] for c in face] for face in front_faces]).ravel() + DORMER_WIDTH / 2
-    w, f = DORMER_WIDTH / 2, DORMER_SETBACK
-    plan = np.array([(-w, f), (w, f), (w, back), (-w, back)])  # the dormer seen from above
     fronts, surfaces = [], []
-    for eaves, e_u, e_v in ((v0, -along, across), (v1, along, -across)):  # the frame turned, not mirrored
-        centres = np.outer(spots, along) + eaves * across
-        footprints = shapely.polygons(centres[:, None] + plan[None, :, :1] * e_u + plan[None, :, 1:] * e_v)
-        centres = centres[shapely.contains(polygon, footprints)]  # outlines that are not quite rectangles
+    for a, b in zip(*_eaves(polygon)):
+        length = float(np.linalg.norm(b - a))
+        e_u = (b - a) / length
+        e_v = np.array([-e_u[1], e_u[0]])  # into the roof; (e_u, e_v) keeps the frame's windings
+        middle = (a + b) / 2
+        slope = float(np.diff(roof_heights(surface, middle + np.outer([0.5, 1.5], e_v)))[0])
+        high = min(DORMER_TOP * roof.attic_storey, DORMER_ROOM * roof.height)
+        if not np.isfinite(slope) or slope < MIN_SLOPE or high < MIN_STOREY * roof.attic_storey:
+            continue
+        rise = DORMER_PITCH * DORMER_WIDTH / 2
+        gabled = roof.seed % 2 == 0 and high + rise <= DORMER_ROOM * roof.height
+        apex = high + rise if gabled else high
+        back = apex / slope + 0.2  # where the dormer's top has sunk into the roof
+        count = int((length - 2 * END_MARGIN) // DORMER_SPACING)
+        if count < 1 or high < slope * DORMER_SETBACK + 1.0:
+            continue
+        centres = a + np.outer(END_MARGIN + (np.arange(count) + 0.5) * (length - 2 * END_MARGIN) / count, e_u)
+        centres = centres[[_fits(polygon, surface, c, e_u, e_v, back, slope, top) for c in centres]]
         if not len(centres):
             continue
+        corners = _corners(DORMER_WIDTH, DORMER_SETBACK, back, high, apex)
+        front_faces = FRONT + (FRONT_GABLE if gabled else [])
         front = _solid(corners, front_faces, centres, e_u, e_v, top)
-        front.along = np.tile(along_front, len(centres))
+        along = np.array([[corners[c][0] for c in face] for face in front_faces]).ravel() + DORMER_WIDTH / 2
+        front.along = np.tile(along, len(centres))
         front.edge_length = np.full(len(front.positions), DORMER_WIDTH)
         fronts.append(front)
+        hidden = HIDDEN + (BACK_GABLE if gabled else [])
+        tops = GABLED_TOP if gabled else FLAT_TOP
         solid = _solid(corners, hidden + CHEEKS + tops, centres, e_u, e_v, top)
-        solid.part = np.tile(part, len(centres)).astype(np.int64)
+        part = [ROOF_PART_SURFACE] * len(hidden) + [ROOF_PART_SHEET] * len(CHEEKS) + [ROOF_PART_SURFACE] * len(tops)
+        solid.part = np.tile(np.repeat(part, 3), len(centres)).astype(np.int64)
         surfaces.append(solid)
     return Triangles.join(surfaces), Triangles.join(fronts)
+
+
+def _fits(polygon, surface: Triangles, centre, e_u, e_v, back: float, slope: float, top: float) -> bool:
+    """Whether a dormer at `centre` on the eaves stands inside the outline on the one roof face
+    that rises from those eaves at `slope` (the roof there is that plane, nothing lower cuts in)."""
+    u = np.array([-1.0, 0.0, 1.0]) * DORMER_WIDTH / 2
+    v = np.array([DORMER_SETBACK, (DORMER_SETBACK + back) / 2, back])
+    uu, vv = (g.ravel() for g in np.meshgrid(u, v))
+    points = centre + np.outer(uu, e_u) + np.outer(vv, e_v)
+    if not shapely.contains_xy(polygon, points[:, 0], points[:, 1]).all():
+        return False
+    return bool(np.allclose(roof_heights(surface, points) - top, slope * vv, atol=PLANE_TOLERANCE))

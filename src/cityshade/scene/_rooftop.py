@@ -18,5 +18,5 @@ def roof_with_rooftop(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple
             units = [rooftop_units(piece, top - roof.parapet, roof.seed) for piece in inside_parapet(polygon)]
             surface = Triangles.join([surface, *units])
         return surface, walls
-    cover, fronts = dormers(polygon, top, roof)
+    cover, fronts = dormers(polygon, top, roof, surface)
     return Triangles.join([surface, cover]), Triangles.join([walls, fronts])
