@@ -60,11 +60,14 @@ def _solid(corners, faces, centres: np.ndarray, e_u: np.ndarray, e_v: np.ndarray
     return Triangles(positions, np.repeat(normals, 3, axis=0))
 
 
-def roof_heights(surface: Triangles, points: np.ndarray) -> np.ndarray:
-    """Heights of the upward-facing roof `surface` over object-space (x, z) points (m, 2); -inf
-    where no roof triangle covers a point."""
-    up = surface.normals[::3, 1] > 0.05
-    tris = surface.positions.reshape(-1, 3, 3)[up]
+def upward(surface: Triangles) -> np.ndarray:
+    """The triangles (n, 3, 3) of a roof surface that face up (the slopes, not walls or undersides)."""
+    return surface.positions.reshape(-1, 3, 3)[surface.normals[::3, 1] > 0.05]
+
+
+def roof_heights(tris: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Heights of the roof of upward triangles `tris` (n, 3, 3) over object-space (x, z) points
+    (m, 2); -inf where no triangle covers a point."""
     a, b, c = (tris[:, k, [0, 2]] for k in range(3))
     e1, e2, p = b - a, c - a, points[:, None, :] - a[None]
     det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
@@ -98,25 +101,28 @@ def dormers(polygon: shapely.Polygon, top: float, roof: Roof, surface: Triangles
     where the roof has no rooms, is not gabled or hipped, or has too little rise for a window."""
     if roof.attic_storey <= 0 or roof.shape not in DORMER_SHAPES:
         return Triangles.empty(), Triangles.empty()
+    high = min(DORMER_TOP * roof.attic_storey, DORMER_ROOM * roof.height)
+    if high < MIN_STOREY * roof.attic_storey:
+        return Triangles.empty(), Triangles.empty()
+    rise = DORMER_PITCH * DORMER_WIDTH / 2
+    gabled = roof.seed % 2 == 0 and high + rise <= DORMER_ROOM * roof.height
+    apex = high + rise if gabled else high
+    tris = upward(surface)
+    starts, ends = _eaves(polygon)
+    length = np.linalg.norm(ends - starts, axis=1)
+    along = (ends - starts) / length[:, None]
+    inward = np.stack([-along[:, 1], along[:, 0]], axis=1)  # into the roof; (along, inward) keeps windings
+    middle = (starts + ends) / 2
+    samples = roof_heights(tris, np.concatenate([middle + 0.5 * inward, middle + 1.5 * inward]))
+    slopes = samples[len(middle) :] - samples[: len(middle)]  # metres of rise per metre in from each eave
     fronts, surfaces = [], []
-    for a, b in zip(*_eaves(polygon)):
-        length = float(np.linalg.norm(b - a))
-        e_u = (b - a) / length
-        e_v = np.array([-e_u[1], e_u[0]])  # into the roof; (e_u, e_v) keeps the frame's windings
-        middle = (a + b) / 2
-        slope = float(np.diff(roof_heights(surface, middle + np.outer([0.5, 1.5], e_v)))[0])
-        high = min(DORMER_TOP * roof.attic_storey, DORMER_ROOM * roof.height)
-        if not np.isfinite(slope) or slope < MIN_SLOPE or high < MIN_STOREY * roof.attic_storey:
+    for a, e_u, e_v, edge, slope in zip(starts, along, inward, length, slopes):
+        count = int((edge - 2 * END_MARGIN) // DORMER_SPACING)
+        if not np.isfinite(slope) or slope < MIN_SLOPE or count < 1 or high < slope * DORMER_SETBACK + 1.0:
             continue
-        rise = DORMER_PITCH * DORMER_WIDTH / 2
-        gabled = roof.seed % 2 == 0 and high + rise <= DORMER_ROOM * roof.height
-        apex = high + rise if gabled else high
         back = apex / slope + 0.2  # where the dormer's top has sunk into the roof
-        count = int((length - 2 * END_MARGIN) // DORMER_SPACING)
-        if count < 1 or high < slope * DORMER_SETBACK + 1.0:
-            continue
-        centres = a + np.outer(END_MARGIN + (np.arange(count) + 0.5) * (length - 2 * END_MARGIN) / count, e_u)
-        centres = centres[[_fits(polygon, surface, c, e_u, e_v, back, slope, top) for c in centres]]
+        centres = a + np.outer(END_MARGIN + (np.arange(count) + 0.5) * (edge - 2 * END_MARGIN) / count, e_u)
+        centres = centres[_fitting(polygon, tris, centres, e_u, e_v, back, slope, top)]
         if not len(centres):
             continue
         corners = _corners(DORMER_WIDTH, DORMER_SETBACK, back, high, apex)
@@ -135,13 +141,13 @@ def dormers(polygon: shapely.Polygon, top: float, roof: Roof, surface: Triangles
     return Triangles.join(surfaces), Triangles.join(fronts)
 
 
-def _fits(polygon, surface: Triangles, centre, e_u, e_v, back: float, slope: float, top: float) -> bool:
-    """Whether a dormer at `centre` on the eaves stands inside the outline on the one roof face
-    that rises from those eaves at `slope` (the roof there is that plane, nothing lower cuts in)."""
+def _fitting(polygon, tris: np.ndarray, centres, e_u, e_v, back: float, slope: float, top: float) -> np.ndarray:
+    """Which dormers at `centres` on the eaves stand inside the outline on the one roof face that
+    rises from those eaves at `slope` (the roof there is that plane, nothing lower cuts in)."""
     u = np.array([-1.0, 0.0, 1.0]) * DORMER_WIDTH / 2
     v = np.array([DORMER_SETBACK, (DORMER_SETBACK + back) / 2, back])
     uu, vv = (g.ravel() for g in np.meshgrid(u, v))
-    points = centre + np.outer(uu, e_u) + np.outer(vv, e_v)
-    if not shapely.contains_xy(polygon, points[:, 0], points[:, 1]).all():
-        return False
-    return bool(np.allclose(roof_heights(surface, points) - top, slope * vv, atol=PLANE_TOLERANCE))
+    points = (centres[:, None] + uu[:, None] * e_u + vv[:, None] * e_v).reshape(-1, 2)
+    inside = shapely.contains_xy(polygon, points[:, 0], points[:, 1]).reshape(len(centres), -1).all(axis=1)
+    heights = roof_heights(tris, points).reshape(len(centres), -1) - top
+    return inside & np.all(np.abs(heights - slope * vv) <= PLANE_TOLERANCE, axis=1)

@@ -21,26 +21,32 @@ MAX_UNITS = 6
 TRIES = 24  # candidate places drawn at once for each box
 
 
-def _place(rng, room: shapely.Geometry, taken: list, size) -> np.ndarray | None:
-    """(x0, z0, x1, z1) of a box of a size drawn in `size` inside the (prepared) `room`, clear of
-    the `taken` boxes by CLEARANCE; None when none of TRIES candidates fits."""
+def _candidates(rng, room: shapely.Geometry, sizes: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(places (S, TRIES, 4) of x0, z0, x1, z1, whether their corners are in the room (S, TRIES),
+    heights (S,)): TRIES candidate places for a box of each of `sizes` ((S, 3, 2): low and high
+    metres along x, across and high), all drawn at once."""
     x0, z0, x1, z1 = room.bounds
-    (wl, wh), (dl, dh), _ = size
-    w = rng.uniform(wl, wh, TRIES)
-    d = rng.uniform(dl, dh, TRIES)
-    turned = rng.random(TRIES) < 0.5  # long side along x or along z
+    shape = (len(sizes), TRIES)
+    w = rng.uniform(sizes[:, 0, :1], sizes[:, 0, 1:], shape)
+    d = rng.uniform(sizes[:, 1, :1], sizes[:, 1, 1:], shape)
+    turned = rng.random(shape) < 0.5  # long side along x or along z
     w, d = np.where(turned, d, w), np.where(turned, w, d)
-    x = rng.uniform(x0, x1, TRIES) - w / 2
-    z = rng.uniform(z0, z1, TRIES) - d / 2
-    box = np.column_stack([x, z, x + w, z + d])
-    fits = np.ones(TRIES, dtype=bool)
-    if taken:
-        t = np.array(taken)
-        near = (box[:, None, :2] < t[None, :, 2:] + CLEARANCE) & (box[:, None, 2:] > t[None, :, :2] - CLEARANCE)
-        fits = ~near.all(axis=2).any(axis=1)
-    k = np.flatnonzero(fits)
-    k = k[shapely.contains(room, shapely.box(*box[k].T))] if len(k) else k
-    return box[k[0]] if len(k) else None
+    x = rng.uniform(x0, x1, shape) - w / 2
+    z = rng.uniform(z0, z1, shape) - d / 2
+    heights = rng.uniform(sizes[:, 2, 0], sizes[:, 2, 1])
+    places = np.stack([x, z, x + w, z + d], axis=2)
+    corners = places[..., [[0, 1], [2, 1], [2, 3], [0, 3]]].reshape(-1, 2)
+    inside = shapely.contains_xy(room, corners[:, 0], corners[:, 1]).reshape(*shape, 4).all(axis=2)
+    return places, inside, heights
+
+
+def _clear(places: np.ndarray, taken: list) -> np.ndarray:
+    """Which places (n, 4) keep CLEARANCE from every `taken` one."""
+    if not taken:
+        return np.ones(len(places), dtype=bool)
+    t = np.array(taken)
+    near = (places[:, None, :2] < t[None, :, 2:] + CLEARANCE) & (places[:, None, 2:] > t[None, :, :2] - CLEARANCE)
+    return ~near.all(axis=2).any(axis=1)
 
 
 def unit_count(area: float) -> int:
@@ -57,14 +63,16 @@ def rooftop_units(roof: shapely.Polygon, y: float, seed: int) -> Triangles:
         return Triangles.empty()
     shapely.prepare(room)
     rng = np.random.default_rng([seed, 0x0F1A7])
-    sizes = ([HOUSING_SIZE] if roof.area >= HOUSING_ROOF else []) + [UNIT_SIZE] * unit_count(roof.area)
+    sizes = np.array(([HOUSING_SIZE] if roof.area >= HOUSING_ROOF else []) + [UNIT_SIZE] * unit_count(roof.area))
+    candidates, inside, drawn = _candidates(rng, room, sizes)
+    convex = room.convex_hull.area - room.area < 1e-6  # corners inside: the whole box inside
     placed, heights = [], []
-    for size in sizes:
-        box = _place(rng, room, placed, size)
-        height = rng.uniform(*size[2])
-        if box is not None:
-            placed.append(box)
-            heights.append(height)
+    for options, fits, height in zip(candidates, inside, drawn):
+        for k in np.flatnonzero(fits & _clear(options, placed)):
+            if convex or room.contains(shapely.box(*options[k])):
+                placed.append(options[k])
+                heights.append(height)
+                break
     if not placed:
         return Triangles.empty()
     placed, heights = np.array(placed), np.array(heights)
