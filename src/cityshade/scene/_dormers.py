@@ -37,23 +37,26 @@ FLAT_TOP = [("FL1", "BL1", "BR1"), ("FL1", "BR1", "FR1")]
 GABLED_TOP = [("FL1", "BL1", "BA"), ("FL1", "BA", "FA"), ("FR1", "FA", "BA"), ("FR1", "BA", "BR1")]
 
 
-def _corners(w: float, front: float, back: float, high: float, apex: float) -> dict[str, np.ndarray]:
-    corners = {}
-    for name, v in (("F", front), ("B", back)):
-        for side, u in (("L", -w / 2), ("R", w / 2)):
-            corners[f"{name}{side}0"] = np.array([u, 0.0, v])
-            corners[f"{name}{side}1"] = np.array([u, high, v])
-        corners[f"{name}A"] = np.array([0.0, apex, v])
-    return corners
+def _local(faces, back: np.ndarray, high: float, apex: float) -> np.ndarray:
+    """(dormers, rows, 3) corners in each dormer's frame (u, y, v) of `faces`, for dormers whose
+    backs stand `back` (n,) metres in from the eaves."""
+    w, v_front = DORMER_WIDTH / 2, DORMER_SETBACK
+    u = {"L": -w, "R": w, "A": 0.0}
+    rows = [c for face in faces for c in face]
+    y = np.array([apex if c[1] == "A" else high if c[2] == "1" else 0.0 for c in rows])
+    local = np.zeros((len(back), len(rows), 3))
+    local[..., 0] = [u[c[1]] for c in rows]
+    local[..., 1] = y
+    local[..., 2] = np.where([c[0] == "F" for c in rows], v_front, back[:, None])
+    return local
 
 
-def _solid(corners, faces, centres: np.ndarray, e_u: np.ndarray, e_v: np.ndarray, top: float) -> Triangles:
-    """The faces of one dormer (in its frame) at every centre (n, 2, object x, z), u along e_u and
-    v along e_v (a rotation of the frame: windings kept), lifted to the walls' `top`."""
-    local = np.array([[corners[c] for c in face] for face in faces]).reshape(-1, 3)  # (rows, u y v)
-    plane = centres[:, None, :] + local[None, :, 0, None] * e_u + local[None, :, 2, None] * e_v
-    positions = np.stack([plane[..., 0], np.broadcast_to(top + local[:, 1], plane.shape[:2]), plane[..., 1]], axis=2)
-    positions = positions.reshape(-1, 3)
+def _solid(local: np.ndarray, centres: np.ndarray, e_u: np.ndarray, e_v: np.ndarray, top: float) -> Triangles:
+    """Dormer faces given in their frames (local: (n, rows, 3) of u, y, v) at `centres` (n, 2,
+    object x, z), u along e_u and v along e_v (n, 2; a rotation of the frame: windings kept),
+    lifted to the walls' `top`."""
+    plane = centres[:, None] + local[..., :1] * e_u[:, None] + local[..., 2:] * e_v[:, None]
+    positions = np.stack([plane[..., 0], top + local[..., 1], plane[..., 1]], axis=2).reshape(-1, 3)
     tris = positions.reshape(-1, 3, 3)
     normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
@@ -115,39 +118,41 @@ def dormers(polygon: shapely.Polygon, top: float, roof: Roof, surface: Triangles
     middle = (starts + ends) / 2
     samples = roof_heights(tris, np.concatenate([middle + 0.5 * inward, middle + 1.5 * inward]))
     slopes = samples[len(middle) :] - samples[: len(middle)]  # metres of rise per metre in from each eave
-    fronts, surfaces = [], []
-    for a, e_u, e_v, edge, slope in zip(starts, along, inward, length, slopes):
-        count = int((edge - 2 * END_MARGIN) // DORMER_SPACING)
-        if not np.isfinite(slope) or slope < MIN_SLOPE or count < 1 or high < slope * DORMER_SETBACK + 1.0:
-            continue
-        back = apex / slope + 0.2  # where the dormer's top has sunk into the roof
-        centres = a + np.outer(END_MARGIN + (np.arange(count) + 0.5) * (edge - 2 * END_MARGIN) / count, e_u)
-        centres = centres[_fitting(polygon, tris, centres, e_u, e_v, back, slope, top)]
-        if not len(centres):
-            continue
-        corners = _corners(DORMER_WIDTH, DORMER_SETBACK, back, high, apex)
-        front_faces = FRONT + (FRONT_GABLE if gabled else [])
-        front = _solid(corners, front_faces, centres, e_u, e_v, top)
-        along = np.array([[corners[c][0] for c in face] for face in front_faces]).ravel() + DORMER_WIDTH / 2
-        front.along = np.tile(along, len(centres))
-        front.edge_length = np.full(len(front.positions), DORMER_WIDTH)
-        fronts.append(front)
-        hidden = HIDDEN + (BACK_GABLE if gabled else [])
-        tops = GABLED_TOP if gabled else FLAT_TOP
-        solid = _solid(corners, hidden + CHEEKS + tops, centres, e_u, e_v, top)
-        part = [ROOF_PART_SURFACE] * len(hidden) + [ROOF_PART_SHEET] * len(CHEEKS) + [ROOF_PART_SURFACE] * len(tops)
-        solid.part = np.tile(np.repeat(part, 3), len(centres)).astype(np.int64)
-        surfaces.append(solid)
-    return Triangles.join(surfaces), Triangles.join(fronts)
+    count = ((length - 2 * END_MARGIN) // DORMER_SPACING).astype(np.int64)
+    with np.errstate(invalid="ignore"):
+        used = np.isfinite(slopes) & (slopes >= MIN_SLOPE) & (count >= 1) & (high >= slopes * DORMER_SETBACK + 1.0)
+    if not used.any():
+        return Triangles.empty(), Triangles.empty()
+    edge = np.repeat(np.flatnonzero(used), count[used])  # each candidate dormer's eave
+    rank = np.arange(len(edge)) - np.repeat(np.cumsum(count[used]) - count[used], count[used])
+    spacing = (length[edge] - 2 * END_MARGIN) / count[edge]
+    centres = starts[edge] + (END_MARGIN + (rank + 0.5) * spacing)[:, None] * along[edge]
+    back = apex / slopes[edge] + 0.2  # where the dormer's top has sunk into the roof
+    fits = _fitting(polygon, tris, centres, along[edge], inward[edge], back, slopes[edge], top)
+    if not fits.any():
+        return Triangles.empty(), Triangles.empty()
+    centres, e_u, e_v, back = centres[fits], along[edge[fits]], inward[edge[fits]], back[fits]
+    front_faces = FRONT + (FRONT_GABLE if gabled else [])
+    front_local = _local(front_faces, back, high, apex)
+    front = _solid(front_local, centres, e_u, e_v, top)
+    front.along = front_local[..., 0].ravel() + DORMER_WIDTH / 2
+    front.edge_length = np.full(len(front.positions), DORMER_WIDTH)
+    hidden = HIDDEN + (BACK_GABLE if gabled else [])
+    tops = GABLED_TOP if gabled else FLAT_TOP
+    solid = _solid(_local(hidden + CHEEKS + tops, back, high, apex), centres, e_u, e_v, top)
+    part = [ROOF_PART_SURFACE] * len(hidden) + [ROOF_PART_SHEET] * len(CHEEKS) + [ROOF_PART_SURFACE] * len(tops)
+    solid.part = np.tile(np.repeat(part, 3), len(centres)).astype(np.int64)
+    return solid, front
 
 
-def _fitting(polygon, tris: np.ndarray, centres, e_u, e_v, back: float, slope: float, top: float) -> np.ndarray:
-    """Which dormers at `centres` on the eaves stand inside the outline on the one roof face that
-    rises from those eaves at `slope` (the roof there is that plane, nothing lower cuts in)."""
-    u = np.array([-1.0, 0.0, 1.0]) * DORMER_WIDTH / 2
-    v = np.array([DORMER_SETBACK, (DORMER_SETBACK + back) / 2, back])
-    uu, vv = (g.ravel() for g in np.meshgrid(u, v))
-    points = (centres[:, None] + uu[:, None] * e_u + vv[:, None] * e_v).reshape(-1, 2)
+def _fitting(polygon, tris: np.ndarray, centres, e_u, e_v, back, slope, top: float) -> np.ndarray:
+    """Which dormers at `centres` on their eaves (frames e_u, e_v, depths `back`, slopes: one each)
+    stand inside the outline on the one roof face that rises from their eaves at their slope (the
+    roof there is that plane, nothing lower cuts in)."""
+    u = np.tile([-1.0, 0.0, 1.0], 3) * DORMER_WIDTH / 2
+    v = DORMER_SETBACK + np.repeat([0.0, 0.5, 1.0], 3)[None] * (back - DORMER_SETBACK)[:, None]  # (n, 9)
+    points = centres[:, None] + u[None, :, None] * e_u[:, None] + v[..., None] * e_v[:, None]
+    points = points.reshape(-1, 2)
     inside = shapely.contains_xy(polygon, points[:, 0], points[:, 1]).reshape(len(centres), -1).all(axis=1)
     heights = roof_heights(tris, points).reshape(len(centres), -1) - top
-    return inside & np.all(np.abs(heights - slope * vv) <= PLANE_TOLERANCE, axis=1)
+    return inside & np.all(np.abs(heights - slope[:, None] * v) <= PLANE_TOLERANCE, axis=1)
