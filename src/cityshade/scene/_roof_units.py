@@ -27,13 +27,15 @@ def _candidates(rng, room: shapely.Geometry, sizes: np.ndarray) -> tuple[np.ndar
     metres along x, across and high), all drawn at once."""
     x0, z0, x1, z1 = room.bounds
     shape = (len(sizes), TRIES)
-    w = rng.uniform(sizes[:, 0, :1], sizes[:, 0, 1:], shape)
-    d = rng.uniform(sizes[:, 1, :1], sizes[:, 1, 1:], shape)
-    turned = rng.random(shape) < 0.5  # long side along x or along z
+    draw = rng.random((6, *shape))  # one call: sizes, turns, places and heights of every candidate
+    low, span = sizes[:, :, 0], sizes[:, :, 1] - sizes[:, :, 0]
+    w = low[:, :1] + draw[0] * span[:, :1]
+    d = low[:, 1:2] + draw[1] * span[:, 1:2]
+    turned = draw[2] < 0.5  # long side along x or along z
     w, d = np.where(turned, d, w), np.where(turned, w, d)
-    x = rng.uniform(x0, x1, shape) - w / 2
-    z = rng.uniform(z0, z1, shape) - d / 2
-    heights = rng.uniform(sizes[:, 2, 0], sizes[:, 2, 1])
+    x = x0 + draw[3] * (x1 - x0) - w / 2
+    z = z0 + draw[4] * (z1 - z0) - d / 2
+    heights = low[:, 2] + draw[5, :, 0] * span[:, 2]
     places = np.stack([x, z, x + w, z + d], axis=2)
     corners = places[..., [[0, 1], [2, 1], [2, 3], [0, 3]]].reshape(-1, 2)
     inside = shapely.contains_xy(room, corners[:, 0], corners[:, 1]).reshape(*shape, 4).all(axis=2)
@@ -51,7 +53,7 @@ def _clear(places: np.ndarray, taken: list) -> np.ndarray:
 
 def unit_count(area: float) -> int:
     """How many ventilation and air-conditioning units a roof of `area` square metres carries."""
-    return int(np.clip(round(area / ROOF_PER_UNIT), 1, MAX_UNITS))
+    return min(max(round(area / ROOF_PER_UNIT), 1), MAX_UNITS)
 
 
 def rooftop_units(roof: shapely.Polygon, y: float, seed: int) -> Triangles:
