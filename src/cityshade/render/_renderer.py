@@ -8,7 +8,7 @@ import moderngl
 import numpy as np
 
 from .. import assets
-from .._budget import check_image_memory
+from .._budget import check_image_memory, release_freed_memory
 from .._values import check_size
 from ..errors import UsageError
 from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
@@ -84,6 +84,7 @@ class Renderer:
             self.trees.release()
         trees = city_trees(city) if city.trees is None else city.trees
         self.trees = TreePass(self.ctx, self.programs, trees, seed=city.seed)
+        release_freed_memory()
 
     def _textures(self, settings: RenderSettings) -> CityTextures:
         return CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants, settings.grammar_files)

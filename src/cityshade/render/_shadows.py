@@ -121,7 +121,7 @@ def shadow_pass(f):
             f.draw_buildings(program, view_proj)
             calls += 1
         if f.gpu.trees is not None:
-            f.gpu.trees.prepare(f.view.camera.eye)
+            f.gpu.trees.prepare(f.view.camera.eye, view_proj)  # the cascade's casters only
             if f.view.settings.culling == "gpu":
                 f.gpu.trees.cull(view_proj)  # the cascade's frustum
             calls += f.gpu.trees.draw_shadow(view_proj, sun, casters)

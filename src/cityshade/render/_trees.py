@@ -131,8 +131,8 @@ class TreePass:
         """Splits the trees into the two LODs by distance and writes their instance buffers, nearest
         first: the fins are drawn only for the leading trees that are close enough to have any
         (§4.2.3 removes them from distant trees), and near-to-far order helps the depth test.
-        With `view_projection`, only the trees whose bounds meet its frustum (not for the shadow
-        casters, whose trees outside the view still shade it)."""
+        With `view_projection`, only the trees whose bounds meet its frustum (the camera's, or a
+        shadow cascade's, which reaches toward the sun for the casters outside the view)."""
         distance = np.linalg.norm(self.trees["position"] - np.asarray(eye, float), axis=1)
         alphas = lod_alphas(distance, *self.settings.lod_band)
         order = np.argsort(distance)
@@ -202,8 +202,9 @@ class TreePass:
     def _visible(self, view_projection: np.ndarray) -> np.ndarray:
         """Trees whose box (the model's height, scaled, every way from the root, plus the wind's
         sway) is not wholly outside the frustum."""
-        heights = np.array([self.models[int(k)].height for k in self.trees["species"]])
-        reach = heights * self.trees["scale"] + self.sway()
+        heights = np.zeros(max(self.models, default=0) + 1)
+        heights[list(self.models)] = [model.height for model in self.models.values()]
+        reach = heights[self.trees["species"]] * self.trees["scale"] + self.sway()
         position = self.trees["position"]
         return boxes_visible(frustum_planes(view_projection), position - reach[:, None], position + reach[:, None])
 
@@ -348,7 +349,8 @@ def draw_trees(f, ids: bool = False) -> int:
     trees, view = f.gpu.trees, f.view
     if trees is None:
         return 0
-    trees.prepare(view.camera.eye, view.view_projection if ids else None)  # the id AOV's trees: only those in view
+    # only the trees in view: a multi-draw's commands cost a software rasteriser even when culled
+    trees.prepare(view.camera.eye, view.view_projection)
     if view.settings.culling == "gpu" and not ids:  # behind the buildings' hierarchical depth, when this frame built it
         trees.cull(view.view_projection, f.gpu.city.visibility.pyramid if f.gpu.camera_draws is not None else None)
     return trees.draw(
