@@ -17,6 +17,7 @@ import numpy as np
 from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
 from ..gl import RenderTarget, bind_textures, set_uniforms
+from ._trees import focal_rows
 
 SHADOW_BIAS = 0.0008  # texture-depth units, every cascade
 
@@ -121,7 +122,7 @@ def shadow_pass(f):
             f.draw_buildings(program, view_proj)
             calls += 1
         if f.gpu.trees is not None:
-            f.gpu.trees.prepare(f.view.camera.eye, view_proj)  # the cascade's casters only
+            f.gpu.trees.prepare(f.view.camera.eye, view_proj, focal_rows(f.view))  # the cascade's casters, as seen
             if f.view.settings.culling == "gpu":
                 f.gpu.trees.cull(view_proj)  # the cascade's frustum
             calls += f.gpu.trees.draw_shadow(view_proj, sun, casters)
