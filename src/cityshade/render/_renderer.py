@@ -133,8 +133,11 @@ class Renderer:
         if self.city is None:
             raise RuntimeError("no city: call set_city() first")
         daylight = self._daylight()
-        if self.settings.shadows and self.shadows is None:
-            self.shadows = CascadedShadows(self.ctx)
+        resolution = self.settings.shadow_resolution
+        if self.settings.shadows and (self.shadows is None or self.shadows.resolution != resolution):
+            if self.shadows is not None:
+                self.shadows.release()
+            self.shadows = CascadedShadows(self.ctx, resolution)
         self.frame_index += 1
         self._start_grammars()
         if self.settings.grammar_deferred:
