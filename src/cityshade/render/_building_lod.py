@@ -21,6 +21,7 @@ from ..scene import SURFACE_WALL
 
 ROOM_METRES = 4.5  # a room's width on the facade: one window bay
 SAMPLE_POINTS = 512  # grammar points per building for its cheap colour (a jittered grid: its mean within ~1%)
+SAMPLE_GRID = (32, 16)  # the grid's columns and rows (SAMPLE_POINTS cells, twice as wide as tall)
 CHUNK_POINTS = 1 << 15  # points per numpy evaluation
 LOD_COLOURS_BINDING = 6  # the storage buffer of the grammar buildings' cheap colours (city/lod.glsl)
 
@@ -92,11 +93,11 @@ def relief_mean() -> np.ndarray:
     return _wall_mean(albedo, material == GLASS)
 
 
-def _unit_samples() -> np.ndarray:
-    """SAMPLE_POINTS points spread over the unit square: one jittered point per cell of a grid
-    (a fixed seed), so that no repeat of a facade's pattern aliases with the sampling."""
-    cols = int(np.sqrt(SAMPLE_POINTS * 2))
-    rows = SAMPLE_POINTS // cols
+def unit_samples() -> np.ndarray:
+    """SAMPLE_POINTS points spread over the unit square, row by row of SAMPLE_GRID: one jittered
+    point per cell of the grid (a fixed seed), so that no repeat of a facade's pattern aliases
+    with the sampling."""
+    cols, rows = SAMPLE_GRID
     cell = np.stack(np.meshgrid(np.arange(cols), np.arange(rows)), axis=-1).reshape(-1, 2)
     jitter = np.random.default_rng(11).random(cell.shape)
     return (cell + jitter) / np.array([cols, rows])
@@ -165,7 +166,7 @@ def grammar_colours(faces: np.ndarray, count: int) -> np.ndarray:
     colours = np.zeros((count, 4), np.float32)
     if not len(faces):
         return colours
-    compiled, tiles, unit = library_texture(), _far_tiles(), _unit_samples()
+    compiled, tiles, unit = library_texture(), _far_tiles(), unit_samples()
     index = faces["building"]
     start, width, height, storeys, style, seed, face, use, mass_height = (
         faces[name] for name in SAMPLE_FACE_DTYPE.names[1:]

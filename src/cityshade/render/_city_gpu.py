@@ -9,11 +9,12 @@ import moderngl
 import numpy as np
 
 from ..gl import VertexArrays, create_buffer
-from ..grammar import FACADE_GRAMMAR
+from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
 from ..scene import BUILDING_DTYPE, VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
-from ._building_lod import LOD_COLOURS_BINDING, grammar_colours, grammar_sample_faces
+from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
+from ._lod_colours import grammar_colours_gpu
 from ._culling import chunk_vertices
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
@@ -95,10 +96,17 @@ class CityGPU:
             records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
         self.records.write(records.tobytes())
 
-    def bind_lod_colours(self):
-        """Binds the grammar buildings' cheap colours (city/lod.glsl), evaluated on first use."""
+    def prepare_lod_colours(self, grammar: GrammarTextures):
+        """Evaluates the grammar buildings' cheap colours (city/lod.glsl) on the GPU, once: before a
+        frame's passes, since it draws into a target of its own."""
         if self._lod_colours is None:
-            self._lod_colours = create_buffer(self.ctx, grammar_colours(self._lod_faces, max(self.building_count, 1)))
+            colours = grammar_colours_gpu(self.ctx, grammar, self._lod_faces, max(self.building_count, 1))
+            self._lod_colours = create_buffer(self.ctx, colours)
+
+    def bind_lod_colours(self):
+        """Binds the cheap colours of prepare_lod_colours."""
+        if self._lod_colours is None:
+            raise RuntimeError("the building LOD colours are not evaluated: call prepare_lod_colours() first")
         self._lod_colours.bind_to_storage_buffer(LOD_COLOURS_BINDING)
 
     def polygonised(self) -> PolygonisedGPU:

@@ -140,6 +140,8 @@ class Renderer:
             self.shadows = CascadedShadows(self.ctx, resolution)
         self.frame_index += 1
         self._start_grammars()
+        if self.settings.building_lod:
+            self.city.prepare_lod_colours(self.textures.grammar)
         if self.settings.grammar_deferred:
             self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
         s = self.settings
