@@ -9,7 +9,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget, bind_textures, draw_fullscreen, programs, set_uniforms
+from ..gl import RenderTarget, bind_textures, create_buffer, draw_fullscreen, programs, set_uniforms, upload_texture
 from ..grammar import GrammarTextures, seed_vector, shader_defines
 from ._building_lod import SAMPLE_GRID, unit_samples
 
@@ -37,9 +37,8 @@ def grammar_colours_gpu(ctx: moderngl.Context, grammar: GrammarTextures, faces: 
     program = programs(ctx).get(
         "grammar/lod_colours.glsl", {**shader_defines(), "LOD_SAMPLES_X": cols, "LOD_SAMPLES_Y": rows}
     )
-    unit = ctx.texture((cols, rows), 2, unit_samples().astype(np.float32).tobytes(), dtype="f4")
-    unit.filter = (moderngl.NEAREST, moderngl.NEAREST)
-    params = ctx.buffer(_face_rows(faces).tobytes())
+    unit = upload_texture(ctx, unit_samples().astype(np.float32).reshape(rows, cols, 2), "stored", mipmaps=False)
+    params = create_buffer(ctx, _face_rows(faces))
     target = RenderTarget(ctx, (cols * TILES[0], rows * TILES[1]), colors=(("f4", 4),))
     per_batch = TILES[0] * TILES[1]
     try:
