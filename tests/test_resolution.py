@@ -107,3 +107,10 @@ def test_shadow_maps_scale_with_the_frame():
         scaler.scale = scale
         shadows[scale] = scaler.shadow_resolution(1024)
     assert shadows == {1.0: 1024, 0.75: 1024, 0.5: 512, 0.3: 512, 0.25: 256, 0.125: 256}
+
+
+def test_a_shadow_resolution_out_of_range_is_one_clear_error():
+    from cityshade.render import RenderSettings
+
+    with pytest.raises(UsageError, match="shadow_resolution 8: give texels per side, 16 to 8192"):
+        RenderSettings(shadow_resolution=8)
