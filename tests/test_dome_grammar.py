@@ -11,12 +11,14 @@ import dataclasses
 import warnings
 
 import numpy as np
+import pytest
+from PIL import Image
 
 from cityshade.interior import FACE_NAMES, windows_straddling_rooms
 from cityshade.interior._faces import FACE_EXTERIOR, FACE_ROOF
 from cityshade.render import GrammarFitWarning, Renderer, RenderSettings
 from cityshade.scene import Camera, City, dome, dome_faces, make_city
-from render_checks import grammar_facades, id_edges, interior_twin
+from render_checks import grammar_facades, id_edges, interior_twin, render_finite
 
 SIZE = (160, 120)
 MAX_MISMATCH = 0.001  # of the picture: rasterisation edges only
@@ -110,3 +112,55 @@ def test_a_dome_too_small_for_windows_is_all_roof(gl_context):
     assert on.sum() > 1500 and np.all(gpu[..., 0][on] == FACE_ROOF) and not gpu_labels[..., 3][on].any()
     assert differ.mean() <= MAX_MISMATCH and not (differ & ~id_edges(ref)).any()
     assert windows.windows == 0
+
+
+BAYS = (
+    "S->RepeatX(2.5, Bay)\nBay->SplitX(Rel, 1, Wall, Abs, 1.2, Column, Rel, 1, Wall)\n"
+    "Column->SplitY(Rel, 1, Wall, Abs, 1.6, Glass, Rel, 1, Wall)\n"
+    "Glass->Color(0.9, 0.1, 0.1, window)\nWall->Color(0.1, 0.8, 0.1)\n"
+)
+
+
+@pytest.mark.parametrize("path", ("forward", "deferred"))
+def test_both_grammar_paths_draw_the_twins_windows_on_a_dome(gl_context, tmp_path, path, output_dir):
+    """The frame's forward and deferred grammar paths (not the id pass, which always evaluates
+    forward) draw a grammar of red windows on green walls on the interior scene's dome where the
+    twin's labels put windows."""
+    from cityshade import assets
+    from cityshade.assets import LABELS
+    from cityshade.grammar import library_texture_with, load, min_width
+    from cityshade.interior import GrammarFacades
+
+    grammar = tmp_path / "dome_test.grammar"
+    grammar.write_text(BAYS)
+    settings = RenderSettings(
+        trees=False,
+        shadows=False,
+        god_rays=False,
+        interior_mapping=False,
+        time_of_day=13.0,
+        grammar_deferred=path == "deferred",
+        grammar_files=(str(grammar),),
+        grammar_start="dome_test",
+    )
+    scene = _grammar_domes(make_city("interior"), BRICK)
+    camera = scene.camera("dome")
+    r = Renderer(SIZE, settings, ctx=gl_context)
+    try:
+        r.set_city(scene)
+        image = render_finite(r, camera).astype(np.int32)
+        compiled = library_texture_with(settings.grammar_files)
+        facades = GrammarFacades(
+            compiled, assets.tile_array(), {3: compiled.address("dome_test")}, {3: min_width(load(grammar))}
+        )
+        ref = interior_twin(r, scene.masses, camera, SIZE, scene.bounds, grammar=facades, labels=True)
+    finally:
+        r.release()
+    Image.fromarray(image.astype(np.uint8)).save(output_dir / f"dome_grammar_{path}.png")
+    dome = (ref[..., 2] == 4) & (ref[..., 0] == FACE_EXTERIOR)
+    window = dome & (ref[..., 3] == LABELS.index("window"))
+    red = (image[..., 0] > 2 * image[..., 1]) & (image[..., 0] > 2 * image[..., 2])
+    differ = dome & (red != window) & ~id_edges(ref[..., [0, 3, 2]])
+    print(f"{path}: {window.sum()} window and {(dome & ~window).sum()} wall pixels on the dome; {differ.sum()} differ")
+    assert window.sum() > 300 and (dome & ~window).sum() > 1000
+    assert differ.sum() <= MAX_MISMATCH * differ.size
