@@ -164,3 +164,21 @@ def test_both_grammar_paths_draw_the_twins_windows_on_a_dome(gl_context, tmp_pat
     print(f"{path}: {window.sum()} window and {(dome & ~window).sum()} wall pixels on the dome; {differ.sum()} differ")
     assert window.sum() > 300 and (dome & ~window).sum() > 1000
     assert differ.sum() <= MAX_MISMATCH * differ.size
+
+
+def test_a_ring_narrower_than_its_grammar_is_a_plain_wall_with_a_counted_warning():
+    """A 1.6 m dome of 0.4 m floors: three rings of 30 degrees; the first is a face 4.86 m round
+    (brick fits 5 m), drawn plain and counted; the rest is the cap, a roof, not counted."""
+    from cityshade.render import assign_facades
+    from cityshade.scene import SURFACE_PLAIN_WALL, SURFACE_ROOF, SURFACE_WALL, batch
+
+    masses = [dome((0.0, 0.0), 1.6, floor_height=0.4, room_width=1.0, seed=2, style=BRICK)]
+    rings = dome_faces(0.8, 0.4, 1.0)
+    assert rings.walls == 1 and rings.width[0] == pytest.approx(2 * np.pi * 0.8 * np.cos(np.pi / 12))
+    vertices, records = batch(masses)
+    with pytest.warns(GrammarFitWarning, match="1 wall faces are narrower"):
+        counts = assign_facades(records, masses, vertices)
+    surface = vertices["ids"][:, 1]
+    assert sum(n for kind, n in counts.items() if "plain wall" in kind) == 1
+    assert (surface == SURFACE_PLAIN_WALL).any() and (surface == SURFACE_ROOF).any()
+    assert not (surface == SURFACE_WALL).any()
