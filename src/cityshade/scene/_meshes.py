@@ -130,7 +130,10 @@ def _dome_triangles(mass: BuildingMass):
     radius = mass.extent[0] / 2
     centre = np.array([radius, 0.0, radius])
     rings = dome_faces(radius, mass.floor_height, mass.room_width)
-    lat = np.unique(np.concatenate([np.linspace(0, np.pi / 2, DOME_RINGS + 1), rings.lat.ravel()]))
+    steps = np.linspace(0, np.pi / 2, DOME_RINGS + 1)
+    edges = np.append(rings.lat[:, 0], np.pi / 2)  # every ring's base, and the pole
+    steps = steps[np.min(np.abs(steps[:, None] - edges[None, :]), axis=1) > 1e-6]  # no sliver rows
+    lat = np.sort(np.concatenate([steps, edges]))
     lon = np.linspace(0, 2 * np.pi, DOME_SEGMENTS + 1)
     i, j = np.meshgrid(np.arange(len(lat) - 1), np.arange(DOME_SEGMENTS), indexing="ij")
     # 6 vertices per quad: corners (i, j), (i, j + 1), (i + 1, j + 1) and (i, j), (i + 1, j + 1), (i + 1, j)
