@@ -1,6 +1,7 @@
 """A city uploaded to the GPU: one vertex buffer for all buildings (ordered chunk by chunk, each
 building a contiguous range), one SSBO of building records, the buildings' boxes for the cull pass,
-and the ground quads. Vertex arrays are cached per program."""
+and the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
+stays once they are uploaded (a city of 100,000 buildings holds 250 MB of vertices)."""
 
 from __future__ import annotations
 
@@ -8,12 +9,13 @@ import moderngl
 import numpy as np
 
 from ..gl import VertexArrays, create_buffer
-from ..grammar import FACADE_GRAMMAR
+from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
-from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+from ..scene import BUILDING_DTYPE, VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
-from ._building_lod import LOD_COLOURS_BINDING, grammar_colours, grammar_sample_faces
-from ._culling import BuildingChunks
+from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
+from ._lod_colours import grammar_colours_gpu
+from ._culling import chunk_vertices
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
@@ -50,8 +52,7 @@ class CityGPU:
         self._lod_faces = grammar_sample_faces(city.masses, records, vertices)
         self._lod_colours: moderngl.Buffer | None = None
         self.relief = CityRelief(ctx)
-        self.chunks = BuildingChunks(vertices)
-        vertices = self.chunks.vertices
+        vertices, self.chunks = chunk_vertices(vertices)
         self.building_count = len(city.masses)
         self.building_vertex_count = len(vertices)
         self.visibility = BuildingVisibility(
@@ -59,7 +60,7 @@ class CityGPU:
         )
         self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
         self.records = create_buffer(ctx, records)
-        self._record_array = records  # as assigned, for start_grammars_at
+        self._assigned_facades = records["facade"].copy()  # for start_grammars_at
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
@@ -89,16 +90,23 @@ class CityGPU:
     def start_grammars_at(self, address: int | None):
         """Every grammar facade starts at rule `address` of the grammar texture (RenderSettings.grammar_start);
         None: each building's own style, as assigned."""
-        records = self._record_array
+        records = np.frombuffer(self.records.read(), BUILDING_DTYPE).copy()
+        records["facade"] = self._assigned_facades
         if address is not None:
-            records = records.copy()
             records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
         self.records.write(records.tobytes())
 
-    def bind_lod_colours(self):
-        """Binds the grammar buildings' cheap colours (city/lod.glsl), evaluated on first use."""
+    def prepare_lod_colours(self, grammar: GrammarTextures):
+        """Evaluates the grammar buildings' cheap colours (city/lod.glsl) on the GPU, once: before a
+        frame's passes, since it draws into a target of its own."""
         if self._lod_colours is None:
-            self._lod_colours = create_buffer(self.ctx, grammar_colours(self._lod_faces, max(self.building_count, 1)))
+            colours = grammar_colours_gpu(self.ctx, grammar, self._lod_faces, max(self.building_count, 1))
+            self._lod_colours = create_buffer(self.ctx, colours)
+
+    def bind_lod_colours(self):
+        """Binds the cheap colours of prepare_lod_colours."""
+        if self._lod_colours is None:
+            raise RuntimeError("the building LOD colours are not evaluated: call prepare_lod_colours() first")
         self._lod_colours.bind_to_storage_buffer(LOD_COLOURS_BINDING)
 
     def polygonised(self) -> PolygonisedGPU:
