@@ -307,6 +307,34 @@ def test_an_altered_tile_fails_when_read(tagged_tiles, tmp_path, capsys):
         read_tile(open_tiles(tagged_tiles), 0)
 
 
+class _Payload:
+    """Unpickles by calling os.system: what a cache folder from elsewhere could hold."""
+
+    def __init__(self, marker: Path):
+        self.marker = marker
+
+    def __reduce__(self):
+        import os
+
+        return os.system, (f"touch {self.marker}",)
+
+
+def test_a_cache_whose_city_calls_a_function_is_refused_unrun(tagged_tiles, tmp_path, capsys):
+    """A city.pickle naming os.system, with a manifest whose SHA-256 matches it: refused in one
+    line, and the command never runs."""
+    import pickle
+
+    marker = tmp_path / "ran"
+    data = pickle.dumps({"city": _Payload(marker)})
+    (tagged_tiles / "city.pickle").write_bytes(data)
+    manifest = json.loads((tagged_tiles / "manifest.json").read_text())
+    manifest["city"].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest())
+    (tagged_tiles / "manifest.json").write_text(json.dumps(manifest))
+    err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
+    assert "city.pickle refers to posix.system" in err or "city.pickle refers to os.system" in err
+    assert not marker.exists()
+
+
 def test_the_viewer_streams_and_shows_its_tiles(district_tiles):
     from cityshade.viewer import open_viewer
 

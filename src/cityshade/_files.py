@@ -203,7 +203,8 @@ def _open_nonblocking(name, flags):
 
 # SIGTERM and SIGHUP end a command like Ctrl-C does: by an exception, so every `finally` runs and
 # no temporary output is left (their default action kills the process without running them).
-_EXIT_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+# SIGINT is handled here too so that it can be deferred like them.
+_EXIT_SIGNALS = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)
 _deferred: list[int] = []  # signals that arrived while deferred
 _deferring = False
 
@@ -212,6 +213,12 @@ def _leave(signum, frame):
     if _deferring:
         _deferred.append(signum)
         return
+    _exit_for(signum)
+
+
+def _exit_for(signum: int):
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise SystemExit(128 + signum)
 
 
@@ -227,8 +234,9 @@ def signals_as_exit():
 
 @contextlib.contextmanager
 def signals_deferred():
-    """Holds SIGTERM and SIGHUP until the block ends: for a write into a helper process (ffmpeg)
-    that must not be cut in the middle, or the helper is killed instead of finishing cleanly."""
+    """Holds SIGTERM, SIGHUP and SIGINT until the block ends: for a write into a helper process
+    (ffmpeg) that must not be cut in the middle, or the helper is killed instead of finishing
+    cleanly (and a killed ffmpeg can still create its output after the temporary file is removed)."""
     global _deferring
     outer, _deferring = _deferring, True
     try:
@@ -238,4 +246,4 @@ def signals_deferred():
         if not outer and _deferred:
             signum = _deferred[0]
             _deferred.clear()
-            raise SystemExit(128 + signum)
+            _exit_for(signum)

@@ -136,6 +136,9 @@ class CityViewer(mglw.WindowConfig):
         window = tuple(self.wnd.buffer_size)
         size = self.resolution.size(window) if self.resolution is not None else window
         self.renderer.resize(size)
+        if self.resolution is not None:
+            shadows = self.resolution.shadow_resolution(self.start_settings.shadow_resolution)
+            self.renderer.set_settings(replace(self.renderer.settings, shadow_resolution=shadows))
         if size == window:
             self.renderer.draw(self.fly.camera(), framebuffer=self.wnd.fbo)
         else:

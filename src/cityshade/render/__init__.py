@@ -9,7 +9,7 @@ import warnings
 
 from ._culling import boxes_visible, frustum_planes
 from ._daylight import Daylight, parse_time
-from ._facades import FACADE_KINDS, FacadeKind, assign_facades, choose_facade
+from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._guessed import guessed_aov
 from ._renderer import Renderer
@@ -28,6 +28,7 @@ __all__ = [
     "FACADE_KINDS",
     "FacadeKind",
     "assign_facades",
+    "GrammarFitWarning",
     "choose_facade",
     "FrameTargets",
     "guessed_aov",

@@ -1,6 +1,7 @@
 """A city uploaded to the GPU: one vertex buffer for all buildings (ordered chunk by chunk, each
 building a contiguous range), one SSBO of building records, the buildings' boxes for the cull pass,
-and the ground quads. Vertex arrays are cached per program."""
+and the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
+stays once they are uploaded (a city of 100,000 buildings holds 250 MB of vertices)."""
 
 from __future__ import annotations
 
@@ -11,12 +12,13 @@ import moderngl
 import numpy as np
 
 from ..gl import VertexArrays, create_buffer
-from ..grammar import FACADE_GRAMMAR
+from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
-from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+from ..scene import BUILDING_DTYPE, VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
-from ._building_lod import LOD_COLOURS_BINDING, grammar_colours, grammar_sample_faces
-from ._culling import BuildingChunks
+from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
+from ._lod_colours import grammar_colours_gpu
+from ._culling import BuildingChunks, chunk_vertices
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
@@ -55,15 +57,15 @@ class CityBuildings:
     records: np.ndarray
     chunks: BuildingChunks
     facades: Counter
-    lod_faces: dict
+    lod_faces: np.ndarray  # SAMPLE_FACE_DTYPE, by building
 
     @classmethod
     def of(cls, masses: list) -> CityBuildings:
         vertices, records = batch(masses)
         facades = assign_facades(records, masses, vertices)  # buildings per facade kind (narrow faces: plain)
         lod_faces = grammar_sample_faces(masses, records, vertices)
-        chunks = BuildingChunks(vertices)
-        return cls(chunks.vertices, records, chunks, facades, lod_faces)
+        vertices, chunks = chunk_vertices(vertices)
+        return cls(vertices, records, chunks, facades, lod_faces)
 
     def boxes(self) -> np.ndarray:
         return building_boxes(self.vertices, *building_ranges(self.vertices, len(self.records)))
@@ -98,7 +100,7 @@ class CityGPU:
 
     def _upload_records(self, records: np.ndarray):
         self.records = create_buffer(self.ctx, records)
-        self._record_array = records  # as assigned, for start_grammars_at
+        self._assigned_facades = records["facade"].copy()  # for start_grammars_at
 
     def _vao(self, program, vbo, fmt, attributes):
         return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
@@ -122,16 +124,23 @@ class CityGPU:
     def start_grammars_at(self, address: int | None):
         """Every grammar facade starts at rule `address` of the grammar texture (RenderSettings.grammar_start);
         None: each building's own style, as assigned."""
-        records = self._record_array
+        records = np.frombuffer(self.records.read(), BUILDING_DTYPE).copy()
+        records["facade"] = self._assigned_facades
         if address is not None:
-            records = records.copy()
             records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
         self.records.write(records.tobytes())
 
-    def bind_lod_colours(self):
-        """Binds the grammar buildings' cheap colours (city/lod.glsl), evaluated on first use."""
+    def prepare_lod_colours(self, grammar: GrammarTextures):
+        """Evaluates the grammar buildings' cheap colours (city/lod.glsl) on the GPU, once: before a
+        frame's passes, since it draws into a target of its own."""
         if self._lod_colours is None:
-            self._lod_colours = create_buffer(self.ctx, grammar_colours(self._lod_faces, max(self.building_count, 1)))
+            colours = grammar_colours_gpu(self.ctx, grammar, self._lod_faces, max(self.building_count, 1))
+            self._lod_colours = create_buffer(self.ctx, colours)
+
+    def bind_lod_colours(self):
+        """Binds the cheap colours of prepare_lod_colours."""
+        if self._lod_colours is None:
+            raise RuntimeError("the building LOD colours are not evaluated: call prepare_lod_colours() first")
         self._lod_colours.bind_to_storage_buffer(LOD_COLOURS_BINDING)
 
     def polygonised(self) -> PolygonisedGPU:

@@ -8,7 +8,7 @@ import moderngl
 import numpy as np
 
 from .. import assets
-from .._budget import check_image_memory
+from .._budget import check_image_memory, release_freed_memory
 from .._values import check_size
 from ..errors import UsageError
 from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
@@ -105,6 +105,7 @@ class Renderer:
             self.trees.release()
         trees = city_trees(city) if city.trees is None else city.trees
         self.trees = TreePass(self.ctx, self.programs, trees, seed=city.seed)
+        release_freed_memory()
 
     def _textures(self, settings: RenderSettings) -> CityTextures:
         return CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants, settings.grammar_files)
@@ -155,10 +156,15 @@ class Renderer:
         if isinstance(self.city, StreamedCityGPU):
             self.city.follow(camera.eye)
         daylight = self._daylight()
-        if self.settings.shadows and self.shadows is None:
-            self.shadows = CascadedShadows(self.ctx)
+        resolution = self.settings.shadow_resolution
+        if self.settings.shadows and (self.shadows is None or self.shadows.resolution != resolution):
+            if self.shadows is not None:
+                self.shadows.release()
+            self.shadows = CascadedShadows(self.ctx, resolution)
         self.frame_index += 1
         self._start_grammars()
+        if self.settings.building_lod:
+            self.city.prepare_lod_colours(self.textures.grammar)
         if self.settings.grammar_deferred:
             self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
         s = self.settings

@@ -31,6 +31,7 @@ import numpy as np
 from .._files import atomic_folder, check_replaceable_folder
 from ..errors import CityshadeError
 from ..scene import BUILDING_DTYPE, VERTEX_DTYPE, City
+from ._building_lod import SAMPLE_FACE_DTYPE
 from ._city_gpu import CityBuildings
 from ._culling import building_cells
 from ._facades import NARROW_FACES, GrammarFitWarning
@@ -83,7 +84,7 @@ class TileCache:
     boxes: np.ndarray  # render/_visibility.py's BOX_DTYPE, whole-city order; draw[:, 1] within the tile
     box_tile: np.ndarray  # the tile of each box
     facades: dict
-    lod_faces: dict
+    lod_faces: np.ndarray  # SAMPLE_FACE_DTYPE, by building
     source: dict
 
     @property
@@ -166,7 +167,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     start = time.perf_counter()
     masses = city.masses
     records = np.zeros(len(masses), BUILDING_DTYPE)
-    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), {}, [], [], [], []
+    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), [], [], [], [], []
     with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
         (tmp / TILE_FOLDER).mkdir()
@@ -174,7 +175,9 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
             vertices, tile_boxes, tile_cells, meshed = _mesh_tile(masses, index)
             records[index] = meshed.records
             facades.update(meshed.facades)
-            lod_faces.update({int(index[k]): face for k, face in meshed.lod_faces.items()})
+            faces = meshed.lod_faces.copy()
+            faces["building"] = index[faces["building"]]  # the tile's building -> the city's
+            lod_faces.append(faces)
             if not len(tile_boxes):
                 continue
             name = f"{TILE_FOLDER}/{len(tiles):05d}.npy"
@@ -194,7 +197,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
             "boxes": boxes[order],
             "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),
             "facades": dict(facades),
-            "lod_faces": lod_faces,
+            "lod_faces": _by_building(lod_faces),
         }
         data = pickle.dumps(rest, protocol=pickle.HIGHEST_PROTOCOL)
         (tmp / CITY_FILE).write_bytes(data)
@@ -279,7 +282,11 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
                 folder, f"{tile.file} is missing or damaged ({size} bytes, the manifest says {tile.bytes})"
             )
     try:
-        rest = pickle.loads(data)  # checked against the manifest's SHA-256 first
+        rest = _CityUnpickler(io.BytesIO(data)).load()  # checked against the manifest's SHA-256 first
+    except _ForeignObject as exc:
+        raise CacheProblem(
+            folder, f"{CITY_FILE} {exc}; a tile cache never holds that: rebuild it with cityshade tile"
+        ) from None
     except Exception as exc:  # noqa: BLE001 - any unpickling failure means a damaged file
         raise CacheProblem(folder, f"{CITY_FILE} cannot be read ({type(exc).__name__})") from None
     return TileCache(
@@ -293,6 +300,49 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
         rest["lod_faces"],
         manifest.get("source"),
     )
+
+
+def _by_building(faces: list[np.ndarray]) -> np.ndarray:
+    """The tiles' sample faces as one array in building order, as grammar_sample_faces makes it."""
+    if not faces:
+        return np.zeros(0, SAMPLE_FACE_DTYPE)
+    faces = np.concatenate(faces)
+    return faces[np.argsort(faces["building"], kind="stable")]
+
+
+class _ForeignObject(pickle.UnpicklingError):
+    pass
+
+
+# what the pickled City is made of besides cityshade's own classes: numpy arrays and builtins
+_NUMPY_GLOBALS = {
+    ("numpy", "ndarray"),
+    ("numpy", "dtype"),
+    ("numpy.core.multiarray", "_reconstruct"),
+    ("numpy._core.multiarray", "_reconstruct"),
+    ("numpy.core.multiarray", "scalar"),
+    ("numpy._core.multiarray", "scalar"),
+    ("numpy.core.numeric", "_frombuffer"),
+    ("numpy._core.numeric", "_frombuffer"),
+    ("builtins", "set"),
+    ("builtins", "frozenset"),
+    ("collections", "Counter"),
+    ("collections", "OrderedDict"),
+}
+
+
+class _CityUnpickler(pickle.Unpickler):
+    """Unpickles only cityshade's own classes, numpy arrays and plain containers: a cache folder
+    can come from elsewhere, and a pickle naming any other function (os.system, ...) could run it."""
+
+    def find_class(self, module: str, name: str):
+        if (module, name) in _NUMPY_GLOBALS:
+            return super().find_class(module, name)
+        if module == "cityshade" or module.startswith("cityshade."):
+            found = super().find_class(module, name)
+            if isinstance(found, type):  # a class, never a function
+                return found
+        raise _ForeignObject(f"refers to {module}.{name}")
 
 
 def read_tile(cache: TileCache, index: int) -> np.ndarray:
