@@ -29,6 +29,7 @@ class RenderSettings:
     samples: int = 4  # MSAA of the HDR target
     trees: bool = True  # street rows and park groves (SpeedTree ch. 4)
     shadows: bool = True  # cascaded shadow maps (SpeedTree §4.3.2)
+    shadow_resolution: int = 1024  # texels per side of each cascade's map (the viewer lowers it with its scale)
     god_rays: bool = True  # radial blur of bright pixels around the sun (SpeedTree §4.5)
     lights: float | None = None  # probability c; None: from the time of day
     time_of_day: float = 19.17  # hours (19:10, dusk)
@@ -47,6 +48,8 @@ class RenderSettings:
     # grammar_files stem); None: each building's own style
 
     def __post_init__(self):
+        if not 16 <= self.shadow_resolution <= 8192:
+            raise UsageError(f"shadow_resolution {self.shadow_resolution!r}: give texels per side, 16 to 8192")
         if self.culling not in CULLING:
             raise UsageError(f"unknown culling {self.culling!r}; allowed: {', '.join(CULLING)}")
         if self.grammar_cache_pages < 1:
