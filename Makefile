@@ -35,6 +35,7 @@ demo-osm: setup data
 lint: setup
 	$(BIN)/ruff check src tests examples scripts
 	$(BIN)/ruff format --check src tests examples scripts
+	@! git grep -nE '^(<<<<<<<|>>>>>>>)( |$$)' -- . || { echo "merge conflict markers left in the files above"; exit 1; }
 
 test: setup data
 	$(BIN)/python -m pytest -n 2 -q -m "not slow and not fuzz"

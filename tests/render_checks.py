@@ -42,10 +42,29 @@ def hit_edges(hits) -> np.ndarray:
     return key_edges(np.where(hits.material < 0, -1, hits.material * 8 + hits.face))
 
 
-def interior_twin(renderer, masses, camera, size, bounds, lights=None) -> np.ndarray:
+def grammar_facades(masses):
+    """The twin's GrammarFacades of `masses`: the library, each grammar building's start rule and the
+    narrowest face its style fits, as the renderer assigns them, and the relief atlas that recesses
+    their windows (relief is on by default)."""
+    from cityshade import assets
+    from cityshade.grammar import FACADE_GRAMMAR, library_min_widths, library_texture
+    from cityshade.interior import GrammarFacades
+    from cityshade.relief import relief_atlas
+    from cityshade.render import assign_facades, choose_facade
+    from cityshade.scene import batch
+
+    _, records = batch(masses)
+    assign_facades(records, masses)
+    starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
+    widths = {i: library_min_widths()[choose_facade(masses[i]).grammar_style] for i in starts}
+    return GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief_atlas())
+
+
+def interior_twin(renderer, masses, camera, size, bounds, lights=None, grammar=None, labels=False) -> np.ndarray:
     """The numpy twin's id AOV with room state (cityshade.interior.reference_ids) of `masses` standing
     on a city of `bounds`, with the renderer's frame settings and textures; `lights` (one share, or
-    one per use) replaces the settings' share of lit rooms."""
+    one per use) replaces the settings' share of lit rooms; `grammar` (grammar_facades) evaluates
+    the grammar facades, and with `labels` the fourth channel is the grammar label."""
     from cityshade import assets
     from cityshade.interior import InteriorParams, reference_ids
     from cityshade.render._city_gpu import GROUND_MARGIN
@@ -60,4 +79,5 @@ def interior_twin(renderer, masses, camera, size, bounds, lights=None) -> np.nda
     )
     x0, z0, x1, z1 = bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
-    return reference_ids(masses, camera, size, params, assets.facade_texture()[0][..., 3] / 255.0, ground)
+    alpha = assets.facade_texture()[0][..., 3] / 255.0
+    return reference_ids(masses, camera, size, params, alpha, ground, grammar=grammar, labels=labels)

@@ -79,6 +79,14 @@ def _odd_masses() -> list[BuildingMass]:
             ),
         ),  # room columns over 3 rings
         BuildingMass("prism", (420.0, 0.0), round_block, 20.0),  # a curved block: one face per run
+        BuildingMass("prism", (460.0, 0.0), square, 15.0, roof=Roof(parapet=0.5, seed=7), yaw=0.4),  # rooftop units
+        BuildingMass(
+            "prism",
+            (490.0, 0.0),
+            ((0.0, 0.0), (24.0, 0.0), (24.0, 10.0), (0.0, 10.0)),
+            14.0,
+            roof=Roof("gabled", 4.5, seed=2, attic_storey=3.2),
+        ),  # dormers on both slopes
     ]
 
 

@@ -63,10 +63,11 @@ def _run(source, buildings, street, aerial, reference=None, **more):
     }
 
 
-def test_ratios_come_from_the_interleaved_frames_and_missing_ones_say_why():
+def test_ratios_come_from_the_interleaved_frames():
     viewer = {"fps": 11.5, "scale": 0.25, "internal_size": [256, 192], "frames": 15, "frames_counted": 8}
+    cache = {"frames": {"cached": [1.0, 2.0], "uncached": [3.0, 3.0]}, "cache": [], "speedup": 2.0}
     runs = [
-        _run("generator", 948, [1.0, 1.2], [0.5, 0.7]),
+        _run("generator", 948, [1.0, 1.2], [0.5, 0.7], grammar_cache=cache),
         _run("generator", 100_349, [1.3, 1.5], [2.0, 2.4], reference=([1.0, 1.0], [0.8, 0.8]), viewer=viewer),
         _run("osm", 1_000, [1.0], [1.0]),
     ]
@@ -76,8 +77,8 @@ def test_ratios_come_from_the_interleaved_frames_and_missing_ones_say_why():
     assert data["ratios"]["aerial_100k_over_1k"] == pytest.approx(2.2 / 0.8, abs=1e-3)
     assert data["ratios"]["bytes_per_building"] == 1000  # llvmpipe: the GPU buffers are in the resident bytes
     assert data["ratios"]["viewer_fps_llvmpipe"] == 11.5
-    assert data["ratios"]["grammar_cache_speedup"] is None and "grammar_cache_speedup" in data["missing"]
-    assert data["ratios"]["culled_pixels_differing"] == 3 and "culled_pixels_differing" not in data["missing"]
+    assert data["ratios"]["grammar_cache_speedup"] == 2.0 and data["missing"] == {}
+    assert data["ratios"]["culled_pixels_differing"] == 3
     culled = next(t for t in data["tables"] if t["title"].startswith("Pixels differing"))
     assert culled["rows"] == [["generator", 0, 3], ["osm", 0, 3]]
     assert data["timing"]["quick"] is True and data["timing"]["frames_per_path"] == 2
@@ -89,6 +90,14 @@ def test_bytes_per_building_add_gpu_buffers_on_a_hardware_gpu():
     run = _run("generator", 100, [1.0], [1.0])
     assert scale._bytes_per_building(run) == 1000
     assert scale._bytes_per_building({**run, "device": "NVIDIA H200"}) == 1500
+
+
+def test_grammar_cache_frames_time_both_paths_on_the_same_walk():
+    measured = scale.grammar_cache_frames(default_city(blocks=3), frames=2, size=(96, 72))
+    assert [len(v) for v in measured["frames"].values()] == [2, 2]
+    assert measured["cache"][-1]["resident"] > 0  # the cached renderer did use its cache
+    expected = np.median(measured["frames"]["uncached"]) / np.median(measured["frames"]["cached"])
+    assert measured["speedup"] == pytest.approx(expected, abs=1e-3)
 
 
 def test_culled_pixels_compare_gpu_culling_with_none_and_restore_the_settings(gl_context):

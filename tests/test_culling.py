@@ -8,7 +8,7 @@ import pytest
 
 from cityshade.errors import UsageError
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._culling import BuildingChunks, boxes_visible, frustum_planes
+from cityshade.render._culling import boxes_visible, chunk_vertices, frustum_planes
 from cityshade.render._visibility import building_boxes, building_ranges
 from cityshade.scene import Camera, batch, make_city
 from render_checks import render_finite
@@ -16,23 +16,25 @@ from render_checks import render_finite
 
 def test_chunks_cover_every_vertex_once_and_keep_triangles_whole():
     city = make_city("default")
-    vertices, _ = batch(city.masses)
-    chunks = BuildingChunks(vertices)
-    assert chunks.count.sum() == len(vertices)
+    unsorted, _ = batch(city.masses)
+    vertices, chunks = chunk_vertices(unsorted)
+    assert chunks.count.sum() == len(unsorted)
+    # a reordering: the same vertices, each once
+    assert np.array_equal(np.sort(vertices.view(np.void)), np.sort(unsorted.view(np.void)))
     assert np.all(chunks.first[1:] == chunks.first[:-1] + chunks.count[:-1])
     assert np.all(chunks.count % 3 == 0)
     # every triangle's three vertices come from one building
-    ids = chunks.vertices["ids"][:, 0].reshape(-1, 3)
+    ids = vertices["ids"][:, 0].reshape(-1, 3)
     assert np.all(ids == ids[:, :1])
     assert len(chunks) > 10
     # each building one contiguous range (the GPU culling draws it as one command), its box exact
-    first, count = building_ranges(chunks.vertices, len(city.masses))
-    building = chunks.vertices["ids"][:, 0]
+    first, count = building_ranges(vertices, len(city.masses))
+    building = vertices["ids"][:, 0]
     for index in (0, 17, len(city.masses) - 1):
         assert np.all(building[first[index] : first[index] + count[index]] == index)
-    assert count.sum() == len(chunks.vertices)
-    boxes = building_boxes(chunks.vertices, first, count)
-    positions = chunks.vertices["position"]
+    assert count.sum() == len(vertices)
+    boxes = building_boxes(vertices, first, count)
+    positions = vertices["position"]
     lo, hi = np.full((len(city.masses), 3), np.inf, np.float32), np.full((len(city.masses), 3), -np.inf, np.float32)
     np.minimum.at(lo, building, positions)
     np.maximum.at(hi, building, positions)
@@ -63,7 +65,7 @@ def test_chunk_culled_frame_equals_unculled_frame(gl_context):
             pictures[culling] = render_finite(renderer, camera)
         finally:
             renderer.release()
-    chunks = BuildingChunks(batch(city.masses)[0])
+    chunks = chunk_vertices(batch(city.masses)[0])[1]
     assert np.count_nonzero(chunks.visible(camera.view_projection(128 / 72))) < len(chunks), (
         "a street-level view leaves chunks behind the camera"
     )

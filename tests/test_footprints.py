@@ -11,7 +11,7 @@ import pytest
 import shapely
 
 from cityshade.errors import CityshadeError
-from cityshade.scene import building_vertices, load_footprints, rotation_y
+from cityshade.scene import ROOF_PARTS, building_vertices, load_footprints, rotation_y
 from cityshade.scene._meshes import SURFACE_ROOF
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "footprints.geojson"
@@ -43,7 +43,8 @@ def test_roof_covers_a_non_convex_footprint_exactly():
     l_shape = max(city.masses, key=lambda m: len(m.footprint))
     assert not shapely.Polygon(l_shape.footprint).equals(shapely.Polygon(l_shape.footprint).convex_hull)
     vertices = building_vertices(l_shape, 0)
-    roof = vertices[vertices["ids"][:, 1] == SURFACE_ROOF]["local"][:, [0, 2]].astype(float).reshape(-1, 3, 2)
+    surface = (vertices["ids"][:, 1] == SURFACE_ROOF) & (vertices["ids"][:, 2] == ROOF_PARTS["ROOF_PART_SURFACE"])
+    roof = vertices[surface]["local"][:, [0, 2]].astype(float).reshape(-1, 3, 2)  # not the rooftop units
     u, v = roof[:, 1] - roof[:, 0], roof[:, 2] - roof[:, 0]
     area = 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum()
     assert area == pytest.approx(shapely.Polygon(l_shape.footprint).area, rel=1e-4)

@@ -108,6 +108,7 @@ def test_passes_set_the_state_they_rely_on(counted_renderer):
         {"polygonised_interiors": True},
         {"grammar_deferred": False, "shadows": False, "trees": False},
         {"ssao": True, "samples": 0},
+        {"grammar_cache": True},
     ],
 )
 def test_every_pass_reads_targets_written_before_it(changes):

@@ -10,15 +10,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade import assets
-from cityshade.grammar import FACADE_GRAMMAR, library_min_widths, library_texture
-from cityshade.relief import relief_atlas
-from cityshade.interior import FACE_NAMES, GrammarFacades, InteriorParams, reference_ids, windows_straddling_rooms
+from cityshade.interior import FACE_NAMES, windows_straddling_rooms
 from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
-from cityshade.render import Renderer, RenderSettings, assign_facades, choose_facade
-from cityshade.render._city_gpu import GROUND_MARGIN
-from cityshade.scene import Camera, City, batch, cylinder, make_city
-from render_checks import id_edges
+from cityshade.render import Renderer, RenderSettings
+from cityshade.scene import Camera, City, cylinder, make_city
+from render_checks import grammar_facades, id_edges, interior_twin
 
 SIZE = (160, 120)
 MAX_MISMATCH = 0.001  # flat walls: rasterisation edges only
@@ -35,31 +31,15 @@ def renderer(gl_context):
     r.release()
 
 
-def _grammar(masses=MASSES) -> GrammarFacades:
-    """The grammar facades of `masses`, their windows recessed as the renderer draws them."""
-    _, records = batch(masses)
-    assign_facades(records, masses)
-    starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
-    widths = {i: library_min_widths()[choose_facade(masses[i]).grammar_style] for i in starts}
-    return GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief_atlas())
+def _grammar(masses=MASSES):
+    return grammar_facades(masses)
 
 
 def _twin_of(renderer, city):
     """twin(camera, labels) -> the twin's id AOV of the renderer's city (room state or grammar labels)."""
-    grammar = _grammar(city.masses)
-    s = renderer.settings
-    params = InteriorParams(
-        lights=s.lights,
-        time=s.animation_time,
-        variants=renderer.textures.room_variants,
-        glass_rect=renderer.textures.glass_rect,
-        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
-    )
-    x0, z0, x1, z1 = city.bounds
-    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
-    alpha = assets.facade_texture()[0][..., 3] / 255.0
-    return lambda camera, labels=False: reference_ids(
-        city.masses, camera, SIZE, params, alpha, ground, grammar=grammar, labels=labels
+    grammar = grammar_facades(city.masses)
+    return lambda camera, labels=False: interior_twin(
+        renderer, city.masses, camera, SIZE, city.bounds, grammar=grammar, labels=labels
     )
 
 

@@ -56,13 +56,29 @@ def test_cylinder_facade_runs_around_the_circle():
 
 
 def test_dome_latitude_and_longitude():
+    """A 16 m dome of 3 m floors: 4 storeys of 2 pi m up its arc, rings of 22.5 degrees; the first
+    two are faces (their top circle at least 2/3 of their bottom one), the cap from 45 degrees is roof."""
     mass = dome((0.0, 0.0), 16.0, room_width=4.0)
     radius = 8.0
+    storey = np.pi / 2 * radius / 4
     top = cast(mass, (8.0, 20.0, 8.0), (0, -1, 0))
     assert top.t[0] == pytest.approx(12.0) and np.allclose(top.normal[0], (0, 1, 0))
-    assert top.facade[0][1] == pytest.approx(np.pi / 2 * radius) and not top.roof[0]
-    side = cast(mass, (8.0, 0.5, -20.0), (0, 0, 1))  # low on the -z side: longitude pi/2
-    assert side.facade[0][0] == pytest.approx(np.pi / 2 * radius, rel=1e-6)
+    assert top.facade[0][1] == pytest.approx(np.pi / 2 * radius) and top.roof[0]
+    side = cast(mass, (8.0, 0.5, -20.0), (0, 0, 1))  # low on the -z side: longitude pi/2, the first ring
+    circle = radius * np.cos(np.pi / 16)  # the circle half way up the first ring
+    bays = round(2 * np.pi * circle / 4.0)
+    assert not side.roof[0]
+    assert side.facade[0][0] == pytest.approx(np.pi / 2 * circle, rel=1e-6)
     assert side.facade[0][1] == pytest.approx(np.arcsin(0.5 / radius) * radius)
+    assert np.allclose(side.facade[0][2:], (2 * np.pi * circle / bays, storey))
+    assert np.allclose(side.face[0][:3], (2 * np.pi * circle, 0.0, storey))
+    assert np.array_equal(side.columns[0], (0, bays - 1))
+    second = cast(mass, (8.0, radius * np.sin(np.radians(30)), -20.0), (0, 0, 1))  # 30 degrees up
+    circle2 = radius * np.cos(3 * np.pi / 16)
+    bays2 = round(2 * np.pi * circle2 / 4.0)
+    assert not second.roof[0] and np.allclose(second.face[0][:3], (2 * np.pi * circle2, storey, 2 * storey))
+    assert np.array_equal(second.columns[0], (bays, bays + bays2 - 1))
+    cap = cast(mass, (8.0, radius * np.sin(np.radians(50)), -20.0), (0, 0, 1))  # 50 degrees up: the cap
+    assert cap.roof[0]
     below = cast(mass, (8.0, -0.5, -20.0), (0, 0, 1))  # the lower half is not part of the dome
     assert np.isinf(below.t[0])

@@ -12,6 +12,7 @@ import shapely
 
 from cityshade.maps import ROOF_SHAPES, MapBuilding, MapData, building_masses, facade_style
 from cityshade.scene import building_record, building_vertices, rotation_y
+from cityshade.scene._materials import ROOF_PART_SHEET, ROOF_PART_SURFACE
 from cityshade.scene._meshes import SURFACE_ROOF
 
 WALL_TOP = 10.0
@@ -31,10 +32,13 @@ def one(outline=None, **tags):
     return mass
 
 
-def triangles(mass, surface=None):
+def triangles(mass, surface=None, part=None):
+    """(triangles, world normals) of a mass, of one surface kind and roof part if given."""
     v = building_vertices(mass, 0)
     if surface is not None:
         v = v[v["ids"][:, 1] == surface]
+    if part is not None:
+        v = v[v["ids"][:, 2] == part]
     normals = v["normal"].reshape(-1, 3, 3)[:, 0].astype(np.float64) @ rotation_y(mass.yaw).T  # object -> world
     return v["position"].astype(np.float64).reshape(-1, 3, 3), normals
 
@@ -416,17 +420,20 @@ def test_mansard_and_gambrel_over_any_outline_break_their_pitch_at_the_knee(shap
 
 
 PROBE = (64, 48)
+PROBE_COLOUR = (0.7, 0.45, 0.3)  # the roof record's linear colour
 
 
-@pytest.mark.parametrize("material", range(10))
-def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, material):
-    """Per-pixel roof shading factors over a grid of points on a flat and two sloped roofs: the GPU
-    and numpy agree within 1e-4 except where a pixel sits on a course or tile boundary (float32
+@pytest.mark.parametrize("part,material", [(ROOF_PART_SURFACE, m) for m in range(10)] + [(ROOF_PART_SHEET, 1)])
+def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, part, material):
+    """Per-pixel roof albedo (the part's colour times its pattern) and reflectance over a grid of
+    points on a flat and two sloped roofs, for every material of the roof's own surface and for
+    the sheet metal of rooftop units and dormer cheeks (whatever the roof's material): the GPU and
+    numpy agree within 1e-4 except where a pixel sits on a course or tile boundary (float32
     rounding on either side), which may differ on at most 0.5% of the pixels."""
     import moderngl
 
     from cityshade.gl import ProgramCache, RenderTarget
-    from cityshade.scene._materials import roof_pattern
+    from cityshade.scene._materials import roof_part_material, roof_pattern
 
     program = ProgramCache(gl_context).get("city/roof_probe.glsl")
     target = RenderTarget(gl_context, PROBE, colors=(("f4", 4),))
@@ -438,6 +445,8 @@ def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, material):
         for normal in ((0.0, 1.0, 0.0), (0.0, 0.8, 0.6), (-0.5, 0.7071, 0.5)):
             normal = tuple(np.asarray(normal) / np.linalg.norm(normal))
             program["u_material"] = material
+            program["u_part"] = part
+            program["u_colour"] = PROBE_COLOUR
             program["u_normal"] = normal
             program["u_origin"] = origin
             program["u_step"] = step
@@ -445,10 +454,13 @@ def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, material):
             gl_context.disable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)  # whatever drew before
             vao.render(vertices=3)
             gpu = target.read(0)[::-1].reshape(-1, 4)  # read() is top row first
-            reference = roof_pattern(material, local.astype(np.float32), np.float32(normal))
+            albedo, pattern = roof_part_material(part, (*PROBE_COLOUR, material))
+            reference = roof_pattern(pattern, local.astype(np.float32), np.float32(normal))
+            reference[:, :3] *= albedo
             differs = np.abs(gpu - reference).max(axis=1) > 1e-4
+            print(f"part {part}, material {material}, normal {normal}: {differs.sum()} of {len(differs)} differ")
             assert differs.mean() <= 0.005, (
-                f"material {material}, normal {normal}: {differs.sum()} of {len(differs)} pixels differ"
+                f"part {part}, material {material}, normal {normal}: {differs.sum()} of {len(differs)} pixels differ"
             )
     finally:
         vao.release()
@@ -486,8 +498,9 @@ def test_flat_roofs_of_blocks_sit_inside_a_parapet():
     assert np.allclose(closure(tris), [0.0, outline.area, 0.0], atol=1e-3)
     assert np.all(np.einsum("ij,ij->i", area / np.linalg.norm(area, axis=1)[:, None], normals) > 0.999)
     inner = outline.buffer(-PARAPET_THICKNESS, join_style="mitre")
-    assert volume(tris) == pytest.approx(2000.0 - PARAPET * inner.area, rel=1e-6)
-    roof, roof_normals = triangles(mass, SURFACE_ROOF)
+    units, _ = triangles(mass, SURFACE_ROOF, ROOF_PART_SHEET)  # closed boxes standing on the roof
+    assert volume(tris) == pytest.approx(2000.0 - PARAPET * inner.area + volume(units), rel=1e-6)
+    roof, roof_normals = triangles(mass, SURFACE_ROOF, ROOF_PART_SURFACE)
     assert roof[..., 1].max() == pytest.approx(WALL_TOP) and roof[..., 1].min() == pytest.approx(WALL_TOP - PARAPET)
     facing = np.abs(roof_normals[:, 1]) < 1e-6  # the rim's inner faces: their fronts look into the roof
     centres = roof[facing].mean(axis=1)[:, [0, 2]] + 0.1 * roof_normals[facing][:, [0, 2]]

@@ -97,3 +97,20 @@ def test_the_gpu_stretch_equals_its_numpy_twin(gl_context, source, window):
     expected = upscale_reference(image, window)
     differing = int(np.any(np.abs(drawn.astype(int) - expected) > 1, axis=-1).sum())
     assert drawn.shape == expected.shape and differing == 0, f"{differing} pixels differ by more than 1"
+
+
+def test_shadow_maps_scale_with_the_frame():
+    """Texels per cascade side follow the scale (rounded up to a power of two, at least 256)."""
+    scaler = ResolutionScale(15.0)
+    shadows = {}
+    for scale in (1.0, 0.75, 0.5, 0.3, 0.25, 0.125):
+        scaler.scale = scale
+        shadows[scale] = scaler.shadow_resolution(1024)
+    assert shadows == {1.0: 1024, 0.75: 1024, 0.5: 512, 0.3: 512, 0.25: 256, 0.125: 256}
+
+
+def test_a_shadow_resolution_out_of_range_is_one_clear_error():
+    from cityshade.render import RenderSettings
+
+    with pytest.raises(UsageError, match="shadow_resolution 8: give texels per side, 16 to 8192"):
+        RenderSettings(shadow_resolution=8)

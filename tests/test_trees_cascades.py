@@ -4,7 +4,14 @@ import numpy as np
 import pytest
 
 from cityshade.scene import Camera
-from cityshade.trees import EVERY_FRAME, cascade_view_projection, cascades_due, split_distances, texture_matrix
+from cityshade.trees import (
+    EVERY_FRAME,
+    PAPER_RATES,
+    cascade_view_projection,
+    cascades_due,
+    split_distances,
+    texture_matrix,
+)
 
 ALL = ("buildings", "fronds", "leaves", "trunks")
 NO_FRONDS = ("buildings", "leaves", "trunks")
@@ -84,3 +91,24 @@ def test_the_frame_redraws_each_cascade_at_its_rate(gl_context):
                 else:
                     assert kept and same_map, f"frame {frame}: cascade {index} changed although not due"
     renderer.release()
+
+
+def test_new_shadow_maps_are_drawn_whole_at_once(gl_context):
+    """A new shadow resolution (the viewer's scale changed) makes new maps: the next frame draws
+    every cascade with its casters, whichever are due, so no cascade goes without shadows."""
+    from cityshade.render import Renderer, RenderSettings, parse_time
+    from cityshade.trees import SCENE_TIME, park_scene
+
+    city = park_scene()
+    settings = RenderSettings(samples=0, god_rays=False, time_of_day=parse_time(SCENE_TIME))
+    renderer = Renderer((64, 48), settings, ctx=gl_context)
+    renderer.set_city(city)
+    for _ in range(2):
+        renderer.render(city.camera("park"))
+    assert len(renderer.shadows.stats.redrawn) < 3  # frame 1: not every cascade is due
+    renderer.set_settings(settings.with_(shadow_resolution=256))
+    renderer.render(city.camera("park"))
+    shadows = renderer.shadows
+    assert shadows.resolution == 256 and shadows.maps[0].size == (256, 256)
+    drawn = {index: casters for index, casters, _ in shadows.stats.redrawn}
+    assert drawn == {i: tuple(sorted(rate.casters)) for i, rate in enumerate(PAPER_RATES)}

@@ -13,8 +13,11 @@ from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, sampler_units,
 from cityshade.render._shadows import CascadedShadows
 from cityshade.render._trees import PARTS
 from cityshade.scene import Camera
-from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas
+from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas, vanish_alphas
+from cityshade.render._culling import boxes_visible, frustum_planes
 from trees_scene import SIZE, one_tree, render, save
+from cityshade.render._trees import TreePass
+from cityshade.trees import tree_instances
 
 
 @pytest.fixture(scope="module")
@@ -173,6 +176,39 @@ def test_lod_fade_curves_are_offset():
     assert np.all(np.diff(near) <= 0) and np.all(np.diff(far) >= 0)
     both = (near > 0) & (far > 0)
     assert both.any() and np.all(np.maximum(near, far)[both] >= 0.74)  # never both half transparent
+
+
+def test_trees_vanish_as_they_shrink_below_a_pixel_or_two(ctx, programs):
+    """A tree's alphas fade from whole where its height spans TreeSettings.vanish_rows[0] rows of
+    the image to nothing at vanish_rows[1]; a tree that spans fewer rows is not drawn at all."""
+    assert list(vanish_alphas([10.0, 3.0, 2.25, 1.5, 1.0], 3.0, 1.5)) == [1.0, 1.0, 0.5, 0.0, 0.0]
+    tree = one_tree(ctx, programs, "oak", shadows=False, fins=False)
+    height = tree.models[next(iter(tree.models))].height
+    focal = 100.0  # rows per metre at a metre
+    written = []
+    for rows in (4.0, 2.25, 1.0):
+        tree.prepare((0.0, 0.0, height * focal / rows), focal_rows=focal)  # far: the far LOD only
+        (buffer, count), *_ = (v for (species, lod), v in tree.instances.items() if lod == 1)
+        written.append(np.frombuffer(buffer.read(), np.float32)[5] if count else 0.0)
+    tree.release()
+    assert np.allclose(written, [1.0, 0.5, 0.0], atol=1e-6)
+
+
+def test_tree_frustum_test_is_the_box_corner_test(ctx, programs):
+    """The tree pass's plane-by-plane frustum test of its cubes keeps exactly the trees that the
+    box-corner test (boxes_visible) keeps."""
+    trees = tree_instances(
+        np.random.default_rng(3).uniform(-300, 300, (4000, 3)) * [1, 0, 1], "oak", np.random.default_rng(0)
+    )
+    tree = TreePass(ctx, programs, trees)
+    camera = Camera((0, 2.0, 0), (40.0, 5.0, 30.0), fov_y=40, near=0.5, far=250)
+    view_projection = camera.view_projection(1.5)
+    reach = tree.models[0].height * trees["scale"] + tree.sway()
+    box = np.asarray(trees["position"], float), reach[:, None]
+    expected = boxes_visible(frustum_planes(view_projection), box[0] - box[1], box[0] + box[1])
+    kept = tree._visible(view_projection)
+    tree.release()
+    assert 0 < expected.sum() < len(trees) and np.array_equal(kept, expected)
 
 
 def test_leaves_shadow_leaves(ctx, programs, output_dir):

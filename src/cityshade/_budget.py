@@ -3,6 +3,7 @@ names the largest size (same aspect ratio) that does, instead of exhausting memo
 
 from __future__ import annotations
 
+import ctypes
 import math
 import os
 
@@ -52,3 +53,12 @@ def check_gl_size(ctx, size: tuple[int, int], what: str = "the image", option: s
             f"{what} at {size[0]}x{size[1]} is larger than this OpenGL allows ({limit} pixels a side); "
             f"the largest {option} that fits is {fits[0]}x{fits[1]}"
         )
+
+
+def release_freed_memory():
+    """Hands the heap pages freed since (a city's meshing temporaries, hundreds of MB for a big city)
+    back to the system: glibc's malloc keeps them otherwise, and the process stays that big. A no-op
+    where the C library has no malloc_trim."""
+    trim = getattr(ctypes.CDLL(None), "malloc_trim", None)
+    if trim is not None:
+        trim(0)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import signal
 import stat
 import tempfile
@@ -101,6 +102,37 @@ def atomic_output(path: Path):
             os.unlink(tmp)
 
 
+def check_replaceable_folder(path: Path, is_replaceable) -> Path:
+    """Fails with one line unless `path` is missing, an empty folder or one `is_replaceable` accepts."""
+    path = Path(path)
+    if path.exists() and not (path.is_dir() and (not any(path.iterdir()) or is_replaceable(path))):
+        raise UsageError(f"{str(path)!r} exists and is not an earlier output of this command; choose another folder")
+    output_target(path / "x")
+    return path
+
+
+@contextlib.contextmanager
+def atomic_folder(path: Path, is_replaceable):
+    """Yields a temporary folder beside `path`; on success it takes `path`'s place (an existing
+    folder there is replaced only when `is_replaceable(path)` says it is an earlier output), on error
+    or a signal it is removed: `path` holds the old folder or the new one, never a half-written one."""
+    path = check_replaceable_folder(path, is_replaceable)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = old = None
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+        yield tmp
+        os.chmod(tmp, 0o777 & ~_umask())
+        if path.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
+            os.replace(path, old / path.name)
+        os.replace(tmp, path)
+    finally:
+        for left in (tmp, old):
+            if left is not None and left.exists():
+                shutil.rmtree(left, ignore_errors=True)
+
+
 def output_folder(path: Path) -> Path:
     """A folder outputs go into: refused with one line if it exists as something else."""
     path = Path(path)
@@ -171,7 +203,8 @@ def _open_nonblocking(name, flags):
 
 # SIGTERM and SIGHUP end a command like Ctrl-C does: by an exception, so every `finally` runs and
 # no temporary output is left (their default action kills the process without running them).
-_EXIT_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+# SIGINT is handled here too so that it can be deferred like them.
+_EXIT_SIGNALS = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)
 _deferred: list[int] = []  # signals that arrived while deferred
 _deferring = False
 
@@ -180,6 +213,12 @@ def _leave(signum, frame):
     if _deferring:
         _deferred.append(signum)
         return
+    _exit_for(signum)
+
+
+def _exit_for(signum: int):
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
     raise SystemExit(128 + signum)
 
 
@@ -195,8 +234,9 @@ def signals_as_exit():
 
 @contextlib.contextmanager
 def signals_deferred():
-    """Holds SIGTERM and SIGHUP until the block ends: for a write into a helper process (ffmpeg)
-    that must not be cut in the middle, or the helper is killed instead of finishing cleanly."""
+    """Holds SIGTERM, SIGHUP and SIGINT until the block ends: for a write into a helper process
+    (ffmpeg) that must not be cut in the middle, or the helper is killed instead of finishing
+    cleanly (and a killed ffmpeg can still create its output after the temporary file is removed)."""
     global _deferring
     outer, _deferring = _deferring, True
     try:
@@ -206,4 +246,4 @@ def signals_deferred():
         if not outer and _deferred:
             signum = _deferred[0]
             _deferred.clear()
-            raise SystemExit(128 + signum)
+            _exit_for(signum)

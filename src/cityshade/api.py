@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import statistics
+from time import perf_counter
 
 import numpy as np
 
 from ._values import check_lights, check_samples, check_seed, check_size
 from .errors import UsageError
-from .render import Renderer, RenderSettings, guessed_aov, parse_time
+from .render import Renderer, RenderSettings, TileCache, guessed_aov, parse_time
 from .scene import City, make_city
 
 
@@ -23,13 +24,18 @@ def render_city(
     frames: int = 3,
     profile: bool = False,
     aov: str | None = None,
+    tiles: TileCache | None = None,
+    memory_budget: int | None = None,
     **settings,
 ) -> tuple[np.ndarray, dict]:
     """Renders a named city (or a City); returns the HxWx3 uint8 image and facts about the frame
     (its median time over `frames` frames after a first one that compiles and uploads). With
-    `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run.
+    `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run;
+    info["city_s"] the seconds the city took to mesh (or stream in) and upload.
     aov="guessed" tints the buildings by what the map gave and what was guessed (render/_guessed.py).
-    Bad arguments raise UsageError with the message the command line prints."""
+    `tiles` (a tile cache, render.open_tiles) draws its city instead, streamed with at most
+    `memory_budget` bytes of tiles resident (None: all); the first frame waits for the tiles its
+    view needs. Bad arguments raise UsageError with the message the command line prints."""
     if aov not in (None, "guessed"):
         raise UsageError(f"unknown aov {aov!r}; allowed: guessed")
     size, lights = check_size(size), check_lights(lights)
@@ -41,13 +47,22 @@ def render_city(
     unknown = sorted(set(settings) - set(RenderSettings.__dataclass_fields__))
     if unknown:
         raise UsageError(f"unknown render setting {unknown[0]!r}; see cityshade.RenderSettings")
-    layout = city if isinstance(city, City) else make_city(city, seed)
+    if tiles is not None:
+        layout = tiles.city
+    else:
+        layout = city if isinstance(city, City) else make_city(city, seed)
     view = layout.camera(camera)
     renderer = Renderer(
         size, RenderSettings(lights=lights, time_of_day=parse_time(time), interior_mapping=interior_mapping, **settings)
     )
     try:
-        renderer.set_city(layout)
+        start = perf_counter()
+        if tiles is not None:
+            renderer.set_tiles(tiles, memory_budget)
+        else:
+            renderer.set_city(layout)
+        renderer.wait_for_tiles(view)
+        city_seconds = perf_counter() - start
         image = renderer.render(view)  # the first frame compiles shaders and uploads: not timed
         times, passes = [], {}
         for _ in range(frames):
@@ -65,7 +80,15 @@ def render_city(
             "samples": renderer.samples,
             "trees": len(renderer.trees.trees) if renderer.trees is not None else 0,
             "pass_ms": {name: statistics.median(s) * 1000 for name, s in passes.items()},
+            "city_s": city_seconds,
         }
+        if tiles is not None:
+            streamer = renderer.city.streamer
+            info["tiles"] = {
+                "resident": len(streamer.resident),
+                "total": len(tiles.tiles),
+                "resident_bytes": streamer.resident_bytes,
+            }
     finally:
         renderer.release()
     return image, info

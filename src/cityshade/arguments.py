@@ -4,6 +4,7 @@ themselves live in `_values` (shared with the Python API) and `_files` (the one 
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from ._files import output_target, write_png
@@ -16,6 +17,7 @@ __all__ = [
     "check_seed",
     "check_writable",
     "parse_lights",
+    "parse_memory_size",
     "parse_metres",
     "parse_size",
     "save_png",
@@ -36,7 +38,47 @@ def parse_metres(text: str, option: str = "--facade", limit: float = 4096.0) -> 
     return width, height
 
 
+MEMORY_UNITS = {
+    "": 1,
+    "b": 1,
+    "kb": 10**3,
+    "mb": 10**6,
+    "gb": 10**9,
+    "tb": 10**12,
+    "kib": 2**10,
+    "mib": 2**20,
+    "gib": 2**30,
+    "tib": 2**40,
+}
+
+
+def parse_memory_size(text: str, option: str = "--memory-budget") -> int:
+    """'1GB' -> 10**9 bytes ('512MB', '1.5GiB', '300000'); KB, MB, GB are powers of 1000, KiB,
+    MiB, GiB of 1024."""
+    match = re.fullmatch(r"\s*([0-9]*\.?[0-9]+)\s*([a-zA-Z]*)\s*", text)
+    unit = match.group(2).lower() if match else None
+    if unit not in MEMORY_UNITS:
+        raise UsageError(f"invalid {option} {text!r}; use a size such as 512MB or 1GB (KB, MB, GB, KiB, MiB, GiB)")
+    size = int(float(match.group(1)) * MEMORY_UNITS[unit])
+    if size <= 0:
+        raise UsageError(f"invalid {option} {text!r}; the size must be more than 0 bytes")
+    return size
+
+
 def check_writable(path: Path) -> Path:
     """Fails early, with one line, if the output cannot be written (nothing is created)."""
     output_target(path)
     return path
+
+
+def add_grammar_cache_option(parser, default: bool):
+    """--grammar-cache / --no-grammar-cache, for the commands that draw the city's frame."""
+    import argparse
+
+    parser.add_argument(
+        "--grammar-cache",
+        action=argparse.BooleanOptionalAction,
+        default=default,
+        help="shade grammar facades from a page cache of facades evaluated once per texel, evaluating "
+        "per pixel only where a page is not resident yet (docs/scale.md)",
+    )

@@ -13,6 +13,7 @@ from .errors import CityshadeError, UsageError
 COMMAND_MODULES = (
     "cityshade.render._cli",
     "cityshade.render._video",
+    "cityshade.render._tile_cli",
     "cityshade.viewer",
     "cityshade.bench._cli",
     "cityshade.grammar._cli",

@@ -10,7 +10,16 @@ from .gl import declare_constants
 from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
 from .relief import FACADE_RELIEF, GLASS, MATERIALS, RELIEF_FACE_CODES
-from .scene import FLAGS, GROUND_MATERIALS, MAP_GROUND_MATERIALS, ROOF_PATTERNS, SHAPE_CODES, SURFACE_CODES, USE_CODES
+from .scene import (
+    FLAGS,
+    GROUND_MATERIALS,
+    MAP_GROUND_MATERIALS,
+    ROOF_PARTS,
+    ROOF_PATTERNS,
+    SHAPE_CODES,
+    SURFACE_CODES,
+    USE_CODES,
+)
 from .scene import DOOR_CONSTANTS
 
 CONSTANTS: dict[str, int | str] = {
@@ -22,6 +31,7 @@ CONSTANTS: dict[str, int | str] = {
     **GROUND_MATERIALS,  # GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS
     **MAP_GROUND_MATERIALS,  # GROUND_WATER ... GROUND_BULB: maps' water, paint, tracks, lamps
     **ROOF_PATTERNS,  # ROOF_PLAIN ... ROOF_WOOD: roof.glsl's patterns
+    **ROOF_PARTS,  # ROOF_PART_SURFACE, ROOF_PART_SHEET and the sheet metal's colour
     "FACADE_GRAMMAR": FACADE_GRAMMAR,
     "FACADE_RELIEF": FACADE_RELIEF,
     "GRAMMAR_WALL_LABEL": LABELS.index("wall"),

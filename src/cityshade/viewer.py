@@ -11,8 +11,19 @@ from pathlib import Path
 import moderngl_window as mglw
 import numpy as np
 
+from .arguments import add_grammar_cache_option
 from .errors import CityshadeError
-from .render import Renderer, RenderSettings, ResolutionScale, parse_time, upscale
+from .render import (
+    Renderer,
+    RenderSettings,
+    ResolutionScale,
+    add_streaming_arguments,
+    check_memory_budget,
+    format_bytes,
+    parse_time,
+    streamed_tiles,
+    upscale,
+)
 from .scene import Camera, City, make_city
 
 MOVE_SPEED = 25.0  # metres per second
@@ -88,12 +99,18 @@ class CityViewer(mglw.WindowConfig):
     start_settings = RenderSettings()
     sky = None  # hours -> sun and moon settings, for a city from a map
     target_fps: float | None = DEFAULT_TARGET_FPS  # None: always the window's full resolution
+    tiles = None  # a tile cache to stream the city from (render.open_tiles), instead of `city`
+    memory_budget: int | None = None  # bytes of tiles resident at most (None: all)
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        city = self.city if isinstance(self.city, City) else make_city(self.city)
         self.renderer = Renderer(self.wnd.buffer_size, self.start_settings, ctx=self.ctx)
-        self.renderer.set_city(city)
+        if self.tiles is not None:
+            city = self.tiles.city
+            self.renderer.set_tiles(self.tiles, self.memory_budget)
+        else:
+            city = self.city if isinstance(self.city, City) else make_city(self.city)
+            self.renderer.set_city(city)
         self.fly = FlyCamera(city.camera(self.camera_name))
         self.held: set = set()
         self.frame_times: list[float] = []
@@ -120,6 +137,9 @@ class CityViewer(mglw.WindowConfig):
         window = tuple(self.wnd.buffer_size)
         size = self.resolution.size(window) if self.resolution is not None else window
         self.renderer.resize(size)
+        if self.resolution is not None:
+            shadows = self.resolution.shadow_resolution(self.start_settings.shadow_resolution)
+            self.renderer.set_settings(replace(self.renderer.settings, shadow_resolution=shadows))
         if size == window:
             self.renderer.draw(self.fly.camera(), framebuffer=self.wnd.fbo)
         else:
@@ -142,8 +162,14 @@ class CityViewer(mglw.WindowConfig):
             f"cityshade  {1000 / ms if ms else 0:.1f} fps ({ms:.1f} ms){scale}  interiors {'on' if s.interior_mapping else 'off'}"
             f"  prepass {'on' if s.depth_prepass else 'off'}  furniture {'on' if s.furniture else 'off'}"
             f"  LOD {'on' if s.lod else 'off'}  MSAA {self.renderer.samples}x  c={lights}"
-            f"  {int(hours):02d}:{int(hours % 1 * 60):02d}"
+            f"  {int(hours):02d}:{int(hours % 1 * 60):02d}{self._streaming()}"
         )
+
+    def _streaming(self) -> str:
+        streamer = getattr(self.renderer.city, "streamer", None)
+        if streamer is None:
+            return ""
+        return f"  tiles {len(streamer.resident)}/{len(streamer.tiles)} {format_bytes(streamer.resident_bytes)}"
 
     # --- input: keys by name, so the same actions run whatever the window backend ----------
     def press(self, name: str):
@@ -198,15 +224,23 @@ def open_viewer(
     size: tuple[int, int] = (1280, 720),
     sky=None,
     target_fps: float | None = DEFAULT_TARGET_FPS,
+    tiles=None,
+    memory_budget: int | None = None,
 ) -> CityViewer:
     """Creates the viewer (window + renderer) without entering the main loop. `sky` (hours -> settings,
     e.g. `maps.sky_clock`) moves the sun and moon with the clock keys. `target_fps`: the frame rate
-    the internal resolution is scaled to keep (None or 0: always full resolution)."""
-    (city if isinstance(city, City) else make_city(city)).camera(camera)  # fail early on bad names
+    the internal resolution is scaled to keep (None or 0: always full resolution). `tiles` (a tile
+    cache) streams its city instead, at most `memory_budget` bytes of tiles resident, never waiting."""
+    if tiles is not None:
+        city = tiles.city
+    start = (city if isinstance(city, City) else make_city(city)).camera(camera)  # fail early on bad names
+    if tiles is not None:
+        check_memory_budget(tiles.tiles, memory_budget, start.eye)
     if target_fps:
         ResolutionScale(target_fps)  # a bad rate fails here, before a window opens
     CityViewer.target_fps = target_fps or None
     CityViewer.city, CityViewer.camera_name = city, camera
+    CityViewer.tiles, CityViewer.memory_budget = tiles, memory_budget
     CityViewer.sky = staticmethod(sky) if sky else None  # a plain function, not bound to the viewer
     CityViewer.start_settings = settings or RenderSettings()
     args = ["--window", window, "--size", f"{size[0]}x{size[1]}"]
@@ -251,22 +285,29 @@ def register(subparsers):
         help="keep N frames per second by drawing at a lower resolution and stretching it to "
         f"the window (default {DEFAULT_TARGET_FPS:g}; 0: always full resolution)",
     )
+    add_grammar_cache_option(parser, RenderSettings.grammar_cache)
+    add_streaming_arguments(parser)
     parser.set_defaults(run=_run)
 
 
 def _run(args) -> int:
-    settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples)
+    settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples, grammar_cache=args.grammar_cache)
     from .maps import require_map_for_date
 
-    require_map_for_date(args.date, args.map)
+    require_map_for_date(args.date, args.map or args.tiles)
     city, camera, sky = args.city, args.camera, None
-    if args.map is not None:
-        from .maps import city_from_map, sky_clock
+    builtin = make_city(args.city) if args.memory_budget is not None and not (args.map or args.tiles) else None
+    with streamed_tiles(args, builtin) as (tiles, budget):
+        if args.map is not None or (tiles is not None and tiles.city.origin is not None):  # a map's city
+            from .maps import city_from_map, sky_clock
 
-        city, camera, placed = city_from_map(args.map, camera, args.date, args.time)
-        settings = replace(settings, **placed)
-        sky = sky_clock(city.origin, args.date)
-    viewer = open_viewer(city, camera, settings, args.window, sky=sky, target_fps=args.target_fps)
-    print(HELP)
-    mglw.run_window_config_instance(viewer)
+            made = tiles.city if tiles is not None else None
+            city, camera, placed = city_from_map(args.map, camera, args.date, args.time, city=made)
+            settings = replace(settings, **placed)
+            sky = sky_clock(city.origin, args.date)
+        viewer = open_viewer(
+            city, camera, settings, args.window, sky=sky, target_fps=args.target_fps, tiles=tiles, memory_budget=budget
+        )
+        print(HELP)
+        mglw.run_window_config_instance(viewer)
     return 0

@@ -7,7 +7,9 @@ added, GPU buffer bytes, and frame times at 1024x768 without MSAA along a street
 pan. In every process with more than 1,000 buildings, the 1,000-building city of the same source is
 drawn too, its frames taking turns with the big city's, so the growth ratios compare frames drawn
 under the same load. The largest generator city is also walked in the viewer's draw path (headless,
-with the target frame rate on) for `viewer_fps_llvmpipe`.
+with the target frame rate on) for `viewer_fps_llvmpipe`. The 1,000-building generator city's street
+walk is also drawn with the grammar cache and without, frame by frame in turn, for
+`grammar_cache_speedup`.
 """
 
 from __future__ import annotations
@@ -173,6 +175,35 @@ def _viewer_fps(city: City, settings: RenderSettings, frames: int) -> dict:
         viewer.wnd.destroy()
 
 
+def grammar_cache_frames(city: City, frames: int, size: tuple[int, int] = SIZE) -> dict:
+    """The first `frames` frames (and one warm-up) of the full run's street walk drawn with the grammar
+    cache and without, in turn in one context: their frame times in seconds, the cache's counts after
+    each frame, and the uncached median over the cached one."""
+    settings = RenderSettings(samples=0)
+    renderers = {"cached": Renderer(size, settings.with_(grammar_cache=True))}
+    renderers["uncached"] = Renderer(size, settings.with_(grammar_cache=False), ctx=renderers["cached"].ctx)
+    counts = []
+
+    def draw(renderer: Renderer):
+        def frame(i: int):
+            renderer.draw(CAMERA_PATHS["street"](city, min(1.0, i / FULL_FRAMES)))
+            if renderer is renderers["cached"]:
+                counts.append(renderer.textures.grammar_pass.cache.stats)
+
+        return frame
+
+    try:
+        for renderer in renderers.values():
+            renderer.set_city(city)
+        timing = time_interleaved(renderers["cached"].ctx, {k: draw(r) for k, r in renderers.items()}, frames)
+    finally:
+        for renderer in renderers.values():
+            renderer.release()
+    seconds = {name: list(t.samples) for name, t in timing.items()}
+    speedup = statistics.median(seconds["uncached"]) / statistics.median(seconds["cached"])
+    return {"frames": seconds, "cache": counts, "speedup": round(speedup, 3)}
+
+
 def culled_pixels_differing(renderer: Renderer, city: City) -> dict[str, int]:
     """Per view of CULLING_VIEWS: pixels that differ between culling="gpu" and culling="off" (what
     GPU culling leaves out must be hidden: 0 expected). The renderer holds `city`."""
@@ -232,6 +263,8 @@ def measure_city(
         "culled_pixels_differing": culled_pixels_differing(renderer, city) if count == COUNTS[0] else None,
     }
     renderer.release()
+    if source == "generator" and count == COUNTS[0]:
+        out["grammar_cache"] = grammar_cache_frames(city, frames)
     if viewer_frames:
         out["viewer"] = _viewer_fps(city, settings, viewer_frames)
     return out
@@ -313,8 +346,8 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
 def _result(runs: list[dict], frames: int, quick: bool, osm_counts) -> BenchResult:
     biggest = next(r for r in runs if r["source"] == "generator" and r["buildings"] > 90_000)
     culled = {r["source"]: r["culled_pixels_differing"] for r in runs if r["culled_pixels_differing"] is not None}
-    missing = {"grammar_cache_speedup": "no grammar evaluation cache exists yet: nothing to compare with"}
-    result = ScaleResult(biggest["device"], missing)
+    cache = next(r["grammar_cache"] for r in runs if "grammar_cache" in r)
+    result = ScaleResult(biggest["device"], {})
     record = dict(cull_back_faces=True, depth_prepass=True, frustum_culling=True, msaa=0, size=SIZE)
     result.methods = {
         "street": method_record(**record, path="walk: 60 m down the 'street' viewpoint's street"),
@@ -400,7 +433,7 @@ def _result(runs: list[dict], frames: int, quick: bool, osm_counts) -> BenchResu
         {
             "street_100k_over_1k": biggest["ratios"]["street"],
             "aerial_100k_over_1k": biggest["ratios"]["aerial"],
-            "grammar_cache_speedup": None,
+            "grammar_cache_speedup": cache["speedup"],
             "bytes_per_building": round(_bytes_per_building(biggest)),
             "culled_pixels_differing": sum(culled["generator"].values()),
             "viewer_fps_llvmpipe": round(viewer["fps"], 2),
@@ -425,6 +458,12 @@ def _result(runs: list[dict], frames: int, quick: bool, osm_counts) -> BenchResu
         "drawn with culling='gpu' and culling='off', pixels that differ summed over both."
     )
     result.notes.append(
+        f"grammar_cache_speedup: the 1,000-building generator city's street walk, its first {frames} "
+        "frames of the full run's 60 (1 m apart) after one warm-up frame, drawn with "
+        "RenderSettings(grammar_cache=True) and False in turn; median uncached over median cached "
+        f"(cached {_seconds(cache['frames']['cached'])[0]} s, uncached {_seconds(cache['frames']['uncached'])[0]} s)."
+    )
+    result.notes.append(
         "bytes_per_building: resident memory the city added (masses, meshes, trees, and on this "
         "software rasteriser its GPU buffers too) per building; GPU buffers are added on a hardware GPU."
     )
@@ -437,6 +476,6 @@ def _result(runs: list[dict], frames: int, quick: bool, osm_counts) -> BenchResu
         "The tiled extract holds Helsinki's buildings only (no streets, trees or ground): its street "
         "camera is Helsinki's own, in the first tile. Map data © OpenStreetMap contributors, ODbL 1.0."
     )
-    for name, why in missing.items():
+    for name, why in result.missing.items():
         result.notes.append(f"{name}: not measured: {why}.")
     return result

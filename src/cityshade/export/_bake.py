@@ -68,8 +68,13 @@ class Atlas:
     emissive: list[np.ndarray]
 
 
+# Domes are not baked: each of their storeys is a ring of its own width (scene.dome_faces), which a
+# canvas per side does not hold; they are exported with window bays (docs/export.md).
+BAKED_SHAPES = tuple(shape for shape in GRAMMAR_SHAPES if shape != "dome")
+
+
 def has_grammar(mass) -> bool:
-    return mass.style in BUILDING_STYLES and mass.shape in GRAMMAR_SHAPES
+    return mass.style in BUILDING_STYLES and mass.shape in BAKED_SHAPES
 
 
 def wall_sides(walls: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ FACADE_GRAMMAR = 1  # the record's facade.x for grammar facades (shaders/grammar
 # A building's style number -> library style. Styles not listed (0, the default, among them)
 # keep the window-bay facade; relief facades take precedence on box buildings of their styles.
 BUILDING_STYLES = {1: "office", 3: "classical", 4: "brick", 5: "shops", 6: "dusk", 7: "fig12"}
-GRAMMAR_SHAPES = ("prism", "cylinder")  # domes keep the window-bay facade
+GRAMMAR_SHAPES = ("prism", "cylinder", "dome")  # a dome's rings are faces (scene/_dome_faces.py)
 
 
 @lru_cache(maxsize=1)

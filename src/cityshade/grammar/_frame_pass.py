@@ -4,6 +4,8 @@ A cheap pass draws every building into a G-buffer (facade uv, scope size, seed, 
 normal); one full-screen pass then evaluates the grammar once per grammar-facade pixel and stores
 the lit colour, the glass flag and the label. The building pass reads them back at its own pixel
 (GRAMMAR_DEFERRED in shaders/grammar/building.glsl) and continues into the rooms behind the glass.
+With the page cache (grammar._cache) the G-buffer also names the cache page each pixel needs, the
+cache update evaluates missing pages, and the evaluation reads resident pages instead.
 """
 
 from __future__ import annotations
@@ -12,9 +14,11 @@ import moderngl
 import numpy as np
 
 from ..gl import RenderTarget, bind_textures, draw_fullscreen
+from ._cache import GrammarPageCache, cache_defines
 from ._gpu import GrammarTextures, shader_defines
 
 G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, building + 1; normal
+PAGES = (("u4", 4),)  # with the cache: the page key and the face's size (grammar/cache.glsl)
 RESULT = (("f2", 4), ("u4", 4))  # lit colour; glass, label
 
 
@@ -25,36 +29,62 @@ class DeferredGrammarPass:
         self.ctx = ctx
         self.size = None
         self.gbuffer = self.result = None
+        self.cache: GrammarPageCache | None = None  # kept across frames and sizes
 
-    def targets(self, size) -> tuple[RenderTarget, RenderTarget]:
-        if size != self.size:
-            self.release()
-            self.gbuffer = RenderTarget(self.ctx, size, G_BUFFER)
+    def targets(self, size, cache_pages: int | None = None) -> tuple[RenderTarget, RenderTarget]:
+        """The G-buffer and result targets at `size`; with `cache_pages` (the atlas's page count)
+        the G-buffer has the page attachment and the cache exists."""
+        cached = cache_pages is not None
+        if self.gbuffer is None or size != self.size or cached != (len(self.gbuffer.colors) > len(G_BUFFER)):
+            self._release_targets()
+            self.gbuffer = RenderTarget(self.ctx, size, G_BUFFER + (PAGES if cached else ()))
             self.result = RenderTarget(self.ctx, size, RESULT)
             self.size = size
+        if self.cache is not None and self.cache.pages != cache_pages:
+            self.cache.release()
+            self.cache = None
+        if cached and self.cache is None:
+            self.cache = GrammarPageCache(self.ctx, cache_pages)
         return self.gbuffer, self.result
+
+    def cached(self, f) -> bool:
+        return f.view.settings.grammar_cache and self.cache is not None
 
     def draw_gbuffer(self, f, grammar: GrammarTextures, set_uniforms):
         """The cheap first step for frame `f` (render._frame.FrameInputs), into the bound G-buffer."""
-        program = f.gpu.programs.get("grammar/city.glsl", shader_defines())
+        cache = cache_defines() if self.cached(f) else {}
+        program = f.gpu.programs.get("grammar/city.glsl", {**shader_defines(), **cache, "GRAMMAR_CACHE": bool(cache)})
         set_uniforms(program, u_view_proj=f.view.view_projection)
         grammar.bind(program)
         f.draw_buildings(program)  # culled like the buildings pass
+
+    def update_cache(self, f, grammar: GrammarTextures):
+        """The pages the G-buffer asks for made resident, as many as the cache's budget allows."""
+        self.cache.update(f, grammar, self.gbuffer.read(len(G_BUFFER)))
 
     def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
         """The full-screen evaluation into the bound result target, reading the G-buffer."""
         gbuffer = self.gbuffer
         program = f.gpu.programs.get(
             "grammar/deferred.glsl",
-            {**shader_defines(), "BUILDING_LOD": f.view.settings.building_lod, "NO_SHADOWS": f.gpu.shadows is None},
+            {
+                **shader_defines(),
+                **(cache_defines() if self.cached(f) else {}),
+                "GRAMMAR_CACHE": self.cached(f),
+                "BUILDING_LOD": f.view.settings.building_lod,
+                "NO_SHADOWS": f.gpu.shadows is None,
+            },
         )
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
+        if self.cached(f):
+            self.cache.bind(program)
+            bind_textures(program, {"u_page": gbuffer.colors[len(G_BUFFER)]})
         if f.gpu.shadows is not None:
             f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)
         f.gpu.city.records.bind_to_storage_buffer(0)  # the buildings' attributes for conditions
         bind_textures(
-            program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors, gbuffer.depth)))
+            program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors[:3], gbuffer.depth)))
         )
         draw_fullscreen(program)
 
@@ -65,8 +95,14 @@ class DeferredGrammarPass:
             return
         bind_textures(program, dict(zip(("u_grammar_deferred_color", "u_grammar_deferred_ids"), self.result.colors)))
 
-    def release(self):
+    def _release_targets(self):
         for target in (self.gbuffer, self.result):
             if target is not None:
                 target.release()
         self.gbuffer = self.result = None
+
+    def release(self):
+        self._release_targets()
+        if self.cache is not None:
+            self.cache.release()
+            self.cache = None

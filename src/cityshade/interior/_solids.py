@@ -3,8 +3,8 @@
 Built from the building masses alone (position, yaw, footprint, courtyards, height, storey and
 room width), never from the GPU's triangle meshes: a prism is its footprint extruded (walls, its
 courtyards' walls and a flat roof), a cylinder a circle of the footprint's width, a dome a
-hemisphere of it. Each wall carries the facade coordinates the documented layout gives it
-(docs/interior.md): u metres along its face, v metres up, the window bay width and storey height,
+hemisphere of it (its storeys are rings, each a face, and its cap a roof: cityshade.scene.dome_faces).
+Each wall carries the facade coordinates the documented layout gives it (docs/interior.md): u metres along its face, v metres up, the window bay width and storey height,
 and its face: width, base, top, room depth and the room columns of its first and last bay. Faces
 and bays follow the layout's rule (cityshade.scene.wall_faces) applied to the twin's own exact
 outline.
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ..scene import BuildingMass, storeys, wall_faces
+from ..scene import BuildingMass, dome_faces, storeys, wall_faces
 
 
 @dataclass
@@ -80,7 +80,7 @@ def _rings(mass: BuildingMass) -> list[np.ndarray]:
 
 
 def _round_face(mass: BuildingMass, width: float, top: float):
-    """Facade rows' constant parts of a face all round (a cylinder, a dome): bay, storey, face, columns."""
+    """Facade rows' constant parts of a face all round (a cylinder): bay, storey, face, columns."""
     bay = whole_bays(width, mass.room_width)
     storey, _ = storeys(0.0, top, mass.floor_height)
     return bay, storey, (width, 0.0, top, bay), (0, round(width / bay) - 1)
@@ -167,10 +167,12 @@ def _cylinder(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float)
 def _dome(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float):
     radius = mass.extent[0] / 2
     centre = np.array([radius, 0.0, radius])
-    bay, storey, wall, column_range = _round_face(mass, 2 * np.pi * radius, np.pi / 2 * radius)
+    rings = dome_faces(radius, mass.floor_height, mass.room_width)
     n = len(d)
     best = np.full(n, np.inf)
-    normal, facade = np.zeros((n, 3)), np.zeros((n, 4))
+    normal, facade, face = np.zeros((n, 3)), np.zeros((n, 4)), np.zeros((n, 4))
+    columns = np.zeros((n, 2), dtype=np.int64)
+    cap = np.zeros(n, dtype=bool)
     o = eye - centre
     for t in _quadratic_roots(np.sum(d * d, axis=1), 2 * (d @ o), np.full(n, o @ o - radius * radius)):
         r = (o + d * t[:, None]) / radius
@@ -179,9 +181,13 @@ def _dome(mass: BuildingMass, eye: np.ndarray, d: np.ndarray, height: float):
         # longitude counter-clockwise seen from above, from +x; latitude up from the ground
         lon = np.mod(np.arctan2(-r[:, 2], r[:, 0]), 2 * np.pi)
         lat = np.arcsin(np.clip(r[:, 1], -1, 1))
+        k = rings.ring_of(np.nan_to_num(lat) * radius)  # each storey a ring, its own face (misses: any)
         normal[ok] = r[ok]
-        facade[ok] = np.stack([lon * radius, lat * radius, np.full(n, bay), np.full(n, storey)], axis=1)[ok]
-    return best, np.zeros(n, dtype=bool), normal, facade, np.tile(wall, (n, 1)), np.tile(column_range, (n, 1))
+        facade[ok] = np.stack([lon * rings.circle[k], lat * radius, rings.bay[k], np.full(n, rings.storey)], axis=1)[ok]
+        face[ok] = np.stack([rings.width[k], rings.base[k], rings.top[k], rings.bay[k]], axis=1)[ok]
+        columns[ok] = rings.columns[k][ok]
+        cap = np.where(ok, lat >= rings.cap, cap)
+    return best, cap, normal, facade, face, columns
 
 
 SOLIDS = {"prism": _prism, "cylinder": _cylinder, "dome": _dome}

@@ -23,6 +23,7 @@ from ._defaults import (
     resolve_contradictions,
     settle_top,
 )
+from ..scene import roof_material
 from ._doors import place_doors
 from ._learn import Estimates, estimate
 from ._model import MapBuilding, MapData, MapTree, ReadReport
@@ -156,7 +157,7 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
     if building.building_colour is None:
         _set(building, "building_colour", _palette(building.building_material, building.source_id))
     if building.roof_colour is None:
-        _set(building, "roof_colour", _palette(building.roof_material, building.source_id + "/roof"))
+        _set(building, "roof_colour", _roof_palette(building.roof_material, building.source_id + "/roof"))
 
 
 def _roof_height(building: MapBuilding, short_side: float) -> float:
@@ -180,6 +181,15 @@ def _palette(material: str, key: str) -> tuple[float, float, float]:
     """A colour for the material, chosen by the element id so neighbours differ but reruns agree."""
     colours = MATERIAL_COLOURS.get(material, MATERIAL_COLOURS["plaster"])
     return colours[zlib.crc32(key.encode()) % len(colours)]
+
+
+def _roof_palette(material: str, key: str) -> tuple[float, float, float]:
+    """A roof colour for the material: from the palette where it has one, else the roof
+    material's own colour (tiles red, slate dark grey, copper green...), not a plaster's."""
+    if material in MATERIAL_COLOURS:
+        return _palette(material, key)
+    _, colour = roof_material(material)
+    return tuple(float(c) for c in colour)
 
 
 def _guess_trees(trees: list[MapTree]):

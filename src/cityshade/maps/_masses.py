@@ -200,7 +200,7 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
         if building.doors and base <= 0 and building.has_walls
         else ()
     )
-    roof = building_roof(building, local, yaw, height - base)
+    roof = building_roof(building, local, yaw, height - base, floor)
     if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
         return None
     return BuildingMass(

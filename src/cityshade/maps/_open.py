@@ -11,18 +11,24 @@ from ._scene import map_city
 
 
 def city_from_map(
-    path: Path, camera: str = "street", date: str | None = None, time: str = "19:10"
+    path: Path | None,
+    camera: str = "street",
+    date: str | None = None,
+    time: str = "19:10",
+    city: City | None = None,
 ) -> tuple[City, str, dict]:
     """(city, camera name, render settings) for `cityshade render/view/video --map FILE`.
 
     `camera` is a viewpoint name or 'lon,lat,height,heading' (added to the city's viewpoints under
-    that text). The settings place the sun and moon over the map at `date` and `time` (local clock time)."""
+    that text). The settings place the sun and moon over the map at `date` and `time` (local clock
+    time). `city`: the map's city made already (a tile cache's); `path` is then not read."""
     from . import load_map
     from ._sun import sky_settings
 
     spot = parse_camera_spot(camera)
     sky_settings(date, time)  # bad values fail before the map is read
-    city = map_city(load_map(path))
+    if city is None:
+        city = map_city(load_map(path))
     if spot is not None:
         city.viewpoints[camera] = spot_camera(city.origin, city.crs, spot)
     elif camera == "street" and "street" not in city.viewpoints:

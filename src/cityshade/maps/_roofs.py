@@ -51,15 +51,17 @@ def _run(shape: str, outline: shapely.Polygon, direction: float) -> float:
     return width / 2
 
 
-def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, height: float) -> Roof:
+def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, height: float, storey: float) -> Roof:
     """The roof of `building` over its object-space `outline`, turned by `yaw`, on a mass `height`
-    metres tall from its base (the roof takes at most what leaves `MIN_WALL` of wall)."""
+    metres tall from its base (the roof takes at most what leaves `MIN_WALL` of wall) whose
+    storeys are `storey` metres high (the rooms in the roof, where roof:levels says there are)."""
     shape = building.roof_shape if building.roof_shape in ROOF_SHAPES else "flat"
     block = building.has_walls and not building.small_utility and (building.levels or 0) >= PARAPET_LEVELS
     flat = Roof(
         colour=building.roof_colour,
         material=building.roof_material,
         parapet=PARAPET if block and height >= PARAPET + MIN_WALL else 0.0,
+        seed=building.index,
     )
     if shape == "flat":
         return flat
@@ -78,4 +80,13 @@ def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, h
     rise = min(rise, height - (MIN_WALL if building.has_walls else 0.0))
     if rise <= 0:
         return flat
-    return Roof(shape, float(rise), direction, building.roof_colour, building.roof_material)
+    rooms = building.has_walls and (building.roof_levels or 0.0) >= 1.0
+    return Roof(
+        shape,
+        float(rise),
+        direction,
+        building.roof_colour,
+        building.roof_material,
+        seed=building.index,
+        attic_storey=storey if rooms else 0.0,
+    )

@@ -9,12 +9,15 @@ import warnings
 
 from ._culling import boxes_visible, frustum_planes
 from ._daylight import Daylight, parse_time
-from ._facades import FACADE_KINDS, FacadeKind, assign_facades, choose_facade, styles_with_relief
+from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade, styles_with_relief
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._guessed import guessed_aov
 from ._renderer import Renderer
 from ._resolution import ResolutionScale
 from ._settings import RenderSettings
+from ._streaming import check_memory_budget, format_bytes
+from ._tile_cache import CacheProblem, TileCache, open_tiles, write_tiles
+from ._tile_cli import add_streaming_arguments, streamed_tiles
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
@@ -25,6 +28,7 @@ __all__ = [
     "FACADE_KINDS",
     "FacadeKind",
     "assign_facades",
+    "GrammarFitWarning",
     "choose_facade",
     "styles_with_relief",
     "FrameTargets",
@@ -37,6 +41,14 @@ __all__ = [
     "Renderer",
     "RenderSettings",
     "ResolutionScale",
+    "check_memory_budget",
+    "format_bytes",
+    "CacheProblem",
+    "TileCache",
+    "open_tiles",
+    "write_tiles",
+    "add_streaming_arguments",
+    "streamed_tiles",
     "upscale",
     "upscale_reference",
 ]

@@ -21,6 +21,7 @@ from ..scene import SURFACE_WALL
 
 ROOM_METRES = 4.5  # a room's width on the facade: one window bay
 SAMPLE_POINTS = 512  # grammar points per building for its cheap colour (a jittered grid: its mean within ~1%)
+SAMPLE_GRID = (32, 16)  # the grid's columns and rows (SAMPLE_POINTS cells, twice as wide as tall)
 CHUNK_POINTS = 1 << 15  # points per numpy evaluation
 LOD_COLOURS_BINDING = 6  # the storage buffer of the grammar buildings' cheap colours (city/lod.glsl)
 
@@ -92,11 +93,11 @@ def relief_mean() -> np.ndarray:
     return _wall_mean(albedo, material == GLASS)
 
 
-def _unit_samples() -> np.ndarray:
-    """SAMPLE_POINTS points spread over the unit square: one jittered point per cell of a grid
-    (a fixed seed), so that no repeat of a facade's pattern aliases with the sampling."""
-    cols = int(np.sqrt(SAMPLE_POINTS * 2))
-    rows = SAMPLE_POINTS // cols
+def unit_samples() -> np.ndarray:
+    """SAMPLE_POINTS points spread over the unit square, row by row of SAMPLE_GRID: one jittered
+    point per cell of the grid (a fixed seed), so that no repeat of a facade's pattern aliases
+    with the sampling."""
+    cols, rows = SAMPLE_GRID
     cell = np.stack(np.meshgrid(np.arange(cols), np.arange(rows)), axis=-1).reshape(-1, 2)
     jitter = np.random.default_rng(11).random(cell.shape)
     return (cell + jitter) / np.array([cols, rows])
@@ -115,10 +116,27 @@ def _far_tiles() -> TileArray:
     return replace(tiles, layers=layers)
 
 
-def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> dict[int, tuple]:
-    """Per grammar building (index), the face its cheap colour is taken over: its widest grammar
-    wall face as (start rule, width, height, storeys, style, seed, face index, use, height of the
-    mass), the storeys counted as shaders/grammar/building.glsl does."""
+# grammar_sample_faces's rows: one per grammar building (a Python tuple per building would cost ten times the bytes)
+SAMPLE_FACE_DTYPE = np.dtype(
+    [
+        ("building", "<i4"),
+        ("start", "<i4"),
+        ("width", "<f8"),
+        ("height", "<f8"),
+        ("storeys", "<i4"),
+        ("style", "<i4"),
+        ("seed", "<i8"),
+        ("face", "<i4"),
+        ("use", "<i4"),
+        ("mass_height", "<f8"),
+    ]
+)
+
+
+def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> np.ndarray:
+    """Per grammar building, the face its cheap colour is taken over: its widest grammar wall face
+    (SAMPLE_FACE_DTYPE: building index, start rule, width, height, storeys, style, seed, face index,
+    use, height of the mass), the storeys counted as shaders/grammar/building.glsl does."""
     grammar = np.flatnonzero(records["facade"][:, 0] == FACADE_GRAMMAR)
     walls = vertices[(vertices["ids"][:, 1] == SURFACE_WALL) & np.isin(vertices["ids"][:, 0], grammar)]
     # per building its first vertex on its widest face: a stable sort by building, widest first
@@ -126,34 +144,33 @@ def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> d
     buildings, first = np.unique(walls["ids"][:, 0], return_index=True)  # no wall: every face too narrow
     widest = walls[first]
     width, base, top = (widest["face"][:, k].astype(np.float64) for k in range(3))
-    storeys = np.floor((top - base) / widest["facade"][:, 3] + 0.5).astype(int)
-    faces = {}
-    for k, i in enumerate(buildings.tolist()):
-        faces[i] = (
-            int(records["facade"][i, 1]),
-            float(width[k]),
-            float(top[k] - base[k]),
-            int(storeys[k]),
-            masses[i].style,
-            masses[i].seed,
-            int(widest["ids"][k, 2]),
-            masses[i].use,
-            float(masses[i].extent[1]),
-        )
+    faces = np.zeros(len(buildings), SAMPLE_FACE_DTYPE)
+    faces["building"] = buildings
+    faces["start"] = records["facade"][buildings, 1]
+    faces["width"], faces["height"] = width, top - base
+    faces["storeys"] = np.floor((top - base) / widest["facade"][:, 3] + 0.5)
+    faces["face"] = widest["ids"][:, 2]
+    chosen = [masses[i] for i in buildings.tolist()]
+    faces["style"] = [m.style for m in chosen]
+    faces["seed"] = [m.seed for m in chosen]
+    faces["use"] = [m.use for m in chosen]
+    faces["mass_height"] = [m.extent[1] for m in chosen]
     return faces
 
 
-def grammar_colours(faces: dict[int, tuple], count: int) -> np.ndarray:
+def grammar_colours(faces: np.ndarray, count: int) -> np.ndarray:
     """(count, 4) float32: per building, its own grammar's mean wall colour (linear) and glass share
     over its sample face (grammar_sample_faces), evaluated with the numpy reference with the
     building's seed, since a grammar's choices made once per building (an office tower's spandrel
     finish) change its colour more than anything; zero for the buildings without a grammar."""
     colours = np.zeros((count, 4), np.float32)
-    if not faces:
+    if not len(faces):
         return colours
-    compiled, tiles, unit = library_texture(), _far_tiles(), _unit_samples()
-    index = np.array(list(faces))
-    start, width, height, storeys, style, seed, face, use, mass_height = (np.array(v) for v in zip(*faces.values()))
+    compiled, tiles, unit = library_texture(), _far_tiles(), unit_samples()
+    index = faces["building"]
+    start, width, height, storeys, style, seed, face, use, mass_height = (
+        faces[name] for name in SAMPLE_FACE_DTYPE.names[1:]
+    )
     size = np.stack([width, height], axis=1)
     seeds = np.array([facade_seed_vector(int(s), int(k)) for s, k in zip(seed, face)])  # the face's own stream
     building_seeds = np.array([seed_vector(int(s)) for s in seed])  # choices made once per building

@@ -1,19 +1,24 @@
 """A city uploaded to the GPU: one vertex buffer for all buildings (ordered chunk by chunk, each
 building a contiguous range), one SSBO of building records, the buildings' boxes for the cull pass,
-and the ground quads. Vertex arrays are cached per program."""
+and the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
+stays once they are uploaded (a city of 100,000 buildings holds 250 MB of vertices)."""
 
 from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
 from ..gl import VertexArrays, create_buffer
-from ..grammar import FACADE_GRAMMAR
+from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
-from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+from ..scene import BUILDING_DTYPE, VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
-from ._building_lod import LOD_COLOURS_BINDING, grammar_colours, grammar_sample_faces
-from ._culling import BuildingChunks
+from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
+from ._lod_colours import grammar_colours_gpu
+from ._culling import BuildingChunks, chunk_vertices
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
@@ -41,31 +46,61 @@ def ground_vertices(city: City) -> np.ndarray:
     return np.asarray(out, dtype=np.float32)
 
 
+@dataclass
+class CityBuildings:
+    """The buildings as the GPU gets them: vertices in chunk order (each building a contiguous
+    range), records with their facades assigned, the cull pass's boxes, and what the cheap far
+    colours and the statistics need. Made once per city; a tile cache (render/_tile_cache.py)
+    stores them cut into tiles."""
+
+    vertices: np.ndarray
+    records: np.ndarray
+    chunks: BuildingChunks
+    facades: Counter
+    lod_faces: np.ndarray  # SAMPLE_FACE_DTYPE, by building
+
+    @classmethod
+    def of(cls, masses: list) -> CityBuildings:
+        vertices, records = batch(masses)
+        facades = assign_facades(records, masses, vertices)  # buildings per facade kind (narrow faces: plain)
+        lod_faces = grammar_sample_faces(masses, records, vertices)
+        vertices, chunks = chunk_vertices(vertices)
+        return cls(vertices, records, chunks, facades, lod_faces)
+
+    def boxes(self) -> np.ndarray:
+        return building_boxes(self.vertices, *building_ranges(self.vertices, len(self.records)))
+
+
 class CityGPU:
     def __init__(self, ctx: moderngl.Context, city: City):
+        self._upload_city(ctx, city)
+        buildings = CityBuildings.of(city.masses)
+        self.facades = buildings.facades
+        self._lod_faces = buildings.lod_faces
+        self.chunks = buildings.chunks
+        vertices = buildings.vertices
+        self.building_vertex_count = len(vertices)
+        self.visibility = BuildingVisibility(ctx, buildings.boxes())
+        self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
+        self._upload_records(buildings.records)
+
+    def _upload_city(self, ctx: moderngl.Context, city: City):
+        """Everything but the building vertices: ground, street lights, relief maps."""
         self.ctx = ctx
         self.city = city
-        vertices, records = batch(city.masses)
-        self.facades = assign_facades(records, city.masses, vertices)  # buildings per facade kind (narrow faces: plain)
-        self._lod_faces = grammar_sample_faces(city.masses, records, vertices)
+        self.building_count = len(city.masses)
         self._lod_colours: moderngl.Buffer | None = None
         self.relief = CityRelief(ctx)
-        self.chunks = BuildingChunks(vertices)
-        vertices = self.chunks.vertices
-        self.building_count = len(city.masses)
-        self.building_vertex_count = len(vertices)
-        self.visibility = BuildingVisibility(
-            ctx, building_boxes(vertices, *building_ranges(vertices, self.building_count))
-        )
-        self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
-        self.records = create_buffer(ctx, records)
-        self._record_array = records  # as assigned, for start_grammars_at
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
         self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
+
+    def _upload_records(self, records: np.ndarray):
+        self.records = create_buffer(self.ctx, records)
+        self._assigned_facades = records["facade"].copy()  # for start_grammars_at
 
     def _vao(self, program, vbo, fmt, attributes):
         return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
@@ -89,16 +124,23 @@ class CityGPU:
     def start_grammars_at(self, address: int | None):
         """Every grammar facade starts at rule `address` of the grammar texture (RenderSettings.grammar_start);
         None: each building's own style, as assigned."""
-        records = self._record_array
+        records = np.frombuffer(self.records.read(), BUILDING_DTYPE).copy()
+        records["facade"] = self._assigned_facades
         if address is not None:
-            records = records.copy()
             records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
         self.records.write(records.tobytes())
 
-    def bind_lod_colours(self):
-        """Binds the grammar buildings' cheap colours (city/lod.glsl), evaluated on first use."""
+    def prepare_lod_colours(self, grammar: GrammarTextures):
+        """Evaluates the grammar buildings' cheap colours (city/lod.glsl) on the GPU, once: before a
+        frame's passes, since it draws into a target of its own."""
         if self._lod_colours is None:
-            self._lod_colours = create_buffer(self.ctx, grammar_colours(self._lod_faces, max(self.building_count, 1)))
+            colours = grammar_colours_gpu(self.ctx, grammar, self._lod_faces, max(self.building_count, 1))
+            self._lod_colours = create_buffer(self.ctx, colours)
+
+    def bind_lod_colours(self):
+        """Binds the cheap colours of prepare_lod_colours."""
+        if self._lod_colours is None:
+            raise RuntimeError("the building LOD colours are not evaluated: call prepare_lod_colours() first")
         self._lod_colours.bind_to_storage_buffer(LOD_COLOURS_BINDING)
 
     def polygonised(self) -> PolygonisedGPU:

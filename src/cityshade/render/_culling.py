@@ -25,31 +25,43 @@ def boxes_visible(planes: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndar
     return np.all(distance >= 0, axis=1)
 
 
-class BuildingChunks:
-    """Reorders a building vertex array chunk by chunk and remembers each chunk's range and box."""
+def building_cells(vertices: np.ndarray, chunk_size: float = CHUNK_SIZE) -> np.ndarray:
+    """(buildings, 2) int64: the chunk (x, z cell) of each building, by the mean of its vertices."""
+    building = vertices["ids"][:, 0]
+    count = int(building.max()) + 1 if len(building) else 0
+    centre = np.zeros((count, 2))
+    np.add.at(centre, building, vertices["position"][:, [0, 2]].astype(np.float64))
+    centre /= np.maximum(np.bincount(building, minlength=count), 1)[:, None]
+    return np.floor(centre / chunk_size).astype(np.int64)
 
-    def __init__(self, vertices: np.ndarray, chunk_size: float = CHUNK_SIZE):
-        building = vertices["ids"][:, 0]
-        positions = vertices["position"].astype(np.float64)
-        count = int(building.max()) + 1 if len(building) else 0
-        centre = np.zeros((count, 2))
-        np.add.at(centre, building, positions[:, [0, 2]])
-        centre /= np.maximum(np.bincount(building, minlength=count), 1)[:, None]
-        cell = np.floor(centre / chunk_size).astype(np.int64)
-        keys = np.unique(cell, axis=0, return_inverse=True)[1].ravel() if count else np.zeros(0, np.int64)
-        # by chunk, then building (each building one contiguous range for the cull pass); stable, so
-        # triangles stay whole and a building's vertices stay in order
-        order = np.lexsort((building, keys[building]))
-        self.vertices = vertices[order]
-        vertex_chunk = keys[building][order]
-        chunks = int(vertex_chunk.max()) + 1 if len(vertex_chunk) else 0
-        self.first = np.searchsorted(vertex_chunk, np.arange(chunks)).astype(np.uint32)
-        self.count = np.bincount(vertex_chunk, minlength=chunks).astype(np.uint32)
-        sorted_pos = positions[order]
-        self.lo = np.full((chunks, 3), np.inf)
-        self.hi = np.full((chunks, 3), -np.inf)
-        np.minimum.at(self.lo, vertex_chunk, sorted_pos)
-        np.maximum.at(self.hi, vertex_chunk, sorted_pos)
+
+def chunk_vertices(vertices: np.ndarray, chunk_size: float = CHUNK_SIZE) -> tuple[np.ndarray, "BuildingChunks"]:
+    """A building vertex array reordered chunk by chunk, and the chunks' ranges and boxes (the
+    reordered vertices are the caller's: once uploaded, no copy needs to stay)."""
+    building = vertices["ids"][:, 0]
+    positions = vertices["position"].astype(np.float64)
+    cell = building_cells(vertices, chunk_size)
+    count = len(cell)
+    keys = np.unique(cell, axis=0, return_inverse=True)[1].ravel() if count else np.zeros(0, np.int64)
+    # by chunk, then building (each building one contiguous range for the cull pass); stable, so
+    # triangles stay whole and a building's vertices stay in order
+    order = np.lexsort((building, keys[building]))
+    vertex_chunk = keys[building][order]
+    chunks = int(vertex_chunk.max()) + 1 if len(vertex_chunk) else 0
+    lo = np.full((chunks, 3), np.inf)
+    hi = np.full((chunks, 3), -np.inf)
+    sorted_pos = positions[order]
+    np.minimum.at(lo, vertex_chunk, sorted_pos)
+    np.maximum.at(hi, vertex_chunk, sorted_pos)
+    first = np.searchsorted(vertex_chunk, np.arange(chunks)).astype(np.uint32)
+    return vertices[order], BuildingChunks(first, np.bincount(vertex_chunk, minlength=chunks).astype(np.uint32), lo, hi)
+
+
+class BuildingChunks:
+    """The chunks of a vertex array ordered by chunk_vertices: each chunk's vertex range and box."""
+
+    def __init__(self, first: np.ndarray, count: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+        self.first, self.count, self.lo, self.hi = first, count, lo, hi
 
     def __len__(self) -> int:
         return len(self.first)

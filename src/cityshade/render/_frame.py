@@ -219,6 +219,11 @@ def grammar_gbuffer(f: FrameInputs):
     f.gpu.textures.grammar_pass.draw_gbuffer(f, f.gpu.textures.grammar, set_uniforms)
 
 
+def grammar_cache_update(f: FrameInputs):
+    """The pages of the grammar cache this frame's G-buffer asks for (grammar._cache)."""
+    f.gpu.textures.grammar_pass.update_cache(f, f.gpu.textures.grammar)
+
+
 def grammar_evaluation(f: FrameInputs):
     """Facade grammars evaluated once per pixel from the G-buffer (Krecklau §4); see grammar._frame_pass."""
     f.gpu.textures.grammar_pass.evaluate(f, f.gpu.textures.grammar, set_uniforms)
@@ -356,6 +361,11 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
         passes.append(
             Pass("grammar g-buffer", grammar_gbuffer, (*CITY, *grammar), "grammar_gbuffer", clear=(0.0, 0.0, 0.0, 0.0))
         )
+        if settings.grammar_cache:
+            # the pages the G-buffer names, evaluated once per texel into the cache's atlas
+            passes.append(
+                Pass("grammar cache update", grammar_cache_update, ("grammar_gbuffer", *grammar), "grammar cache", OFF)
+            )
         passes.append(
             Pass(
                 "grammar evaluation",

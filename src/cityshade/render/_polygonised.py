@@ -10,22 +10,20 @@ import numpy as np
 from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
-from ._culling import BuildingChunks
+from ._culling import BuildingChunks, chunk_vertices
 
 
 class PolygonisedGPU:
     def __init__(self, ctx: moderngl.Context, city: City):
         self.ctx = ctx
         self.layers: dict[str, tuple[BuildingChunks, moderngl.Buffer]] = {}
+        self.triangle_count = 0
         for name, vertices in polygonised_vertices(city.masses).items():
             if len(vertices):
-                chunks = BuildingChunks(vertices)
-                self.layers[name] = (chunks, create_buffer(ctx, chunks.vertices))
+                vertices, chunks = chunk_vertices(vertices)
+                self.layers[name] = (chunks, create_buffer(ctx, vertices))
+                self.triangle_count += len(vertices) // 3
         self._vaos = VertexArrays(ctx)
-
-    @property
-    def triangle_count(self) -> int:
-        return sum(len(chunks.vertices) for chunks, _ in self.layers.values()) // 3
 
     def draw(self, program: moderngl.Program, layer: str, view_projection: np.ndarray):
         if layer not in self.layers:

@@ -8,7 +8,7 @@ import moderngl
 import numpy as np
 
 from .. import assets
-from .._budget import check_image_memory
+from .._budget import check_image_memory, release_freed_memory
 from .._values import check_size
 from ..errors import UsageError
 from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
@@ -19,6 +19,8 @@ from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_
 from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows
+from ._streaming import StreamedCityGPU
+from ._tile_cache import TileCache
 from ._textures import CityTextures
 from ._trees import TreePass
 from ..trees import city_trees
@@ -78,12 +80,32 @@ class Renderer:
         self._current()
         if self.city is not None:
             self.city.release()
-        self.city = CityGPU(self.ctx, city)
+        self._set_city_gpu(CityGPU(self.ctx, city), city)
+
+    def set_tiles(self, cache: TileCache, memory_budget: int | None = None, read=None):
+        """A tiled city (render/_tile_cache.py), its buildings streamed around the camera with at
+        most `memory_budget` bytes of tiles resident (None: all of them); `read` replaces the
+        tile reader (tests)."""
+        self._current()
+        if self.city is not None:
+            self.city.release()
+            self.city = None
+        self._set_city_gpu(StreamedCityGPU(self.ctx, cache, memory_budget, read), cache.city)
+
+    def wait_for_tiles(self, camera: Camera):
+        """For a still: loads the tiles `camera` wants (a whole city has them all)."""
+        if isinstance(self.city, StreamedCityGPU):
+            self._current()
+            self.city.wait(camera.eye)
+
+    def _set_city_gpu(self, gpu: CityGPU, city: City):
+        self.city = gpu
         self._grammar_start = None
         if self.trees is not None:
             self.trees.release()
         trees = city_trees(city) if city.trees is None else city.trees
         self.trees = TreePass(self.ctx, self.programs, trees, seed=city.seed)
+        release_freed_memory()
 
     def _textures(self, settings: RenderSettings) -> CityTextures:
         return CityTextures.create(self.ctx, settings.room_texture_size, settings.room_variants, settings.grammar_files)
@@ -131,13 +153,23 @@ class Renderer:
     def _inputs(self, camera: Camera) -> FrameInputs:
         if self.city is None:
             raise RuntimeError("no city: call set_city() first")
+        if isinstance(self.city, StreamedCityGPU):
+            self.city.follow(camera.eye)
         daylight = self._daylight()
-        if self.settings.shadows and self.shadows is None:
-            self.shadows = CascadedShadows(self.ctx)
+        resolution = self.settings.shadow_resolution
+        if self.settings.shadows and (self.shadows is None or self.shadows.resolution != resolution):
+            if self.shadows is not None:
+                self.shadows.release()
+            self.shadows = CascadedShadows(self.ctx, resolution)
         self.frame_index += 1
         self._start_grammars()
+        if self.settings.building_lod:
+            self.city.prepare_lod_colours(self.textures.grammar)
         if self.settings.grammar_deferred:
-            self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(self.size)
+            pages = self.settings.grammar_cache_pages if self.settings.grammar_cache else None
+            self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(
+                self.size, pages
+            )
         s = self.settings
         gpu = FrameResources(
             self.ctx,

@@ -57,6 +57,11 @@ class ResolutionScale:
         self.scale = self._clamp(self.scale * math.sqrt(fps / aim))
         return self.scale
 
+    def shadow_resolution(self, full: int, smallest: int = 256) -> int:
+        """Texels per side of a shadow cascade for `full` at scale 1: scaled with the frame (each
+        texel keeps covering as many window pixels once the frame is stretched), up to a power of two."""
+        return min(full, max(smallest, 1 << math.ceil(math.log2(full * self.scale))))
+
     def size(self, window: tuple[int, int]) -> tuple[int, int]:
         """The internal resolution for a window of `window` pixels (at least one pixel each way)."""
         return max(1, round(window[0] * self.scale)), max(1, round(window[1] * self.scale))

@@ -33,6 +33,7 @@ class RenderSettings:
     samples: int = 4  # MSAA of the HDR target
     trees: bool = True  # street rows and park groves (SpeedTree ch. 4)
     shadows: bool = True  # cascaded shadow maps (SpeedTree §4.3.2)
+    shadow_resolution: int = 1024  # texels per side of each cascade's map (the viewer lowers it with its scale)
     god_rays: bool = True  # radial blur of bright pixels around the sun (SpeedTree §4.5)
     lights: float | None = None  # probability c; None: from the time of day
     time_of_day: float = 19.17  # hours (19:10, dusk)
@@ -40,6 +41,8 @@ class RenderSettings:
     moon: tuple[float, float, float] | None = None  # (elevation, azimuth, lit fraction): moonlight at night
     animation_time: float = 0.0  # seconds, drives furniture sprites
     grammar_deferred: bool = True  # facade grammars in a deferred pass (Krecklau §4); measured faster
+    grammar_cache: bool = False  # the deferred pass shades from a page cache of evaluated facades (docs/scale.md)
+    grammar_cache_pages: int = 4096  # page slots of the cache's atlas (32 x 32 texels of 32 bytes: 128 MiB)
     culling: str = "gpu"  # buildings: "gpu" (frustum and hierarchical depth, render/_visibility.py),
     # "frustum" (96 m chunks on the CPU), "off" (all drawn)
     ssao: bool = False  # screen-space ambient occlusion of the lit frame (Krecklau §4's pipeline)
@@ -49,8 +52,12 @@ class RenderSettings:
     # grammar_files stem); None: each building's own style
 
     def __post_init__(self):
+        if not 16 <= self.shadow_resolution <= 8192:
+            raise UsageError(f"shadow_resolution {self.shadow_resolution!r}: give texels per side, 16 to 8192")
         if self.culling not in CULLING:
             raise UsageError(f"unknown culling {self.culling!r}; allowed: {', '.join(CULLING)}")
+        if self.grammar_cache_pages < 1:
+            raise UsageError(f"grammar_cache_pages must be at least 1, not {self.grammar_cache_pages}")
 
     def with_(self, **changes) -> "RenderSettings":
         return replace(self, **changes)

@@ -17,6 +17,7 @@ import numpy as np
 from ..scene import Camera
 from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
 from ..gl import RenderTarget, bind_textures, set_uniforms
+from ._trees import focal_rows
 
 SHADOW_BIAS = 0.0008  # texture-depth units, every cascade
 
@@ -59,6 +60,7 @@ class CascadedShadows:
             depth.filter = (moderngl.LINEAR, moderngl.LINEAR)  # hardware 2x2 PCF per tap
             depth.repeat_x = depth.repeat_y = False
         self.matrices = [_OUTSIDE.copy() for _ in rates]
+        self.drawn = [False for _ in rates]
         self.stats = ShadowStats()
 
     def splits(self, camera: Camera) -> np.ndarray:
@@ -77,7 +79,10 @@ class CascadedShadows:
         ctx.disable(moderngl.CULL_FACE)
         ctx.depth_func = "<"
         ctx.polygon_offset = (1.5, 4.0)
-        for index, casters in cascades_due(frame, self.rates):
+        due = dict(cascades_due(frame, self.rates))
+        # a cascade never drawn yet (new maps: a new resolution) is drawn now, not at its turn
+        due.update({i: rate.casters for i, rate in enumerate(self.rates) if not self.drawn[i]})
+        for index, casters in sorted(due.items()):
             view_proj = cascade_view_projection(
                 inv, camera.near, camera.far, splits[index], splits[index + 1], sun, self.resolution, self.caster_reach
             )
@@ -85,6 +90,7 @@ class CascadedShadows:
             self.targets[index].fbo.clear(depth=1.0)
             calls = draw_casters(view_proj, sun, casters)
             self.matrices[index] = texture_matrix(view_proj)
+            self.drawn[index] = True
             stats.redrawn.append((index, tuple(sorted(casters)), calls))
         ctx.polygon_offset = (0.0, 0.0)
         self.stats = stats
@@ -121,7 +127,7 @@ def shadow_pass(f):
             f.draw_buildings(program, view_proj)
             calls += 1
         if f.gpu.trees is not None:
-            f.gpu.trees.prepare(f.view.camera.eye)
+            f.gpu.trees.prepare(f.view.camera.eye, view_proj, focal_rows(f.view))  # the cascade's casters, as seen
             if f.view.settings.culling == "gpu":
                 f.gpu.trees.cull(view_proj)  # the cascade's frustum
             calls += f.gpu.trees.draw_shadow(view_proj, sun, casters)

@@ -26,9 +26,10 @@ from ..trees import (
     leaf_textures,
     light_basis,
     lod_alphas,
+    vanish_alphas,
 )
 from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
-from ._culling import boxes_visible, frustum_planes
+from ._culling import frustum_planes
 from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
@@ -59,6 +60,7 @@ class TreeSettings:
     shadows: bool = True  # receive the cascaded shadows
     wind: tuple[float, float, float] = (0.35, 0.0, 0.15)  # metres of sway at weight 1
     lod_band: tuple[float, float] = (45.0, 75.0)  # metres: near LOD -> far LOD cross-fade
+    vanish_rows: tuple[float, float] = (3.0, 1.5)  # image rows a tree's height spans: fade out between
     fin_fade: tuple[float, float] = (14.0, 28.0)  # metres: fin width -> 0 (fig. 4-8)
     fin_reach: float = 0.2  # metres: clamp of the fin's height trace (§4.2.2)
     specular_fade: tuple[float, float] = (15.0, 60.0)
@@ -124,20 +126,30 @@ class TreePass:
         }
         self.culled = False  # whether the commands of the instances written last are current
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
+        # contiguous copies of what every frame reads of every tree (the records' fields are strided)
+        self._positions = np.ascontiguousarray(trees["position"], np.float32)
+        self._heights = np.ascontiguousarray(self._model_heights()[trees["species"]] * trees["scale"], np.float32)
         self._vaos = VertexArrays(ctx)
 
     # -- per frame -------------------------------------------------------------------------------
-    def prepare(self, eye, view_projection: np.ndarray | None = None):
+    def prepare(self, eye, view_projection: np.ndarray | None = None, focal_rows: float | None = None):
         """Splits the trees into the two LODs by distance and writes their instance buffers, nearest
         first: the fins are drawn only for the leading trees that are close enough to have any
         (§4.2.3 removes them from distant trees), and near-to-far order helps the depth test.
-        With `view_projection`, only the trees whose bounds meet its frustum (not for the shadow
-        casters, whose trees outside the view still shade it)."""
-        distance = np.linalg.norm(self.trees["position"] - np.asarray(eye, float), axis=1)
+        With `view_projection`, only the trees whose bounds meet its frustum (the camera's, or a
+        shadow cascade's, which reaches toward the sun for the casters outside the view). With
+        `focal_rows` (the image's rows over 2 tan(fov_y / 2)), trees fade out as their height
+        shrinks below TreeSettings.vanish_rows."""
+        distance = np.linalg.norm(self._positions - np.asarray(eye, float), axis=1)
         alphas = lod_alphas(distance, *self.settings.lod_band)
-        order = np.argsort(distance)
+        if focal_rows is not None:
+            rows = self._heights * focal_rows / np.maximum(distance, 1e-6)
+            alphas = tuple(alpha * vanish_alphas(rows, *self.settings.vanish_rows) for alpha in alphas)
+        shown = (alphas[0] > 0.0) | (alphas[1] > 0.0)
         if view_projection is not None:
-            order = order[self._visible(view_projection)[order]]
+            shown &= self._visible(view_projection)
+        order = np.flatnonzero(shown)  # sorted after the cuts: a city's trees are mostly out of view
+        order = order[np.argsort(distance[order])]
         for index, model in self.models.items():
             mine = self.trees["species"][order] == index
             for lod in (0, 1):
@@ -201,11 +213,22 @@ class TreePass:
 
     def _visible(self, view_projection: np.ndarray) -> np.ndarray:
         """Trees whose box (the model's height, scaled, every way from the root, plus the wind's
-        sway) is not wholly outside the frustum."""
-        heights = np.array([self.models[int(k)].height for k in self.trees["species"]])
-        reach = heights * self.trees["scale"] + self.sway()
-        position = self.trees["position"]
-        return boxes_visible(frustum_planes(view_projection), position - reach[:, None], position + reach[:, None])
+        sway) is not wholly outside the frustum: a cube's farthest corner along a plane's normal
+        lies its reach times the normal's L1 length beyond its centre (a few vector operations for a
+        city's trees, where a corner per plane and tree took a tenth of a second)."""
+        planes = frustum_planes(view_projection)
+        reach = self._heights + self.sway()
+        x, y, z = self._positions.T.astype(np.float64)
+        shown = np.ones(len(x), bool)
+        for a, b, c, d in planes:  # plane by plane: a matrix product is slower on a busy machine (BLAS threads)
+            shown &= a * x + b * y + c * z + d + reach * (abs(a) + abs(b) + abs(c)) >= 0
+        return shown
+
+    def _model_heights(self) -> np.ndarray:
+        """Model height by species index."""
+        heights = np.zeros(max(self.models, default=0) + 1)
+        heights[list(self.models)] = [model.height for model in self.models.values()]
+        return heights
 
     def _vao(self, program, species: int, lod: int, part: str):
         _, layout, attributes, _ = PARTS[part]
@@ -342,13 +365,19 @@ class TreePass:
             tex.release()
 
 
+def focal_rows(view) -> float:
+    """The rows of the frame's image one metre spans at one metre's distance (a FrameView)."""
+    return view.size[1] / (2.0 * np.tan(np.radians(view.camera.fov_y) / 2.0))
+
+
 def draw_trees(f, ids: bool = False) -> int:
     """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's; `f` is
     the frame's FrameInputs."""
     trees, view = f.gpu.trees, f.view
     if trees is None:
         return 0
-    trees.prepare(view.camera.eye, view.view_projection if ids else None)  # the id AOV's trees: only those in view
+    # only the trees in view: a multi-draw's commands cost a software rasteriser even when culled
+    trees.prepare(view.camera.eye, view.view_projection, focal_rows(view))
     if view.settings.culling == "gpu" and not ids:  # behind the buildings' hierarchical depth, when this frame built it
         trees.cull(view.view_projection, f.gpu.city.visibility.pyramid if f.gpu.camera_draws is not None else None)
     return trees.draw(

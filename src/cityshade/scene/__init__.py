@@ -23,7 +23,7 @@ from ._city import (
     make_city,
 )
 from ._footprints import load_footprints
-from ._materials import ROOF_PATTERNS
+from ._materials import ROOF_PARTS, ROOF_PATTERNS, roof_material
 from ._batch import batch
 from ._meshes import (
     SURFACE_CODES,
@@ -38,6 +38,7 @@ from ._meshes import (
 )
 from ._paths import PATHS, camera_path
 from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
+from ._dome_faces import DOME_TAPER, DomeFaces, dome_faces
 from ._raycast import intersect
 from ._roofs import Roof
 from ._records import BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, rotation_y
@@ -93,11 +94,16 @@ __all__ = [
     "GROUND_RAIL",
     "GROUND_SAND",
     "GROUND_WATER",
+    "ROOF_PARTS",
     "ROOF_PATTERNS",
+    "roof_material",
     "CORNER_TURN",
     "WallFaces",
     "storeys",
     "wall_faces",
+    "DOME_TAPER",
+    "DomeFaces",
+    "dome_faces",
     "DOOR_CONSTANTS",
     "DOOR_HEIGHT",
     "DOOR_WIDTH",

@@ -27,7 +27,8 @@ from ._meshes import (
     vertex_records,
 )
 from ._records import BUILDING_DTYPE
-from ._roofs import flat_rows, roof_triangles, upward
+from ._roofs import flat_rows, upward
+from ._rooftop import roof_with_rooftop
 from ._wall_faces import ring_faces
 
 PLAIN_OUTLINE = 64  # simplified_outline returns outlines of up to this many corners as they are
@@ -186,9 +187,11 @@ def _prism_rows(
 
     # pitched and pointed roofs and parapets, mass by mass
     for k in np.flatnonzero(~flat_top):
-        roof, gables = roof_triangles(polygons[k], top[k], chosen[k].roof)
+        roof, gables = roof_with_rooftop(polygons[k], top[k], chosen[k].roof)
         sections.add("gables", np.full(len(gables.positions), index[k]), gable_rows(gables, chosen[k], column[k]))
-        sections.add("roof", np.full(len(roof.positions), index[k]), roof_rows(roof.positions, roof.normals))
+        sections.add(
+            "roof", np.full(len(roof.positions), index[k]), roof_rows(roof.positions, roof.normals, roof.roof_parts())
+        )
 
 
 def _storeys(base: np.ndarray, top: np.ndarray, floor_height: np.ndarray) -> np.ndarray:

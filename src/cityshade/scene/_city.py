@@ -140,7 +140,7 @@ def default_city(seed: int = 7, blocks: int = 6) -> City:
                         floor_height=3.6,
                         room_width=4.0,
                         seed=int(rng.integers(1 << 30)),
-                        style=2,
+                        style=6,  # dusk: a grammar facade on each storey's ring (its storeys all alike)
                     )
                 )
                 masses.append(box((x1 - 28, z0 + 2), 26.0, 20.0, 24.0, seed=int(rng.integers(1 << 30)), style=3))
@@ -157,6 +157,7 @@ def default_city(seed: int = 7, blocks: int = 6) -> City:
         "corner": Camera((main_x - 14.0, 12.0, 12.0), (main_x + 40.0, 30.0, -30.0), fov_y=60.0),
         "aerial": Camera((-half * 1.1, half * 0.8, half * 1.1), (0.0, 0.0, 0.0), fov_y=55.0),
         "closeup": Camera((main_x + 5.0, 8.0, 14.0), (main_x + 12.0, 12.0, 0.0), fov_y=60.0),
+        "dome": Camera((main_x - 9.0, 14.0, 87.0), (main_x + 31.0, 8.0, 57.0), fov_y=50.0),
     }
     return City("default", seed, masses, ground, (-half, -half, half, half), viewpoints, parks, streets)
 

@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ._roofs import Triangles, flat, roof_triangles
+from ._roofs import Triangles, flat
+from ._rooftop import roof_with_rooftop
 from ._wall_faces import WallFaces, ring_columns, storeys, wall_faces
 
 QUAD = np.array([0, 2, 1, 0, 3, 2])  # corners a-low, b-low, b-high, a-high: counter-clockwise seen from outside
@@ -73,11 +74,14 @@ def gable_rows(walls: Triangles, mass, first_column: int):
     )
 
 
-def roof_rows(positions: np.ndarray, normals: np.ndarray):
-    """Rows of roof vertices: facade coordinates (x, z, 0, 0), no face, no room columns."""
+def roof_rows(positions: np.ndarray, normals: np.ndarray, part: np.ndarray | int = 0):
+    """Rows of roof vertices: facade coordinates (x, z, 0, 0), no face, and in place of room
+    columns the roof part (ROOF_PART_*, once or per vertex; the shader's ids.z) and 0."""
     count = len(positions)
     facade = np.column_stack([positions[:, 0], positions[:, 2], np.zeros((count, 2))])
-    return positions, normals, facade, np.zeros((count, 4)), np.zeros((count, 2), dtype=np.int64)
+    ids = np.zeros((count, 2), dtype=np.int64)
+    ids[:, 0] = part
+    return positions, normals, facade, np.zeros((count, 4)), ids
 
 
 def join_rows(rows: list):
@@ -90,7 +94,7 @@ def outline_rows(mass, outline: np.ndarray):
     polygon = shapely.orient_polygons(shapely.Polygon(outline, mass.holes))
     holes = [np.asarray(ring.coords)[:-1] for ring in polygon.interiors]
     top = mass.wall_top
-    roof, gables = roof_triangles(polygon, top, mass.roof)
+    roof, gables = roof_with_rooftop(polygon, top, mass.roof)
     if not mass.walls:  # a canopy: the roof's underside at its eaves
         roof = Triangles.join([roof, flat(polygon, top, up=False)])
     elif mass.base > 0:
@@ -99,4 +103,6 @@ def outline_rows(mass, outline: np.ndarray):
     for ring in [outline, *holes] if mass.walls else []:
         rows, column = ring_wall_rows(ring, mass, mass.base, top, column)
         walls.append(rows)
-    return join_rows([*walls, gable_rows(gables, mass, column)]), roof_rows(roof.positions, roof.normals)
+    return join_rows([*walls, gable_rows(gables, mass, column)]), roof_rows(
+        roof.positions, roof.normals, roof.roof_parts()
+    )

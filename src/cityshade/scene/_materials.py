@@ -91,6 +91,25 @@ ROOF_PATTERNS = {
 }
 
 
+# What part of a roof a triangle is (scene vertex ids[:, 2] of roof rows): the roof's own surface in
+# its tagged material, or sheet metal (rooftop units, dormer cheeks) of one colour whatever the roof.
+ROOF_PART_SURFACE, ROOF_PART_SHEET = 0, 1
+SHEET_METAL = (0.62, 0.63, 0.64)  # sRGB: galvanised steel
+ROOF_PARTS = {
+    "ROOF_PART_SURFACE": ROOF_PART_SURFACE,
+    "ROOF_PART_SHEET": ROOF_PART_SHEET,
+    "ROOF_SHEET_ALBEDO": "vec3({:.6f}, {:.6f}, {:.6f})".format(*linear(SHEET_METAL)),
+}
+
+
+def roof_part_material(part: int, roof) -> tuple[np.ndarray, int]:
+    """numpy twin of roof_part_material() in roof.glsl: (linear albedo, pattern id) of a roof part
+    on a building whose record's roof is `roof` (linear rgb, pattern id)."""
+    if part == ROOF_PART_SHEET:
+        return np.float32(linear(SHEET_METAL)), ROOF_METAL
+    return np.asarray(roof[:3], np.float32), int(roof[3])
+
+
 def _smoothstep(e0: float, e1: float, x: np.ndarray) -> np.ndarray:
     t = np.clip((x - np.float32(e0)) / np.float32(e1 - e0), 0, 1).astype(np.float32)
     return t * t * (np.float32(3) - np.float32(2) * t)

@@ -16,7 +16,8 @@ from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES
 from ._doors import door_record
 from ._extrusions import outline_rows, roof_rows, wall_rows
-from ._wall_faces import storeys, wall_faces
+from ._dome_faces import dome_faces
+from ._wall_faces import WallFaces, storeys, wall_faces
 from ._materials import linear, roof_material, wall_tint
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
@@ -37,7 +38,10 @@ VERTEX_FORMAT = "3f 3f 3f 4f 4f 4i"
 VERTEX_ATTRIBUTES = ("in_position", "in_local", "in_normal", "in_facade", "in_face", "in_ids")
 
 CURVE_SEGMENTS = 48
-DOME_RINGS = 16
+# A dome's facets: fine enough that its windows and silhouette lie within a pixel's edge of the exact
+# hemisphere (the twin's) in a dome-filling view (tests/test_dome_grammar.py).
+DOME_SEGMENTS = 128
+DOME_RINGS = 32
 # Outlines with a vertex per less than 5 cm on average (surveyed or generated curves, fuzzed data)
 # are simplified within 1 cm: a third of a pixel for a 40 m building filling a 1280-pixel view.
 OUTLINE_STEP = 0.05
@@ -119,29 +123,33 @@ def _roof_triangles(outline: np.ndarray) -> np.ndarray:
 
 
 def _dome_triangles(mass: BuildingMass):
-    """A hemisphere of rings; facade u is the longitude's arc, v the latitude's, one face all round
-    whose storeys run up the arc."""
+    """A hemisphere of rings (_dome_faces.py): each storey a face round the dome, with facade u the
+    longitude on the storey's middle circle and v the arc length; the cap above the last ring with
+    windows is the roof. Mesh rows are DOME_RINGS steps of latitude, cut at every storey's edge so
+    that no triangle spans two faces."""
     radius = mass.extent[0] / 2
     centre = np.array([radius, 0.0, radius])
-    lat = np.linspace(0, np.pi / 2, DOME_RINGS + 1)
-    lon = np.linspace(0, 2 * np.pi, CURVE_SEGMENTS + 1)
-    i, j = np.meshgrid(np.arange(DOME_RINGS), np.arange(CURVE_SEGMENTS), indexing="ij")
+    rings = dome_faces(radius, mass.floor_height, mass.room_width)
+    steps = np.linspace(0, np.pi / 2, DOME_RINGS + 1)
+    edges = np.append(rings.lat[:, 0], np.pi / 2)  # every ring's base, and the pole
+    steps = steps[np.min(np.abs(steps[:, None] - edges[None, :]), axis=1) > 1e-6]  # no sliver rows
+    lat = np.sort(np.concatenate([steps, edges]))
+    lon = np.linspace(0, 2 * np.pi, DOME_SEGMENTS + 1)
+    i, j = np.meshgrid(np.arange(len(lat) - 1), np.arange(DOME_SEGMENTS), indexing="ij")
     # 6 vertices per quad: corners (i, j), (i, j + 1), (i + 1, j + 1) and (i, j), (i + 1, j + 1), (i + 1, j)
-    ring = np.stack([i, i, i + 1, i, i + 1, i + 1], axis=-1).reshape(-1)
+    row = np.stack([i, i, i + 1, i, i + 1, i + 1], axis=-1).reshape(-1)
     column = np.stack([j, j + 1, j + 1, j, j + 1, j], axis=-1).reshape(-1)
-    phi, theta = lat[ring], lon[column]
+    phi, theta = lat[row], lon[column]
     n = np.stack([np.cos(phi) * np.cos(theta), np.sin(phi), -np.cos(phi) * np.sin(theta)], axis=1)
-    circumference = 2 * np.pi * radius
-    arc = np.full(CURVE_SEGMENTS, circumference / CURVE_SEGMENTS)
-    faces = wall_faces(arc, np.diff(np.stack([np.cos(lon), -np.sin(lon)], axis=1), axis=0), mass.room_width)
-    top = np.pi / 2 * radius
-    storey, _ = storeys(0.0, top, mass.floor_height)
-    edge = np.minimum(column, CURVE_SEGMENTS - 1)
-    along = theta * radius - faces.along[edge]
-    walls = wall_rows(centre + radius * n, n, faces, edge, along, (0.0, top), storey)
+    positions = centre + radius * n
+    ring = np.repeat(rings.ring_of(0.5 * (lat[:-1] + lat[1:]) * radius)[i.ravel()], 6)
+    wall = np.repeat(0.5 * (lat[:-1] + lat[1:])[i.ravel()] < rings.cap, 6)
+    faces = WallFaces(np.zeros(len(rings.base)), rings.width, rings.bay, rings.bay, rings.columns)
+    along = theta * rings.circle[ring]
+    walls = wall_rows(positions, n, faces, ring, along, (rings.base[ring], rings.top[ring]), rings.storey)
     walls[2][:, 1] = phi * radius  # v runs up the arc
-    empty = np.zeros((0, 3))
-    return walls, roof_rows(empty, empty)
+    walls = tuple(part[wall] for part in walls)
+    return walls, roof_rows(positions[~wall], n[~wall])
 
 
 def mass_rows(mass: BuildingMass):

@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import shapely
 
+from ._materials import ROOF_PART_SURFACE
 from ._skeleton import ring_edges, skeleton_triangles
 
 
@@ -27,6 +28,8 @@ class Roof:
     colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the material's colour
     material: str | None = None
     parapet: float = 0.0  # flat roofs: metres the walls rise above the roof as a PARAPET_THICKNESS rim
+    seed: int = 0  # the building's: where its rooftop units go
+    attic_storey: float = 0.0  # metres: a storey of rooms in the roof (roof:levels), lit by dormers; 0: none
 
 
 FLAT_ROOF = Roof()
@@ -46,12 +49,14 @@ PARAPET_THICKNESS = 0.25  # metres
 @dataclass
 class Triangles:
     """Unindexed triangles (3 rows each) in object space: positions and unit normals; wall
-    triangles also know where they stand on their outline edge (metres from its start, its length)."""
+    triangles also know where they stand on their outline edge (metres from its start, its length),
+    roof triangles may say what part of the roof they are (ROOF_PART_*, None: all the surface)."""
 
     positions: np.ndarray  # (n, 3)
     normals: np.ndarray  # (n, 3)
     along: np.ndarray | None = None  # (n,)
     edge_length: np.ndarray | None = None  # (n,)
+    part: np.ndarray | None = None  # (n,)
 
     @staticmethod
     def empty() -> Triangles:
@@ -63,12 +68,18 @@ class Triangles:
         if not parts:
             return Triangles.empty()
         walls = all(p.along is not None for p in parts)
+        marked = any(p.part is not None for p in parts)
         return Triangles(
             np.concatenate([p.positions for p in parts]),
             np.concatenate([p.normals for p in parts]),
             np.concatenate([p.along for p in parts]) if walls else None,
             np.concatenate([p.edge_length for p in parts]) if walls else None,
+            np.concatenate([p.roof_parts() for p in parts]) if marked else None,
         )
+
+    def roof_parts(self) -> np.ndarray:
+        """Each row's ROOF_PART_* code."""
+        return self.part if self.part is not None else np.full(len(self.positions), ROOF_PART_SURFACE, np.int64)
 
 
 def polygon_triangles(polygon: shapely.Polygon) -> np.ndarray:
@@ -224,15 +235,32 @@ def _arc(v0: float, v1: float, h: float, segments: int = ROUND_SEGMENTS) -> list
     return list(zip((v0 + v1) / 2 + (v1 - v0) / 2 * np.cos(angles), h * np.sin(angles)))
 
 
+def ridge_frame(polygon: shapely.Polygon, direction: float):
+    """(across, along, (v0, v1), (u0, u1)) of a ridged roof looking toward `direction`: the unit
+    directions downhill from the ridge and along it, and the outline's extent along each."""
+    across = np.array([np.cos(direction), np.sin(direction)])  # downhill, main face
+    along = np.array([-across[1], across[0]])
+    points = np.asarray(polygon.exterior.coords)
+    return (
+        across,
+        along,
+        ((points @ across).min(), (points @ across).max()),
+        ((points @ along).min(), (points @ along).max()),
+    )
+
+
+def exact_profile(polygon: shapely.Polygon) -> bool:
+    """Whether a ridged roof over `polygon` takes the exact profiles (_ridged): an outline without
+    courtyards that fills RECTANGULAR of its bounding rectangle."""
+    x0, z0, x1, z1 = polygon.bounds
+    return not polygon.interiors and polygon.area >= RECTANGULAR * (x1 - x0) * (z1 - z0)
+
+
 def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
     """The shapes with a ridge (or a single slope) across `roof.direction`, from profiles over the
     outline's extent across the ridge (v) and along it (u, for the hipped ends)."""
     h = roof.height
-    across = np.array([np.cos(roof.direction), np.sin(roof.direction)])  # downhill, main face
-    along = np.array([-across[1], across[0]])
-    points = np.asarray(polygon.exterior.coords)
-    v0, v1 = (points @ across).min(), (points @ across).max()
-    u0, u1 = (points @ along).min(), (points @ along).max()
+    across, along, (v0, v1), (u0, u1) = ridge_frame(polygon, roof.direction)
     half = (v1 - v0) / 2
     mid = v0 + half
     ends: list = []
@@ -478,14 +506,19 @@ def _inward_faces(polygon: shapely.Polygon, low: float, high: float) -> Triangle
     return Triangles(positions, np.repeat(normal, 6, axis=0))
 
 
+def inside_parapet(polygon: shapely.Polygon) -> list[shapely.Polygon]:
+    """The pieces of a flat roof inside a parapet rim around `polygon` (none: too narrow for one)."""
+    inner = polygon.buffer(-PARAPET_THICKNESS, join_style="mitre")
+    return [p for p in shapely.get_parts(inner) if isinstance(p, shapely.Polygon) and not p.is_empty]
+
+
 def _parapet_roof(polygon: shapely.Polygon, top: float, parapet: float) -> Triangles:
     """A flat roof `parapet` metres below `top` inside a rim PARAPET_THICKNESS wide: the rim's top
     (its coping), its inner faces and the roof; just the flat roof where no roof is left inside."""
-    inner = polygon.buffer(-PARAPET_THICKNESS, join_style="mitre")
-    parts = [p for p in shapely.get_parts(inner) if isinstance(p, shapely.Polygon) and not p.is_empty]
+    parts = inside_parapet(polygon)
     if not parts:
         return flat(polygon, top)
-    rim = shapely.difference(polygon, inner)
+    rim = shapely.difference(polygon, shapely.MultiPolygon(parts))
     low = top - parapet
     return Triangles.join(
         [flat(rim, top), *(flat(p, low) for p in parts), *(_inward_faces(p, low, top) for p in parts)]
@@ -505,9 +538,7 @@ def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
         ), Triangles.empty()
     if roof.shape in POINTED_PROFILES:
         return _pointed(polygon, top, roof) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
-    x0, z0, x1, z1 = polygon.bounds
-    rectangular = not polygon.interiors and polygon.area >= RECTANGULAR * (x1 - x0) * (z1 - z0)
-    if polygon.interiors or (not rectangular and roof.shape in SKELETON_PROFILES):
+    if polygon.interiors or (not exact_profile(polygon) and roof.shape in SKELETON_PROFILES):
         shape = roof.shape if roof.shape in SKELETON_PROFILES else "hipped"
         mesh = _skeleton_roof(polygon, top, replace(roof, shape=shape))
         if mesh is not None:

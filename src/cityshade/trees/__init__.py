@@ -25,7 +25,7 @@ from ._generator import (
     generate_tree,
     skeleton,
 )
-from ._lod import lod_alphas
+from ._lod import lod_alphas, vanish_alphas
 from ._placement import SPECIES_ORDER, TREE_DTYPE, city_trees, park_trees, street_trees, tree_instances
 from ._scene import SCENE_TIME, park_scene
 from ._species import FIR, OAK, POPLAR, SPECIES, Species
@@ -54,6 +54,7 @@ __all__ = [
     "generate_tree",
     "skeleton",
     "lod_alphas",
+    "vanish_alphas",
     "SPECIES_ORDER",
     "TREE_DTYPE",
     "city_trees",

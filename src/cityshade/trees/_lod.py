@@ -19,3 +19,10 @@ def lod_alphas(distance, start: float, end: float):
     near = np.clip((1.0 - t) / (0.5 + OVERLAP / 2), 0.0, 1.0)
     far = np.clip(t / (0.5 + OVERLAP / 2), 0.0, 1.0)
     return near, far
+
+
+def vanish_alphas(rows_spanned, start: float, end: float):
+    """A tree's alpha multiplier from the rows of the image its height spans: 1 down to `start`
+    rows, fading to 0 at `end` rows, so a tree shrinking below a pixel or two fades out (over as
+    many frames as a walk takes to cross the band) instead of costing its whole mesh for nothing."""
+    return np.clip((np.asarray(rows_spanned, float) - end) / (start - end), 0.0, 1.0)

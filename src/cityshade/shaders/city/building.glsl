@@ -99,7 +99,7 @@ void main() {
 #if defined POLYGONISED_WINDOWS
         discard;
 #endif
-        color = roof_color(b, v_local, n, n_world, rot * d, shadow_factor(v_world));
+        color = roof_color(b, v_ids.z, v_local, n, n_world, rot * d, shadow_factor(v_world));
     } else {
         // each facade technique fills one FacadeResult; facade_light lights them all
         FacadeResult f;

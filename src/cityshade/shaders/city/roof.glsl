@@ -1,5 +1,6 @@
-// Roof materials of map buildings: the id in Building.roof.w and the colour in its rgb
-// (cityshade/scene/_materials.py, whose roof_pattern is the numpy twin of roof_pattern here).
+// Roof materials of map buildings: the id in Building.roof.w and the colour in its rgb, or sheet
+// metal for rooftop units and dormer cheeks (the part in the vertex's ids.z)
+// (cityshade/scene/_materials.py, whose roof_pattern and roof_part_material are the numpy twins here).
 // Courses of tiles and slates run across the slope, metal seams down it, gravel is pebbles in
 // patches; metal, copper and glass reflect the sky.
 #ifndef CITY_ROOF_GLSL
@@ -56,13 +57,20 @@ vec4 roof_pattern(int material, vec3 local, vec3 n) {
     return vec4(1.0, 1.0, 1.0, 0.0);
 }
 
-// the lit roof colour seen along `view` (world, unit, toward the surface)
-vec3 roof_color(Building b, vec3 local, vec3 n, vec3 n_world, vec3 view, float shadow) {
-    vec4 pattern = roof_pattern(int(b.roof.w), local, n);
-    vec3 color = lit_surface(b.roof.rgb * pattern.rgb, n_world, shadow);
+// (linear albedo, pattern id) of a part of a roof whose record is `roof` (rgb, pattern id): its own
+// surface, or the sheet metal of rooftop units and dormer cheeks (roof_part_material in _materials.py)
+vec4 roof_part_material(int part, vec4 roof) {
+    return part == ROOF_PART_SHEET ? vec4(ROOF_SHEET_ALBEDO, float(ROOF_METAL)) : roof;
+}
+
+// the lit colour of a roof part seen along `view` (world, unit, toward the surface)
+vec3 roof_color(Building b, int part, vec3 local, vec3 n, vec3 n_world, vec3 view, float shadow) {
+    vec4 material = roof_part_material(part, b.roof);
+    vec4 pattern = roof_pattern(int(material.w), local, n);
+    vec3 color = lit_surface(material.rgb * pattern.rgb, n_world, shadow);
     if (pattern.a > 0.0) {
         float reflectance = fresnel(max(-dot(view, n_world), 0.0), pattern.a);
-        color = mix(color, environment(reflect(view, n_world)) * mix(vec3(1.0), b.roof.rgb * 2.0, 0.5), reflectance);
+        color = mix(color, environment(reflect(view, n_world)) * mix(vec3(1.0), material.rgb * 2.0, 0.5), reflectance);
     }
     return color;
 }

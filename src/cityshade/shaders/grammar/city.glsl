@@ -5,6 +5,9 @@
 
 #if defined FRAGMENT_SHADER
 #include "grammar/building.glsl"
+#if defined GRAMMAR_CACHE
+#include "grammar/cache.glsl"
+#endif
 
 in vec3 v_normal;
 in vec2 v_facade;
@@ -15,12 +18,16 @@ flat in ivec4 v_ids;
 layout(location = 0) out vec4 out_scope;   // uv, scope size (metres)
 layout(location = 1) out vec4 out_rule;    // seed vector, start rule, building index + 1 (0: a roof)
 layout(location = 2) out vec4 out_normal;  // world normal, the face's storeys (building.levels)
+#if defined GRAMMAR_CACHE
+layout(location = 3) out uvec4 out_page;   // the cache page the pixel needs (grammar/cache.glsl), 0: none
+#endif
 
 void main() {
     Building b = buildings[v_ids.x];
     vec3 n = building_rotation(b) * normalize(v_normal);  // world; buildings turn about +y only
     vec2 uv = vec2(0.0), size = vec2(1.0), seed = vec2(0.0);
     float facade = 0.0, levels = 0.0;
+    vec2 facade_dx = dFdx(v_facade), facade_dy = dFdy(v_facade);  // before branching
     if (v_ids.y == SURFACE_WALL && has_grammar_facade(b)) {  // not roofs, nor plain walls
         grammar_scope(b, v_ids.z, v_facade, v_face, uv, size, seed);
         levels = grammar_levels(v_face, v_spacing.y);
@@ -29,5 +36,8 @@ void main() {
     out_scope = vec4(uv, size);
     out_rule = vec4(seed, float(b.facade.y), facade * float(v_ids.x + 1));  // exact in 32-bit floats
     out_normal = vec4(n, levels);
+#if defined GRAMMAR_CACHE
+    out_page = facade > 0.0 ? grammar_cache_page(v_ids.x, v_ids.z, levels, uv, size, facade_dx, facade_dy) : uvec4(0u);
+#endif
 }
 #endif

@@ -7,6 +7,11 @@
 #if defined FRAGMENT_SHADER
 #include "grammar/building.glsl"
 #include "shadow/csm.glsl"
+#if defined GRAMMAR_CACHE
+#define GRAMMAR_CACHE_READ
+#include "grammar/cache.glsl"
+uniform usampler2D u_page;  // the G-buffer's page per pixel
+#endif
 #if defined BUILDING_LOD
 #include "city/lod.glsl"
 #endif
@@ -42,10 +47,24 @@ void main() {
     // texture footprints from the neighbouring pixels' facade coordinates
     vec2 duv_dx = texelFetch(u_scope, pixel + ivec2(1, 0), 0).xy - scope.xy;
     vec2 duv_dy = texelFetch(u_scope, pixel + ivec2(0, 1), 0).xy - scope.xy;
-    grammar_set_building(buildings[int(rule.w) - 1], normal_levels.w);  // its attributes and seed
-    GrammarResult g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
+    GrammarResult g;
+    vec2 centre;  // the centre of the window the pixel belongs to (grammar_window)
+    bool cached = false;
+#if defined GRAMMAR_CACHE
+    uvec4 page = texelFetch(u_page, pixel, 0);
+    // a pixel whose neighbours lie on another face (or the sky) has a far larger footprint here than
+    // its page's level: evaluated per pixel, with the filtering it always had
+    float footprint = max(length(duv_dx), length(duv_dy));
+    cached = page.x != 0u && footprint < 4.0 * grammar_cache_filter(page)
+             && grammar_cache_read(page, scope.xy, g, centre);
+#endif
+    if (!cached) {  // not cached: evaluated here, as without the cache
+        grammar_set_building(buildings[int(rule.w) - 1], normal_levels.w);  // its attributes and seed
+        g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
+        centre = g.scope.xy + 0.5 * g.scope.zw;
+    }
     vec3 point = world.xyz / world.w;
     out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);
-    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(g.scope.xy + 0.5 * g.scope.zw));
+    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(centre));
 }
 #endif

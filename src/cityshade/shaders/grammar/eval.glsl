@@ -35,6 +35,7 @@ struct GrammarResult {
     int label;
     bool glass;
     vec4 scope;     // the winning Mat's scope: its lower left in facade uv (layers' translations undone), its size
+    bool view_dependent;  // an Intrusion was entered: the result depends on the view ray
 };
 
 // ---- evaluation state (private to the invocation) -------------------------------------------
@@ -60,6 +61,7 @@ vec3 f_d[GRAMMAR_MAX_LAYERS];
 vec4 f_params[GRAMMAR_MAX_LAYERS];
 vec3 f_tint[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
 bool g_active;
+bool g_view_dependent;
 vec3 g_C, g_N;
 float g_A, g_AN, g_AS, g_best_w;
 float g_AE;  // colour alpha composited from exact (nearest-texel) alphas: it picks the terminal
@@ -360,6 +362,7 @@ void grammar_rand(vec4 head) {
 }
 
 void grammar_intrusion(vec4 head) {
+    g_view_dependent = true;
     float depth = head.y;
     vec2 local = g_t - g_lb;
     vec3 d = g_d;
@@ -459,6 +462,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_sp = 1;
     g_depth = 0;
     g_active = true;
+    g_view_dependent = false;
     g_C = vec3(0.0); g_N = vec3(0.0); g_S = vec2(0.0);
     g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0; g_AE = 0.0;
     g_tint = vec3(1.0);
@@ -536,6 +540,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     result.terminal = g_best_addr;
     result.tile = g_best_tile;
     result.scope = g_best_scope;
+    result.view_dependent = g_view_dependent;
     bool has_tile = g_best_tile >= 0;
     result.glass = has_tile && texelFetch(u_grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
     // A constant colour is a wall unless written Color(r, g, b, label): then head.w is 1 + label.

@@ -1,0 +1,358 @@
+"""A city's buildings cut into square tiles on disk, for streaming (docs/scale.md, "Streaming").
+
+A cache folder holds `manifest.json` (format, cityshade version, vertex and record layouts, the
+source file's name, size and SHA-256, and per tile its file, bounds, counts, bytes and SHA-256),
+`city.pickle` (the City without the tiles' vertices: masses, ground, trees, lamps, viewpoints; the
+building records with their facades assigned; the cull pass's boxes in the whole city's order, each
+box's first vertex counted within its tile) and `tiles/NNNNN.npy` (each tile's vertices, its
+buildings one after another in box order). A tile is the buildings whose masses stand in one square
+of `tile_size` metres; the city is meshed tile by tile, so cutting it never holds more than one
+tile's vertices.
+
+Anything that does not match (another format, cityshade version, vertex layout or source file; a
+missing, truncated or altered file) raises CacheProblem with one line saying what; the caller
+rebuilds the cache from the source or reports the line.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import pickle
+import time
+import warnings
+from collections import Counter
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._files import atomic_folder, check_replaceable_folder
+from ..errors import CityshadeError
+from ..scene import BUILDING_DTYPE, VERTEX_DTYPE, City
+from ._building_lod import SAMPLE_FACE_DTYPE
+from ._city_gpu import CityBuildings
+from ._culling import building_cells
+from ._facades import NARROW_FACES, GrammarFitWarning
+from ._visibility import BOX_DTYPE
+
+FORMAT = 1
+TILE_SIZE = 256.0  # metres: about a district of a dozen blocks
+MANIFEST = "manifest.json"
+CITY_FILE = "city.pickle"
+TILE_FOLDER = "tiles"
+HASH_BLOCK = 1 << 20
+
+
+class CacheProblem(CityshadeError):
+    """A tile cache that cannot be used as it is; the message names the folder and the reason."""
+
+    def __init__(self, folder: Path, reason: str):
+        super().__init__(f"tile cache {folder}: {reason}", exit_code=2)
+        self.reason = reason
+
+
+@dataclass(frozen=True)
+class Tile:
+    file: str
+    bounds: tuple[float, float, float, float]  # x0, z0, x1, z1 of its buildings' boxes (metres)
+    buildings: int
+    vertices: int
+    bytes: int  # the file's size
+    sha256: str
+
+    @property
+    def resident_bytes(self) -> int:
+        """What the tile holds once loaded: its vertices (on the GPU, or on the CPU on the way there)."""
+        return self.vertices * VERTEX_DTYPE.itemsize
+
+    def distance(self, x: float, z: float) -> float:
+        """Metres from (x, z) to the tile's bounds on the ground (0 inside)."""
+        x0, z0, x1, z1 = self.bounds
+        return float(np.hypot(max(x0 - x, 0.0, x - x1), max(z0 - z, 0.0, z - z1)))
+
+
+@dataclass
+class TileCache:
+    """An opened (checked) cache: the city without its building vertices, and the tiles' list."""
+
+    folder: Path
+    tiles: list[Tile]
+    city: City
+    records: np.ndarray  # BUILDING_DTYPE, facades assigned
+    boxes: np.ndarray  # render/_visibility.py's BOX_DTYPE, whole-city order; draw[:, 1] within the tile
+    box_tile: np.ndarray  # the tile of each box
+    facades: dict
+    lod_faces: np.ndarray  # SAMPLE_FACE_DTYPE, by building
+    source: dict
+
+    @property
+    def total_bytes(self) -> int:
+        return sum(t.resident_bytes for t in self.tiles)
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def source_identity(path: Path) -> dict:
+    """The source file's name, size and SHA-256 (read in blocks)."""
+    digest, size = hashlib.sha256(), 0
+    with open(path, "rb") as handle:
+        while block := handle.read(HASH_BLOCK):
+            digest.update(block)
+            size += len(block)
+    return {"name": Path(path).name, "bytes": size, "sha256": digest.hexdigest()}
+
+
+def _layouts() -> dict:
+    """What must match for a cache to be read: its format, cityshade's version and the layouts."""
+    from .. import __version__  # set after the package's imports, this module among them
+
+    return {
+        "format": FORMAT,
+        "cityshade": __version__,
+        "vertex": str(VERTEX_DTYPE.descr),
+        "record": str(BUILDING_DTYPE.descr),
+    }
+
+
+def _groups(masses: list, tile_size: float) -> list[np.ndarray]:
+    """Building indices per tile (square cells of where each mass stands), cells in (x, z) order."""
+    position = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
+    cell = np.unique(np.floor(position / tile_size).astype(np.int64), axis=0, return_inverse=True)[1].ravel()
+    order = np.argsort(cell, kind="stable")
+    return np.split(order, np.cumsum(np.bincount(cell))[:-1])
+
+
+def _mesh_tile(masses: list, index: np.ndarray):
+    """Meshes masses[index]: (vertices, boxes, chunk cell per box, CityBuildings with local indices).
+    Boxes are in the whole city's order (chunk cell, then building), their first vertex counted
+    within the tile; vertices and boxes carry the buildings' indices in the whole city."""
+    meshed = CityBuildings.of([masses[i] for i in index])
+    boxes = meshed.boxes()
+    local = boxes["draw"][:, 2].astype(np.int64)
+    cells = building_cells(meshed.vertices)[local]
+    order = np.lexsort((index[local], cells[:, 1], cells[:, 0]))
+    boxes, cells, local = boxes[order], cells[order], local[order]
+    count, first = boxes["draw"][:, 0].astype(np.int64), boxes["draw"][:, 1].astype(np.int64)
+    before = np.cumsum(count) - count
+    vertices = meshed.vertices[np.repeat(first - before, count) + np.arange(count.sum())]
+    vertices["ids"][:, 0] = index[vertices["ids"][:, 0]]
+    boxes["draw"][:, 1], boxes["draw"][:, 2] = before, index[local]
+    return vertices, boxes, cells, meshed
+
+
+def _is_cache(folder: Path) -> bool:
+    return (folder / MANIFEST).is_file()
+
+
+def check_cache_folder(folder: Path):
+    """Fails with one line before any work if `folder` cannot take a cache (it holds something else)."""
+    check_replaceable_folder(folder, _is_cache)
+
+
+def _tile_file(folder: Path, name: str, vertices: np.ndarray) -> tuple[int, str]:
+    stream = io.BytesIO()
+    np.save(stream, vertices, allow_pickle=False)
+    data = stream.getvalue()
+    (folder / name).write_bytes(data)
+    return len(data), _sha256(data)
+
+
+def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size: float = TILE_SIZE) -> dict:
+    """Meshes the city tile by tile (so at most one tile's vertices are in memory) and writes the
+    cache folder whole (or leaves the old one); returns {"tiles", "buildings", "bytes", "seconds"}."""
+    start = time.perf_counter()
+    masses = city.masses
+    records = np.zeros(len(masses), BUILDING_DTYPE)
+    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), [], [], [], [], []
+    with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
+        warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
+        (tmp / TILE_FOLDER).mkdir()
+        for index in _groups(masses, tile_size) if masses else []:
+            vertices, tile_boxes, tile_cells, meshed = _mesh_tile(masses, index)
+            records[index] = meshed.records
+            facades.update(meshed.facades)
+            faces = meshed.lod_faces.copy()
+            faces["building"] = index[faces["building"]]  # the tile's building -> the city's
+            lod_faces.append(faces)
+            if not len(tile_boxes):
+                continue
+            name = f"{TILE_FOLDER}/{len(tiles):05d}.npy"
+            size, digest = _tile_file(tmp, name, vertices)
+            lo, hi = tile_boxes["lo"].min(axis=0), tile_boxes["hi"].max(axis=0)
+            bounds = (float(lo[0]), float(lo[2]), float(hi[0]), float(hi[2]))
+            box_tile.append(np.full(len(tile_boxes), len(tiles)))
+            tiles.append(Tile(name, bounds, len(tile_boxes), len(vertices), size, digest))
+            boxes.append(tile_boxes)
+            cells.append(tile_cells)
+        boxes = np.concatenate(boxes) if boxes else np.zeros(0, BOX_DTYPE)
+        cells = np.concatenate(cells) if cells else np.zeros((0, 2), np.int64)
+        order = np.lexsort((boxes["draw"][:, 2], cells[:, 1], cells[:, 0]))  # as CityGPU orders them
+        rest = {
+            "city": city,
+            "records": records,
+            "boxes": boxes[order],
+            "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),
+            "facades": dict(facades),
+            "lod_faces": _by_building(lod_faces),
+        }
+        data = pickle.dumps(rest, protocol=pickle.HIGHEST_PROTOCOL)
+        (tmp / CITY_FILE).write_bytes(data)
+        manifest = {
+            **_layouts(),
+            "source": source,
+            "tile_size": tile_size,
+            "buildings": len(masses),
+            "city": {"file": CITY_FILE, "bytes": len(data), "sha256": _sha256(data)},
+            "tiles": [{**asdict(t), "resident_bytes": t.resident_bytes} for t in tiles],
+        }
+        text = json.dumps(manifest, indent=1)
+        (tmp / MANIFEST).write_text(text)
+    if facades.get(NARROW_FACES):
+        warnings.warn(
+            f"{facades[NARROW_FACES]} wall faces are narrower than their building's grammar fits: drawn as plain walls",
+            GrammarFitWarning,
+            stacklevel=2,
+        )
+    written = sum(t.bytes for t in tiles) + len(data) + len(text)
+    return {"tiles": len(tiles), "buildings": len(masses), "bytes": written, "seconds": time.perf_counter() - start}
+
+
+def _read_checked(folder: Path, name: str, size: int, sha256: str) -> bytes:
+    path = folder / name
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise CacheProblem(folder, f"cannot read {name} ({exc.strerror or exc})") from None
+    if len(data) != size:
+        raise CacheProblem(folder, f"{name} is damaged ({len(data)} bytes, the manifest says {size})")
+    if _sha256(data) != sha256:
+        raise CacheProblem(folder, f"{name} is damaged (its SHA-256 is not the manifest's)")
+    return data
+
+
+def _manifest(folder: Path) -> dict:
+    path = folder / MANIFEST
+    if not folder.is_dir():
+        raise CacheProblem(folder, "no such folder")
+    try:
+        manifest = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise CacheProblem(folder, f"no {MANIFEST}") from None
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise CacheProblem(folder, f"{MANIFEST} is damaged ({type(exc).__name__})") from None
+    if not isinstance(manifest, dict):
+        raise CacheProblem(folder, f"{MANIFEST} is damaged (not an object)")
+    return manifest
+
+
+def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
+    """The checked cache in `folder`; with `source` (source_identity), made from that file."""
+    folder = Path(folder)
+    manifest = _manifest(folder)
+    for key, wanted in _layouts().items():
+        if manifest.get(key) != wanted:
+            raise CacheProblem(folder, f"made with {key} {manifest.get(key)!r}, this cityshade needs {wanted!r}")
+    if source is not None and manifest.get("source") != source:
+        made = manifest.get("source") or {}
+        raise CacheProblem(folder, f"made from another file ({made.get('name')!r}, {made.get('bytes')} bytes)")
+    try:
+        tiles = [
+            Tile(
+                str(t["file"]),
+                tuple(float(v) for v in t["bounds"]),
+                int(t["buildings"]),
+                int(t["vertices"]),
+                int(t["bytes"]),
+                str(t["sha256"]),
+            )
+            for t in manifest["tiles"]
+        ]
+        city_entry = manifest["city"]
+        data = _read_checked(folder, str(city_entry["file"]), int(city_entry["bytes"]), str(city_entry["sha256"]))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CacheProblem(folder, f"{MANIFEST} is damaged (bad or missing {exc})") from None
+    for tile in tiles:
+        size = (folder / tile.file).stat().st_size if (folder / tile.file).is_file() else None
+        if size != tile.bytes:
+            raise CacheProblem(
+                folder, f"{tile.file} is missing or damaged ({size} bytes, the manifest says {tile.bytes})"
+            )
+    try:
+        rest = _CityUnpickler(io.BytesIO(data)).load()  # checked against the manifest's SHA-256 first
+    except _ForeignObject as exc:
+        raise CacheProblem(
+            folder, f"{CITY_FILE} {exc}; a tile cache never holds that: rebuild it with cityshade tile"
+        ) from None
+    except Exception as exc:  # noqa: BLE001 - any unpickling failure means a damaged file
+        raise CacheProblem(folder, f"{CITY_FILE} cannot be read ({type(exc).__name__})") from None
+    return TileCache(
+        folder,
+        tiles,
+        rest["city"],
+        rest["records"],
+        rest["boxes"],
+        rest["box_tile"],
+        rest["facades"],
+        rest["lod_faces"],
+        manifest.get("source"),
+    )
+
+
+def _by_building(faces: list[np.ndarray]) -> np.ndarray:
+    """The tiles' sample faces as one array in building order, as grammar_sample_faces makes it."""
+    if not faces:
+        return np.zeros(0, SAMPLE_FACE_DTYPE)
+    faces = np.concatenate(faces)
+    return faces[np.argsort(faces["building"], kind="stable")]
+
+
+class _ForeignObject(pickle.UnpicklingError):
+    pass
+
+
+# what the pickled City is made of besides cityshade's own classes: numpy arrays and builtins
+_NUMPY_GLOBALS = {
+    ("numpy", "ndarray"),
+    ("numpy", "dtype"),
+    ("numpy.core.multiarray", "_reconstruct"),
+    ("numpy._core.multiarray", "_reconstruct"),
+    ("numpy.core.multiarray", "scalar"),
+    ("numpy._core.multiarray", "scalar"),
+    ("numpy.core.numeric", "_frombuffer"),
+    ("numpy._core.numeric", "_frombuffer"),
+    ("builtins", "set"),
+    ("builtins", "frozenset"),
+    ("collections", "Counter"),
+    ("collections", "OrderedDict"),
+}
+
+
+class _CityUnpickler(pickle.Unpickler):
+    """Unpickles only cityshade's own classes, numpy arrays and plain containers: a cache folder
+    can come from elsewhere, and a pickle naming any other function (os.system, ...) could run it."""
+
+    def find_class(self, module: str, name: str):
+        if (module, name) in _NUMPY_GLOBALS:
+            return super().find_class(module, name)
+        if module == "cityshade" or module.startswith("cityshade."):
+            found = super().find_class(module, name)
+            if isinstance(found, type):  # a class, never a function
+                return found
+        raise _ForeignObject(f"refers to {module}.{name}")
+
+
+def read_tile(cache: TileCache, index: int) -> np.ndarray:
+    """Tile `index`'s vertices, checked against the manifest (size, SHA-256, layout)."""
+    tile = cache.tiles[index]
+    data = _read_checked(cache.folder, tile.file, tile.bytes, tile.sha256)
+    try:
+        vertices = np.load(io.BytesIO(data), allow_pickle=False)
+    except ValueError as exc:
+        raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({exc})") from None
+    if vertices.dtype != VERTEX_DTYPE or vertices.shape != (tile.vertices,):
+        raise CacheProblem(cache.folder, f"{tile.file} holds {vertices.shape} {vertices.dtype}, not its tile")
+    return vertices

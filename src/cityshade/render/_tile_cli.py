@@ -1,0 +1,144 @@
+"""`cityshade tile FILE --out DIR`, and the options that stream a city in `render` and `view`
+(--tiles DIR, --memory-budget SIZE): docs/scale.md, "Streaming"."""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from ..arguments import parse_memory_size
+from ..errors import UsageError
+from ._streaming import format_bytes
+from ._tile_cache import (
+    TILE_SIZE,
+    CacheProblem,
+    check_cache_folder,
+    TileCache,
+    open_tiles,
+    source_identity,
+    write_tiles,
+)
+
+
+def _map_city(path: Path):
+    from ..maps import load_map, map_city
+
+    return map_city(load_map(path))
+
+
+def _identity(path: Path) -> dict:
+    """The source's identity; a file that cannot be read fails as the map reader says."""
+    try:
+        return source_identity(path)
+    except OSError:
+        _map_city(path)  # raises load_map's one-line error
+        raise
+
+
+def _tile_size(text: str) -> float:
+    try:
+        size = float(text)
+    except ValueError:
+        size = math.nan
+    if not 1.0 <= size <= 100_000.0:
+        raise UsageError(f"invalid --tile-size {text!r}; give metres from 1 to 100000")
+    return size
+
+
+def register(subparsers):
+    parser = subparsers.add_parser(
+        "tile", help="cut a map's buildings into a tile cache for streaming (render/view --tiles DIR)"
+    )
+    parser.add_argument(
+        "file", type=Path, metavar="FILE", help="a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON"
+    )
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="the cache folder (replaced whole)")
+    parser.add_argument(
+        "--tile-size",
+        type=_tile_size,
+        default=TILE_SIZE,
+        metavar="METRES",
+        help=f"side of the square tiles (default {TILE_SIZE:g})",
+    )
+    parser.set_defaults(run=run)
+
+
+def run(args) -> int:
+    start = time.perf_counter()
+    check_cache_folder(args.out)  # before the map is read
+    source = _identity(args.file)
+    summary = write_tiles(_map_city(args.file), args.out, source, args.tile_size)
+    print(
+        f"wrote {args.out}: {summary['tiles']} tiles, {summary['buildings']} buildings, "
+        f"{format_bytes(summary['bytes'])} in {time.perf_counter() - start:.1f} s"
+    )
+    return 0
+
+
+def add_streaming_arguments(parser):
+    parser.add_argument(
+        "--tiles",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="the city from a tile cache (`cityshade tile`); with --map, the cache of that map, "
+        "made or remade from it when missing, stale or damaged",
+    )
+    parser.add_argument(
+        "--memory-budget",
+        default=None,
+        metavar="SIZE",
+        help="stream the buildings in tiles around the camera, at most SIZE of them resident "
+        "(e.g. 512MB, 1GB); a still waits for the tiles its view needs, the viewer never waits",
+    )
+
+
+def _notice(text: str):
+    print(f"cityshade: {text}", file=sys.stderr)
+
+
+@contextlib.contextmanager
+def streamed_tiles(args, city=None):
+    """The TileCache that args.tiles / args.memory_budget ask for, with the budget in bytes (None:
+    every tile); (None, None) when neither is given. `city`: the built-in City to stream (no --map,
+    no --tiles). A cache made for this run only lives in a temporary folder until the block ends."""
+    if args.tiles is None and args.memory_budget is None:
+        yield None, None
+        return
+    budget = None if args.memory_budget is None else parse_memory_size(args.memory_budget)
+    with contextlib.ExitStack() as stack:
+        start = time.perf_counter()
+        if args.map is None and args.tiles is not None:
+            try:
+                cache = open_tiles(args.tiles)
+            except CacheProblem as problem:
+                raise UsageError(f"{problem}; make it again with `cityshade tile SOURCE --out {args.tiles}`") from None
+            how = "read"
+        else:
+            source = _identity(args.map) if args.map is not None else None
+            folder = args.tiles
+            if folder is None:
+                folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="cityshade-tiles-"))) / "tiles"
+            cache, how = _open_or_make(folder, args.map, source, city)
+        print(f"tile cache {how} in {time.perf_counter() - start:.1f} s: {_describe(cache, budget)}")
+        yield cache, budget
+
+
+def _open_or_make(folder: Path, path: Path | None, source: dict | None, city) -> tuple[TileCache, str]:
+    check_cache_folder(folder)  # a folder of something else is refused, not replaced
+    if folder.exists() and path is not None:
+        try:
+            return open_tiles(folder, source), "read"
+        except CacheProblem as problem:
+            _notice(f"{problem}; making it again from {path}")
+    write_tiles(_map_city(path) if path is not None else city, folder, source)
+    return open_tiles(folder, source), "made"
+
+
+def _describe(cache: TileCache, budget: int | None) -> str:
+    held = "all resident" if budget is None or budget >= cache.total_bytes else f"budget {format_bytes(budget)}"
+    return f"{len(cache.tiles)} tiles, {format_bytes(cache.total_bytes)} of buildings, {held}"

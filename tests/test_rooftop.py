@@ -1,0 +1,166 @@
+"""What stands on roofs: rooftop units on the flat roofs of blocks and dormers on gabled and hipped
+roofs with rooms in them, on the hand-made extract tests/data/maps/roofs_dormers.osm, checked in
+numbers (where they stand, how many, closed solids facing out) and in the id pass."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from cityshade.maps import load_map, map_city
+from cityshade.scene import building_vertices
+from cityshade.scene._dormers import DORMER_SPACING, DORMER_WIDTH, END_MARGIN
+from cityshade.scene._materials import ROOF_PART_SHEET
+from cityshade.scene._meshes import SURFACE_ROOF, SURFACE_WALL
+from cityshade.scene._roof_units import CLEARANCE, HOUSING_ROOF, rooftop_units, unit_count
+from cityshade.scene._roofs import PARAPET_THICKNESS
+
+EXTRACT = Path(__file__).parent / "data" / "maps" / "roofs_dormers.osm"
+GABLED, HIPPED, NO_ROOMS, HOUSE, OFFICE, SHOP = range(6)
+
+
+@pytest.fixture(scope="module")
+def masses():
+    return map_city(load_map(EXTRACT)).masses
+
+
+def _tris(v):
+    return v["local"].astype(np.float64).reshape(-1, 3, 3)
+
+
+def _area_vectors(tris):
+    return np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]) / 2
+
+
+def _boxes(v):
+    """(low, high) corners of the closed boxes among sheet-metal vertices, 36 rows each."""
+    corners = v["local"].astype(np.float64).reshape(-1, 36, 3)
+    return corners.min(axis=1), corners.max(axis=1)
+
+
+def test_units_stand_inside_the_parapet_clear_of_each_other(masses):
+    mass = masses[OFFICE]
+    v = building_vertices(mass, 0)
+    sheet = v[(v["ids"][:, 1] == SURFACE_ROOF) & (v["ids"][:, 2] == ROOF_PART_SHEET)]
+    low, high = _boxes(sheet)
+    roof = shapely.Polygon(mass.footprint).buffer(-PARAPET_THICKNESS, join_style="mitre")
+    assert len(low) == 1 + unit_count(roof.area) and roof.area >= HOUSING_ROOF  # a housing and every unit placed
+    assert np.allclose(low[:, 1], mass.wall_top - mass.roof.parapet)  # on the roof, inside the parapet
+    footprints = shapely.box(low[:, 0], low[:, 2], high[:, 0], high[:, 2])
+    assert shapely.contains(roof.buffer(-CLEARANCE + 1e-6, join_style="mitre"), footprints).all()
+    apart = np.array([[a.distance(b) for b in footprints] for a in footprints])
+    assert apart[~np.eye(len(footprints), dtype=bool)].min() >= CLEARANCE - 1e-9
+    tallest = high[:, 1] - low[:, 1]
+    assert tallest.max() >= 2.6 and tallest.min() >= 0.6  # a walk-in housing, knee-high units at least
+    tris = _tris(sheet)
+    assert np.allclose(_area_vectors(tris).reshape(-1, 12, 3).sum(axis=1), 0.0)  # each box closed
+    agree = np.einsum("ij,ij->i", _area_vectors(tris), sheet["normal"][::3].astype(np.float64))
+    assert np.all(agree > 0)  # wound to face out
+
+
+def test_units_follow_the_seed_and_only_blocks_have_them(masses):
+    roof = shapely.box(0, 0, 30, 20)
+    same = [rooftop_units(roof, 10.0, 5).positions for _ in range(2)]
+    assert np.array_equal(*same)
+    assert not np.array_equal(same[0], rooftop_units(roof, 10.0, 6).positions)
+    for index in (SHOP, NO_ROOMS):  # no parapet (a low building, a pitched roof), no dormers
+        v = building_vertices(masses[index], 0)
+        assert not np.any((v["ids"][:, 1] == SURFACE_ROOF) & (v["ids"][:, 2] == ROOF_PART_SHEET))
+    assert len(rooftop_units(shapely.box(0, 0, 1.5, 1.5), 0.0, 1).positions) == 0  # no room for a unit
+
+
+def _dormer_fronts(mass):
+    """Wall triangles above the walls' top that are not gables on the outline: the dormers' fronts."""
+    v = building_vertices(mass, 0)
+    walls = v[v["ids"][:, 1] == SURFACE_WALL].reshape(-1, 3)
+    above = (walls["local"][:, :, 1] > mass.wall_top + 1e-4).any(axis=1)
+    outline = shapely.Polygon(mass.footprint).boundary
+    off_outline = shapely.distance(outline, shapely.points(walls["local"][:, :, [0, 2]].mean(axis=1))) > 1e-3
+    return walls[above & off_outline]
+
+
+@pytest.mark.parametrize(
+    "index,length,depth,hipped", [(GABLED, 24.0, 11.0, False), (HIPPED, 26.0, 12.0, True), (HOUSE, 10.0, 8.0, False)]
+)
+def test_dormers_run_along_both_eaves_counted_from_the_length(masses, index, length, depth, hipped):
+    mass = masses[index]
+    fronts = _dormer_fronts(mass)
+    normals = fronts["normal"][:, 0].astype(np.float64)
+    assert np.allclose(normals[:, 1], 0.0) and np.allclose(np.abs(normals[:, 2]), 1.0)  # facing across the ridge
+    centres = fronts["local"].astype(np.float64).mean(axis=1)
+    assert np.all(np.sign(normals[:, 2]) == np.sign(centres[:, 2] - depth / 2))  # out of their slope, downhill
+    assert fronts["local"][:, :, 1].max() < mass.height - 0.5  # under the ridge
+    per_side = [  # fronts DORMER_WIDTH wide, DORMER_SPACING apart: gaps wider than a front between them
+        1 + int((np.diff(np.sort(centres[np.sign(normals[:, 2]) == side, 0])) > DORMER_WIDTH).sum()) for side in (-1, 1)
+    ]
+    gabled_count = int((length - 2 * END_MARGIN) // DORMER_SPACING)
+    assert per_side[0] == per_side[1] >= 1
+    xs = fronts["local"][:, :, 0]
+    if hipped:  # fewer, kept in from the hips by more than the dormers reach up the slope
+        assert per_side[0] < gabled_count and xs.min() > 2.0 and xs.max() < length - 2.0
+    else:
+        assert per_side[0] == gabled_count and xs.min() >= END_MARGIN - 1e-4 and xs.max() <= length - END_MARGIN + 1e-4
+    assert np.isclose(np.ptp(xs, axis=1).max(), DORMER_WIDTH)
+
+
+def test_dormered_roofs_stay_closed_and_no_rooms_no_dormers(masses):
+    for index in (GABLED, HIPPED, HOUSE):
+        mass = masses[index]
+        tris = _tris(building_vertices(mass, 0))
+        area = shapely.Polygon(mass.footprint).area
+        assert np.allclose(_area_vectors(tris).sum(axis=0), [0.0, area, 0.0], atol=1e-3)
+    assert len(_dormer_fronts(masses[NO_ROOMS])) == 0
+    assert masses[NO_ROOMS].roof.attic_storey == 0.0 and masses[GABLED].roof.attic_storey > 0.0
+
+
+def _world_centre(mass) -> tuple[float, float]:
+    """World (x, z) of the middle of a mass's outline's bounding box."""
+    x, z = np.asarray(mass.footprint).max(axis=0) / 2
+    c, s = np.cos(mass.yaw), np.sin(mass.yaw)
+    return c * x + s * z + mass.position[0], c * z - s * x + mass.position[1]
+
+
+def test_dormer_windows_show_rooms_and_units_are_roof_in_the_id_pass(gl_context, masses):
+    """The dormered block's south side seen with and without its rooms in the roof: the dormers'
+    glass adds pixels of rooms (interior faces) in the id pass; the office's units are roof there."""
+    from cityshade.interior import FACE_CODES
+    from cityshade.render import Renderer, RenderSettings
+    from cityshade.scene import Camera, City
+
+    without = list(masses)
+    without[GABLED] = replace(masses[GABLED], roof=replace(masses[GABLED].roof, attic_storey=0.0))
+    block, roof = _world_centre(masses[GABLED]), _world_centre(masses[OFFICE])
+    front = Camera((block[0], 12.0, block[1] + 21.0), (block[0], 10.0, block[1]), fov_y=50.0)  # from the south
+    office = Camera((roof[0], 60.0, roof[1] + 1.0), (roof[0], 17.0, roof[1]), fov_y=40.0)  # from above
+    interior = [FACE_CODES[f"FACE_{n}"] for n in ("CEILING", "FLOOR", "WALL_X", "WALL_Z", "FURNITURE", "CURTAIN")]
+    rooms = []
+    for city_masses in (masses, without):
+        city = City("roofs", 0, city_masses, [], (-20.0, -60.0, 120.0, 20.0))
+        renderer = Renderer((320, 200), RenderSettings(time_of_day=11.0, trees=False, god_rays=False), ctx=gl_context)
+        renderer.set_city(city)
+        try:
+            ids = renderer.render_ids(front)
+            rooms.append(int(((ids[..., 2] == GABLED + 1) & np.isin(ids[..., 0], interior)).sum()))
+            if city_masses is masses:
+                office_ids = renderer.render_ids(office)
+                sheet = np.isin(office_ids[..., 2], [OFFICE + 1])
+        finally:
+            renderer.release()
+    print(f"pixels of rooms behind the block's windows: {rooms[0]} with dormers, {rooms[1]} without")
+    assert rooms[0] > rooms[1]
+    roof = sheet & (office_ids[..., 0] == FACE_CODES["FACE_ROOF"])
+    assert roof.sum() > 0.9 * sheet.sum()  # from above: the roof, its rim and its units
+
+
+def test_a_tagged_roof_material_without_a_colour_keeps_its_own_colour(masses):
+    """roof:material=slate and no roof:colour: the roof is slate grey, not a guessed plaster colour."""
+    from cityshade.scene import building_record
+    from cityshade.scene._materials import ROOF_MATERIALS, ROOF_SLATE, linear
+
+    record = building_record(masses[HIPPED])
+    assert record["roof"][3] == ROOF_SLATE
+    assert np.allclose(record["roof"][:3], linear(ROOF_MATERIALS["slate"][1]), atol=1e-6)

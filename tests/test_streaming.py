@@ -1,0 +1,399 @@
+"""Streaming a tiled city (docs/scale.md, "Streaming"): the tile cache on disk, the same ids as the
+whole city, frames that never wait for the tile reader, resident bytes under the budget, and bad
+caches and budgets (one line, exit 2, or a rebuild with a notice)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import threading
+import time
+from argparse import Namespace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cityshade.cli import main
+from cityshade.errors import CityshadeError, UsageError
+from cityshade.render import Renderer, RenderSettings, open_tiles, streamed_tiles, write_tiles
+from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
+from cityshade.render._tile_cache import CacheProblem, read_tile
+from cityshade.scene import VERTEX_DTYPE, make_city
+
+MAPS = Path(__file__).parent / "data" / "maps"
+TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
+SIZE = (160, 120)
+TILE = 64.0  # metres: the 329-building default city in 64 tiles
+
+
+@pytest.fixture(scope="module")
+def district():
+    return make_city("default")
+
+
+@pytest.fixture(scope="module")
+def district_tiles(district, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("district") / "tiles"
+    write_tiles(district, folder, tile_size=TILE)
+    return open_tiles(folder)
+
+
+@pytest.fixture()
+def tagged_tiles(tmp_path):
+    folder = tmp_path / "tiles"
+    assert main(["tile", str(TAGGED), "--out", str(folder)]) == 0
+    return folder
+
+
+def one_line_error(capsys, argv) -> str:
+    code = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert code == 2, err
+    assert err.count("\n") == 0 and err.startswith("cityshade: error: ") and "Traceback" not in err
+    return err
+
+
+def nearest_first(tiles, eye) -> list[int]:
+    return sorted(range(len(tiles)), key=lambda i: (tiles[i].distance(eye[0], eye[2]), i))
+
+
+# -- the cache -------------------------------------------------------------------------------------
+
+
+def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
+    folder = tmp_path / "cache"
+    assert main(["tile", str(TAGGED), "--out", str(folder)]) == 0
+    out = capsys.readouterr().out.strip().splitlines()
+    assert len(out) == 1 and out[0].startswith(f"wrote {folder}: ") and " tiles, " in out[0] and " s" in out[0]
+    manifest = json.loads((folder / "manifest.json").read_text())
+    data = TAGGED.read_bytes()
+    assert manifest["source"] == {"name": TAGGED.name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+    assert manifest["format"] == 1 and manifest["cityshade"] and manifest["tiles"]
+    for tile in manifest["tiles"]:
+        path = folder / tile["file"]
+        assert path.stat().st_size == tile["bytes"]
+        assert tile["resident_bytes"] == tile["vertices"] * VERTEX_DTYPE.itemsize
+        x0, z0, x1, z1 = tile["bounds"]
+        assert x0 <= x1 and z0 <= z1
+    assert sorted(p.name for p in folder.iterdir()) == ["city.pickle", "manifest.json", "tiles"]
+
+
+def test_tiles_hold_every_building_once(district, district_tiles):
+    cache = district_tiles
+    vertices = [read_tile(cache, i) for i in range(len(cache.tiles))]
+    assert sum(t.buildings for t in cache.tiles) == len(cache.boxes) == len(district.masses)
+    held = np.concatenate([np.unique(v["ids"][:, 0]) for v in vertices])
+    assert sorted(held.tolist()) == sorted(cache.boxes["draw"][:, 2].tolist())
+    for i, v in enumerate(vertices):  # each box's range within its tile holds its building only
+        for box in cache.boxes[cache.box_tile == i]:
+            count, first, building = (int(x) for x in box["draw"][:3])
+            assert np.all(v["ids"][first : first + count, 0] == building)
+
+
+# -- drawing ---------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("culling", ["gpu", "off"])
+def test_streamed_ids_equal_the_whole_city(district, district_tiles, gl_context, culling):
+    """With a budget that holds every tile whose buildings the view shows (nearest first) but not
+    the whole city, the id AOV is the whole city's, pixel for pixel."""
+    cache, camera = district_tiles, district.camera("street")
+    renderer = Renderer(SIZE, RenderSettings(samples=0, culling=culling), ctx=gl_context)
+    try:
+        renderer.set_city(district)
+        whole = renderer.render_ids(camera)
+        seen = np.unique(whole[..., 2][whole[..., 2] > 0]) - 1
+        needed = set(cache.box_tile[np.isin(cache.boxes["draw"][:, 2], seen)].tolist())
+        order = nearest_first(cache.tiles, camera.eye)
+        prefix = order[: max(order.index(i) for i in needed) + 1]
+        budget = sum(cache.tiles[i].resident_bytes for i in prefix)
+        assert budget < cache.total_bytes  # some tiles stay on disk
+        renderer.set_tiles(cache, budget)
+        renderer.wait_for_tiles(camera)
+        assert set(renderer.city.streamer.resident) == set(prefix)
+        streamed = renderer.render_ids(camera)
+    finally:
+        renderer.release()
+    differing = int(np.count_nonzero(np.any(streamed != whole, axis=-1)))
+    assert differing == 0, f"{differing} of {whole.shape[0] * whole.shape[1]} pixels differ"
+    assert np.count_nonzero(whole[..., 2]) > 0.2 * whole.shape[0] * whole.shape[1]
+
+
+def test_frames_never_wait_for_the_tile_reader(district, district_tiles, gl_context):
+    """A reader held back: frames keep being drawn (with no buildings) while it reads; once it has
+    read, the next frames upload the tiles and draw them."""
+    cache, camera = district_tiles, district.camera("street")
+    go = threading.Event()
+
+    def held_back(index):
+        assert go.wait(60), "never released"
+        return read_tile(cache, index)
+
+    renderer = Renderer((32, 24), RenderSettings(samples=0), ctx=gl_context)
+    try:
+        renderer.set_city(district)
+        renderer.draw(camera)  # compiles the programs
+        renderer.set_tiles(cache, cache.total_bytes // 2, read=held_back)
+        streamer = renderer.city.streamer
+        for _ in range(3):
+            renderer.draw(camera)
+            ids = renderer.render_ids(camera)
+            assert streamer.reading and not streamer.resident
+            assert np.count_nonzero(ids[..., 2]) == 0  # nothing resident, nothing drawn
+        go.set()
+        deadline = time.monotonic() + 60
+        while not streamer.complete(camera.eye[0], camera.eye[2]) and time.monotonic() < deadline:
+            renderer.draw(camera)
+            time.sleep(0.01)
+        ids = renderer.render_ids(camera)
+    finally:
+        go.set()
+        renderer.release()
+    assert streamer.resident and np.count_nonzero(ids[..., 2]) > 0
+
+
+def test_resident_bytes_stay_under_the_budget_along_a_path(district, district_tiles, gl_context):
+    """Walking across the city: at every step the resident tiles (uploaded and being read) fit the
+    budget, tiles are released behind the camera, and each resident tile's slot of the arena holds
+    its vertices."""
+    cache = district_tiles
+    budget = cache.total_bytes // 4
+    city = StreamedCityGPU(gl_context, cache, budget)
+    released = set()
+    try:
+        assert city.arena.capacity * VERTEX_DTYPE.itemsize <= budget
+        x0, z0, x1, z1 = district.bounds
+        for t in np.linspace(0, 1, 12):
+            eye = (x0 + t * (x1 - x0), 2.0, z0 + t * (z1 - z0))
+            before = set(city.streamer.resident)
+            city.follow(eye)
+            assert city.streamer.resident_bytes <= budget
+            city.wait(eye)
+            released |= before - set(city.streamer.resident)
+            assert city.streamer.resident_bytes <= budget
+            for index, (first, count) in city.arena.slots.items():
+                size = VERTEX_DTYPE.itemsize
+                held = city.building_vbo.read(size=count * size, offset=first * size)
+                assert held == read_tile(cache, index).tobytes()
+        assert city.streamer.peak_bytes <= budget
+    finally:
+        city.release()
+    assert released
+
+
+def test_update_never_waits_for_a_slow_read(district_tiles):
+    cache = district_tiles
+
+    def slow(index):
+        time.sleep(0.3)
+        return read_tile(cache, index)
+
+    loaded = []
+    streamer = TileStreamer(cache.tiles, cache.total_bytes, slow, lambda i, v: loaded.append(i), lambda i: None)
+    try:
+        updates, start = 0, time.monotonic()
+        while not loaded and time.monotonic() - start < 30:
+            tick = time.monotonic()
+            streamer.update(0.0, 0.0)
+            assert time.monotonic() - tick < 0.1
+            updates += 1
+            time.sleep(0.005)
+    finally:
+        streamer.close()
+    assert loaded and updates > 10  # frames kept coming while the first tile was read
+
+
+def test_arena_compacts_when_no_gap_is_wide_enough(gl_context):
+    arena = _Arena(gl_context, 30)
+    size = VERTEX_DTYPE.itemsize
+    data = {k: np.full(10 * size, k, np.uint8).tobytes() for k in range(3)}
+    for k in range(3):
+        arena.buffer.write(data[k], offset=arena.allocate(k, 10) * size)
+    arena.free(0)
+    arena.free(2)
+    first = arena.allocate(3, 20)  # 20 free, in two gaps of 10
+    assert arena.slots[1] == (0, 10) and first == 10
+    assert arena.buffer.read(size=10 * size, offset=0) == data[1]
+    arena.buffer.release()
+
+
+# -- bad input -------------------------------------------------------------------------------------
+
+
+def test_a_budget_too_small_for_the_nearest_tile_is_one_line(tagged_tiles, tmp_path, capsys):
+    err = one_line_error(
+        capsys, ["render", "--tiles", str(tagged_tiles), "--memory-budget", "1KB", "--out", str(tmp_path / "a.png")]
+    )
+    assert "memory budget 1.0 KB is too small for the nearest tile (tiles/" in err and "or more" in err
+    assert not (tmp_path / "a.png").exists()
+
+
+@pytest.mark.parametrize("text", ["lots", "0MB", "-1GB", "12XB"])
+def test_a_bad_budget_is_one_line(text, tmp_path, capsys):
+    err = one_line_error(capsys, ["render", f"--memory-budget={text}", "--out", str(tmp_path / "a.png")])
+    assert f"--memory-budget {text!r}" in err
+
+
+def _set_version(folder: Path):
+    manifest = json.loads((folder / "manifest.json").read_text())
+    manifest["cityshade"] = "0.0.1"
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+
+
+def _garbage_manifest(folder: Path):
+    (folder / "manifest.json").write_bytes(b"\x00garbage{")
+
+
+def _truncated_tile(folder: Path):
+    path = folder / "tiles" / "00000.npy"
+    path.write_bytes(path.read_bytes()[:100])
+
+
+def _truncated_city(folder: Path):
+    path = folder / "city.pickle"
+    path.write_bytes(path.read_bytes()[:-10])
+
+
+DAMAGE = {
+    "version": (_set_version, "made with cityshade '0.0.1'"),
+    "manifest": (_garbage_manifest, "manifest.json is damaged"),
+    "tile": (_truncated_tile, "tiles/00000.npy is missing or damaged"),
+    "city": (_truncated_city, "city.pickle is damaged"),
+}
+
+
+@pytest.mark.parametrize("damage", DAMAGE)
+def test_a_stale_or_damaged_cache_without_its_source_is_one_line(damage, tagged_tiles, tmp_path, capsys):
+    spoil, reason = DAMAGE[damage]
+    spoil(tagged_tiles)
+    err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
+    assert reason in err and "cityshade tile SOURCE --out" in err
+
+
+@pytest.mark.parametrize("damage", DAMAGE)
+def test_a_stale_or_damaged_cache_is_made_again_from_its_source(damage, tagged_tiles, capsys):
+    spoil, reason = DAMAGE[damage]
+    spoil(tagged_tiles)
+    args = Namespace(map=TAGGED, tiles=tagged_tiles, memory_budget=None)
+    with streamed_tiles(args) as (cache, budget):
+        assert cache.source["sha256"] == hashlib.sha256(TAGGED.read_bytes()).hexdigest()
+    out = capsys.readouterr()
+    notices = out.err.strip().splitlines()
+    assert len(notices) == 1 and reason in notices[0] and "making it again from" in notices[0]
+    assert out.out.startswith("tile cache made in ")
+    open_tiles(tagged_tiles)  # whole again
+
+
+def test_a_cache_of_another_file_is_made_again(tagged_tiles, capsys):
+    args = Namespace(map=SHED, tiles=tagged_tiles, memory_budget="1GB")
+    with streamed_tiles(args) as (cache, budget):
+        assert cache.source["name"] == SHED.name and budget == 10**9
+    notice = capsys.readouterr().err.splitlines()[0]
+    assert "made from another file ('tagged.osm'" in notice
+    with pytest.raises(CacheProblem, match="another file"):
+        open_tiles(tagged_tiles, {"name": TAGGED.name, "bytes": 1, "sha256": "0"})
+
+
+def test_an_altered_tile_fails_when_read(tagged_tiles, tmp_path, capsys):
+    """Same size, other bytes: the reader's SHA-256 check stops it, one line, before any frame."""
+    path = tagged_tiles / "tiles" / "00000.npy"
+    data = bytearray(path.read_bytes())
+    data[-1] ^= 0xFF
+    path.write_bytes(bytes(data))
+    err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
+    assert "tiles/00000.npy is damaged (its SHA-256 is not the manifest's)" in err
+    with pytest.raises(CityshadeError):
+        read_tile(open_tiles(tagged_tiles), 0)
+
+
+class _Payload:
+    """Unpickles by calling os.system: what a cache folder from elsewhere could hold."""
+
+    def __init__(self, marker: Path):
+        self.marker = marker
+
+    def __reduce__(self):
+        import os
+
+        return os.system, (f"touch {self.marker}",)
+
+
+def test_a_cache_whose_city_calls_a_function_is_refused_unrun(tagged_tiles, tmp_path, capsys):
+    """A city.pickle naming os.system, with a manifest whose SHA-256 matches it: refused in one
+    line, and the command never runs."""
+    import pickle
+
+    marker = tmp_path / "ran"
+    data = pickle.dumps({"city": _Payload(marker)})
+    (tagged_tiles / "city.pickle").write_bytes(data)
+    manifest = json.loads((tagged_tiles / "manifest.json").read_text())
+    manifest["city"].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest())
+    (tagged_tiles / "manifest.json").write_text(json.dumps(manifest))
+    err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
+    assert "city.pickle refers to posix.system" in err or "city.pickle refers to os.system" in err
+    assert not marker.exists()
+
+
+def test_the_viewer_streams_and_shows_its_tiles(district_tiles):
+    from cityshade.viewer import open_viewer
+
+    budget = district_tiles.total_bytes // 2
+    viewer = open_viewer(
+        settings=RenderSettings(samples=0),
+        window="headless",
+        size=(64, 48),
+        target_fps=None,
+        tiles=district_tiles,
+        memory_budget=budget,
+    )
+    try:
+        streamer = viewer.renderer.city.streamer
+        deadline = time.monotonic() + 60
+        while not streamer.resident and time.monotonic() < deadline:
+            viewer.wnd.use()
+            viewer.on_render(0.0, 0.05)
+        assert streamer.resident and streamer.resident_bytes <= budget
+        assert f"tiles {len(streamer.resident)}/{len(district_tiles.tiles)} " in viewer.wnd.title
+    finally:
+        viewer.renderer.release()
+        viewer.wnd.destroy()
+
+
+def test_the_viewer_refuses_a_budget_below_the_nearest_tile(district_tiles):
+    from cityshade.viewer import open_viewer
+
+    with pytest.raises(UsageError, match="too small for the nearest tile"):
+        open_viewer(window="headless", size=(64, 48), tiles=district_tiles, memory_budget=100)
+
+
+def test_a_failed_write_leaves_the_old_cache_whole(tagged_tiles, monkeypatch):
+    """An error (or a signal, which the command turns into one) half-way through writing tiles:
+    the folder still holds the old cache, and no temporary folder is left beside it."""
+    from cityshade.render import _tile_cache
+
+    before = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
+
+    def fail(*args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(_tile_cache, "_tile_file", fail)
+    with pytest.raises(KeyboardInterrupt):
+        write_tiles(make_city("default"), tagged_tiles)
+    after = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
+    assert after == before
+    assert sorted(p.name for p in tagged_tiles.parent.iterdir()) == ["tiles"]
+    open_tiles(tagged_tiles)
+
+
+def test_a_folder_of_something_else_is_never_replaced(tmp_path, capsys):
+    other = tmp_path / "photos"
+    other.mkdir()
+    (other / "cat.jpg").write_bytes(b"not a cache")
+    err = one_line_error(capsys, ["tile", str(TAGGED), "--out", str(other)])
+    assert "is not an earlier output of this command" in err
+    err = one_line_error(
+        capsys, ["render", "--map", str(TAGGED), "--tiles", str(other), "--out", str(tmp_path / "a.png")]
+    )
+    assert "is not an earlier output of this command" in err
+    assert [p.name for p in other.iterdir()] == ["cat.jpg"]
