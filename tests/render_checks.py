@@ -64,9 +64,11 @@ def interior_twin(renderer, masses, camera, size, bounds, lights=None, grammar=N
     """The numpy twin's id AOV with room state (cityshade.interior.reference_ids) of `masses` standing
     on a city of `bounds`, with the renderer's frame settings and textures; `lights` (one share, or
     one per use) replaces the settings' share of lit rooms; `grammar` (grammar_facades) evaluates
-    the grammar facades, and with `labels` the fourth channel is the grammar label."""
+    the grammar facades, and with `labels` the fourth channel is the grammar label. The window bay's
+    windows are recessed near the eye when the settings have relief on (their default)."""
     from cityshade import assets
     from cityshade.interior import InteriorParams, reference_ids
+    from cityshade.relief import relief_atlas
     from cityshade.render._city_gpu import GROUND_MARGIN
 
     s = renderer.settings
@@ -80,4 +82,7 @@ def interior_twin(renderer, masses, camera, size, bounds, lights=None, grammar=N
     x0, z0, x1, z1 = bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
     alpha = assets.facade_texture()[0][..., 3] / 255.0
-    return reference_ids(masses, camera, size, params, alpha, ground, grammar=grammar, labels=labels)
+    bay_relief = relief_atlas() if s.relief else None  # the window bay's windows recessed, as the renderer's
+    return reference_ids(
+        masses, camera, size, params, alpha, ground, grammar=grammar, labels=labels, window_bay_relief=bay_relief
+    )

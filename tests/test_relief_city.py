@@ -155,7 +155,16 @@ def test_city_relief_glass_leads_into_the_rooms_as_the_twin_says(gl_context, vie
     alpha = assets.facade_texture()[0][..., 3] / 255.0
     x0, z0, x1, z1 = RELIEF_STREET.bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
-    ref = reference_ids(RELIEF_STREET.masses, camera, CITY_SIZE, params, alpha, ground, relief={0: generate_bay()})
+    ref = reference_ids(
+        RELIEF_STREET.masses,
+        camera,
+        CITY_SIZE,
+        params,
+        alpha,
+        ground,
+        relief={0: generate_bay()},
+        window_bay_relief=relief_atlas(),  # the window-bay building's windows too, near the eye
+    )
     flat = reference_ids(RELIEF_STREET.masses, camera, CITY_SIZE, params, alpha, ground)  # glass by the wall point
     renderer.release()
     Image.fromarray(colour).save(output_dir / f"relief_city_{view}.png")
@@ -252,3 +261,78 @@ def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, o
     assert differ.sum() <= 0.001 * differ.size
     assert not state_differ.any()
     assert label_differ.sum() <= 0.001 * label_differ.size
+
+
+WINDOW_BAY_STREET = City(
+    "window bay street",
+    0,
+    [box((0.0, 0.0), 14.0, 12.0, 16.0, style=0, seed=41, room_width=4.0)],
+    [],
+    (-30.0, -30.0, 30.0, 30.0),
+    {
+        "oblique": Camera((-4.0, 4.5, -7.0), (8.0, 6.0, 0.5), fov_y=60.0),
+        "along": Camera((-3.0, 2.5, -2.5), (14.0, 6.0, -0.5), fov_y=55.0),
+    },
+)
+
+
+@pytest.mark.parametrize("view, switch_m", [("oblique", None), ("along", 60.0), ("along", 8.0)])
+def test_window_bay_windows_recessed_as_the_twin_says(gl_context, view, switch_m, output_dir):
+    """The plain window bay (style 0) with its window recessed nearer than the switch (the atlas's
+    window-bay opening over each bay's glass rectangle): the id AOV (face, room, building, light,
+    variant) against the interior twin tracing the same opening; the recess matters; and the
+    windows stay in place: with relief off, only pixels on the flat bay's glass change."""
+    settings = RenderSettings(lights=0.6, animation_time=1.3, relief_range=switch_m)
+    renderer = Renderer(CITY_SIZE, settings, ctx=gl_context)
+    renderer.set_city(WINDOW_BAY_STREET)
+    assert renderer.city.facades["window bay"] == 1
+    camera = WINDOW_BAY_STREET.viewpoints[view]
+    gpu = renderer.render_ids(camera, room_state=True)
+    Image.fromarray(render_finite(renderer, camera)).save(output_dir / f"relief_window_bay_{view}_{switch_m}.png")
+    renderer.release()
+    off = Renderer(CITY_SIZE, RenderSettings(lights=0.6, animation_time=1.3, relief=False), ctx=gl_context)
+    off.set_city(WINDOW_BAY_STREET)
+    gpu_off = off.render_ids(camera, room_state=True)
+    off.release()
+    params = InteriorParams(
+        lights=0.6,
+        time=1.3,
+        variants=renderer.textures.room_variants,
+        glass_rect=renderer.textures.glass_rect,
+        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
+    )
+    alpha = assets.facade_texture()[0][..., 3] / 255.0
+    x0, z0, x1, z1 = WINDOW_BAY_STREET.bounds
+    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
+    masses = WINDOW_BAY_STREET.masses
+    # the switch as the renderer's: relief_range, else switch_distance of the view (GrammarFacades None)
+    grammar = GrammarFacades(library_texture(), assets.tile_array(), {}, {}, None, switch_m)
+    ref = reference_ids(masses, camera, CITY_SIZE, params, alpha, ground, grammar=grammar, window_bay_relief=relief_atlas())
+    flat = reference_ids(masses, camera, CITY_SIZE, params, alpha, ground)
+    building = ref[..., 2] == 1
+    differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
+    state_differ = ~differ & (gpu[..., 3] != ref[..., 3])
+    flat_glass = building & np.isin(flat[..., 0], ROOM_FACES)  # rooms seen through the flat bay's glass
+    recess = np.any(ref[..., :2] != flat[..., :2], axis=-1)
+    off_differ = np.any(gpu_off[..., :3] != flat[..., :3], axis=-1)
+    moved = np.any(gpu != gpu_off, axis=-1)
+    print(
+        f"{view}, switch at {switch_m} m: {differ.sum()} of {building.sum()} building pixels differ from the twin, "
+        f"{state_differ.sum()} in light or variant; relief off against the flat twin: {off_differ.sum()} differ; "
+        f"{flat_glass.sum()} flat glass pixels, {recess.sum()} changed by the recess (twin), {moved.sum()} (GPU), "
+        f"{(moved & ~flat_glass).sum()} of them off the flat glass"
+    )
+    assert flat_glass.sum() > 500, "the view must show the window bay's glass"
+    assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"
+    assert differ.sum() <= 0.001 * differ.size and not state_differ.any()
+    assert not (off_differ & ~id_edges(flat)).any()
+    if switch_m == 8.0:  # the switch inside the view: near windows traced, far ones flat
+        farther = reference_ids(
+            masses, camera, CITY_SIZE, params, alpha, ground, window_bay_relief=relief_atlas(),
+            grammar=GrammarFacades(library_texture(), assets.tile_array(), {}, {}, None, 60.0),
+        )
+        assert recess.any() and np.any(ref[..., :2] != farther[..., :2])
+    else:
+        assert recess.sum() > 0.05 * flat_glass.sum(), "the recess must change what the windows show"
+    # windows stay where they are: relief changes only pixels on the flat bay's glass (or its edge)
+    assert not (moved & ~flat_glass & ~id_edges(flat)).any()

@@ -219,11 +219,12 @@ class GrammarFacades:
     relief_range: float | None = None
 
 
-def _opening_entry(atlas, row: int, window, local, d, n, facade):
-    """Grammar windows recessed (shaders/relief/building.glsl grammar_relief): the opening at atlas
-    `row` stretched over each window rectangle (facade coordinates) and traced from the wall point
-    by the reference tracer. Per ray: whether it meets glass, and where (object space)."""
-    rows, cols = PROFILE[1] + 2, PROFILE[0] + 2
+def _opening_entry(atlas, region: tuple, window, local, d, n, facade):
+    """Windows recessed (shaders/relief/building.glsl opening_traced): the opening at atlas `region`
+    (first row, columns, rows: its ring included) stretched over each window rectangle (facade
+    coordinates) and traced from the wall point by the reference tracer. Per ray: whether it meets
+    glass, and where (object space)."""
+    row, cols, rows = region[:3]
     maps = atlas.maps
     region = DetailMaps(
         maps.depth[row : row + rows, :cols], maps.material[row : row + rows, :cols], 1.0, maps.depth_unit
@@ -238,6 +239,19 @@ def _opening_entry(atlas, row: int, window, local, d, n, facade):
     offset = np.nan_to_num(hits.point - start) / scale
     point = local + along * offset[:, :1] + up * offset[:, 1:2] - n * offset[:, 2:]
     return hits.material == GLASS, point  # a miss is MISS, never glass
+
+
+def _window_bay_entry(atlas, glass_rect, hits, rays: np.ndarray, local: np.ndarray):
+    """The window bay's window recessed (shaders/city/building.glsl window_bay_relief): the atlas's
+    window-bay opening stretched over the glass rectangle of each ray's bay (rays: indices into
+    `hits`, all on the flat bay's glass). Per ray: whether it meets glass, and where."""
+    facade, base = hits.facade[rays], hits.face[rays, 1]
+    spacing = facade[:, 2:4]
+    cell = np.floor(np.column_stack([facade[:, 0], facade[:, 1] - base]) / spacing)
+    lower = (cell + glass_rect[:2]) * spacing + np.column_stack([np.zeros(len(rays)), base])
+    upper = (cell + glass_rect[2:]) * spacing + np.column_stack([np.zeros(len(rays)), base])
+    window = np.column_stack([lower, upper])
+    return _opening_entry(atlas, atlas.window_bay, window, local, hits.direction[rays], hits.normal[rays], facade)
 
 
 def grammar_entry(
@@ -303,7 +317,7 @@ def grammar_entry(
                     continue
                 traced = rows[near & (g.terminal == terminal)]
                 glass[traced], entry[traced] = _opening_entry(
-                    grammar.relief, row, window[traced], local[traced], d[traced], n[traced], facade[traced]
+                    grammar.relief, (row, PROFILE[0] + 2, PROFILE[1] + 2), window[traced], local[traced], d[traced], n[traced], facade[traced]
                 )
                 label[traced] = np.where(glass[traced], ROOM_LABEL, WINDOW_LABEL)
     return glass, label, window, entry
@@ -319,6 +333,7 @@ def reference_ids(
     relief: dict | None = None,
     grammar: GrammarFacades | None = None,
     labels: bool = False,
+    window_bay_relief: object | None = None,
 ) -> np.ndarray:
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
     building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
@@ -327,7 +342,9 @@ def reference_ids(
     `grammar`, by the grammar, `grammar_entry`) unless a door stands there
     (`cityshade.scene.door_hit`), rooms by `trace` (none behind the glass of a mass without an
     interior). With `labels` the fourth channel is the grammar label instead (the id pass without
-    room state). The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the
+    room state). With `window_bay_relief` (cityshade.relief.relief_atlas(), as the renderer's
+    default RenderSettings.relief on) the window bay's glass nearer than the switch (the grammar's
+    relief_range, else switch_distance of the view) is recessed, `_window_bay_entry`. The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the
     camera's far plane."""
     relief = relief or {}
     starts = grammar.starts if grammar is not None else {}
@@ -389,6 +406,12 @@ def reference_ids(
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
             glass = ~roof & (facade_alpha[row, col] < 0.5)
+            if window_bay_relief is not None:
+                near = glass & (hits.t[sel] * np.linalg.norm(dirs[sel], axis=1) <= switch_m)
+                if near.any():
+                    glass[near], entry[sel[near]] = _window_bay_entry(
+                        window_bay_relief, params.glass_rect, hits, sel[near], hits.local[sel[near]]
+                    )
         if mass.doors:  # a door stands in front of whatever the facade has there
             glass &= roof | ~door_hit(hits.local[sel], hits.normal[sel], mass.doors)[0]
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)

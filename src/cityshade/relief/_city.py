@@ -1,7 +1,7 @@
 """Relief in the city: one atlas of detail maps for every facade that has relief, on the GPU.
 
-Region 0 is the window bay of the relief-bay buildings (repeated over their walls); then, per
-grammar style the city uses, the window openings of its glazed terminals
+Region 0 is the window bay of the relief-bay buildings (repeated over their walls); region 1 the
+window of the textured window bay (style 0, `window_bay_opening`); then, per grammar style the city uses, the window openings of its glazed terminals
 (`style_openings`, docs/relief.md). Each part is factorised once, BMF or SVD whichever is smaller,
 and cached on disk (`_cache.py`); the atlas stacks the parts' BMF factorisations (exact: block rows
 of X, the parts' terms side by side), so nothing is factorised again when the city loads.
@@ -18,6 +18,7 @@ from functools import lru_cache
 import moderngl
 import numpy as np
 
+from ._bay_opening import window_bay_opening
 from ._cache import cached_arrays, cached_compress, smallest_compression
 from ._compress import MAP_NAMES, CompressedFacade, digest
 from ._factor import Factors
@@ -49,6 +50,7 @@ class ReliefAtlas:
     maps: DetailMaps  # the atlas's D and M (regions stacked in rows, zero-padded to the widest)
     bmf: CompressedFacade  # its factorisation, stacked from the parts'
     bay: tuple[int, int, int, int]  # the bay's region: first row, columns, rows, 1 (repeats)
+    window_bay: tuple[int, int, int, int]  # the window bay's opening: first row, columns, rows (ring included), 0
     terminals: dict[int, int]  # glazed terminal's rule address -> first row of its opening
     colours: dict[int, tuple]  # glazed terminal's rule address -> sRGB (frame, reveal), StyleOpenings.colours
     styles: dict[str, str]  # grammar style -> the method its openings were compressed with ("" none)
@@ -143,10 +145,10 @@ def relief_atlas() -> ReliefAtlas:
     from ..grammar import BUILDING_STYLES, library_texture
 
     compiled = library_texture()
-    bay = generate_bay()
-    parts = [bay]
-    packed = [cached_compress(bay, "bmf", "city window bay")[0]]
-    terminals, colours, styles, row = {}, {}, {}, bay.shape[0]
+    bay, window = generate_bay(), window_bay_opening()
+    parts = [bay, window]
+    packed = [cached_compress(bay, "bmf", "city relief bay")[0], cached_compress(window, "bmf", "city window bay")[0]]
+    terminals, colours, styles, row = {}, {}, {}, bay.shape[0] + window.shape[0]
     for number, style in BUILDING_STYLES.items():
         try:
             openings = cached_openings(compiled, style, number)
@@ -167,7 +169,13 @@ def relief_atlas() -> ReliefAtlas:
     if len(terminals) > MAX_OPENINGS:
         raise ValueError(f"{len(terminals)} glazed terminals; the city's shader holds {MAX_OPENINGS}")
     return ReliefAtlas(
-        _stack_maps(parts), stack_bmf(packed), (0, bay.shape[1], bay.shape[0], 1), terminals, colours, styles
+        _stack_maps(parts),
+        stack_bmf(packed),
+        (0, bay.shape[1], bay.shape[0], 1),
+        (bay.shape[0], window.shape[1], window.shape[0], 0),
+        terminals,
+        colours,
+        styles,
     )
 
 
@@ -185,6 +193,7 @@ class CityRelief:
         values = {
             "u_relief_depth_unit": a.maps.depth_unit,
             "u_relief_bay": a.bay,
+            "u_relief_window_bay": a.window_bay,
             "u_relief_openings": len(terminals),
             "u_relief_profile": (PROFILE[0] + 2, PROFILE[1] + 2),
             "u_relief_range": range_m,

@@ -107,14 +107,18 @@ def _widths() -> str:
 
 def styles_with_relief(masses) -> tuple[list[int], list[int]]:
     """(the building styles that have relief, every style the buildings use): a style has relief when
-    its buildings take the relief bay, or a grammar style whose windows have openings in the atlas."""
+    its buildings take the relief bay, the window bay (its window has an opening in the atlas), or a
+    grammar style whose windows have openings in the atlas."""
     used = sorted({m.style for m in masses})
-    openings = relief_atlas().styles
+    atlas = relief_atlas()
     relief = []
     for style in used:
         kinds = [choose_facade(m) for m in masses if m.style == style]
         if any(
-            k.code == FACADE_RELIEF or (k.grammar_style is not None and openings.get(k.grammar_style)) for k in kinds
+            k.code == FACADE_RELIEF
+            or (k.code == WINDOW_BAY and atlas.window_bay[2] > 0)
+            or (k.grammar_style is not None and atlas.styles.get(k.grammar_style))
+            for k in kinds
         ):
             relief.append(style)
     return relief, used

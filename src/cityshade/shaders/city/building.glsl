@@ -75,6 +75,31 @@ FacadeResult window_bay(Building b, vec3 n, vec3 wall, vec2 bay_uv) {
 #endif
 }
 
+// The window bay's window recessed near the eye (style 0, as the grammar windows: relief/building.glsl):
+// where the flat bay shows glass (the exact texel, as window_bay's id pass), the bay's opening is
+// stretched over that bay's glass rectangle and traced, so the glass stays where the flat bay has it;
+// the reveal in the bay's frame colour (the texel below the glass's centre). facade: (u, v above the
+// face's base); s: the distance. Returns whether it traced; f becomes the relief's.
+bool window_bay_relief(Building b, vec3 n, vec3 wall, vec2 facade, vec2 spacing, vec3 d, float s,
+                       inout FacadeResult f) {
+#if defined RELIEF_OFF || defined POLYGONISED_EXTERIOR || defined POLYGONISED_WINDOWS
+    return false;
+#else
+    vec2 bay_uv = facade / spacing;
+    ivec2 size = textureSize(u_facade, 0);
+    if (s > u_relief_range || texelFetch(u_facade, ivec2(fract(bay_uv) * vec2(size)), 0).a >= 0.5) return false;
+    vec2 cell = floor(bay_uv);
+    vec4 rect = vec4((cell + u_glass_rect.xy) * spacing, (cell + u_glass_rect.zw) * spacing);
+    uint material;
+    f = opening_traced(b, n, wall, facade, rect, u_relief_window_bay, d, material);
+    if (material != RELIEF_GLASS) {
+        vec2 frame = vec2(0.5 * (u_glass_rect.x + u_glass_rect.z), u_glass_rect.y - 0.5 / float(size.y));
+        f.albedo = texelFetch(u_facade, ivec2(frame * vec2(size)), 0).rgb * building_tint(b);
+    }
+    return true;
+#endif
+}
+
 void main() {
     Building b = buildings[v_ids.x];
     mat3 rot = building_rotation(b);
@@ -130,7 +155,8 @@ void main() {
             traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, f, opening);
         }
         else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
-        else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
+        else if (!window_bay_relief(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d, s, f))
+            f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;
         label = f.label;
         surface = f.point;  // recessed relief glass: the room shows from the hit point

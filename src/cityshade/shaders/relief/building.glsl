@@ -2,7 +2,8 @@
 // One atlas of detail maps, factorised with BMF and traced with facade displacement mapping
 // (cityshade/relief/_city.py): region 0 is the window bay that repeats across the walls of the
 // relief-bay buildings (record facade.x = FACADE_RELIEF; one bay wide, one floor high, so its
-// windows sit in the interior-mapped rooms); the other regions are the window openings of the
+// windows sit in the interior-mapped rooms); region 1 the textured window bay's window (style 0,
+// stretched over its glass rectangle: city/building.glsl window_bay_relief); the other regions are the window openings of the
 // grammar styles, one per glazed terminal, each fitted to the window the grammar puts there, so the
 // relief's windows are the flat grammar's windows, recessed.
 // RELIEF_OFF: no relief anywhere (relief-bay buildings draw the window bay).
@@ -22,6 +23,7 @@
 #define RELIEF_MAX_OPENINGS 64
 uniform float u_relief_depth_unit;  // metres per depth step
 uniform ivec4 u_relief_bay;         // the window bay's region (first row, columns, rows, 1: repeats)
+uniform ivec4 u_relief_window_bay;  // the textured window bay's opening (first row, columns, rows, 0)
 uniform int u_relief_openings;      // how many glazed terminals have a window opening
 uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address, first atlas row of its opening
 uniform vec3 u_relief_colours[2 * RELIEF_MAX_OPENINGS];  // per opening: sRGB frame, reveal (the flat grammar's)
@@ -62,6 +64,16 @@ FacadeResult relief_building(Building b, vec3 n, vec3 wall, vec2 facade, vec2 sp
     return relief_traced(b, n, wall, vec3(facade, 0.0) * scale, scale, d, material);
 }
 
+// The opening at atlas region `region` (its ring of wall texels included) stretched over the window
+// rectangle `rect` (facade coordinates: u0, v0, u1, v1, as `facade`) and traced from the wall point.
+FacadeResult opening_traced(Building b, vec3 n, vec3 wall, vec2 facade, vec4 rect, ivec4 region, vec3 d,
+                            out uint material) {
+    relief_region = region;
+    vec3 scale = vec3(vec2(region.yz - 2) / (rect.zw - rect.xy), 1.0 / u_relief_depth_unit);
+    vec3 start = vec3(1.0 + (facade - rect.xy) * scale.xy, 0.0);
+    return relief_traced(b, n, wall, start, scale, d, material);
+}
+
 // The index of a glazed terminal's opening, -1 for none.
 int relief_opening(int terminal) {
     for (int i = 0; i < u_relief_openings; i++)
@@ -84,12 +96,9 @@ bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, 
     int opening_index = relief_opening(g.terminal);
     if (opening_index < 0) return false;
     vec4 rect = grammar_window(g.scope, face);
-    vec2 inner = vec2(u_relief_profile - 2);
-    relief_region = ivec4(u_relief_terminals[opening_index].y, u_relief_profile, 0);
-    vec3 scale = vec3(inner / (rect.zw - rect.xy), 1.0 / u_relief_depth_unit);
-    vec3 start = vec3(1.0 + (facade - rect.xy) * scale.xy, 0.0);
     uint material;
-    f = relief_traced(b, n, wall, start, scale, d, material);
+    f = opening_traced(b, n, wall, facade, rect, ivec4(u_relief_terminals[opening_index].y, u_relief_profile, 0), d,
+                       material);
     // the frame and the reveal in the flat grammar's colours (the grammar's own, untinted): the
     // tile's own colour where the wall point is on the frame too, else the frame's mean colour
     if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(g.glass ? u_relief_colours[2 * opening_index] : g.color);
