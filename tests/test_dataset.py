@@ -27,6 +27,7 @@ from cityshade.dataset import (
 )
 from cityshade.errors import UsageError
 from cityshade.interior import InteriorParams, reference_ids
+from cityshade.relief import relief_atlas
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import batch, make_city
 from cityshade.scene._raycast import intersect
@@ -176,6 +177,7 @@ def test_window_and_depth_agree_with_numpy_twins(interior_sampler, name, output_
         params,
         assets.facade_texture()[0][..., 3] / 255.0,
         (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN),
+        window_bay_relief=relief_atlas() if r.settings.relief else None,  # recessed windows, as rendered
     )
     ref_window = np.isin(ref[..., 0], [2, 3, 4, 5, 6, 7])
     window = arrays["class"] == WINDOW

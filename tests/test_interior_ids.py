@@ -1,6 +1,7 @@
 """Interior mapping on the GPU against its numpy twin, which builds its own geometry from the
 building masses: pixel by pixel through the id AOV (face, room id, building, and the room's light
-and texture variant), and room by room (lit or dark, seen in colour)."""
+and texture variant), and room by room (lit or dark, seen in colour). The window bay's windows are
+recessed near the eye, as the renderer's default (relief on)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from PIL import Image
 from cityshade import assets
 from cityshade.interior import FACE_NAMES, InteriorParams, reference_ids
 from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
+from cityshade.relief import relief_atlas
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import make_city
@@ -47,7 +49,9 @@ def twin(renderer):
     def pixels(view: str):
         if view not in cache:
             alpha = assets.facade_texture()[0][..., 3] / 255.0
-            cache[view] = reference_ids(MASSES, CAMERAS[view], SIZE, _params(renderer), alpha, _ground())
+            cache[view] = reference_ids(
+                MASSES, CAMERAS[view], SIZE, _params(renderer), alpha, _ground(), window_bay_relief=relief_atlas()
+            )
         return cache[view]
 
     return pixels
@@ -137,7 +141,9 @@ def test_corner_shows_the_same_room_through_both_facades(renderer):
     building0 = ids[..., 2] == 1
     interior = np.isin(ids[..., 0], [FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z, FACE_FURNITURE])
     alpha = assets.facade_texture()[0][..., 3] / 255.0
-    ref = reference_ids(MASSES, CAMERAS["corner"], SIZE, _params(renderer), alpha, _ground())
+    ref = reference_ids(
+        MASSES, CAMERAS["corner"], SIZE, _params(renderer), alpha, _ground(), window_bay_relief=relief_atlas()
+    )
     assert (ref[..., 1][building0 & interior] == ids[..., 1][building0 & interior]).all()
     # the corner room's id is reached through windows on both the -z facade and the -x facade
     rooms_by_facade = {}
