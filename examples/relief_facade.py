@@ -1,7 +1,7 @@
 """Pictures of a relief facade for docs/relief.md: close up, at a grazing angle, relief mapping
 against facade displacement mapping at the same view (the paper's fig. 3), a relief building
-of the default city at street level, and a street in Helsinki with the grammar facades' windows
-recessed and flat.
+of the default city at street level, a street in Helsinki with the grammar facades' windows
+recessed and flat, and a plain window-bay building (style 0) recessed and flat.
 
     .venv/bin/python examples/relief_facade.py [--out docs/images]
 """
@@ -19,7 +19,8 @@ from cityshade.gl import ProgramCache, create_context
 from cityshade.maps import city_from_map
 from cityshade.relief import FacadeView, GpuFacade, facade_camera, paper_facade
 from cityshade.render._renderer import Renderer
-from cityshade.scene import default_city
+from cityshade.render import RenderSettings
+from cityshade.scene import Camera, City, box, default_city
 
 VIEWS = {  # name: renderer, azimuth, elevation, distance (m), target (fractions of the facade)
     "relief_closeup": ("bcfdm", 28, 12, 6.0, (0.30, 0.30)),
@@ -47,6 +48,7 @@ def main():
         print(args.out / f"{name}.png")
     city_street(args.out / "relief_city_street.png", tuple(args.size))
     helsinki_windows(args.out / "relief_helsinki_windows.png")
+    window_bay(args.out / "relief_window_bay.png")
 
 
 def city_street(path: Path, size: tuple[int, int]):
@@ -71,6 +73,20 @@ def helsinki_windows(path: Path, size: tuple[int, int] = (960, 640)):
     for relief in (True, False):
         image, _ = render_city(city=city, camera=camera, size=size, time="14:00", samples=0, relief=relief, **sky)
         halves.append(image[: size[1] // 2, : size[0] // 3])
+    Image.fromarray(np.concatenate(halves, axis=1)).save(path)
+    print(path)
+
+
+def window_bay(path: Path, size: tuple[int, int] = (480, 270)):
+    """A style-0 building (the plain window bay) from 5 m: recessed windows (left), flat (right)."""
+    camera = Camera((-2.0, 4.0, -5.0), (6.0, 5.0, 0.5), fov_y=55.0)
+    city = City("window bay", 0, [box((0.0, 0.0), 14.0, 12.0, 16.0, style=0, seed=41)], [], (-30, -30, 30, 30), {})
+    halves = []
+    for relief in (True, False):
+        renderer = Renderer(size, RenderSettings(samples=0, relief=relief))
+        renderer.set_city(city)
+        halves.append(renderer.render(camera)[:, size[0] // 3 :])
+        renderer.release()
     Image.fromarray(np.concatenate(halves, axis=1)).save(path)
     print(path)
 

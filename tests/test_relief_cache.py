@@ -2,13 +2,19 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
+from cityshade import assets
 from cityshade.assets import tile_array
 from cityshade.grammar import BUILDING_STYLES, evaluate, library_texture, seed_vector
 from cityshade.relief import (
     CACHE_ENV,
+    GLASS,
     PROFILE,
     DetailMaps,
     cache_dir,
@@ -67,11 +73,13 @@ def test_stacked_atlas_decodes_every_part_exactly():
     assert np.array_equal(decoded["depth"], atlas.maps.depth)
     assert np.array_equal(decoded["material"], atlas.maps.material)
     # every texel's free box holds the texel, and nothing in it is higher than the texel (the
-    # openings' regions are narrower than the bay: their padding columns are never read)
+    # regions narrower than the widest are padded: their padding columns are never read)
     rows, cols = atlas.maps.shape
     boxes = atlas.bmf.boxes.astype(int)[decoded["boxes"]]
     r, c = np.mgrid[:rows, :cols]
-    real = (r < atlas.bay[2]) | (c < PROFILE[0] + 2)
+    first, width, height, _ = atlas.window_bay  # the relief bay, the window bay's opening, the grammar openings
+    real = ((r < atlas.bay[2]) & (c < atlas.bay[1])) | ((r >= first) & (r < first + height) & (c < width))
+    real |= (r >= first + height) & (c < PROFILE[0] + 2)
     inside = (boxes[..., 0] <= c) & (c < boxes[..., 2]) & (boxes[..., 1] <= r) & (r < boxes[..., 3])
     assert np.all(inside[real])
     for y, x in zip(*np.nonzero((atlas.maps.depth > 0) & real)):
@@ -150,3 +158,40 @@ def test_cached_arrays_hit_and_damage(cache):
     assert np.array_equal(cached_arrays("t", "k", ("a", "b"), build)["b"], first["b"]) and len(builds) == 2
     np.savez(path, other=np.zeros(1))  # a sound file of other arrays under the name
     assert set(cached_arrays("t", "k", ("a", "b"), build)) == {"a", "b"} and len(builds) == 3
+
+
+def test_window_bay_opening_is_the_bay_textures_glass():
+    """The window bay's opening (style 0): stretched over the bay's glass rectangle, its glass texels
+    are the bay texture's glass texels, one for one, inside a ring of wall at depth 0."""
+    atlas = relief_atlas()
+    first, cols, rows, repeats = atlas.window_bay
+    assert repeats == 0
+    material = atlas.maps.material[first : first + rows, :cols]
+    depth = atlas.maps.depth[first : first + rows, :cols]
+    image, (u0, v0, u1, v1) = assets.facade_texture()
+    size = image.shape[0]
+    glass = image[round(v0 * size) : round(v1 * size), round(u0 * size) : round(u1 * size), 3] < 128
+    assert glass.all() and glass.shape == (rows - 2, cols - 2)
+    assert np.array_equal(material[1:-1, 1:-1] == GLASS, glass)
+    ring = np.ones(material.shape, bool)
+    ring[1:-1, 1:-1] = False
+    assert np.all(depth[ring] == 0) and np.all(depth[1:-1, 1:-1] > 0)
+
+
+def test_relief_style_warning_once_per_process():
+    """A style without relief is warned about once per process, however many cities load (every
+    warning shown: -W always): one warning per style the atlas has no openings for."""
+    flat = [style for style, method in relief_atlas().styles.items() if not method]
+    code = (
+        "from cityshade.render import styles_with_relief\n"
+        "from cityshade.scene import make_city\n"
+        "for name in ('default', 'interior', 'default'):\n"
+        "    styles_with_relief(make_city(name).masses)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-W", "always", "-c", code], capture_output=True, text=True, timeout=300, env=os.environ
+    )
+    assert done.returncode == 0, done.stderr
+    said = done.stderr.count("ReliefStyleWarning")
+    print(f"ReliefStyleWarning said {said} times over three city loads, styles without relief {flat}")
+    assert said == len(flat)

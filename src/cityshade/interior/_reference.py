@@ -10,7 +10,7 @@ import numpy as np
 
 from ..assets import LABELS, TileArray
 from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
-from ..relief import GLASS, PROFILE, DetailMaps, switch_distance, trace_reference
+from ..relief import GLASS, PROFILE, RELIEF_SHAPES, DetailMaps, switch_distance, trace_reference
 from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (
     FACE_CEILING,
@@ -343,7 +343,7 @@ def reference_ids(
     (`cityshade.scene.door_hit`), rooms by `trace` (none behind the glass of a mass without an
     interior). With `labels` the fourth channel is the grammar label instead (the id pass without
     room state). With `window_bay_relief` (cityshade.relief.relief_atlas(), as the renderer's
-    default RenderSettings.relief on) the window bay's glass nearer than the switch (the grammar's
+    default RenderSettings.relief on) the window bay's glass on flat walls nearer than the switch (the grammar's
     relief_range, else switch_distance of the view) is recessed, `_window_bay_entry`. The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the
     camera's far plane."""
     relief = relief or {}
@@ -406,7 +406,7 @@ def reference_ids(
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
             glass = ~roof & (facade_alpha[row, col] < 0.5)
-            if window_bay_relief is not None:
+            if window_bay_relief is not None and mass.shape in RELIEF_SHAPES:
                 near = glass & (hits.t[sel] * np.linalg.norm(dirs[sel], axis=1) <= switch_m)
                 if near.any():
                     glass[near], entry[sel[near]] = _window_bay_entry(

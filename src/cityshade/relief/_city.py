@@ -42,7 +42,8 @@ def switch_distance(height_px: int, fov_y: float) -> float:
 
 
 class ReliefStyleWarning(UserWarning):
-    """A grammar style has no glazed terminal to recess: its facades stay flat."""
+    """A grammar style has no glazed terminal to recess: its facades stay flat. Said once per
+    process at most: the atlas that finds it is built once (relief_atlas)."""
 
 
 @dataclass(frozen=True)
@@ -153,7 +154,9 @@ def relief_atlas() -> ReliefAtlas:
         try:
             openings = cached_openings(compiled, style, number)
         except ValueError as exc:
-            warnings.warn(f"{exc}: its facades stay flat", ReliefStyleWarning, stacklevel=2)
+            warnings.warn(
+                f"{exc}: its facades stay flat (docs/relief.md, Limits)", ReliefStyleWarning, stacklevel=2
+            )
             styles[style] = ""
             continue
         best = smallest_compression(openings.maps, f"{style} window openings")

@@ -75,7 +75,8 @@ FacadeResult window_bay(Building b, vec3 n, vec3 wall, vec2 bay_uv) {
 #endif
 }
 
-// The window bay's window recessed near the eye (style 0, as the grammar windows: relief/building.glsl):
+// The window bay's window recessed near the eye (style 0, as the grammar windows: relief/building.glsl),
+// on flat walls (relief.RELIEF_SHAPES; curved walls keep the flat bay):
 // where the flat bay shows glass (the exact texel, as window_bay's id pass), the bay's opening is
 // stretched over that bay's glass rectangle and traced, so the glass stays where the flat bay has it;
 // the reveal in the bay's frame colour (the texel below the glass's centre). facade: (u, v above the
@@ -87,7 +88,7 @@ bool window_bay_relief(Building b, vec3 n, vec3 wall, vec2 facade, vec2 spacing,
 #else
     vec2 bay_uv = facade / spacing;
     ivec2 size = textureSize(u_facade, 0);
-    if (s > u_relief_range || texelFetch(u_facade, ivec2(fract(bay_uv) * vec2(size)), 0).a >= 0.5) return false;
+    if (b.ids.w != SHAPE_PRISM || s > u_relief_range || texelFetch(u_facade, ivec2(fract(bay_uv) * vec2(size)), 0).a >= 0.5) return false;
     vec2 cell = floor(bay_uv);
     vec4 rect = vec4((cell + u_glass_rect.xy) * spacing, (cell + u_glass_rect.zw) * spacing);
     uint material;
