@@ -307,7 +307,9 @@ def test_window_bay_windows_recessed_as_the_twin_says(gl_context, view, switch_m
     masses = WINDOW_BAY_STREET.masses
     # the switch as the renderer's: relief_range, else switch_distance of the view (GrammarFacades None)
     grammar = GrammarFacades(library_texture(), assets.tile_array(), {}, {}, None, switch_m)
-    ref = reference_ids(masses, camera, CITY_SIZE, params, alpha, ground, grammar=grammar, window_bay_relief=relief_atlas())
+    ref = reference_ids(
+        masses, camera, CITY_SIZE, params, alpha, ground, grammar=grammar, window_bay_relief=relief_atlas()
+    )
     flat = reference_ids(masses, camera, CITY_SIZE, params, alpha, ground)
     building = ref[..., 2] == 1
     differ = np.any(gpu[..., :3] != ref[..., :3], axis=-1)
@@ -328,7 +330,13 @@ def test_window_bay_windows_recessed_as_the_twin_says(gl_context, view, switch_m
     assert not (off_differ & ~id_edges(flat)).any()
     if switch_m == 8.0:  # the switch inside the view: near windows traced, far ones flat
         farther = reference_ids(
-            masses, camera, CITY_SIZE, params, alpha, ground, window_bay_relief=relief_atlas(),
+            masses,
+            camera,
+            CITY_SIZE,
+            params,
+            alpha,
+            ground,
+            window_bay_relief=relief_atlas(),
             grammar=GrammarFacades(library_texture(), assets.tile_array(), {}, {}, None, 60.0),
         )
         assert recess.any() and np.any(ref[..., :2] != farther[..., :2])

@@ -317,7 +317,13 @@ def grammar_entry(
                     continue
                 traced = rows[near & (g.terminal == terminal)]
                 glass[traced], entry[traced] = _opening_entry(
-                    grammar.relief, (row, PROFILE[0] + 2, PROFILE[1] + 2), window[traced], local[traced], d[traced], n[traced], facade[traced]
+                    grammar.relief,
+                    (row, PROFILE[0] + 2, PROFILE[1] + 2),
+                    window[traced],
+                    local[traced],
+                    d[traced],
+                    n[traced],
+                    facade[traced],
                 )
                 label[traced] = np.where(glass[traced], ROOM_LABEL, WINDOW_LABEL)
     return glass, label, window, entry

@@ -154,9 +154,7 @@ def relief_atlas() -> ReliefAtlas:
         try:
             openings = cached_openings(compiled, style, number)
         except ValueError as exc:
-            warnings.warn(
-                f"{exc}: its facades stay flat (docs/relief.md, Limits)", ReliefStyleWarning, stacklevel=2
-            )
+            warnings.warn(f"{exc}: its facades stay flat (docs/relief.md, Limits)", ReliefStyleWarning, stacklevel=2)
             styles[style] = ""
             continue
         best = smallest_compression(openings.maps, f"{style} window openings")

@@ -67,7 +67,9 @@ def register(subparsers):
     parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
     parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
     parser.add_argument(
-        "--no-relief", action="store_true", help="flat facades: no relief bay, grammar windows not recessed"
+        "--no-relief",
+        action="store_true",
+        help="flat facades: no relief bay, window-bay and grammar windows not recessed",
     )
     parser.add_argument(
         "--building-lod",
