@@ -9,7 +9,10 @@ Every reader produces the same raw features, so every format shares one set of r
   a 10 cm tolerance does not keep). All of it is counted in `MapData.report` with the element id.
 - buildings: `building=*` is an outline, `building:part=*` a part; a part's parent is the outline
   that holds its inner point, and an outline whose parts cover at least PARTS_COVER of its area is
-  `replaced_by_parts`. `building=roof` (or `building:part=roof`) has no walls.
+  `replaced_by_parts`. An outline its parts cover less is drawn only where no part stands (its
+  `remainder`: the outline minus its parts, keeping the outline's tags), so no wall of the outline
+  stands where a part's wall does; pieces of it thinner than SLIVER_WIDTH or under SLIVER_AREA are
+  dropped (counted). `building=roof` (or `building:part=roof`) has no walls.
 - roads: `highway=*` lines; width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class.
 - areas: see AREA_TAGS; the coastline (land on its left) splits the data's bounds into land and
   sea, and the sea faces become water areas. A coastline the extract cuts off inside the bounds is
@@ -37,6 +40,8 @@ MIN_AREA = 0.5  # square metres
 MAX_VERTICES = 4096
 SIMPLIFY_TOLERANCE = 0.1  # metres
 PARTS_COVER = 0.9
+SLIVER_WIDTH = 1.0  # metres: a remainder of an outline beside its parts thinner than this is a sliver
+SLIVER_AREA = 4.0  # square metres: a smaller piece of that remainder is one too
 LANE_WIDTH = 3.0
 TREE_ROW_SPACING = 8.0
 LAMP_HEIGHT = 6.0
@@ -181,7 +186,7 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
                 _add_line(data, raw)
         elif kind == 0:
             _add_point(data, raw, shops)
-    _link_parts(data.buildings, named_parents)
+    _link_parts(data.buildings, named_parents, report)
     _link_entrances(data, shops)
     if coast:
         _add_sea(data, coast)
@@ -422,9 +427,9 @@ def _link_entrances(data: MapData, shops: list) -> None:
             data.buildings[b].shop_front = True
 
 
-def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str]]) -> None:
+def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str]], report: ReadReport) -> None:
     """Give each part its named outline or the smallest one holding its inner point; mark outlines their
-    parts cover."""
+    parts cover, and cut those they cover in part down to where no part stands."""
     first = {}
     for building in buildings:
         if not building.is_part:
@@ -434,7 +439,7 @@ def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str
     outlines = [b for b in buildings if not b.is_part]
     parts = [b for b in buildings if b.is_part and b.parent is None]
     if not outlines or not parts:
-        _mark_replaced(buildings)
+        _mark_replaced(buildings, report)
         return
     tree = shapely.STRtree([b.outline for b in outlines])
     inner = shapely.point_on_surface([p.outline for p in parts])
@@ -445,18 +450,43 @@ def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str
             best[p] = o
     for p, o in best.items():
         parts[p].parent = outlines[o].index
-    _mark_replaced(buildings)
+    _mark_replaced(buildings, report)
 
 
-def _mark_replaced(buildings: list[MapBuilding]) -> None:
+def _mark_replaced(buildings: list[MapBuilding], report: ReadReport) -> None:
     children: dict[int, list] = {}
     for part in buildings:
         if part.is_part and part.parent is not None:
             children.setdefault(part.parent, []).append(part.outline)
     for index, covering in children.items():
-        outline = buildings[index].outline
-        covered = shapely.intersection(shapely.union_all(covering), outline).area
-        buildings[index].replaced_by_parts = covered >= PARTS_COVER * outline.area
+        building = buildings[index]
+        parts = shapely.union_all(covering)
+        if shapely.intersection(parts, building.outline).area >= PARTS_COVER * building.outline.area:
+            building.replaced_by_parts = True
+            continue
+        building.remainder = _remainder(building, parts, report)
+        building.replaced_by_parts = building.remainder is None
+
+
+def _remainder(building: MapBuilding, parts, report: ReadReport) -> shapely.Geometry | None:
+    """The outline minus its parts without slivers: an opening by SLIVER_WIDTH (mitred, so square corners
+    stay square) clipped back to the exact difference, so its edges along the parts are the parts' own."""
+    rest = shapely.difference(building.outline, parts)
+    half = SLIVER_WIDTH / 2.0
+    opened = rest.buffer(-half, join_style="mitre").buffer(half, join_style="mitre")
+    pieces = [
+        piece
+        for piece in shapely.get_parts(shapely.intersection(opened, rest))
+        if isinstance(piece, shapely.Polygon) and piece.area >= SLIVER_AREA
+    ]
+    kept = shapely.union_all(pieces) if pieces else None
+    if rest.area - (kept.area if kept is not None else 0.0) > 0.01:
+        why = f"under {SLIVER_WIDTH:g} m wide or {SLIVER_AREA:g} m² beside its building:part ways, not drawn"
+        report.skip("building outline sliver", why, building.source_id)
+    if kept is not None:
+        report.repair("building outline", "partly covered by its building:part ways, drawn where none stands",
+                      building.source_id)
+    return kept
 
 
 def _extended(line: shapely.LineString, reach: float) -> shapely.LineString:
