@@ -74,12 +74,12 @@ def test_outlines_with_parts_are_replaced_cut_or_kept(data):
     assert half.remainder.area == pytest.approx(half.outline.area / 2, rel=0.01)
     assert shapely.intersection(half.remainder, part.outline).area < 1e-6
     assert data.report.skipped[next(k for k in data.report.skipped if k[0] == "building outline sliver")] == 1
-    assert sum(n for (what, _), n in data.report.repaired.items() if what == "building outline") == 2
+    assert sum(n for (what, _), n in data.report.repaired.items() if what == "building outline") == 3
 
 
 def test_no_outline_wall_stands_where_a_parts_wall_does(data):
     masses = building_masses(data)
-    for outline_id, part_id in (("way/200", "way/201"), ("way/500", "way/501")):
+    for outline_id, part_id in (("way/200", "way/201"), ("way/500", "way/501"), ("way/600", "way/601")):
         outline, part = by_id(data, outline_id), by_id(data, part_id)
         drawn = [m for m in masses if m.seed == outline.index]
         parts = [m for m in masses if m.seed == part.index]
@@ -97,3 +97,15 @@ def test_a_cut_l_loses_its_gable_and_stops_at_the_eaves(data):
     assert mass.roof.shape == "flat" and mass.height == pytest.approx(10.0)  # 14 m tagged, 4 m of roof
     (rectangle,) = [m for m in building_masses(data) if m.seed == by_id(data, "way/200").index]
     assert rectangle.height == pytest.approx(12.0)
+
+
+def test_the_outline_stays_under_a_part_that_floats_up_to_its_base(data):
+    outline, part = by_id(data, "way/600"), by_id(data, "way/601")
+    ((under, above),) = outline.beneath_parts
+    assert above is part and shapely.symmetric_difference(under, part.outline).area < 1e-3
+    masses = [m for m in building_masses(data) if m.seed == outline.index]
+    assert sorted(m.height for m in masses) == pytest.approx([6.0, 12.0])
+    low = next(m for m in masses if m.height == pytest.approx(6.0))
+    assert low.roof.shape == "flat" and low.roof.parapet == 0.0  # the part stands on it
+    # on the ground, the outline's masses cover the whole outline
+    assert sum(shapely.Polygon(m.footprint).area for m in masses) == pytest.approx(outline.outline.area, rel=1e-6)

@@ -10,9 +10,9 @@ Every reader produces the same raw features, so every format shares one set of r
 - buildings: `building=*` is an outline, `building:part=*` a part; a part's parent is the outline
   that holds its inner point, and an outline whose parts cover at least PARTS_COVER of its area is
   `replaced_by_parts`. An outline its parts cover less is drawn only where no part stands (its
-  `remainder`: the outline minus its parts, keeping the outline's tags), so no wall of the outline
-  stands where a part's wall does; pieces of it thinner than SLIVER_WIDTH or under SLIVER_AREA are
-  dropped (counted). `building=roof` (or `building:part=roof`) has no walls.
+  `remainder`: the outline minus its parts, keeping the outline's tags) and under parts that float
+  (`beneath_parts`: drawn up to their base), so no wall of the outline stands where a part's wall
+  does; pieces thinner than SLIVER_WIDTH or under SLIVER_AREA are dropped (counted). `building=roof` (or `building:part=roof`) has no walls.
 - roads: `highway=*` lines; width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class.
 - areas: see AREA_TAGS; the coastline (land on its left) splits the data's bounds into land and
   sea, and the sea faces become water areas. A coastline the extract cuts off inside the bounds is
@@ -454,39 +454,54 @@ def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str
 
 
 def _mark_replaced(buildings: list[MapBuilding], report: ReadReport) -> None:
-    children: dict[int, list] = {}
+    children: dict[int, list[MapBuilding]] = {}
     for part in buildings:
         if part.is_part and part.parent is not None:
-            children.setdefault(part.parent, []).append(part.outline)
-    for index, covering in children.items():
+            children.setdefault(part.parent, []).append(part)
+    for index, parts in children.items():
         building = buildings[index]
-        parts = shapely.union_all(covering)
-        if shapely.intersection(parts, building.outline).area >= PARTS_COVER * building.outline.area:
+        covering = shapely.union_all([p.outline for p in parts])
+        if shapely.intersection(covering, building.outline).area >= PARTS_COVER * building.outline.area:
             building.replaced_by_parts = True
             continue
-        building.remainder = _remainder(building, parts, report)
-        building.replaced_by_parts = building.remainder is None
+        remainder, dropped = _without_slivers(shapely.difference(building.outline, covering))
+        taken = shapely.union_all([p.outline for p in parts if not _floats(p)])
+        for part in sorted(filter(_floats, parts), key=lambda p: (p.min_height or 0.0, p.min_level or 0.0)):
+            below = shapely.intersection(building.outline, part.outline)
+            under, lost = _without_slivers(shapely.difference(below, taken))
+            taken, dropped = shapely.union(taken, part.outline), dropped + lost
+            if under is not None:
+                building.beneath_parts.append((under, part))
+        if dropped > 0.01:
+            why = f"under {SLIVER_WIDTH:g} m wide or {SLIVER_AREA:g} m² beside its building:part ways, not drawn"
+            report.skip("building outline sliver", why, building.source_id)
+        if remainder is None and not building.beneath_parts:
+            building.replaced_by_parts = True
+            continue
+        building.remainder = remainder if remainder is not None else shapely.Polygon()
+        why = "partly covered by its building:part ways, drawn where none stands"
+        report.repair("building outline", why + (" and under those that float" if building.beneath_parts else ""),
+                      building.source_id)
 
 
-def _remainder(building: MapBuilding, parts, report: ReadReport) -> shapely.Geometry | None:
-    """The outline minus its parts without slivers: an opening by SLIVER_WIDTH (mitred, so square corners
-    stay square) clipped back to the exact difference, so its edges along the parts are the parts' own."""
-    rest = shapely.difference(building.outline, parts)
+def _floats(part: MapBuilding) -> bool:
+    """A part whose walls start above the ground (upper storeys, a bridge): the outline stays beneath it."""
+    return (part.min_height or 0.0) > 0.0 or (part.min_level or 0.0) > 0.0
+
+
+def _without_slivers(area: shapely.Geometry) -> tuple[shapely.Geometry | None, float]:
+    """(`area` without pieces thinner than SLIVER_WIDTH or under SLIVER_AREA, or None if nothing is left;
+    the area dropped). An opening (mitred, so square corners stay square) clipped back to `area`, so the
+    edges it keeps are exactly those of `area`: along a part, the part's own."""
     half = SLIVER_WIDTH / 2.0
-    opened = rest.buffer(-half, join_style="mitre").buffer(half, join_style="mitre")
+    opened = area.buffer(-half, join_style="mitre").buffer(half, join_style="mitre")
     pieces = [
         piece
-        for piece in shapely.get_parts(shapely.intersection(opened, rest))
+        for piece in shapely.get_parts(shapely.intersection(opened, area))
         if isinstance(piece, shapely.Polygon) and piece.area >= SLIVER_AREA
     ]
     kept = shapely.union_all(pieces) if pieces else None
-    if rest.area - (kept.area if kept is not None else 0.0) > 0.01:
-        why = f"under {SLIVER_WIDTH:g} m wide or {SLIVER_AREA:g} m² beside its building:part ways, not drawn"
-        report.skip("building outline sliver", why, building.source_id)
-    if kept is not None:
-        report.repair("building outline", "partly covered by its building:part ways, drawn where none stands",
-                      building.source_id)
-    return kept
+    return kept, area.area - (kept.area if kept is not None else 0.0)
 
 
 def _extended(line: shapely.LineString, reach: float) -> shapely.LineString:

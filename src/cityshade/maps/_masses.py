@@ -2,7 +2,8 @@
 and the roof, courtyards, floating parts, roofs, tints and a facade style by use.
 
 An outline its building:part ways cover in part stands only where no part does (`remainder`), one
-mass per piece. A pitched roof was mapped for the whole outline: on a piece that is still about a
+mass per piece, and under parts that float (`beneath_parts`) up to their base, with a flat roof
+and no parapet (the part stands on it). A pitched roof was mapped for the whole outline: on a piece that is still about a
 rectangle (RECTANGLE_FILL of its minimum rotated rectangle) the roof is built over the piece; on any
 other cut shape it would no longer fit, and the piece gets a flat roof at the pitched roof's eaves.
 
@@ -16,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 import shapely
 
-from ..scene import USES, BuildingMass
+from ..scene import USES, BuildingMass, Roof
 from ._defaults import defaults_for
 from ._doors import mass_doors
 from ._model import MapBuilding, MapData, to_scene
@@ -191,10 +192,15 @@ def _fits_pitched_roof(polygon: shapely.Polygon) -> bool:
     return not polygon.interiors and polygon.area >= RECTANGLE_FILL * polygon.minimum_rotated_rectangle.area
 
 
-def building_mass(building: MapBuilding, polygon: shapely.Polygon, cut: bool = False) -> BuildingMass | None:
+def building_mass(
+    building: MapBuilding, polygon: shapely.Polygon, cut: bool = False, top: float | None = None
+) -> BuildingMass | None:
     """One building (or part) standing on one scene-space polygon; None if it has no volume. `cut`: the
-    polygon is a piece of an outline beside its parts (a pitched roof that no longer fits becomes flat)."""
+    polygon is a piece of an outline beside its parts (a pitched roof that no longer fits becomes flat);
+    `top`: a piece under a floating part, ending flat at that height."""
     base, height, floor = heights(building)
+    if top is not None:
+        height = min(height, top)
     if height - base <= MIN_THICKNESS:
         return None  # a part whose bottom is at or above its top: nothing to draw
     polygon = shapely.orient_polygons(polygon)  # positive area in (x, z): walls face out
@@ -214,7 +220,9 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon, cut: bool = F
         else ()
     )
     roof = building_roof(building, local, yaw, height - base, floor)
-    if cut and roof.height > 0 and not _fits_pitched_roof(polygon):
+    if top is not None:
+        roof = Roof(colour=roof.colour, material=roof.material, seed=roof.seed)  # flat, no parapet
+    elif cut and roof.height > 0 and not _fits_pitched_roof(polygon):
         height -= roof.height  # flat at the eaves the mapped roof would have had
         roof = building_roof(replace(building, roof_shape="flat"), local, yaw, height - base, floor)
     if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
@@ -250,8 +258,11 @@ def building_masses(map_data: MapData) -> list[BuildingMass]:
     for building in map_data.buildings:
         if not building.drawn:
             continue
-        for polygon in _polygons(building.drawn_footprint):
-            mass = building_mass(building, polygon, cut=building.remainder is not None)
+        pieces = [(polygon, None) for polygon in _polygons(building.drawn_footprint)]
+        for under, part in building.beneath_parts:
+            pieces += [(polygon, heights(part)[0]) for polygon in _polygons(under)]
+        for polygon, top in pieces:
+            mass = building_mass(building, polygon, cut=building.remainder is not None, top=top)
             if mass is not None:
                 masses.append(mass)
     return masses
