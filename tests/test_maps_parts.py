@@ -55,8 +55,9 @@ def inside(masses, points):
 def same_facing(outline_masses, part_masses):
     """(wall triangles of the outline's masses with a part's volume behind them: a wall standing where a
     part's wall stands, facing the same way; wall triangles back to back with a part's wall)."""
-    centres, normals = np.concatenate([wall_points(m)[0] for m in outline_masses]), np.concatenate(
-        [wall_points(m)[1] for m in outline_masses]
+    centres, normals = (
+        np.concatenate([wall_points(m)[0] for m in outline_masses]),
+        np.concatenate([wall_points(m)[1] for m in outline_masses]),
     )
     behind = inside(part_masses, centres - STEP * normals)
     front = inside(part_masses, centres + STEP * normals)
@@ -109,3 +110,47 @@ def test_the_outline_stays_under_a_part_that_floats_up_to_its_base(data):
     assert low.roof.shape == "flat" and low.roof.parapet == 0.0  # the part stands on it
     # on the ground, the outline's masses cover the whole outline
     assert sum(shapely.Polygon(m.footprint).area for m in masses) == pytest.approx(outline.outline.area, rel=1e-6)
+
+
+def test_helsinki_wall_under_a_part_shows_one_building_per_pixel(helsinki_pbf, gl_context, output_dir):
+    """Part way/89541313 (upper storeys from building:min_level 2) inside relation/1320784 shares 47 m of
+    its west wall with the outline. Looking at that wall, the id AOV shows only the part within its
+    storeys and only the outline below them; drawn whole, the outline showed through in streaks."""
+    from PIL import Image
+
+    from cityshade.maps import map_city
+    from cityshade.render import Renderer, RenderSettings
+    from cityshade.scene import Camera
+
+    data = load_map(helsinki_pbf)
+    city = map_city(data)
+    outline = next(b for b in data.buildings if b.source_id == "relation/1320784" and not b.is_part)
+    part = by_id(data, "way/89541313")
+    shared = shapely.intersection(outline.outline.exterior, part.outline.boundary.buffer(0.05))
+    runs = [np.asarray(line.coords) for line in shapely.get_parts(shapely.line_merge(shared))]
+    a, b = max(((p, q) for run in runs for p, q in zip(run[:-1], run[1:])), key=lambda s: np.hypot(*(s[1] - s[0])))
+    mid, along = (a + b) / 2, (b - a) / np.hypot(*(b - a))
+    out = np.array([along[1], -along[0]])
+    if outline.outline.contains(shapely.Point(mid + 0.5 * out)):
+        out = -out
+    eye = mid + 10.0 * out  # 11.6 m of street before the next building
+    (part_mass,) = [m for m in city.masses if m.seed == part.index]
+    seeds = np.array([m.seed for m in city.masses])
+    renderer = Renderer((160, 120), RenderSettings(samples=0, god_rays=False), ctx=gl_context)
+    renderer.set_city(city)
+    counts = {}
+    try:
+        for name, y in (("part storeys", (part_mass.base + part_mass.wall_top) / 2), ("below them", 3.0)):
+            camera = Camera((eye[0], y, -eye[1]), (mid[0], y, -mid[1]), fov_y=40.0)
+            mass = renderer.render_ids(camera)[30:90, 40:120, 2].astype(np.int64) - 1  # the middle: the wall
+            building = np.where(mass >= 0, seeds[np.maximum(mass, 0)], -1)
+            counts[name] = {
+                "part": int((building == part.index).sum()),
+                "outline": int((building == outline.index).sum()),
+            }
+            Image.fromarray(renderer.render(camera)).save(output_dir / f"parts_helsinki_{y:.0f}m.png")
+    finally:
+        renderer.release()
+    print(counts)
+    assert counts["part storeys"] == {"part": 4800, "outline": 0}
+    assert counts["below them"] == {"part": 0, "outline": 4800}

@@ -480,8 +480,11 @@ def _mark_replaced(buildings: list[MapBuilding], report: ReadReport) -> None:
             continue
         building.remainder = remainder if remainder is not None else shapely.Polygon()
         why = "partly covered by its building:part ways, drawn where none stands"
-        report.repair("building outline", why + (" and under those that float" if building.beneath_parts else ""),
-                      building.source_id)
+        report.repair(
+            "building outline",
+            why + (" and under those that float" if building.beneath_parts else ""),
+            building.source_id,
+        )
 
 
 def _floats(part: MapBuilding) -> bool:
