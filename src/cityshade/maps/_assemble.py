@@ -12,7 +12,8 @@ Every reader produces the same raw features, so every format shares one set of r
   `replaced_by_parts`. An outline its parts cover less is drawn only where no part stands (its
   `remainder`: the outline minus its parts, keeping the outline's tags) and under parts that float
   (`beneath_parts`: drawn up to their base), so no wall of the outline stands where a part's wall
-  does; pieces thinner than SLIVER_WIDTH or under SLIVER_AREA are dropped (counted). `building=roof` (or `building:part=roof`) has no walls.
+  does; pieces thinner than SLIVER_WIDTH or under SLIVER_AREA are dropped (counted).
+  `building=roof` (or `building:part=roof`) has no walls.
 - roads: `highway=*` lines; width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class.
 - areas: see AREA_TAGS; the coastline (land on its left) splits the data's bounds into land and
   sea, and the sea faces become water areas. A coastline the extract cuts off inside the bounds is

@@ -3,9 +3,10 @@ and the roof, courtyards, floating parts, roofs, tints and a facade style by use
 
 An outline its building:part ways cover in part stands only where no part does (`remainder`), one
 mass per piece, and under parts that float (`beneath_parts`) up to their base, with a flat roof
-and no parapet (the part stands on it). A pitched roof was mapped for the whole outline: on a piece that is still about a
-rectangle (RECTANGLE_FILL of its minimum rotated rectangle) the roof is built over the piece; on any
-other cut shape it would no longer fit, and the piece gets a flat roof at the pitched roof's eaves.
+and no parapet (the part stands on it). A pitched roof was mapped for the whole outline: on a piece
+that is still about a rectangle (RECTANGLE_FILL of its minimum rotated rectangle) the roof is built
+over the piece; on any other cut shape it would no longer fit, and the piece gets a flat roof at
+the eaves the pitched roof would have had.
 
 Values the map left out are normally filled by the guessing model before this runs; where one is
 still missing, the same documented per-type defaults (`defaults_for`) are used."""
@@ -253,7 +254,7 @@ def building_mass(
 
 def building_masses(map_data: MapData) -> list[BuildingMass]:
     """The masses of every drawn building and part (outlines replaced by their parts are skipped, those
-    cut by them stand on their remainder)."""
+    cut by them stand on their remainder and under their floating parts)."""
     masses = []
     for building in map_data.buildings:
         if not building.drawn:
