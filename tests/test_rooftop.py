@@ -15,7 +15,7 @@ from cityshade.maps import load_map, map_city
 from cityshade.scene import building_vertices
 from cityshade.scene._dormers import DORMER_SPACING, DORMER_WIDTH, END_MARGIN
 from cityshade.scene._materials import ROOF_PART_SHEET
-from cityshade.scene._meshes import SURFACE_ROOF, SURFACE_WALL
+from cityshade.scene._meshes import SURFACE_DORMER, SURFACE_ROOF, SURFACE_WALL
 from cityshade.scene._roof_units import CLEARANCE, HOUSING_ROOF, rooftop_units, unit_count
 from cityshade.scene._roofs import PARAPET_THICKNESS
 
@@ -74,13 +74,15 @@ def test_units_follow_the_seed_and_only_blocks_have_them(masses):
 
 
 def _dormer_fronts(mass):
-    """Wall triangles above the walls' top that are not gables on the outline: the dormers' fronts."""
+    """The dormers' fronts (surface SURFACE_DORMER): wall triangles above the walls' top, off the outline."""
     v = building_vertices(mass, 0)
+    fronts = v[v["ids"][:, 1] == SURFACE_DORMER].reshape(-1, 3)
     walls = v[v["ids"][:, 1] == SURFACE_WALL].reshape(-1, 3)
-    above = (walls["local"][:, :, 1] > mass.wall_top + 1e-4).any(axis=1)
     outline = shapely.Polygon(mass.footprint).boundary
     off_outline = shapely.distance(outline, shapely.points(walls["local"][:, :, [0, 2]].mean(axis=1))) > 1e-3
-    return walls[above & off_outline]
+    assert not off_outline.any()  # every other wall piece (walls, gables) stands on the outline
+    assert np.all(fronts["local"][:, :, 1].min(axis=1) >= mass.wall_top - 1e-4)
+    return fronts
 
 
 @pytest.mark.parametrize(
