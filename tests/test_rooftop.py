@@ -277,3 +277,26 @@ def test_dormer_fronts_show_their_rooms_in_the_id_pass_as_the_twin(gl_context, m
     assert not (differ & ~id_edges(ref)).any(), "dormer front pixels differ away from any edge"
     assert differ.sum() <= 0.02 * front.sum()
     assert not state.any()
+
+
+def test_export_draws_dormer_fronts_of_a_grammar_building_as_window_bays(tmp_path, capsys, masses):
+    """glTF export: the house's facade is a baked grammar (brick); its dormers' fronts are window
+    bays there too, every front triangle in the window-bay material, none in a facade atlas."""
+    import pygltflib
+
+    from cityshade.cli import main
+    from cityshade.export._bake import has_grammar
+
+    assert has_grammar(masses[HOUSE])
+    out = tmp_path / "dormers.glb"
+    assert main(["export", "--map", str(EXTRACT), "--out", str(out), "--texel", "0.25"]) == 0
+    capsys.readouterr()
+    gltf = pygltflib.GLTF2.load(str(out))
+    node = next(n for n in gltf.nodes if n.name == "building way/103")
+    triangles = {}
+    for primitive in gltf.meshes[node.mesh].primitives:
+        name = gltf.materials[primitive.material].name
+        triangles[name] = triangles.get(name, 0) + gltf.accessors[primitive.attributes.POSITION].count // 3
+    fronts = len(_dormer_fronts(masses[HOUSE]))
+    print(f"the house's triangles by material: {triangles}; dormer front triangles {fronts}")
+    assert fronts >= 2 and triangles.get("window bays") == fronts
