@@ -1,6 +1,7 @@
 """Pictures of a relief facade for docs/relief.md: close up, at a grazing angle, relief mapping
-against facade displacement mapping at the same view (the paper's fig. 3), and a relief building
-of the default city at street level.
+against facade displacement mapping at the same view (the paper's fig. 3), a relief building
+of the default city at street level, and a street in Helsinki with the grammar facades' windows
+recessed and flat.
 
     .venv/bin/python examples/relief_facade.py [--out docs/images]
 """
@@ -13,7 +14,9 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from cityshade.api import render_city
 from cityshade.gl import ProgramCache, create_context
+from cityshade.maps import city_from_map
 from cityshade.relief import FacadeView, GpuFacade, facade_camera, paper_facade
 from cityshade.render._renderer import Renderer
 from cityshade.scene import default_city
@@ -43,6 +46,7 @@ def main():
         Image.fromarray((np.clip(rgb, 0, 1) ** (1 / 2.2) * 255).astype(np.uint8)).save(args.out / f"{name}.png")
         print(args.out / f"{name}.png")
     city_street(args.out / "relief_city_street.png", tuple(args.size))
+    helsinki_windows(args.out / "relief_helsinki_windows.png")
 
 
 def city_street(path: Path, size: tuple[int, int]):
@@ -57,6 +61,17 @@ def city_street(path: Path, size: tuple[int, int]):
     renderer = Renderer(size)
     renderer.set_city(city)
     Image.fromarray(renderer.render(street.moved(position=tuple(eye), target=tuple(eye + look)))).save(path)
+    print(path)
+
+
+def helsinki_windows(path: Path, size: tuple[int, int] = (960, 640)):
+    """The left side of Helsinki's street viewpoint by day: recessed windows (left), flat (right)."""
+    city, camera, sky = city_from_map(Path("data/Helsinki.osm.pbf"), "street", None, "14:00")
+    halves = []
+    for relief in (True, False):
+        image, _ = render_city(city=city, camera=camera, size=size, time="14:00", samples=0, relief=relief, **sky)
+        halves.append(image[: size[1] // 2, : size[0] // 3])
+    Image.fromarray(np.concatenate(halves, axis=1)).save(path)
     print(path)
 
 

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import os
+import tempfile
 from pathlib import Path
 
 import pytest
 
 # Uniform names that no variant of a program declares are errors, not silence (cityshade.gl.set_uniforms).
 os.environ.setdefault("CITYSHADE_STRICT_UNIFORMS", "1")
+# Compressed relief maps are cached here, not in the user's cache folder (cityshade.relief.cache_dir).
+os.environ.setdefault("CITYSHADE_CACHE_DIR", tempfile.mkdtemp(prefix="cityshade-test-cache-"))
 
 OUTPUT = Path(__file__).parent / "output"
 

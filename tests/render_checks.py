@@ -44,10 +44,12 @@ def hit_edges(hits) -> np.ndarray:
 
 def grammar_facades(masses):
     """The twin's GrammarFacades of `masses`: the library, each grammar building's start rule and the
-    narrowest face its style fits, as the renderer assigns them."""
+    narrowest face its style fits, as the renderer assigns them, and the relief atlas that recesses
+    their windows (relief is on by default)."""
     from cityshade import assets
     from cityshade.grammar import FACADE_GRAMMAR, library_min_widths, library_texture
     from cityshade.interior import GrammarFacades
+    from cityshade.relief import relief_atlas
     from cityshade.render import assign_facades, choose_facade
     from cityshade.scene import batch
 
@@ -55,7 +57,7 @@ def grammar_facades(masses):
     assign_facades(records, masses)
     starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
     widths = {i: library_min_widths()[choose_facade(masses[i]).grammar_style] for i in starts}
-    return GrammarFacades(library_texture(), assets.tile_array(), starts, widths)
+    return GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief_atlas())
 
 
 def interior_twin(renderer, masses, camera, size, bounds, lights=None, grammar=None, labels=False) -> np.ndarray:

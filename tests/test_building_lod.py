@@ -126,7 +126,7 @@ def test_moving_away_the_cross_fade_does_not_pop(gl_context, style):
 
 
 # every facade of the city: the window bay, the relief bay and each library grammar a building
-# style gets (relief takes the styles it shares with a grammar, render/_facades.py)
+# style gets (the relief bay takes the styles it shares with a grammar, render/_facades.py)
 CITY_STYLES = {
     "window bay": 0,
     "relief bay": RELIEF_STYLES[0],

@@ -177,8 +177,9 @@ def test_one_registry_chooses_each_building_facade():
 
     assert [k.precedence for k in FACADE_KINDS] == sorted(k.precedence for k in FACADE_KINDS)
     assert len({k.name for k in FACADE_KINDS}) == len(FACADE_KINDS), "each kind registered once"
-    assert choose_facade(box((0, 0), 10, 10, 9, style=7)).name == "relief bay"  # relief wins on boxes
-    assert choose_facade(cylinder((0, 0), 6, 9, style=7)).name == "grammar fig12"  # no relief on curved walls
+    assert choose_facade(box((0, 0), 10, 10, 9, style=2)).name == "relief bay"  # the relief bay on boxes
+    assert choose_facade(cylinder((0, 0), 6, 9, style=2)).name == "window bay"  # not on curved walls
+    assert choose_facade(box((0, 0), 10, 10, 9, style=7)).name == "grammar fig12"  # its windows recessed
     assert choose_facade(box((0, 0), 10, 10, 9, style=4)).name == "grammar brick"
     assert choose_facade(box((0, 0), 10, 10, 9, style=0)).name == "window bay"
 

@@ -9,7 +9,7 @@ from .assets import LABELS
 from .gl import declare_constants
 from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
-from .relief import FACADE_RELIEF, GLASS, RELIEF_FACE_CODES
+from .relief import FACADE_RELIEF, GLASS, MATERIALS, RELIEF_FACE_CODES
 from .scene import (
     FLAGS,
     GROUND_MATERIALS,
@@ -18,6 +18,7 @@ from .scene import (
     ROOF_PATTERNS,
     SHAPE_CODES,
     SURFACE_CODES,
+    TINT_GAIN,
     USE_CODES,
 )
 from .scene import DOOR_CONSTANTS
@@ -27,7 +28,8 @@ CONSTANTS: dict[str, int | str] = {
     **SHAPE_CODES,  # SHAPE_PRISM, SHAPE_CYLINDER, SHAPE_DOME
     **FLAGS,  # FLAG_FURNITURE, FLAG_CURTAINS, FLAG_ROOM_VARIATION, FLAG_NO_INTERIOR
     **USE_CODES,  # USE_MIXED ... USE_PUBLIC, USE_COUNT, and where the use sits in the flags (USE_SHIFT, USE_MASK)
-    **SURFACE_CODES,  # SURFACE_WALL, SURFACE_ROOF
+    **SURFACE_CODES,  # SURFACE_WALL, SURFACE_ROOF, SURFACE_PLAIN_WALL, SURFACE_DORMER
+    "TINT_GAIN": f"{TINT_GAIN:.1f}",  # building_tint's gain (common/facade.glsl)
     **GROUND_MATERIALS,  # GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS
     **MAP_GROUND_MATERIALS,  # GROUND_WATER ... GROUND_BULB: maps' water, paint, tracks, lamps
     **ROOF_PATTERNS,  # ROOF_PLAIN ... ROOF_WOOD: roof.glsl's patterns
@@ -37,8 +39,11 @@ CONSTANTS: dict[str, int | str] = {
     "GRAMMAR_WALL_LABEL": LABELS.index("wall"),
     "GRAMMAR_ROOM_LABEL": LABELS.index("room"),
     "GRAMMAR_DOOR_LABEL": LABELS.index("door"),
+    "GRAMMAR_WINDOW_LABEL": LABELS.index("window"),
     **DOOR_CONSTANTS,  # DOOR_WIDTH, DOOR_HEIGHT, DOOR_PLANE, DOOR_FACING, MAX_DOORS: scene/_doors.py
     "RELIEF_GLASS": f"{GLASS}u",  # compared with the uint materials of the relief maps
+    "RELIEF_FRAME": f"{MATERIALS.index('frame')}u",
+    "RELIEF_WALL": f"{MATERIALS.index('wall')}u",
     **RELIEF_FACE_CODES,  # FACE_FRONT, FACE_NEG_X, FACE_POS_X, FACE_NEG_Y, FACE_POS_Y
 }
 

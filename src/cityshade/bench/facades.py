@@ -25,7 +25,7 @@ from ..gl import create_context, describe_context
 from ..grammar import BUILDING_STYLES, compile_grammars, library_path, load, load_library
 from ..interior import windows_straddling_rooms
 from ..maps import load_map, map_city
-from ..render import Renderer, RenderSettings
+from ..render import Renderer, RenderSettings, styles_with_relief
 from ..scene import Camera, City, box, make_city
 from ..trees import TREE_DTYPE
 from ._harness import BenchResult, Timing, method_record, time_interleaved, timing_record
@@ -70,6 +70,8 @@ TARGETS = {
     "city_deferred_over_forward": "report (the city's default follows the faster)",
     "windows_straddling_rooms_district": "0",
     "windows_straddling_rooms_osm": "0",
+    "styles_with_relief_fraction": "1.0",
+    "relief_everywhere_over_off": "<= 1.3",
 }
 PITCH = 32.0
 CITY_SIZE = (640, 360)
@@ -140,6 +142,25 @@ def city_frame_ms(ctx, size, frames: int) -> dict[str, Timing]:
             renderer.release()
 
 
+def relief_frame_ms(ctx, size, frames: int) -> dict[str, float]:
+    """The default city's frame with relief on every style that has it and with relief off, the two
+    taking turns frame by frame, at the street and close-up viewpoints: (camera, on|off) -> median ms."""
+    city = make_city("default")
+    renderers = {on: Renderer(size, RenderSettings(relief=on == "on"), ctx=ctx) for on in ("on", "off")}
+    for renderer in renderers.values():
+        renderer.set_city(city)
+    out = {}
+    try:
+        for name in ("street", "closeup"):
+            camera = city.camera(name)
+            timed = time_interleaved(ctx, {k: (lambda i, r=r: r.draw(camera)) for k, r in renderers.items()}, frames)
+            out.update({(name, k): v.ms()[0] for k, v in timed.items()})
+    finally:
+        for renderer in renderers.values():
+            renderer.release()
+    return out
+
+
 def straddling_windows(ctx, city, size=WINDOWS_SIZE) -> dict[str, int]:
     """Windows that show more than one room, over the city's viewpoints (the id AOV with window
     keys, cityshade.interior.windows_straddling_rooms), summed."""
@@ -200,6 +221,8 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         renderer.release()
 
     city_ms = city_frame_ms(ctx, CITY_SIZE, frames)
+    relief_ms = relief_frame_ms(ctx, CITY_SIZE, frames)
+    with_relief, styles_used = styles_with_relief(make_city("default").masses)
     straddling = {
         "district": straddling_windows(ctx, make_city("default")),
         "osm": straddling_windows(ctx, map_city(load_map(HELSINKI))),
@@ -269,6 +292,14 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         ["path", "ms per frame", "IQR ms"],
         [[p, *v.ms()] for p, v in city_ms.items()],
     )
+    result.add_table(
+        "The city's frame (default city, 640x360): relief on every style that has it vs relief off",
+        ["camera", "relief on ms", "relief off ms", "on/off"],
+        [
+            [c, relief_ms[(c, "on")], relief_ms[(c, "off")], round(relief_ms[(c, "on")] / relief_ms[(c, "off")], 3)]
+            for c in ("street", "closeup")
+        ],
+    )
     rules, nbytes, per_rule = library_bytes_per_rule()
     result.add_table(
         "§6: grammar texture of the whole library",
@@ -289,6 +320,10 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         "city_deferred_over_forward": round(city_ms["deferred"].median / city_ms["forward"].median, 3),
         "windows_straddling_rooms_district": straddling["district"]["straddling"],
         "windows_straddling_rooms_osm": straddling["osm"]["straddling"],
+        "styles_with_relief_fraction": round(len(with_relief) / len(styles_used), 3),
+        "relief_everywhere_over_off": round(
+            _geomean([relief_ms[(c, "on")] / relief_ms[(c, "off")] for c in ("street", "closeup")]), 3
+        ),
     }
     result.add_table(
         f"Windows showing more than one room, over each city's viewpoints at {WINDOWS_SIZE[0]}x{WINDOWS_SIZE[1]}",
@@ -319,6 +354,10 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         f"Frame times are medians (and interquartile ranges) of {frames} frames after one warm-up, with "
         "ctx.finish(); the two paths take turns frame by frame.",
     ]
+    result.notes.append(
+        f"Styles with relief (default city): {with_relief} of {styles_used}; relief on/off is the geometric mean "
+        "over the street and close-up viewpoints."
+    )
     result.plots.append(str(_plot(ms, cameras, out_dir)))
     return result
 

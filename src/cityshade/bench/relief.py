@@ -27,6 +27,8 @@ from ..relief import (
     MAP_NAMES,
     PAPER_FACADES,
     RENDERERS,
+    PROFILE,
+    DetailMaps,
     FacadeView,
     GpuFacade,
     MeshFacade,
@@ -35,11 +37,13 @@ from ..relief import (
     draw_facades,
     facade_camera,
     paper_facade,
+    relief_atlas,
     slab_faces,
+    switch_distance,
     trace_view,
 )
-from ..render import boxes_visible, frustum_planes
-from ..scene import Camera
+from ..render import Renderer, RenderSettings, boxes_visible, frustum_planes
+from ..scene import Camera, make_city
 from ._harness import BenchResult, method_record, time_interleaved, timing_record
 
 # Paper Table 1 (KB): NOCOMP, WINRAR, SVD, BIN for heightfield, material, acceleration, total.
@@ -75,6 +79,7 @@ TARGETS = {
     "geometry_over_bcfdm_time": ">= 40",
     "fdm_mismatch_fraction": "== 0 (edges only)",
     "f2_bmf_factorisation_s": "< 10",
+    "city_switch_over_exact_everywhere": "report (< 1: the switch saves time)",
 }
 
 
@@ -421,8 +426,114 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     _table2(result, ctx, programs, facades, quick)
     _mismatch(result, ctx, programs, facades, quick)
     _table3(result, ctx, programs, facades, quick)
+    _opening_renderers(result, ctx, programs, quick)
+    _city_switch(result, ctx, quick)
     _plot(result, out_dir)
     return result
+
+
+OPENING_DISTANCES = (4.0, 8.0, 16.0, 32.0, 64.0)  # metres from the facade
+
+
+def opening_wall(windows: tuple[int, int] = (4, 2)) -> DetailMaps:
+    """A wall of one grammar window opening (the first of the city's atlas, `relief_atlas`),
+    repeated with wall between, at the texel a 1.3 m window gives the profile."""
+    atlas = relief_atlas()
+    row = min(atlas.terminals.values())
+    rows, cols = PROFILE[1] + 2, PROFILE[0] + 2
+    pad = ((24, 30), (22, 22))  # wall below, above, left and right of the opening, in texels
+    depth = np.tile(np.pad(atlas.maps.depth[row : row + rows, :cols], pad), windows[::-1])
+    material = np.tile(np.pad(atlas.maps.material[row : row + rows, :cols], pad), windows[::-1])
+    return DetailMaps(depth, material, 1.3 / PROFILE[0], atlas.maps.depth_unit)
+
+
+def _opening_renderers(result: BenchResult, ctx, programs, quick: bool):
+    """The six renderers on a wall of grammar window openings by distance: ms per frame, and the
+    pixels whose material differs from the reference tracer's; 'flat' is the material where the ray
+    meets the wall plane (no relief), what the city draws beyond the switch."""
+    maps = opening_wall()
+    size = (160, 120) if quick else (640, 480)
+    frames = FRAMES[quick]
+    gpu = GpuFacade(ctx, maps)
+    view = FacadeView(ctx, size, programs)
+    flat_maps = DetailMaps(np.zeros_like(maps.depth), maps.material, maps.texel, maps.depth_unit)
+    rows = []
+    for distance in OPENING_DISTANCES:
+        camera = facade_camera(maps, 35, 10, distance, target=(0.3, 0.4), fov_y=50.0)
+        timed = time_interleaved(ctx, {r: (lambda i, r=r: view.draw(gpu, camera, r)) for r in RENDERERS}, frames)
+        ref = trace_view(maps, camera, size)
+        on = ref.material != -1
+        errors = {}
+        for renderer in RENDERERS:
+            view.draw(gpu, camera, renderer)
+            errors[renderer] = int(((view.read().material != ref.material) & on).sum())
+        flat = int(((trace_view(flat_maps, camera, size).material != ref.material) & on).sum())
+        rows.append(
+            [distance, int(on.sum()), *(round(timed[r].median * 1000, 2) for r in RENDERERS), *errors.values(), flat]
+        )
+    view.release()
+    gpu.release()
+    names = [r.upper() for r in RENDERERS]
+    result.add_table(
+        f"Grammar window openings ({maps.shape[1]}x{maps.shape[0]} texels, {maps.size_m[0]:.1f} x "
+        f"{maps.size_m[1]:.1f} m) by distance at {size[0]}x{size[1]}, 35 degrees off the normal: ms per frame, "
+        "and pixels whose material differs from the reference tracer",
+        ["distance m", "facade pixels", *(f"{n} ms" for n in names), *(f"{n} wrong" for n in names), "flat wrong"],
+        rows,
+    )
+
+
+SWITCH_SIZE = {True: (480, 270), False: (960, 540)}
+EXACT_EVERYWHERE = 1e9  # metres: grammar windows traced at every distance
+# switch distances measured (0: flat everywhere; None: the city's own, relief.switch_distance of the view)
+SWITCH_SWEEP = (0.0, 15.0, 30.0, None, 60.0, 120.0, EXACT_EVERYWHERE)
+
+
+def _city_switch(result: BenchResult, ctx, quick: bool):
+    """Where the distance switch should sit: the default city's frame with grammar windows traced by
+    BCFDM nearer than each switch distance and flat beyond, against the exact tracer at every
+    distance; per distance the frame time (all taking turns frame by frame) and the pixels whose
+    colour differs from the exact tracer's (the switch's error). The city's own distance
+    (RenderSettings.relief_range None: switch_distance) gives the ratio."""
+    city, size = make_city("default"), SWITCH_SIZE[quick]
+    chosen = None
+    renderers = {m: Renderer(size, RenderSettings(samples=0, relief_range=m), ctx=ctx) for m in SWITCH_SWEEP}
+    rows, ratios = [], []
+    try:
+        for renderer in renderers.values():
+            renderer.set_city(city)
+        for name in ("street", "closeup"):
+            camera = city.camera(name)
+            timed = time_interleaved(
+                ctx, {m: (lambda i, r=r: r.draw(camera)) for m, r in renderers.items()}, FRAMES[quick]
+            )
+            images = {m: r.targets.display.read()[..., :3].astype(int) for m, r in renderers.items()}
+            exact = images[EXACT_EVERYWHERE]
+            for m in SWITCH_SWEEP:
+                differ = np.abs(images[m] - exact).max(axis=-1) > 2
+                label = (
+                    "exact everywhere"
+                    if m == EXACT_EVERYWHERE
+                    else "flat everywhere"
+                    if m == 0
+                    else f"{switch_distance(size[1], camera.fov_y):.0f} m (the city's: a pixel spans the pane's depth)"
+                    if m is None
+                    else f"{m:g} m"
+                )
+                rows.append(
+                    [name, label, round(timed[m].median * 1000, 1), int(differ.sum()), round(float(differ.mean()), 4)]
+                )
+            ratios.append(timed[chosen].median / timed[EXACT_EVERYWHERE].median)
+    finally:
+        for renderer in renderers.values():
+            renderer.release()
+    result.add_table(
+        f"City: grammar windows traced (BCFDM) nearer than the switch distance, flat beyond, default city at "
+        f"{size[0]}x{size[1]}: ms per frame and pixels whose colour differs from the exact tracer everywhere",
+        ["camera", "switch at", "ms per frame", "pixels that differ", "share"],
+        rows,
+    )
+    result.ratios["city_switch_over_exact_everywhere"] = round(math.prod(ratios) ** (1 / len(ratios)), 3)
 
 
 def _plot(result: BenchResult, out_dir: Path):

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..assets import LABELS, TileArray
 from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
-from ..relief import GLASS, DetailMaps, trace_reference
+from ..relief import GLASS, PROFILE, DetailMaps, switch_distance, trace_reference
 from ..scene import USE_COUNT, USES, BuildingMass, door_hit
 from ._faces import (
     FACE_CEILING,
@@ -42,6 +42,7 @@ SPRITE_HEIGHT = 0.8
 EMPTY_ROOM_SHARE = 0.3
 CURTAIN_SHARE = 0.55
 ROOM_LABEL = LABELS.index("room")  # the id pass's label of grammar glass (GRAMMAR_ROOM_LABEL)
+WINDOW_LABEL = LABELS.index("window")  # a recessed window's frame and reveal (GRAMMAR_WINDOW_LABEL)
 
 
 @dataclass(frozen=True)
@@ -205,12 +206,38 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
 class GrammarFacades:
     """The grammar facades of a city for the twin: the compiled grammars and their tiles (as the
     renderer's), and per building index the address of its start rule and the narrowest face its
-    grammar fits (narrower faces are plain walls: no glass, no label)."""
+    grammar fits (narrower faces are plain walls: no glass, no label). With `relief` (the city's
+    cityshade.relief.relief_atlas()) the windows nearer than relief_range metres are recessed, as
+    the renderer draws them with RenderSettings.relief on (None: as the renderer's default,
+    cityshade.relief.switch_distance of the view)."""
 
     compiled: CompiledGrammars
     tiles: TileArray
     starts: dict[int, int]
     min_widths: dict[int, float]
+    relief: object | None = None
+    relief_range: float | None = None
+
+
+def _opening_entry(atlas, row: int, window, local, d, n, facade):
+    """Grammar windows recessed (shaders/relief/building.glsl grammar_relief): the opening at atlas
+    `row` stretched over each window rectangle (facade coordinates) and traced from the wall point
+    by the reference tracer. Per ray: whether it meets glass, and where (object space)."""
+    rows, cols = PROFILE[1] + 2, PROFILE[0] + 2
+    maps = atlas.maps
+    region = DetailMaps(
+        maps.depth[row : row + rows, :cols], maps.material[row : row + rows, :cols], 1.0, maps.depth_unit
+    )
+    up = np.array([0.0, 1.0, 0.0])
+    along = np.stack([-n[:, 2], np.zeros(len(n)), n[:, 0]], axis=1)  # the way facade u grows: n x up
+    scale = np.column_stack([(cols - 2) / (window[:, 2] - window[:, 0]), (rows - 2) / (window[:, 3] - window[:, 1])])
+    scale = np.column_stack([scale, np.full(len(n), 1 / maps.depth_unit)])
+    start = np.column_stack([1.0 + (facade[:, :2] - window[:, :2]) * scale[:, :2], np.zeros(len(n))])
+    direction = np.stack([np.sum(d * along, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1) * scale
+    hits = trace_reference(region, start, direction)
+    offset = np.nan_to_num(hits.point - start) / scale
+    point = local + along * offset[:, :1] + up * offset[:, 1:2] - n * offset[:, 2:]
+    return hits.material == GLASS, point  # a miss is MISS, never glass
 
 
 def grammar_entry(
@@ -222,12 +249,17 @@ def grammar_entry(
     facade: np.ndarray,
     face: np.ndarray,
     columns: np.ndarray,
+    local: np.ndarray,
+    distance: np.ndarray,
+    switch_m: float = 0.0,
 ):
     """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
-    true size of each face: per ray, whether it meets glass, its label as the id pass writes it, and
-    the rectangle of the window it belongs to (facade coordinates, find_room)."""
+    true size of each face: per ray, whether it meets glass, its label as the id pass writes it, the
+    rectangle of the window it belongs to (facade coordinates, find_room) and where the ray enters
+    the room (object space: the wall point `local`, or the recessed pane, _opening_entry)."""
     glass, label = np.zeros(len(d), dtype=bool), np.zeros(len(d), dtype=np.uint32)
     window = np.zeros((len(d), 4))
+    entry = local.copy()
     right = np.stack([n[:, 2], np.zeros(len(n)), -n[:, 0]], axis=1)
     right /= np.linalg.norm(right, axis=1, keepdims=True)
     rays = np.stack([np.sum(d * right, axis=1), d[:, 1], -np.sum(d * n, axis=1)], axis=1)
@@ -263,7 +295,18 @@ def grammar_entry(
             ],
             axis=1,
         )
-    return glass, label, window
+        if grammar.relief is not None:
+            near = (g.glass | (g.label == WINDOW_LABEL)) & (distance[rows] <= switch_m)
+            for terminal in np.unique(g.terminal[near]):
+                row = grammar.relief.terminals.get(int(terminal))
+                if row is None:
+                    continue
+                traced = rows[near & (g.terminal == terminal)]
+                glass[traced], entry[traced] = _opening_entry(
+                    grammar.relief, row, window[traced], local[traced], d[traced], n[traced], facade[traced]
+                )
+                label[traced] = np.where(glass[traced], ROOM_LABEL, WINDOW_LABEL)
+    return glass, label, window, entry
 
 
 def reference_ids(
@@ -288,6 +331,9 @@ def reference_ids(
     camera's far plane."""
     relief = relief or {}
     starts = grammar.starts if grammar is not None else {}
+    switch_m = grammar.relief_range if grammar is not None else None
+    if switch_m is None:
+        switch_m = switch_distance(size[1], camera.fov_y)
     width, height = size
     dirs = camera.pixel_rays(size).reshape(-1, 3)
     eye = camera.eye
@@ -312,7 +358,7 @@ def reference_ids(
             glass = np.zeros(len(sel), dtype=bool)
             walls = sel[~roof]
             if len(walls):
-                glass[~roof], label, window[~roof] = grammar_entry(
+                glass[~roof], label, window[~roof], entry[walls] = grammar_entry(
                     grammar,
                     b,
                     mass,
@@ -321,6 +367,9 @@ def reference_ids(
                     hits.facade[walls],
                     hits.face[walls],
                     hits.columns[walls],
+                    hits.local[walls],
+                    hits.t[walls] * np.linalg.norm(dirs[walls], axis=1),
+                    switch_m,
                 )
                 if labels:
                     out[walls, 3] = label

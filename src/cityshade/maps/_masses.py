@@ -32,7 +32,7 @@ RECTANGLE_FILL = 0.9  # a cut piece filling this much of its minimum rotated rec
 
 # Building style numbers (0..7) by what a building is used for. The facade registry turns a style
 # into a facade (cityshade.render.choose_facade): 0 the window bay with rooms, 1 the office grammar
-# (glass), 3 classical, 4 brick, 5 shop fronts, 6 dusk; 2 and 7 relief bays on box buildings.
+# (glass), 3 classical, 4 brick, 5 shop fronts, 6 dusk, 7 fig12; 2 the relief bay on box buildings.
 STYLE_BY_USE = {
     "residential": 0,
     "apartments": 0,

@@ -5,7 +5,9 @@ binary factorisations, bit packing, the .cfdm file format and a numpy reference 
 """
 
 from ._boxes import free_boxes
-from ._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, CityRelief
+from ._cache import CACHE_ENV, cache_dir, cached_arrays, cached_compress, smallest_compression
+from ._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, CityRelief, relief_atlas, stack_bmf, switch_distance
+from ._grammar_source import PROFILE, StyleOpenings, style_openings
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
 from ._factor import METHODS, Factors, factorize, greedy_biclique
 from ._format import VERSION, from_bytes, read_compressed, to_bytes, write_compressed
@@ -31,6 +33,17 @@ __all__ = [
     "RELIEF_SHAPES",
     "RELIEF_STYLES",
     "CityRelief",
+    "relief_atlas",
+    "stack_bmf",
+    "switch_distance",
+    "CACHE_ENV",
+    "cache_dir",
+    "cached_arrays",
+    "cached_compress",
+    "smallest_compression",
+    "PROFILE",
+    "StyleOpenings",
+    "style_openings",
     "free_boxes",
     "MAP_NAMES",
     "CompressedFacade",

@@ -66,8 +66,9 @@ class GpuFacade:
 
     def __init__(self, ctx: moderngl.Context, maps: DetailMaps, compressed: dict[str, CompressedFacade] | None = None):
         self.maps = maps
-        matrices, boxes = detail_matrices(maps)
         self.compressed = compressed or {m: compress(maps, m) for m in ("svd", "bmf")}
+        some = next(iter(self.compressed.values()))  # A and its boxes as factorised (an atlas brings its own)
+        matrices, boxes = {**detail_matrices(maps)[0], "boxes": some.decompress()["boxes"]}, some.boxes
         self.raw = [
             _texture(ctx, matrices["depth"], "u2"),
             _texture(ctx, matrices["material"], "u2"),

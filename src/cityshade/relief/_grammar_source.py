@@ -4,6 +4,7 @@ sink to the glass depth)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
@@ -62,3 +63,82 @@ def grammar_maps(
     depth = np.where(glass, GLASS_D, _DEPTH[label]).astype(np.uint16)
     material = np.where(glass, GLASS, _MATERIAL[label]).astype(np.uint16)
     return DetailMaps(depth, material, texel, DEPTH_UNIT)
+
+
+# Window openings (the city's relief on grammar facades, docs/relief.md): each glazed terminal of a
+# style is rasterised over its own scope at PROFILE texels, normalised, so one profile fits every
+# window that terminal draws whatever the scope's size (Fit tiles stretch with the scope). A ring of
+# wall texels at depth 0 around it is the opening's reveal.
+PROFILE = (48, 48)  # columns, rows inside the ring
+OPENING_DEPTH = {"frame": 10, "glass": 14}  # cm behind the wall: the window frame and mullions, the pane
+# faces (width, height) and building (levels, use) the numpy evaluator is run over to find a
+# style's glazed terminals: narrow, wide, low and tall faces, homes, offices and shops
+_PROBE_FACES = ((14.0, 16.0), (7.0, 22.0), (26.0, 7.5))
+_PROBE_USES = (0, 1, 2)
+_PROBE_SEEDS = (1, 2, 3)
+
+
+@dataclass(frozen=True)
+class StyleOpenings:
+    """A style's window openings: its glazed terminals' profiles stacked bottom to top, region k at
+    rows [k * rows, (k + 1) * rows) of `maps`, each PROFILE plus the ring."""
+
+    terminals: tuple[int, ...]  # rule addresses in the compiled texture, one per region
+    maps: DetailMaps
+    # per region, the sRGB colour of the terminal's frame and of the style's wall (the reveal), as
+    # the flat grammar shows them, so the recessed window keeps the flat one's colours
+    colours: tuple[tuple[tuple[float, float, float], tuple[float, float, float]], ...]
+
+    @property
+    def region_shape(self) -> tuple[int, int]:
+        return PROFILE[1] + 2, PROFILE[0] + 2
+
+
+def _grid(shape: tuple[int, int], scope: np.ndarray) -> np.ndarray:
+    """Texel centres (rows * cols, 2) over a scope (x, y, w, h), row 0 at the bottom."""
+    cols, rows = shape
+    x = scope[0] + (np.arange(cols) + 0.5) / cols * scope[2]
+    y = scope[1] + (np.arange(rows) + 0.5) / rows * scope[3]
+    return np.stack(np.meshgrid(x, y), axis=-1).reshape(-1, 2).astype(np.float32)
+
+
+def style_openings(compiled, style: str, style_number: int, probe_texel: float = 0.25) -> StyleOpenings:
+    """The glazed terminals of library style `style` (compiled: the city's grammar texture) and a
+    profile of each: glass at the pane's depth, the rest of the terminal at the frame's, texels
+    another terminal covers (a rail layered over it) at the wall. Columns follow the wall mesh's u,
+    which runs right to left seen from outside: the profile is mirrored."""
+    start = compiled.address(style)
+    tiles = tile_array(128)
+    found: dict[int, tuple] = {}
+    walls = []  # sRGB colours of the wall texels seen on the probes
+    for face in _PROBE_FACES:
+        cols, rows = round(face[0] / probe_texel), round(face[1] / probe_texel)
+        uv = _grid((cols, rows), np.array([0.0, 0.0, *face]))
+        for use in _PROBE_USES:
+            for seed in _PROBE_SEEDS:
+                building = (round(face[1] / 3.2), style_number, use, face[1])
+                result = evaluate(compiled, start, uv, face, seed_vector(seed), tiles, building=building)
+                walls.append(result.color[result.label == LABELS.index("wall")])
+                for terminal in np.unique(result.terminal[result.glass]):
+                    if int(terminal) not in found:
+                        first = np.flatnonzero(result.glass & (result.terminal == terminal))[0]
+                        found[int(terminal)] = (face, seed, building, result.scope[first].copy())
+    glass_d, frame_d = OPENING_DEPTH["glass"], OPENING_DEPTH["frame"]
+    wall = np.concatenate(walls)
+    reveal = tuple(float(c) for c in (wall.mean(axis=0) if len(wall) else np.full(3, 0.6)))
+    regions, colours = [], []
+    for terminal, (face, seed, building, scope) in sorted(found.items()):
+        result = evaluate(compiled, start, _grid(PROFILE, scope), face, seed_vector(seed), tiles, building=building)
+        own = (result.terminal == terminal).reshape(PROFILE[1], PROFILE[0])[:, ::-1]
+        glass = result.glass.reshape(PROFILE[1], PROFILE[0])[:, ::-1] & own
+        colour = result.color.reshape(PROFILE[1], PROFILE[0], 3)[:, ::-1]
+        frame = colour[own & ~glass] if (own & ~glass).any() else colour[own]
+        colours.append((tuple(float(c) for c in frame.mean(axis=0)), reveal))
+        depth = np.pad(np.where(glass, glass_d, np.where(own, frame_d, 0)), 1)
+        material = np.pad(np.where(glass, GLASS, np.where(own, FRAME, WALL)), 1)
+        regions.append((depth, material))
+    if not regions:
+        raise ValueError(f"grammar style {style!r} has no glazed terminal on the probe faces")
+    depth = np.concatenate([d for d, _ in regions]).astype(np.uint16)
+    material = np.concatenate([m for _, m in regions]).astype(np.uint16)
+    return StyleOpenings(tuple(sorted(found)), DetailMaps(depth, material, 1.0, DEPTH_UNIT), tuple(colours))

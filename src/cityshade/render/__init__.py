@@ -9,7 +9,7 @@ import warnings
 
 from ._culling import boxes_visible, frustum_planes
 from ._daylight import Daylight, parse_time
-from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade
+from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade, styles_with_relief
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._guessed import guessed_aov
 from ._renderer import Renderer
@@ -30,6 +30,7 @@ __all__ = [
     "assign_facades",
     "GrammarFitWarning",
     "choose_facade",
+    "styles_with_relief",
     "FrameTargets",
     "guessed_aov",
     "GLState",

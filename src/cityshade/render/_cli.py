@@ -67,6 +67,9 @@ def register(subparsers):
     parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
     parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
     parser.add_argument(
+        "--no-relief", action="store_true", help="flat facades: no relief bay, grammar windows not recessed"
+    )
+    parser.add_argument(
         "--building-lod",
         action="store_true",
         help="far facades drop relief, grammar and rooms for their own mean colour (dithered); "
@@ -135,6 +138,7 @@ def run(args) -> int:
             lights=lights,
             time=args.time,
             interior_mapping=not args.no_interiors,
+            relief=not args.no_relief,
             samples=args.samples,
             profile=args.profile,
             aov=args.aov,

@@ -30,6 +30,7 @@ from ..gl import (
 from ..grammar import shader_defines as grammar_defines
 from ..scene import Camera
 from ..scene import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, lit_shares
+from ..relief import switch_distance
 from ._building_lod import bay_mean, lod_distances, relief_mean
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
@@ -125,6 +126,7 @@ class FrameInputs:
             "IM_SINGLE_ATLAS": s.single_atlas,
             "INTERIOR_LOD": s.lod,
             "BUILDING_LOD": s.building_lod,
+            "RELIEF_OFF": not s.relief,
             "NO_SHADOWS": self.gpu.shadows is None,
             **extra,
         }
@@ -244,7 +246,10 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     f.gpu.textures.grammar.bind(program)
     if f.view.settings.grammar_deferred:
         f.gpu.textures.grammar_pass.bind_results(program)
-    f.gpu.city.relief.bind(program)
+    switch = f.view.settings.relief_range
+    if switch is None:
+        switch = switch_distance(f.view.size[1], f.view.camera.fov_y)
+    f.gpu.city.relief.bind(program, switch)
     f.gpu.city.street_lights.bind(program)
     if defines.get("BUILDING_LOD", f.view.settings.building_lod):
         f.gpu.city.bind_lod_colours()

@@ -20,6 +20,10 @@ class RenderSettings:
     room_variation: bool = True  # paper §4.3 displaced walls
     lod: bool = True  # interiors fade to lit-window colours far away
     lod_range: tuple[float, float] = (220.0, 320.0)
+    relief: bool = True  # relief-bay buildings and grammar windows traced (off: flat; docs/relief.md)
+    # metres: grammar windows are traced nearer than this, flat beyond; None: where a pixel spans the
+    # pane's depth behind the wall (relief.switch_distance), so the recess's parallax is under a pixel
+    relief_range: float | None = None
     building_lod: bool = False  # far facades: relief untraced, then a style's mean colour (city/lod.glsl)
     # pixels a room spans where each cross-fade band starts and ends: relief traced straight into the
     # wall over the first band, the style's mean colour over the second (render/_building_lod.py)

@@ -30,7 +30,6 @@ void main() {}
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
 const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
-const vec3 PLAIN_WALL_ALBEDO = vec3(0.45, 0.42, 0.4);
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 
@@ -93,6 +92,7 @@ void main() {
     vec3 color;
     vec3 surface = v_local;  // where a ray through the glass enters the building
     bool cheap = false;      // the cheapest level of detail (city/lod.glsl): no grammar, relief nor rooms traced
+    bool traced = false;     // a grammar window's relief was traced (relief/building.glsl)
     if (v_ids.y == SURFACE_ROOF) {
         face = FACE_ROOF;
 #if defined POLYGONISED_WINDOWS
@@ -106,8 +106,9 @@ void main() {
         vec2 door_uv;
         int door;
         bool at_door = door_at(b, v_local, n, door_uv, door);  // a mapped or guessed door, in front of any facade
-        bool grammar = !at_door && v_ids.y != SURFACE_PLAIN_WALL && has_grammar_facade(b);
-        bool relief = has_relief_facade(b);
+        // plain walls (too narrow for a grammar) and dormer fronts (one window bay) keep to their own
+        bool grammar = !at_door && v_ids.y == SURFACE_WALL && has_grammar_facade(b);
+        bool relief = v_ids.y == SURFACE_WALL && has_relief_facade(b);
 #if defined BUILDING_LOD
         // far away: the style's mean colour (the deferred pass decided for grammar pixels)
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
@@ -117,14 +118,17 @@ void main() {
 #endif
 #endif
         if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);
-        else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
-            f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
+        else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py):
+            f = FacadeResult(u_bay_mean.rgb * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);  // the wall's colour
 #if defined BUILDING_LOD
         else if (cheap) f = lod_facade(b, v_ids.x, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing, grammar, relief);
         else if (relief && lod_relief_flat(s))  // parallax under a pixel: traced straight into the wall
             f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, -n);
 #endif
-        else if (grammar) f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
+        else if (grammar) {
+            f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
+            traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, f, opening);
+        }
         else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
         else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;
@@ -133,7 +137,7 @@ void main() {
 #if !defined ID_PASS
         color = facade_light(f, rot, d, shadow_factor(v_world));  // where it is glass, the room shows (below)
 #if defined GRAMMAR_DEFERRED
-        if (grammar && !cheap) color = grammar_deferred_color();  // lit by the deferred pass
+        if (grammar && !cheap && !traced) color = grammar_deferred_color();  // lit by the deferred pass
 #endif
 #endif
 #if defined POLYGONISED_EXTERIOR

@@ -1,13 +1,17 @@
-// Relief facades on the city's buildings (included by city/building.glsl): one window bay,
-// factorised with BMF, repeats across the walls (one bay wide, one floor high, so its windows sit
-// in the interior-mapped rooms) and is ray-traced with facade displacement mapping.
-// The record's facade field: x = FACADE_RELIEF.
+// Relief facades on the city's buildings (included by city/building.glsl after grammar/building.glsl).
+// One atlas of detail maps, factorised with BMF and traced with facade displacement mapping
+// (cityshade/relief/_city.py): region 0 is the window bay that repeats across the walls of the
+// relief-bay buildings (record facade.x = FACADE_RELIEF; one bay wide, one floor high, so its
+// windows sit in the interior-mapped rooms); the other regions are the window openings of the
+// grammar styles, one per glazed terminal, each fitted to the window the grammar puts there, so the
+// relief's windows are the flat grammar's windows, recessed.
+// RELIEF_OFF: no relief anywhere (relief-bay buildings draw the window bay).
 #ifndef RELIEF_BUILDING_GLSL
 #define RELIEF_BUILDING_GLSL
 
 #define CODEC_BMF
 #define TRACER_FDM
-#define RELIEF_TILED
+#define RELIEF_REGIONS
 #include "common/buildings.glsl"
 #include "common/facade.glsl"
 #include "common/srgb.glsl"
@@ -15,26 +19,85 @@
 #include "relief/trace.glsl"
 #include "relief/materials.glsl"
 
+#define RELIEF_MAX_OPENINGS 64
 uniform float u_relief_depth_unit;  // metres per depth step
+uniform ivec4 u_relief_bay;         // the window bay's region (first row, columns, rows, 1: repeats)
+uniform int u_relief_openings;      // how many glazed terminals have a window opening
+uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address, first atlas row of its opening
+uniform vec3 u_relief_colours[2 * RELIEF_MAX_OPENINGS];  // per opening: sRGB frame, reveal (the flat grammar's)
+uniform ivec2 u_relief_profile;     // an opening's columns and rows, the ring of wall texels included
+uniform float u_relief_range;       // metres: openings are traced nearer than this, flat grammar beyond
 
-bool has_relief_facade(Building b) { return b.facade.x == FACADE_RELIEF; }
+bool has_relief_facade(Building b) {
+#if defined RELIEF_OFF
+    return false;
+#else
+    return b.facade.x == FACADE_RELIEF;
+#endif
+}
 
-// n: the wall's object-space normal; wall: the rasterised wall point (object space); facade: the
-// mesh's (u, v above the face's base) and spacing its (bay width, storey height), in metres, so the
-// bay repeats once per room; d: the unit view ray (object space). The result's point is where the
-// ray meets the relief (the room behind recessed glass shows from there); no specular.
-FacadeResult relief_building(Building b, vec3 n, vec3 wall, vec2 facade, vec2 spacing, vec3 d) {
+// start: the wall point in map space; scale: map units per metre along (mesh u, up, into the wall).
+// The result's point is where the ray meets the relief (the room behind recessed glass shows from
+// there); no specular.
+FacadeResult relief_traced(Building b, vec3 n, vec3 wall, vec3 start, vec3 scale, vec3 d, out uint material) {
     vec3 up = vec3(0.0, 1.0, 0.0);
     vec3 along = normalize(cross(n, up));  // the direction mesh u grows (right to left seen from outside)
-    vec3 scale = vec3(vec2(u_map_size) / spacing, 1.0 / u_relief_depth_unit);  // map units per metre
-    vec3 start = vec3(facade, 0.0) * scale;
     ReliefHit h = relief_trace(start, vec3(dot(d, along), d.y, -dot(d, n)) * scale, FACE_FRONT);
     vec3 offset = (h.point - start) / scale;
     vec3 normal = h.face == FACE_NEG_X ? -along : h.face == FACE_POS_X ? along
                 : h.face == FACE_NEG_Y ? -up : h.face == FACE_POS_Y ? up : n;
+    material = h.material;
     vec3 albedo = srgb_to_linear(relief_albedo(h.material, h.point.xy / scale.xy, h.face));
     return FacadeResult(albedo * building_tint(b), normal, vec2(0.0), h.hit && h.material == RELIEF_GLASS ? 1.0 : 0.0,
                         wall + along * offset.x + up * offset.y - n * offset.z, 0u);
+}
+
+// The window bay: n the wall's object-space normal, wall the rasterised wall point (object space),
+// facade the mesh's (u, v above the face's base) and spacing its (bay width, storey height), in
+// metres, so the bay repeats once per room; d the unit view ray (object space).
+FacadeResult relief_building(Building b, vec3 n, vec3 wall, vec2 facade, vec2 spacing, vec3 d) {
+    relief_region = u_relief_bay;
+    vec3 scale = vec3(vec2(u_relief_bay.yz) / spacing, 1.0 / u_relief_depth_unit);  // map units per metre
+    uint material;
+    return relief_traced(b, n, wall, vec3(facade, 0.0) * scale, scale, d, material);
+}
+
+// The index of a glazed terminal's opening, -1 for none.
+int relief_opening(int terminal) {
+    for (int i = 0; i < u_relief_openings; i++)
+        if (u_relief_terminals[i].x == terminal) return i;
+    return -1;
+}
+
+// A grammar facade's window, recessed: where the flat grammar (facade result f, its window
+// `opening`) shows a glazed terminal with an opening, the opening's profile is stretched over the
+// window's rectangle (facade coordinates, as the grammar fits its tile there) and traced; f and
+// opening become the relief's (the rectangle: the room behind is the window's). s: the distance.
+// Returns whether the relief was traced.
+bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
+                    float s, inout FacadeResult f, inout vec4 opening) {
+#if defined RELIEF_OFF
+    return false;
+#else
+    if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL))) return false;
+    GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, dFdx(facade), dFdy(facade));
+    int opening_index = relief_opening(g.terminal);
+    if (opening_index < 0) return false;
+    vec4 rect = grammar_window(g.scope, face);
+    vec2 inner = vec2(u_relief_profile - 2);
+    relief_region = ivec4(u_relief_terminals[opening_index].y, u_relief_profile, 0);
+    vec3 scale = vec3(inner / (rect.zw - rect.xy), 1.0 / u_relief_depth_unit);
+    vec3 start = vec3(1.0 + (facade - rect.xy) * scale.xy, 0.0);
+    uint material;
+    f = relief_traced(b, n, wall, start, scale, d, material);
+    // the frame and the reveal in the flat grammar's colours (the grammar's own, untinted): the
+    // tile's own colour where the wall point is on the frame too, else the frame's mean colour
+    if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(g.glass ? u_relief_colours[2 * opening_index] : g.color);
+    else if (material == RELIEF_WALL) f.albedo = srgb_to_linear(u_relief_colours[2 * opening_index + 1]);
+    f.label = f.glass > 0.0 ? uint(GRAMMAR_ROOM_LABEL) : uint(GRAMMAR_WINDOW_LABEL);
+    opening = rect;
+    return true;
+#endif
 }
 
 #endif

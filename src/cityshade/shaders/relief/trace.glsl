@@ -3,6 +3,9 @@
 // TRACER_RM:  Policarpo relief mapping, RM_LINEAR linear then RM_BINARY binary steps (§4.1).
 // RELIEF_TILED: the map repeats without end in x and y (a window bay on a building's walls); the
 // free boxes, which never leave the map, are shifted to the repeat the ray is in.
+// RELIEF_REGIONS: the maps are an atlas of regions stacked in rows (the city's window bay and the
+// grammar styles' window openings); the caller sets relief_region, which is traced alone, tiled or
+// not, and whose free boxes are in atlas texels.
 // Needs relief/maps.glsl.
 
 #ifndef FDM_MAX_STEPS
@@ -31,10 +34,22 @@ struct ReliefHit {
 
 ivec2 relief_cell(vec3 p) { return ivec2(floor(p.xy)); }
 
-#if defined RELIEF_TILED
+#if defined RELIEF_REGIONS
+ivec4 relief_region;  // the region traced: first atlas row, columns, rows, 1 if it repeats
+ivec2 relief_map_size() { return relief_region.yz; }
+ivec2 relief_texel(ivec2 cell) {
+    ivec2 local = relief_region.w != 0 ? ivec2(mod(vec2(cell), vec2(relief_region.yz))) : cell;  // exact: small integers
+    return local + ivec2(0, relief_region.x);
+}
+bool relief_inside(ivec2 cell) {
+    return relief_region.w != 0 || (all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, relief_region.yz)));
+}
+#elif defined RELIEF_TILED
+ivec2 relief_map_size() { return u_map_size; }
 ivec2 relief_texel(ivec2 cell) { return ivec2(mod(vec2(cell), vec2(u_map_size))); }  // exact: small integers
 bool relief_inside(ivec2 cell) { return true; }
 #else
+ivec2 relief_map_size() { return u_map_size; }
 ivec2 relief_texel(ivec2 cell) { return cell; }
 bool relief_inside(ivec2 cell) { return all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, u_map_size)); }
 #endif
@@ -52,8 +67,8 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
     int face = entry_face;
     const float inf = 1e30;
     ivec2 cell = relief_cell(p);
-    if (entry_face == FACE_POS_X) cell.x = u_map_size.x - 1;
-    if (entry_face == FACE_POS_Y) cell.y = u_map_size.y - 1;
+    if (entry_face == FACE_POS_X) cell.x = relief_map_size().x - 1;
+    if (entry_face == FACE_POS_Y) cell.y = relief_map_size().y - 1;
     bool hit = false;
     int steps = 0;
     for (; steps < FDM_MAX_STEPS; steps++) {
@@ -63,7 +78,7 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
         if (p.z >= depth - 1e-3) { hit = true; break; }
         uvec2 corners = uBoxes[relief_fetch(MAP_BOXES, texel)];
         vec4 box = vec4(corners.x & 0xffffu, corners.x >> 16, corners.y & 0xffffu, corners.y >> 16)
-                 + vec4(cell - texel, cell - texel);  // the repeat the ray is in (0 unless tiled)
+                 + vec4(cell - texel, cell - texel);  // the repeat the ray is in and the region's atlas rows
         float tx = d.x > 0.0 ? (box.z - p.x) / d.x : d.x < 0.0 ? (box.x - p.x) / d.x : inf;
         float ty = d.y > 0.0 ? (box.w - p.y) / d.y : d.y < 0.0 ? (box.y - p.y) / d.y : inf;
         float tz = d.z > 0.0 ? (depth - p.z) / d.z : d.z < 0.0 ? -p.z / d.z : inf;
@@ -94,11 +109,8 @@ ReliefHit relief_trace(vec3 p, vec3 d, int entry_face) {
 
 #elif defined TRACER_RM
 bool relief_below_surface(vec3 p) {
-#if defined RELIEF_TILED
-    ivec2 texel = relief_texel(relief_cell(p));
-#else
-    ivec2 texel = clamp(relief_cell(p), ivec2(0), u_map_size - 1);
-#endif
+    ivec2 cell = relief_cell(p);
+    ivec2 texel = relief_texel(relief_inside(ivec2(-1)) ? cell : clamp(cell, ivec2(0), relief_map_size() - 1));
     return p.z >= float(relief_fetch(MAP_DEPTH, texel));
 }
 
