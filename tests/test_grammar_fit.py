@@ -54,3 +54,35 @@ def test_faces_too_narrow_for_the_grammar_are_plain_walls_with_a_counted_warning
     assert not end[..., 3][on_end].any() and (end[..., 0][on_end] == FACE_EXTERIOR).all()  # no labels, no glass
     labels = {LABELS[v] for v in np.unique(side[..., 3][on_side])}
     assert {"wall", "window", "room"} <= labels
+
+
+def test_plain_walls_take_the_grammars_wall_colour_not_the_buildings_tint(gl_context):
+    """Two brick-style boxes with a saturated mapped colour (which the grammar does not show), both
+    facing south: the 3 m plain end of one looks like the grammar's wall on the other's 14 m side
+    (chromaticity in linear light within 0.06: plain walls take the style's wall colour, and a
+    building's own seed moves its grammar's tone by about 0.05), not like the mapped colour (0.3 off)."""
+    from dataclasses import replace
+
+    from cityshade.interior._faces import FACE_EXTERIOR
+
+    red = (0.6, 0.27, 0.2)
+    masses = [
+        replace(box((0.0, 0.0), 3.0, 14.0, 12.0, seed=4, style=STYLE["brick"]), wall_colour=red),  # a 3 m end south
+        replace(box((8.0, 11.0), 14.0, 3.0, 12.0, seed=4, style=STYLE["brick"]), wall_colour=red),  # a 14 m side south
+    ]
+    r = Renderer((160, 120), RenderSettings(time_of_day=11.0, trees=False, god_rays=False), ctx=gl_context)
+    with pytest.warns(GrammarFitWarning):
+        r.set_city(City("narrow", 0, masses, [], (-30.0, -30.0, 40.0, 40.0)))
+    try:
+        camera = Camera((11.0, 6.0, 40.0), (11.0, 6.0, 14.0), fov_y=50.0)
+        ids = r.render_ids(camera)
+        r.render(camera)
+        hdr = r.read_hdr().astype(np.float64)
+    finally:
+        r.release()
+    plain = (ids[..., 2] == 1) & (ids[..., 0] == FACE_EXTERIOR) & (ids[..., 3] == 0)
+    wall = (ids[..., 2] == 2) & (ids[..., 3] == LABELS.index("wall"))
+    chroma = [hdr[m].mean(axis=0) / hdr[m].mean(axis=0).sum() for m in (plain, wall)]
+    print(f"plain pixels {plain.sum()} chromaticity {np.round(chroma[0], 3)}, grammar wall {wall.sum()} {np.round(chroma[1], 3)}")
+    assert plain.sum() > 200 and wall.sum() > 200
+    assert np.abs(chroma[0] - chroma[1]).max() < 0.06

@@ -352,7 +352,7 @@ def test_info_prints_counts_and_reasons(capsys):
 
     assert main(["info", str(DATA / "tagged.osm")]) == 0
     out = capsys.readouterr().out
-    assert "buildings: 3  parts: 2  outlines replaced by parts: 1  roofs without walls: 1" in out
+    assert "buildings: 3  parts: 2  outlines replaced by parts: 1  cut by parts: 0  roofs without walls: 1" in out
     assert "roof shapes tagged: gabled 1, pyramidal 1" in out
     assert "trees: 9  street lamps: 1" in out and "primary 0.11" in out
 

@@ -15,7 +15,7 @@ from cityshade.maps import load_map, map_city
 from cityshade.scene import building_vertices
 from cityshade.scene._dormers import DORMER_SPACING, DORMER_WIDTH, END_MARGIN
 from cityshade.scene._materials import ROOF_PART_SHEET
-from cityshade.scene._meshes import SURFACE_ROOF, SURFACE_WALL
+from cityshade.scene._meshes import SURFACE_DORMER, SURFACE_ROOF, SURFACE_WALL
 from cityshade.scene._roof_units import CLEARANCE, HOUSING_ROOF, rooftop_units, unit_count
 from cityshade.scene._roofs import PARAPET_THICKNESS
 
@@ -74,13 +74,15 @@ def test_units_follow_the_seed_and_only_blocks_have_them(masses):
 
 
 def _dormer_fronts(mass):
-    """Wall triangles above the walls' top that are not gables on the outline: the dormers' fronts."""
+    """The dormers' fronts (surface SURFACE_DORMER): wall triangles above the walls' top, off the outline."""
     v = building_vertices(mass, 0)
+    fronts = v[v["ids"][:, 1] == SURFACE_DORMER].reshape(-1, 3)
     walls = v[v["ids"][:, 1] == SURFACE_WALL].reshape(-1, 3)
-    above = (walls["local"][:, :, 1] > mass.wall_top + 1e-4).any(axis=1)
     outline = shapely.Polygon(mass.footprint).boundary
     off_outline = shapely.distance(outline, shapely.points(walls["local"][:, :, [0, 2]].mean(axis=1))) > 1e-3
-    return walls[above & off_outline]
+    assert not off_outline.any()  # every other wall piece (walls, gables) stands on the outline
+    assert np.all(fronts["local"][:, :, 1].min(axis=1) >= mass.wall_top - 1e-4)
+    return fronts
 
 
 @pytest.mark.parametrize(
@@ -164,3 +166,137 @@ def test_a_tagged_roof_material_without_a_colour_keeps_its_own_colour(masses):
     record = building_record(masses[HIPPED])
     assert record["roof"][3] == ROOF_SLATE
     assert np.allclose(record["roof"][:3], linear(ROOF_MATERIALS["slate"][1]), atol=1e-6)
+
+
+def _nearest_triangles(tris: np.ndarray, eye: np.ndarray, dirs: np.ndarray):
+    """Per ray (eye, unit dirs (N, 3)): the nearest of triangles (T, 3, 3) hit, both sides (the
+    building pass draws without culling), and its barycentric (s, t); -1 where none."""
+    a, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    best, which = np.full(len(dirs), np.inf), np.full(len(dirs), -1)
+    bary = np.zeros((len(dirs), 2))
+    for k in range(len(tris)):  # Moller-Trumbore, all rays against one triangle at a time
+        p = np.cross(dirs, e2[k])
+        det = p @ e1[k]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            o = eye - a[k]
+            s = (p @ o) / det
+            q = np.cross(o, e1[k])
+            t = (q @ dirs.T) / det
+            dist = (q @ e2[k]) / det
+        hit = (np.abs(det) > 1e-12) & (s >= 0) & (t >= 0) & (s + t <= 1) & (dist > 0) & (dist < best)
+        best[hit], which[hit], bary[hit] = dist[hit], k, np.column_stack([s, t])[hit]
+    return which, bary
+
+
+def test_dormer_fronts_show_their_rooms_in_the_id_pass_as_the_twin(gl_context, masses):
+    """The block's dormers on a grammar building (classical: faces under 5 m would be plain walls):
+    each front is one window bay with a room of its own behind the glass, no GrammarFitWarning. The
+    id pass with room state against the numpy twin (window-bay glass by the bay texture's texel,
+    rooms by cityshade.interior's find_room and trace) on the fronts' pixels, found by casting the
+    pixel rays at the building's triangles."""
+    import warnings
+
+    from render_checks import id_edges
+
+    from cityshade import assets
+    from cityshade.grammar import BUILDING_STYLES
+    from cityshade.interior import FACE_CODES, InteriorParams
+    from cityshade.interior._reference import face_frame, find_room, trace
+    from cityshade.interior._faces import room_state
+    from cityshade.interior._solids import object_to_world
+    from cityshade.render import GrammarFitWarning, Renderer, RenderSettings
+    from cityshade.scene import Camera, City
+
+    style = {name: number for number, name in BUILDING_STYLES.items()}["classical"]
+    city_masses = list(masses)
+    mass = city_masses[GABLED] = replace(masses[GABLED], style=style)
+    x, z = _world_centre(mass)
+    eave = z + 5.5  # the south eave of the 11 m deep block (x east, z south)
+    y = mass.wall_top + 1.3
+    camera = Camera((x - 3.0, y + 1.5, eave + 9.0), (x - 3.0, y, eave), fov_y=50.0)
+    size = (200, 125)
+    renderer = Renderer(size, RenderSettings(time_of_day=11.0, trees=False, god_rays=False, lights=0.6), ctx=gl_context)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", GrammarFitWarning)  # the block's faces all fit; its dormers are not counted
+            renderer.set_city(City("roofs", 0, city_masses, [], (-20.0, -60.0, 120.0, 20.0)))
+        gpu = renderer.render_ids(camera, room_state=True)
+        sprites = assets.furniture_sprites()
+        params = InteriorParams(
+            lights=0.6,
+            time=renderer.settings.animation_time,
+            variants=renderer.textures.room_variants,
+            glass_rect=renderer.textures.glass_rect,
+            sprite_alpha=sprites[..., 3] / 255.0,
+        )
+    finally:
+        renderer.release()
+
+    v = building_vertices(mass, GABLED)
+    dirs = camera.pixel_rays(size).reshape(-1, 3)
+    which, bary = _nearest_triangles(v["position"].astype(np.float64).reshape(-1, 3, 3), camera.eye, dirs)
+    rows = v.reshape(-1, 3)
+    ref = np.zeros((len(dirs), 4), np.uint32)
+    ref[which >= 0, 0] = 255  # the building's other surfaces: not compared, their outline an edge
+    ref[which >= 0, 2] = GABLED + 1
+    front = (which >= 0) & (rows["ids"][np.maximum(which, 0), 0, 1] == SURFACE_DORMER)
+    tri = rows[which[front]]
+    s, t = bary[front, :1], bary[front, 1:]
+    facade = (1 - s - t) * tri["facade"][:, 0] + s * tri["facade"][:, 1] + t * tri["facade"][:, 2]
+    face, columns, normal = tri["face"][:, 0].astype(np.float64), tri["ids"][:, 0, 2:], tri["normal"][:, 0]
+    alpha = assets.facade_texture()[0][..., 3] / 255.0
+    th, tw = alpha.shape
+    col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
+    row = (np.mod((facade[:, 1] - face[:, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
+    glass = alpha[row, col] < 0.5
+    out = np.zeros((int(front.sum()), 4), np.uint32)
+    out[:, 0], out[:, 2] = FACE_CODES["FACE_EXTERIOR"], GABLED + 1
+    window = np.column_stack([facade[glass, :2], facade[glass, :2]])
+    room = find_room(window, facade[glass], face[glass], columns[glass], mass, params)
+    to_face = face_frame(normal[glass].astype(np.float64))
+    d = np.einsum("nij,nj->ni", to_face, dirs[front][glass] @ object_to_world(mass.yaw))
+    p = np.column_stack([facade[glass, :2], np.zeros(int(glass.sum()))])
+    hit_face, room_ids, _, lit, variant = trace(p, d, room, mass, params)
+    out[glass, 0], out[glass, 1], out[glass, 3] = hit_face, room_ids, room_state(lit, variant)
+    ref[front] = out
+    ref = ref.reshape(size[1], size[0], 4)
+    front = front.reshape(size[1], size[0])
+
+    differ = front & np.any(gpu[..., :3] != ref[..., :3], axis=-1)
+    state = front & ~differ & (gpu[..., 3] != ref[..., 3])
+    interior = [FACE_CODES[f"FACE_{n}"] for n in ("CEILING", "FLOOR", "WALL_X", "WALL_Z", "FURNITURE", "CURTAIN")]
+    rooms = front & np.isin(ref[..., 0], interior)
+    fronts_seen = len(np.unique(columns[:, 0]))
+    print(
+        f"dormer front pixels {front.sum()} ({fronts_seen} fronts), of them room pixels {rooms.sum()} in "
+        f"{len(np.unique(ref[..., 1][rooms]))} rooms; {differ.sum()} differ in face/room/building "
+        f"({(differ & ~id_edges(ref)).sum()} away from the twin's edges), {state.sum()} in room state"
+    )
+    assert fronts_seen >= 2 and rooms.sum() > 100
+    assert len(np.unique(ref[..., 1][rooms])) == fronts_seen  # a room of its own behind every front
+    assert not (differ & ~id_edges(ref)).any(), "dormer front pixels differ away from any edge"
+    assert differ.sum() <= 0.02 * front.sum()
+    assert not state.any()
+
+
+def test_export_draws_dormer_fronts_of_a_grammar_building_as_window_bays(tmp_path, capsys, masses):
+    """glTF export: the house's facade is a baked grammar (brick); its dormers' fronts are window
+    bays there too, every front triangle in the window-bay material, none in a facade atlas."""
+    import pygltflib
+
+    from cityshade.cli import main
+    from cityshade.export._bake import has_grammar
+
+    assert has_grammar(masses[HOUSE])
+    out = tmp_path / "dormers.glb"
+    assert main(["export", "--map", str(EXTRACT), "--out", str(out), "--texel", "0.25"]) == 0
+    capsys.readouterr()
+    gltf = pygltflib.GLTF2.load(str(out))
+    node = next(n for n in gltf.nodes if n.name == "building way/103")
+    triangles = {}
+    for primitive in gltf.meshes[node.mesh].primitives:
+        name = gltf.materials[primitive.material].name
+        triangles[name] = triangles.get(name, 0) + gltf.accessors[primitive.attributes.POSITION].count // 3
+    fronts = len(_dormer_fronts(masses[HOUSE]))
+    print(f"the house's triangles by material: {triangles}; dormer front triangles {fronts}")
+    assert fronts >= 2 and triangles.get("window bays") == fronts

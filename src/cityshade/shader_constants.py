@@ -18,6 +18,7 @@ from .scene import (
     ROOF_PATTERNS,
     SHAPE_CODES,
     SURFACE_CODES,
+    TINT_GAIN,
     USE_CODES,
 )
 from .scene import DOOR_CONSTANTS
@@ -27,7 +28,8 @@ CONSTANTS: dict[str, int | str] = {
     **SHAPE_CODES,  # SHAPE_PRISM, SHAPE_CYLINDER, SHAPE_DOME
     **FLAGS,  # FLAG_FURNITURE, FLAG_CURTAINS, FLAG_ROOM_VARIATION, FLAG_NO_INTERIOR
     **USE_CODES,  # USE_MIXED ... USE_PUBLIC, USE_COUNT, and where the use sits in the flags (USE_SHIFT, USE_MASK)
-    **SURFACE_CODES,  # SURFACE_WALL, SURFACE_ROOF
+    **SURFACE_CODES,  # SURFACE_WALL, SURFACE_ROOF, SURFACE_PLAIN_WALL, SURFACE_DORMER
+    "TINT_GAIN": f"{TINT_GAIN:.1f}",  # building_tint's gain (common/facade.glsl)
     **GROUND_MATERIALS,  # GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS
     **MAP_GROUND_MATERIALS,  # GROUND_WATER ... GROUND_BULB: maps' water, paint, tracks, lamps
     **ROOF_PATTERNS,  # ROOF_PLAIN ... ROOF_WOOD: roof.glsl's patterns

@@ -27,6 +27,7 @@ from pathlib import Path
 import moderngl
 import numpy as np
 
+from .._budget import release_freed_memory
 from ..errors import CityshadeError
 from ..render import Renderer, RenderSettings
 from ..scene import PATHS, Camera, City, default_city
@@ -235,6 +236,7 @@ def measure_city(
     settings = RenderSettings(samples=0)
     renderer = Renderer(SIZE, settings)
     helsinki = _helsinki() if source == "osm" else None  # for its street camera: not part of the city measured
+    release_freed_memory()  # as set_city does at its end: else the pages freed before are counted against the city
     resident = _resident_bytes()
     start = time.perf_counter()
     city = _city(source, count, extract, helsinki)

@@ -10,7 +10,7 @@ import numpy as np
 from ..assets import facade_texture
 from ..grammar import BUILDING_STYLES
 from ..interior import pcg_hash
-from ..scene import Roof, building_record, building_vertices, rotation_y
+from ..scene import SURFACE_DORMER, SURFACE_ROOF, TINT_GAIN, Roof, building_record, building_vertices, rotation_y
 from ._bake import (
     Atlas,
     atlas_uv,
@@ -22,7 +22,6 @@ from ._bake import (
 )
 from ._gltf import Document
 
-SURFACE_ROOF = 1  # scene vertex ids[:, 1]: 0 wall, 1 roof (scene/_meshes.py)
 GROUND_Y = (0.0, 0.02, 0.04)  # the built-in city's asphalt plane, pavements and grass, stacked
 # linear base colours of the ground materials (ids of shaders/city/ground.glsl and map_ground.glsl)
 GROUND_COLOURS = {
@@ -67,10 +66,10 @@ def simplified(mass):
 
 def bay_tint(record) -> np.ndarray:
     """The linear tint the renderer multiplies the window-bay texture by (shaders/city/building.glsl
-    building_tint): a tagged colour or material brightened 1.6 times, else a per-building variation;
+    building_tint): a tagged colour or material brightened TINT_GAIN times, else a per-building variation;
     clamped to 1 (glTF vertex colours)."""
     if record["tint"][3] > 0:
-        tint = np.asarray(record["tint"][:3], np.float64) * 1.6
+        tint = np.asarray(record["tint"][:3], np.float64) * TINT_GAIN
     else:
         h = int(pcg_hash(int(record["ids"][0]) ^ 0x9E37))
         tint = 0.8 + 0.35 * np.array([h & 255, (h >> 8) & 255, (h >> 16) & 255]) / 255.0 - 0.17
@@ -90,7 +89,7 @@ class BuildingWriter:
         self.vertices = [building_vertices(m, i) for i, m in enumerate(masses)]
         self.canvases = {}
         for i, (mass, verts) in enumerate(zip(masses, self.vertices)):
-            walls = verts[verts["ids"][:, 1] != SURFACE_ROOF]
+            walls = verts[~np.isin(verts["ids"][:, 1], [SURFACE_ROOF, SURFACE_DORMER])]  # dormers: window bays
             if has_grammar(mass) and len(walls):
                 self.canvases[i] = canvases_of(i, mass, walls, texel)
         check_size([c for cs in self.canvases.values() for c in cs], texel)
@@ -129,8 +128,11 @@ class BuildingWriter:
         walls = verts[~roof]
         if len(walls):
             self.stats.facade_area += _triangle_area(walls["position"].astype(np.float64))
-            normals = walls["normal"] @ rot.T
+            bay_walls = walls
             if i in self.canvases:
+                dormer = walls["ids"][:, 1] == SURFACE_DORMER  # a dormer's front: one window bay, not the grammar
+                walls, bay_walls = walls[~dormer], walls[dormer]
+                normals = walls["normal"] @ rot.T
                 sides = wall_sides(walls)
                 n = walls["normal"]
                 tangents = np.column_stack([-n[:, 2], np.zeros(len(n)), n[:, 0]]) @ rot.T  # along mesh u
@@ -143,13 +145,17 @@ class BuildingWriter:
                             pages[canvas.page], walls["position"][sel], normals[sel], uv, tangents=tangents[sel]
                         )
                     )
-            else:
-                facade = walls["facade"]
+            if len(bay_walls):
+                facade = bay_walls["facade"]
                 uv = np.column_stack([facade[:, 0] / facade[:, 2], -facade[:, 1] / mass.room_size[1]])
                 tint = bay_tint(record)
                 primitives.append(
                     self.doc.primitive(
-                        bays, walls["position"], normals, uv, colours=np.tile(np.append(tint, 1.0), (len(walls), 1))
+                        bays,
+                        bay_walls["position"],
+                        bay_walls["normal"] @ rot.T,
+                        uv,
+                        colours=np.tile(np.append(tint, 1.0), (len(bay_walls), 1)),
                     )
                 )
         if roof.any():

@@ -74,6 +74,7 @@ def summary(data: MapData) -> dict:
         "buildings": len(outlines),
         "parts": len(parts),
         "outlines_replaced_by_parts": sum(b.replaced_by_parts for b in outlines),
+        "outlines_cut_by_parts": sum(b.remainder is not None for b in outlines),
         "roofs_without_walls": sum(not b.has_walls for b in data.buildings),
         "roof_shapes": dict(Counter(b.roof_shape or "none" for b in data.buildings).most_common()),
         "roof_shapes_tagged": dict(
@@ -100,7 +101,8 @@ def _text(info: dict) -> str:
     lines = [
         f"{info['file']}  ({info['crs']}, origin {lon:.6f}, {lat:.6f})",
         f"buildings: {info['buildings']}  parts: {info['parts']}  outlines replaced by parts: "
-        f"{info['outlines_replaced_by_parts']}  roofs without walls: {info['roofs_without_walls']}",
+        f"{info['outlines_replaced_by_parts']}  cut by parts: {info['outlines_cut_by_parts']}  "
+        f"roofs without walls: {info['roofs_without_walls']}",
         "roof shapes: " + ", ".join(f"{k} {v}" for k, v in info["roof_shapes"].items()),
         "roof shapes tagged: " + (", ".join(f"{k} {v}" for k, v in info["roof_shapes_tagged"].items()) or "none"),
         "building attributes (tagged / guessed):",

@@ -1,15 +1,24 @@
 """Map buildings -> building masses: one turned object space per outline, walls between min_height
 and the roof, courtyards, floating parts, roofs, tints and a facade style by use.
 
+An outline its building:part ways cover in part stands only where no part does (`remainder`), one
+mass per piece, and under parts that float (`beneath_parts`) up to their base, with a flat roof
+and no parapet (the part stands on it). A pitched roof was mapped for the whole outline: on a piece
+that is still about a rectangle (RECTANGLE_FILL of its minimum rotated rectangle) the roof is built
+over the piece; on any other cut shape it would no longer fit, and the piece gets a flat roof at
+the eaves the pitched roof would have had.
+
 Values the map left out are normally filled by the guessing model before this runs; where one is
 still missing, the same documented per-type defaults (`defaults_for`) are used."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import shapely
 
-from ..scene import USES, BuildingMass
+from ..scene import USES, BuildingMass, Roof
 from ._defaults import defaults_for
 from ._doors import mass_doors
 from ._model import MapBuilding, MapData, to_scene
@@ -19,6 +28,7 @@ MIN_THICKNESS = 0.05  # metres between a mass's bottom and top
 MIN_AREA = 1.0  # square metres; smaller outlines are slivers, not buildings
 FLOOR_HEIGHT_RANGE = (2.5, 6.0)
 CANOPY_MIN_HEIGHT = 2.5  # building=roof with nothing tagged: a roof on pillars this high
+RECTANGLE_FILL = 0.9  # a cut piece filling this much of its minimum rotated rectangle keeps a pitched roof
 
 # Building style numbers (0..7) by what a building is used for. The facade registry turns a style
 # into a facade (cityshade.render.choose_facade): 0 the window bay with rooms, 1 the office grammar
@@ -179,9 +189,19 @@ def _polygons(outline) -> list[shapely.Polygon]:
     return [p for p in parts if isinstance(p, shapely.Polygon) and p.area >= MIN_AREA]
 
 
-def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMass | None:
-    """One building (or part) standing on one scene-space polygon; None if it has no volume."""
+def _fits_pitched_roof(polygon: shapely.Polygon) -> bool:
+    return not polygon.interiors and polygon.area >= RECTANGLE_FILL * polygon.minimum_rotated_rectangle.area
+
+
+def building_mass(
+    building: MapBuilding, polygon: shapely.Polygon, cut: bool = False, top: float | None = None
+) -> BuildingMass | None:
+    """One building (or part) standing on one scene-space polygon; None if it has no volume. `cut`: the
+    polygon is a piece of an outline beside its parts (a pitched roof that no longer fits becomes flat);
+    `top`: a piece under a floating part, ending flat at that height."""
     base, height, floor = heights(building)
+    if top is not None:
+        height = min(height, top)
     if height - base <= MIN_THICKNESS:
         return None  # a part whose bottom is at or above its top: nothing to draw
     polygon = shapely.orient_polygons(polygon)  # positive area in (x, z): walls face out
@@ -201,6 +221,11 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
         else ()
     )
     roof = building_roof(building, local, yaw, height - base, floor)
+    if top is not None:
+        roof = Roof(colour=roof.colour, material=roof.material, seed=roof.seed)  # flat, no parapet
+    elif cut and roof.height > 0 and not _fits_pitched_roof(polygon):
+        height -= roof.height  # flat at the eaves the mapped roof would have had
+        roof = building_roof(replace(building, roof_shape="flat"), local, yaw, height - base, floor)
     if height - roof.height - base <= MIN_THICKNESS and building.has_walls:
         return None
     return BuildingMass(
@@ -228,13 +253,17 @@ def building_mass(building: MapBuilding, polygon: shapely.Polygon) -> BuildingMa
 
 
 def building_masses(map_data: MapData) -> list[BuildingMass]:
-    """The masses of every drawn building and part (outlines replaced by their parts are skipped)."""
+    """The masses of every drawn building and part (outlines replaced by their parts are skipped, those
+    cut by them stand on their remainder and under their floating parts)."""
     masses = []
     for building in map_data.buildings:
         if not building.drawn:
             continue
-        for polygon in _polygons(building.outline):
-            mass = building_mass(building, polygon)
+        pieces = [(polygon, None) for polygon in _polygons(building.drawn_footprint)]
+        for under, part in building.beneath_parts:
+            pieces += [(polygon, heights(part)[0]) for polygon in _polygons(under)]
+        for polygon, top in pieces:
+            mass = building_mass(building, polygon, cut=building.remainder is not None, top=top)
             if mass is not None:
                 masses.append(mass)
     return masses

@@ -74,6 +74,11 @@ class MapBuilding:
     parent: int | None = None  # for parts: the index of the outline they belong to
     has_walls: bool = True  # False for building=roof (a canopy on pillars)
     replaced_by_parts: bool = False  # an outline whose parts are drawn instead of it
+    # An outline its parts cover only in part: the (Multi)Polygon where no part stands (empty if none),
+    # drawn instead of `outline` (with the outline's tags) so that its walls never stand where a part's do;
+    # and the pieces of it under parts that float (min_height/min_level), each drawn up to that part's base.
+    remainder: shapely.Geometry | None = None
+    beneath_parts: list[tuple[shapely.Geometry, MapBuilding]] = field(default_factory=list)
     height: float | None = None
     min_height: float | None = None
     levels: float | None = None
@@ -111,6 +116,11 @@ class MapBuilding:
     @property
     def drawn(self) -> bool:
         return not self.replaced_by_parts
+
+    @property
+    def drawn_footprint(self) -> shapely.Geometry:
+        """Where the building's mass stands: its outline, or what of it no part stands on."""
+        return self.outline if self.remainder is None else self.remainder
 
 
 @dataclass

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import assets
 from ..assets import TileArray
-from ..grammar import FACADE_GRAMMAR, evaluate, facade_seed_vector, library_texture, seed_vector
+from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, evaluate, facade_seed_vector, library_texture, seed_vector
 from ..relief import GLASS, MATERIALS, generate_bay
 from ..scene import SURFACE_WALL
 
@@ -194,3 +194,22 @@ def grammar_colours(faces: np.ndarray, count: int) -> np.ndarray:
         glass = np.asarray(result.glass).reshape(-1, per)
         colours[index[part]] = [_wall_mean(c, g) for c, g in zip(colour, glass)]
     return colours
+
+
+STYLE_FACE = (20.0, 12.0, 4)  # the face a library style's wall colour is taken over: metres wide, high, storeys
+
+
+@lru_cache(maxsize=1)
+def style_wall_colours() -> dict[int, np.ndarray]:
+    """Per building style number with a grammar, the mean linear colour of its wall around the glass
+    on a STYLE_FACE (seed 0, grammar_colours): what a plain wall or a dormer's front of such a
+    building is tinted to (render/_facades.py)."""
+    compiled = library_texture()
+    faces = np.zeros(len(BUILDING_STYLES), SAMPLE_FACE_DTYPE)
+    faces["building"] = np.arange(len(faces))
+    faces["start"] = [compiled.address(name) for name in BUILDING_STYLES.values()]
+    faces["width"], faces["height"], faces["storeys"] = STYLE_FACE
+    faces["style"] = list(BUILDING_STYLES)
+    faces["mass_height"] = STYLE_FACE[1]
+    colours = grammar_colours(faces, len(faces))
+    return {number: colours[k, :3].astype(np.float64) for k, number in enumerate(BUILDING_STYLES)}

@@ -17,7 +17,8 @@ import numpy as np
 
 from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min_widths, library_texture, seed_cells
 from ..relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, relief_atlas
-from ..scene import SHAPES, SURFACE_PLAIN_WALL, SURFACE_WALL, BuildingMass
+from ..scene import SHAPES, SURFACE_PLAIN_WALL, SURFACE_WALL, TINT_GAIN, BuildingMass
+from ._building_lod import bay_mean, style_wall_colours
 
 NARROW_FACES = "plain wall (face narrower than its grammar)"  # the count assign_facades keeps of them
 
@@ -65,9 +66,10 @@ def choose_facade(mass: BuildingMass) -> FacadeKind:
 
 def assign_facades(records: np.ndarray, masses, vertices: np.ndarray | None = None) -> Counter:
     """Writes each building's facade into records['facade'] (code, grammar start rule, seed cells);
-    returns how many buildings each kind got. With the buildings' `vertices` (scene.batch), the
-    wall faces too narrow for their grammar become plain walls (surface SURFACE_PLAIN_WALL): counted
-    under NARROW_FACES, with a GrammarFitWarning."""
+    returns how many buildings each kind got. A grammar building's tint becomes its style's wall
+    colour (grammar_tints). With the buildings' `vertices` (scene.batch), the wall faces too narrow
+    for their grammar become plain walls (surface SURFACE_PLAIN_WALL): counted under NARROW_FACES,
+    with a GrammarFitWarning (dormer fronts are window bays: never counted)."""
     kinds = [choose_facade(m) for m in masses]
     records["facade"][:, 0] = [kind.code for kind in kinds]
     grammar = [i for i, kind in enumerate(kinds) if kind.grammar_style is not None]
@@ -76,6 +78,7 @@ def assign_facades(records: np.ndarray, masses, vertices: np.ndarray | None = No
         compiled = library_texture()
         records["facade"][grammar, 1] = [compiled.address(kinds[i].grammar_style) for i in grammar]
         records["facade"][grammar, 2:] = seed_cells([masses[i].seed for i in grammar])
+        records["tint"][grammar] = grammar_tints([masses[i].style for i in grammar])
         if vertices is not None:
             needs = np.zeros(len(masses))
             needs[grammar] = [library_min_widths()[kinds[i].grammar_style] for i in grammar]
@@ -89,6 +92,14 @@ def assign_facades(records: np.ndarray, masses, vertices: np.ndarray | None = No
                     stacklevel=2,
                 )
     return counts
+
+
+def grammar_tints(styles: list[int]) -> np.ndarray:
+    """(n, 4) building tints for grammar buildings of `styles`: what the grammar does not draw (plain
+    walls, dormer fronts' window bays) takes the grammar's wall colour, not the building's mapped or
+    guessed colour, which the grammar does not show."""
+    wall = np.array([style_wall_colours()[style] for style in styles]).reshape(-1, 3)
+    return np.column_stack([wall / (TINT_GAIN * bay_mean()[:3]), np.ones(len(wall))])
 
 
 def _plain_narrow_faces(vertices: np.ndarray, needs: np.ndarray) -> int:

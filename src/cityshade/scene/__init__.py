@@ -23,10 +23,11 @@ from ._city import (
     make_city,
 )
 from ._footprints import load_footprints
-from ._materials import ROOF_PARTS, ROOF_PATTERNS, roof_material
+from ._materials import ROOF_PARTS, ROOF_PATTERNS, TINT_GAIN, roof_material
 from ._batch import batch
 from ._meshes import (
     SURFACE_CODES,
+    SURFACE_DORMER,
     SURFACE_PLAIN_WALL,
     SURFACE_ROOF,
     SURFACE_WALL,
@@ -72,6 +73,8 @@ __all__ = [
     "camera_path",
     "intersect",
     "SURFACE_ROOF",
+    "SURFACE_DORMER",
+    "TINT_GAIN",
     "SURFACE_PLAIN_WALL",
     "SURFACE_WALL",
     "GROUND_ASPHALT",

@@ -4,7 +4,8 @@ a few numpy passes over every building instead of a Python loop over them.
 The walls of every prism (outlines and courtyards, their faces, bays and room columns: ring_faces),
 flat roofs and undersides (shapely triangulates them all in one call), the building records and the
 move to world space are computed for all buildings together; pitched and pointed roofs (with their
-gables), parapets, cylinders and domes are meshed building by building with the per-building code. A mass's rows keep their order: walls, gables, roof, underside.
+gables and dormers), parapets, cylinders and domes are meshed building by building with the
+per-building code. A mass's rows keep their order: walls, gables, dormer fronts, roof, underside.
 """
 
 from __future__ import annotations
@@ -16,8 +17,9 @@ import numpy as np
 import shapely
 
 from ._buildings import BuildingMass, room_sizes
-from ._extrusions import gable_rows, roof_rows, wall_quads, wall_rows
+from ._extrusions import dormer_rows, gable_rows, roof_rows, wall_quads, wall_rows
 from ._meshes import (
+    SURFACE_DORMER,
     SURFACE_ROOF,
     SURFACE_WALL,
     VERTEX_DTYPE,
@@ -32,7 +34,7 @@ from ._rooftop import roof_with_rooftop
 from ._wall_faces import ring_faces
 
 PLAIN_OUTLINE = 64  # simplified_outline returns outlines of up to this many corners as they are
-SECTIONS = ("walls", "gables", "roof", "underside")  # a mass's rows, in this order
+SECTIONS = ("walls", "gables", "dormers", "roof", "underside")  # a mass's rows, in this order
 
 
 class _Sections:
@@ -53,6 +55,7 @@ class _Sections:
         key = key[order]
         section = key % len(SECTIONS)
         surface = np.where(section >= SECTIONS.index("roof"), SURFACE_ROOF, SURFACE_WALL)
+        surface[section == SECTIONS.index("dormers")] = SURFACE_DORMER
         return rows, surface, key // len(SECTIONS)
 
 
@@ -72,8 +75,9 @@ def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     points = points[np.repeat(plain, counts)]
     _prism_rows(masses, rooms, prisms[plain], points, counts[plain], sections)
     for i in sorted(set(range(len(masses))) - set(prisms[plain].tolist())):  # cylinders, domes, collapsed outlines
-        walls, roof = mass_rows(masses[i])
+        walls, fronts, roof = mass_rows(masses[i])
         sections.add("walls", np.full(len(walls[0]), i), walls)
+        sections.add("dormers", np.full(len(fronts[0]), i), fronts)
         sections.add("roof", np.full(len(roof[0]), i), roof)
     rows, surface, building = sections.ordered()
     yaw = np.array([m.yaw for m in masses])
@@ -187,8 +191,9 @@ def _prism_rows(
 
     # pitched and pointed roofs and parapets, mass by mass
     for k in np.flatnonzero(~flat_top):
-        roof, gables = roof_with_rooftop(polygons[k], top[k], chosen[k].roof)
+        roof, gables, fronts = roof_with_rooftop(polygons[k], top[k], chosen[k].roof)
         sections.add("gables", np.full(len(gables.positions), index[k]), gable_rows(gables, chosen[k], column[k]))
+        sections.add("dormers", np.full(len(fronts.positions), index[k]), dormer_rows(fronts, chosen[k], column[k]))
         sections.add(
             "roof", np.full(len(roof.positions), index[k]), roof_rows(roof.positions, roof.normals, roof.roof_parts())
         )

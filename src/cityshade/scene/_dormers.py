@@ -137,6 +137,7 @@ def dormers(polygon: shapely.Polygon, top: float, roof: Roof, surface: Triangles
     front = _solid(front_local, centres, e_u, e_v, top)
     front.along = front_local[..., 0].ravel() + DORMER_WIDTH / 2
     front.edge_length = np.full(len(front.positions), DORMER_WIDTH)
+    front.piece = np.repeat(np.arange(len(centres)), front_local.shape[1])
     hidden = HIDDEN + (BACK_GABLE if gabled else [])
     tops = GABLED_TOP if gabled else FLAT_TOP
     solid = _solid(_local(hidden + CHEEKS + tops, back, high, apex), centres, e_u, e_v, top)

@@ -61,17 +61,32 @@ def wall_rows(positions, normals, faces: WallFaces, edge: np.ndarray, along: np.
     return positions, normals, facade, face, faces.columns[edge]
 
 
-def gable_rows(walls: Triangles, mass, first_column: int):
-    """Wall pieces above the walls' top (gables): each a face of its edge's length up to the ridge,
-    its storeys carrying on those of the wall below, its rooms in a column of their own."""
+def _piece_rows(walls: Triangles, mass, columns: np.ndarray):
+    """Wall pieces above the walls' top: each a face of its edge's length, its storeys carrying on
+    those of the wall below, its rooms in room column `columns` (one per row)."""
     length = walls.edge_length
     bay = length / np.maximum(1, np.round(length / mass.room_width))
-    columns = np.full((len(length), 2), first_column, dtype=np.int64)
-    faces = WallFaces(np.zeros(len(length)), length, bay, bay, columns)
+    faces = WallFaces(np.zeros(len(length)), length, bay, bay, np.repeat(columns[:, None], 2, axis=1))
     storey, _ = storeys(mass.base, mass.wall_top, mass.floor_height)
     return wall_rows(
         walls.positions, walls.normals, faces, np.arange(len(length)), walls.along, (mass.base, mass.height), storey
     )
+
+
+def gable_rows(walls: Triangles, mass, first_column: int):
+    """Gables: wall pieces up to the ridge, their rooms in a column of their own."""
+    return _piece_rows(walls, mass, np.full(len(walls.positions), first_column, dtype=np.int64))
+
+
+def dormer_rows(fronts: Triangles, mass, first_column: int):
+    """Dormer fronts (_dormers.py): one bay each, the storey of rooms in the roof behind it; every
+    dormer's room in a column of its own after the gables' (`first_column`)."""
+    return _piece_rows(fronts, mass, first_column + 1 + fronts.piece.astype(np.int64))
+
+
+def empty_rows():
+    """Rows of no vertices (a mass without dormers)."""
+    return roof_rows(np.zeros((0, 3)), np.zeros((0, 3)))
 
 
 def roof_rows(positions: np.ndarray, normals: np.ndarray, part: np.ndarray | int = 0):
@@ -89,12 +104,12 @@ def join_rows(rows: list):
 
 
 def outline_rows(mass, outline: np.ndarray):
-    """(wall rows, roof rows) of a mass over its counter-clockwise object-space outline."""
+    """(wall rows, dormer front rows, roof rows) of a mass over its counter-clockwise object-space outline."""
     # holes clockwise: their walls face the courtyard
     polygon = shapely.orient_polygons(shapely.Polygon(outline, mass.holes))
     holes = [np.asarray(ring.coords)[:-1] for ring in polygon.interiors]
     top = mass.wall_top
-    roof, gables = roof_with_rooftop(polygon, top, mass.roof)
+    roof, gables, fronts = roof_with_rooftop(polygon, top, mass.roof)
     if not mass.walls:  # a canopy: the roof's underside at its eaves
         roof = Triangles.join([roof, flat(polygon, top, up=False)])
     elif mass.base > 0:
@@ -103,6 +118,8 @@ def outline_rows(mass, outline: np.ndarray):
     for ring in [outline, *holes] if mass.walls else []:
         rows, column = ring_wall_rows(ring, mass, mass.base, top, column)
         walls.append(rows)
-    return join_rows([*walls, gable_rows(gables, mass, column)]), roof_rows(
-        roof.positions, roof.normals, roof.roof_parts()
+    return (
+        join_rows([*walls, gable_rows(gables, mass, column)]),
+        dormer_rows(fronts, mass, column),
+        roof_rows(roof.positions, roof.normals, roof.roof_parts()),
     )

@@ -66,6 +66,9 @@ def roof_material(name: str | None) -> tuple[int, tuple[float, float, float]]:
     return ROOF_MATERIALS.get(ROOF_ALIASES.get(name, name), PLAIN_ROOF)
 
 
+TINT_GAIN = 1.6  # building_tint (common/facade.glsl): the window bay's grey wall times the tint times this is the colour
+
+
 def wall_tint(colour, material: str | None):
     """The sRGB colour a facade is tinted with: the tagged colour, else the material's, else None."""
     if colour is not None:

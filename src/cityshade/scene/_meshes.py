@@ -15,14 +15,20 @@ import shapely
 from ._buildings import BuildingMass
 from ._records import BUILDING_DTYPE, SHAPES
 from ._doors import door_record
-from ._extrusions import outline_rows, roof_rows, wall_rows
+from ._extrusions import empty_rows, outline_rows, roof_rows, wall_rows
 from ._dome_faces import dome_faces
 from ._wall_faces import WallFaces, storeys, wall_faces
 from ._materials import linear, roof_material, wall_tint
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
 SURFACE_PLAIN_WALL = 2  # a wall face too narrow for its building's grammar (render/_facades.py)
-SURFACE_CODES = {"SURFACE_WALL": SURFACE_WALL, "SURFACE_ROOF": SURFACE_ROOF, "SURFACE_PLAIN_WALL": SURFACE_PLAIN_WALL}
+SURFACE_DORMER = 3  # a dormer's front: one window bay with its room, whatever the building's facade
+SURFACE_CODES = {
+    "SURFACE_WALL": SURFACE_WALL,
+    "SURFACE_ROOF": SURFACE_ROOF,
+    "SURFACE_PLAIN_WALL": SURFACE_PLAIN_WALL,
+    "SURFACE_DORMER": SURFACE_DORMER,
+}
 
 VERTEX_DTYPE = np.dtype(
     [
@@ -93,7 +99,7 @@ def _prism_triangles(mass: BuildingMass, smooth: bool):
     if _signed_area(pts) < 0:
         pts = pts[::-1]
     if not smooth:
-        return outline_rows(mass, pts)  # walls (courtyards, gables) and the roof's shape
+        return outline_rows(mass, pts)  # walls (courtyards, gables), dormer fronts and the roof's shape
     height = mass.extent[1]
     centre = pts.mean(axis=0)
     radius = pts.max(axis=0)[0] / 2
@@ -106,7 +112,7 @@ def _prism_triangles(mass: BuildingMass, smooth: bool):
         np.stack([top[:, 0], np.full(len(top), height), top[:, 1]], axis=1),
         np.broadcast_to([0.0, 1.0, 0.0], (len(top), 3)),
     )
-    return walls, roof
+    return walls, empty_rows(), roof
 
 
 def _roof_triangles(outline: np.ndarray) -> np.ndarray:
@@ -149,11 +155,11 @@ def _dome_triangles(mass: BuildingMass):
     walls = wall_rows(positions, n, faces, ring, along, (rings.base[ring], rings.top[ring]), rings.storey)
     walls[2][:, 1] = phi * radius  # v runs up the arc
     walls = tuple(part[wall] for part in walls)
-    return walls, roof_rows(positions[~wall], n[~wall])
+    return walls, empty_rows(), roof_rows(positions[~wall], n[~wall])
 
 
 def mass_rows(mass: BuildingMass):
-    """(wall rows, roof rows) of one mass in its object space (_extrusions.py rows)."""
+    """(wall rows, dormer front rows, roof rows) of one mass in its object space (_extrusions.py rows)."""
     if mass.shape == "dome":
         return _dome_triangles(mass)
     return _prism_triangles(mass, smooth=mass.shape == "cylinder")
@@ -181,9 +187,9 @@ def vertex_records(
 
 def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
     """The triangles of one mass as VERTEX_DTYPE records (world and object space)."""
-    walls, roof = mass_rows(mass)
-    rows = tuple(np.concatenate([w, r]) for w, r in zip(walls, roof))
-    surface = np.repeat([SURFACE_WALL, SURFACE_ROOF], [len(walls[0]), len(roof[0])])
+    parts = mass_rows(mass)
+    rows = tuple(np.concatenate(part) for part in zip(*parts))
+    surface = np.repeat([SURFACE_WALL, SURFACE_DORMER, SURFACE_ROOF], [len(part[0]) for part in parts])
     return vertex_records(
         rows, surface, index, np.cos(mass.yaw), np.sin(mass.yaw), np.asarray(mass.position, np.float64)
     )

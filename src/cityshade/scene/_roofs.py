@@ -49,21 +49,24 @@ PARAPET_THICKNESS = 0.25  # metres
 @dataclass
 class Triangles:
     """Unindexed triangles (3 rows each) in object space: positions and unit normals; wall
-    triangles also know where they stand on their outline edge (metres from its start, its length),
-    roof triangles may say what part of the roof they are (ROOF_PART_*, None: all the surface)."""
+    triangles also know where they stand on their outline edge (metres from its start, its length)
+    and may say which piece they belong to (a dormer's number), roof triangles may say what part of
+    the roof they are (ROOF_PART_*, None: all the surface)."""
 
     positions: np.ndarray  # (n, 3)
     normals: np.ndarray  # (n, 3)
     along: np.ndarray | None = None  # (n,)
     edge_length: np.ndarray | None = None  # (n,)
     part: np.ndarray | None = None  # (n,)
+    piece: np.ndarray | None = None  # (n,)
 
     @staticmethod
     def empty() -> Triangles:
-        return Triangles(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0))
+        return Triangles(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros(0), piece=np.zeros(0, np.int64))
 
     @staticmethod
     def join(parts: list[Triangles]) -> Triangles:
+        """The triangles of `parts` one after another (their pieces' numbers are not kept)."""
         parts = [p for p in parts if len(p.positions)]
         if not parts:
             return Triangles.empty()

@@ -10,13 +10,14 @@ from ._roof_units import rooftop_units
 from ._roofs import Roof, Triangles, inside_parapet, roof_triangles
 
 
-def roof_with_rooftop(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
-    """roof_triangles (roof surfaces, wall pieces) with the rooftop units or dormers added."""
+def roof_with_rooftop(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles, Triangles]:
+    """roof_triangles (roof surfaces, wall pieces) with the rooftop units or dormers added to the
+    roof, and the dormers' fronts (wall pieces numbered dormer by dormer: Triangles.piece)."""
     surface, walls = roof_triangles(polygon, top, roof)
     if roof.shape == "flat" or roof.height <= 0:
         if roof.parapet > 0:
             units = [rooftop_units(piece, top - roof.parapet, roof.seed) for piece in inside_parapet(polygon)]
             surface = Triangles.join([surface, *units])
-        return surface, walls
+        return surface, walls, Triangles.empty()
     cover, fronts = dormers(polygon, top, roof, surface)
-    return Triangles.join([surface, cover]), Triangles.join([walls, fronts])
+    return Triangles.join([surface, cover]), walls, fronts

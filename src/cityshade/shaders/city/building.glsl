@@ -30,7 +30,6 @@ void main() {}
 const float STREET_LIT_ALBEDO = 0.35;  // facades and roofs as one grey under the lamps
 const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: dark glass, nothing behind it
 const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
-const vec3 PLAIN_WALL_ALBEDO = vec3(0.45, 0.42, 0.4);
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 
@@ -133,8 +132,9 @@ void main() {
         vec2 door_uv;
         int door;
         bool at_door = door_at(b, v_local, n, door_uv, door);  // a mapped or guessed door, in front of any facade
-        bool grammar = !at_door && v_ids.y != SURFACE_PLAIN_WALL && has_grammar_facade(b);
-        bool relief = has_relief_facade(b);
+        // plain walls (too narrow for a grammar) and dormer fronts (one window bay) keep to their own
+        bool grammar = !at_door && v_ids.y == SURFACE_WALL && has_grammar_facade(b);
+        bool relief = v_ids.y == SURFACE_WALL && has_relief_facade(b);
 #if defined BUILDING_LOD
         // far away: the style's mean colour (the deferred pass decided for grammar pixels)
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
@@ -144,8 +144,8 @@ void main() {
 #endif
 #endif
         if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);
-        else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py)
-            f = FacadeResult(PLAIN_WALL_ALBEDO * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);
+        else if (v_ids.y == SURFACE_PLAIN_WALL)  // a face too narrow for its grammar (cityshade/render/_facades.py):
+            f = FacadeResult(u_bay_mean.rgb * building_tint(b), n, vec2(0.0), 0.0, v_local, 0u);  // the wall's colour
 #if defined BUILDING_LOD
         else if (cheap) f = lod_facade(b, v_ids.x, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing, grammar, relief);
         else if (relief && lod_relief_flat(s))  // parallax under a pixel: traced straight into the wall

@@ -36,7 +36,7 @@ vec3 facade_light(FacadeResult f, mat3 rot, vec3 d, float shadow) {
 // The building's colour over the (grey) window-bay and relief textures: a tagged colour or
 // material, else a small random variation per building.
 vec3 building_tint(Building b) {
-    if (b.tint.w > 0.0) return b.tint.rgb * 1.6;
+    if (b.tint.w > 0.0) return b.tint.rgb * TINT_GAIN;
     uint h = pcg_hash(uint(b.ids.x) ^ 0x9E37u);
     return vec3(0.8) + 0.35 * vec3(float(h & 255u), float((h >> 8u) & 255u), float((h >> 16u) & 255u)) / 255.0 - 0.17;
 }
