@@ -156,7 +156,8 @@ void main() {
             traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, f, opening);
         }
         else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
-        else if (!window_bay_relief(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d, s, f))
+        else if (v_ids.y != SURFACE_WALL  // dormer fronts keep the flat bay
+                 || !window_bay_relief(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d, s, f))
             f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;
         label = f.label;
