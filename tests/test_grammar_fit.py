@@ -83,6 +83,8 @@ def test_plain_walls_take_the_grammars_wall_colour_not_the_buildings_tint(gl_con
     plain = (ids[..., 2] == 1) & (ids[..., 0] == FACE_EXTERIOR) & (ids[..., 3] == 0)
     wall = (ids[..., 2] == 2) & (ids[..., 3] == LABELS.index("wall"))
     chroma = [hdr[m].mean(axis=0) / hdr[m].mean(axis=0).sum() for m in (plain, wall)]
-    print(f"plain pixels {plain.sum()} chromaticity {np.round(chroma[0], 3)}, grammar wall {wall.sum()} {np.round(chroma[1], 3)}")
+    print(
+        f"plain pixels {plain.sum()} chromaticity {np.round(chroma[0], 3)}, grammar wall {wall.sum()} {np.round(chroma[1], 3)}"
+    )
     assert plain.sum() > 200 and wall.sum() > 200
     assert np.abs(chroma[0] - chroma[1]).max() < 0.06

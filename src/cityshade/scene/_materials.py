@@ -66,7 +66,8 @@ def roof_material(name: str | None) -> tuple[int, tuple[float, float, float]]:
     return ROOF_MATERIALS.get(ROOF_ALIASES.get(name, name), PLAIN_ROOF)
 
 
-TINT_GAIN = 1.6  # building_tint (common/facade.glsl): the window bay's grey wall times the tint times this is the colour
+# building_tint (common/facade.glsl): the window bay's grey wall times the tint times this is the colour
+TINT_GAIN = 1.6
 
 
 def wall_tint(colour, material: str | None):
