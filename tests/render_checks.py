@@ -60,6 +60,40 @@ def grammar_facades(masses):
     return GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief_atlas())
 
 
+def interior_params(renderer, lights=None):
+    """The twin's InteriorParams for what `renderer` draws: its settings' share of lit rooms (or
+    `lights`) and animation time, and its textures' room variants and glass rectangle."""
+    from cityshade import assets
+    from cityshade.interior import InteriorParams
+
+    s = renderer.settings
+    return InteriorParams(
+        lights=s.lights if lights is None else lights,
+        time=s.animation_time,
+        variants=renderer.textures.room_variants,
+        glass_rect=renderer.textures.glass_rect,
+        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
+    )
+
+
+def grammar_test_settings(grammar_file, start: str, path: str, **extra):
+    """Settings that draw every grammar facade with the grammar `start` of `grammar_file` (compiled
+    after the library), lit at midday with no trees, shadows or rooms, by `path` (forward or deferred)."""
+    from cityshade.render import RenderSettings
+
+    return RenderSettings(
+        trees=False,
+        shadows=False,
+        god_rays=False,
+        interior_mapping=False,
+        time_of_day=13.0,
+        grammar_deferred=path == "deferred",
+        grammar_files=(str(grammar_file),),
+        grammar_start=start,
+        **extra,
+    )
+
+
 def interior_twin(renderer, masses, camera, size, bounds, lights=None, grammar=None, labels=False) -> np.ndarray:
     """The numpy twin's id AOV with room state (cityshade.interior.reference_ids) of `masses` standing
     on a city of `bounds`, with the renderer's frame settings and textures; `lights` (one share, or
@@ -67,18 +101,12 @@ def interior_twin(renderer, masses, camera, size, bounds, lights=None, grammar=N
     the grammar facades, and with `labels` the fourth channel is the grammar label. The window bay's
     windows are recessed near the eye when the settings have relief on (their default)."""
     from cityshade import assets
-    from cityshade.interior import InteriorParams, reference_ids
+    from cityshade.interior import reference_ids
     from cityshade.relief import relief_atlas
     from cityshade.render._city_gpu import GROUND_MARGIN
 
     s = renderer.settings
-    params = InteriorParams(
-        lights=s.lights if lights is None else lights,
-        time=s.animation_time,
-        variants=renderer.textures.room_variants,
-        glass_rect=renderer.textures.glass_rect,
-        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
-    )
+    params = interior_params(renderer, lights)
     x0, z0, x1, z1 = bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
     alpha = assets.facade_texture()[0][..., 3] / 255.0

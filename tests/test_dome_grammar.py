@@ -18,7 +18,7 @@ from cityshade.interior import FACE_NAMES, windows_straddling_rooms
 from cityshade.interior._faces import FACE_EXTERIOR, FACE_ROOF
 from cityshade.render import GrammarFitWarning, Renderer, RenderSettings
 from cityshade.scene import Camera, City, dome, dome_faces, make_city
-from render_checks import grammar_facades, id_edges, interior_twin, render_finite
+from render_checks import grammar_facades, grammar_test_settings, id_edges, interior_twin, render_finite
 
 SIZE = (160, 120)
 MAX_MISMATCH = 0.001  # of the picture: rasterisation edges only
@@ -133,16 +133,7 @@ def test_both_grammar_paths_draw_the_twins_windows_on_a_dome(gl_context, tmp_pat
 
     grammar = tmp_path / "dome_test.grammar"
     grammar.write_text(BAYS)
-    settings = RenderSettings(
-        trees=False,
-        shadows=False,
-        god_rays=False,
-        interior_mapping=False,
-        time_of_day=13.0,
-        grammar_deferred=path == "deferred",
-        grammar_files=(str(grammar),),
-        grammar_start="dome_test",
-    )
+    settings = grammar_test_settings(grammar, "dome_test", path)
     scene = _grammar_domes(make_city("interior"), BRICK)
     camera = scene.camera("dome")
     r = Renderer(SIZE, settings, ctx=gl_context)

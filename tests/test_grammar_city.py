@@ -12,7 +12,7 @@ from cityshade.grammar import BUILDING_STYLES, evaluate, facade_seed_vector, lib
 from cityshade.interior._faces import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
 from cityshade.scene import SURFACE_WALL, USE_CODES, USES, Camera, City, batch, box, make_city
-from render_checks import render_finite
+from render_checks import grammar_test_settings, render_finite
 
 SIZE = (128, 96)
 STYLE = {name: number for number, name in BUILDING_STYLES.items()}
@@ -75,17 +75,7 @@ def _grammar_city(gl_context, tmp_path, text: str, masses, path: str, size) -> R
     (compiled after the library through RenderSettings.grammar_files), lit at midday, by `path`."""
     grammar = tmp_path / "city_test.grammar"
     grammar.write_text(text)
-    settings = RenderSettings(
-        samples=0,
-        trees=False,
-        shadows=False,
-        god_rays=False,
-        interior_mapping=False,
-        time_of_day=13.0,
-        grammar_deferred=path == "deferred",
-        grammar_files=(str(grammar),),
-        grammar_start="city_test",
-    )
+    settings = grammar_test_settings(grammar, "city_test", path, samples=0)
     renderer = Renderer(size, settings, ctx=gl_context)
     renderer.set_city(City("grammar test", 0, masses, [], (-60.0, -60.0, 60.0, 60.0)))
     return renderer

@@ -28,12 +28,12 @@ from cityshade.relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, relief
 from cityshade.render import assign_facades, choose_facade
 from cityshade.relief._reference import MISS
 from cityshade.relief._view import SINGLE_FACADE
-from cityshade.interior import GrammarFacades, InteriorParams, reference_ids
+from cityshade.interior import GrammarFacades, reference_ids
 from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import Camera, City, batch, box, default_city
-from render_checks import hit_edges, id_edges, render_finite
+from render_checks import hit_edges, id_edges, interior_params, render_finite
 
 SIZE = (96, 96)
 BUILDING_NUMBER = {name: number for number, name in BUILDING_STYLES.items()}
@@ -144,14 +144,7 @@ def test_city_relief_glass_leads_into_the_rooms_as_the_twin_says(gl_context, vie
     camera = RELIEF_STREET.viewpoints[view]
     gpu = renderer.render_ids(camera, room_state=True)
     colour = render_finite(renderer, camera)
-    textures = renderer.textures
-    params = InteriorParams(
-        lights=0.6,
-        time=1.3,
-        variants=textures.room_variants,
-        glass_rect=textures.glass_rect,
-        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
-    )
+    params = interior_params(renderer)
     alpha = assets.facade_texture()[0][..., 3] / 255.0
     x0, z0, x1, z1 = RELIEF_STREET.bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
@@ -217,14 +210,7 @@ def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, o
     gpu = renderer.render_ids(camera, room_state=True)
     gpu_labels = renderer.render_ids(camera)[..., 3]
     colour = render_finite(renderer, camera)
-    textures = renderer.textures
-    params = InteriorParams(
-        lights=0.6,
-        time=1.3,
-        variants=textures.room_variants,
-        glass_rect=textures.glass_rect,
-        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
-    )
+    params = interior_params(renderer)
     renderer.release()
     Image.fromarray(colour).save(output_dir / f"relief_grammar_{view}_{switch_m}.png")
     masses = GRAMMAR_STREET.masses
@@ -294,13 +280,7 @@ def test_window_bay_windows_recessed_as_the_twin_says(gl_context, view, switch_m
     off.set_city(WINDOW_BAY_STREET)
     gpu_off = off.render_ids(camera, room_state=True)
     off.release()
-    params = InteriorParams(
-        lights=0.6,
-        time=1.3,
-        variants=renderer.textures.room_variants,
-        glass_rect=renderer.textures.glass_rect,
-        sprite_alpha=assets.furniture_sprites()[..., 3] / 255.0,
-    )
+    params = interior_params(renderer)
     alpha = assets.facade_texture()[0][..., 3] / 255.0
     x0, z0, x1, z1 = WINDOW_BAY_STREET.bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
