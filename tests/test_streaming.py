@@ -241,6 +241,12 @@ def _set_version(folder: Path):
     (folder / "manifest.json").write_text(json.dumps(manifest))
 
 
+def _set_code(folder: Path):
+    manifest = json.loads((folder / "manifest.json").read_text())
+    manifest["meshing_code"] = "0123456789abcdef"
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+
+
 def _garbage_manifest(folder: Path):
     (folder / "manifest.json").write_bytes(b"\x00garbage{")
 
@@ -257,6 +263,7 @@ def _truncated_city(folder: Path):
 
 DAMAGE = {
     "version": (_set_version, "made with cityshade '0.0.1'"),
+    "code": (_set_code, "made with meshing_code '0123456789abcdef'"),
     "manifest": (_garbage_manifest, "manifest.json is damaged"),
     "tile": (_truncated_tile, "tiles/00000.npy is missing or damaged"),
     "city": (_truncated_city, "city.pickle is damaged"),

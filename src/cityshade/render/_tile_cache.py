@@ -1,21 +1,22 @@
 """A city's buildings cut into square tiles on disk, for streaming (docs/scale.md, "Streaming").
 
-A cache folder holds `manifest.json` (format, cityshade version, vertex and record layouts, the
-source file's name, size and SHA-256, and per tile its file, bounds, counts, bytes and SHA-256),
-`city.pickle` (the City without the tiles' vertices: masses, ground, trees, lamps, viewpoints; the
-building records with their facades assigned; the cull pass's boxes in the whole city's order, each
-box's first vertex counted within its tile) and `tiles/NNNNN.npy` (each tile's vertices, its
-buildings one after another in box order). A tile is the buildings whose masses stand in one square
-of `tile_size` metres; the city is meshed tile by tile, so cutting it never holds more than one
-tile's vertices.
+A cache folder holds `manifest.json` (format, cityshade version and a hash of its source code,
+vertex and record layouts, the source file's name, size and SHA-256, and per tile its file,
+bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' vertices: masses,
+ground, trees, lamps, viewpoints; the building records with their facades assigned; the cull
+pass's boxes in the whole city's order, each box's first vertex counted within its tile) and
+`tiles/NNNNN.npy` (each tile's vertices, its buildings one after another in box order). A tile is
+the buildings whose masses stand in one square of `tile_size` metres; the city is meshed tile by
+tile, so cutting it never holds more than one tile's vertices.
 
-Anything that does not match (another format, cityshade version, vertex layout or source file; a
-missing, truncated or altered file) raises CacheProblem with one line saying what; the caller
-rebuilds the cache from the source or reports the line.
+Anything that does not match (another format, cityshade version or source code, vertex layout or
+source file; a missing, truncated or altered file) raises CacheProblem with one line saying what;
+the caller rebuilds the cache from the source or reports the line.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 import json
@@ -106,13 +107,26 @@ def source_identity(path: Path) -> dict:
     return {"name": Path(path).name, "bytes": size, "sha256": digest.hexdigest()}
 
 
+@functools.cache
+def _code_hash() -> str:
+    """A hash of cityshade's Python source: any change to how maps are read and meshed (which a
+    version number does not follow between releases) makes caches from before it stale."""
+    package = Path(__file__).resolve().parent.parent
+    digest = hashlib.sha256()
+    for path in sorted(package.rglob("*.py")):
+        digest.update(path.relative_to(package).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
+
+
 def _layouts() -> dict:
-    """What must match for a cache to be read: its format, cityshade's version and the layouts."""
+    """What must match for a cache to be read: its format, cityshade's version and source code, and
+    the layouts."""
     from .. import __version__  # set after the package's imports, this module among them
 
     return {
         "format": FORMAT,
         "cityshade": __version__,
+        "meshing_code": _code_hash(),
         "vertex": str(VERTEX_DTYPE.descr),
         "record": str(BUILDING_DTYPE.descr),
     }
