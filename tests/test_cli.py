@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -62,3 +63,16 @@ def test_render_writes_png_and_reports_frame(tmp_path):
     from PIL import Image
 
     assert Image.open(out).size == (96, 54)
+
+
+def test_warnings_are_one_line_each(tmp_path):
+    """cityshade's own warnings (here faces too narrow for their grammar) reach stderr as one line
+    each, `cityshade: warning: ...`, without the Python source line behind them."""
+    data = Path(__file__).parent / "data" / "maps" / "shed.osm"
+    result = run_cli("tile", str(data), "--out", str(tmp_path / "tiles"))
+    assert result.returncode == 0, result.stderr
+    lines = result.stderr.strip().splitlines()
+    print(lines)
+    warned = [line for line in lines if line.startswith("cityshade: warning: ")]
+    assert any("narrower than their building's grammar" in line for line in warned)
+    assert not any("Warning:" in line or line.startswith(" ") for line in lines)

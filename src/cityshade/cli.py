@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import sys
+import warnings
 
 from ._files import signals_as_exit
 from .errors import CityshadeError, UsageError
@@ -39,10 +41,30 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+@contextlib.contextmanager
+def warnings_as_lines():
+    """cityshade's own warnings (faces too narrow for their grammar, a style without relief) are one
+    line each on stderr, like its errors, without the Python source line behind them; others, as
+    Python shows them."""
+    shown = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if category.__module__.split(".")[0] == "cityshade":
+            print(f"cityshade: warning: {message}", file=sys.stderr if file is None else file)
+        else:
+            shown(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = show
+    try:
+        yield
+    finally:
+        warnings.showwarning = shown
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     try:
-        with signals_as_exit():
+        with signals_as_exit(), warnings_as_lines():
             args = parser.parse_args(argv)
             return int(args.run(args) or 0)
     except CityshadeError as exc:
