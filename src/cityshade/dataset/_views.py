@@ -15,28 +15,12 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from ..maps import MAIN_ROADS, ROAD_LINKS
 from ..scene import Camera, City
 from ._config import DatasetConfig
 
 KINDS = ("pedestrian", "vehicle", "aerial")
-STREET_KINDS = (
-    "motorway",
-    "trunk",
-    "primary",
-    "secondary",
-    "tertiary",
-    "unclassified",
-    "residential",
-    "living_street",
-    "pedestrian",
-    "service",
-    "primary_link",
-    "secondary_link",
-    "tertiary_link",
-    "trunk_link",
-    "motorway_link",
-    "road",
-)
+STREET_KINDS = MAIN_ROADS + ("living_street", "pedestrian", "service") + ROAD_LINKS + ("road",)
 BUILT_IN_STREET_WIDTH = 11.0  # the default city's 16 m streets less the pavements reaching into them
 TRIES = 32  # street points tried before a view inside a building is given up
 

@@ -22,9 +22,12 @@ from ._masses import building_masses, facade_style
 from ._cameras import aerial_camera, spot_camera, street_camera, street_segment
 from ._open import city_from_map
 from ._scene import map_city
+from ._streets import MAIN_ROADS, ROAD_LINKS
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
 
 __all__ = [
+    "MAIN_ROADS",
+    "ROAD_LINKS",
     "AREA_KINDS",
     "BUILDING_ATTRIBUTES",
     "ROOF_SHAPES",

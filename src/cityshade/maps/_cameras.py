@@ -9,6 +9,7 @@ import shapely
 from ..errors import UsageError
 from ..scene import Camera
 from ._model import MapData, to_scene
+from ._streets import MAIN_ROADS, ROAD_LINKS
 
 AERIAL_FOV = 50.0
 AERIAL_ASPECT = 16 / 9  # the default image size; narrower images see a little less at the sides
@@ -16,22 +17,7 @@ AERIAL_PITCH = 45.0  # degrees below the horizon
 AERIAL_HEADING = 0.0  # the first heading tried: the camera looks north
 STREET_FOV = 66.0
 EYE_HEIGHT = 1.7
-DRIVEN = (
-    "motorway",
-    "trunk",
-    "primary",
-    "secondary",
-    "tertiary",
-    "unclassified",
-    "residential",
-    "living_street",
-    "pedestrian",
-    "motorway_link",
-    "trunk_link",
-    "primary_link",
-    "secondary_link",
-    "tertiary_link",
-)
+STREET_VIEWS = MAIN_ROADS + ("living_street", "pedestrian") + ROAD_LINKS  # where a street camera may stand
 FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
 
 
@@ -93,7 +79,7 @@ def street_segment(map_data: MapData, outlines=()):
     radius = max(x1 - x0, y1 - y0, 1.0) / 2
     candidates = []
     for road in map_data.roads:
-        if road.kind not in DRIVEN or road.tunnel or road.bridge:
+        if road.kind not in STREET_VIEWS or road.tunnel or road.bridge:
             continue
         points = np.asarray(road.line.coords)[:, :2]
         for a, b in zip(points[:-1], points[1:]):

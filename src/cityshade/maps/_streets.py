@@ -12,38 +12,12 @@ import shapely
 
 from ._model import MapData
 
-DRIVEN = (
-    "motorway",
-    "trunk",
-    "primary",
-    "secondary",
-    "tertiary",
-    "unclassified",
-    "residential",
-    "living_street",
-    "service",
-    "motorway_link",
-    "trunk_link",
-    "primary_link",
-    "secondary_link",
-    "tertiary_link",
-    "road",
-    "busway",
-)
-WITH_PAVEMENT = DRIVEN[:7] + DRIVEN[9:15]  # not service roads
-CENTRE_LINE = (
-    "motorway",
-    "trunk",
-    "primary",
-    "secondary",
-    "tertiary",
-    "unclassified",
-    "residential",
-    "primary_link",
-    "secondary_link",
-    "tertiary_link",
-    "trunk_link",
-)
+# OpenStreetMap highway classes: the public road network by rank, and the ramps joining it
+MAIN_ROADS = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential")
+ROAD_LINKS = ("motorway_link", "trunk_link", "primary_link", "secondary_link", "tertiary_link")
+DRIVEN = MAIN_ROADS + ("living_street", "service") + ROAD_LINKS + ("road", "busway")
+WITH_PAVEMENT = MAIN_ROADS + ROAD_LINKS + ("road",)  # not service roads
+CENTRE_LINE = MAIN_ROADS + ROAD_LINKS[1:]  # a motorway ramp has edge lines only
 SKIPPED = ("corridor", "elevator", "proposed", "construction", "platform", "raceway")  # indoors, not built, not a way
 PAVEMENT_WIDTH = 2.5
 MARKING_WIDTH = 0.15
