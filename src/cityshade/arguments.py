@@ -71,6 +71,14 @@ def check_writable(path: Path) -> Path:
     return path
 
 
+MAP_HELP = "a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON"
+
+
+def add_map_option(parser, *aliases: str):
+    """--map FILE (and `aliases`): the map a command draws its city from."""
+    parser.add_argument("--map", *aliases, dest="map", type=Path, default=None, metavar="FILE", help=MAP_HELP)
+
+
 def add_grammar_cache_option(parser, default: bool):
     """--grammar-cache / --no-grammar-cache, for the commands that draw the city's frame."""
     import argparse

@@ -6,12 +6,11 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import replace
-from pathlib import Path
 
 import moderngl_window as mglw
 import numpy as np
 
-from .arguments import add_grammar_cache_option
+from .arguments import add_grammar_cache_option, add_map_option
 from .errors import CityshadeError
 from .render import (
     Renderer,
@@ -259,13 +258,7 @@ def open_viewer(
 def register(subparsers):
     parser = subparsers.add_parser("view", help="interactive viewer: " + HELP)
     parser.add_argument("--city", default="default")
-    parser.add_argument(
-        "--map",
-        type=Path,
-        default=None,
-        metavar="FILE",
-        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
-    )
+    add_map_option(parser)
     parser.add_argument("--camera", default="street", help="viewpoint name, or lon,lat,height,heading with --map")
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--time", default="19:10", help="time of day HH:MM")

@@ -4,18 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..arguments import add_map_option
 from ..errors import UsageError
 
 
 def register(subparsers):
     parser = subparsers.add_parser("dataset", help="labelled renders (RGB, depth, normals, classes, instances) on Ray")
-    parser.add_argument(
-        "--map",
-        type=Path,
-        default=None,
-        metavar="FILE",
-        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
-    )
+    add_map_option(parser)
     parser.add_argument("--city", default=None, metavar="NAME", help="a built-in city with streets: default")
     parser.add_argument("--samples", type=int, default=None, metavar="N", help="number of samples")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR", help="dataset folder")

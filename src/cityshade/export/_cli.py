@@ -5,18 +5,14 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..arguments import add_map_option
 from ..scene import CITIES
 
 
 def register(subparsers):
     parser = subparsers.add_parser("export", help="export a city as glTF (GLB) or a 3D Tiles tileset")
     source = parser.add_mutually_exclusive_group(required=True)
-    source.add_argument(
-        "--map",
-        type=Path,
-        metavar="FILE",
-        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
-    )
+    add_map_option(source)
     source.add_argument("--city", choices=tuple(CITIES), help="a built-in city layout")
     parser.add_argument("--out", type=Path, required=True, help="the .glb/.gltf file, or the tileset's directory")
     parser.add_argument("--format", default=None, help="glb, gltf or 3dtiles (default: from --out's suffix, else glb)")

@@ -5,7 +5,15 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..arguments import add_grammar_cache_option, check_seed, check_writable, parse_lights, parse_size, save_png
+from ..arguments import (
+    add_grammar_cache_option,
+    add_map_option,
+    check_seed,
+    check_writable,
+    parse_lights,
+    parse_size,
+    save_png,
+)
 from ..errors import UsageError
 from ..scene import CITIES
 from ._settings import RenderSettings
@@ -41,15 +49,7 @@ def print_profile(pass_ms: dict[str, float]):
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
-    parser.add_argument(
-        "--map",
-        "--footprints",
-        dest="map",
-        type=Path,
-        default=None,
-        metavar="FILE",
-        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
-    )
+    add_map_option(parser, "--footprints")
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=check_seed, default=None, help="layout seed, 0 to 2^31-1")
     parser.add_argument(

@@ -11,7 +11,7 @@ from rich.progress import Progress
 from .._files import atomic_output, signals_deferred
 from ..errors import UsageError
 from ..scene import PATHS, City, camera_path, make_city
-from ..arguments import check_writable, parse_size
+from ..arguments import add_map_option, check_writable, parse_size
 from ._daylight import parse_time
 from ._renderer import Renderer
 from ._settings import RenderSettings
@@ -90,13 +90,7 @@ def render_video(
 def register(subparsers):
     parser = subparsers.add_parser("video", help="render a camera path to MP4")
     parser.add_argument("--city", default="default")
-    parser.add_argument(
-        "--map",
-        type=Path,
-        default=None,
-        metavar="FILE",
-        help="a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON",
-    )
+    add_map_option(parser)
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--path", default="orbit", help=f"camera path: {', '.join(PATHS)}")
     parser.add_argument("--frames", type=int, default=48)
