@@ -404,3 +404,20 @@ def test_a_folder_of_something_else_is_never_replaced(tmp_path, capsys):
     )
     assert "is not an earlier output of this command" in err
     assert [p.name for p in other.iterdir()] == ["cat.jpg"]
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--tile-size", "-3"], "invalid --tile-size '-3'"),
+        (["--tile-size", "abc"], "invalid --tile-size 'abc'"),
+        ([], "not a readable OpenStreetMap file"),
+    ],
+)
+def test_tile_refuses_garbage_in_one_line_and_writes_nothing(args, message, tmp_path, capsys):
+    source = tmp_path / "garbage.osm.pbf"
+    source.write_bytes(b"garbage<<")
+    out = tmp_path / "tiles"
+    err = one_line_error(capsys, ["tile", str(source), "--out", str(out), *args])
+    assert message in err
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["garbage.osm.pbf"]
