@@ -4,7 +4,7 @@ polygonised-interiors baseline geometry."""
 from ._faces import FACE_CODES, FACE_NAMES, room_state
 from ._hash import pcg_hash
 from ._polygonised import LAYERS as POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
-from ._reference import GrammarFacades, InteriorParams, find_room, reference_ids, room_id, trace
+from ._reference import GrammarFacades, InteriorParams, find_room, reference_ids, reference_surfaces, room_id, trace
 from ._solids import cast_masses
 from ._windows import WindowCount, windows_straddling_rooms
 
@@ -20,6 +20,7 @@ __all__ = [
     "polygonised_vertices",
     "quad_counts",
     "reference_ids",
+    "reference_surfaces",
     "room_grid",
     "room_id",
     "room_state",

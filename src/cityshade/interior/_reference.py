@@ -329,7 +329,13 @@ def grammar_entry(
     return glass, label, window, entry
 
 
-def reference_ids(
+def reference_ids(*args, **kwargs) -> np.ndarray:
+    """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
+    building and ground passes, per pixel centre (the arguments: reference_surfaces)."""
+    return reference_surfaces(*args, **kwargs)[0]
+
+
+def reference_surfaces(
     masses: list[BuildingMass],
     camera,
     size: tuple[int, int],
@@ -340,9 +346,10 @@ def reference_ids(
     grammar: GrammarFacades | None = None,
     labels: bool = False,
     window_bay_relief: object | None = None,
-) -> np.ndarray:
+) -> tuple[np.ndarray, np.ndarray]:
     """The id AOV with room state (face, room, building + 1, room_state(lit, variant)) of the
-    building and ground passes, per pixel centre: the masses' own solids ray-cast (_solids.py),
+    building and ground passes, and each pixel's distance from the eye to the surface it shows
+    (metres along the ray; inf: nothing), per pixel centre: the masses' own solids ray-cast (_solids.py),
     glass decided by the facade texel (or, for the buildings whose index maps to a window bay in
     `relief`, by the relief met along the ray, `relief_entry`; for those with a start rule in
     `grammar`, by the grammar, `grammar_entry`) unless a door stands there
@@ -351,7 +358,8 @@ def reference_ids(
     room state). With `window_bay_relief` (cityshade.relief.relief_atlas(), as the renderer's
     default RenderSettings.relief on) the window bay's glass on flat walls nearer than the switch (the grammar's
     relief_range, else switch_distance of the view) is recessed, `_window_bay_entry`. The ground is the plane y = 0 inside `ground_bounds` (x0, z0, x1, z1), cut by the
-    camera's far plane."""
+    camera's far plane. The distance is the wall's, or where a relief is traced the relief's
+    surface met along the ray behind it, as the GPU writes the depth (shaders/relief/depth.glsl)."""
     relief = relief or {}
     starts = grammar.starts if grammar is not None else {}
     switch_m = grammar.relief_range if grammar is not None else None
@@ -369,6 +377,8 @@ def reference_ids(
     ground = (tg > 0) & (gp[:, 0] > x0) & (gp[:, 0] < x1) & (gp[:, 2] > z0) & (gp[:, 2] < z1) & (tg < hits.t)
     ground &= tg * np.abs(dirs @ camera.forward) < camera.far
     out[ground, 0] = FACE_GROUND
+    distance = np.full(len(dirs), np.inf)
+    distance[ground] = tg[ground]
     th, tw = facade_alpha.shape
     for b, mass in enumerate(masses):
         sel = np.nonzero((hits.building == b) & ~ground)[0]
@@ -422,6 +432,8 @@ def reference_ids(
             glass &= roof | ~door_hit(hits.local[sel], hits.normal[sel], mass.doors)[0]
         out[sel, 0] = np.where(roof, FACE_ROOF, FACE_EXTERIOR)
         out[sel, 2] = b + 1
+        # the relief's hit lies on the ray behind the wall point (the wall point where not traced)
+        distance[sel] = hits.t[sel] + np.linalg.norm(entry[sel] - hits.local[sel], axis=1)
         if glass.any() and mass.interior:  # without an interior the glass stays an exterior face
             rays = sel[glass]
             to_face = face_frame(hits.normal[rays])
@@ -433,4 +445,4 @@ def reference_ids(
             out[rays, 0], out[rays, 1] = face, room
             if not labels:
                 out[rays, 3] = room_state(lit, variant)
-    return out.reshape(height, width, 4)
+    return out.reshape(height, width, 4), distance.reshape(height, width)

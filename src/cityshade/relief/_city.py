@@ -186,22 +186,23 @@ class CityRelief:
     def __init__(self, ctx: moderngl.Context):
         self.atlas = relief_atlas()
         self.facade = GpuFacade(ctx, self.atlas.maps, {"bmf": self.atlas.bmf})
+        # metres: the deepest point of the relief bay, and of the openings (the rows after it)
+        depth, unit, bay_rows = self.atlas.maps.depth, self.atlas.maps.depth_unit, self.atlas.bay[2]
+        self.deepest = (float(depth[:bay_rows].max()) * unit, float(depth[bay_rows:].max()) * unit)
 
     def bind(self, program: moderngl.Program, range_m: float):
         """range_m: metres within which grammar windows are traced (RenderSettings.relief_range)."""
         a = self.atlas
         terminals = sorted(a.terminals.items())
-        values = {
-            "u_relief_depth_unit": a.maps.depth_unit,
-            "u_relief_bay": a.bay,
-            "u_relief_window_bay": a.window_bay,
-            "u_relief_openings": len(terminals),
-            "u_relief_profile": (PROFILE[0] + 2, PROFILE[1] + 2),
-            "u_relief_range": range_m,
-        }
-        for name, value in values.items():
-            if name in program:
-                program[name].value = value
+        _set_present(
+            program,
+            u_relief_depth_unit=a.maps.depth_unit,
+            u_relief_bay=a.bay,
+            u_relief_window_bay=a.window_bay,
+            u_relief_openings=len(terminals),
+            u_relief_profile=(PROFILE[0] + 2, PROFILE[1] + 2),
+            u_relief_range=range_m,
+        )
         if "u_relief_terminals" in program:
             uniform = program["u_relief_terminals"]
             padded = terminals + [(-1, -1)] * (uniform.array_length - len(terminals))
@@ -213,5 +214,17 @@ class CityRelief:
             uniform.value = flat[: uniform.array_length]
         self.facade.bind(program, "bmf")
 
+    def bind_depth_bound(self, program: moderngl.Program, range_m: float):
+        """For a depth-only program with RELIEF_DEPTH_BOUND (shaders/relief/depth.glsl): the switch
+        distance and the deepest recesses."""
+        _set_present(program, u_relief_range=range_m, u_relief_depths=self.deepest)
+
     def release(self):
         self.facade.release()
+
+
+def _set_present(program: moderngl.Program, **values):
+    """Sets the uniforms the program uses (the compiler drops those a variant does not read)."""
+    for name, value in values.items():
+        if name in program:
+            program[name].value = value

@@ -131,6 +131,22 @@ class FrameInputs:
             **extra,
         }
 
+    def relief_switch(self) -> float:
+        """Metres within which grammar and window-bay openings are traced (relief.switch_distance)."""
+        switch = self.view.settings.relief_range
+        return switch_distance(self.view.size[1], self.view.camera.fov_y) if switch is None else switch
+
+    def buildings_depth_program(self):
+        """The buildings' depth-only program for the camera (the depth prepass, GPU culling's
+        occluders): with relief on, a wall that may be recessed writes the deepest depth its relief
+        may give (shaders/relief/depth.glsl), so the traced depth passes the buildings pass's test."""
+        relief = self.view.settings.relief
+        program = self.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True, "RELIEF_DEPTH_BOUND": relief})
+        set_uniforms(program, u_view_proj=self.view.view_projection)
+        if relief:
+            self.gpu.city.relief.bind_depth_bound(program, self.relief_switch())
+        return program
+
     def write_frame_blocks(self):
         """The values programs share, once per frame: camera, sun and sky for every program
         (cityshade.gl.FRAME_BLOCK), rooms, windows and lamps for the city's (SHADING_BLOCK)."""
@@ -230,9 +246,7 @@ def grammar_evaluation(f: FrameInputs):
 
 
 def depth_prepass(f: FrameInputs):
-    buildings = f.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(buildings, u_view_proj=f.view.view_projection)
-    f.draw_buildings(buildings)
+    f.draw_buildings(f.buildings_depth_program())
     ground = f.gpu.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
     set_uniforms(ground, u_view_proj=f.view.view_projection)
     f.gpu.city.draw_ground(ground)
@@ -246,10 +260,7 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
     f.gpu.textures.grammar.bind(program)
     if f.view.settings.grammar_deferred:
         f.gpu.textures.grammar_pass.bind_results(program)
-    switch = f.view.settings.relief_range
-    if switch is None:
-        switch = switch_distance(f.view.size[1], f.view.camera.fov_y)
-    f.gpu.city.relief.bind(program, switch)
+    f.gpu.city.relief.bind(program, f.relief_switch())
     f.gpu.city.street_lights.bind(program)
     if defines.get("BUILDING_LOD", f.view.settings.building_lod):
         f.gpu.city.bind_lod_colours()

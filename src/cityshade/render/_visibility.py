@@ -251,8 +251,7 @@ class BuildingVisibility:
 
 def occluder_pass(f):
     """The big buildings in the frustum, depth-only, into the frame's depth buffer."""
-    program = f.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(program, u_view_proj=f.view.view_projection)
+    program = f.buildings_depth_program()  # as the prepass: no deeper than the relief may reach
     f.gpu.city.draw_buildings(program, draws=f.gpu.city.visibility.occluders(f.view.view_projection))
 
 

@@ -1,6 +1,7 @@
 // Buildings: one draw call for the whole city. Exterior bay texture whose alpha marks the glass
 // (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
-// Defines: DEPTH_ONLY (z prepass), ID_PASS (face/room/building ids; the fourth channel is the grammar
+// Defines: DEPTH_ONLY (z prepass; with RELIEF_DEPTH_BOUND the deepest depth the relief may give,
+// relief/depth.glsl), ID_PASS (face/room/building ids; the fourth channel is the grammar
 // label, or with ID_ROOM_STATE the room seen, or with ID_WINDOW the window it is seen through), INTERIOR_MAPPING (off: the
 // reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD, BUILDING_LOD (city/lod.glsl); the polygonised-interiors
 // baseline draws the buildings twice: POLYGONISED_EXTERIOR (glass cut out) before its real rooms,
@@ -9,11 +10,23 @@
 #include "common/building_vertex.glsl"
 
 #if defined FRAGMENT_SHADER
-#if defined DEPTH_ONLY
+#include "common/buildings.glsl"
+// Where a relief is traced the fragment takes its depth; the prepass writes the deepest it may be.
+// (The polygonised baseline's rooms and glass are real geometry at the wall: it keeps the wall's.)
+#if (defined DEPTH_ONLY && defined RELIEF_DEPTH_BOUND) || \
+    (!defined DEPTH_ONLY && !defined RELIEF_OFF && !defined POLYGONISED_EXTERIOR && !defined POLYGONISED_WINDOWS)
+#define RELIEF_DEPTH
+#endif
+#include "relief/depth.glsl"
+#if defined DEPTH_ONLY && defined RELIEF_DEPTH_BOUND
+in vec3 v_world;
+in vec3 v_normal;
+flat in ivec4 v_ids;
+void main() { gl_FragDepth = relief_depth_bound(buildings[v_ids.x], v_world, normalize(v_normal), v_ids.y); }
+#elif defined DEPTH_ONLY
 void main() {}
 #else
 #include "common/hash.glsl"
-#include "common/buildings.glsl"
 #include "generated/ShadingBlock.glsl"
 #include "common/lighting.glsl"
 #include "common/facade.glsl"
@@ -119,6 +132,7 @@ void main() {
     vec3 surface = v_local;  // where a ray through the glass enters the building
     bool cheap = false;      // the cheapest level of detail (city/lod.glsl): no grammar, relief nor rooms traced
     bool traced = false;     // a grammar window's relief was traced (relief/building.glsl)
+    bool recessed = false;   // any relief was traced: surface lies on the ray behind the wall point
     if (v_ids.y == SURFACE_ROOF) {
         face = FACE_ROOF;
 #if defined POLYGONISED_WINDOWS
@@ -154,11 +168,16 @@ void main() {
         else if (grammar) {
             f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
             traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, f, opening);
+            recessed = traced;
         }
-        else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
-        else if (v_ids.y != SURFACE_WALL  // dormer fronts keep the flat bay
-                 || !window_bay_relief(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d, s, f))
-            f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
+        else if (relief) {
+            f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
+            recessed = true;
+        }
+        else if (v_ids.y == SURFACE_WALL  // dormer fronts keep the flat bay
+                 && window_bay_relief(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d, s, f))
+            recessed = true;
+        else f = window_bay(b, n, v_local, (v_facade - vec2(0.0, v_face.y)) / v_spacing);
         float glass = f.glass;
         label = f.label;
         surface = f.point;  // recessed relief glass: the room shows from the hit point
@@ -224,6 +243,9 @@ void main() {
 #endif
         }
     }
+#if defined RELIEF_DEPTH
+    gl_FragDepth = recessed ? relief_depth(v_world + rot * (surface - v_local)) : gl_FragCoord.z;
+#endif
 #if defined ID_PASS && defined ID_ROOM_STATE
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), room_state);
 #elif defined ID_PASS && defined ID_WINDOW
