@@ -25,6 +25,7 @@ float relief_depth(vec3 world) {
 #if defined RELIEF_DEPTH_BOUND
 uniform float u_relief_range;   // metres: grammar and window-bay openings are traced nearer than this
 uniform vec2 u_relief_depths;   // metres: the deepest point of the relief bay, of the openings
+const float RELIEF_DEPTH_MARGIN = 16.0 / 16777216.0;  // 16 steps of a 24-bit depth buffer
 
 // The deepest the relief of a wall may put this fragment's surface: its world point `world`, its
 // object-space normal n (b's), the relief-bay buildings traced at every distance, openings nearer
@@ -40,7 +41,9 @@ float relief_depth_bound(Building b, vec3 world, vec3 n, int surface) {
     vec3 d = to_surface / s;
     float facing = -dot(building_rotation(b) * n, d);
     if (facing <= deepest / 1e4) return 1.0;  // grazing: the recess may reach any depth
-    return relief_depth(world + d * (deepest / facing));
+    // the pane lies at the deepest depth: a centimetre and a few depth steps more, so that rounding
+    // never puts the traced depth behind its bound
+    return min(relief_depth(world + d * ((deepest + 0.01) / facing)) + RELIEF_DEPTH_MARGIN, 1.0);
 }
 #endif
 

@@ -1,0 +1,140 @@
+"""The relief writes its traced depth (shaders/relief/depth.glsl): where a grammar window is
+recessed the depth buffer holds the recessed surface, as the interior twin's distance says, with
+the depth prepass on and off and with the forward and deferred grammar paths; and a building whose
+front lies inside the recess (7 cm behind the wall: behind the wall's plane, in front of the frame
+and the pane) shows through the windows exactly where the twin's recessed surface lies behind it."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from cityshade import assets
+from cityshade.dataset import linear_depth
+from cityshade.grammar import BUILDING_STYLES
+from cityshade.interior import reference_surfaces
+from cityshade.relief import relief_atlas
+from cityshade.render import Renderer, RenderSettings
+from cityshade.render._city_gpu import GROUND_MARGIN
+from cityshade.scene import Camera, City, box
+from render_checks import grammar_facades, id_edges, interior_params
+
+SIZE = (160, 120)
+SWITCH_M = 60.0  # every window in the view traced
+TOLERANCE_M = 0.01  # the recess is 10 cm (frame) to 14 cm (pane) behind the wall
+NOTHING_M = 1e9  # the distance where a ray meets nothing (inf), so that differences stay finite
+BUILDING_NUMBER = {name: number for number, name in BUILDING_STYLES.items()}
+OFFICE = box((0.0, 0.0), 18.0, 12.0, 16.0, style=BUILDING_NUMBER["office"], seed=32)
+# inside the office, its front 7 cm behind the office's: between the wall's plane and the frame
+INSIDE = box((2.0, 0.07), 14.0, 6.0, 12.0, style=0, seed=41)
+CAMERA = Camera((-3.0, 5.5, -9.0), (12.0, 7.0, 2.0), fov_y=60.0)
+RECESS_STREET = City("building inside a recess", 0, [OFFICE, INSIDE], [], (-30.0, -30.0, 50.0, 30.0), {})
+
+
+def distances(renderer: Renderer, aov: bool = False) -> np.ndarray:
+    """Metres along each pixel's ray to the surface the depth buffer holds (NOTHING_M: nothing)."""
+    z = linear_depth(renderer.depth(aov=aov), CAMERA.near, CAMERA.far)
+    forward = CAMERA.forward / np.linalg.norm(CAMERA.forward)
+    return np.nan_to_num(z / (CAMERA.pixel_rays(SIZE) @ forward), posinf=NOTHING_M)
+
+
+@pytest.fixture(scope="module")
+def twin(gl_context):
+    """The twin's (ids, distance) of each building alone, recessed and flat (by name), and the GPU's
+    id AOV and its distances."""
+    renderer = Renderer(
+        SIZE, RenderSettings(lights=0.6, animation_time=1.3, relief_range=SWITCH_M, samples=0), ctx=gl_context
+    )
+    renderer.set_city(RECESS_STREET)
+    gpu_ids = renderer.render_ids(CAMERA)
+    gpu_distance = distances(renderer, aov=True)
+    params = interior_params(renderer)
+    renderer.release()
+    alpha = assets.facade_texture()[0][..., 3] / 255.0
+    x0, z0, x1, z1 = RECESS_STREET.bounds
+    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
+
+    def surfaces(mass, relief: bool):
+        atlas = relief_atlas() if relief else None
+        grammar = dataclasses.replace(grammar_facades([mass]), relief=atlas, relief_range=SWITCH_M)
+        ids, distance = reference_surfaces(
+            [mass], CAMERA, SIZE, params, alpha, ground, grammar=grammar, labels=True, window_bay_relief=atlas
+        )
+        return ids, np.nan_to_num(distance, posinf=NOTHING_M)
+
+    recessed = {"office": surfaces(OFFICE, True), "inside": surfaces(INSIDE, True)}
+    flat = {"office": surfaces(OFFICE, False), "inside": surfaces(INSIDE, False)}
+    return recessed, flat, gpu_ids, gpu_distance
+
+
+def combined(twins: dict):
+    """The two buildings together: the nearer surface per pixel (the inner one as building 2), and
+    where the inner one is nearer."""
+    (ids, distance), (inner_ids, inner_distance) = twins["office"], twins["inside"]
+    nearer = (inner_ids[..., 2] > 0) & (inner_distance < distance)
+    inner_ids = inner_ids + np.array([0, 0, 1, 0], np.uint32) * (inner_ids[..., 2:3] > 0)
+    return np.where(nearer[..., None], inner_ids, ids), np.where(nearer, inner_distance, distance), nearer
+
+
+def test_the_inner_building_shows_through_the_recess_where_the_twin_says(twin):
+    recessed_twin, flat, gpu_ids, gpu_distance = twin
+    ids, distance, shown = combined(recessed_twin)
+    _, _, shown_flat = combined(flat)
+    office, office_flat = recessed_twin["office"], flat["office"]
+    recessed = (office[0][..., 2] > 0) & (office[1] - office_flat[1] > TOLERANCE_M)
+    gpu_shown = gpu_ids[..., 2] == 2
+    differ = gpu_shown != shown
+    wrong_depth = (ids[..., 2] > 0) & (np.abs(gpu_distance - distance) > TOLERANCE_M)
+    edges = id_edges(ids)
+    error = np.abs(gpu_distance - distance)[recessed & ~shown]
+    print(
+        f"{recessed.sum()} recessed office pixels (twin), depth error median {np.median(error) * 1000:.3f} mm, "
+        f"max {error.max() * 1000:.3f} mm; inner building seen through the recess on {shown.sum()} pixels "
+        f"(twin), {gpu_shown.sum()} (GPU), {differ.sum()} differ ({(differ & ~edges).sum()} away from edges); "
+        f"with the wall's depth it would show on {shown_flat.sum()}; {wrong_depth.sum()} building pixels "
+        f"more than {TOLERANCE_M * 100:.0f} cm off the twin's distance ({(wrong_depth & ~edges).sum()} away from edges)"
+    )
+    assert recessed.sum() > 2000, "the view must show recessed windows"
+    assert shown.sum() > 500 and not shown_flat.any(), "the inner building must show only through the recess"
+    assert not (differ & ~edges).any() and differ.sum() <= 0.001 * differ.size
+    assert not (wrong_depth & ~edges).any() and wrong_depth.sum() <= 0.001 * wrong_depth.size
+
+
+@pytest.mark.parametrize(
+    "prepass, deferred, culling, relief",
+    [
+        (True, True, "gpu", True),
+        (True, False, "off", True),
+        (False, True, "off", True),
+        (False, False, "gpu", True),
+        (True, True, "gpu", False),
+    ],
+)
+def test_the_frame_depth_is_the_recessed_depth(gl_context, twin, prepass, deferred, culling, relief):
+    """The colour frame's depth buffer (single-sample) against the twin's nearer surface: the
+    recessed one with relief on, with the depth prepass (its bound) and without, forward and
+    deferred grammar, GPU culling (its occluders bounded too) and none; the wall's with relief off."""
+    ids, distance, _ = combined(twin[0] if relief else twin[1])
+    settings = RenderSettings(
+        lights=0.6,
+        animation_time=1.3,
+        relief_range=SWITCH_M,
+        samples=0,
+        trees=False,
+        depth_prepass=prepass,
+        grammar_deferred=deferred,
+        culling=culling,
+        relief=relief,
+    )
+    renderer = Renderer(SIZE, settings, ctx=gl_context)
+    renderer.set_city(RECESS_STREET)
+    renderer.render(CAMERA)
+    got = distances(renderer)
+    renderer.release()
+    buildings = ids[..., 2] > 0
+    wrong = buildings & ~(np.abs(got - distance) <= TOLERANCE_M)
+    edges = id_edges(ids)
+    print(f"{wrong.sum()} of {buildings.sum()} building pixels off the twin ({(wrong & ~edges).sum()} away from edges)")
+    assert not (wrong & ~edges).any() and wrong.sum() <= 0.001 * wrong.size
