@@ -374,11 +374,10 @@ def reference_surfaces(
         tg = -eye[1] / dirs[:, 1]
     gp = eye + dirs * tg[:, None]
     x0, z0, x1, z1 = ground_bounds
-    ground = (tg > 0) & (gp[:, 0] > x0) & (gp[:, 0] < x1) & (gp[:, 2] > z0) & (gp[:, 2] < z1) & (tg < hits.t)
-    ground &= tg * np.abs(dirs @ camera.forward) < camera.far
-    out[ground, 0] = FACE_GROUND
+    on_ground = (tg > 0) & (gp[:, 0] > x0) & (gp[:, 0] < x1) & (gp[:, 2] > z0) & (gp[:, 2] < z1)
+    on_ground &= tg * np.abs(dirs @ camera.forward) < camera.far
+    ground = on_ground & (tg < hits.t)
     distance = np.full(len(dirs), np.inf)
-    distance[ground] = tg[ground]
     th, tw = facade_alpha.shape
     for b, mass in enumerate(masses):
         sel = np.nonzero((hits.building == b) & ~ground)[0]
@@ -418,6 +417,16 @@ def reference_surfaces(
                     hits.facade[walls],
                     hits.face[walls, 1],
                 )
+                # the bay repeats past the wall's top: a ray rising through a recess there meets
+                # the roof's plane first (the GPU draws the roof's underside, nearer than the hit)
+                rise = entry[walls, 1] - hits.local[walls, 1]
+                above = hits.facade[walls, 1] + rise > hits.face[walls, 2]
+                if above.any():
+                    over = np.nonzero(~roof)[0][above]
+                    roof = roof.copy()
+                    roof[over], glass[over] = True, False
+                    climb = (hits.face[walls[above], 2] - hits.facade[walls[above], 1]) / hits.direction[walls[above], 1]
+                    entry[walls[above]] = hits.local[walls[above]] + hits.direction[walls[above]] * climb[:, None]
         else:
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
@@ -445,4 +454,9 @@ def reference_surfaces(
             out[rays, 0], out[rays, 1] = face, room
             if not labels:
                 out[rays, 3] = room_state(lit, variant)
+    # the ground plane runs on under the buildings: it hides a relief hit below it (a ray into a
+    # recess at the foot of a wall), as the GPU's ground pass does against the traced depth
+    ground = on_ground & (tg < distance)
+    out[ground] = (FACE_GROUND, 0, 0, 0)
+    distance[ground] = tg[ground]
     return out.reshape(height, width, 4), distance.reshape(height, width)

@@ -244,7 +244,9 @@ void main() {
         }
     }
 #if defined RELIEF_DEPTH
-    gl_FragDepth = recessed ? relief_depth(v_world + rot * (surface - v_local)) : gl_FragCoord.z;
+    // a hit on the wall itself keeps the rasterised depth exactly (no rounding to break ties at edges)
+    bool moved = recessed && any(notEqual(surface, v_local));
+    gl_FragDepth = moved ? relief_depth(v_world + rot * (surface - v_local)) : gl_FragCoord.z;
 #endif
 #if defined ID_PASS && defined ID_ROOM_STATE
     out_ids = uvec4(uint(face), room, uint(v_ids.x + 1), room_state);
