@@ -425,8 +425,9 @@ def reference_surfaces(
                     over = np.nonzero(~roof)[0][above]
                     roof = roof.copy()
                     roof[over], glass[over] = True, False
-                    climb = (hits.face[walls[above], 2] - hits.facade[walls[above], 1]) / hits.direction[walls[above], 1]
-                    entry[walls[above]] = hits.local[walls[above]] + hits.direction[walls[above]] * climb[:, None]
+                    rays = walls[above]
+                    climb = (hits.face[rays, 2] - hits.facade[rays, 1]) / hits.direction[rays, 1]
+                    entry[rays] = hits.local[rays] + hits.direction[rays] * climb[:, None]
         else:
             col = (np.mod(facade[:, 0] / facade[:, 2], 1.0) * tw).astype(np.int64).clip(0, tw - 1)
             row = (np.mod((facade[:, 1] - hits.face[sel, 1]) / facade[:, 3], 1.0) * th).astype(np.int64).clip(0, th - 1)
