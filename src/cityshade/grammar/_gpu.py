@@ -55,12 +55,16 @@ class GrammarTextures:
 
 
 class FacadeRenderer:
-    """Renders one facade head-on: colour (lit) and ids (terminal + 1, label, tile + 1, glass)."""
+    """Renders one facade head-on: colour (lit) and ids (terminal + 1, label, tile + 1, glass). With
+    `hole_shift` (metres) the ids are each pixel's hole + 1 and what that hole shows `hole_shift`
+    further along (terminal + 1, label, glass; facade.glsl GRAMMAR_HOLES)."""
 
-    def __init__(self, ctx: moderngl.Context, textures: GrammarTextures, nearest: bool = False):
+    def __init__(self, ctx: moderngl.Context, textures: GrammarTextures, nearest: bool = False, hole_shift=None):
         self.ctx = ctx
         self.textures = textures
-        self.program = programs(ctx).get("grammar/facade.glsl", shader_defines(nearest))
+        defines = dict(shader_defines(nearest), GRAMMAR_HOLES=hole_shift is not None)
+        self.program = programs(ctx).get("grammar/facade.glsl", defines)
+        self.hole_shift = hole_shift
 
     def render(
         self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0
@@ -78,6 +82,8 @@ class FacadeRenderer:
             self.program["u_facade_building"] = tuple(float(x) for x in building)
             self.program["u_facade_index"] = int(face)
             self.program["u_start_rule"] = int(start)
+            if self.hole_shift is not None:
+                self.program["u_hole_shift"] = tuple(float(x) for x in self.hole_shift)
             light = np.array(FACADE_LIGHT)
             self.program["u_light_dir"] = tuple(light / np.linalg.norm(light))
             self.ctx.disable(moderngl.DEPTH_TEST)

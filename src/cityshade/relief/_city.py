@@ -123,9 +123,7 @@ def cached_openings(compiled, style: str, number: int) -> StyleOpenings:
     a = cached_arrays(f"openings-{style}", digest.hexdigest()[:32], _OPENING_ARRAYS, build)
     colours = tuple(tuple(tuple(float(c) for c in rgb) for rgb in pair) for pair in a["colours"])
     maps = DetailMaps(a["depth"].astype(np.uint16), a["material"].astype(np.uint16), 1.0, DEPTH_UNIT)
-    return StyleOpenings(
-        tuple(int(t) for t in a["terminals"]), maps, colours, tuple(int(t) for t in a["holes"])
-    )
+    return StyleOpenings(tuple(int(t) for t in a["terminals"]), maps, colours, tuple(int(t) for t in a["holes"]))
 
 
 @lru_cache(maxsize=1)

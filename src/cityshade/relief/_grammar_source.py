@@ -109,6 +109,7 @@ def _profile(compiled, tiles, result, terminal: int, hole: bool, reveal) -> tupl
     scope's PROFILE grid: a glazed terminal's glass at the pane's depth and the rest of it at the
     frame's; a hole (its mask's own shape, grammar.hole_cut) open at the pane's depth in the wall.
     Frames layered over a hole stay on the flat grammar's wall plane: they are not traced."""
+
     def grid(values):
         return values.reshape(PROFILE[1], PROFILE[0], *values.shape[1:])[:, ::-1]
 
@@ -145,7 +146,10 @@ def style_openings(compiled, style: str, style_number: int, probe_texel: float =
                 result = evaluate(compiled, start, uv, face, seed_vector(seed), tiles, building=building)
                 walls.append(result.color[(result.label == LABELS.index("wall")) & (result.hole < 0)])
                 glazed = result.glass & (result.terminal >= 0)
-                for terminals, scopes, hole in ((result.terminal, result.scope, False), (result.hole, result.hole_scope, True)):
+                for terminals, scopes, hole in (
+                    (result.terminal, result.scope, False),
+                    (result.hole, result.hole_scope, True),
+                ):
                     which = glazed if not hole else (result.hole >= 0) & ~glazed
                     for terminal in np.unique(terminals[which]):
                         if int(terminal) not in found:

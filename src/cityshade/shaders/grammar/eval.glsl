@@ -424,7 +424,9 @@ void grammar_skip_mask(vec4 head) {
         one = head.w > head.z;
         g_through = -1;
     }
-    if (one ? head.w > head.z : head.z > head.w) {
+    // as the terminal, decided on exact alphas: a hole under an opaque Mat (where only the filtered
+    // alpha goes on) shows nothing, as in the numpy twin, which stops there
+    if ((one ? head.w > head.z : head.z > head.w) && g_AE < GRAMMAR_OPAQUE) {
         g_hole = g_addr;
         g_hole_scope = grammar_current_scope();
     }

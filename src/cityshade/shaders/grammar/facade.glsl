@@ -1,6 +1,9 @@
 // One facade, evaluated per pixel on a full-screen triangle (`cityshade grammar render`, tests).
 // The view: a camera at distance max(w, h) in front of the facade's centre, as
 // cityshade.grammar._reference.facade_view computes it.
+// GRAMMAR_HOLES: the ids are the hole the pixel shows (GrammarResult.hole + 1) and what that hole
+// shows u_hole_shift metres further along (grammar_through: terminal + 1, label, glass), as the
+// city's recessed holes evaluate it from the hole's bottom (relief/building.glsl).
 #include "grammar/eval.glsl"
 
 #include "common/fullscreen.glsl"
@@ -13,6 +16,7 @@ uniform int u_facade_index;     // which facade of the building: each has its ow
 uniform int u_start_rule;
 uniform vec4 u_facade_building; // building.levels, .style, .use, .height
 uniform vec3 u_light_dir;       // towards the light; tangent space with z out of the wall (as normals)
+uniform vec2 u_hole_shift;      // GRAMMAR_HOLES: metres from the pixel to where its hole is seen through
 
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out uvec4 out_ids;  // terminal + 1, label, tile + 1, glass
@@ -30,6 +34,12 @@ void main() {
     vec3 half_vector = normalize(u_light_dir + vec3(-ray.xy, ray.z));  // the ray's z points into the wall
     float specular = g.specular.x * pow(max(dot(g.normal, half_vector), 0.0), 1.0 + 128.0 * g.specular.y);
     out_color = vec4(g.color * (0.35 + 0.65 * diffuse) + specular, 1.0);
+#if defined GRAMMAR_HOLES
+    grammar_through = g.hole;
+    GrammarResult behind = grammar_evaluate(u_start_rule, uv + u_hole_shift, u_facade_size, seed, ray, dFdx(uv), dFdy(uv));
+    out_ids = uvec4(uint(g.hole + 1), uint(behind.terminal + 1), uint(behind.label), behind.glass ? 1u : 0u);
+#else
     out_ids = uvec4(uint(g.terminal + 1), uint(g.label), uint(g.tile + 1), g.glass ? 1u : 0u);
+#endif
 }
 #endif
