@@ -184,9 +184,15 @@ def test_every_style_has_openings_and_dusks_are_holes():
     atlas = relief_atlas()
     compiled = library_texture()
     openings = cached_openings(compiled, "dusk", 6)
-    print(f"compression per style {atlas.styles}; dusk's holes {openings.holes}, hole styles {atlas.hole_styles}")
+    print(
+        f"compression per style {atlas.styles}; dusk's holes {openings.holes}, hole styles' starts {atlas.hole_starts}"
+    )
     assert all(atlas.styles.values()) and set(atlas.styles) == set(BUILDING_STYLES.values())
-    assert openings.holes and set(openings.holes) == set(openings.terminals) and atlas.hole_styles == (6,)
+    assert (
+        openings.holes
+        and set(openings.holes) == set(openings.terminals)
+        and atlas.hole_starts == (compiled.address("dusk"),)
+    )
     rows, cols = openings.region_shape
     for k, hole in enumerate(openings.holes):
         material = openings.maps.material[k * rows : (k + 1) * rows]

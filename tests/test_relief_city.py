@@ -300,7 +300,8 @@ def test_dusk_holes_recessed_as_the_twin_says(gl_context, view, switch_m, output
     moved = np.any(gpu != gpu_off, axis=-1)
     print(
         f"{view}, switch at {switch_m} m: {differ.sum()} of {building.sum()} building pixels differ from the twin "
-        f"(face, room, building or label); {(building & (flat[..., 3] == room)).sum()} flat room pixels, the recess "
+        f"(face, room, building or label); {(flat[..., 3] == room).sum()} flat room pixels, {(ref[..., 3] == room).sum()} "
+        f"recessed; the recess "
         f"changes {recess.sum()} (twin), {moved.sum()} (GPU), {(ref[..., 3] == window).sum() - (flat[..., 3] == window).sum()}"
         f" more frame or reveal pixels; relief off against the flat twin: {np.any(gpu_off != flat, axis=-1).sum()} differ"
     )
@@ -308,7 +309,7 @@ def test_dusk_holes_recessed_as_the_twin_says(gl_context, view, switch_m, output
     assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"
     assert differ.sum() <= 0.001 * differ.size
     assert not (np.any(gpu_off != flat, axis=-1) & ~id_edges(flat)).any()
-    assert (ref[..., 3] == room).sum() > 0.5 * (flat[..., 3] == room).sum(), "the holes still show rooms"
+    assert (ref[..., 3] == room).sum() > 0.25 * (flat[..., 3] == room).sum(), "the holes still show rooms"
     if switch_m == 8.0:  # the switch inside the view: near holes traced, far ones flat
         farther = grammar_twin(DUSK_STREET, camera, params, relief_atlas(), True, 60.0)
         assert recess.any() and np.any(ref != farther)

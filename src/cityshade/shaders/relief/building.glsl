@@ -26,7 +26,8 @@ uniform ivec4 u_relief_bay;         // the window bay's region (first row, colum
 uniform ivec4 u_relief_window_bay;  // the textured window bay's opening (first row, columns, rows, 0)
 uniform int u_relief_openings;      // how many glazed terminals and holes have a window opening
 uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address (Mat or SkipMask), first atlas row of its opening
-uniform int u_relief_hole_styles;   // bit k: building style k's grammar cuts holes that have openings
+#define RELIEF_MAX_HOLE_STYLES 8
+uniform int u_relief_hole_starts[RELIEF_MAX_HOLE_STYLES];  // start rules of the styles that cut holes with openings (-1: none)
 uniform vec3 u_relief_colours[2 * RELIEF_MAX_OPENINGS];  // per opening: sRGB frame, reveal (the flat grammar's)
 uniform ivec2 u_relief_profile;     // an opening's columns and rows, the ring of wall texels included
 uniform float u_relief_range;       // metres: openings are traced nearer than this, flat grammar beyond
@@ -95,7 +96,8 @@ bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, 
 #if defined RELIEF_OFF
     return false;
 #else
-    bool holes = ((u_relief_hole_styles >> b.ids.y) & 1) != 0;  // any wall pixel may be a hole
+    bool holes = false;  // a style that cuts holes: any wall pixel may be one (a dark room's is labelled wall)
+    for (int i = 0; i < RELIEF_MAX_HOLE_STYLES; i++) holes = holes || u_relief_hole_starts[i] == b.facade.y;
     if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL) && !holes)) return false;
     vec2 duv_dx = dFdx(facade), duv_dy = dFdy(facade);
     GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, duv_dx, duv_dy);
