@@ -146,11 +146,11 @@ def style_openings(compiled, style: str, style_number: int, probe_texel: float =
                 result = evaluate(compiled, start, uv, face, seed_vector(seed), tiles, building=building)
                 walls.append(result.color[(result.label == LABELS.index("wall")) & (result.hole < 0)])
                 glazed = result.glass & (result.terminal >= 0)
-                for terminals, scopes, hole in (
-                    (result.terminal, result.scope, False),
-                    (result.hole, result.hole_scope, True),
+                holes = (result.hole >= 0) & ~glazed  # what a hole shows, not a glazed terminal's glass
+                for which, terminals, scopes, hole in (
+                    (glazed, result.terminal, result.scope, False),
+                    (holes, result.hole, result.hole_scope, True),
                 ):
-                    which = glazed if not hole else (result.hole >= 0) & ~glazed
                     for terminal in np.unique(terminals[which]):
                         if int(terminal) not in found:
                             first = np.flatnonzero(which & (terminals == terminal))[0]
