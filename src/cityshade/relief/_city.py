@@ -30,7 +30,6 @@ FACADE_RELIEF = 2  # the record's facade.x for relief-bay facades (shaders/relie
 RELIEF_STYLES = (2,)  # building styles drawn with the relief bay (no grammar style of their own)
 RELIEF_SHAPES = ("prism",)  # flat walls only
 MAX_OPENINGS = 64  # shaders/relief/building.glsl RELIEF_MAX_OPENINGS
-MAX_HOLE_STYLES = 8  # shaders/relief/building.glsl RELIEF_MAX_HOLE_STYLES
 
 
 def switch_distance(height_px: int, fov_y: float) -> float:
@@ -50,7 +49,6 @@ class ReliefAtlas:
     terminals: dict[int, int]  # glazed terminal's or hole's rule address -> first row of its opening
     colours: dict[int, tuple]  # glazed terminal's or hole's rule address -> sRGB (frame, reveal), StyleOpenings.colours
     styles: dict[str, str]  # grammar style -> the method its openings were compressed with
-    hole_starts: tuple[int, ...]  # start rules of the grammar styles that cut holes with openings
 
 
 def stack_bmf(parts: list[CompressedFacade]) -> CompressedFacade:
@@ -136,7 +134,7 @@ def relief_atlas() -> ReliefAtlas:
     bay, window = generate_bay(), window_bay_opening()
     parts = [bay, window]
     packed = [cached_compress(bay, "bmf", "city relief bay")[0], cached_compress(window, "bmf", "city window bay")[0]]
-    terminals, colours, styles, hole_starts, row = {}, {}, {}, [], bay.shape[0] + window.shape[0]
+    terminals, colours, styles, row = {}, {}, {}, bay.shape[0] + window.shape[0]
     for number, style in BUILDING_STYLES.items():
         openings = cached_openings(compiled, style, number)  # every style has windows to recess
         best = smallest_compression(openings.maps, f"{style} window openings")
@@ -148,13 +146,9 @@ def relief_atlas() -> ReliefAtlas:
             if terminal not in terminals:
                 terminals[terminal] = row + k * openings.region_shape[0]
                 colours[terminal] = openings.colours[k]
-        if openings.holes:
-            hole_starts.append(compiled.address(style))
         row += openings.maps.shape[0]
     if len(terminals) > MAX_OPENINGS:
         raise ValueError(f"{len(terminals)} glazed terminals and holes; the city's shader holds {MAX_OPENINGS}")
-    if len(hole_starts) > MAX_HOLE_STYLES:
-        raise ValueError(f"{len(hole_starts)} styles cut holes; the city's shader holds {MAX_HOLE_STYLES}")
     return ReliefAtlas(
         _stack_maps(parts),
         stack_bmf(packed),
@@ -163,7 +157,6 @@ def relief_atlas() -> ReliefAtlas:
         terminals,
         colours,
         styles,
-        tuple(hole_starts),
     )
 
 
@@ -193,9 +186,6 @@ class CityRelief:
             uniform = program["u_relief_terminals"]
             padded = terminals + [(-1, -1)] * (uniform.array_length - len(terminals))
             uniform.value = padded[: uniform.array_length]
-        if "u_relief_hole_starts" in program:
-            starts = list(a.hole_starts) + [-1] * (MAX_HOLE_STYLES - len(a.hole_starts))
-            program["u_relief_hole_starts"].value = starts
         if "u_relief_colours" in program:
             uniform = program["u_relief_colours"]
             flat = [c for terminal, _ in terminals for c in a.colours[terminal]]

@@ -23,7 +23,7 @@ uniform sampler2D u_depth;
 uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;
-layout(location = 1) out uvec4 out_ids;  // glass, label, the window's centre (grammar uv, float bits)
+layout(location = 1) out uvec4 out_ids;  // glass | hole seen, label, the window's centre (grammar uv, float bits)
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -65,6 +65,7 @@ void main() {
     }
     vec3 point = world.xyz / world.w;
     out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);
-    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(centre));
+    uint seen = (g.glass ? GRAMMAR_DEFERRED_GLASS : 0u) | (!cached && g.hole >= 0 ? GRAMMAR_DEFERRED_HOLE : 0u);
+    out_ids = uvec4(seen, uint(g.label), floatBitsToUint(centre));
 }
 #endif

@@ -26,8 +26,6 @@ uniform ivec4 u_relief_bay;         // the window bay's region (first row, colum
 uniform ivec4 u_relief_window_bay;  // the textured window bay's opening (first row, columns, rows, 0)
 uniform int u_relief_openings;      // how many glazed terminals and holes have a window opening
 uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address (Mat or SkipMask), first atlas row of its opening
-#define RELIEF_MAX_HOLE_STYLES 8
-uniform int u_relief_hole_starts[RELIEF_MAX_HOLE_STYLES];  // start rules of the styles that cut holes with openings (-1: none)
 uniform vec3 u_relief_colours[2 * RELIEF_MAX_OPENINGS];  // per opening: sRGB frame, reveal (the flat grammar's)
 uniform ivec2 u_relief_profile;     // an opening's columns and rows, the ring of wall texels included
 uniform float u_relief_range;       // metres: openings are traced nearer than this, flat grammar beyond
@@ -89,16 +87,14 @@ int relief_opening(int terminal) {
 // opening become the relief's (the rectangle: the room behind is the window's). Where it shows what
 // a hole lets through (GrammarResult.hole: dusk's rooms), the hole's profile is stretched over the
 // hole's scope and traced; through its bottom, the grammar seen through that hole from where the ray
-// meets it (the hole's room, entered from the recessed point). s: the distance. Returns whether the
-// relief was traced.
+// meets it (the hole's room, entered from the recessed point). s: the distance; hole_seen: the flat
+// grammar shows a hole here (grammar_building_facade). Returns whether the relief was traced.
 bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
-                    float s, inout FacadeResult f, inout vec4 opening) {
+                    float s, bool hole_seen, inout FacadeResult f, inout vec4 opening) {
 #if defined RELIEF_OFF
     return false;
 #else
-    bool holes = false;  // a style that cuts holes: any wall pixel may be one (a dark room's is labelled wall)
-    for (int i = 0; i < RELIEF_MAX_HOLE_STYLES; i++) holes = holes || u_relief_hole_starts[i] == b.facade.y;
-    if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL) && !holes)) return false;
+    if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL) && !hole_seen)) return false;
     vec2 duv_dx = dFdx(facade), duv_dy = dFdy(facade);
     GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, duv_dx, duv_dy);
     int opening_index = g.glass || g.label == GRAMMAR_WINDOW_LABEL ? relief_opening(g.terminal) : -1;
