@@ -179,3 +179,10 @@ def test_each_quality_step_changes_what_is_drawn_and_adds_to_the_ones_before():
     settings, trees = taken[-1]
     assert settings.shadow_refresh == 2 and not settings.relief and not settings.shadows
     assert not trees.relief and not trees.fins and trees.vanish_rows == (12.0, 6.0)
+
+
+def test_a_shadow_refresh_below_one_is_one_clear_error():
+    from cityshade.render import RenderSettings
+
+    with pytest.raises(UsageError, match=r"shadow_refresh 0: give 1 \(the chapter's rates\) or more"):
+        RenderSettings(shadow_refresh=0)

@@ -246,7 +246,8 @@ def open_viewer(
 ) -> CityViewer:
     """Creates the viewer (window + renderer) without entering the main loop. `sky` (hours -> settings,
     e.g. `maps.sky_clock`) moves the sun and moon with the clock keys. `target_fps`: the frame rate
-    the internal resolution is scaled to keep (None or 0: always full resolution). `tiles` (a tile
+    the internal resolution is scaled to keep, quality steps taken below its smallest scale (None or 0:
+    always full resolution and quality). `tiles` (a tile
     cache) streams its city instead, at most `memory_budget` bytes of tiles resident, never waiting."""
     if tiles is not None:
         city = tiles.city
@@ -294,7 +295,9 @@ def register(subparsers):
         default=DEFAULT_TARGET_FPS,
         metavar="N",
         help="keep N frames per second by drawing at a lower resolution and stretching it to "
-        f"the window (default {DEFAULT_TARGET_FPS:g}; 0: always full resolution)",
+        "the window, and below the smallest one by quality steps shown in the title (shadows redrawn "
+        "less often, far trees fading sooner, flat facades, no shadows) "
+        f"(default {DEFAULT_TARGET_FPS:g}; 0: always full resolution and quality)",
     )
     add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     add_streaming_arguments(parser)

@@ -34,7 +34,7 @@ class RenderSettings:
     trees: bool = True  # street rows and park groves (SpeedTree ch. 4)
     shadows: bool = True  # cascaded shadow maps (SpeedTree §4.3.2)
     shadow_resolution: int = 1024  # texels per side of each cascade's map (the viewer lowers it with its scale)
-    shadow_refresh: int = 1  # cascades redrawn this many times less often than the chapter's rates (viewer's quality steps)
+    shadow_refresh: int = 1  # cascades redrawn this many times less often than the chapter's rates
     god_rays: bool = True  # radial blur of bright pixels around the sun (SpeedTree §4.5)
     lights: float | None = None  # probability c; None: from the time of day
     time_of_day: float = 19.17  # hours (19:10, dusk)
