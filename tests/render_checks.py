@@ -42,12 +42,19 @@ def hit_edges(hits) -> np.ndarray:
     return key_edges(np.where(hits.material < 0, -1, hits.material * 8 + hits.face))
 
 
+def style_min_width(style: str):
+    """The narrowest face a library style fits, as a function of the face's facade.level (GrammarFacades)."""
+    from cityshade.grammar import library_min_widths
+
+    return lambda level: library_min_widths(level)[style]
+
+
 def grammar_facades(masses):
     """The twin's GrammarFacades of `masses`: the library, each grammar building's start rule and the
     narrowest face its style fits, as the renderer assigns them, and the relief atlas that recesses
     their windows (relief is on by default)."""
     from cityshade import assets
-    from cityshade.grammar import FACADE_GRAMMAR, library_min_widths, library_texture
+    from cityshade.grammar import FACADE_GRAMMAR, library_texture
     from cityshade.interior import GrammarFacades
     from cityshade.relief import relief_atlas
     from cityshade.render import assign_facades, choose_facade
@@ -56,7 +63,7 @@ def grammar_facades(masses):
     _, records = batch(masses)
     assign_facades(records, masses)
     starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
-    widths = {i: library_min_widths()[choose_facade(masses[i]).grammar_style] for i in starts}
+    widths = {i: style_min_width(choose_facade(masses[i]).grammar_style) for i in starts}
     return GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief_atlas())
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from functools import partial
 
 import numpy as np
 import pytest
@@ -142,7 +143,7 @@ def test_both_grammar_paths_draw_the_twins_windows_on_a_dome(gl_context, tmp_pat
         image = render_finite(r, camera).astype(np.int32)
         compiled = library_texture_with(settings.grammar_files)
         facades = GrammarFacades(
-            compiled, assets.tile_array(), {3: compiled.address("dome_test")}, {3: min_width(load(grammar))}
+            compiled, assets.tile_array(), {3: compiled.address("dome_test")}, {3: partial(min_width, load(grammar))}
         )
         ref = interior_twin(r, scene.masses, camera, SIZE, scene.bounds, grammar=facades, labels=True)
     finally:

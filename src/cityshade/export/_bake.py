@@ -51,6 +51,7 @@ class Canvas:
     building_seed: tuple[float, float]  # the building's (choices made once per building)
     room: tuple[float, float]  # room width, storey height (which windows are lit)
     lights: float
+    level: int = 0  # facade.level: the storey its walls start at (the mass's first level; domes are not baked)
     page: int = -1
     x: int = 0
     y: int = 0
@@ -118,6 +119,7 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
                 seed_vector(mass.seed),
                 (float(room[0]), float(room[1])),
                 float(mass.lights),
+                mass.first_level,
             )
         )
     return out
@@ -202,6 +204,7 @@ def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]
         canvas.seed,
         tiles,
         building_seed=canvas.building_seed,
+        level=canvas.level,
     )
     shape = (canvas.rows, canvas.cols)
     return {
@@ -257,6 +260,7 @@ class GpuBaker:
                     self.program["facade_seed"] = c.seed
                     self.program["building_seed"] = c.building_seed
                     self.program["start_rule"] = int(c.start)
+                    self.program["facade_level"] = float(c.level)
                     draw_fullscreen(self.program)
                 for name, texture in zip(("colour", "normal", "ids"), target.colors):
                     dtype = np.uint32 if name == "ids" else np.float32

@@ -14,6 +14,7 @@ uniform vec2 facade_size;    // the grammar's scope: the building's width on thi
 uniform vec2 facade_seed;
 uniform vec2 building_seed;  // entry 0 of the random-seed stack: choices made once per building
 uniform int start_rule;
+uniform float facade_level;  // facade.level: the storey the building's walls start at
 
 layout(location = 0) out vec4 out_color;    // sRGB colour, specular intensity
 layout(location = 1) out vec4 out_normal;   // tangent-space normal (x right, y up, z out), shininess / 128
@@ -23,6 +24,7 @@ void main() {
     vec2 mesh_uv = facade_origin + (gl_FragCoord.xy - canvas_origin) * texel;
     vec2 uv = vec2(facade_size.x - mesh_uv.x, mesh_uv.y);
     grammar_building_seed = building_seed;
+    grammar_level = facade_level;
     GrammarResult g = grammar_evaluate(start_rule, uv, facade_size, facade_seed, vec3(0.0, 0.0, 1.0),
                                        vec2(-texel, 0.0), vec2(0.0, texel));
     out_color = vec4(g.color, g.specular.x);
