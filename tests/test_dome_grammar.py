@@ -115,6 +115,45 @@ def test_a_dome_too_small_for_windows_is_all_roof(gl_context):
     assert windows.windows == 0
 
 
+def test_brick_draws_its_door_on_the_dome_s_first_ring_only():
+    """A dome's rings start at facade.level 0, 1, 2... up its arc (the levels the GPU reads: the
+    vertices' faces and the building's record); brick, evaluated by the twin in each ring's true size
+    at its level, has its door on ring 0 and none on ring 2, which shows storeys of windows."""
+    from cityshade.assets import LABELS, tile_array
+    from cityshade.grammar import evaluate, facade_seed_vector, library_texture, seed_vector
+    from cityshade.render import assign_facades
+    from cityshade.scene import SURFACE_WALL, batch, vertex_face_levels
+
+    mass = dome((0.0, 0.0), 34.0, floor_height=3.6, seed=5, style=BRICK)
+    rings = dome_faces(17.0, 3.6, mass.room_width)
+    vertices, records = batch([mass])
+    assign_facades(records, [mass], vertices)
+    walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+    ring = rings.ring_of(walls["face"][:, 1] + 1e-3)
+    assert np.array_equal(vertex_face_levels(walls, records), ring) and set(ring.tolist()) >= {0, 1, 2}
+    compiled = library_texture()
+    doors = {}
+    for k in (0, 2):
+        size = (float(rings.width[k]), float(rings.storey))
+        u, v = np.meshgrid(np.linspace(0.05, size[0] - 0.05, 400), np.linspace(0.05, size[1] - 0.05, 24))
+        result = evaluate(
+            compiled,
+            compiled.address("brick"),
+            np.stack([u.ravel(), v.ravel()], axis=1),
+            size,
+            facade_seed_vector(mass.seed, int(rings.columns[k, 0])),
+            tile_array(16),
+            building=(1, BRICK, mass.use, mass.extent[1]),
+            building_seed=seed_vector(mass.seed),
+            level=k,
+        )
+        doors[k] = int(np.count_nonzero(result.label == LABELS.index("door")))
+        print(f"ring {k} ({size[0]:.1f} x {size[1]:.2f} m, level {k}): {doors[k]} door points")
+        if k:
+            assert LABELS.index("window") in result.label
+    assert doors[0] > 0 and doors[2] == 0
+
+
 BAYS = (
     "S->RepeatX(2.5, Bay)\nBay->SplitX(Rel, 1, Wall, Abs, 1.2, Column, Rel, 1, Wall)\n"
     "Column->SplitY(Rel, 1, Wall, Abs, 1.6, Glass, Rel, 1, Wall)\n"

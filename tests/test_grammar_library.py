@@ -62,6 +62,40 @@ def test_the_benchmarks_conditions_facade_matches_numpy(ctx, nearest, output_dir
     assert len(np.unique(cpu.terminal)) >= 4  # wall and the three windows
 
 
+GROUND_FLOORS = {"brick": "door", "classical": "door", "office": "door", "shops": "shop", "storeys": "shop"}
+
+
+@pytest.mark.parametrize("style", GROUND_FLOORS)
+def test_ground_floor_only_on_faces_starting_at_the_ground(ctx, library, style, output_dir):  # noqa: F811
+    """A face at facade.level 0 has the style's ground floor (its doors or shop fronts); a face two
+    storeys up (a dome's third ring, a part raised off the ground) has none, but the storeys above
+    it, from its bottom up. GPU and numpy alike, labels exactly (filtered path)."""
+    _, compiled = library
+    label = LABELS.index(GROUND_FLOORS[style])
+    shown = {}
+    for level in (0, 2):
+        cpu, _ = compare(
+            ctx,
+            compiled,
+            style,
+            output_dir,
+            seed=7,
+            facade=(20.0, 16.0),
+            size=(120, 96),
+            min_terminals=3,
+            nearest=False,
+            allowed=0,
+            level=level,
+        )
+        shown[level] = int(np.count_nonzero(cpu.label == label))
+        if level:
+            assert {LABELS[i] for i in np.unique(cpu.label[-6:])} & {"window", "room", "balcony"}, (
+                "storeys from the bottom"
+            )
+    print(f"{style}: {shown[0]} {GROUND_FLOORS[style]} pixels at level 0, {shown[2]} at level 2")
+    assert shown[0] > 100 and shown[2] == 0
+
+
 def test_dusk_shows_rooms_through_holes(library):
     _, compiled = library
     cpu = evaluate_facade(compiled, compiled.address("dusk"), (20.0, 16.0), (120, 96), seed_vector(2), tile_array(32))

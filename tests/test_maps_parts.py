@@ -112,6 +112,53 @@ def test_the_outline_stays_under_a_part_that_floats_up_to_its_base(data):
     assert sum(shapely.Polygon(m.footprint).area for m in masses) == pytest.approx(outline.outline.area, rel=1e-6)
 
 
+def test_a_raised_part_starts_at_its_level_and_draws_no_ground_floor(data):
+    """A part from min_height 6 m with no building:min_level starts at its min height over its storey
+    height (2); the outline beneath it at the ground (0); a building:min_level (tagged, or guessed
+    from min_height by the guessing model) wins.
+    The raised part's faces, evaluated with brick at their facade.level, have no door; the
+    outline's, on the ground, have theirs."""
+    import dataclasses
+
+    from cityshade.assets import LABELS, tile_array
+    from cityshade.grammar import evaluate, facade_seed_vector, library_texture
+    from cityshade.scene import batch, vertex_face_levels
+
+    outline, part = by_id(data, "way/600"), by_id(data, "way/601")
+    masses = building_masses(data)
+    (raised,) = [m for m in masses if m.seed == part.index]
+    low = [m for m in masses if m.seed == outline.index]
+    assert part.min_level is None and raised.base == pytest.approx(6.0) and raised.first_level == 2
+    assert [m.first_level for m in low] == [0, 0]
+    polygon = shapely.transform(part.outline, to_scene)
+    assert building_mass(dataclasses.replace(part, min_level=3.0), polygon).first_level == 3
+    compiled = library_texture()
+    doors = {}
+    for name, mass in (("raised", raised), ("ground", max(low, key=lambda m: m.height))):
+        mass = dataclasses.replace(mass, style=4)  # brick
+        vertices, records = batch([mass])
+        walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+        walls = walls[walls["face"][:, 0] >= 5.0]  # faces wide enough for brick's door bay
+        faces, first = np.unique(walls["ids"][:, 2], return_index=True)
+        levels = vertex_face_levels(walls[first], records)
+        doors[name] = 0
+        for face, row, level in zip(faces, walls[first], levels):
+            size = (float(row["face"][0]), float(row["face"][2] - row["face"][1]))
+            u, v = np.meshgrid(np.linspace(0.05, size[0] - 0.05, 200), np.linspace(0.05, size[1] - 0.05, 60))
+            result = evaluate(
+                compiled,
+                compiled.address("brick"),
+                np.stack([u.ravel(), v.ravel()], axis=1),
+                size,
+                facade_seed_vector(mass.seed, int(face)),
+                tile_array(16),
+                level=int(level),
+            )
+            doors[name] += int(np.count_nonzero(result.label == LABELS.index("door")))
+        print(f"{name}: faces at levels {sorted(set(levels.tolist()))}, {doors[name]} door points")
+    assert doors["raised"] == 0 and doors["ground"] > 0
+
+
 def test_helsinki_wall_under_a_part_shows_one_building_per_pixel(helsinki_pbf, gl_context, output_dir):
     """Part way/89541313 (upper storeys from building:min_level 2) inside relation/1320784 shares 47 m of
     its west wall with the outline. Looking at that wall, the id AOV shows only the part within its
