@@ -19,7 +19,14 @@ from cityshade.interior import FACE_NAMES, windows_straddling_rooms
 from cityshade.interior._faces import FACE_EXTERIOR, FACE_ROOF
 from cityshade.render import GrammarFitWarning, Renderer, RenderSettings
 from cityshade.scene import Camera, City, dome, dome_faces, make_city
-from render_checks import grammar_facades, grammar_test_settings, id_edges, interior_twin, render_finite
+from render_checks import (
+    grammar_facades,
+    grammar_test_settings,
+    id_edges,
+    interior_twin,
+    render_finite,
+    style_face_labels,
+)
 
 SIZE = (160, 120)
 MAX_MISMATCH = 0.001  # of the picture: rasterisation edges only
@@ -119,8 +126,7 @@ def test_brick_draws_its_door_on_the_dome_s_first_ring_only():
     """A dome's rings start at facade.level 0, 1, 2... up its arc (the levels the GPU reads: the
     vertices' faces and the building's record); brick, evaluated by the twin in each ring's true size
     at its level, has its door on ring 0 and none on ring 2, which shows storeys of windows."""
-    from cityshade.assets import LABELS, tile_array
-    from cityshade.grammar import evaluate, facade_seed_vector, library_texture, seed_vector
+    from cityshade.assets import LABELS
     from cityshade.render import assign_facades
     from cityshade.scene import SURFACE_WALL, batch, vertex_face_levels
 
@@ -131,26 +137,15 @@ def test_brick_draws_its_door_on_the_dome_s_first_ring_only():
     walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
     ring = rings.ring_of(walls["face"][:, 1] + 1e-3)
     assert np.array_equal(vertex_face_levels(walls, records), ring) and set(ring.tolist()) >= {0, 1, 2}
-    compiled = library_texture()
     doors = {}
     for k in (0, 2):
         size = (float(rings.width[k]), float(rings.storey))
-        u, v = np.meshgrid(np.linspace(0.05, size[0] - 0.05, 400), np.linspace(0.05, size[1] - 0.05, 24))
-        result = evaluate(
-            compiled,
-            compiled.address("brick"),
-            np.stack([u.ravel(), v.ravel()], axis=1),
-            size,
-            facade_seed_vector(mass.seed, int(rings.columns[k, 0])),
-            tile_array(16),
-            building=(1, BRICK, mass.use, mass.extent[1]),
-            building_seed=seed_vector(mass.seed),
-            level=k,
-        )
-        doors[k] = int(np.count_nonzero(result.label == LABELS.index("door")))
+        building = (1, BRICK, mass.use, mass.extent[1])
+        labels = style_face_labels("brick", size, mass.seed, int(rings.columns[k, 0]), k, building)
+        doors[k] = int(np.count_nonzero(labels == LABELS.index("door")))
         print(f"ring {k} ({size[0]:.1f} x {size[1]:.2f} m, level {k}): {doors[k]} door points")
         if k:
-            assert LABELS.index("window") in result.label
+            assert LABELS.index("window") in labels
     assert doors[0] > 0 and doors[2] == 0
 
 
