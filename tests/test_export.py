@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from cityshade.cli import main
+from cityshade.assets import LABELS
 from cityshade.export import Canvas, GpuBaker, bake_reference, pack
 from cityshade.grammar import facade_seed_vector, library_texture, seed_vector
 
@@ -53,7 +54,10 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
             (4, 3.2),
             1,
         ),
-    ]  # a side: its own seed, the building's for its spandrels
+        Canvas(
+            2, 0, -0.25, -0.25, 60, 80, 14.0, 19.0, compiled.address("brick"), *[seed_vector(5)] * 2, (4, 3.2), 1, 2
+        ),
+    ]  # a side: its own seed, the building's for its spandrels; a raised part's side (facade.level 2)
     size = pack(canvases)[0]
     baker = GpuBaker(gl_context, tiles, nearest=True)
     page = baker.bake_page(canvases, size, 0.25)
@@ -67,6 +71,8 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
             differ = np.abs(page[name][region] - reference[name]).max(axis=-1) > 2e-3
             assert differ.sum() == 0, f"{differ.sum()} of {differ.size} {name} texels differ"
         assert len(np.unique(reference["ids"][..., 1])) >= 2  # at least walls and windows: a real facade
+        doors = int(np.count_nonzero(reference["ids"][..., 1] == LABELS.index("door")))
+        assert (doors == 0) == (canvas.level > 0), (canvas.start, doors)  # a ground floor only at level 0
 
 
 def test_pack_places_canvases_without_overlap():
