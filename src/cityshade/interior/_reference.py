@@ -207,11 +207,10 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
 class GrammarFacades:
     """The grammar facades of a city for the twin: the compiled grammars and their tiles (as the
     renderer's), and per building index the address of its start rule and the narrowest face its
-    grammar fits, a function of the face's facade.level (narrower faces are plain walls: no glass, no
-    label). With `relief` (the city's
-    cityshade.relief.relief_atlas()) the windows nearer than relief_range metres are recessed, as
-    the renderer draws them with RenderSettings.relief on (None: as the renderer's default,
-    cityshade.relief.switch_distance of the view)."""
+    grammar fits, a function of the face's facade.level (narrower faces are plain walls: no glass,
+    no label). With `relief` (the city's cityshade.relief.relief_atlas()) the windows nearer than
+    relief_range metres are recessed, as the renderer draws them with RenderSettings.relief on
+    (None: as the renderer's default, cityshade.relief.switch_distance of the view)."""
 
     compiled: CompiledGrammars
     tiles: TileArray

@@ -107,7 +107,7 @@ def _needed_widths(vertices: np.ndarray, records: np.ndarray, styles: np.ndarray
     width where the storeys above do not); 0 off grammar walls."""
     needs = np.zeros(len(vertices))
     names, style = np.unique(styles, return_inverse=True)
-    walls = np.flatnonzero((vertices["ids"][:, 1] == SURFACE_WALL) & (styles[vertices["ids"][:, 0]] != ""))
+    walls = np.flatnonzero((vertices["ids"][:, 1] == SURFACE_WALL) & (styles != "")[vertices["ids"][:, 0]])
     levels = vertex_face_levels(vertices, records, walls)
     for level in np.unique(levels).tolist():
         widths = np.array([library_min_widths(level).get(name, 0.0) for name in names])
