@@ -62,7 +62,7 @@ class BuildingMass:
             raise ValueError(f"unknown building use code {self.use!r}; allowed: 0..{USE_COUNT - 1} (scene/_uses.py)")
         if not 0 <= self.base <= self.wall_top or (self.walls and self.base == self.wall_top):
             raise ValueError(f"building walls must run upward from base {self.base} to {self.wall_top}")
-        if self.first_level not in range(LEVEL_MASK + 1):
+        if not isinstance(self.first_level, (int, np.integer)) or self.first_level not in range(LEVEL_MASK + 1):
             raise ValueError(
                 f"building first level must be a whole number from 0 to {LEVEL_MASK}, got {self.first_level}"
             )
