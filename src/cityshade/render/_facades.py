@@ -86,7 +86,7 @@ def assign_facades(records: np.ndarray, masses, vertices: np.ndarray | None = No
                 counts[NARROW_FACES] = narrow
                 warnings.warn(
                     f"{narrow} wall faces are narrower than their building's grammar fits "
-                    f"(the narrowest face each library style fits: {_widths()}): drawn as plain walls",
+                    f"(the narrowest face each library style fits at the ground: {_widths()}): drawn as plain walls",
                     GrammarFitWarning,
                     stacklevel=2,
                 )
