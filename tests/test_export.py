@@ -121,7 +121,8 @@ def test_glb_round_trip_with_trimesh(tmp_path, capsys):
     sizes = {tuple(m.visual.material.baseColorTexture.size) for m in textures}
     assert {tuple(p) for p in summary["atlas_pages"]} <= sizes
     extras = {n.extras["source_id"]: n.extras for n in gltf.nodes if n.name.startswith("building ")}
-    assert "way/100" not in extras  # the outline is drawn as its parts
+    # the outline is drawn as its parts, and under the one that floats (way/101, from 3 m) up to its base
+    assert extras["way/100"]["kind"] == "office"
     part = extras["way/101"]
     assert part["part"] and part["part_of"] == "way/100" and part["tags"]["min_height"] == "3"
     assert part["height"] == 30 and "height" in part["tagged"] and "height" not in part["guessed"]
@@ -171,7 +172,7 @@ def test_tileset_hierarchy_and_earth_position(tmp_path, capsys):
         return 1 + sum(walk(child, tile["geometricError"]) for child in children)
 
     assert walk(root, tileset["geometricError"]) == summary["tiles"] + 1
-    assert summary["buildings"] == 4
+    assert summary["buildings"] == 5  # two parts, the outline under the floating one, a courtyard block, a canopy
 
 
 def _check_sizes(texel: float):
