@@ -76,7 +76,7 @@ def test_outlines_with_parts_are_replaced_cut_or_kept(data):
     assert half.remainder.area == pytest.approx(half.outline.area / 2, rel=0.01)
     assert shapely.intersection(half.remainder, part.outline).area < 1e-6
     assert data.report.skipped[next(k for k in data.report.skipped if k[0] == "building outline sliver")] == 1
-    assert sum(n for (what, _), n in data.report.repaired.items() if what == "building outline") == 3
+    assert sum(n for (what, _), n in data.report.repaired.items() if what == "building outline") == 4
 
 
 def test_no_outline_wall_stands_where_a_parts_wall_does(data):
@@ -146,6 +146,18 @@ def test_a_raised_part_starts_at_its_level_and_draws_no_ground_floor(data):
             doors[name] += int(np.count_nonzero(labels == LABELS.index("door")))
         print(f"{name}: faces at levels {sorted(set(levels.tolist()))}, {doors[name]} door points")
     assert doors["raised"] == 0 and doors["ground"] > 0
+
+
+def test_an_outline_covered_whole_by_a_floating_part_stands_under_it(data):
+    outline, part = by_id(data, "way/700"), by_id(data, "way/701")
+    assert not outline.replaced_by_parts and outline.remainder.is_empty
+    ((under, above),) = outline.beneath_parts
+    assert above is part
+    (mass,) = [m for m in building_masses(data) if m.seed == outline.index]
+    assert mass.base == pytest.approx(0.0) and mass.height == pytest.approx(4.0)
+    assert shapely.Polygon(mass.footprint).area == pytest.approx(outline.outline.area, rel=1e-6)
+    (raised,) = [m for m in building_masses(data) if m.seed == part.index]
+    assert raised.base == pytest.approx(4.0)
 
 
 def test_helsinki_wall_under_a_part_shows_one_building_per_pixel(helsinki_pbf, gl_context, output_dir):

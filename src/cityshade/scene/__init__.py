@@ -35,6 +35,7 @@ from ._meshes import (
     VERTEX_DTYPE,
     VERTEX_FORMAT,
     building_record,
+    building_records,
     building_vertices,
 )
 from ._paths import PATHS, camera_path
@@ -67,6 +68,7 @@ __all__ = [
     "VERTEX_FORMAT",
     "batch",
     "building_record",
+    "building_records",
     "building_vertices",
     "BUILDING_DTYPE",
     "rotation_y",

@@ -8,11 +8,12 @@
 
 #if defined FRAGMENT_SHADER
 uniform vec2 canvas_origin;  // pixels: the canvas' lower-left corner in the atlas
-uniform vec2 facade_origin;  // mesh facade coordinates (u along the wall, v up) at that corner, metres
+uniform vec2 facade_origin;  // mesh facade coordinates (u along the wall, v up from the face's base) at that corner, metres
 uniform float texel;         // metres per texel
-uniform vec2 facade_size;    // the grammar's scope: the building's width on this side, its height
+uniform vec2 facade_size;    // the grammar's scope: the face's width and height
 uniform vec2 facade_seed;
 uniform vec2 building_seed;  // entry 0 of the random-seed stack: choices made once per building
+uniform vec4 building_values;  // building.levels (the face's storeys), .style, .use, .height for conditions
 uniform int start_rule;
 uniform float facade_level;  // facade.level: the storey the building's walls start at
 
@@ -23,6 +24,7 @@ layout(location = 2) out uvec4 out_ids;     // terminal + 1, label, glass, 0
 void main() {
     vec2 mesh_uv = facade_origin + (gl_FragCoord.xy - canvas_origin) * texel;
     vec2 uv = vec2(facade_size.x - mesh_uv.x, mesh_uv.y);
+    grammar_building = building_values;
     grammar_building_seed = building_seed;
     grammar_level = facade_level;
     GrammarResult g = grammar_evaluate(start_rule, uv, facade_size, facade_seed, vec3(0.0, 0.0, 1.0),
