@@ -7,6 +7,7 @@ import sys
 import types
 import warnings
 
+from ._building_lod import bay_mean
 from ._culling import boxes_visible, frustum_planes
 from ._daylight import Daylight, parse_time
 from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade, styles_with_relief
@@ -23,6 +24,7 @@ from ._trees import TreeSettings
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
+    "bay_mean",
     "boxes_visible",
     "frustum_planes",
     "Daylight",
