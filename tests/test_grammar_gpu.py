@@ -120,6 +120,21 @@ def test_building_use_and_height_gpu_matches_numpy(ctx, output_dir):
         assert "".join(names[int(np.unique(r)[0])] for r in rows) == want, (use, height)
 
 
+def test_facade_level_gpu_matches_numpy(ctx, output_dir):
+    """facade.level (the storey the face starts at) picks storeys alike on the GPU and numpy: a
+    ground floor only on a face at level 0, and a parity counted from the ground, not the face."""
+    text = (
+        "S->RepeatY(3, Floor)\nFloor->Case(facade.level == 0 && split.first, G, "
+        "(facade.level + split.index) % 2 == 0, E, O)\n" + colours(*"GEO")
+    )
+    compiled = compile_grammars({"level": loads(text)})
+    names = {compiled.address("level", n): n for n in "GEO"}
+    for level, want in ((0, "GOEO"), (1, "OEOE"), (2, "EOEO"), (7, "OEOE")):
+        cpu, _ = compare(ctx, compiled, "level", output_dir, nearest=False, allowed=0, min_terminals=2, level=level)
+        rows = cpu.terminal[:: -SIZE[1] // 4][:4]  # one row per storey, bottom first
+        assert "".join(names[int(np.unique(r)[0])] for r in rows) == want, level
+
+
 def test_each_facade_has_its_own_stream_gpu_matches_numpy(ctx, output_dir):
     """The GPU hashes the building's seed with the facade index exactly as the twin does."""
     text = "S->RepeatX(1, Row)\nRow->RepeatY(1, Pick)\nPick->RandUni(0, A, B, C)\n" + colours(*"ABC")

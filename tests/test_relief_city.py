@@ -9,7 +9,7 @@ from PIL import Image
 
 from cityshade import assets
 from cityshade.assets import LABELS
-from cityshade.grammar import BUILDING_STYLES, library_min_widths, library_texture
+from cityshade.grammar import BUILDING_STYLES, library_texture
 from cityshade.bench.relief import CityChunks, city_frames, flyover_camera
 from cityshade.gl import programs as gl_programs
 from cityshade.relief import (
@@ -33,7 +33,7 @@ from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FA
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import Camera, City, batch, box, default_city
-from render_checks import hit_edges, id_edges, interior_params, render_finite
+from render_checks import hit_edges, id_edges, interior_params, render_finite, style_min_width
 
 SIZE = (96, 96)
 BUILDING_NUMBER = {name: number for number, name in BUILDING_STYLES.items()}
@@ -202,7 +202,7 @@ def grammar_twin(city: City, camera: Camera, params, relief, labels: bool, switc
     _, records = batch(masses)
     assign_facades(records, masses)
     starts = {i: int(r["facade"][1]) for i, r in enumerate(records)}
-    widths = {i: library_min_widths()[choose_facade(m).grammar_style] for i, m in enumerate(masses)}
+    widths = {i: style_min_width(choose_facade(m).grammar_style) for i, m in enumerate(masses)}
     alpha = assets.facade_texture()[0][..., 3] / 255.0
     x0, z0, x1, z1 = city.bounds
     ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)

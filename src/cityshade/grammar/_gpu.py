@@ -9,7 +9,7 @@ from ..assets import TileArray
 from ..gl import RenderTarget, bind_textures, draw_fullscreen, programs, upload_texture
 from . import _limits as limits
 from ._compiler import CompiledGrammars
-from ._expressions import BUILDING, PARAMETER
+from ._expressions import BUILDING, FACADE_LEVEL, PARAMETER
 from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
@@ -19,7 +19,11 @@ MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
 def shader_defines(nearest: bool = False) -> dict[str, object]:
     """The #defines every program that includes grammar/eval.glsl needs."""
     return dict(
-        limits.DEFINES, GRAMMAR_NEAREST=nearest, GRAMMAR_FIRST_BUILDING=BUILDING, GRAMMAR_FIRST_PARAMETER=PARAMETER
+        limits.DEFINES,
+        GRAMMAR_NEAREST=nearest,
+        GRAMMAR_FIRST_BUILDING=BUILDING,
+        GRAMMAR_FACADE_LEVEL=FACADE_LEVEL,
+        GRAMMAR_FIRST_PARAMETER=PARAMETER,
     )
 
 
@@ -67,10 +71,11 @@ class FacadeRenderer:
         self.hole_shift = hole_shift
 
     def render(
-        self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0
+        self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0, level: int = 0
     ) -> tuple[np.ndarray, np.ndarray]:
         """(colour HxWx4 float, ids HxWx4 uint32), top row first; `seed` is the building's seed
-        vector and `face` which of its facades (its own stream: _random.facade_seed_vector)."""
+        vector, `face` which of its facades (its own stream: _random.facade_seed_vector) and `level`
+        the storey the facade starts at (facade.level)."""
         target = RenderTarget(self.ctx, tuple(size), colors=(("f2", 4), ("u4", 4)))
         try:
             target.use()
@@ -81,6 +86,7 @@ class FacadeRenderer:
             self.program["u_facade_seed"] = tuple(float(x) for x in seed)
             self.program["u_facade_building"] = tuple(float(x) for x in building)
             self.program["u_facade_index"] = int(face)
+            self.program["u_facade_level"] = float(level)
             self.program["u_start_rule"] = int(start)
             if self.hole_shift is not None:
                 self.program["u_hole_shift"] = tuple(float(x) for x in self.hole_shift)

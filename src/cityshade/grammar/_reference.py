@@ -60,7 +60,17 @@ class _Pixels:
     """The evaluation state of n pixels (one row each)."""
 
     def __init__(
-        self, n: int, start: int, facade, seed, uv, directions, building=(0, 0, 0, 0), building_seed=None, through=-1
+        self,
+        n: int,
+        start: int,
+        facade,
+        seed,
+        uv,
+        directions,
+        building=(0, 0, 0, 0),
+        building_seed=None,
+        level=0,
+        through=-1,
     ):
         s = np.broadcast_to(np.asarray(seed, F), (n, 2))
         self.s = s
@@ -71,6 +81,7 @@ class _Pixels:
         self.uv = uv.astype(F)
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.building = np.broadcast_to(np.asarray(building, F), (n, 4)).astype(F)  # levels, style, use, height
+        self.level = np.broadcast_to(np.asarray(level, F), (n,)).astype(F)[:, None]  # facade.level
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
         self.params = np.zeros((n, limits.MAX_PARAMS), F)  # the parameters of the rule being evaluated
         self.d = directions.astype(F)
@@ -257,7 +268,9 @@ class _Evaluator:
         """Runs postfix tokens per pixel (eval.glsl grammar_program): the rule of the first test
         taken (-1 if none) and the value stack."""
         rows = np.arange(len(idx))
-        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.params[idx]], axis=1)
+        variables = np.concatenate(
+            [p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.level[idx], p.params[idx]], axis=1
+        )
         stack = np.zeros((len(idx), limits.MAX_EXPR_STACK), F)
         sp = np.zeros(len(idx), np.int32)
         target = np.full(len(idx), -1, np.int32)
@@ -559,18 +572,20 @@ def evaluate(
     directions: np.ndarray | None = None,
     building=(0, 0, 0, 0),
     building_seed=None,
+    level=0,
     through=-1,
 ) -> Evaluation:
     """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
     `building` is (building.levels, building.style, building.use, building.height) for conditions;
     `building_seed` the building's seed vector (entry 0 of the seed stack; None: `seed`, the facade's);
-    `through` a SkipMask's address: what its hole shows there (eval.glsl grammar_through; -1 none).
-    start, facade, seed, building, building_seed and through may also be given per point ((n,) and
-    (n, k)): several facades in one evaluation."""
+    `level` facade.level, the storey the facade starts at; `through` a SkipMask's address: what its
+    hole shows there (eval.glsl grammar_through; -1 none). start, facade, seed, building,
+    building_seed, level and through may also be given per point ((n,) and (n, k)): several facades
+    in one evaluation."""
     n = len(uv)
     if directions is None:
         directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
-    pixels = _Pixels(n, start, facade, seed, uv, directions, building, building_seed, through)
+    pixels = _Pixels(n, start, facade, seed, uv, directions, building, building_seed, level, through)
     evaluator = _Evaluator(compiled, tiles)
     evaluator.run(pixels)
     return evaluator.finish(pixels)
@@ -630,6 +645,7 @@ def evaluate_facade(
     tiles: TileArray,
     building=(0, 0, 0, 0),
     building_seed=None,
+    level=0,
 ) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
@@ -645,6 +661,7 @@ def evaluate_facade(
             rays[first : first + CHUNK_PIXELS],
             building,
             building_seed,
+            level,
         )
         part.color = shade(part, rays[first : first + CHUNK_PIXELS])
         parts.append(part)

@@ -4,6 +4,7 @@ masses themselves (their own solids, _solids.py). Used by tests to check the GPU
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -11,7 +12,7 @@ import numpy as np
 from ..assets import LABELS, TileArray
 from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
 from ..relief import GLASS, PROFILE, RELIEF_SHAPES, DetailMaps, switch_distance, trace_reference
-from ..scene import USE_COUNT, USES, BuildingMass, door_hit
+from ..scene import SHAPES, USE_COUNT, USES, BuildingMass, door_hit, face_levels
 from ._faces import (
     FACE_CEILING,
     FACE_CURTAIN,
@@ -206,15 +207,15 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
 class GrammarFacades:
     """The grammar facades of a city for the twin: the compiled grammars and their tiles (as the
     renderer's), and per building index the address of its start rule and the narrowest face its
-    grammar fits (narrower faces are plain walls: no glass, no label). With `relief` (the city's
-    cityshade.relief.relief_atlas()) the windows nearer than relief_range metres are recessed, as
-    the renderer draws them with RenderSettings.relief on (None: as the renderer's default,
-    cityshade.relief.switch_distance of the view)."""
+    grammar fits, a function of the face's facade.level (narrower faces are plain walls: no glass,
+    no label). With `relief` (the city's cityshade.relief.relief_atlas()) the windows nearer than
+    relief_range metres are recessed, as the renderer draws them with RenderSettings.relief on
+    (None: as the renderer's default, cityshade.relief.switch_distance of the view)."""
 
     compiled: CompiledGrammars
     tiles: TileArray
     starts: dict[int, int]
-    min_widths: dict[int, float]
+    min_widths: dict[int, Callable[[int], float]]
     relief: object | None = None
     relief_range: float | None = None
 
@@ -283,10 +284,12 @@ def grammar_entry(
     sizes, which = np.unique(np.column_stack([face[:, :3], columns[:, 0]]), axis=0, return_inverse=True)
     start = grammar.starts[building]
     for k, (width, base, top, side) in enumerate(sizes):
-        if width < grammar.min_widths[building] - 1e-6:
-            continue  # too narrow for the grammar: a plain wall
         rows = np.nonzero(which.ravel() == k)[0]
-        levels = np.floor((top - base) / facade[rows[0], 3] + 0.5)
+        storey = facade[rows[0], 3]
+        level = int(face_levels(mass.first_level, SHAPES[mass.shape], base, storey))
+        if width < grammar.min_widths[building](level) - 1e-6:
+            continue  # too narrow for the grammar: a plain wall
+        levels = np.floor((top - base) / storey + 0.5)
 
         def evaluate(rays_at, at, through=-1):
             """The grammar along rays `rays_at` (indices) at facade points `at` (u, v); `through`: seen
@@ -296,7 +299,7 @@ def grammar_entry(
             building_attributes = (levels, mass.style, mass.use, mass.extent[1])
             return evaluate_grammar(
                 grammar.compiled, start, uv, (width, top - base), seed, grammar.tiles, rays[rays_at],
-                building_attributes, building_seed=seed_vector(mass.seed), through=through,
+                building_attributes, building_seed=seed_vector(mass.seed), level=level, through=through,
             )  # fmt: skip
 
         def rectangle(scope):  # a scope in grammar uv as facade coordinates (u0, v0, u1, v1), grammar_window

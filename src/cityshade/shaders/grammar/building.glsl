@@ -32,10 +32,18 @@ void grammar_scope(Building b, int face_index, vec2 facade, vec4 face, out vec2 
 // The storeys of a face: its height over its storey height, rounded.
 float grammar_levels(vec4 face, float storey) { return floor((face.z - face.y) / storey + 0.5); }
 
-// building.levels (the face's storeys), .style, .use and .height for conditions (the use code:
-// building_use, common/buildings.glsl), and the building's own seed for choices made once per building.
-void grammar_set_building(Building b, float levels) {
+// facade.level, the storey the face's bottom sits at: its mass's first level, plus for a dome's ring
+// the storeys below it up the arc (cityshade/scene/_face_levels.py face_levels).
+float grammar_face_level(Building b, vec4 face, float storey) {
+    return float(building_first_level(b)) + (b.ids.w == SHAPE_DOME ? floor(face.y / storey + 0.5) : 0.0);
+}
+
+// building.levels (the face's storeys), .style, .use and .height and facade.level for conditions
+// (the use code: building_use, common/buildings.glsl), and the building's own seed for choices made
+// once per building.
+void grammar_set_building(Building b, float levels, float level) {
     grammar_building = vec4(levels, float(b.ids.y), float(building_use(b)), b.extent.y);
+    grammar_level = level;
     grammar_building_seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
 }
 
@@ -60,7 +68,7 @@ GrammarResult grammar_facade(Building b, vec3 n, int face_index, vec2 facade, fl
                              vec2 duv_dy) {
     vec2 uv, size, seed;
     grammar_scope(b, face_index, facade, face, uv, size, seed);
-    grammar_set_building(b, grammar_levels(face, storey));
+    grammar_set_building(b, grammar_levels(face, storey), grammar_face_level(b, face, storey));
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 

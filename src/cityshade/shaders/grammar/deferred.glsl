@@ -59,8 +59,9 @@ void main() {
              && grammar_cache_read(page, scope.xy, g, centre);
 #endif
     if (!cached) {  // not cached: evaluated here, as without the cache
-        grammar_set_building(buildings[int(rule.w) - 1], normal_levels.w);  // its attributes and seed
-        g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
+        Building b = buildings[int(rule.w) - 1];
+        grammar_set_building(b, normal_levels.w, rule.z);  // its attributes, facade.level and seed
+        g = grammar_facade_at(b.facade.y, scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
         centre = g.scope.xy + 0.5 * g.scope.zw;
     }
     vec3 point = world.xyz / world.w;

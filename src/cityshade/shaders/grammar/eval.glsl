@@ -50,6 +50,8 @@ vec3 g_tint;  // Tint's factor for colour Mats (1 unless tinted)
 vec4 g_params;  // the parameters of the rule being evaluated (0 unless passed; GRAMMAR_MAX_PARAMS is 4)
 // building.levels, .style, .use and .height for conditions: set by the caller before grammar_evaluate.
 vec4 grammar_building = vec4(0.0);
+// facade.level, the storey the face's bottom sits at (0 on the ground): set by the caller.
+float grammar_level = 0.0;
 // The building's seed vector (set by callers that know it): the random-seed stack's entry 0, so a
 // Rand with l >= 1 and no RandStack entry decides once per building. Not set: the facade's seed.
 vec2 grammar_building_seed = vec2(0.0);
@@ -264,6 +266,7 @@ void grammar_split(vec4 head, int a) {
 
 float grammar_variable(int index) {
     if (index >= GRAMMAR_FIRST_PARAMETER) return g_params[min(index - GRAMMAR_FIRST_PARAMETER, 3)];
+    if (index == GRAMMAR_FACADE_LEVEL) return grammar_level;
     if (index >= GRAMMAR_FIRST_BUILDING) return grammar_building[min(index - GRAMMAR_FIRST_BUILDING, 3)];
     vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : g_facade);
     return pair[index % 2];

@@ -13,6 +13,7 @@ uniform vec2 u_facade_size;     // metres
 uniform vec2 u_viewport_size;   // pixels
 uniform vec2 u_facade_seed;     // the building's seed vector (on the 1/8 m noise grid)
 uniform int u_facade_index;     // which facade of the building: each has its own seed
+uniform float u_facade_level;   // facade.level: the storey the facade starts at
 uniform int u_start_rule;
 uniform vec4 u_facade_building; // building.levels, .style, .use, .height
 uniform vec3 u_light_dir;       // towards the light; tangent space with z out of the wall (as normals)
@@ -25,6 +26,7 @@ void main() {
     vec2 uv = gl_FragCoord.xy / u_viewport_size * u_facade_size;
     vec3 ray = normalize(vec3(uv - u_facade_size * 0.5, max(u_facade_size.x, u_facade_size.y)));
     grammar_building = u_facade_building;
+    grammar_level = u_facade_level;
     grammar_building_seed = u_facade_seed;
     ivec2 cells = ivec2(round(u_facade_seed * GRAMMAR_NOISE_DENSITY));
     vec2 seed = u_facade_index == 0 ? u_facade_seed
