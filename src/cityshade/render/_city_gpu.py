@@ -1,6 +1,6 @@
 """A city uploaded to the GPU: one vertex buffer for all buildings (ordered chunk by chunk, each
-building a contiguous range), one SSBO of building records, the buildings' boxes for the cull pass,
-and the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
+building a contiguous range) with its face table (scene/_face_table.py), one SSBO of building
+records, the buildings' boxes for the cull pass, and the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
 stays once they are uploaded (a city of 100,000 buildings holds 250 MB of vertices)."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import numpy as np
 from ..gl import VertexArrays, create_buffer
 from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
-from ..scene import BUILDING_DTYPE, VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+from ..scene import BUILDING_DTYPE, FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, City, batch, face_table
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
 from ._lod_colours import grammar_colours_gpu
@@ -78,11 +78,12 @@ class CityGPU:
         self.facades = buildings.facades
         self._lod_faces = buildings.lod_faces
         self.chunks = buildings.chunks
-        vertices = buildings.vertices
-        self.building_vertex_count = len(vertices)
+        self.building_vertex_count = len(buildings.vertices)
         self.visibility = BuildingVisibility(ctx, buildings.boxes())
+        vertices, faces = face_table(buildings.vertices)
         self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
         self._upload_records(buildings.records)
+        self._upload_faces(faces)
 
     def _upload_city(self, ctx: moderngl.Context, city: City):
         """Everything but the building vertices: ground, street lights, relief maps."""
@@ -98,6 +99,9 @@ class CityGPU:
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
 
+    def _upload_faces(self, faces: np.ndarray):
+        self.faces = create_buffer(self.ctx, faces if len(faces) else np.zeros(1, faces.dtype))
+
     def _upload_records(self, records: np.ndarray):
         self.records = create_buffer(self.ctx, records)
         self._assigned_facades = records["facade"].copy()  # for start_grammars_at
@@ -112,7 +116,8 @@ class CityGPU:
         if self.building_vbo is None:
             return
         self.records.bind_to_storage_buffer(0)
-        vao = self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES)
+        self.faces.bind_to_storage_buffer(FACES_BINDING)
+        vao = self._vao(program, self.building_vbo, GPU_VERTEX_FORMAT, GPU_VERTEX_ATTRIBUTES)
         if draws is not None:
             vao.render_indirect(draws, moderngl.TRIANGLES, count=self.visibility.count)
         elif view_projection is not None:
@@ -154,7 +159,7 @@ class CityGPU:
 
     def release(self):
         self._vaos.release()
-        for buf in (self.building_vbo, self.records, self.ground_vbo, self._lod_colours):
+        for buf in (self.building_vbo, self.faces, self.records, self.ground_vbo, self._lod_colours):
             if buf is not None:
                 buf.release()
         self.relief.release()

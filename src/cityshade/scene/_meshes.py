@@ -40,8 +40,6 @@ VERTEX_DTYPE = np.dtype(
         ("ids", "<i4", 4),  # building index, surface kind, room column of the face's first and last bay
     ]
 )
-VERTEX_FORMAT = "3f 3f 3f 4f 4f 4i"
-VERTEX_ATTRIBUTES = ("in_position", "in_local", "in_normal", "in_facade", "in_face", "in_ids")
 
 CURVE_SEGMENTS = 48
 # A dome's facets: fine enough that its windows and silhouette lie within a pixel's edge of the exact
