@@ -1,7 +1,8 @@
-"""The buildings' vertices as the GPU holds them (scene.face_table): a 36-byte vertex and a row of
-the face table per distinct face. The vertex stage must see every meshed value bit for bit: the
-table is checked on the CPU (expanded back: the very bytes of the meshed records) and on the GPU
-(the vertex stage's outputs captured with transform feedback equal the meshed records' fields)."""
+"""The buildings' vertices as the GPU holds them (scene.face_table, scene.shared_vertices): a 24-byte
+vertex, a row of the face table per distinct face, each building's placement, and an index buffer.
+The vertex stage must see every meshed value bit for bit: checked on the CPU (expanded back: the
+very bytes of the meshed records) and on the GPU (the vertex stage's outputs, captured with
+transform feedback, equal the meshed records' fields, the world position included)."""
 
 from __future__ import annotations
 
@@ -16,77 +17,114 @@ from cityshade.scene import (
     GPU_VERTEX_ATTRIBUTES,
     GPU_VERTEX_DTYPE,
     GPU_VERTEX_FORMAT,
+    PLACEMENTS_BINDING,
     batch,
+    box,
     default_city,
     expand_face_table,
     face_table,
+    placements,
+    shared_vertices,
 )
 from cityshade.scene import _face_table
 
+OUTPUTS = ("v_world", "v_local", "v_normal", "v_facade", "v_spacing", "v_face", "v_ids")
+OUTPUT_FIELDS = (  # the meshed record's words each output must carry
+    ("position", slice(None)),
+    ("local", slice(None)),
+    ("normal", slice(None)),
+    ("facade", slice(0, 2)),
+    ("facade", slice(2, 4)),
+    ("face", slice(None)),
+    ("ids", slice(None)),
+)
 
-def _round_trip(vertices: np.ndarray, first_row: int = 0):
-    compact, rows = face_table(vertices, first_row)
-    assert compact.dtype == GPU_VERTEX_DTYPE and compact.dtype.itemsize == 36
-    back = expand_face_table(compact, rows, first_row)
-    as_bytes = [np.ascontiguousarray(v).view(np.uint8).reshape(len(v), v.dtype.itemsize) for v in (back, vertices)]
-    differing = int(np.count_nonzero(np.any(as_bytes[0] != as_bytes[1], axis=1)))
+
+def _differing(a: np.ndarray, b: np.ndarray) -> int:
+    rows = [np.ascontiguousarray(x).view(np.uint8).reshape(len(x), x.dtype.itemsize) for x in (a, b)]
+    return int(np.count_nonzero(np.any(rows[0] != rows[1], axis=1)))
+
+
+def _round_trip(masses, first_row: int = 0):
+    vertices, _ = batch(masses)
+    placement = placements(masses)
+    compact, rows = face_table(vertices, placement, first_row)
+    assert compact.dtype == GPU_VERTEX_DTYPE and compact.dtype.itemsize == 24
+    differing = _differing(expand_face_table(compact, rows, placement, first_row), vertices)
     assert differing == 0, f"{differing} of {len(vertices)} vertices changed"
-    return compact, rows
+    shared, indices = shared_vertices(compact)
+    assert _differing(shared[indices], compact) == 0
+    return vertices, compact, rows
 
 
 def test_the_district_round_trips_bit_for_bit():
     """Boxes, the cylinder tower (a normal per vertex) and the dome, rows shared across faces."""
-    vertices, _ = batch(default_city(blocks=6).masses)
-    compact, rows = _round_trip(vertices)
+    vertices, compact, rows = _round_trip(default_city(blocks=6).masses)
     assert len(np.unique(rows.view(np.dtype((np.void, rows.dtype.itemsize))))) == len(rows)  # each row once
     assert len(rows) < len(vertices) / 4
+    assert len(shared_vertices(compact)[0]) < 0.8 * len(compact)
 
 
 def test_helsinki_round_trips_bit_for_bit(helsinki_pbf):
     """Pitched, skeleton and pointed roofs, courtyards, undersides, dormers."""
-    vertices, _ = batch(map_city(load_map(helsinki_pbf)).masses)
-    _round_trip(vertices)
-    _round_trip(vertices[: len(vertices) // 2], first_row=1234)  # a tile's table placed after others
+    masses = map_city(load_map(helsinki_pbf)).masses
+    _round_trip(masses)
+    _round_trip(masses[: len(masses) // 2], first_row=1234)  # a tile's table placed after others
+
+
+def test_turned_buildings_round_trip_bit_for_bit():
+    _round_trip([box((10.0 * i - 0.3, 3.7 * i), 12.0 + i, 9.5, 30.0, yaw=0.37 * i - 2.0) for i in range(30)])
 
 
 def test_colliding_hashes_still_give_distinct_rows(monkeypatch):
     """Every row hashed alike: the rows are told apart by their bytes."""
     monkeypatch.setattr(_face_table, "FNV_PRIME", np.uint64(0))
-    vertices, _ = batch(default_city(blocks=2).masses)
-    _round_trip(vertices)
+    _round_trip(default_city(blocks=2).masses)
 
 
-def test_the_vertex_stage_reads_each_row_exactly(gl_context):
-    """The vertex stage's normal, spacing, face and ids (captured before rasterising) are the
-    meshed records' bits, for every vertex of the district."""
-    vertices, _ = batch(default_city(blocks=4).masses)
-    compact, rows = face_table(vertices)
+def test_a_vertex_placed_otherwise_is_refused():
+    masses = default_city(blocks=2).masses
+    vertices, _ = batch(masses)
+    vertices["position"][5, 0] = np.nextafter(vertices["position"][5, 0], np.float32(np.inf))
+    with pytest.raises(ValueError, match="1 vertices are not where their building's placement puts them"):
+        face_table(vertices, placements(masses))
+
+
+@pytest.mark.parametrize("blocks", [0, 2])
+def test_empty_and_small_cities(blocks):
+    masses = default_city(blocks=blocks).masses
+    _round_trip(masses)
+
+
+def test_the_vertex_stage_reads_each_value_exactly(gl_context):
+    """The vertex stage's outputs (captured before rasterising, through the index buffer) are the
+    meshed records' bits, for every vertex of the district, turned buildings among them."""
+    masses = default_city(blocks=4).masses + [box((5.0 * i, -80.0), 9.0, 7.0, 12.0, yaw=0.61 * i) for i in range(12)]
+    vertices, _ = batch(masses)
+    placement = placements(masses)
+    compact, rows = face_table(vertices, placement)
+    shared, indices = shared_vertices(compact)
     programs = ProgramCache(gl_context)
-    outputs = ("v_normal", "v_spacing", "v_face", "v_ids")
-    program = programs.get("city/building.glsl", {"DEPTH_ONLY": True}, varyings=outputs)
+    program = programs.get("city/building.glsl", {"DEPTH_ONLY": True}, varyings=OUTPUTS)
     program["u_view_proj"].write(np.identity(4, np.float32).tobytes())
-    vbo, faces = create_buffer(gl_context, compact), create_buffer(gl_context, rows)
-    out = gl_context.buffer(reserve=len(vertices) * 13 * 4)
+    buffers = [create_buffer(gl_context, data) for data in (shared, indices, rows, placement)]
+    vbo, ibo, faces, placed = buffers
+    meshed = np.concatenate(
+        [np.ascontiguousarray(vertices[name][:, part]).view(np.uint32) for name, part in OUTPUT_FIELDS], axis=1
+    )
+    out = gl_context.buffer(reserve=meshed.nbytes)
     vaos = VertexArrays(gl_context)
-    vao = vaos.get("faces", program, [(vbo, GPU_VERTEX_FORMAT, *GPU_VERTEX_ATTRIBUTES)])
+    vao = vaos.get("faces", program, [(vbo, GPU_VERTEX_FORMAT, *GPU_VERTEX_ATTRIBUTES)], index_buffer=ibo)
     target = RenderTarget(gl_context, (4, 4))  # transform feedback still wants a framebuffer bound
     try:
         target.use()
         faces.bind_to_storage_buffer(FACES_BINDING)
-        vao.transform(out, moderngl.TRIANGLES, vertices=len(vertices))
-        words = np.frombuffer(out.read(), np.uint32).reshape(len(vertices), 13)
+        placed.bind_to_storage_buffer(PLACEMENTS_BINDING)
+        vao.transform(out, moderngl.TRIANGLES, vertices=len(indices))
+        got = np.frombuffer(out.read(), np.uint32).reshape(meshed.shape)
     finally:
-        for obj in (vbo, faces, out, target):
+        for obj in (*buffers, out, target):
             obj.release()
         vaos.release()
-    fields = (vertices["normal"], vertices["facade"][:, 2:], vertices["face"], vertices["ids"])
-    meshed = np.concatenate([np.ascontiguousarray(f).view(np.uint32) for f in fields], axis=1)
-    differing = int(np.count_nonzero(np.any(words != meshed, axis=1)))
+    differing = int(np.count_nonzero(np.any(got != meshed, axis=1)))
     assert differing == 0, f"{differing} of {len(vertices)} vertices read other values than meshed"
-
-
-@pytest.mark.parametrize("count", [0, 1])
-def test_tiny_arrays(count):
-    vertices, _ = batch(default_city(blocks=2).masses)
-    compact, rows = _round_trip(np.ascontiguousarray(vertices[:count]))
-    assert len(compact) == count and len(rows) == count

@@ -19,7 +19,7 @@ from cityshade.errors import CityshadeError, UsageError
 from cityshade.render import Renderer, RenderSettings, open_tiles, streamed_tiles, write_tiles
 from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
 from cityshade.render._tile_cache import CacheProblem, read_tile
-from cityshade.scene import GPU_VERTEX_DTYPE, expand_face_table, make_city
+from cityshade.scene import GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
 
 MAPS = Path(__file__).parent / "data" / "maps"
 TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
@@ -81,7 +81,8 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
 
 def test_tiles_hold_every_building_once(district, district_tiles):
     cache = district_tiles
-    vertices = [expand_face_table(read_tile(cache, i), cache.faces) for i in range(len(cache.tiles))]
+    placement = placements(district.masses)
+    vertices = [expand_face_table(read_tile(cache, i), cache.faces, placement) for i in range(len(cache.tiles))]
     assert sum(t.buildings for t in cache.tiles) == len(cache.boxes) == len(district.masses)
     held = np.concatenate([np.unique(v["ids"][:, 0]) for v in vertices])
     assert sorted(held.tolist()) == sorted(cache.boxes["draw"][:, 2].tolist())

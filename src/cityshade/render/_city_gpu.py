@@ -14,7 +14,8 @@ import numpy as np
 from ..gl import VertexArrays, create_buffer
 from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
-from ..scene import BUILDING_DTYPE, FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, City, batch, face_table
+from ..scene import BUILDING_DTYPE, FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, PLACEMENTS_BINDING
+from ..scene import City, batch, face_table, placements, shared_vertices
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
 from ._lod_colours import grammar_colours_gpu
@@ -80,8 +81,10 @@ class CityGPU:
         self.chunks = buildings.chunks
         self.building_vertex_count = len(buildings.vertices)
         self.visibility = BuildingVisibility(ctx, buildings.boxes())
-        vertices, faces = face_table(buildings.vertices)
+        vertices, faces = face_table(buildings.vertices, self.placement)
+        vertices, indices = shared_vertices(vertices)
         self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
+        self.building_indices = create_buffer(ctx, indices) if len(indices) else None
         self._upload_records(buildings.records)
         self._upload_faces(faces)
 
@@ -95,6 +98,10 @@ class CityGPU:
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
+        self.placement = placements(city.masses)  # PLACEMENT_DTYPE: the buildings' yaw and origin
+        self.placements = create_buffer(
+            ctx, self.placement if len(self.placement) else np.zeros(1, self.placement.dtype)
+        )
         self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
@@ -102,22 +109,28 @@ class CityGPU:
     def _upload_faces(self, faces: np.ndarray):
         self.faces = create_buffer(self.ctx, faces if len(faces) else np.zeros(1, faces.dtype))
 
+    def bind_vertex_tables(self):
+        """The storage buffers the buildings' vertex stage reads (common/building_vertex.glsl)."""
+        self.faces.bind_to_storage_buffer(FACES_BINDING)
+        self.placements.bind_to_storage_buffer(PLACEMENTS_BINDING)
+
     def _upload_records(self, records: np.ndarray):
         self.records = create_buffer(self.ctx, records)
         self._assigned_facades = records["facade"].copy()  # for start_grammars_at
 
-    def _vao(self, program, vbo, fmt, attributes):
-        return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
+    def _vao(self, program, vbo, fmt, attributes, index_buffer=None):
+        return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)], index_buffer)
 
     def draw_buildings(self, program, view_projection: np.ndarray | None = None, draws: moderngl.Buffer | None = None):
         """All buildings in one call; with `draws` (commands of BuildingVisibility), one multi-draw
         indirect call of a command per building, in the same order; with a view-projection, only
-        the chunks inside its frustum (one call per run of neighbouring visible chunks)."""
+        the chunks inside its frustum (one call per run of neighbouring visible chunks). Ranges and
+        commands count the vertices of the meshed triangle list: with the index buffer, its indices."""
         if self.building_vbo is None:
             return
         self.records.bind_to_storage_buffer(0)
-        self.faces.bind_to_storage_buffer(FACES_BINDING)
-        vao = self._vao(program, self.building_vbo, GPU_VERTEX_FORMAT, GPU_VERTEX_ATTRIBUTES)
+        self.bind_vertex_tables()
+        vao = self._vao(program, self.building_vbo, GPU_VERTEX_FORMAT, GPU_VERTEX_ATTRIBUTES, self.building_indices)
         if draws is not None:
             vao.render_indirect(draws, moderngl.TRIANGLES, count=self.visibility.count)
         elif view_projection is not None:
@@ -151,7 +164,7 @@ class CityGPU:
     def polygonised(self) -> PolygonisedGPU:
         """Real interior geometry for the polygonised-interiors baseline, built on first use."""
         if self._polygonised is None:
-            self._polygonised = PolygonisedGPU(self.ctx, self.city)
+            self._polygonised = PolygonisedGPU(self.ctx, self.city, self.placement)
         return self._polygonised
 
     def draw_ground(self, program):
@@ -159,7 +172,15 @@ class CityGPU:
 
     def release(self):
         self._vaos.release()
-        for buf in (self.building_vbo, self.faces, self.records, self.ground_vbo, self._lod_colours):
+        for buf in (
+            self.building_vbo,
+            self.building_indices,
+            self.faces,
+            self.placements,
+            self.records,
+            self.ground_vbo,
+            self._lod_colours,
+        ):
             if buf is not None:
                 buf.release()
         self.relief.release()

@@ -235,6 +235,7 @@ class StreamedCityGPU(CityGPU):
         budget = cache.total_bytes if budget is None else int(budget)
         self.arena = _Arena(ctx, min(budget, cache.total_bytes) // GPU_VERTEX_DTYPE.itemsize)
         self.building_vbo = self.arena.buffer
+        self.building_indices = None  # a tile's slot holds its triangle list as meshed
         self.building_vertex_count = 0  # resident
         self._count = cache.boxes["draw"][:, 0].copy()
         self._local_first = cache.boxes["draw"][:, 1].copy()

@@ -32,7 +32,7 @@ import numpy as np
 
 from .._files import atomic_folder, check_replaceable_folder
 from ..errors import CityshadeError
-from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, City, face_table
+from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
 from ._city_gpu import CityBuildings
 from ._culling import building_cells
@@ -184,6 +184,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     start = time.perf_counter()
     masses = city.masses
     records = np.zeros(len(masses), BUILDING_DTYPE)
+    placement = placements(masses)
     facades, lod_faces, tiles, boxes, cells, box_tile, face_rows = Counter(), [], [], [], [], [], []
     with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
@@ -197,7 +198,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
             lod_faces.append(faces)
             if not len(tile_boxes):
                 continue
-            vertices, faces = face_table(vertices, first_row=sum(map(len, face_rows)))
+            vertices, faces = face_table(vertices, placement, first_row=sum(map(len, face_rows)))
             face_rows.append(faces)
             name = f"{TILE_FOLDER}/{len(tiles):05d}.npy"
             size, digest = _tile_file(tmp, name, vertices)

@@ -34,16 +34,21 @@ from ._meshes import (
     VERTEX_DTYPE,
     building_record,
     building_vertices,
+    world_positions,
 )
 from ._face_table import (
     FACE_DTYPE,
     FACE_TABLE_CONSTANTS,
     FACES_BINDING,
+    PLACEMENT_DTYPE,
+    PLACEMENTS_BINDING,
     GPU_VERTEX_ATTRIBUTES,
     GPU_VERTEX_DTYPE,
     GPU_VERTEX_FORMAT,
     expand_face_table,
     face_table,
+    placements,
+    shared_vertices,
 )
 from ._paths import PATHS, camera_path
 from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
@@ -78,6 +83,11 @@ __all__ = [
     "GPU_VERTEX_FORMAT",
     "expand_face_table",
     "face_table",
+    "placements",
+    "shared_vertices",
+    "PLACEMENT_DTYPE",
+    "PLACEMENTS_BINDING",
+    "world_positions",
     "batch",
     "building_record",
     "building_vertices",
