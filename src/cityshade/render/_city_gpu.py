@@ -47,6 +47,11 @@ def ground_vertices(city: City) -> np.ndarray:
     return np.asarray(out, dtype=np.float32)
 
 
+def _at_least_one(rows: np.ndarray) -> np.ndarray:
+    """A storage buffer's rows, a zero one if there are none (a buffer may not be empty)."""
+    return rows if len(rows) else np.zeros(1, rows.dtype)
+
+
 @dataclass
 class CityBuildings:
     """The buildings as the GPU gets them: vertices in chunk order (each building a contiguous
@@ -81,7 +86,7 @@ class CityGPU:
         self.chunks = buildings.chunks
         self.building_vertex_count = len(buildings.vertices)
         self.visibility = BuildingVisibility(ctx, buildings.boxes())
-        vertices, faces = face_table(buildings.vertices, self.placement)
+        vertices, faces = face_table(buildings.vertices, placements(city.masses))
         vertices, indices = shared_vertices(vertices)
         self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
         self.building_indices = create_buffer(ctx, indices) if len(indices) else None
@@ -98,16 +103,13 @@ class CityGPU:
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
-        self.placement = placements(city.masses)  # PLACEMENT_DTYPE: the buildings' yaw and origin
-        self.placements = create_buffer(
-            ctx, self.placement if len(self.placement) else np.zeros(1, self.placement.dtype)
-        )
+        self.placements = create_buffer(ctx, _at_least_one(placements(city.masses)))  # yaws and origins
         self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
 
     def _upload_faces(self, faces: np.ndarray):
-        self.faces = create_buffer(self.ctx, faces if len(faces) else np.zeros(1, faces.dtype))
+        self.faces = create_buffer(self.ctx, _at_least_one(faces))
 
     def bind_vertex_tables(self):
         """The storage buffers the buildings' vertex stage reads (common/building_vertex.glsl)."""
@@ -164,7 +166,7 @@ class CityGPU:
     def polygonised(self) -> PolygonisedGPU:
         """Real interior geometry for the polygonised-interiors baseline, built on first use."""
         if self._polygonised is None:
-            self._polygonised = PolygonisedGPU(self.ctx, self.city, self.placement)
+            self._polygonised = PolygonisedGPU(self.ctx, self.city)
         return self._polygonised
 
     def draw_ground(self, program):

@@ -10,14 +10,16 @@ import numpy as np
 from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, PLACEMENTS_BINDING, City, face_table
+from ..scene import placements
 from ._culling import BuildingChunks, chunk_vertices
 
 
 class PolygonisedGPU:
-    def __init__(self, ctx: moderngl.Context, city: City, placement: np.ndarray):
+    def __init__(self, ctx: moderngl.Context, city: City):
         self.ctx = ctx
         self.layers: dict[str, tuple[BuildingChunks, moderngl.Buffer, moderngl.Buffer]] = {}  # chunks, vertices, faces
         self.triangle_count = 0
+        placement = placements(city.masses)
         self.placements = create_buffer(ctx, placement)  # the vertex stage places the rooms as the buildings
         for name, vertices in polygonised_vertices(city.masses).items():
             if len(vertices):
