@@ -1,7 +1,8 @@
-"""A city uploaded to the GPU: one vertex buffer for all buildings (ordered chunk by chunk, each
-building a contiguous range) with its face table (scene/_face_table.py), one SSBO of building
-records, the buildings' boxes for the cull pass, and the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
-stays once they are uploaded (a city of 100,000 buildings holds 250 MB of vertices)."""
+"""A city uploaded to the GPU: one vertex and index buffer for all buildings (ordered chunk by
+chunk, each building a contiguous range) with their face table and placements
+(scene/_face_table.py), one SSBO of building records, the buildings' boxes for the cull pass, and
+the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
+stays once they are uploaded (a city of 100,000 buildings meshes 250 MB of vertices)."""
 
 from __future__ import annotations
 
@@ -111,7 +112,7 @@ class CityGPU:
     def _upload_faces(self, faces: np.ndarray):
         self.faces = create_buffer(self.ctx, _at_least_one(faces))
 
-    def bind_vertex_tables(self):
+    def _bind_vertex_tables(self):
         """The storage buffers the buildings' vertex stage reads (common/building_vertex.glsl)."""
         self.faces.bind_to_storage_buffer(FACES_BINDING)
         self.placements.bind_to_storage_buffer(PLACEMENTS_BINDING)
@@ -131,7 +132,7 @@ class CityGPU:
         if self.building_vbo is None:
             return
         self.records.bind_to_storage_buffer(0)
-        self.bind_vertex_tables()
+        self._bind_vertex_tables()
         vao = self._vao(program, self.building_vbo, GPU_VERTEX_FORMAT, GPU_VERTEX_ATTRIBUTES, self.building_indices)
         if draws is not None:
             vao.render_indirect(draws, moderngl.TRIANGLES, count=self.visibility.count)
