@@ -42,12 +42,40 @@ def hit_edges(hits) -> np.ndarray:
     return key_edges(np.where(hits.material < 0, -1, hits.material * 8 + hits.face))
 
 
+def style_face_labels(style: str, size, seed: int, face: int, level: int, building=(0, 0, 0, 0)) -> np.ndarray:
+    """The twin's labels of library style `style` on a grid of points over a face of `size` metres
+    at facade.level `level` (facade `face` of a building of seed `seed`)."""
+    from cityshade.assets import tile_array
+    from cityshade.grammar import evaluate, facade_seed_vector, library_texture, seed_vector
+
+    compiled = library_texture()
+    u, v = np.meshgrid(np.linspace(0.05, size[0] - 0.05, 400), np.linspace(0.05, size[1] - 0.05, 40))
+    return evaluate(
+        compiled,
+        compiled.address(style),
+        np.stack([u.ravel(), v.ravel()], axis=1),
+        size,
+        facade_seed_vector(seed, face),
+        tile_array(16),
+        building=building,
+        building_seed=seed_vector(seed),
+        level=level,
+    ).label
+
+
+def style_min_width(style: str):
+    """The narrowest face a library style fits, as a function of the face's facade.level (GrammarFacades)."""
+    from cityshade.grammar import library_min_widths
+
+    return lambda level: library_min_widths(level)[style]
+
+
 def grammar_facades(masses):
     """The twin's GrammarFacades of `masses`: the library, each grammar building's start rule and the
     narrowest face its style fits, as the renderer assigns them, and the relief atlas that recesses
     their windows (relief is on by default)."""
     from cityshade import assets
-    from cityshade.grammar import FACADE_GRAMMAR, library_min_widths, library_texture
+    from cityshade.grammar import FACADE_GRAMMAR, library_texture
     from cityshade.interior import GrammarFacades
     from cityshade.relief import relief_atlas
     from cityshade.render import assign_facades, choose_facade
@@ -56,7 +84,7 @@ def grammar_facades(masses):
     _, records = batch(masses)
     assign_facades(records, masses)
     starts = {i: int(rec["facade"][1]) for i, rec in enumerate(records) if rec["facade"][0] == FACADE_GRAMMAR}
-    widths = {i: library_min_widths()[choose_facade(masses[i]).grammar_style] for i in starts}
+    widths = {i: style_min_width(choose_facade(masses[i]).grammar_style) for i in starts}
     return GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief_atlas())
 
 

@@ -64,7 +64,14 @@ def _run(source, buildings, street, aerial, reference=None, **more):
 
 
 def test_ratios_come_from_the_interleaved_frames():
-    viewer = {"fps": 11.5, "scale": 0.25, "internal_size": [256, 192], "frames": 15, "frames_counted": 8}
+    viewer = {
+        "fps": 11.5,
+        "scale": 0.25,
+        "quality_steps": "quality -1: shadows every 2nd frame",
+        "internal_size": [256, 192],
+        "frames": 15,
+        "frames_counted": 8,
+    }
     cache = {"frames": {"cached": [1.0, 2.0], "uncached": [3.0, 3.0]}, "cache": [], "speedup": 2.0}
     runs = [
         _run("generator", 948, [1.0, 1.2], [0.5, 0.7], grammar_cache=cache),
@@ -77,6 +84,8 @@ def test_ratios_come_from_the_interleaved_frames():
     assert data["ratios"]["aerial_100k_over_1k"] == pytest.approx(2.2 / 0.8, abs=1e-3)
     assert data["ratios"]["bytes_per_building"] == 1000  # llvmpipe: the GPU buffers are in the resident bytes
     assert data["ratios"]["viewer_fps_llvmpipe"] == 11.5
+    walked = next(t for t in data["tables"] if t["title"].startswith("Viewer walking"))
+    assert walked["rows"][0][3] == "quality -1: shadows every 2nd frame"
     assert data["ratios"]["grammar_cache_speedup"] == 2.0 and data["missing"] == {}
     assert data["ratios"]["culled_pixels_differing"] == 3
     culled = next(t for t in data["tables"] if t["title"].startswith("Pixels differing"))

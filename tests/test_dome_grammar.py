@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from functools import partial
 
 import numpy as np
 import pytest
@@ -18,7 +19,14 @@ from cityshade.interior import FACE_NAMES, windows_straddling_rooms
 from cityshade.interior._faces import FACE_EXTERIOR, FACE_ROOF
 from cityshade.render import GrammarFitWarning, Renderer, RenderSettings
 from cityshade.scene import Camera, City, dome, dome_faces, make_city
-from render_checks import grammar_facades, grammar_test_settings, id_edges, interior_twin, render_finite
+from render_checks import (
+    grammar_facades,
+    grammar_test_settings,
+    id_edges,
+    interior_twin,
+    render_finite,
+    style_face_labels,
+)
 
 SIZE = (160, 120)
 MAX_MISMATCH = 0.001  # of the picture: rasterisation edges only
@@ -114,6 +122,33 @@ def test_a_dome_too_small_for_windows_is_all_roof(gl_context):
     assert windows.windows == 0
 
 
+def test_brick_draws_its_door_on_the_dome_s_first_ring_only():
+    """A dome's rings start at facade.level 0, 1, 2... up its arc (the levels the GPU reads: the
+    vertices' faces and the building's record); brick, evaluated by the twin in each ring's true size
+    at its level, has its door on ring 0 and none on ring 2, which shows storeys of windows."""
+    from cityshade.assets import LABELS
+    from cityshade.render import assign_facades
+    from cityshade.scene import SURFACE_WALL, batch, vertex_face_levels
+
+    mass = dome((0.0, 0.0), 34.0, floor_height=3.6, seed=5, style=BRICK)
+    rings = dome_faces(17.0, 3.6, mass.room_width)
+    vertices, records = batch([mass])
+    assign_facades(records, [mass], vertices)
+    walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+    ring = rings.ring_of(walls["face"][:, 1] + 1e-3)
+    assert np.array_equal(vertex_face_levels(walls, records), ring) and set(ring.tolist()) >= {0, 1, 2}
+    doors = {}
+    for k in (0, 2):
+        size = (float(rings.width[k]), float(rings.storey))
+        building = (1, BRICK, mass.use, mass.extent[1])
+        labels = style_face_labels("brick", size, mass.seed, int(rings.columns[k, 0]), k, building)
+        doors[k] = int(np.count_nonzero(labels == LABELS.index("door")))
+        print(f"ring {k} ({size[0]:.1f} x {size[1]:.2f} m, level {k}): {doors[k]} door points")
+        if k:
+            assert LABELS.index("window") in labels
+    assert doors[0] > 0 and doors[2] == 0
+
+
 BAYS = (
     "S->RepeatX(2.5, Bay)\nBay->SplitX(Rel, 1, Wall, Abs, 1.2, Column, Rel, 1, Wall)\n"
     "Column->SplitY(Rel, 1, Wall, Abs, 1.6, Glass, Rel, 1, Wall)\n"
@@ -142,7 +177,7 @@ def test_both_grammar_paths_draw_the_twins_windows_on_a_dome(gl_context, tmp_pat
         image = render_finite(r, camera).astype(np.int32)
         compiled = library_texture_with(settings.grammar_files)
         facades = GrammarFacades(
-            compiled, assets.tile_array(), {3: compiled.address("dome_test")}, {3: min_width(load(grammar))}
+            compiled, assets.tile_array(), {3: compiled.address("dome_test")}, {3: partial(min_width, load(grammar))}
         )
         ref = interior_twin(r, scene.masses, camera, SIZE, scene.bounds, grammar=facades, labels=True)
     finally:

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from cityshade.cli import main
+from cityshade.assets import LABELS
 from cityshade.export import Canvas, GpuBaker, bake_reference, pack
 from cityshade.grammar import facade_seed_vector, library_texture, seed_vector
 
@@ -53,7 +54,29 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
             (4, 3.2),
             1,
         ),
-    ]  # a side: its own seed, the building's for its spandrels
+        Canvas(
+            2, 0, -0.25, -0.25, 60, 80, 14.0, 19.0, compiled.address("brick"), *[seed_vector(5)] * 2, (4, 3.2), 1, 2
+        ),
+        Canvas(
+            3,
+            6,
+            -0.25,
+            5.75,
+            40,
+            60,
+            9.5,
+            14.0,
+            compiled.address("storeys"),
+            facade_seed_vector(5, 6),
+            seed_vector(5),
+            (4, 3.2),
+            1,
+            2,
+            base=6.0,
+            values=(4.0, 0.0, 0.0, 20.0),
+        ),
+    ]  # a face: its own seed, the building's for its spandrels; a raised part's face (facade.level 2), and
+    # one starting 6 m up with 4 storeys (building.levels)
     size = pack(canvases)[0]
     baker = GpuBaker(gl_context, tiles, nearest=True)
     page = baker.bake_page(canvases, size, 0.25)
@@ -67,6 +90,41 @@ def test_gpu_bake_matches_numpy_twin(gl_context):
             differ = np.abs(page[name][region] - reference[name]).max(axis=-1) > 2e-3
             assert differ.sum() == 0, f"{differ.sum()} of {differ.size} {name} texels differ"
         assert len(np.unique(reference["ids"][..., 1])) >= 2  # at least walls and windows: a real facade
+        doors = int(np.count_nonzero(reference["ids"][..., 1] == LABELS.index("door")))
+        assert (doors == 0) == (canvas.level > 0), (canvas.start, doors)  # a ground floor only at level 0
+
+
+def test_every_wall_face_gets_a_canvas_in_its_true_size():
+    """As the renderer scopes its grammar: one canvas per face (a curved run of walls is one face, each
+    ring of a dome another), as wide as the face's walls are long, from its base to its top."""
+    from cityshade.export import canvases_of, has_grammar, wall_sides
+    from cityshade.scene import SURFACE_WALL, building_vertices, cylinder, dome, make_city
+
+    extra = [cylinder((0.0, 0.0), 16.0, 20.0, style=3), dome((0.0, 0.0), 30.0, style=4)]
+    masses = [m for m in make_city("outlines").masses if has_grammar(m)] + extra
+    assert {m.shape for m in masses} == {"prism", "cylinder", "dome"}
+    texel = 0.25
+    for index, mass in enumerate(masses):
+        vertices = building_vertices(mass, index)
+        walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+        canvases = canvases_of(index, mass, walls, texel)
+        sides = wall_sides(walls)
+        assert len(canvases) == sides.max() + 1 >= (3 if mass.shape == "dome" else 1)
+        for side, canvas in enumerate(canvases):
+            face = walls[sides == side]
+            bottom = face[np.isclose(face["facade"][:, 1], face["facade"][:, 1].min())]
+            run = np.unique(np.column_stack([bottom["facade"][:, 0], bottom["local"][:, [0, 2]]]), axis=0)
+            length = np.linalg.norm(np.diff(run[:, 1:], axis=0), axis=1).sum()  # along the walls, point to point
+            if mass.shape == "dome":  # a ring's width is its circle half way up; its bottom circle is wider
+                assert length > canvas.width * 0.99
+            else:
+                assert canvas.width == pytest.approx(length, rel=1e-3)
+            low, high = face["facade"][:, 1].min(), face["facade"][:, 1].max()
+            assert canvas.base == pytest.approx(low, abs=1e-4) and canvas.height == pytest.approx(high - low, abs=1e-4)
+            assert canvas.u0 == pytest.approx(-texel, abs=1e-4)
+            assert canvas.cols == int(np.ceil(canvas.width / texel - 1e-6)) + 2
+        if mass.shape == "dome":  # ring k starts k storeys up: facade.level k
+            assert [c.level for c in sorted(canvases, key=lambda c: c.base)] == list(range(len(canvases)))
 
 
 def test_pack_places_canvases_without_overlap():
@@ -121,7 +179,8 @@ def test_glb_round_trip_with_trimesh(tmp_path, capsys):
     sizes = {tuple(m.visual.material.baseColorTexture.size) for m in textures}
     assert {tuple(p) for p in summary["atlas_pages"]} <= sizes
     extras = {n.extras["source_id"]: n.extras for n in gltf.nodes if n.name.startswith("building ")}
-    assert "way/100" not in extras  # the outline is drawn as its parts
+    # the outline is drawn as its parts, and under the one that floats (way/101, from 3 m) up to its base
+    assert extras["way/100"]["kind"] == "office"
     part = extras["way/101"]
     assert part["part"] and part["part_of"] == "way/100" and part["tags"]["min_height"] == "3"
     assert part["height"] == 30 and "height" in part["tagged"] and "height" not in part["guessed"]
@@ -171,7 +230,7 @@ def test_tileset_hierarchy_and_earth_position(tmp_path, capsys):
         return 1 + sum(walk(child, tile["geometricError"]) for child in children)
 
     assert walk(root, tileset["geometricError"]) == summary["tiles"] + 1
-    assert summary["buildings"] == 4
+    assert summary["buildings"] == 5  # two parts, the outline under the floating one, a courtyard block, a canopy
 
 
 def _check_sizes(texel: float):
@@ -246,3 +305,23 @@ def test_region_keeps_what_lies_inside_as_gltf(tmp_path, capsys):
     assert [n.name for n in gltf.nodes] == ["building way/400", "ground"]
     ground = gltf.accessors[gltf.meshes[gltf.nodes[1].mesh].primitives[0].attributes.POSITION]
     assert ground.count > 0 and ground.max[0] - ground.min[0] <= 17.7 + 1e-3  # cut to the region's 17.7 m width
+
+
+def test_faces_too_narrow_for_the_grammar_are_plain_walls_as_in_the_renderer(gl_context):
+    """A 4 m wide brick block (brick fits 5 m faces): its two narrow ends get no canvas but a plain
+    wall in the grammar's wall colour, as the renderer draws them, with the renderer's counted warning."""
+    from cityshade.export._content import BuildingWriter, Stats
+    from cityshade.export._gltf import Document
+    from cityshade.render import GrammarFitWarning
+    from cityshade.scene import box
+
+    doc = Document({})
+    with pytest.warns(GrammarFitWarning, match="2 wall faces"):
+        writer = BuildingWriter(
+            doc, [box((0.0, 0.0), 4.0, 20.0, 12.0, style=4)], [{"source_id": "way/1"}], 0.5, Stats()
+        )
+    assert len(writer.canvases[0]) == 2  # the long sides
+    assert {c.width for c in writer.canvases[0]} == {20.0}
+    writer.write()
+    names = [doc.gltf.materials[p.material].name for mesh in doc.gltf.meshes for p in mesh.primitives]
+    assert names.count("plain walls") == 1 and sum(n.startswith("facades") for n in names) == 2

@@ -11,7 +11,7 @@ from cityshade.assets import LABELS, tile_array
 from cityshade.grammar import BUILDING_STYLES, evaluate, facade_seed_vector, library_texture, library_texture_with
 from cityshade.interior._faces import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
-from cityshade.scene import SURFACE_WALL, USE_CODES, USES, Camera, City, batch, box, make_city
+from cityshade.scene import SURFACE_WALL, USE_CODES, USES, Camera, City, batch, box, dome, dome_faces, make_city
 from render_checks import grammar_test_settings, render_finite
 
 SIZE = (128, 96)
@@ -70,12 +70,12 @@ def test_default_city_uses_grammar_facades():
 PATHS = ("forward", "deferred")
 
 
-def _grammar_city(gl_context, tmp_path, text: str, masses, path: str, size) -> Renderer:
+def _grammar_city(gl_context, tmp_path, text: str, masses, path: str, size, **extra) -> Renderer:
     """The city of `masses` drawn by the frame with every grammar facade in grammar `text`
     (compiled after the library through RenderSettings.grammar_files), lit at midday, by `path`."""
     grammar = tmp_path / "city_test.grammar"
     grammar.write_text(text)
-    settings = grammar_test_settings(grammar, "city_test", path, samples=0)
+    settings = grammar_test_settings(grammar, "city_test", path, samples=0, **extra)
     renderer = Renderer(size, settings, ctx=gl_context)
     renderer.set_city(City("grammar test", 0, masses, [], (-60.0, -60.0, 60.0, 60.0)))
     return renderer
@@ -112,6 +112,43 @@ def test_building_use_and_height_reach_the_conditions_in_the_city(gl_context, tm
         image, rows, columns = _city_pixels(renderer, camera, points, "grammar_city_uses", output_dir)
         r, g, b = (image[rows, columns, k] for k in range(3))
         assert r[0] > 2 * g[0] and g[1] > 2 * r[1] and r[2] > 2 * b[2] and g[2] > 2 * b[2], (r, g, b)
+    finally:
+        renderer.release()
+
+
+@pytest.mark.parametrize("path", (*PATHS, "cached"))
+def test_facade_level_reaches_the_conditions_in_the_city(gl_context, tmp_path, path, output_dir):
+    """facade.level on the GPU, by both paths and through the deferred path's page cache: 0 on a box
+    on the ground, 2 on a box raised two storeys (a building part's first level), and a dome's rings
+    0, 1, 2 up its arc."""
+    text = (
+        "S->Case(facade.level == 0, Red, facade.level == 2, Blue, Green)\n"
+        "Red->Color(0.9, 0.1, 0.1)\nGreen->Color(0.1, 0.9, 0.1)\nBlue->Color(0.1, 0.1, 0.9)\n"
+    )
+    style = STYLE["brick"]
+    masses = [
+        box((-30.0, 0.0), 14.0, 14.0, 12.0, style=style),
+        box((-12.0, 0.0), 14.0, 14.0, 16.0, style=style, base=6.4, first_level=2),
+        dome((6.0, 0.0), 30.0, floor_height=3.0, style=style),
+    ]
+    rings = dome_faces(15.0, 3.0, masses[2].room_width)
+    assert rings.walls >= 3
+    extra = {"grammar_cache": True} if path == "cached" else {}
+    renderer = _grammar_city(
+        gl_context, tmp_path, text, masses, "forward" if path == "forward" else "deferred", (200, 120), **extra
+    )
+    try:
+        camera = Camera((-4.0, 8.0, -62.0), (-4.0, 7.0, 0.0), fov_y=60.0)
+        lat = rings.lat[:3].mean(axis=1)
+        points = [(-23.0, 6.0, 0.0), (-5.0, 11.0, 0.0)]  # the boxes' fronts
+        points += [(21.0, 15.0 * np.sin(a), 15.0 - 15.0 * np.cos(a)) for a in lat]  # rings 0, 1, 2 facing the camera
+        image, rows, columns = _city_pixels(renderer, camera, points, f"grammar_city_levels_{path}", output_dir)
+        rgb = image[rows, columns]
+        picked = "".join("RGB"[int(np.argmax(c))] if c.max() > 2 * np.sort(c)[1] else "?" for c in rgb)
+        print(f"{path}: levels 0, 2 and rings 0, 1, 2 drawn {picked} ({rgb.tolist()})")
+        assert picked == "RBRGB", rgb
+        if path == "cached":  # the faces at their building's first level came from the cache's pages
+            assert renderer.textures.grammar_pass.cache.stats["resident"] > 0
     finally:
         renderer.release()
 

@@ -10,7 +10,7 @@ from cityshade.assets import LABELS, tile_array
 from cityshade.grammar import compile_grammars, library_path, load, loads
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
-from cityshade.grammar._reference import evaluate, evaluate_facade
+from cityshade.grammar._reference import evaluate, evaluate_facade, facade_view
 from cityshade.scene import USES
 
 
@@ -120,6 +120,21 @@ def test_building_use_and_height_gpu_matches_numpy(ctx, output_dir):
         assert "".join(names[int(np.unique(r)[0])] for r in rows) == want, (use, height)
 
 
+def test_facade_level_gpu_matches_numpy(ctx, output_dir):
+    """facade.level (the storey the face starts at) picks storeys alike on the GPU and numpy: a
+    ground floor only on a face at level 0, and a parity counted from the ground, not the face."""
+    text = (
+        "S->RepeatY(3, Floor)\nFloor->Case(facade.level == 0 && split.first, G, "
+        "(facade.level + split.index) % 2 == 0, E, O)\n" + colours(*"GEO")
+    )
+    compiled = compile_grammars({"level": loads(text)})
+    names = {compiled.address("level", n): n for n in "GEO"}
+    for level, want in ((0, "GOEO"), (1, "OEOE"), (2, "EOEO"), (7, "OEOE")):
+        cpu, _ = compare(ctx, compiled, "level", output_dir, nearest=False, allowed=0, min_terminals=2, level=level)
+        rows = cpu.terminal[:: -SIZE[1] // 4][:4]  # one row per storey, bottom first
+        assert "".join(names[int(np.unique(r)[0])] for r in rows) == want, level
+
+
 def test_each_facade_has_its_own_stream_gpu_matches_numpy(ctx, output_dir):
     """The GPU hashes the building's seed with the facade index exactly as the twin does."""
     text = "S->RepeatX(1, Row)\nRow->RepeatY(1, Pick)\nPick->RandUni(0, A, B, C)\n" + colours(*"ABC")
@@ -185,3 +200,46 @@ def test_tint_multiplies_the_colour_below_it(ctx, output_dir):
     textures.release()
     lit = evaluate_facade(compiled, start, FACADE, SIZE, seed_vector(3), tile_array(32)).color
     assert np.abs(colour[..., :3] - lit).max() < 0.02  # colours agree within a small tolerance
+
+
+@pytest.mark.parametrize("nearest", [True, False])
+def test_holes_and_what_they_show_gpu_matches_numpy(ctx, nearest):
+    """dusk's windows are holes (SkipMask) through which its Intrusion rooms show: per pixel the hole
+    (GrammarResult.hole) and what that hole shows from a point further along (grammar_through, as the
+    city's recessed holes evaluate it from their bottom), GPU against the numpy twin; filtered
+    alphas included (a frame opaque on its exact texel hides the hole in both). What a hole shows is
+    the grammar's rooms, never the frame layered over it, and the shift moves it."""
+    compiled = compile_grammars({"dusk": load(library_path("dusk.grammar"))})
+    tiles = tile_array(32)
+    start, facade, size, shift = compiled.address("dusk"), (12.0, 10.0), (240, 200), (0.06, -0.04)
+    textures = GrammarTextures(ctx, compiled, tiles)
+    _, ids = FacadeRenderer(ctx, textures, nearest=nearest, hole_shift=shift).render(
+        start, facade, size, seed_vector(3)
+    )
+    textures.release()
+    uv, rays = facade_view(facade, size)
+    flat = evaluate(compiled, start, uv, facade, seed_vector(3), tiles, rays, building_seed=seed_vector(3))
+    behind = evaluate(
+        compiled, start, uv + np.float32(shift), facade, seed_vector(3), tiles, rays, building_seed=seed_vector(3),
+        through=flat.hole,
+    )  # fmt: skip
+    cols, rows = size
+
+    def image(values):
+        return values.reshape(rows, cols)[::-1]
+
+    hole, room, wall = image(flat.hole), LABELS.index("room"), LABELS.index("wall")
+    differ = (ids[..., 0].astype(np.int64) - 1 != hole) | (ids[..., 1].astype(np.int64) - 1 != image(behind.terminal))
+    differ |= (ids[..., 2] != image(behind.label)) | (ids[..., 3].astype(bool) != image(behind.glass))
+    holes = hole >= 0
+    moved = holes & (image(behind.terminal) != image(flat.terminal))
+    print(
+        f"nearest={nearest}: {differ.sum()} of {differ.size} pixels differ (hole, or what it shows); {holes.sum()} hole "
+        f"pixels, {moved.sum()} of them show another terminal from {shift} m further along"
+    )
+    assert holes.sum() > 0.05 * differ.size and moved.any()
+    assert differ.sum() <= 0.001 * differ.size
+    assert set(np.unique(image(behind.label)[holes])) <= {room, wall}, "a hole shows the rooms below it"
+    assert not np.isin(
+        image(behind.terminal)[holes], image(flat.terminal)[image(flat.label) == LABELS.index("window")]
+    ).any()

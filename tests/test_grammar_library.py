@@ -32,23 +32,16 @@ def test_style_gpu_matches_numpy(ctx, library, style, output_dir):  # noqa: F811
     compare(ctx, compiled, style, output_dir, seed=7, facade=(20.0, 16.0), size=(120, 96), min_terminals=3)
 
 
+# the filtered (mipmapped) path with every pixel's ids equal to the twin's
+EXACT = dict(seed=7, size=(120, 96), min_terminals=3, nearest=False, allowed=0)
+
+
 @pytest.mark.parametrize("style", LIBRARY_STYLES)
 def test_filtered_colour_keeps_exact_labels(ctx, library, style, output_dir):  # noqa: F811 (fixture)
     """The mipmapped path: the terminal, label and glass flag come from the nearest texels, equal
     to the numpy twin's on every pixel, while the colour is filtered."""
     _, compiled = library
-    compare(
-        ctx,
-        compiled,
-        style,
-        output_dir,
-        seed=7,
-        facade=(40.0, 32.0),
-        size=(120, 96),
-        min_terminals=3,
-        nearest=False,
-        allowed=0,
-    )
+    compare(ctx, compiled, style, output_dir, facade=(40.0, 32.0), **EXACT)
 
 
 @pytest.mark.parametrize("nearest", [True, False])
@@ -60,6 +53,28 @@ def test_the_benchmarks_conditions_facade_matches_numpy(ctx, nearest, output_dir
         ctx, compiled, "conditions", output_dir, facade=(20.0, 16.0), size=(120, 96), nearest=nearest, allowed=0
     )
     assert len(np.unique(cpu.terminal)) >= 4  # wall and the three windows
+
+
+GROUND_FLOORS = {"brick": "door", "classical": "door", "office": "door", "shops": "shop", "storeys": "shop"}
+
+
+@pytest.mark.parametrize("style", GROUND_FLOORS)
+def test_ground_floor_only_on_faces_starting_at_the_ground(ctx, library, style, output_dir):  # noqa: F811
+    """A face at facade.level 0 has the style's ground floor (its doors or shop fronts); a face two
+    storeys up (a dome's third ring, a part raised off the ground) has none, but the storeys above
+    it, from its bottom up. GPU and numpy alike, labels exactly (filtered path)."""
+    _, compiled = library
+    label = LABELS.index(GROUND_FLOORS[style])
+    shown = {}
+    for level in (0, 2):
+        cpu, _ = compare(ctx, compiled, style, output_dir, facade=(20.0, 16.0), level=level, **EXACT)
+        shown[level] = int(np.count_nonzero(cpu.label == label))
+        if level:
+            assert {LABELS[i] for i in np.unique(cpu.label[-6:])} & {"window", "room", "balcony"}, (
+                "storeys from the bottom"
+            )
+    print(f"{style}: {shown[0]} {GROUND_FLOORS[style]} pixels at level 0, {shown[2]} at level 2")
+    assert shown[0] > 100 and shown[2] == 0
 
 
 def test_dusk_shows_rooms_through_holes(library):

@@ -14,6 +14,7 @@ from cityshade.maps._masses import building_mass
 from cityshade.maps._model import to_scene
 from cityshade.scene import building_vertices, rotation_y
 from cityshade.scene._meshes import SURFACE_WALL
+from render_checks import style_face_labels
 
 PARTS = Path(__file__).parent / "data" / "maps" / "parts.osm"
 STEP = 0.01  # metres off a wall to tell which side of it a mass stands
@@ -75,7 +76,7 @@ def test_outlines_with_parts_are_replaced_cut_or_kept(data):
     assert half.remainder.area == pytest.approx(half.outline.area / 2, rel=0.01)
     assert shapely.intersection(half.remainder, part.outline).area < 1e-6
     assert data.report.skipped[next(k for k in data.report.skipped if k[0] == "building outline sliver")] == 1
-    assert sum(n for (what, _), n in data.report.repaired.items() if what == "building outline") == 3
+    assert sum(n for (what, _), n in data.report.repaired.items() if what == "building outline") == 4
 
 
 def test_no_outline_wall_stands_where_a_parts_wall_does(data):
@@ -110,6 +111,53 @@ def test_the_outline_stays_under_a_part_that_floats_up_to_its_base(data):
     assert low.roof.shape == "flat" and low.roof.parapet == 0.0  # the part stands on it
     # on the ground, the outline's masses cover the whole outline
     assert sum(shapely.Polygon(m.footprint).area for m in masses) == pytest.approx(outline.outline.area, rel=1e-6)
+
+
+def test_a_raised_part_starts_at_its_level_and_draws_no_ground_floor(data):
+    """A part from min_height 6 m with no building:min_level starts at its min height over its storey
+    height (2); the outline beneath it at the ground (0); a building:min_level (tagged, or guessed
+    from min_height by the guessing model) wins.
+    The raised part's faces, evaluated with brick at their facade.level, have no door; the
+    outline's, on the ground, have theirs."""
+    import dataclasses
+
+    from cityshade.assets import LABELS
+    from cityshade.scene import batch, vertex_face_levels
+
+    outline, part = by_id(data, "way/600"), by_id(data, "way/601")
+    masses = building_masses(data)
+    (raised,) = [m for m in masses if m.seed == part.index]
+    low = [m for m in masses if m.seed == outline.index]
+    assert part.min_level is None and raised.base == pytest.approx(6.0) and raised.first_level == 2
+    assert [m.first_level for m in low] == [0, 0]
+    polygon = shapely.transform(part.outline, to_scene)
+    assert building_mass(dataclasses.replace(part, min_level=3.0), polygon).first_level == 3
+    doors = {}
+    for name, mass in (("raised", raised), ("ground", max(low, key=lambda m: m.height))):
+        vertices, records = batch([mass])
+        walls = vertices[vertices["ids"][:, 1] == SURFACE_WALL]
+        walls = walls[walls["face"][:, 0] >= 5.0]  # faces wide enough for brick's door bay
+        faces, first = np.unique(walls["ids"][:, 2], return_index=True)
+        levels = vertex_face_levels(walls[first], records)
+        doors[name] = 0
+        for face, row, level in zip(faces, walls[first], levels):
+            size = (float(row["face"][0]), float(row["face"][2] - row["face"][1]))
+            labels = style_face_labels("brick", size, mass.seed, int(face), int(level))
+            doors[name] += int(np.count_nonzero(labels == LABELS.index("door")))
+        print(f"{name}: faces at levels {sorted(set(levels.tolist()))}, {doors[name]} door points")
+    assert doors["raised"] == 0 and doors["ground"] > 0
+
+
+def test_an_outline_covered_whole_by_a_floating_part_stands_under_it(data):
+    outline, part = by_id(data, "way/700"), by_id(data, "way/701")
+    assert not outline.replaced_by_parts and outline.remainder.is_empty
+    ((under, above),) = outline.beneath_parts
+    assert above is part
+    (mass,) = [m for m in building_masses(data) if m.seed == outline.index]
+    assert mass.base == pytest.approx(0.0) and mass.height == pytest.approx(4.0)
+    assert shapely.Polygon(mass.footprint).area == pytest.approx(outline.outline.area, rel=1e-6)
+    (raised,) = [m for m in building_masses(data) if m.seed == part.index]
+    assert raised.base == pytest.approx(4.0)
 
 
 def test_helsinki_wall_under_a_part_shows_one_building_per_pixel(helsinki_pbf, gl_context, output_dir):

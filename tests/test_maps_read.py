@@ -60,10 +60,11 @@ def test_every_simple_3d_buildings_tag_is_read_and_marked_tagged(tagged):
     assert not tagged.report.fallbacks and not tagged.report.skipped
 
 
-def test_parts_keep_their_attributes_and_replace_the_outline_they_cover(tagged):
+def test_parts_keep_their_attributes_and_their_outline_stays_only_under_the_floating_one(tagged):
     (office,) = _by_id(tagged, "way/100")
     (low,), (high,) = _by_id(tagged, "way/102"), _by_id(tagged, "way/101")
-    assert office.replaced_by_parts and not office.drawn
+    assert not office.replaced_by_parts and office.remainder.is_empty
+    assert [part for _, part in office.beneath_parts] == [high]
     assert low.is_part and high.is_part and low.parent == high.parent == office.index
     assert (high.height, high.min_height, high.min_level) == (30.0, 3.0, 1.0)
     assert (low.levels, low.roof_shape, low.height) == (4.0, "pyramidal", None)
@@ -352,7 +353,7 @@ def test_info_prints_counts_and_reasons(capsys):
 
     assert main(["info", str(DATA / "tagged.osm")]) == 0
     out = capsys.readouterr().out
-    assert "buildings: 3  parts: 2  outlines replaced by parts: 1  cut by parts: 0  roofs without walls: 1" in out
+    assert "buildings: 3  parts: 2  outlines replaced by parts: 0  cut by parts: 1  roofs without walls: 1" in out
     assert "roof shapes tagged: gabled 1, pyramidal 1" in out
     assert "trees: 9  street lamps: 1" in out and "primary 0.11" in out
 

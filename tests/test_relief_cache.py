@@ -2,16 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
 from cityshade import assets
 from cityshade.assets import tile_array
-from cityshade.grammar import BUILDING_STYLES, evaluate, library_texture, seed_vector
+from cityshade.grammar import BUILDING_STYLES, evaluate, hole_cut, library_texture, seed_vector
 from cityshade.relief import (
     CACHE_ENV,
     GLASS,
@@ -27,6 +23,9 @@ from cityshade.relief import (
     stack_bmf,
     style_openings,
 )
+from cityshade.relief._city import cached_openings
+from cityshade.relief._grammar_source import OPENING_DEPTH
+from cityshade.relief._layout import WALL
 
 
 @pytest.fixture()
@@ -178,20 +177,26 @@ def test_window_bay_opening_is_the_bay_textures_glass():
     assert np.all(depth[ring] == 0) and np.all(depth[1:-1, 1:-1] > 0)
 
 
-def test_relief_style_warning_once_per_process():
-    """A style without relief is warned about once per process, however many cities load (every
-    warning shown: -W always): one warning per style the atlas has no openings for."""
-    flat = [style for style, method in relief_atlas().styles.items() if not method]
-    code = (
-        "from cityshade.render import styles_with_relief\n"
-        "from cityshade.scene import make_city\n"
-        "for name in ('default', 'interior', 'default'):\n"
-        "    styles_with_relief(make_city(name).masses)\n"
+def test_every_style_has_openings_and_dusks_are_holes():
+    """Every grammar style of the city has window openings in the atlas (styles_with_relief_fraction
+    1.0); dusk's are its holes (SkipMasks): each profile is the hole's mask over its scope, open at
+    the pane's depth inside the wall, with no frame texels (frames stay on the wall plane)."""
+    atlas = relief_atlas()
+    compiled = library_texture()
+    openings = cached_openings(compiled, "dusk", 6)
+    print(
+        f"compression per style {atlas.styles}; dusk's holes {openings.holes}, their atlas rows {[atlas.terminals[h] for h in openings.holes]}"
     )
-    done = subprocess.run(
-        [sys.executable, "-W", "always", "-c", code], capture_output=True, text=True, timeout=300, env=os.environ
-    )
-    assert done.returncode == 0, done.stderr
-    said = done.stderr.count("ReliefStyleWarning")
-    print(f"ReliefStyleWarning said {said} times over three city loads, styles without relief {flat}")
-    assert said == len(flat)
+    assert all(atlas.styles.values()) and set(atlas.styles) == set(BUILDING_STYLES.values())
+    assert openings.holes and set(openings.holes) == set(openings.terminals)
+    rows, cols = openings.region_shape
+    for k, hole in enumerate(openings.holes):
+        material = openings.maps.material[k * rows : (k + 1) * rows]
+        depth = openings.maps.depth[k * rows : (k + 1) * rows]
+        inside = np.array(
+            [[(c + 0.5) / (cols - 2), (r + 0.5) / (rows - 2)] for r in range(rows - 2) for c in range(cols - 2)]
+        )
+        cut = hole_cut(compiled, tile_array(128), hole, inside).reshape(rows - 2, cols - 2)[:, ::-1]
+        assert np.array_equal(material[1:-1, 1:-1] == GLASS, cut) and cut.sum() > 0.5 * cut.size
+        assert np.all(depth[material == GLASS] == OPENING_DEPTH["glass"]) and np.all(depth[material != GLASS] == 0)
+        assert np.all(material[material != GLASS] == WALL) and atlas.terminals[hole] >= 0

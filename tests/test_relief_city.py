@@ -9,7 +9,7 @@ from PIL import Image
 
 from cityshade import assets
 from cityshade.assets import LABELS
-from cityshade.grammar import BUILDING_STYLES, library_min_widths, library_texture
+from cityshade.grammar import BUILDING_STYLES, library_texture
 from cityshade.bench.relief import CityChunks, city_frames, flyover_camera
 from cityshade.gl import programs as gl_programs
 from cityshade.relief import (
@@ -33,7 +33,7 @@ from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FA
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import Camera, City, batch, box, default_city
-from render_checks import hit_edges, id_edges, interior_params, render_finite
+from render_checks import hit_edges, id_edges, interior_params, render_finite, style_min_width
 
 SIZE = (96, 96)
 BUILDING_NUMBER = {name: number for number, name in BUILDING_STYLES.items()}
@@ -195,6 +195,21 @@ GRAMMAR_STREET = City(
 )
 
 
+def grammar_twin(city: City, camera: Camera, params, relief, labels: bool, switch_m: float | None) -> np.ndarray:
+    """The interior twin of a city of grammar buildings (reference_ids with their grammars): the id AOV
+    with room state, or with `labels` the grammar labels; `relief` the atlas (None: flat windows)."""
+    masses = city.masses
+    _, records = batch(masses)
+    assign_facades(records, masses)
+    starts = {i: int(r["facade"][1]) for i, r in enumerate(records)}
+    widths = {i: style_min_width(choose_facade(m).grammar_style) for i, m in enumerate(masses)}
+    alpha = assets.facade_texture()[0][..., 3] / 255.0
+    x0, z0, x1, z1 = city.bounds
+    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
+    grammar = GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief, switch_m)
+    return reference_ids(masses, camera, CITY_SIZE, params, alpha, ground, grammar=grammar, labels=labels)
+
+
 @pytest.mark.parametrize("view, switch_m", [("along", 60.0), ("oblique", 60.0), ("oblique", 14.0), ("oblique", None)])
 def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, output_dir):
     """Grammar facades with recessed windows (each style's openings, cityshade.relief.relief_atlas):
@@ -213,18 +228,9 @@ def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, o
     params = interior_params(renderer)
     renderer.release()
     Image.fromarray(colour).save(output_dir / f"relief_grammar_{view}_{switch_m}.png")
-    masses = GRAMMAR_STREET.masses
-    _, records = batch(masses)
-    assign_facades(records, masses)
-    starts = {i: int(r["facade"][1]) for i, r in enumerate(records)}
-    widths = {i: library_min_widths()[choose_facade(m).grammar_style] for i, m in enumerate(masses)}
-    alpha = assets.facade_texture()[0][..., 3] / 255.0
-    x0, z0, x1, z1 = GRAMMAR_STREET.bounds
-    ground = (x0 - GROUND_MARGIN, z0 - GROUND_MARGIN, x1 + GROUND_MARGIN, z1 + GROUND_MARGIN)
 
     def twin(relief, labels=False, switch=switch_m):
-        grammar = GrammarFacades(library_texture(), assets.tile_array(), starts, widths, relief, switch)
-        return reference_ids(masses, camera, CITY_SIZE, params, alpha, ground, grammar=grammar, labels=labels)
+        return grammar_twin(GRAMMAR_STREET, camera, params, relief, labels, switch)
 
     ref, flat, ref_labels = twin(relief_atlas()), twin(None), twin(relief_atlas(), True)[..., 3]
     if switch_m == 14.0:  # the switch falls inside the view: some windows traced, some flat
@@ -247,6 +253,71 @@ def test_grammar_windows_recessed_as_the_twin_says(gl_context, view, switch_m, o
     assert differ.sum() <= 0.001 * differ.size
     assert not state_differ.any()
     assert label_differ.sum() <= 0.001 * label_differ.size
+
+
+DUSK_STREET = City(
+    "dusk relief street",
+    0,
+    [box((0.0, 0.0), 16.0, 12.0, 13.0, style=BUILDING_NUMBER["dusk"], seed=51)],
+    [],
+    (-30.0, -30.0, 30.0, 30.0),
+    {
+        "oblique": Camera((-3.0, 4.5, -6.5), (9.0, 5.5, 1.0), fov_y=60.0),
+        "along": Camera((-3.0, 2.5, -2.0), (16.0, 5.0, -0.5), fov_y=55.0),
+    },
+)
+
+
+@pytest.mark.parametrize("view, switch_m", [("oblique", None), ("along", 60.0), ("along", 8.0)])
+def test_dusk_holes_recessed_as_the_twin_says(gl_context, view, switch_m, output_dir):
+    """dusk's windows are holes (SkipMask) through which its own Intrusion rooms show: recessed, each
+    hole's opening is stretched over the SkipMask's scope and traced, and through its bottom the
+    grammar seen through the hole shows the room from the recessed point. The id AOV (face, room,
+    building) and the grammar labels against the interior twin doing the same with the numpy
+    evaluator and the reference tracer; through the holes, the grammar's rooms (labels room, or wall
+    where a dark room's dim layer wins); and relief on vs off changes only what the twin's recess
+    changes, never a frame or the wall: the windows stay in place."""
+    settings = RenderSettings(lights=0.6, animation_time=1.3, relief_range=switch_m)
+    renderer = Renderer(CITY_SIZE, settings, ctx=gl_context)
+    renderer.set_city(DUSK_STREET)
+    camera = DUSK_STREET.viewpoints[view]
+    gpu = renderer.render_ids(camera)  # face, room, building + 1, grammar label
+    Image.fromarray(render_finite(renderer, camera)).save(output_dir / f"relief_dusk_{view}_{switch_m}.png")
+    params = interior_params(renderer)
+    renderer.release()
+    off = Renderer(CITY_SIZE, RenderSettings(lights=0.6, animation_time=1.3, relief=False), ctx=gl_context)
+    off.set_city(DUSK_STREET)
+    gpu_off = off.render_ids(camera)
+    Image.fromarray(render_finite(off, camera)).save(output_dir / f"relief_dusk_{view}_off.png")
+    off.release()
+    ref = grammar_twin(DUSK_STREET, camera, params, relief_atlas(), True, switch_m)
+    flat = grammar_twin(DUSK_STREET, camera, params, None, True, switch_m)
+    building = ref[..., 2] == 1
+    differ = np.any(gpu != ref, axis=-1)  # face, room, building and label
+    room, wall, window = (LABELS.index(name) for name in ("room", "wall", "window"))
+    holes = building & np.isin(flat[..., 3], [room, wall])  # what the flat holes show, and the wall
+    recess = np.any(ref != flat, axis=-1)
+    moved = np.any(gpu != gpu_off, axis=-1)
+    print(
+        f"{view}, switch at {switch_m} m: {differ.sum()} of {building.sum()} building pixels differ from the twin "
+        f"(face, room, building or label); {(flat[..., 3] == room).sum()} flat room pixels, {(ref[..., 3] == room).sum()} "
+        f"recessed; the recess "
+        f"changes {recess.sum()} (twin), {moved.sum()} (GPU), {(ref[..., 3] == window).sum() - (flat[..., 3] == window).sum()}"
+        f" more frame or reveal pixels; relief off against the flat twin: {np.any(gpu_off != flat, axis=-1).sum()} differ"
+    )
+    assert (building & (flat[..., 3] == room)).sum() > 150, "the view must look into dusk's rooms"
+    assert not (differ & ~id_edges(ref)).any(), "pixels differ away from any edge of the twin's picture"
+    assert differ.sum() <= 0.001 * differ.size
+    assert not (np.any(gpu_off != flat, axis=-1) & ~id_edges(flat)).any()
+    assert (ref[..., 3] == room).sum() > 0.25 * (flat[..., 3] == room).sum(), "the holes still show rooms"
+    if switch_m == 8.0:  # the switch inside the view: near holes traced, far ones flat
+        farther = grammar_twin(DUSK_STREET, camera, params, relief_atlas(), True, 60.0)
+        assert recess.any() and np.any(ref != farther)
+    else:
+        assert recess.sum() > 0.05 * (building & (flat[..., 3] == room)).sum(), "the recess must show"
+    # windows stay in place: relief changes only what the twin's recess changes, inside the holes
+    assert not (moved & ~recess & ~id_edges(flat)).any()
+    assert not (moved & ~holes & ~id_edges(flat)).any(), "a frame or a pixel off the building moved"
 
 
 WINDOW_BAY_STREET = City(

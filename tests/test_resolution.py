@@ -114,3 +114,75 @@ def test_a_shadow_resolution_out_of_range_is_one_clear_error():
 
     with pytest.raises(UsageError, match="shadow_resolution 8: give texels per side, 16 to 8192"):
         RenderSettings(shadow_resolution=8)
+
+
+def _stepped_cost(fixed: float, full: float, gain: float):
+    """Seconds per frame at (scale, quality level): the fixed part shrinks by `gain` per step."""
+    return lambda scale, level: fixed / gain**level + full * scale * scale
+
+
+def _run_stepped(scaler: ResolutionScale, cost, frames: int) -> list[tuple[float, int]]:
+    states = []
+    for _ in range(frames):
+        scaler.update(cost(scaler.scale, scaler.level))
+        states.append((scaler.scale, scaler.level))
+    return states
+
+
+def test_quality_steps_are_taken_below_the_smallest_scale_until_the_target_is_met():
+    """0.1 s of fixed cost misses 15 fps at any scale; each step takes a fifth off it: the scale
+    goes to its minimum first, then steps are taken one by one until the rate reaches the target."""
+    scaler = ResolutionScale(15.0, steps=5)
+    cost = _stepped_cost(0.1, 0.2, 1.25)
+    states = _run_stepped(scaler, cost, 90)
+    levels = [level for _, level in states]
+    first = levels.index(1)
+    assert states[first - 1][0] == scaler.minimum, "steps come after the resolution's minimum"
+    assert levels == sorted(levels), "taken one by one, never released while too slow"
+    assert len(set(states[-30:])) == 1, "settled"
+    level = states[-1][1]
+    assert 1 / cost(scaler.minimum, level) >= 15.0 > 1 / cost(scaler.minimum, level - 1), (level, states[-1])
+
+
+def test_quality_steps_are_released_before_the_scale_rises_when_frames_get_fast():
+    scaler = ResolutionScale(15.0, steps=5)
+    _run_stepped(scaler, _stepped_cost(0.1, 0.2, 1.25), 90)
+    assert scaler.level > 0
+    cheap = _stepped_cost(0.005, 0.02, 1.25)  # the view turned to an empty sky
+    states = _run_stepped(scaler, cheap, 90)
+    released = [level for _, level in states].index(0)
+    assert all(scale == scaler.minimum for scale, _ in states[: released + 1]), "steps go first"
+    assert states[-1] == (1.0, 0)
+
+
+def test_a_step_that_overshoots_the_band_is_kept_rather_than_taken_and_released_in_turn():
+    """12 fps without the step, 24 with it (past the band of 19.5): releasing it would fall below
+    the target again, so it stays."""
+    scaler = ResolutionScale(15.0, scale=0.25, steps=1)
+    states = _run_stepped(scaler, lambda scale, level: 1 / (24.0 if level else 12.0), 60)
+    assert states[scaler.settle - 1] == (0.25, 1) and set(states[scaler.settle - 1 :]) == {(0.25, 1)}
+
+
+def test_without_steps_the_scale_stops_at_its_minimum():
+    scaler = ResolutionScale(15.0)
+    states = _run_stepped(scaler, _stepped_cost(0.1, 0.2, 1.25), 60)
+    assert states[-1] == (scaler.minimum, 0)
+
+
+def test_each_quality_step_changes_what_is_drawn_and_adds_to_the_ones_before():
+    from cityshade.render import QUALITY_STEPS, RenderSettings, TreeSettings, with_quality_steps
+
+    full = (RenderSettings(), TreeSettings())
+    assert with_quality_steps(*full, 0) == full
+    taken = [with_quality_steps(*full, level) for level in range(len(QUALITY_STEPS) + 1)]
+    assert all(a != b for a, b in zip(taken, taken[1:])), "every step changes a setting"
+    settings, trees = taken[-1]
+    assert settings.shadow_refresh == 2 and not settings.relief and not settings.shadows
+    assert not trees.relief and not trees.fins and trees.vanish_rows == (12.0, 6.0)
+
+
+def test_a_shadow_refresh_below_one_is_one_clear_error():
+    from cityshade.render import RenderSettings
+
+    with pytest.raises(UsageError, match=r"shadow_refresh 0: give 1 \(the chapter's rates\) or more"):
+        RenderSettings(shadow_refresh=0)

@@ -112,3 +112,16 @@ def test_new_shadow_maps_are_drawn_whole_at_once(gl_context):
     assert shadows.resolution == 256 and shadows.maps[0].size == (256, 256)
     drawn = {index: casters for index, casters, _ in shadows.stats.redrawn}
     assert drawn == {i: tuple(sorted(rate.casters)) for i, rate in enumerate(PAPER_RATES)}
+
+
+@pytest.mark.parametrize("factor", [2, 4])
+def test_slowed_rates_redraw_each_cascade_factor_times_less_often_one_at_a_time(factor):
+    from cityshade.trees import slowed_rates
+
+    rates = slowed_rates(PAPER_RATES, factor)
+    frames = range(1, 16 * factor + 1)
+    counts = np.bincount([i for f in frames for i, _ in cascades_due(f, rates)], minlength=3)
+    assert counts.tolist() == [16 // rate.every for rate in PAPER_RATES]
+    assert all(len(cascades_due(f, rates)) <= 1 for f in frames), "never two cascades on one frame"
+    assert [r.casters for r in rates] == [r.casters for r in PAPER_RATES]
+    assert slowed_rates(PAPER_RATES, 1) == PAPER_RATES

@@ -12,6 +12,7 @@ from PIL import Image
 from cityshade.interior import FACE_NAMES
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._trees import TreePass
+from cityshade.render._tree_cells import TreeCells
 from cityshade.scene import Camera, make_city
 from trees_scene import one_tree, render, render_ids
 
@@ -74,10 +75,12 @@ def test_trees_change_no_building_pixel_they_do_not_cover(gl_context, monkeypatc
         r = Renderer((160, 120), RenderSettings(trees=trees), ctx=gl_context)
         r.set_city(city)
         got[trees] = r.render_ids(camera)
-        if trees:  # the id pass draws only the trees in view: drawing them all changes no pixel
+        if trees:  # the id pass draws only the trees in view (or in cells near it): drawing them all changes no pixel
             culled = int(np.count_nonzero(~r.trees._visible(camera.view_projection(160 / 120))))
             count = len(r.trees.trees)
-            monkeypatch.setattr(TreePass, "_visible", lambda self, vp: np.ones(len(self.trees), bool))
+            # neither the ground cells nor the per-tree frustum test leave any tree out
+            monkeypatch.setattr(TreeCells, "candidates", lambda self, *args: np.arange(len(self.cell_of)))
+            monkeypatch.setattr(TreePass, "_visible", lambda self, vp, trees: np.ones(len(trees), bool))
             everything = r.render_ids(camera)
             assert culled > 0 and np.array_equal(everything, got[True]), culled
         r.release()

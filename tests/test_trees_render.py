@@ -281,3 +281,58 @@ def test_lod_cross_fade_has_no_pop_along_a_path(ctx, programs, output_dir):
     print("largest step between frames, share of the whole LOD change:", {k: round(v, 3) for k, v in jumps.items()})
     assert jumps["cross-fade"] < 0.4
     assert jumps["hard switch"] > 0.9
+
+
+def _prepared_everywhere(tree: TreePass, eye, view_projection, focal_rows) -> dict:
+    """The instance rows `prepare` must write, by (species, lod), from every tree of the pass (the
+    numpy twin of the cells' shortcut): distance, LOD and vanish alphas, box against the frustum,
+    nearest first."""
+    trees = tree.trees
+    positions = np.asarray(trees["position"], np.float32)
+    heights = (np.array([tree.models[int(k)].height for k in trees["species"]]) * trees["scale"]).astype(np.float32)
+    distance = np.linalg.norm(positions - np.asarray(eye, float), axis=1)
+    alphas = lod_alphas(distance, *tree.settings.lod_band)
+    if focal_rows is not None:
+        fade = vanish_alphas(heights * focal_rows / np.maximum(distance, 1e-6), *tree.settings.vanish_rows)
+        alphas = tuple(alpha * fade for alpha in alphas)
+    reach = (heights + np.float32(tree.sway()))[:, None].astype(float)
+    shown = ((alphas[0] > 0) | (alphas[1] > 0)) & boxes_visible(
+        frustum_planes(view_projection), positions - reach, positions + reach
+    )
+    order = np.flatnonzero(shown)
+    order = order[np.argsort(distance[order], kind="stable")]
+    rows = {}
+    for species in tree.models:
+        for lod in (0, 1):
+            keep = order[(trees["species"][order] == species) & (alphas[lod][order] > 0)]
+            rows[species, lod] = np.column_stack(
+                [positions[keep], trees["yaw"][keep], trees["scale"][keep], alphas[lod][keep], trees["phase"][keep]]
+            )
+    return rows
+
+
+@pytest.mark.parametrize("height, focal_rows", [(1.7, 160.0), (1.7, None), (60.0, 400.0)])
+def test_trees_prepared_from_their_cells_are_those_of_every_tree(ctx, programs, height, focal_rows):
+    """Trees spread over 3 km (three species): the instances `prepare` writes from the cells near
+    the view are exactly those every tree tested one by one gives, in the same order, for views
+    in every direction (so the pictures are the same: the cells only skip work)."""
+    rng = np.random.default_rng(5)
+    positions = rng.uniform(-1500, 1500, (6000, 3)) * [1, 0, 1]
+    trees = tree_instances(positions, rng.choice(["oak", "fir", "poplar"], len(positions)), rng)
+    tree = TreePass(ctx, programs, trees)
+    try:
+        for heading in np.radians([0, 75, 160, 250]):
+            eye = (30.0, height, -40.0)
+            camera = Camera(eye, (30 + np.sin(heading), height - 0.1, -40 - np.cos(heading)), near=0.5, far=3000)
+            view_projection = camera.view_projection(4 / 3)
+            tree.prepare(eye, view_projection, focal_rows)
+            expected = _prepared_everywhere(tree, eye, view_projection, focal_rows)
+            drawn = 0
+            for key, rows in expected.items():
+                buffer, count = tree.instances[key]
+                written = np.frombuffer(buffer.read(), np.float32).reshape(-1, 8)[:count, :7]
+                assert np.array_equal(written, rows.astype(np.float32)), (heading, key, count, len(rows))
+                drawn += count
+            assert 0 < drawn < len(trees) // 2, drawn
+    finally:
+        tree.release()

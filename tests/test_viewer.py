@@ -102,7 +102,7 @@ def test_toggle_keys_flip_their_setting_and_back(viewer, key, setting):
 
 
 def test_bracket_keys_step_the_lit_share_within_0_and_1(viewer):
-    viewer.renderer.set_settings(viewer.renderer.settings.with_(lights=0.1))
+    viewer.chosen = viewer.chosen.with_(lights=0.1)
     viewer.press("LEFT_BRACKET")
     assert viewer.renderer.settings.lights == 0.0
     viewer.press("LEFT_BRACKET")
@@ -114,7 +114,7 @@ def test_bracket_keys_step_the_lit_share_within_0_and_1(viewer):
 
 
 def test_time_keys_move_the_sun_and_change_the_picture(viewer):
-    viewer.renderer.set_settings(viewer.renderer.settings.with_(time_of_day=12.0, lights=0.5))
+    viewer.chosen = viewer.chosen.with_(time_of_day=12.0, lights=0.5)
     noon = _frame(viewer)
     for _ in range(24):  # six hours later: 18:00
         viewer.press("T")
@@ -123,7 +123,7 @@ def test_time_keys_move_the_sun_and_change_the_picture(viewer):
     assert np.abs(noon.astype(int) - evening.astype(int)).mean() > 5, "the light changes with the hour"
     viewer.press("G")
     assert viewer.renderer.settings.time_of_day == pytest.approx(17.75)
-    viewer.renderer.set_settings(viewer.renderer.settings.with_(time_of_day=0.0))
+    viewer.chosen = viewer.chosen.with_(time_of_day=0.0)
     viewer.press("G")
     assert viewer.renderer.settings.time_of_day == pytest.approx(23.75), "the clock wraps around midnight"
 
@@ -187,3 +187,35 @@ def test_a_slow_frame_rate_lowers_the_scale(viewer):
 def test_bad_target_rates_are_refused_before_a_window_opens(rate):
     with pytest.raises(UsageError, match="target frame rate"):
         open_viewer(window="headless", size=(160, 96), target_fps=rate)
+
+
+def test_quality_steps_engage_when_too_slow_show_in_the_title_and_release_to_the_same_picture(viewer):
+    """Held at full resolution (minimum scale 1), a target no frame meets takes every quality step,
+    one per frame; the title names them and the frame changes. A target every frame meets
+    releases them all, and the window shows the very picture it showed before they were taken."""
+    from cityshade.render import QUALITY_STEPS, ResolutionScale
+
+    def frames(count):
+        for _ in range(count):
+            image = _frame(viewer, 0.0)
+        return image
+
+    viewer.resolution = ResolutionScale(1e-6, minimum=1.0, settle=1, steps=len(QUALITY_STEPS))
+    before = frames(4)  # every shadow cascade redrawn
+    assert viewer.resolution.level == 0
+    viewer.resolution.target_fps = 1e6
+    lowest = frames(len(QUALITY_STEPS) + 4)
+    assert viewer.resolution.level == len(QUALITY_STEPS)
+    assert "quality -5: shadows every 2nd frame, far trees fade sooner" in viewer.wnd.title
+    s, trees = viewer.renderer.settings, viewer.renderer.trees.settings
+    assert s.shadow_refresh == 2 and not s.relief and not s.shadows and not trees.relief
+    assert viewer.chosen.relief and viewer.chosen.shadows, "the chosen settings are kept"
+    assert np.any(lowest != before)
+    viewer.resolution.target_fps = 1e-6
+    frames(len(QUALITY_STEPS))
+    assert viewer.resolution.level == 0
+    after = frames(4)  # every cascade redrawn at full quality
+    assert "quality" not in viewer.wnd.title
+    differing = int(np.any(after != before, axis=-1).sum())
+    assert differing == 0, f"{differing} pixels differ at full quality after the steps were released"
+    viewer.resolution = None

@@ -13,6 +13,7 @@ from .relief import FACADE_RELIEF, GLASS, MATERIALS, RELIEF_FACE_CODES
 from .scene import (
     FLAGS,
     GROUND_MATERIALS,
+    LEVEL_CODES,
     MAP_GROUND_MATERIALS,
     ROOF_PARTS,
     ROOF_PATTERNS,
@@ -28,6 +29,7 @@ CONSTANTS: dict[str, int | str] = {
     **SHAPE_CODES,  # SHAPE_PRISM, SHAPE_CYLINDER, SHAPE_DOME
     **FLAGS,  # FLAG_FURNITURE, FLAG_CURTAINS, FLAG_ROOM_VARIATION, FLAG_NO_INTERIOR
     **USE_CODES,  # USE_MIXED ... USE_PUBLIC, USE_COUNT, and where the use sits in the flags (USE_SHIFT, USE_MASK)
+    **LEVEL_CODES,  # where a mass's first level sits in the flags (LEVEL_SHIFT, LEVEL_MASK): scene/_face_levels.py
     **SURFACE_CODES,  # SURFACE_WALL, SURFACE_ROOF, SURFACE_PLAIN_WALL, SURFACE_DORMER
     "TINT_GAIN": f"{TINT_GAIN:.1f}",  # building_tint's gain (common/facade.glsl)
     **GROUND_MATERIALS,  # GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS

@@ -13,6 +13,7 @@ import numpy as np
 from .arguments import add_grammar_cache_option, add_map_option
 from .errors import CityshadeError
 from .render import (
+    QUALITY_STEPS,
     Renderer,
     RenderSettings,
     ResolutionScale,
@@ -20,8 +21,10 @@ from .render import (
     check_memory_budget,
     format_bytes,
     parse_time,
+    quality_status,
     streamed_tiles,
     upscale,
+    with_quality_steps,
 )
 from .scene import Camera, City, make_city
 
@@ -115,7 +118,10 @@ class CityViewer(mglw.WindowConfig):
         self.frame_times: list[float] = []
         self.lights = self.renderer.settings.lights
         self.last_image = None
-        self.resolution = ResolutionScale(self.target_fps) if self.target_fps else None
+        self.resolution = ResolutionScale(self.target_fps, steps=len(QUALITY_STEPS)) if self.target_fps else None
+        # what the keys choose; the frame-rate controller's quality steps are taken from these
+        self.chosen = self.start_settings
+        self.chosen_trees = self.renderer.trees.settings
 
     # --- per frame -----------------------------------------------------------------------
     def on_render(self, time: float, frametime: float):
@@ -123,7 +129,7 @@ class CityViewer(mglw.WindowConfig):
         right = ("D" in self.held) - ("A" in self.held)
         up = ("E" in self.held) - ("Q" in self.held)
         self.fly.move(forward, right, up, min(frametime, 0.1))
-        self.renderer.set_settings(replace(self.renderer.settings, animation_time=time))
+        self.chosen = replace(self.chosen, animation_time=time)
         self.frame_times = (self.frame_times + [self.draw_frame()])[-30:]
         if self.resolution is not None:
             self.resolution.update(self.frame_times[-1])
@@ -136,9 +142,7 @@ class CityViewer(mglw.WindowConfig):
         window = tuple(self.wnd.buffer_size)
         size = self.resolution.size(window) if self.resolution is not None else window
         self.renderer.resize(size)
-        if self.resolution is not None:
-            shadows = self.resolution.shadow_resolution(self.start_settings.shadow_resolution)
-            self.renderer.set_settings(replace(self.renderer.settings, shadow_resolution=shadows))
+        self._apply_settings()
         if size == window:
             self.renderer.draw(self.fly.camera(), framebuffer=self.wnd.fbo)
         else:
@@ -147,13 +151,26 @@ class CityViewer(mglw.WindowConfig):
             self.ctx.finish()
         return time.perf_counter() - start
 
+    def _apply_settings(self):
+        """The chosen settings, with the shadow maps' resolution following the scale and the
+        quality steps the frame rate asks for."""
+        settings, trees = self.chosen, self.chosen_trees
+        if self.resolution is not None:
+            shadows = self.resolution.shadow_resolution(self.chosen.shadow_resolution)
+            settings, trees = with_quality_steps(
+                replace(settings, shadow_resolution=shadows), trees, self.resolution.level
+            )
+        self.renderer.set_settings(settings)
+        self.renderer.trees.settings = trees
+
     def status(self) -> str:
-        s = self.renderer.settings
+        s = self.chosen
         ms = 1000 * float(np.median(self.frame_times)) if self.frame_times else float("nan")
         lights = "auto" if s.lights is None else f"{s.lights:.2f}"
         hours = s.time_of_day % 24
         scale = (
             f"  scale {self.resolution.scale:.2f} (target {self.resolution.target_fps:g} fps)"
+            + quality_status(self.resolution.level)
             if self.resolution
             else ""
         )
@@ -177,13 +194,14 @@ class CityViewer(mglw.WindowConfig):
             self.wnd.close()
         changed = self._setting_for_key(name)
         if changed is not None:
-            self.renderer.set_settings(changed)
+            self.chosen = changed
+            self._apply_settings()
 
     def release(self, name: str):
         self.held.discard(name)
 
     def _setting_for_key(self, name: str) -> RenderSettings | None:
-        s = self.renderer.settings
+        s = self.chosen
         if name in TOGGLES:
             return replace(s, **{TOGGLES[name]: not getattr(s, TOGGLES[name])})
         if name in ("LEFT_BRACKET", "RIGHT_BRACKET"):
@@ -228,7 +246,8 @@ def open_viewer(
 ) -> CityViewer:
     """Creates the viewer (window + renderer) without entering the main loop. `sky` (hours -> settings,
     e.g. `maps.sky_clock`) moves the sun and moon with the clock keys. `target_fps`: the frame rate
-    the internal resolution is scaled to keep (None or 0: always full resolution). `tiles` (a tile
+    the internal resolution is scaled to keep, quality steps taken below its smallest scale (None or 0:
+    always full resolution and quality). `tiles` (a tile
     cache) streams its city instead, at most `memory_budget` bytes of tiles resident, never waiting."""
     if tiles is not None:
         city = tiles.city
@@ -276,7 +295,9 @@ def register(subparsers):
         default=DEFAULT_TARGET_FPS,
         metavar="N",
         help="keep N frames per second by drawing at a lower resolution and stretching it to "
-        f"the window (default {DEFAULT_TARGET_FPS:g}; 0: always full resolution)",
+        "the window, and below the smallest one by quality steps shown in the title (shadows redrawn "
+        "less often, far trees fading sooner, flat facades, no shadows) "
+        f"(default {DEFAULT_TARGET_FPS:g}; 0: always full resolution and quality)",
     )
     add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     add_streaming_arguments(parser)

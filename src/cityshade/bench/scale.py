@@ -39,7 +39,7 @@ COUNTS = (1_000, 10_000, 100_000)
 BLOCKS = {1_000: 10, 10_000: 32, 100_000: 102}  # default_city(blocks=N): 948, 9,865 and 100,349 buildings
 SIZE = (1024, 768)
 FULL_FRAMES, QUICK_FRAMES = 60, 3  # per camera path (a 100,000-building frame takes a minute here)
-VIEWER_FRAMES = {False: 60, True: 6}
+VIEWER_FRAMES = {False: 60, True: 24}  # quick: enough for the smallest scale and every quality step (3 frames each)
 TARGET_FPS = 15.0
 CULLING_VIEWS = ("street", "aerial")  # the 1,000-building cities drawn with GPU culling and without
 SETTLE_FRAMES = max(rate.every for rate in PAPER_RATES)  # cascades are redrawn at their own rates: all within this
@@ -148,25 +148,27 @@ def _draws(renderer: Renderer, city: City, frames: int, suffix: str = "") -> dic
 
 def _viewer_fps(city: City, settings: RenderSettings, frames: int) -> dict:
     """Walks the street of `city` in the viewer's own draw path (a headless window) with the target
-    frame rate on: fps over the frames drawn at the scale it settled on (the first of them, which
-    allocates the targets, left out where there are more)."""
+    frame rate on: fps over the frames drawn at the scale and quality steps it settled on (the
+    first of them, which allocates the targets or compiles the programs, left out where there are more)."""
+    from ..render import quality_status
     from ..viewer import open_viewer
 
     viewer = open_viewer(city, "street", settings, window="headless", size=SIZE, target_fps=TARGET_FPS)
     try:
         viewer.press("W")
-        seconds, sizes = [], []
+        seconds, states = [], []
         for k in range(frames):
             viewer.wnd.use()
             viewer.on_render(0.1 * k, seconds[-1] if seconds else 0.1)
             seconds.append(viewer.frame_times[-1])
-            sizes.append(viewer.renderer.size)
-        settled = [s for s, size in zip(seconds, sizes) if size == sizes[-1]]
+            states.append((viewer.renderer.size, viewer.resolution.level))
+        settled = [s for s, state in zip(seconds, states) if state == states[-1]]
         counted = settled[1:] if len(settled) > 1 else settled
         return {
             "fps": 1.0 / statistics.median(counted),
             "scale": viewer.resolution.scale,
-            "internal_size": list(sizes[-1]),
+            "quality_steps": quality_status(viewer.resolution.level).strip(),
+            "internal_size": list(states[-1][0]),
             "frames": frames,
             "frames_counted": len(counted),
             "frame_ms": [round(s * 1e3, 1) for s in seconds],
@@ -425,12 +427,13 @@ def _result(runs: list[dict], frames: int, quick: bool, osm_counts) -> BenchResu
     viewer = biggest["viewer"]
     result.add_table(
         f"Viewer walking the street, target {TARGET_FPS:g} fps (headless, {SIZE[0]}x{SIZE[1]} window)",
-        ["buildings", "fps", "final scale", "internal size", "frames (counted)"],
+        ["buildings", "fps", "final scale", "quality steps", "internal size", "frames (counted)"],
         [
             [
                 biggest["buildings"],
                 round(viewer["fps"], 2),
                 viewer["scale"],
+                viewer["quality_steps"] or "none",
                 "x".join(map(str, viewer["internal_size"])),
                 f"{viewer['frames']} ({viewer['frames_counted']})",
             ]

@@ -8,7 +8,10 @@ from ._bake import (
     GpuBaker,
     bake_atlas,
     bake_reference,
+    canvases_of,
+    has_grammar,
     pack,
+    wall_sides,
 )
 from ._export import FORMATS, city_document, export_city
 from ._source import ExportCity, crop, layout_export_city, map_export_city, parse_region
@@ -22,6 +25,8 @@ __all__ = [
     "GpuBaker",
     "bake_atlas",
     "bake_reference",
+    "canvases_of",
+    "has_grammar",
     "city_document",
     "crop",
     "export_city",
@@ -29,4 +34,5 @@ __all__ = [
     "map_export_city",
     "pack",
     "parse_region",
+    "wall_sides",
 ]

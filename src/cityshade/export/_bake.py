@@ -1,11 +1,12 @@
 """Grammar facades baked into texture atlases (glTF PBR maps), on the GPU with a numpy twin.
 
-The renderer evaluates a building's grammar per pixel over a scope as wide as the building on the
-wall's side (shaders/grammar/building.glsl), so every wall of one side samples the same facade
-canvas: a box needs two canvases, not four. A canvas covers the side's facade coordinates plus one
-texel of border (so filtering never reads a neighbour), at `texel` metres per texel. Canvases are
-packed into atlas pages; each page gives a base colour, a metallic-roughness, a normal and an
-emissive (lit windows) image.
+The renderer evaluates a building's grammar per pixel in the true size of the wall face it is on
+(shaders/grammar/building.glsl: the face's width, base and top; a curved run of walls and each ring
+of a dome is one face), so each face gets a canvas of its own, evaluated with the same scope, seed
+and building values. A canvas covers the face's facade coordinates plus one texel of border (so
+filtering never reads a neighbour), at `texel` metres per texel. Canvases are packed into atlas
+pages; each page gives a base colour, a metallic-roughness, a normal and an emissive (lit windows)
+image.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from ..grammar import (
     seed_cells,
     seed_vector,
 )
+from ..scene import building_record, face_levels
 
 PAGE = 2048  # texels: the side of an ordinary atlas page
 ATLAS_LIMIT = 8192  # texels: the largest texture side every desktop and web GPU of the last decade loads
@@ -36,7 +38,7 @@ LIT_COLOUR = np.array([255, 196, 120], np.uint8)
 
 @dataclass
 class Canvas:
-    """One side of one building's facade in an atlas page (positions in texels, GL rows: 0 at the bottom)."""
+    """One wall face of one building's facade in an atlas page (positions in texels, GL rows: 0 at the bottom)."""
 
     building: int
     side: int  # the facade index of its walls: their face's first room column (0 for a round wall)
@@ -44,16 +46,19 @@ class Canvas:
     v0: float
     cols: int
     rows: int
-    width: float  # the grammar's scope: the building's width on this side, and its height
+    width: float  # the grammar's scope: the face's width, and its height from its base to its top
     height: float
     start: int  # the grammar's start rule
     seed: tuple[float, float]  # this facade's seed vector
     building_seed: tuple[float, float]  # the building's (choices made once per building)
     room: tuple[float, float]  # room width, storey height (which windows are lit)
     lights: float
+    level: int = 0  # facade.level: the storey the face starts at (the mass's first level; a dome's ring's)
     page: int = -1
     x: int = 0
     y: int = 0
+    base: float = 0.0  # the face's base: facade v where the grammar's scope starts
+    values: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)  # building.levels, .style, .use, .height
 
 
 @dataclass
@@ -68,56 +73,53 @@ class Atlas:
     emissive: list[np.ndarray]
 
 
-# Domes are not baked: each of their storeys is a ring of its own width (scene.dome_faces), which a
-# canvas per side does not hold; they are exported with window bays (docs/export.md).
-BAKED_SHAPES = tuple(shape for shape in GRAMMAR_SHAPES if shape != "dome")
-
-
 def has_grammar(mass) -> bool:
-    return mass.style in BUILDING_STYLES and mass.shape in BAKED_SHAPES
+    return mass.style in BUILDING_STYLES and mass.shape in GRAMMAR_SHAPES
 
 
 def wall_sides(walls: np.ndarray) -> np.ndarray:
-    """The canvas side of each wall vertex (scene.VERTEX_DTYPE records): its facade index, its face's
-    first room column, as the renderer picks the facade's random stream (a round mass is one face)."""
-    return walls["ids"][:, 2].astype(np.int64)
-
-
-def side_width(mass, normal: np.ndarray) -> float:
-    """The facade's width, as the renderer chooses its scope from a wall normal of that side."""
-    extent = mass.extent
-    if mass.shape == "cylinder":
-        return float(np.pi * extent[0])
-    return float(extent[0] if abs(normal[2]) > abs(normal[0]) else extent[2])
+    """The canvas of each wall vertex (scene.VERTEX_DTYPE records): its face, as the renderer scopes
+    the grammar (face width, base, top) and picks the facade's random stream (the face's first room
+    column); an index into canvases_of's list."""
+    keys = np.column_stack([walls["face"][:, :3].astype(np.float64), walls["ids"][:, 2]])
+    return np.unique(keys, axis=0, return_inverse=True)[1].ravel()
 
 
 def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canvas]:
-    """The canvases of one grammar building from its wall vertices (scene.VERTEX_DTYPE records)."""
+    """The canvases of one grammar building, one per wall face, from its grammar walls
+    (scene.VERTEX_DTYPE records; plain walls and dormer fronts left out), in wall_sides' order."""
     compiled = library_texture()
     start = compiled.address(BUILDING_STYLES[mass.style])
     sides = wall_sides(walls)
     room = mass.room_size
+    shape = building_record(mass)["ids"][3]  # its SHAPE_* code: a dome's rings stack their levels
     out = []
-    for side in np.unique(sides):
-        facade = walls["facade"][sides == side].astype(np.float64)
+    for side in range(int(sides.max()) + 1 if len(sides) else 0):
+        on_face = walls[sides == side]
+        facade = on_face["facade"].astype(np.float64)
+        width, base, top = (float(x) for x in on_face["face"][0, :3])
         lo, hi = facade[:, :2].min(axis=0) - texel, facade[:, :2].max(axis=0) + texel
         cols, rows = (int(np.ceil(v)) for v in (hi - lo) / texel)
-        normal = walls["normal"][sides == side][0].astype(np.float64)
+        levels = np.floor((top - base) / float(facade[0, 3]) + 0.5)  # as grammar_levels
+        column = int(on_face["ids"][0, 2])
         out.append(
             Canvas(
                 index,
-                int(side),
+                column,
                 float(lo[0]),
                 float(lo[1]),
                 max(cols, 1),
                 max(rows, 1),
-                side_width(mass, normal),
-                float(mass.extent[1]),
+                width,
+                top - base,
                 start,
-                facade_seed_vector(mass.seed, int(side)),
+                facade_seed_vector(mass.seed, column),
                 seed_vector(mass.seed),
                 (float(room[0]), float(room[1])),
                 float(mass.lights),
+                int(face_levels(mass.first_level, shape, base, facade[0, 3])),
+                base=base,
+                values=(float(levels), float(mass.style), float(mass.use), float(mass.extent[1])),
             )
         )
     return out
@@ -193,7 +195,7 @@ def lit_rooms(canvas: Canvas, texel: float) -> np.ndarray:
 def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]:
     """The numpy twin of shaders/export/bake.glsl with GRAMMAR_NEAREST: (rows, cols, ...) arrays, bottom row first."""
     grid = texel_grid(canvas, texel).reshape(-1, 2)
-    uv = np.stack([canvas.width - grid[:, 0], grid[:, 1]], axis=1)
+    uv = np.stack([canvas.width - grid[:, 0], grid[:, 1] - canvas.base], axis=1)
     result = evaluate(
         library_texture(),
         canvas.start,
@@ -201,7 +203,9 @@ def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]
         (canvas.width, canvas.height),
         canvas.seed,
         tiles,
+        building=canvas.values,
         building_seed=canvas.building_seed,
+        level=canvas.level,
     )
     shape = (canvas.rows, canvas.cols)
     return {
@@ -252,11 +256,13 @@ class GpuBaker:
                         continue
                     self.ctx.viewport = (c.x, c.y - y0, c.cols, c.rows)
                     self.program["canvas_origin"] = (float(c.x), float(c.y - y0))
-                    self.program["facade_origin"] = (c.u0, c.v0)
+                    self.program["facade_origin"] = (c.u0, c.v0 - c.base)
                     self.program["facade_size"] = (c.width, c.height)
+                    self.program["building_values"] = c.values
                     self.program["facade_seed"] = c.seed
                     self.program["building_seed"] = c.building_seed
                     self.program["start_rule"] = int(c.start)
+                    self.program["facade_level"] = float(c.level)
                     draw_fullscreen(self.program)
                 for name, texture in zip(("colour", "normal", "ids"), target.colors):
                     dtype = np.uint32 if name == "ids" else np.float32

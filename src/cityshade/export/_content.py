@@ -10,7 +10,18 @@ import numpy as np
 from ..assets import facade_texture
 from ..grammar import BUILDING_STYLES
 from ..interior import pcg_hash
-from ..scene import SURFACE_DORMER, SURFACE_ROOF, TINT_GAIN, Roof, building_record, building_vertices, rotation_y
+from ..render import assign_facades, bay_mean
+from ..scene import (
+    SURFACE_DORMER,
+    SURFACE_PLAIN_WALL,
+    SURFACE_ROOF,
+    SURFACE_WALL,
+    TINT_GAIN,
+    Roof,
+    building_records,
+    building_vertices,
+    rotation_y,
+)
 from ._bake import (
     Atlas,
     atlas_uv,
@@ -86,10 +97,18 @@ class BuildingWriter:
 
     def __init__(self, doc: Document, masses, metadata, texel: float, stats: Stats):
         self.doc, self.masses, self.metadata, self.texel, self.stats = doc, masses, metadata, texel, stats
-        self.vertices = [building_vertices(m, i) for i, m in enumerate(masses)]
-        self.canvases = {}
+        self.vertices, self.canvases = [], {}
+        if not masses:
+            return
+        vertices = [building_vertices(m, i) for i, m in enumerate(masses)]
+        # as the renderer: grammar buildings tinted to their style's wall colour, faces too narrow for
+        # their grammar marked plain walls (with the renderer's counted warning)
+        self.records = building_records(masses)
+        every = np.concatenate(vertices)
+        assign_facades(self.records, masses, every)
+        self.vertices = np.split(every, np.cumsum([len(v) for v in vertices])[:-1])
         for i, (mass, verts) in enumerate(zip(masses, self.vertices)):
-            walls = verts[~np.isin(verts["ids"][:, 1], [SURFACE_ROOF, SURFACE_DORMER])]  # dormers: window bays
+            walls = verts[verts["ids"][:, 1] == SURFACE_WALL]  # not roofs, plain walls nor dormer fronts
             if has_grammar(mass) and len(walls):
                 self.canvases[i] = canvases_of(i, mass, walls, texel)
         check_size([c for cs in self.canvases.values() for c in cs], texel)
@@ -103,8 +122,9 @@ class BuildingWriter:
         image, _ = facade_texture()
         bays = self.doc.material("window bays", base_texture=self.doc.texture(image[::-1, :, :3].copy(), repeat=True))
         roofs = self.doc.material("roofs", roughness=0.8, double_sided=True)
+        plain_walls = self.doc.material("plain walls", roughness=0.9)
         for i, (mass, verts) in enumerate(zip(self.masses, self.vertices)):
-            self._building(i, mass, verts, atlas, pages, bays, roofs)
+            self._building(i, mass, verts, atlas, pages, (bays, roofs, plain_walls))
 
     def _page_materials(self, atlas: Atlas) -> list[int]:
         doc = self.doc
@@ -120,29 +140,41 @@ class BuildingWriter:
             for p in range(len(atlas.sizes))
         ]
 
-    def _building(self, i, mass, verts, atlas, pages, bays, roofs):
+    def _building(self, i, mass, verts, atlas, pages, materials):
+        bays, roofs, plain_walls = materials
         rot = rotation_y(mass.yaw)
         roof = verts["ids"][:, 1] == SURFACE_ROOF
-        record = building_record(mass)
+        record = self.records[i]
         primitives = []
         walls = verts[~roof]
         if len(walls):
             self.stats.facade_area += _triangle_area(walls["position"].astype(np.float64))
             bay_walls = walls
             if i in self.canvases:
-                dormer = walls["ids"][:, 1] == SURFACE_DORMER  # a dormer's front: one window bay, not the grammar
-                walls, bay_walls = walls[~dormer], walls[dormer]
+                surface = walls["ids"][:, 1]
+                plain = walls[surface == SURFACE_PLAIN_WALL]  # too narrow for the grammar: its wall colour
+                walls, bay_walls = walls[surface == SURFACE_WALL], walls[surface == SURFACE_DORMER]
                 normals = walls["normal"] @ rot.T
                 sides = wall_sides(walls)
                 n = walls["normal"]
                 tangents = np.column_stack([-n[:, 2], np.zeros(len(n)), n[:, 0]]) @ rot.T  # along mesh u
                 tangents = np.column_stack([tangents, -np.ones(len(n))])  # bitangent = cross(n, t) * -1 = up
-                for canvas in self.canvases[i]:
-                    sel = sides == canvas.side
+                for side, canvas in enumerate(self.canvases[i]):
+                    sel = sides == side
                     uv = atlas_uv(canvas, walls["facade"][sel], atlas.sizes[canvas.page], self.texel)
                     primitives.append(
                         self.doc.primitive(
                             pages[canvas.page], walls["position"][sel], normals[sel], uv, tangents=tangents[sel]
+                        )
+                    )
+                if len(plain):
+                    colour = np.append(np.minimum(bay_mean()[:3] * bay_tint(record), 1.0), 1.0)
+                    primitives.append(
+                        self.doc.primitive(
+                            plain_walls,
+                            plain["position"],
+                            plain["normal"] @ rot.T,
+                            colours=np.tile(colour, (len(plain), 1)),
                         )
                     )
             if len(bay_walls):

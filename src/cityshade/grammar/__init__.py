@@ -44,7 +44,7 @@ from ._fit import min_width  # noqa: E402
 from ._frame_pass import DeferredGrammarPass  # noqa: E402
 from ._gpu import GrammarTextures, shader_defines  # noqa: E402
 from ._random import FACADE_INDICES, facade_seed_vector, seed_cells, seed_vector  # noqa: E402
-from ._reference import evaluate  # noqa: E402
+from ._reference import evaluate, hole_cut  # noqa: E402
 
 __all__ = [
     "BUILDING_STYLES",
@@ -55,6 +55,7 @@ __all__ = [
     "seed_cells",
     "seed_vector",
     "evaluate",
+    "hole_cut",
     "DeferredGrammarPass",
     "GrammarTextures",
     "shader_defines",

@@ -25,10 +25,10 @@ def library_texture() -> CompiledGrammars:
     return compile_grammars(load_library())
 
 
-@lru_cache(maxsize=1)
-def library_min_widths() -> dict[str, float]:
-    """Per library style, the narrowest face it fits (metres, _fit.py)."""
-    return {style: min_width(grammar) for style, grammar in load_library().items()}
+@lru_cache(maxsize=None)  # a city's faces start at a few levels
+def library_min_widths(level: int = 0) -> dict[str, float]:
+    """Per library style, the narrowest face at facade.level `level` it fits (metres, _fit.py)."""
+    return {style: min_width(grammar, level) for style, grammar in load_library().items()}
 
 
 def library_texture_with(files: tuple[str, ...]) -> CompiledGrammars:

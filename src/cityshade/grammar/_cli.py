@@ -24,20 +24,14 @@ def register(subparsers):
         "--facade", type=parse_metres, default=(20.0, 16.0), metavar="WxH", help="facade size in metres"
     )
     render.add_argument("--seed", type=check_seed, default=0, help="the facade's random seed, 0 to 2^31-1")
-    render.add_argument(
-        "--levels",
-        type=lambda v: check_count(v, "--levels"),
-        default=None,
-        metavar="N",
-        help="building.levels for conditions (default: the facade height / 3.2 m, rounded)",
-    )
-    render.add_argument(
-        "--style",
-        type=lambda v: check_count(v, "--style"),
-        default=0,
-        metavar="N",
-        help="building.style for conditions",
-    )
+    for option, default, meaning in (
+        ("--levels", None, "building.levels for conditions (default: the facade height / 3.2 m, rounded)"),
+        ("--level", 0, "facade.level for conditions: the storey the facade starts at (0: the ground)"),
+        ("--style", 0, "building.style for conditions"),
+    ):
+        render.add_argument(
+            option, type=lambda v, o=option: check_count(v, o), default=default, metavar="N", help=meaning
+        )
     from ..scene import USES
 
     render.add_argument(
@@ -168,6 +162,7 @@ def _render(args) -> int:
             tiles,
             building,
             seed_vector(args.seed),
+            args.level,
         )
         colour, labels = result.color, result.label
     else:
@@ -176,7 +171,9 @@ def _render(args) -> int:
 
         ctx = create_context()
         renderer = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles))
-        colour, ids = renderer.render(start, args.facade, args.size, seed_vector(args.seed), building, args.face)
+        colour, ids = renderer.render(
+            start, args.facade, args.size, seed_vector(args.seed), building, args.face, args.level
+        )
         colour, labels = colour[..., :3], ids[..., 1]
     save_png((np.clip(colour, 0, 1) * 255 + 0.5).astype(np.uint8), args.out)
     if args.labels is not None:

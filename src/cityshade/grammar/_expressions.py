@@ -1,5 +1,6 @@
 """Conditions of `Case`: arithmetic and comparisons on the split index and count, the scope's size,
-the facade's size and the building's attributes (storeys, style number, use, height), checked, folded and compiled to a short postfix program for the GPU.
+the facade's size and level (the storey its bottom sits at) and the building's attributes (storeys,
+style number, use, height), checked, folded and compiled to a short postfix program for the GPU.
 
     Floor->Case(split.first, Ground, split.index % 2 == 0 && scope.sx > 2, Even, Odd)
     Ground->Case(building.use == use.shop, Shops, Plain)
@@ -28,8 +29,10 @@ VARIABLES = {
     "building.style": 7,
     "building.use": 8,
     "building.height": 9,
+    "facade.level": 10,
 }
 BUILDING = VARIABLES["building.levels"]  # the building's four attributes follow, in this order
+FACADE_LEVEL = VARIABLES["facade.level"]
 PARAMETER = len(VARIABLES)  # rule parameter k is variable PARAMETER + k
 # Named numbers: building.use == use.office. The codes are the scene's (cityshade.scene.USES).
 CONSTANTS = {f"use.{name}": float(code) for name, code in USES.items()}

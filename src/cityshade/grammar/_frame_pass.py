@@ -1,6 +1,6 @@
 """The paper's deferred grammar evaluation (§4) as a pass of the city's frame.
 
-A cheap pass draws every building into a G-buffer (facade uv, scope size, seed, start rule,
+A cheap pass draws every building into a G-buffer (facade uv, scope size, seed, facade.level,
 normal); one full-screen pass then evaluates the grammar once per grammar-facade pixel and stores
 the lit colour, the glass flag and the label. The building pass reads them back at its own pixel
 (GRAMMAR_DEFERRED in shaders/grammar/building.glsl) and continues into the rooms behind the glass.
@@ -17,7 +17,7 @@ from ..gl import RenderTarget, bind_textures, draw_fullscreen
 from ._cache import GrammarPageCache, cache_defines
 from ._gpu import GrammarTextures, shader_defines
 
-G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, start rule, building + 1; normal
+G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, facade.level, building + 1; normal
 PAGES = (("u4", 4),)  # with the cache: the page key and the face's size (grammar/cache.glsl)
 RESULT = (("f2", 4), ("u4", 4))  # lit colour; glass, label
 

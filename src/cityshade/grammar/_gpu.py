@@ -9,7 +9,7 @@ from ..assets import TileArray
 from ..gl import RenderTarget, bind_textures, draw_fullscreen, programs, upload_texture
 from . import _limits as limits
 from ._compiler import CompiledGrammars
-from ._expressions import BUILDING, PARAMETER
+from ._expressions import BUILDING, FACADE_LEVEL, PARAMETER
 from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
@@ -19,7 +19,11 @@ MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
 def shader_defines(nearest: bool = False) -> dict[str, object]:
     """The #defines every program that includes grammar/eval.glsl needs."""
     return dict(
-        limits.DEFINES, GRAMMAR_NEAREST=nearest, GRAMMAR_FIRST_BUILDING=BUILDING, GRAMMAR_FIRST_PARAMETER=PARAMETER
+        limits.DEFINES,
+        GRAMMAR_NEAREST=nearest,
+        GRAMMAR_FIRST_BUILDING=BUILDING,
+        GRAMMAR_FACADE_LEVEL=FACADE_LEVEL,
+        GRAMMAR_FIRST_PARAMETER=PARAMETER,
     )
 
 
@@ -55,18 +59,23 @@ class GrammarTextures:
 
 
 class FacadeRenderer:
-    """Renders one facade head-on: colour (lit) and ids (terminal + 1, label, tile + 1, glass)."""
+    """Renders one facade head-on: colour (lit) and ids (terminal + 1, label, tile + 1, glass). With
+    `hole_shift` (metres) the ids are each pixel's hole + 1 and what that hole shows `hole_shift`
+    further along (terminal + 1, label, glass; facade.glsl GRAMMAR_HOLES)."""
 
-    def __init__(self, ctx: moderngl.Context, textures: GrammarTextures, nearest: bool = False):
+    def __init__(self, ctx: moderngl.Context, textures: GrammarTextures, nearest: bool = False, hole_shift=None):
         self.ctx = ctx
         self.textures = textures
-        self.program = programs(ctx).get("grammar/facade.glsl", shader_defines(nearest))
+        defines = dict(shader_defines(nearest), GRAMMAR_HOLES=hole_shift is not None)
+        self.program = programs(ctx).get("grammar/facade.glsl", defines)
+        self.hole_shift = hole_shift
 
     def render(
-        self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0
+        self, start: int, facade, size, seed, building=(0, 0, 0, 0), face: int = 0, level: int = 0
     ) -> tuple[np.ndarray, np.ndarray]:
         """(colour HxWx4 float, ids HxWx4 uint32), top row first; `seed` is the building's seed
-        vector and `face` which of its facades (its own stream: _random.facade_seed_vector)."""
+        vector, `face` which of its facades (its own stream: _random.facade_seed_vector) and `level`
+        the storey the facade starts at (facade.level)."""
         target = RenderTarget(self.ctx, tuple(size), colors=(("f2", 4), ("u4", 4)))
         try:
             target.use()
@@ -77,7 +86,10 @@ class FacadeRenderer:
             self.program["u_facade_seed"] = tuple(float(x) for x in seed)
             self.program["u_facade_building"] = tuple(float(x) for x in building)
             self.program["u_facade_index"] = int(face)
+            self.program["u_facade_level"] = float(level)
             self.program["u_start_rule"] = int(start)
+            if self.hole_shift is not None:
+                self.program["u_hole_shift"] = tuple(float(x) for x in self.hole_shift)
             light = np.array(FACADE_LIGHT)
             self.program["u_light_dir"] = tuple(light / np.linalg.norm(light))
             self.ctx.disable(moderngl.DEPTH_TEST)

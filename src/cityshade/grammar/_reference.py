@@ -52,12 +52,26 @@ class Evaluation:
     label: np.ndarray  # index into LABELS
     glass: np.ndarray  # bool: the terminal's texel is glass (a window to see a room through)
     scope: np.ndarray  # (..., 4) the terminal's scope: lower left in facade uv (translations undone), size
+    hole: np.ndarray  # address of the last SkipMask that cut a hole here (-1: none), eval.glsl GrammarResult.hole
+    hole_scope: np.ndarray  # (..., 4) that SkipMask's scope, as scope
 
 
 class _Pixels:
     """The evaluation state of n pixels (one row each)."""
 
-    def __init__(self, n: int, start: int, facade, seed, uv, directions, building=(0, 0, 0, 0), building_seed=None):
+    def __init__(
+        self,
+        n: int,
+        start: int,
+        facade,
+        seed,
+        uv,
+        directions,
+        building=(0, 0, 0, 0),
+        building_seed=None,
+        level=0,
+        through=-1,
+    ):
         s = np.broadcast_to(np.asarray(seed, F), (n, 2))
         self.s = s
         self.addr = np.broadcast_to(np.asarray(start, np.int32), (n,)).copy()
@@ -67,6 +81,7 @@ class _Pixels:
         self.uv = uv.astype(F)
         self.facade = np.broadcast_to(np.asarray(facade, F), (n, 2)).astype(F)
         self.building = np.broadcast_to(np.asarray(building, F), (n, 4)).astype(F)  # levels, style, use, height
+        self.level = np.broadcast_to(np.asarray(level, F), (n,)).astype(F)[:, None]  # facade.level
         self.split = np.broadcast_to(np.array([0, 1], F), (n, 2)).copy()  # split.index, split.total
         self.params = np.zeros((n, limits.MAX_PARAMS), F)  # the parameters of the rule being evaluated
         self.d = directions.astype(F)
@@ -98,6 +113,10 @@ class _Pixels:
         self.best_texel = np.zeros((n, 2), np.int32)
         self.best_scope = np.concatenate([np.zeros((n, 2), F), self.size], axis=1)
         self.active = np.ones(n, bool)
+        # seen through the hole of this SkipMask (eval.glsl grammar_through), -1 once it is passed
+        self.through = np.broadcast_to(np.asarray(through, np.int32), (n,)).copy()
+        self.hole = np.full(n, -1, np.int32)
+        self.hole_scope = np.zeros((n, 4), F)
 
 
 class _Evaluator:
@@ -249,7 +268,9 @@ class _Evaluator:
         """Runs postfix tokens per pixel (eval.glsl grammar_program): the rule of the first test
         taken (-1 if none) and the value stack."""
         rows = np.arange(len(idx))
-        variables = np.concatenate([p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.params[idx]], axis=1)
+        variables = np.concatenate(
+            [p.split[idx], p.size[idx], p.facade[idx], p.building[idx], p.level[idx], p.params[idx]], axis=1
+        )
         stack = np.zeros((len(idx), limits.MAX_EXPR_STACK), F)
         sp = np.zeros(len(idx), np.int32)
         target = np.full(len(idx), -1, np.int32)
@@ -390,12 +411,30 @@ class _Evaluator:
         self.end_layer(p, idx, self.tex[p.addr[idx], 1].astype(np.int32))
 
     def op_skip_mask(self, p, idx, op):
+        """Skips head[2] layers where the mask's texel is 0, head[3] where it is 1; the bit that skips
+        more cuts a hole (recorded), and it is cut wherever the pixel is seen through this SkipMask."""
         head = self.tex[p.addr[idx]]
         code = head[:, 1].astype(np.int32)
         unit = np.broadcast_to(np.array([0, 0, 1, 1], F), (len(idx), 4))
         rgba, _, _ = self.sample(code, 1, unit.copy(), p.lb[idx], p.size[idx], p.t[idx])
-        skip = np.where(rgba[:, 3] > F(0.5), head[:, 3], head[:, 2]).astype(np.int32)
-        self.end_layer(p, idx, skip)
+        one = rgba[:, 3] > F(0.5)
+        through = p.addr[idx] == p.through[idx]
+        one = np.where(through, head[:, 3] > head[:, 2], one)
+        p.through[idx[through]] = -1
+        cut = np.where(one, head[:, 3] > head[:, 2], head[:, 2] > head[:, 3])
+        rows = idx[cut]
+        p.hole[rows] = p.addr[rows]
+        p.hole_scope[rows] = self.current_scope(p, rows)
+        self.end_layer(p, idx, np.where(one, head[:, 3], head[:, 2]).astype(np.int32))
+
+    @staticmethod
+    def current_scope(p, rows):
+        """The scope of pixels `rows` in facade uv: the corner is the same for all its pixels, and so
+        are the whole seed vectors it was translated by (layers, the start), which undo it exactly."""
+        with np.errstate(divide="ignore", invalid="ignore"):  # no seed: nothing to undo
+            s = p.s[rows]
+            shift = np.where(s != 0, np.round((p.t[rows] - p.uv[rows]) / s) * s, F(0))
+        return np.concatenate([p.lb[rows] - shift, p.size[rows]], axis=1)
 
     def op_intrusion(self, p, idx, op):
         addr = p.addr[idx]
@@ -435,6 +474,9 @@ class _Evaluator:
         p.addr[idx] = self.channel(addr, 1 + face).astype(np.int32)
 
     def op_mat(self, p, idx, op):
+        above = p.through[idx] >= 0  # a layer above the hole seen through: not in the way
+        self.end_layer(p, idx[above], np.zeros(int(above.sum()), np.int32))
+        idx = idx[~above]
         addr = p.addr[idx]
         head = self.tex[addr]
         usage = head[:, 1].astype(np.int32)
@@ -459,12 +501,7 @@ class _Evaluator:
         p.best_addr[rows] = addr[better]
         p.best_tile[rows] = tile[better]
         p.best_texel[rows] = texel[better]
-        # the scope's corner is the same for all its pixels, and so are the whole seed vectors it
-        # was translated by (layers, the start), which undo it exactly (as the shader)
-        with np.errstate(divide="ignore", invalid="ignore"):  # no seed: nothing to undo
-            s = p.s[rows]
-            shift = np.where(s != 0, np.round((p.t[rows] - p.uv[rows]) / s) * s, F(0))
-        p.best_scope[rows] = np.concatenate([p.lb[rows] - shift, p.size[rows]], axis=1)
+        p.best_scope[rows] = self.current_scope(p, rows)
         wn = (F(1) - p.AN[idx]) * a
         p.N[idx] += np.where(normal[:, None], wn[:, None] * (rgba[:, :3] * F(2) - F(1)), F(0))
         p.AN[idx] += np.where(normal, wn, F(0))
@@ -490,7 +527,17 @@ class _Evaluator:
         constant = np.where(written, head[:, 3].astype(np.int32) - 1, WALL_LABEL)
         label = np.where(has_tile, self.tiles.labels[np.maximum(tile, 0)], np.where(p.best_addr >= 0, constant, 0))
         return Evaluation(
-            p.C + remaining * BACKGROUND, p.A, normal, spec, p.best_addr, tile, label, glass, p.best_scope
+            p.C + remaining * BACKGROUND,
+            p.A,
+            normal,
+            spec,
+            p.best_addr,
+            tile,
+            label,
+            glass,
+            p.best_scope,
+            p.hole,
+            p.hole_scope,
         )
 
 
@@ -525,19 +572,38 @@ def evaluate(
     directions: np.ndarray | None = None,
     building=(0, 0, 0, 0),
     building_seed=None,
+    level=0,
+    through=-1,
 ) -> Evaluation:
     """Evaluates the grammar from rule address `start` at facade points uv (n, 2) in metres;
     `building` is (building.levels, building.style, building.use, building.height) for conditions;
-    `building_seed` the building's seed vector (entry 0 of the seed stack; None: `seed`, the facade's).
-    start, facade, seed, building and building_seed may also be given per point ((n,) and (n, k)):
-    several facades in one evaluation."""
+    `building_seed` the building's seed vector (entry 0 of the seed stack; None: `seed`, the facade's);
+    `level` facade.level, the storey the facade starts at; `through` a SkipMask's address: what its
+    hole shows there (eval.glsl grammar_through; -1 none). start, facade, seed, building,
+    building_seed, level and through may also be given per point ((n,) and (n, k)): several facades
+    in one evaluation."""
     n = len(uv)
     if directions is None:
         directions = np.broadcast_to(np.array([0, 0, 1], F), (n, 3))
-    pixels = _Pixels(n, start, facade, seed, uv, directions, building, building_seed)
+    pixels = _Pixels(n, start, facade, seed, uv, directions, building, building_seed, level, through)
     evaluator = _Evaluator(compiled, tiles)
     evaluator.run(pixels)
     return evaluator.finish(pixels)
+
+
+def hole_cut(compiled: CompiledGrammars, tiles: TileArray, address: int, uv: np.ndarray) -> np.ndarray:
+    """Whether the SkipMask at `address` cuts its hole (skips more layers, op_skip_mask) at points uv
+    (n, 2) of its scope in [0, 1], whatever is layered above it: the hole's own shape. Only a mask
+    fitted to its scope has one shape (a tiled mask's hole depends on where it is): ValueError else."""
+    evaluator = _Evaluator(compiled, tiles)
+    head = evaluator.tex[address]
+    if head[0] != 10 or head[1] <= 0:
+        raise ValueError(f"rule at {address} is not a SkipMask with a fitted (Fit>) mask")
+    n = len(uv)
+    unit = np.broadcast_to(np.array([0, 0, 1, 1], F), (n, 4))
+    zero, one = np.zeros((n, 2), F), np.ones((n, 2), F)
+    rgba, _, _ = evaluator.sample(np.full(n, int(head[1])), 1, unit.copy(), zero, one, uv.astype(F))
+    return np.where(rgba[:, 3] > F(0.5), head[3] > head[2], head[2] > head[3])
 
 
 def facade_view(facade, size) -> tuple[np.ndarray, np.ndarray]:
@@ -579,6 +645,7 @@ def evaluate_facade(
     tiles: TileArray,
     building=(0, 0, 0, 0),
     building_seed=None,
+    level=0,
 ) -> Evaluation:
     """The standalone facade render on the CPU, colour lit; arrays are (rows, cols, ...), top row first."""
     uv, rays = facade_view(facade, size)
@@ -594,6 +661,7 @@ def evaluate_facade(
             rays[first : first + CHUNK_PIXELS],
             building,
             building_seed,
+            level,
         )
         part.color = shade(part, rays[first : first + CHUNK_PIXELS])
         parts.append(part)

@@ -4,6 +4,7 @@ masses themselves (their own solids, _solids.py). Used by tests to check the GPU
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -11,7 +12,7 @@ import numpy as np
 from ..assets import LABELS, TileArray
 from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
 from ..relief import GLASS, PROFILE, RELIEF_SHAPES, DetailMaps, switch_distance, trace_reference
-from ..scene import USE_COUNT, USES, BuildingMass, door_hit
+from ..scene import SHAPES, USE_COUNT, USES, BuildingMass, door_hit, face_levels
 from ._faces import (
     FACE_CEILING,
     FACE_CURTAIN,
@@ -206,15 +207,15 @@ def relief_entry(maps, local: np.ndarray, d: np.ndarray, n: np.ndarray, facade: 
 class GrammarFacades:
     """The grammar facades of a city for the twin: the compiled grammars and their tiles (as the
     renderer's), and per building index the address of its start rule and the narrowest face its
-    grammar fits (narrower faces are plain walls: no glass, no label). With `relief` (the city's
-    cityshade.relief.relief_atlas()) the windows nearer than relief_range metres are recessed, as
-    the renderer draws them with RenderSettings.relief on (None: as the renderer's default,
-    cityshade.relief.switch_distance of the view)."""
+    grammar fits, a function of the face's facade.level (narrower faces are plain walls: no glass,
+    no label). With `relief` (the city's cityshade.relief.relief_atlas()) the windows nearer than
+    relief_range metres are recessed, as the renderer draws them with RenderSettings.relief on
+    (None: as the renderer's default, cityshade.relief.switch_distance of the view)."""
 
     compiled: CompiledGrammars
     tiles: TileArray
     starts: dict[int, int]
-    min_widths: dict[int, float]
+    min_widths: dict[int, Callable[[int], float]]
     relief: object | None = None
     relief_range: float | None = None
 
@@ -223,7 +224,7 @@ def _opening_entry(atlas, region: tuple, window, local, d, n, facade):
     """Windows recessed (shaders/relief/building.glsl opening_traced): the opening at atlas `region`
     (first row, columns, rows: its ring included) stretched over each window rectangle (facade
     coordinates) and traced from the wall point by the reference tracer. Per ray: whether it meets
-    glass, and where (object space)."""
+    glass (or a hole's bottom), where (object space), and that point's facade coordinates."""
     row, cols, rows = region[:3]
     maps = atlas.maps
     region = DetailMaps(
@@ -238,7 +239,7 @@ def _opening_entry(atlas, region: tuple, window, local, d, n, facade):
     hits = trace_reference(region, start, direction)
     offset = np.nan_to_num(hits.point - start) / scale
     point = local + along * offset[:, :1] + up * offset[:, 1:2] - n * offset[:, 2:]
-    return hits.material == GLASS, point  # a miss is MISS, never glass
+    return hits.material == GLASS, point, facade[:, :2] + offset[:, :2]  # a miss is MISS, never glass
 
 
 def _window_bay_entry(atlas, glass_rect, hits, rays: np.ndarray, local: np.ndarray):
@@ -251,7 +252,7 @@ def _window_bay_entry(atlas, glass_rect, hits, rays: np.ndarray, local: np.ndarr
     lower = (cell + glass_rect[:2]) * spacing + np.column_stack([np.zeros(len(rays)), base])
     upper = (cell + glass_rect[2:]) * spacing + np.column_stack([np.zeros(len(rays)), base])
     window = np.column_stack([lower, upper])
-    return _opening_entry(atlas, atlas.window_bay, window, local, hits.direction[rays], hits.normal[rays], facade)
+    return _opening_entry(atlas, atlas.window_bay, window, local, hits.direction[rays], hits.normal[rays], facade)[:2]
 
 
 def grammar_entry(
@@ -270,7 +271,9 @@ def grammar_entry(
     """A grammar facade (shaders/grammar/building.glsl) evaluated by the grammar's numpy twin in the
     true size of each face: per ray, whether it meets glass, its label as the id pass writes it, the
     rectangle of the window it belongs to (facade coordinates, find_room) and where the ray enters
-    the room (object space: the wall point `local`, or the recessed pane, _opening_entry)."""
+    the room (object space: the wall point `local`, or the recessed pane, _opening_entry). A hole's
+    recess (shaders/relief/building.glsl grammar_relief) shows through its bottom the grammar seen
+    through that hole from there."""
     glass, label = np.zeros(len(d), dtype=bool), np.zeros(len(d), dtype=np.uint32)
     window = np.zeros((len(d), 4))
     entry = local.copy()
@@ -281,51 +284,57 @@ def grammar_entry(
     sizes, which = np.unique(np.column_stack([face[:, :3], columns[:, 0]]), axis=0, return_inverse=True)
     start = grammar.starts[building]
     for k, (width, base, top, side) in enumerate(sizes):
-        if width < grammar.min_widths[building] - 1e-6:
-            continue  # too narrow for the grammar: a plain wall
         rows = np.nonzero(which.ravel() == k)[0]
-        uv = np.stack([width - facade[rows, 0], facade[rows, 1] - base], axis=1)
-        levels = np.floor((top - base) / facade[rows[0], 3] + 0.5)
-        g = evaluate_grammar(
-            grammar.compiled,
-            start,
-            uv,
-            (width, top - base),
-            facade_seed_vector(mass.seed, int(side)),
-            grammar.tiles,
-            rays[rows],
-            (levels, mass.style, mass.use, mass.extent[1]),
-            building_seed=seed_vector(mass.seed),
-        )
+        storey = facade[rows[0], 3]
+        level = int(face_levels(mass.first_level, SHAPES[mass.shape], base, storey))
+        if width < grammar.min_widths[building](level) - 1e-6:
+            continue  # too narrow for the grammar: a plain wall
+        levels = np.floor((top - base) / storey + 0.5)
+
+        def evaluate(rays_at, at, through=-1):
+            """The grammar along rays `rays_at` (indices) at facade points `at` (u, v); `through`: seen
+            through that SkipMask's hole."""
+            uv = np.stack([width - at[:, 0], at[:, 1] - base], axis=1)
+            seed = facade_seed_vector(mass.seed, int(side))
+            building_attributes = (levels, mass.style, mass.use, mass.extent[1])
+            return evaluate_grammar(
+                grammar.compiled, start, uv, (width, top - base), seed, grammar.tiles, rays[rays_at],
+                building_attributes, building_seed=seed_vector(mass.seed), level=level, through=through,
+            )  # fmt: skip
+
+        def rectangle(scope):  # a scope in grammar uv as facade coordinates (u0, v0, u1, v1), grammar_window
+            lower, extent = scope[:, :2].astype(np.float64), scope[:, 2:].astype(np.float64)
+            u0, v0 = width - lower[:, 0] - extent[:, 0], base + lower[:, 1]
+            return np.stack([u0, v0, u0 + extent[:, 0], v0 + extent[:, 1]], axis=1)
+
+        g = evaluate(rows, facade[rows, :2])
         glass[rows] = g.glass
         label[rows] = np.where(g.glass, ROOM_LABEL, g.label)
-        lower, extent = g.scope[:, :2].astype(np.float64), g.scope[:, 2:].astype(np.float64)
-        window[rows] = np.stack(
-            [
-                width - lower[:, 0] - extent[:, 0],
-                base + lower[:, 1],
-                width - lower[:, 0],
-                base + lower[:, 1] + extent[:, 1],
-            ],
-            axis=1,
-        )
-        if grammar.relief is not None:
-            near = (g.glass | (g.label == WINDOW_LABEL)) & (distance[rows] <= switch_m)
-            for terminal in np.unique(g.terminal[near]):
-                row = grammar.relief.terminals.get(int(terminal))
-                if row is None:
-                    continue
-                traced = rows[near & (g.terminal == terminal)]
-                glass[traced], entry[traced] = _opening_entry(
-                    grammar.relief,
-                    (row, PROFILE[0] + 2, PROFILE[1] + 2),
-                    window[traced],
-                    local[traced],
-                    d[traced],
-                    n[traced],
-                    facade[traced],
-                )
-                label[traced] = np.where(glass[traced], ROOM_LABEL, WINDOW_LABEL)
+        window[rows] = rectangle(g.scope)
+        if grammar.relief is None:
+            continue
+        openings = grammar.relief.terminals
+        near = distance[rows] <= switch_m
+        glazed = np.isin(g.terminal, list(openings)) & (g.glass | (g.label == WINDOW_LABEL))
+        hole = np.isin(g.hole, list(openings)) & ~glazed  # a hole's recess, if no glazed terminal's
+        opening = np.where(glazed, g.terminal, np.where(hole, g.hole, -1))
+        for terminal in np.unique(opening[near & (opening >= 0)]):
+            mine = near & (opening == terminal)
+            traced, is_hole = rows[mine], hole[mine][0]
+            if is_hole:
+                window[traced] = rectangle(g.hole_scope[mine])
+            region = (openings[int(terminal)], PROFILE[0] + 2, PROFILE[1] + 2)
+            through, entry[traced], bottom = _opening_entry(
+                grammar.relief, region, window[traced], local[traced], d[traced], n[traced], facade[traced]
+            )
+            glass[traced] = through & ~is_hole
+            label[traced] = np.where(glass[traced], ROOM_LABEL, WINDOW_LABEL)  # glass, or the frame and reveal
+            seen = traced[through & is_hole]
+            if len(seen):  # through the hole's bottom: the grammar seen through it from there
+                behind = evaluate(seen, bottom[through], int(terminal))
+                glass[seen] = behind.glass
+                label[seen] = np.where(behind.glass, ROOM_LABEL, behind.label)
+                window[seen] = np.where(behind.glass[:, None], rectangle(behind.scope), window[seen])
     return glass, label, window, entry
 
 

@@ -8,11 +8,11 @@ Every reader produces the same raw features, so every format shares one set of r
   MAX_VERTICES corners are simplified to SIMPLIFY_TOLERANCE (a 16,000-corner outline adds nothing
   a 10 cm tolerance does not keep). All of it is counted in `MapData.report` with the element id.
 - buildings: `building=*` is an outline, `building:part=*` a part; a part's parent is the outline
-  that holds its inner point, and an outline whose parts cover at least PARTS_COVER of its area is
-  `replaced_by_parts`. An outline its parts cover less is drawn only where no part stands (its
-  `remainder`: the outline minus its parts, keeping the outline's tags) and under parts that float
-  (`beneath_parts`: drawn up to their base), so no wall of the outline stands where a part's wall
-  does; pieces thinner than SLIVER_WIDTH or under SLIVER_AREA are dropped (counted).
+  that holds its inner point. An outline is drawn only where no part stands (its `remainder`: the
+  outline minus its parts, keeping the outline's tags; none where the parts cover at least
+  PARTS_COVER of its area) and under parts that float (`beneath_parts`: drawn up to their base), so
+  no wall of the outline stands where a part's wall does; pieces thinner than SLIVER_WIDTH or under
+  SLIVER_AREA are dropped (counted). An outline with neither is `replaced_by_parts`.
   `building=roof` (or `building:part=roof`) has no walls.
 - roads: `highway=*` lines; width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class.
 - areas: see AREA_TAGS; the coastline (land on its left) splits the data's bounds into land and
@@ -462,10 +462,13 @@ def _mark_replaced(buildings: list[MapBuilding], report: ReadReport) -> None:
     for index, parts in children.items():
         building = buildings[index]
         covering = shapely.union_all([p.outline for p in parts])
-        if shapely.intersection(covering, building.outline).area >= PARTS_COVER * building.outline.area:
-            building.replaced_by_parts = True
-            continue
-        remainder, dropped = _without_slivers(shapely.difference(building.outline, covering))
+        uncovered = shapely.difference(building.outline, covering)
+        if building.outline.area - uncovered.area >= PARTS_COVER * building.outline.area:
+            # the parts are the building; what they leave uncovered is mapping noise, but the outline
+            # still stands under those that float (else their base would hang over empty ground)
+            remainder, dropped = None, 0.0
+        else:
+            remainder, dropped = _without_slivers(uncovered)
         taken = shapely.union_all([p.outline for p in parts if not _floats(p)])
         for part in sorted(filter(_floats, parts), key=lambda p: (p.min_height or 0.0, p.min_level or 0.0)):
             below = shapely.intersection(building.outline, part.outline)
@@ -480,12 +483,12 @@ def _mark_replaced(buildings: list[MapBuilding], report: ReadReport) -> None:
             building.replaced_by_parts = True
             continue
         building.remainder = remainder if remainder is not None else shapely.Polygon()
-        why = "partly covered by its building:part ways, drawn where none stands"
-        report.repair(
-            "building outline",
-            why + (" and under those that float" if building.beneath_parts else ""),
-            building.source_id,
-        )
+        if remainder is None:
+            why = "covered by its building:part ways, drawn only under those that float"
+        else:
+            why = "partly covered by its building:part ways, drawn where none stands"
+            why += " and under those that float" if building.beneath_parts else ""
+        report.repair("building outline", why, building.source_id)
 
 
 def _floats(part: MapBuilding) -> bool:

@@ -18,7 +18,7 @@ from dataclasses import replace
 import numpy as np
 import shapely
 
-from ..scene import USES, BuildingMass, Roof
+from ..scene import LEVEL_CODES, USES, BuildingMass, Roof
 from ._defaults import defaults_for
 from ._doors import mass_doors
 from ._model import MapBuilding, MapData, to_scene
@@ -27,6 +27,7 @@ from ._roofs import building_roof
 MIN_THICKNESS = 0.05  # metres between a mass's bottom and top
 MIN_AREA = 1.0  # square metres; smaller outlines are slivers, not buildings
 FLOOR_HEIGHT_RANGE = (2.5, 6.0)
+LEVEL_MASK = LEVEL_CODES["LEVEL_MASK"]  # the highest first level a record holds
 CANOPY_MIN_HEIGHT = 2.5  # building=roof with nothing tagged: a roof on pillars this high
 RECTANGLE_FILL = 0.9  # a cut piece filling this much of its minimum rotated rectangle keeps a pitched roof
 
@@ -167,6 +168,13 @@ def heights(building: MapBuilding) -> tuple[float, float, float]:
     return float(base), float(height), float(np.clip(floor, *FLOOR_HEIGHT_RANGE))
 
 
+def first_level(building: MapBuilding, base: float, floor: float) -> int:
+    """The storey a mass's walls start at (its facade.level): its building:min_level (the maps guess
+    it from min_height over the storey height where it is not tagged), else its base over its floor height."""
+    level = building.min_level if building.min_level is not None else base / floor
+    return int(np.clip(round(level), 0, LEVEL_MASK))
+
+
 def _frame(polygon: shapely.Polygon) -> tuple[float, np.ndarray]:
     """(yaw, offset): the object space turned to the minimum rotated rectangle's longest side."""
     rectangle = np.asarray(polygon.minimum_rotated_rectangle.exterior.coords)[:4]
@@ -241,6 +249,7 @@ def building_mass(
         shop_front=building.shop_front,
         holes=holes,
         base=base,
+        first_level=first_level(building, base, floor),
         roof=roof,
         walls=building.has_walls,
         doors=doors,

@@ -2,7 +2,7 @@
 
 Region 0 is the window bay of the relief-bay buildings (repeated over their walls); region 1 the
 window of the textured window bay (style 0, `window_bay_opening`); then, per grammar style the city uses, the window openings of its glazed terminals
-(`style_openings`, docs/relief.md). Each part is factorised once, BMF or SVD whichever is smaller,
+and holes (`style_openings`, docs/relief.md). Each part is factorised once, BMF or SVD whichever is smaller,
 and cached on disk (`_cache.py`); the atlas stacks the parts' BMF factorisations (exact: block rows
 of X, the parts' terms side by side), so nothing is factorised again when the city loads.
 """
@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -41,20 +40,15 @@ def switch_distance(height_px: int, fov_y: float) -> float:
     return pane * height_px / (2.0 * math.tan(math.radians(fov_y) / 2.0))
 
 
-class ReliefStyleWarning(UserWarning):
-    """A grammar style has no glazed terminal to recess: its facades stay flat. Said once per
-    process at most: the atlas that finds it is built once (relief_atlas)."""
-
-
 @dataclass(frozen=True)
 class ReliefAtlas:
     maps: DetailMaps  # the atlas's D and M (regions stacked in rows, zero-padded to the widest)
     bmf: CompressedFacade  # its factorisation, stacked from the parts'
     bay: tuple[int, int, int, int]  # the bay's region: first row, columns, rows, 1 (repeats)
     window_bay: tuple[int, int, int, int]  # the window bay's opening: first row, columns, rows (ring included), 0
-    terminals: dict[int, int]  # glazed terminal's rule address -> first row of its opening
-    colours: dict[int, tuple]  # glazed terminal's rule address -> sRGB (frame, reveal), StyleOpenings.colours
-    styles: dict[str, str]  # grammar style -> the method its openings were compressed with ("" none)
+    terminals: dict[int, int]  # glazed terminal's or hole's rule address -> first row of its opening
+    colours: dict[int, tuple]  # glazed terminal's or hole's rule address -> sRGB (frame, reveal), StyleOpenings.colours
+    styles: dict[str, str]  # grammar style -> the method its openings were compressed with
 
 
 def stack_bmf(parts: list[CompressedFacade]) -> CompressedFacade:
@@ -102,7 +96,7 @@ def _stack_maps(parts: list[DetailMaps]) -> DetailMaps:
     return DetailMaps(depth, material, parts[0].texel, parts[0].depth_unit)
 
 
-_OPENING_ARRAYS = ("terminals", "depth", "material", "colours")
+_OPENING_ARRAYS = ("terminals", "depth", "material", "colours", "holes")
 
 
 def cached_openings(compiled, style: str, number: int) -> StyleOpenings:
@@ -113,31 +107,22 @@ def cached_openings(compiled, style: str, number: int) -> StyleOpenings:
     digest = hashlib.sha256()
     for part in (compiled.texels.tobytes(), tile_array(128).layers.tobytes()):
         digest.update(part)
-    digest.update(repr((compiled.address(style), number, PROFILE, sorted(OPENING_DEPTH.items()), 1)).encode())
+    digest.update(repr((compiled.address(style), number, PROFILE, sorted(OPENING_DEPTH.items()), 2)).encode())
 
     def build():
-        try:
-            o = style_openings(compiled, style, number)
-        except ValueError:  # no glazed terminal: cached as no openings
-            return {
-                "terminals": np.zeros(0, np.int64),
-                "depth": np.zeros((0, 0), np.uint16),
-                "material": np.zeros((0, 0), np.uint16),
-                "colours": np.zeros((0, 2, 3)),
-            }
+        o = style_openings(compiled, style, number)
         return {
             "terminals": np.array(o.terminals, np.int64),
             "depth": o.maps.depth,
             "material": o.maps.material,
             "colours": np.array(o.colours, np.float64).reshape(-1, 2, 3),
+            "holes": np.array(o.holes, np.int64),
         }
 
     a = cached_arrays(f"openings-{style}", digest.hexdigest()[:32], _OPENING_ARRAYS, build)
-    if not len(a["terminals"]):
-        raise ValueError(f"grammar style {style!r} has no glazed terminal on the probe faces")
     colours = tuple(tuple(tuple(float(c) for c in rgb) for rgb in pair) for pair in a["colours"])
     maps = DetailMaps(a["depth"].astype(np.uint16), a["material"].astype(np.uint16), 1.0, DEPTH_UNIT)
-    return StyleOpenings(tuple(int(t) for t in a["terminals"]), maps, colours)
+    return StyleOpenings(tuple(int(t) for t in a["terminals"]), maps, colours, tuple(int(t) for t in a["holes"]))
 
 
 @lru_cache(maxsize=1)
@@ -151,12 +136,7 @@ def relief_atlas() -> ReliefAtlas:
     packed = [cached_compress(bay, "bmf", "city relief bay")[0], cached_compress(window, "bmf", "city window bay")[0]]
     terminals, colours, styles, row = {}, {}, {}, bay.shape[0] + window.shape[0]
     for number, style in BUILDING_STYLES.items():
-        try:
-            openings = cached_openings(compiled, style, number)
-        except ValueError as exc:
-            warnings.warn(f"{exc}: its facades stay flat (docs/relief.md, Limits)", ReliefStyleWarning, stacklevel=2)
-            styles[style] = ""
-            continue
+        openings = cached_openings(compiled, style, number)  # every style has windows to recess
         best = smallest_compression(openings.maps, f"{style} window openings")
         styles[style] = best.method
         # the GPU decodes BMF: a style whose SVD is smaller is also factorised (and cached) with BMF
@@ -168,7 +148,7 @@ def relief_atlas() -> ReliefAtlas:
                 colours[terminal] = openings.colours[k]
         row += openings.maps.shape[0]
     if len(terminals) > MAX_OPENINGS:
-        raise ValueError(f"{len(terminals)} glazed terminals; the city's shader holds {MAX_OPENINGS}")
+        raise ValueError(f"{len(terminals)} glazed terminals and holes; the city's shader holds {MAX_OPENINGS}")
     return ReliefAtlas(
         _stack_maps(parts),
         stack_bmf(packed),

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..assets import LABELS, tile_array
 from ..grammar import compile_grammars, load
-from ..grammar import evaluate, seed_vector
+from ..grammar import evaluate, hole_cut, seed_vector
 from ._layout import CORNICE, DEPTH_UNIT, DOOR_D, FRAME, FRAME_D, GLASS, GLASS_D, SILL, STONE, WALL, WALL_D, WOOD
 from ._maps import DetailMaps
 
@@ -68,7 +68,8 @@ def grammar_maps(
 # Window openings (the city's relief on grammar facades, docs/relief.md): each glazed terminal of a
 # style is rasterised over its own scope at PROFILE texels, normalised, so one profile fits every
 # window that terminal draws whatever the scope's size (Fit tiles stretch with the scope). A ring of
-# wall texels at depth 0 around it is the opening's reveal.
+# wall texels at depth 0 around it is the opening's reveal. A window that is a hole (a SkipMask cutting
+# through the wall to what a layer below shows, dusk's rooms) is its mask over the SkipMask's scope.
 PROFILE = (48, 48)  # columns, rows inside the ring
 OPENING_DEPTH = {"frame": 10, "glass": 14}  # cm behind the wall: the window frame and mullions, the pane
 # faces (width, height) and building (levels, use) the numpy evaluator is run over to find a
@@ -80,14 +81,15 @@ _PROBE_SEEDS = (1, 2, 3)
 
 @dataclass(frozen=True)
 class StyleOpenings:
-    """A style's window openings: its glazed terminals' profiles stacked bottom to top, region k at
-    rows [k * rows, (k + 1) * rows) of `maps`, each PROFILE plus the ring."""
+    """A style's window openings: its glazed terminals' and holes' profiles stacked bottom to top,
+    region k at rows [k * rows, (k + 1) * rows) of `maps`, each PROFILE plus the ring."""
 
-    terminals: tuple[int, ...]  # rule addresses in the compiled texture, one per region
+    terminals: tuple[int, ...]  # rule addresses in the compiled texture (a Mat, or a hole's SkipMask), one per region
     maps: DetailMaps
     # per region, the sRGB colour of the terminal's frame and of the style's wall (the reveal), as
     # the flat grammar shows them, so the recessed window keeps the flat one's colours
     colours: tuple[tuple[tuple[float, float, float], tuple[float, float, float]], ...]
+    holes: tuple[int, ...] = ()  # the terminals that are holes (SkipMasks)
 
     @property
     def region_shape(self) -> tuple[int, int]:
@@ -102,11 +104,35 @@ def _grid(shape: tuple[int, int], scope: np.ndarray) -> np.ndarray:
     return np.stack(np.meshgrid(x, y), axis=-1).reshape(-1, 2).astype(np.float32)
 
 
+def _profile(compiled, tiles, result, terminal: int, hole: bool, reveal) -> tuple[np.ndarray, np.ndarray, tuple]:
+    """D, M (ring included) and (frame, reveal) colours of one opening from the evaluation over its
+    scope's PROFILE grid: a glazed terminal's glass at the pane's depth and the rest of it at the
+    frame's; a hole (its mask's own shape, grammar.hole_cut) open at the pane's depth in the wall.
+    Frames layered over a hole stay on the flat grammar's wall plane: they are not traced."""
+
+    def grid(values):
+        return values.reshape(PROFILE[1], PROFILE[0], *values.shape[1:])[:, ::-1]
+
+    colour = grid(result.color)
+    if hole:
+        glass = grid(hole_cut(compiled, tiles, terminal, _grid(PROFILE, np.array([0.0, 0.0, 1.0, 1.0]))))
+        frame = np.zeros_like(glass)
+        depth = np.where(glass, OPENING_DEPTH["glass"], 0)
+    else:
+        own = grid(result.terminal == terminal)
+        glass = grid(result.glass) & own
+        frame = own & ~glass if (own & ~glass).any() else own
+        depth = np.where(glass, OPENING_DEPTH["glass"], np.where(own, OPENING_DEPTH["frame"], 0))
+    shade = tuple(float(c) for c in colour[frame].mean(axis=0)) if frame.any() else reveal
+    material = np.where(glass, GLASS, np.where(frame, FRAME, WALL))
+    return np.pad(depth, 1), np.pad(material, 1, constant_values=WALL), (shade, reveal)
+
+
 def style_openings(compiled, style: str, style_number: int, probe_texel: float = 0.25) -> StyleOpenings:
-    """The glazed terminals of library style `style` (compiled: the city's grammar texture) and a
-    profile of each: glass at the pane's depth, the rest of the terminal at the frame's, texels
-    another terminal covers (a rail layered over it) at the wall. Columns follow the wall mesh's u,
-    which runs right to left seen from outside: the profile is mirrored."""
+    """The glazed terminals and holes of library style `style` (compiled: the city's grammar texture)
+    and a profile of each (_profile): texels another terminal covers (a rail layered over a window)
+    stand at the wall. Columns follow the wall mesh's u, which runs right to left seen from outside:
+    the profile is mirrored."""
     start = compiled.address(style)
     tiles = tile_array(128)
     found: dict[int, tuple] = {}
@@ -118,27 +144,28 @@ def style_openings(compiled, style: str, style_number: int, probe_texel: float =
             for seed in _PROBE_SEEDS:
                 building = (round(face[1] / 3.2), style_number, use, face[1])
                 result = evaluate(compiled, start, uv, face, seed_vector(seed), tiles, building=building)
-                walls.append(result.color[result.label == LABELS.index("wall")])
-                for terminal in np.unique(result.terminal[result.glass]):
-                    if int(terminal) not in found:
-                        first = np.flatnonzero(result.glass & (result.terminal == terminal))[0]
-                        found[int(terminal)] = (face, seed, building, result.scope[first].copy())
-    glass_d, frame_d = OPENING_DEPTH["glass"], OPENING_DEPTH["frame"]
+                walls.append(result.color[(result.label == LABELS.index("wall")) & (result.hole < 0)])
+                glazed = result.glass & (result.terminal >= 0)
+                holes = (result.hole >= 0) & ~glazed  # what a hole shows, not a glazed terminal's glass
+                for which, terminals, scopes, hole in (
+                    (glazed, result.terminal, result.scope, False),
+                    (holes, result.hole, result.hole_scope, True),
+                ):
+                    for terminal in np.unique(terminals[which]):
+                        if int(terminal) not in found:
+                            first = np.flatnonzero(which & (terminals == terminal))[0]
+                            found[int(terminal)] = (face, seed, building, scopes[first].copy(), hole)
     wall = np.concatenate(walls)
     reveal = tuple(float(c) for c in (wall.mean(axis=0) if len(wall) else np.full(3, 0.6)))
     regions, colours = [], []
-    for terminal, (face, seed, building, scope) in sorted(found.items()):
+    for terminal, (face, seed, building, scope, hole) in sorted(found.items()):
         result = evaluate(compiled, start, _grid(PROFILE, scope), face, seed_vector(seed), tiles, building=building)
-        own = (result.terminal == terminal).reshape(PROFILE[1], PROFILE[0])[:, ::-1]
-        glass = result.glass.reshape(PROFILE[1], PROFILE[0])[:, ::-1] & own
-        colour = result.color.reshape(PROFILE[1], PROFILE[0], 3)[:, ::-1]
-        frame = colour[own & ~glass] if (own & ~glass).any() else colour[own]
-        colours.append((tuple(float(c) for c in frame.mean(axis=0)), reveal))
-        depth = np.pad(np.where(glass, glass_d, np.where(own, frame_d, 0)), 1)
-        material = np.pad(np.where(glass, GLASS, np.where(own, FRAME, WALL)), 1)
+        depth, material, colour = _profile(compiled, tiles, result, terminal, hole, reveal)
         regions.append((depth, material))
+        colours.append(colour)
     if not regions:
-        raise ValueError(f"grammar style {style!r} has no glazed terminal on the probe faces")
+        raise ValueError(f"grammar style {style!r} has no glazed terminal nor hole on the probe faces")
     depth = np.concatenate([d for d, _ in regions]).astype(np.uint16)
     material = np.concatenate([m for _, m in regions]).astype(np.uint16)
-    return StyleOpenings(tuple(sorted(found)), DetailMaps(depth, material, 1.0, DEPTH_UNIT), tuple(colours))
+    holes = tuple(terminal for terminal, found_at in sorted(found.items()) if found_at[-1])
+    return StyleOpenings(tuple(sorted(found)), DetailMaps(depth, material, 1.0, DEPTH_UNIT), tuple(colours), holes)

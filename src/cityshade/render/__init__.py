@@ -7,20 +7,24 @@ import sys
 import types
 import warnings
 
+from ._building_lod import bay_mean
 from ._culling import boxes_visible, frustum_planes
 from ._daylight import Daylight, parse_time
 from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade, styles_with_relief
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._guessed import guessed_aov
+from ._quality import QUALITY_STEPS, QualityStep, quality_status, with_quality_steps
 from ._renderer import Renderer
 from ._resolution import ResolutionScale
 from ._settings import RenderSettings
 from ._streaming import check_memory_budget, format_bytes
 from ._tile_cache import CacheProblem, TileCache, open_tiles, write_tiles
 from ._tile_cli import add_streaming_arguments, streamed_tiles
+from ._trees import TreeSettings
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
+    "bay_mean",
     "boxes_visible",
     "frustum_planes",
     "Daylight",
@@ -38,6 +42,10 @@ __all__ = [
     "frame_passes",
     "id_passes",
     "run_passes",
+    "QUALITY_STEPS",
+    "QualityStep",
+    "quality_status",
+    "with_quality_steps",
     "Renderer",
     "RenderSettings",
     "ResolutionScale",
@@ -49,6 +57,7 @@ __all__ = [
     "write_tiles",
     "add_streaming_arguments",
     "streamed_tiles",
+    "TreeSettings",
     "upscale",
     "upscale_reference",
 ]

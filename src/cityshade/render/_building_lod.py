@@ -17,7 +17,7 @@ from .. import assets
 from ..assets import TileArray
 from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, evaluate, facade_seed_vector, library_texture, seed_vector
 from ..relief import GLASS, MATERIALS, generate_bay
-from ..scene import SURFACE_WALL
+from ..scene import SURFACE_WALL, vertex_face_levels
 
 ROOM_METRES = 4.5  # a room's width on the facade: one window bay
 SAMPLE_POINTS = 512  # grammar points per building for its cheap colour (a jittered grid: its mean within ~1%)
@@ -129,6 +129,7 @@ SAMPLE_FACE_DTYPE = np.dtype(
         ("face", "<i4"),
         ("use", "<i4"),
         ("mass_height", "<f8"),
+        ("level", "<i4"),
     ]
 )
 
@@ -136,7 +137,7 @@ SAMPLE_FACE_DTYPE = np.dtype(
 def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> np.ndarray:
     """Per grammar building, the face its cheap colour is taken over: its widest grammar wall face
     (SAMPLE_FACE_DTYPE: building index, start rule, width, height, storeys, style, seed, face index,
-    use, height of the mass), the storeys counted as shaders/grammar/building.glsl does."""
+    use, height of the mass, facade.level), the storeys and level counted as shaders/grammar/building.glsl does."""
     grammar = np.flatnonzero(records["facade"][:, 0] == FACADE_GRAMMAR)
     walls = vertices[(vertices["ids"][:, 1] == SURFACE_WALL) & np.isin(vertices["ids"][:, 0], grammar)]
     # per building its first vertex on its widest face: a stable sort by building, widest first
@@ -150,6 +151,7 @@ def grammar_sample_faces(masses, records: np.ndarray, vertices: np.ndarray) -> n
     faces["width"], faces["height"] = width, top - base
     faces["storeys"] = np.floor((top - base) / widest["facade"][:, 3] + 0.5)
     faces["face"] = widest["ids"][:, 2]
+    faces["level"] = vertex_face_levels(widest, records)
     chosen = [masses[i] for i in buildings.tolist()]
     faces["style"] = [m.style for m in chosen]
     faces["seed"] = [m.seed for m in chosen]
@@ -168,7 +170,7 @@ def grammar_colours(faces: np.ndarray, count: int) -> np.ndarray:
         return colours
     compiled, tiles, unit = library_texture(), _far_tiles(), unit_samples()
     index = faces["building"]
-    start, width, height, storeys, style, seed, face, use, mass_height = (
+    start, width, height, storeys, style, seed, face, use, mass_height, level = (
         faces[name] for name in SAMPLE_FACE_DTYPE.names[1:]
     )
     size = np.stack([width, height], axis=1)
@@ -189,6 +191,7 @@ def grammar_colours(faces: np.ndarray, count: int) -> np.ndarray:
             tiles,
             building=np.stack([each(storeys), each(style), each(use), each(mass_height)], axis=1),
             building_seed=each(building_seeds),
+            level=each(level),
         )
         colour = _linear(np.asarray(result.color, np.float64)).reshape(-1, per, 3)
         glass = np.asarray(result.glass).reshape(-1, per)

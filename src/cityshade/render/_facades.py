@@ -17,7 +17,7 @@ import numpy as np
 
 from ..grammar import BUILDING_STYLES, FACADE_GRAMMAR, GRAMMAR_SHAPES, library_min_widths, library_texture, seed_cells
 from ..relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, relief_atlas
-from ..scene import SHAPES, SURFACE_PLAIN_WALL, SURFACE_WALL, TINT_GAIN, BuildingMass
+from ..scene import SHAPES, SURFACE_PLAIN_WALL, SURFACE_WALL, TINT_GAIN, BuildingMass, vertex_face_levels
 from ._building_lod import bay_mean, style_wall_colours
 
 NARROW_FACES = "plain wall (face narrower than its grammar)"  # the count assign_facades keeps of them
@@ -80,14 +80,13 @@ def assign_facades(records: np.ndarray, masses, vertices: np.ndarray | None = No
         records["facade"][grammar, 2:] = seed_cells([masses[i].seed for i in grammar])
         records["tint"][grammar] = grammar_tints([masses[i].style for i in grammar])
         if vertices is not None:
-            needs = np.zeros(len(masses))
-            needs[grammar] = [library_min_widths()[kinds[i].grammar_style] for i in grammar]
-            narrow = _plain_narrow_faces(vertices, needs)
+            styles = np.array([kind.grammar_style or "" for kind in kinds], dtype=object)
+            narrow = _plain_narrow_faces(vertices, _needed_widths(vertices, records, styles))
             if narrow:
                 counts[NARROW_FACES] = narrow
                 warnings.warn(
                     f"{narrow} wall faces are narrower than their building's grammar fits "
-                    f"(the narrowest face each library style fits: {_widths()}): drawn as plain walls",
+                    f"(the narrowest face each library style fits at the ground: {_widths()}): drawn as plain walls",
                     GrammarFitWarning,
                     stacklevel=2,
                 )
@@ -102,11 +101,26 @@ def grammar_tints(styles: list[int]) -> np.ndarray:
     return np.column_stack([wall / (TINT_GAIN * bay_mean()[:3]), np.ones(len(wall))])
 
 
+def _needed_widths(vertices: np.ndarray, records: np.ndarray, styles: np.ndarray) -> np.ndarray:
+    """Per vertex, the narrowest face its building's grammar style (`styles` per building, "" for
+    none) fits at the level of the vertex's face (facade.level: a ground floor may need a door's
+    width where the storeys above do not); 0 off grammar walls."""
+    needs = np.zeros(len(vertices))
+    names, style = np.unique(styles, return_inverse=True)
+    walls = np.flatnonzero((vertices["ids"][:, 1] == SURFACE_WALL) & (styles != "")[vertices["ids"][:, 0]])
+    levels = vertex_face_levels(vertices, records, walls)
+    for level in np.unique(levels).tolist():
+        widths = np.array([library_min_widths(level).get(name, 0.0) for name in names])
+        at = walls[levels == level]
+        needs[at] = widths[style[vertices["ids"][at, 0]]]
+    return needs
+
+
 def _plain_narrow_faces(vertices: np.ndarray, needs: np.ndarray) -> int:
-    """Marks the wall vertices of faces narrower than their building needs as plain walls; returns
-    how many faces (building, room columns) that was."""
+    """Marks the wall vertices of faces narrower than they need (`needs` per vertex) as plain walls;
+    returns how many faces (building, room columns) that was."""
     building = vertices["ids"][:, 0]
-    narrow = (vertices["ids"][:, 1] == SURFACE_WALL) & (vertices["face"][:, 0] < needs[building] - 1e-6)
+    narrow = (vertices["ids"][:, 1] == SURFACE_WALL) & (vertices["face"][:, 0] < needs - 1e-6)
     vertices["ids"][narrow, 1] = SURFACE_PLAIN_WALL
     faces = np.column_stack([building[narrow], vertices["ids"][narrow, 2:], vertices["face"][narrow, 1:3]])
     return len(np.unique(faces, axis=0))

@@ -24,6 +24,7 @@ def _face_rows(faces: np.ndarray) -> np.ndarray:
     rows[:, 4], rows[:, 5] = faces["storeys"], faces["style"]
     rows[:, 6], rows[:, 7] = faces["use"], faces["mass_height"]
     rows[:, 8:10] = [seed_vector(int(seed)) for seed in faces["seed"]]
+    rows[:, 10] = faces["level"]
     return rows
 
 

@@ -1,5 +1,6 @@
 """Dynamic resolution: the share of the window's pixels a frame is drawn at, chosen from measured
-frame times so that frames come at a target rate (the frame's cost is mostly per pixel)."""
+frame times so that frames come at a target rate (the frame's cost is mostly per pixel); below
+the smallest scale, quality steps (render/_quality.py) taken one by one."""
 
 from __future__ import annotations
 
@@ -19,14 +20,24 @@ class ResolutionScale:
     It takes the median time of every `settle` frames. Below the target it scales down, aiming a
     little above the target (`target * (1 + band / 6)`); above `target * (1 + band)` it scales up, aiming at
     `target * (1 + band / 2)`; in between it keeps the scale (hysteresis, so it does not hunt).
-    The scale stays within [minimum, 1]."""
+    The scale stays within [minimum, 1].
+
+    At the minimum scale and still below the target, it takes the next of `steps` quality steps
+    (`level` counts those taken); above the band it releases the last one first, before scaling up,
+    but only if the frame rate it measured just before taking that step, scaled by how much faster
+    frames have become since, stays above its aim: a step that lifts the rate past the band is
+    kept rather than taken and released in turn."""
 
     target_fps: float
     minimum: float = 0.25
     band: float = 0.3
     settle: int = 3
     scale: float = 1.0
+    steps: int = 0
+    level: int = 0
     _frames: list[float] = field(default_factory=list, repr=False)
+    _gains: list[float] = field(default_factory=list, repr=False)  # frame rate with / without each step taken
+    _before: float | None = field(default=None, repr=False)  # the rate before the step just taken
 
     def __post_init__(self):
         if not (self.target_fps > 0 and math.isfinite(self.target_fps)):
@@ -47,9 +58,21 @@ class ResolutionScale:
             return self.scale
         fps = 1.0 / max(statistics.median(self._frames), 1e-9)
         self._frames.clear()
+        if self._before is not None:  # the first frames with the step just taken: what it gained
+            self._gains.append(max(1.0, fps / self._before))
+            self._before = None
         if fps < self.target_fps:
+            if self.scale <= self.minimum and self.level < self.steps:
+                self.level += 1
+                self._before = fps
+                return self.scale
             aim = self.target_fps * (1 + self.band / 6)
         elif fps > self.target_fps * (1 + self.band):
+            if self.level > 0:
+                if fps / self._gains[-1] >= self.target_fps * (1 + self.band / 6):
+                    self.level -= 1
+                    self._gains.pop()
+                return self.scale
             aim = self.target_fps * (1 + self.band / 2)
         else:
             return self.scale

@@ -34,6 +34,7 @@ class RenderSettings:
     trees: bool = True  # street rows and park groves (SpeedTree ch. 4)
     shadows: bool = True  # cascaded shadow maps (SpeedTree §4.3.2)
     shadow_resolution: int = 1024  # texels per side of each cascade's map (the viewer lowers it with its scale)
+    shadow_refresh: int = 1  # cascades redrawn this many times less often than the chapter's rates
     god_rays: bool = True  # radial blur of bright pixels around the sun (SpeedTree §4.5)
     lights: float | None = None  # probability c; None: from the time of day
     time_of_day: float = 19.17  # hours (19:10, dusk)
@@ -54,6 +55,8 @@ class RenderSettings:
     def __post_init__(self):
         if not 16 <= self.shadow_resolution <= 8192:
             raise UsageError(f"shadow_resolution {self.shadow_resolution!r}: give texels per side, 16 to 8192")
+        if self.shadow_refresh < 1:
+            raise UsageError(f"shadow_refresh {self.shadow_refresh!r}: give 1 (the chapter's rates) or more")
         if self.culling not in CULLING:
             raise UsageError(f"unknown culling {self.culling!r}; allowed: {', '.join(CULLING)}")
         if self.grammar_cache_pages < 1:

@@ -15,7 +15,14 @@ import moderngl
 import numpy as np
 
 from ..scene import Camera
-from ..trees import PAPER_RATES, cascade_view_projection, cascades_due, split_distances, texture_matrix
+from ..trees import (
+    PAPER_RATES,
+    cascade_view_projection,
+    cascades_due,
+    slowed_rates,
+    split_distances,
+    texture_matrix,
+)
 from ..gl import RenderTarget, bind_textures, set_uniforms
 from ._trees import focal_rows
 
@@ -67,9 +74,11 @@ class CascadedShadows:
         reach = self.shadow_far if camera.shadow_far is None else camera.shadow_far
         return split_distances(camera.near, min(reach, camera.far), len(self.rates))
 
-    def update(self, frame: int, camera: Camera, aspect: float, sun_dir, draw_casters: DrawCasters) -> ShadowStats:
-        """Redraws the cascades due on this frame. Leaves a shadow framebuffer bound: run it before
-        the frame's target is bound."""
+    def update(
+        self, frame: int, camera: Camera, aspect: float, sun_dir, draw_casters: DrawCasters, slower: int = 1
+    ) -> ShadowStats:
+        """Redraws the cascades due on this frame, at their rates made `slower` times less frequent.
+        Leaves a shadow framebuffer bound: run it before the frame's target is bound."""
         ctx = self.ctx
         sun = np.asarray(sun_dir, float)
         inv = np.linalg.inv(camera.view_projection(aspect))
@@ -79,7 +88,7 @@ class CascadedShadows:
         ctx.disable(moderngl.CULL_FACE)
         ctx.depth_func = "<"
         ctx.polygon_offset = (1.5, 4.0)
-        due = dict(cascades_due(frame, self.rates))
+        due = dict(cascades_due(frame, slowed_rates(self.rates, slower)))
         # a cascade never drawn yet (new maps: a new resolution) is drawn now, not at its turn
         due.update({i: rate.casters for i, rate in enumerate(self.rates) if not self.drawn[i]})
         for index, casters in sorted(due.items()):
@@ -134,4 +143,11 @@ def shadow_pass(f):
         return calls
 
     aspect = f.view.size[0] / f.view.size[1]
-    f.gpu.shadows.update(f.view.frame_index, f.view.camera, aspect, f.view.daylight.sun_direction, draw_casters)
+    f.gpu.shadows.update(
+        f.view.frame_index,
+        f.view.camera,
+        aspect,
+        f.view.daylight.sun_direction,
+        draw_casters,
+        f.view.settings.shadow_refresh,
+    )

@@ -30,6 +30,7 @@ from ..trees import (
 )
 from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
 from ._culling import frustum_planes
+from ._tree_cells import TreeCells
 from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
@@ -129,6 +130,7 @@ class TreePass:
         # contiguous copies of what every frame reads of every tree (the records' fields are strided)
         self._positions = np.ascontiguousarray(trees["position"], np.float32)
         self._heights = np.ascontiguousarray(self._model_heights()[trees["species"]] * trees["scale"], np.float32)
+        self._cells = TreeCells(self._positions, self._heights)
         self._vaos = VertexArrays(ctx)
 
     # -- per frame -------------------------------------------------------------------------------
@@ -140,28 +142,30 @@ class TreePass:
         shadow cascade's, which reaches toward the sun for the casters outside the view). With
         `focal_rows` (the image's rows over 2 tan(fov_y / 2)), trees fade out as their height
         shrinks below TreeSettings.vanish_rows."""
-        distance = np.linalg.norm(self._positions - np.asarray(eye, float), axis=1)
-        alphas = lod_alphas(distance, *self.settings.lod_band)
+        s = self.settings
+        near = self._cells.candidates(eye, view_projection, self.sway(), focal_rows, s.vanish_rows[1])
+        distance = np.linalg.norm(self._positions[near] - np.asarray(eye, float), axis=1)
+        alphas = lod_alphas(distance, *s.lod_band)
         if focal_rows is not None:
-            rows = self._heights * focal_rows / np.maximum(distance, 1e-6)
-            alphas = tuple(alpha * vanish_alphas(rows, *self.settings.vanish_rows) for alpha in alphas)
+            rows = self._heights[near] * focal_rows / np.maximum(distance, 1e-6)
+            alphas = tuple(alpha * vanish_alphas(rows, *s.vanish_rows) for alpha in alphas)
         shown = (alphas[0] > 0.0) | (alphas[1] > 0.0)
         if view_projection is not None:
-            shown &= self._visible(view_projection)
-        order = np.flatnonzero(shown)  # sorted after the cuts: a city's trees are mostly out of view
-        order = order[np.argsort(distance[order])]
+            shown &= self._visible(view_projection, near)
+        order = np.flatnonzero(shown)  # positions in `near`, sorted after the cuts
+        order = order[np.argsort(distance[order], kind="stable")]
+        species = self.trees["species"][near[order]]
         for index, model in self.models.items():
-            mine = self.trees["species"][order] == index
             for lod in (0, 1):
-                keep = order[mine & (alphas[lod][order] > 0.0)]
-                t = self.trees[keep]
+                chosen = order[(species == index) & (alphas[lod][order] > 0.0)]
+                t = self.trees[near[chosen]]
                 if lod == 0:
-                    self.fin_counts[index] = int(np.sum(distance[keep] < self.settings.fin_fade[1] + model.height))
+                    self.fin_counts[index] = int(np.sum(distance[chosen] < s.fin_fade[1] + model.height))
                 data = np.zeros((len(t), 8), np.float32)
                 data[:, 0:3] = t["position"]
                 data[:, 3] = t["yaw"]
                 data[:, 4] = t["scale"]
-                data[:, 5] = alphas[lod][keep]
+                data[:, 5] = alphas[lod][chosen]
                 data[:, 6] = t["phase"]
                 buffer = self.instances[index, lod][0]
                 buffer.write(data.tobytes())
@@ -211,14 +215,15 @@ class TreePass:
         commands = np.frombuffer(self.commands[species, lod].read(), np.uint32).reshape(-1, COMMAND_WORDS)
         return commands[:count, 1] > 0
 
-    def _visible(self, view_projection: np.ndarray) -> np.ndarray:
-        """Trees whose box (the model's height, scaled, every way from the root, plus the wind's
+    def _visible(self, view_projection: np.ndarray, trees: np.ndarray | None = None) -> np.ndarray:
+        """Of `trees` (indices; None: all), those whose box (the model's height, scaled, every way from the root, plus the wind's
         sway) is not wholly outside the frustum: a cube's farthest corner along a plane's normal
         lies its reach times the normal's L1 length beyond its centre (a few vector operations for a
         city's trees, where a corner per plane and tree took a tenth of a second)."""
         planes = frustum_planes(view_projection)
-        reach = self._heights + self.sway()
-        x, y, z = self._positions.T.astype(np.float64)
+        every = slice(None) if trees is None else trees
+        reach = self._heights[every] + self.sway()
+        x, y, z = self._positions[every].T.astype(np.float64)
         shown = np.ones(len(x), bool)
         for a, b, c, d in planes:  # plane by plane: a matrix product is slower on a busy machine (BLAS threads)
             shown &= a * x + b * y + c * z + d + reach * (abs(a) + abs(b) + abs(c)) >= 0

@@ -33,6 +33,7 @@ from ._meshes import (
     SURFACE_WALL,
     VERTEX_DTYPE,
     building_record,
+    building_records,
     building_vertices,
     world_positions,
 )
@@ -53,6 +54,7 @@ from ._face_table import (
 from ._paths import PATHS, camera_path
 from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
 from ._dome_faces import DOME_TAPER, DomeFaces, dome_faces
+from ._face_levels import LEVEL_CODES, face_levels, vertex_face_levels
 from ._raycast import intersect
 from ._roofs import Roof
 from ._records import BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, rotation_y
@@ -90,6 +92,7 @@ __all__ = [
     "world_positions",
     "batch",
     "building_record",
+    "building_records",
     "building_vertices",
     "BUILDING_DTYPE",
     "rotation_y",
@@ -131,6 +134,9 @@ __all__ = [
     "DOME_TAPER",
     "DomeFaces",
     "dome_faces",
+    "LEVEL_CODES",
+    "face_levels",
+    "vertex_face_levels",
     "DOOR_CONSTANTS",
     "DOOR_HEIGHT",
     "DOOR_WIDTH",

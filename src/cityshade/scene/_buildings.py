@@ -8,6 +8,7 @@ import numpy as np
 
 from ._roofs import FLAT_ROOF, Roof
 from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, FLAG_SHOP_FRONT, SHAPES
+from ._face_levels import LEVEL_MASK, LEVEL_SHIFT
 from ._uses import USE_COUNT, USE_MIXED, USE_SHIFT
 
 
@@ -19,7 +20,8 @@ class BuildingMass:
     Cylinders and domes use the footprint's bounding box as their diameter.
 
     Buildings from maps add courtyards (`holes`, clockwise rings in the same frame), walls that
-    start above the ground (`base`, with an underside), a `roof` on top of the walls (walls run
+    start above the ground (`base`, with an underside, and `first_level`, the storey they start
+    at: a grammar's facade.level, _face_levels.py), a `roof` on top of the walls (walls run
     up to `height - roof.height`), no walls at all (`walls=False`: a canopy), tagged tints and no
     rooms behind the glass (`interior=False`: an outbuilding's dark panes) and a `use` code."""
 
@@ -41,6 +43,7 @@ class BuildingMass:
     interior: bool = True  # False: no rooms behind the glass, only a dark pane
     holes: tuple[tuple[tuple[float, float], ...], ...] = ()
     base: float = 0.0
+    first_level: int = 0
     roof: Roof = FLAT_ROOF
     walls: bool = True
     wall_colour: tuple[float, float, float] | None = None  # sRGB 0..1; None: the style's own tint
@@ -58,6 +61,10 @@ class BuildingMass:
             raise ValueError(f"unknown building use code {self.use!r}; allowed: 0..{USE_COUNT - 1} (scene/_uses.py)")
         if not 0 <= self.base <= self.wall_top or (self.walls and self.base == self.wall_top):
             raise ValueError(f"building walls must run upward from base {self.base} to {self.wall_top}")
+        if not isinstance(self.first_level, (int, np.integer)) or self.first_level not in range(LEVEL_MASK + 1):
+            raise ValueError(
+                f"building first level must be a whole number from 0 to {LEVEL_MASK}, got {self.first_level}"
+            )
 
     @property
     def wall_top(self) -> float:
@@ -77,7 +84,8 @@ class BuildingMass:
 
     @property
     def flags(self) -> int:
-        """The record's flags word: FLAG_* bits, and the use code from bit USE_SHIFT."""
+        """The record's flags word: FLAG_* bits, the use code from bit USE_SHIFT and the first level
+        from bit LEVEL_SHIFT."""
         return (
             (FLAG_FURNITURE if self.furniture and self.shape != "dome" else 0)
             | (FLAG_CURTAINS if self.curtains else 0)
@@ -85,6 +93,7 @@ class BuildingMass:
             | (0 if self.interior else FLAG_NO_INTERIOR)
             | (FLAG_SHOP_FRONT if self.shop_front else 0)
             | self.use << USE_SHIFT
+            | self.first_level << LEVEL_SHIFT
         )
 
 

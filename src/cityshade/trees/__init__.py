@@ -9,6 +9,7 @@ from ._cascades import (
     cascade_view_projection,
     cascades_due,
     light_basis,
+    slowed_rates,
     split_distances,
     texture_matrix,
 )
@@ -39,6 +40,7 @@ __all__ = [
     "cascade_view_projection",
     "cascades_due",
     "light_basis",
+    "slowed_rates",
     "split_distances",
     "texture_matrix",
     "extrude_fins",

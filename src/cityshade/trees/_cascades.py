@@ -33,6 +33,17 @@ PAPER_RATES = (
 EVERY_FRAME = tuple(CascadeRate(1, 0, frozenset(SHADOW_CASTERS)) for _ in range(3))
 
 
+def slowed_rates(rates, factor: int) -> tuple[CascadeRate, ...]:
+    """`rates` redrawn `factor` times less often. The first cascade keeps phase 0; the others move
+    to the frames between its redraws (phase * factor + factor - 1), so, as in the chapter's rates,
+    no frame redraws more than one of them beside it."""
+    if factor == 1:
+        return tuple(rates)
+    return tuple(
+        CascadeRate(r.every * factor, r.phase * factor + (factor - 1 if r.phase else 0), r.casters) for r in rates
+    )
+
+
 def cascades_due(frame: int, rates=PAPER_RATES) -> list[tuple[int, frozenset[str]]]:
     """(cascade index, casters) for each cascade redrawn on this frame."""
     return [(i, r.casters) for i, r in enumerate(rates) if frame == 0 or frame % r.every == r.phase]

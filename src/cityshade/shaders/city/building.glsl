@@ -152,8 +152,9 @@ void main() {
             f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, -n);
 #endif
         else if (grammar) {
-            f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening);
-            traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, f, opening);
+            bool hole;
+            f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening, hole);
+            traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, hole, f, opening);
         }
         else if (relief) f = relief_building(b, n, v_local, v_facade - vec2(0.0, v_face.y), v_spacing, d);
         else if (v_ids.y != SURFACE_WALL  // dormer fronts keep the flat bay

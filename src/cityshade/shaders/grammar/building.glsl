@@ -32,10 +32,18 @@ void grammar_scope(Building b, int face_index, vec2 facade, vec4 face, out vec2 
 // The storeys of a face: its height over its storey height, rounded.
 float grammar_levels(vec4 face, float storey) { return floor((face.z - face.y) / storey + 0.5); }
 
-// building.levels (the face's storeys), .style, .use and .height for conditions (the use code:
-// building_use, common/buildings.glsl), and the building's own seed for choices made once per building.
-void grammar_set_building(Building b, float levels) {
+// facade.level, the storey the face's bottom sits at: its mass's first level, plus for a dome's ring
+// the storeys below it up the arc (cityshade/scene/_face_levels.py face_levels).
+float grammar_face_level(Building b, vec4 face, float storey) {
+    return float(building_first_level(b)) + (b.ids.w == SHAPE_DOME ? floor(face.y / storey + 0.5) : 0.0);
+}
+
+// building.levels (the face's storeys), .style, .use and .height and facade.level for conditions
+// (the use code: building_use, common/buildings.glsl), and the building's own seed for choices made
+// once per building.
+void grammar_set_building(Building b, float levels, float level) {
     grammar_building = vec4(levels, float(b.ids.y), float(building_use(b)), b.extent.y);
+    grammar_level = level;
     grammar_building_seed = vec2(b.facade.zw) / GRAMMAR_NOISE_DENSITY;
 }
 
@@ -60,7 +68,7 @@ GrammarResult grammar_facade(Building b, vec3 n, int face_index, vec2 facade, fl
                              vec2 duv_dy) {
     vec2 uv, size, seed;
     grammar_scope(b, face_index, facade, face, uv, size, seed);
-    grammar_set_building(b, grammar_levels(face, storey));
+    grammar_set_building(b, grammar_levels(face, storey), grammar_face_level(b, face, storey));
     return grammar_facade_at(b.facade.y, uv, size, seed, n, d, vec2(-duv_dx.x, duv_dx.y), vec2(-duv_dy.x, duv_dy.y));
 }
 
@@ -76,16 +84,20 @@ FacadeResult grammar_facade_result(GrammarResult g, vec3 n, vec3 point) {
                         point, uint(g.glass ? GRAMMAR_ROOM_LABEL : g.label));
 }
 
-// The grammar facade at a building fragment (object space), and the window the pixel belongs to
-// (grammar_window: its rectangle picks the room behind it). With GRAMMAR_DEFERRED it was evaluated
+// The grammar facade at a building fragment (object space), the window the pixel belongs to
+// (grammar_window: its rectangle picks the room behind it) and whether it shows what a hole lets
+// through (GrammarResult.hole: relief/building.glsl recesses the hole). With GRAMMAR_DEFERRED it was evaluated
 // and lit (with facade_light) by the deferred pass's full-screen evaluation of this pixel
 // (cityshade/grammar/_frame_pass.py), which keeps the window's centre: only glass, label and window
 // come back here, and grammar_deferred_color gives the lit colour. The id pass always evaluates, so
 // ids stay exact.
 
-// The deferred pass's mark (first id channel) on a pixel it left to the cheapest level of detail
-// (city/lod.glsl), so both passes agree on the pixel's level.
+// The deferred pass's first id channel: glass, a hole seen (where the page cache did not answer),
+// or the mark on a pixel it left to the cheapest level of detail (city/lod.glsl), so both passes
+// agree on the pixel's level.
+const uint GRAMMAR_DEFERRED_GLASS = 1u;
 const uint GRAMMAR_DEFERRED_SKIPPED = 2u;
+const uint GRAMMAR_DEFERRED_HOLE = 4u;
 
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
 uniform sampler2D u_grammar_deferred_color;
@@ -100,15 +112,17 @@ bool grammar_deferred_skipped() {
 #endif
 
 FacadeResult grammar_building_facade(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, float storey,
-                                     vec4 face, vec3 d, out vec4 window) {
+                                     vec4 face, vec3 d, out vec4 window, out bool hole) {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
     uvec4 ids = texelFetch(u_grammar_deferred_ids, ivec2(gl_FragCoord.xy), 0);
-    uint label = ids.x == 1u ? uint(GRAMMAR_ROOM_LABEL) : ids.y;
+    bool glass = (ids.x & GRAMMAR_DEFERRED_GLASS) != 0u;
+    hole = (ids.x & GRAMMAR_DEFERRED_HOLE) != 0u;
     window = grammar_window(vec4(uintBitsToFloat(ids.zw), 0.0, 0.0), face);  // the window's centre
-    return FacadeResult(vec3(0.0), n, vec2(0.0), float(ids.x), wall, label);
+    return FacadeResult(vec3(0.0), n, vec2(0.0), glass ? 1.0 : 0.0, wall, glass ? uint(GRAMMAR_ROOM_LABEL) : ids.y);
 #else
     GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, dFdx(facade), dFdy(facade));
     window = grammar_window(g.scope, face);
+    hole = g.hole >= 0;
     return grammar_facade_result(g, n, wall);
 #endif
 }

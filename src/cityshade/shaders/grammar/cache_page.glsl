@@ -43,7 +43,7 @@ void main() {
     vec2 page = vec2(grammar_cache_page_xy(v_key));
     vec2 uv = clamp((page * float(GRAMMAR_CACHE_CONTENT) + local - float(GRAMMAR_CACHE_BORDER)) * texel, vec2(0.0), size);
     Building b = buildings[grammar_cache_building(v_key)];
-    grammar_set_building(b, grammar_cache_levels(v_key));
+    grammar_set_building(b, grammar_cache_levels(v_key), float(building_first_level(b)));  // cached faces: city.glsl
     vec2 seed = vec2(grammar_facade_cells(b.facade.zw, grammar_cache_face(v_key))) / GRAMMAR_NOISE_DENSITY;
     // the ray matters only to Intrusion, whose texels are marked view-dependent
     float filter_size = grammar_cache_filter(v_key);

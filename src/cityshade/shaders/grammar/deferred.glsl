@@ -23,7 +23,7 @@ uniform sampler2D u_depth;
 uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;
-layout(location = 1) out uvec4 out_ids;  // glass, label, the window's centre (grammar uv, float bits)
+layout(location = 1) out uvec4 out_ids;  // glass | hole seen, label, the window's centre (grammar uv, float bits)
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -59,12 +59,14 @@ void main() {
              && grammar_cache_read(page, scope.xy, g, centre);
 #endif
     if (!cached) {  // not cached: evaluated here, as without the cache
-        grammar_set_building(buildings[int(rule.w) - 1], normal_levels.w);  // its attributes and seed
-        g = grammar_facade_at(int(rule.z), scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
+        Building b = buildings[int(rule.w) - 1];
+        grammar_set_building(b, normal_levels.w, rule.z);  // its attributes, facade.level and seed
+        g = grammar_facade_at(b.facade.y, scope.xy, scope.zw, rule.xy, n, d, duv_dx, duv_dy);
         centre = g.scope.xy + 0.5 * g.scope.zw;
     }
     vec3 point = world.xyz / world.w;
     out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);
-    out_ids = uvec4(g.glass ? 1u : 0u, uint(g.label), floatBitsToUint(centre));
+    uint seen = (g.glass ? GRAMMAR_DEFERRED_GLASS : 0u) | (!cached && g.hole >= 0 ? GRAMMAR_DEFERRED_HOLE : 0u);
+    out_ids = uvec4(seen, uint(g.label), floatBitsToUint(centre));
 }
 #endif

@@ -36,6 +36,9 @@ struct GrammarResult {
     bool glass;
     vec4 scope;     // the winning Mat's scope: its lower left in facade uv (layers' translations undone), its size
     bool view_dependent;  // an Intrusion was entered: the result depends on the view ray
+    int hole;       // address of the last SkipMask that cut a hole here (skipped more layers than its
+                    // other bit would), -1 for none: a window that is a hole, with what shows through it
+    vec4 hole_scope;  // that SkipMask's scope, as scope
 };
 
 // ---- evaluation state (private to the invocation) -------------------------------------------
@@ -47,9 +50,15 @@ vec3 g_tint;  // Tint's factor for colour Mats (1 unless tinted)
 vec4 g_params;  // the parameters of the rule being evaluated (0 unless passed; GRAMMAR_MAX_PARAMS is 4)
 // building.levels, .style, .use and .height for conditions: set by the caller before grammar_evaluate.
 vec4 grammar_building = vec4(0.0);
+// facade.level, the storey the face's bottom sits at (0 on the ground): set by the caller.
+float grammar_level = 0.0;
 // The building's seed vector (set by callers that know it): the random-seed stack's entry 0, so a
 // Rand with l >= 1 and no RandStack entry decides once per building. Not set: the facade's seed.
 vec2 grammar_building_seed = vec2(0.0);
+// Seen through a hole (set by the caller, for one grammar_evaluate, which resets it): the address of
+// a SkipMask. The layers above it contribute nothing, and it cuts its hole whatever its mask says, so
+// the result is what the hole shows at this point (the recessed hole's room, relief/building.glsl).
+int grammar_through = -1;
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
 vec2 g_stack[GRAMMAR_MAX_STACK];
@@ -69,6 +78,9 @@ vec2 g_S;
 int g_best_addr, g_best_tile;
 ivec2 g_best_texel;
 vec4 g_best_scope;  // the winning Mat's scope (GrammarResult.scope)
+int g_through;       // grammar_through for this evaluation, -1 once its SkipMask is passed
+int g_hole;          // GrammarResult.hole
+vec4 g_hole_scope;
 vec2 g_uv;  // the pixel's facade uv
 
 vec4 grammar_texel(int address) {
@@ -254,6 +266,7 @@ void grammar_split(vec4 head, int a) {
 
 float grammar_variable(int index) {
     if (index >= GRAMMAR_FIRST_PARAMETER) return g_params[min(index - GRAMMAR_FIRST_PARAMETER, 3)];
+    if (index == GRAMMAR_FACADE_LEVEL) return grammar_level;
     if (index >= GRAMMAR_FIRST_BUILDING) return grammar_building[min(index - GRAMMAR_FIRST_BUILDING, 3)];
     vec2 pair = index < 2 ? g_split : (index < 4 ? g_size : g_facade);
     return pair[index % 2];
@@ -395,7 +408,39 @@ void grammar_intrusion(vec4 head) {
     g_addr = next;
 }
 
+// The current scope in facade uv: g_lb is the same for every pixel of a scope; so are the whole seed
+// vectors it was translated by (layers, the start), which undo it exactly.
+vec4 grammar_current_scope() {
+    vec2 shift = mix(round((g_t - g_uv) / g_s) * g_s, vec2(0.0), equal(g_s, vec2(0.0)));  // no seed: none
+    return vec4(g_lb - shift, g_size);
+}
+
+// SkipMask: skips head.z layers where the mask's nearest texel is 0, head.w where it is 1 (in both
+// modes: holes have the numpy twin's edges). The bit that skips more cuts a hole.
+void grammar_skip_mask(vec4 head) {
+    ivec2 texel;
+    int tile;
+    float bit;
+    grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile, bit);
+    bool one = bit > 0.5;
+    if (g_addr == g_through) {  // seen through this hole
+        one = head.w > head.z;
+        g_through = -1;
+    }
+    // as the terminal, decided on exact alphas: a hole under an opaque Mat (where only the filtered
+    // alpha goes on) shows nothing, as in the numpy twin, which stops there
+    if ((one ? head.w > head.z : head.z > head.w) && g_AE < GRAMMAR_OPAQUE) {
+        g_hole = g_addr;
+        g_hole_scope = grammar_current_scope();
+    }
+    grammar_end_layer(int(one ? head.w : head.z));
+}
+
 void grammar_mat(vec4 head, int op) {
+    if (g_through >= 0) {  // a layer above the hole seen through: not in the way
+        grammar_end_layer(0);
+        return;
+    }
     int usage = int(head.y);
     int code = int(head.z);
     vec4 params = (op == 12 && head.w == 0.0) ? vec4(0.0, 0.0, 1.0, 1.0) : grammar_texel(g_addr + 1);
@@ -422,10 +467,7 @@ void grammar_mat(vec4 head, int op) {
             g_best_addr = g_addr;
             g_best_tile = tile;
             g_best_texel = texel;
-            // g_lb is the same for every pixel of a scope; so are the whole seed vectors it was
-            // translated by (layers, the start), which undo it exactly
-            vec2 shift = mix(round((g_t - g_uv) / g_s) * g_s, vec2(0.0), equal(g_s, vec2(0.0)));  // no seed: none
-            g_best_scope = vec4(g_lb - shift, g_size);
+            g_best_scope = grammar_current_scope();
         }
     } else if (usage == 2) {
         float w = (1.0 - g_AN) * a;
@@ -467,6 +509,9 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_A = 0.0; g_AN = 0.0; g_AS = 0.0; g_best_w = 0.0; g_AE = 0.0;
     g_tint = vec3(1.0);
     g_best_addr = -1; g_best_tile = -1; g_best_texel = ivec2(0); g_best_scope = vec4(vec2(0.0), facade);
+    g_through = grammar_through;
+    grammar_through = -1;
+    g_hole = -1; g_hole_scope = vec4(0.0);
 
     for (int step = 0; step < GRAMMAR_MAX_STEPS && g_active; ++step) {
         vec4 head = grammar_texel(g_addr);
@@ -514,11 +559,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
         } else if (op == 9) {
             grammar_end_layer(int(head.y));
         } else if (op == 10) {
-            ivec2 texel;
-            int tile;
-            float bit;  // the nearest texel's bit, in both modes: holes have the numpy twin's edges
-            grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile, bit);
-            grammar_end_layer(int(bit > 0.5 ? head.w : head.z));
+            grammar_skip_mask(head);
         } else if (op == 11) {
             grammar_intrusion(head);
         } else if (op == 17) {
@@ -541,6 +582,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     result.tile = g_best_tile;
     result.scope = g_best_scope;
     result.view_dependent = g_view_dependent;
+    result.hole = g_hole;
+    result.hole_scope = g_hole_scope;
     bool has_tile = g_best_tile >= 0;
     result.glass = has_tile && texelFetch(u_grammar_tiles, ivec3(g_best_texel, 3 * g_best_tile + 2), 0).b > 0.5;
     // A constant colour is a wall unless written Color(r, g, b, label): then head.w is 1 + label.

@@ -12,7 +12,7 @@
 struct SampleFace {
     vec4 size_start_face;  // width, height (metres), start rule, face index
     vec4 building;         // building.levels, .style, .use, .height
-    vec4 seed;             // xy: the building's seed vector
+    vec4 seed;             // xy: the building's seed vector, z: facade.level
 };
 layout(std430, binding = 0) readonly buffer SampleFaces { SampleFace faces[]; };
 uniform sampler2D u_unit_samples;  // RG32F, LOD_SAMPLES_X x LOD_SAMPLES_Y: the points over the unit square
@@ -34,6 +34,7 @@ void main() {
     vec2 size = f.size_start_face.xy;
     vec2 uv = texelFetch(u_unit_samples, pixel % ivec2(LOD_SAMPLES_X, LOD_SAMPLES_Y), 0).xy * size;
     grammar_building = f.building;
+    grammar_level = f.seed.z;
     grammar_building_seed = f.seed.xy;
     int face = int(f.size_start_face.w);
     ivec2 cells = ivec2(round(f.seed.xy * GRAMMAR_NOISE_DENSITY));

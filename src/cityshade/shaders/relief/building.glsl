@@ -4,8 +4,8 @@
 // relief-bay buildings (record facade.x = FACADE_RELIEF; one bay wide, one floor high, so its
 // windows sit in the interior-mapped rooms); region 1 the textured window bay's window (style 0,
 // stretched over its glass rectangle: city/building.glsl window_bay_relief); the other regions are the window openings of the
-// grammar styles, one per glazed terminal, each fitted to the window the grammar puts there, so the
-// relief's windows are the flat grammar's windows, recessed.
+// grammar styles, one per glazed terminal or hole (a SkipMask's cut), each fitted to the window the
+// grammar puts there, so the relief's windows are the flat grammar's windows, recessed.
 // RELIEF_OFF: no relief anywhere (relief-bay buildings draw the window bay).
 #ifndef RELIEF_BUILDING_GLSL
 #define RELIEF_BUILDING_GLSL
@@ -24,8 +24,8 @@
 uniform float u_relief_depth_unit;  // metres per depth step
 uniform ivec4 u_relief_bay;         // the window bay's region (first row, columns, rows, 1: repeats)
 uniform ivec4 u_relief_window_bay;  // the textured window bay's opening (first row, columns, rows, 0)
-uniform int u_relief_openings;      // how many glazed terminals have a window opening
-uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address, first atlas row of its opening
+uniform int u_relief_openings;      // how many glazed terminals and holes have a window opening
+uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address (Mat or SkipMask), first atlas row of its opening
 uniform vec3 u_relief_colours[2 * RELIEF_MAX_OPENINGS];  // per opening: sRGB frame, reveal (the flat grammar's)
 uniform ivec2 u_relief_profile;     // an opening's columns and rows, the ring of wall texels included
 uniform float u_relief_range;       // metres: openings are traced nearer than this, flat grammar beyond
@@ -74,37 +74,52 @@ FacadeResult opening_traced(Building b, vec3 n, vec3 wall, vec2 facade, vec4 rec
     return relief_traced(b, n, wall, start, scale, d, material);
 }
 
-// The index of a glazed terminal's opening, -1 for none.
+// The index of a glazed terminal's or a hole's opening, -1 for none.
 int relief_opening(int terminal) {
     for (int i = 0; i < u_relief_openings; i++)
-        if (u_relief_terminals[i].x == terminal) return i;
+        if (terminal >= 0 && u_relief_terminals[i].x == terminal) return i;
     return -1;
 }
 
 // A grammar facade's window, recessed: where the flat grammar (facade result f, its window
 // `opening`) shows a glazed terminal with an opening, the opening's profile is stretched over the
 // window's rectangle (facade coordinates, as the grammar fits its tile there) and traced; f and
-// opening become the relief's (the rectangle: the room behind is the window's). s: the distance.
-// Returns whether the relief was traced.
+// opening become the relief's (the rectangle: the room behind is the window's). Where it shows what
+// a hole lets through (GrammarResult.hole: dusk's rooms), the hole's profile is stretched over the
+// hole's scope and traced; through its bottom, the grammar seen through that hole from where the ray
+// meets it (the hole's room, entered from the recessed point). s: the distance; hole_seen: the flat
+// grammar shows a hole here (grammar_building_facade). Returns whether the relief was traced.
 bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
-                    float s, inout FacadeResult f, inout vec4 opening) {
+                    float s, bool hole_seen, inout FacadeResult f, inout vec4 opening) {
 #if defined RELIEF_OFF
     return false;
 #else
-    if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL))) return false;
-    GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, dFdx(facade), dFdy(facade));
-    int opening_index = relief_opening(g.terminal);
+    if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL) && !hole_seen)) return false;
+    vec2 duv_dx = dFdx(facade), duv_dy = dFdy(facade);
+    GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, duv_dx, duv_dy);
+    int opening_index = g.glass || g.label == GRAMMAR_WINDOW_LABEL ? relief_opening(g.terminal) : -1;
+    bool hole = opening_index < 0;  // a hole's recess, if no glazed terminal's
+    if (hole) opening_index = relief_opening(g.hole);
     if (opening_index < 0) return false;
-    vec4 rect = grammar_window(g.scope, face);
+    vec4 rect = grammar_window(hole ? g.hole_scope : g.scope, face);
     uint material;
     f = opening_traced(b, n, wall, facade, rect, ivec4(u_relief_terminals[opening_index].y, u_relief_profile, 0), d,
                        material);
+    opening = rect;
+    if (hole && material == RELIEF_GLASS) {
+        vec3 offset = f.point - wall;
+        grammar_through = g.hole;
+        GrammarResult behind = grammar_facade(b, n, face_index, facade + vec2(dot(offset, normalize(cross(n, vec3(0.0, 1.0, 0.0)))), offset.y),
+                                              storey, face, d, duv_dx, duv_dy);
+        f = grammar_facade_result(behind, n, f.point);
+        if (behind.glass) opening = grammar_window(behind.scope, face);
+        return true;
+    }
     // the frame and the reveal in the flat grammar's colours (the grammar's own, untinted): the
     // tile's own colour where the wall point is on the frame too, else the frame's mean colour
     if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(g.glass ? u_relief_colours[2 * opening_index] : g.color);
     else if (material == RELIEF_WALL) f.albedo = srgb_to_linear(u_relief_colours[2 * opening_index + 1]);
     f.label = f.glass > 0.0 ? uint(GRAMMAR_ROOM_LABEL) : uint(GRAMMAR_WINDOW_LABEL);
-    opening = rect;
     return true;
 #endif
 }
