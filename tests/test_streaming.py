@@ -19,7 +19,7 @@ from cityshade.errors import CityshadeError, UsageError
 from cityshade.render import Renderer, RenderSettings, open_tiles, streamed_tiles, write_tiles
 from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
 from cityshade.render._tile_cache import CacheProblem, read_tile
-from cityshade.scene import VERTEX_DTYPE, make_city
+from cityshade.scene import GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
 
 MAPS = Path(__file__).parent / "data" / "maps"
 TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
@@ -73,7 +73,7 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
     for tile in manifest["tiles"]:
         path = folder / tile["file"]
         assert path.stat().st_size == tile["bytes"]
-        assert tile["resident_bytes"] == tile["vertices"] * VERTEX_DTYPE.itemsize
+        assert tile["resident_bytes"] == tile["vertices"] * GPU_VERTEX_DTYPE.itemsize
         x0, z0, x1, z1 = tile["bounds"]
         assert x0 <= x1 and z0 <= z1
     assert sorted(p.name for p in folder.iterdir()) == ["city.pickle", "manifest.json", "tiles"]
@@ -81,7 +81,8 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
 
 def test_tiles_hold_every_building_once(district, district_tiles):
     cache = district_tiles
-    vertices = [read_tile(cache, i) for i in range(len(cache.tiles))]
+    placement = placements(district.masses)
+    vertices = [expand_face_table(read_tile(cache, i), cache.faces, placement) for i in range(len(cache.tiles))]
     assert sum(t.buildings for t in cache.tiles) == len(cache.boxes) == len(district.masses)
     held = np.concatenate([np.unique(v["ids"][:, 0]) for v in vertices])
     assert sorted(held.tolist()) == sorted(cache.boxes["draw"][:, 2].tolist())
@@ -162,7 +163,7 @@ def test_resident_bytes_stay_under_the_budget_along_a_path(district, district_ti
     city = StreamedCityGPU(gl_context, cache, budget)
     released = set()
     try:
-        assert city.arena.capacity * VERTEX_DTYPE.itemsize <= budget
+        assert city.arena.capacity * GPU_VERTEX_DTYPE.itemsize <= budget
         x0, z0, x1, z1 = district.bounds
         for t in np.linspace(0, 1, 12):
             eye = (x0 + t * (x1 - x0), 2.0, z0 + t * (z1 - z0))
@@ -173,7 +174,7 @@ def test_resident_bytes_stay_under_the_budget_along_a_path(district, district_ti
             released |= before - set(city.streamer.resident)
             assert city.streamer.resident_bytes <= budget
             for index, (first, count) in city.arena.slots.items():
-                size = VERTEX_DTYPE.itemsize
+                size = GPU_VERTEX_DTYPE.itemsize
                 held = city.building_vbo.read(size=count * size, offset=first * size)
                 assert held == read_tile(cache, index).tobytes()
         assert city.streamer.peak_bytes <= budget
@@ -206,7 +207,7 @@ def test_update_never_waits_for_a_slow_read(district_tiles):
 
 def test_arena_compacts_when_no_gap_is_wide_enough(gl_context):
     arena = _Arena(gl_context, 30)
-    size = VERTEX_DTYPE.itemsize
+    size = GPU_VERTEX_DTYPE.itemsize
     data = {k: np.full(10 * size, k, np.uint8).tobytes() for k in range(3)}
     for k in range(3):
         arena.buffer.write(data[k], offset=arena.allocate(k, 10) * size)

@@ -22,7 +22,7 @@ from .scene import (
     TINT_GAIN,
     USE_CODES,
 )
-from .scene import DOOR_CONSTANTS
+from .scene import DOOR_CONSTANTS, FACE_TABLE_CONSTANTS
 
 CONSTANTS: dict[str, int | str] = {
     **FACE_CODES,  # id AOV faces: FACE_NONE ... FACE_GROUND, FACE_TRUNK, FACE_FOLIAGE
@@ -42,6 +42,7 @@ CONSTANTS: dict[str, int | str] = {
     "GRAMMAR_ROOM_LABEL": LABELS.index("room"),
     "GRAMMAR_DOOR_LABEL": LABELS.index("door"),
     "GRAMMAR_WINDOW_LABEL": LABELS.index("window"),
+    **FACE_TABLE_CONSTANTS,  # FACE_WORDS, FACES_BINDING: the buildings' face table (scene/_face_table.py)
     **DOOR_CONSTANTS,  # DOOR_WIDTH, DOOR_HEIGHT, DOOR_PLANE, DOOR_FACING, MAX_DOORS: scene/_doors.py
     "RELIEF_GLASS": f"{GLASS}u",  # compared with the uint materials of the relief maps
     "RELIEF_FRAME": f"{MATERIALS.index('frame')}u",

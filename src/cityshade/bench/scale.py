@@ -226,6 +226,17 @@ def culled_pixels_differing(renderer: Renderer, city: City) -> dict[str, int]:
     return differing
 
 
+def loaded_city(renderer: Renderer, make_city) -> tuple[City, float, int]:
+    """(the city `make_city()` builds, seconds to build and upload it, resident bytes it added to the
+    process): the load time and memory of `measure_city`."""
+    release_freed_memory()  # as set_city does at its end: else the pages freed before are counted against the city
+    resident = _resident_bytes()
+    start = time.perf_counter()
+    city = make_city()
+    renderer.set_city(city)
+    return city, time.perf_counter() - start, _resident_bytes() - resident
+
+
 def measure_city(
     source: str,
     count: int,
@@ -238,13 +249,7 @@ def measure_city(
     settings = RenderSettings(samples=0)
     renderer = Renderer(SIZE, settings)
     helsinki = _helsinki() if source == "osm" else None  # for its street camera: not part of the city measured
-    release_freed_memory()  # as set_city does at its end: else the pages freed before are counted against the city
-    resident = _resident_bytes()
-    start = time.perf_counter()
-    city = _city(source, count, extract, helsinki)
-    renderer.set_city(city)
-    load_seconds = time.perf_counter() - start
-    resident = _resident_bytes() - resident
+    city, load_seconds, resident = loaded_city(renderer, lambda: _city(source, count, extract, helsinki))
     gpu_bytes = _buffer_bytes(renderer.city, renderer.trees)
     draws = _draws(renderer, city, frames)
     others = []

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..scene import VERTEX_DTYPE, BuildingMass, rotation_y
+from ..scene import VERTEX_DTYPE, BuildingMass, world_positions
 from ._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
 
 LAYERS = ("floors", "ceilings", "walls")  # one texture kind, one vertex buffer, one draw call each
@@ -77,8 +77,7 @@ def polygonised_vertices(masses: Sequence[BuildingMass]) -> dict[str, np.ndarray
                 f"polygonised interiors need box buildings; building {index} is a {mass.shape} "
                 f"with {len(mass.footprint)} footprint corners"
             )
-        rot = rotation_y(mass.yaw)
-        origin = np.array([mass.position[0], 0.0, mass.position[1]])
+        origin = np.asarray(mass.position, np.float64)
         for name, quads in _quads(mass).items():
             if not quads:
                 continue
@@ -87,6 +86,6 @@ def polygonised_vertices(masses: Sequence[BuildingMass]) -> dict[str, np.ndarray
             out["normal"] = np.repeat([n for _, n, _ in quads], 6, axis=0)
             out["ids"][:, 0] = index
             out["ids"][:, 1] = np.repeat([face for _, _, face in quads], 6)
-            out["position"] = out["local"].astype(np.float64) @ rot.T + origin
+            out["position"] = world_positions(out["local"], np.cos(mass.yaw), np.sin(mass.yaw), origin)
             rows[name].append(out)
     return {name: np.concatenate(parts) if parts else np.zeros(0, VERTEX_DTYPE) for name, parts in rows.items()}

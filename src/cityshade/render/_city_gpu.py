@@ -1,7 +1,8 @@
-"""A city uploaded to the GPU: one vertex buffer for all buildings (ordered chunk by chunk, each
-building a contiguous range), one SSBO of building records, the buildings' boxes for the cull pass,
-and the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
-stays once they are uploaded (a city of 100,000 buildings holds 250 MB of vertices)."""
+"""A city uploaded to the GPU: one vertex and index buffer for all buildings (ordered chunk by
+chunk, each building a contiguous range) with their face table and placements
+(scene/_face_table.py), one SSBO of building records, the buildings' boxes for the cull pass, and
+the ground quads. Vertex arrays are cached per program. No CPU copy of the vertices or records
+stays once they are uploaded (a city of 100,000 buildings meshes 250 MB of vertices)."""
 
 from __future__ import annotations
 
@@ -14,7 +15,8 @@ import numpy as np
 from ..gl import VertexArrays, create_buffer
 from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
-from ..scene import BUILDING_DTYPE, VERTEX_ATTRIBUTES, VERTEX_FORMAT, City, batch
+from ..scene import BUILDING_DTYPE, FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, PLACEMENTS_BINDING
+from ..scene import City, batch, face_table, placements, shared_vertices
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
 from ._lod_colours import grammar_colours_gpu
@@ -44,6 +46,11 @@ def ground_vertices(city: City) -> np.ndarray:
         for i in (0, 1, 2, 0, 2, 3):
             out.append((*corners[i], float(material)))
     return np.asarray(out, dtype=np.float32)
+
+
+def _at_least_one(rows: np.ndarray) -> np.ndarray:
+    """A storage buffer's rows, a zero one if there are none (a buffer may not be empty)."""
+    return rows if len(rows) else np.zeros(1, rows.dtype)
 
 
 @dataclass
@@ -78,11 +85,14 @@ class CityGPU:
         self.facades = buildings.facades
         self._lod_faces = buildings.lod_faces
         self.chunks = buildings.chunks
-        vertices = buildings.vertices
-        self.building_vertex_count = len(vertices)
+        self.building_vertex_count = len(buildings.vertices)
         self.visibility = BuildingVisibility(ctx, buildings.boxes())
+        vertices, faces = face_table(buildings.vertices, placements(city.masses))
+        vertices, indices = shared_vertices(vertices)
         self.building_vbo = create_buffer(ctx, vertices) if len(vertices) else None
+        self.building_indices = create_buffer(ctx, indices) if len(indices) else None
         self._upload_records(buildings.records)
+        self._upload_faces(faces)
 
     def _upload_city(self, ctx: moderngl.Context, city: City):
         """Everything but the building vertices: ground, street lights, relief maps."""
@@ -94,25 +104,36 @@ class CityGPU:
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
+        self.placements = create_buffer(ctx, _at_least_one(placements(city.masses)))  # yaws and origins
         self.street_lights = StreetLightsGPU(ctx, city.lamps)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
+
+    def _upload_faces(self, faces: np.ndarray):
+        self.faces = create_buffer(self.ctx, _at_least_one(faces))
+
+    def _bind_vertex_tables(self):
+        """The storage buffers the buildings' vertex stage reads (common/building_vertex.glsl)."""
+        self.faces.bind_to_storage_buffer(FACES_BINDING)
+        self.placements.bind_to_storage_buffer(PLACEMENTS_BINDING)
 
     def _upload_records(self, records: np.ndarray):
         self.records = create_buffer(self.ctx, records)
         self._assigned_facades = records["facade"].copy()  # for start_grammars_at
 
-    def _vao(self, program, vbo, fmt, attributes):
-        return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)])
+    def _vao(self, program, vbo, fmt, attributes, index_buffer=None):
+        return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)], index_buffer)
 
     def draw_buildings(self, program, view_projection: np.ndarray | None = None, draws: moderngl.Buffer | None = None):
         """All buildings in one call; with `draws` (commands of BuildingVisibility), one multi-draw
         indirect call of a command per building, in the same order; with a view-projection, only
-        the chunks inside its frustum (one call per run of neighbouring visible chunks)."""
+        the chunks inside its frustum (one call per run of neighbouring visible chunks). Ranges and
+        commands count the vertices of the meshed triangle list: with the index buffer, its indices."""
         if self.building_vbo is None:
             return
         self.records.bind_to_storage_buffer(0)
-        vao = self._vao(program, self.building_vbo, VERTEX_FORMAT, VERTEX_ATTRIBUTES)
+        self._bind_vertex_tables()
+        vao = self._vao(program, self.building_vbo, GPU_VERTEX_FORMAT, GPU_VERTEX_ATTRIBUTES, self.building_indices)
         if draws is not None:
             vao.render_indirect(draws, moderngl.TRIANGLES, count=self.visibility.count)
         elif view_projection is not None:
@@ -154,7 +175,15 @@ class CityGPU:
 
     def release(self):
         self._vaos.release()
-        for buf in (self.building_vbo, self.records, self.ground_vbo, self._lod_colours):
+        for buf in (
+            self.building_vbo,
+            self.building_indices,
+            self.faces,
+            self.placements,
+            self.records,
+            self.ground_vbo,
+            self._lod_colours,
+        ):
             if buf is not None:
                 buf.release()
         self.relief.release()

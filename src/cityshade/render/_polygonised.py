@@ -9,34 +9,42 @@ import numpy as np
 
 from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
-from ..scene import VERTEX_ATTRIBUTES, VERTEX_FORMAT, City
+from ..scene import FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, PLACEMENTS_BINDING, City, face_table
+from ..scene import placements
 from ._culling import BuildingChunks, chunk_vertices
 
 
 class PolygonisedGPU:
     def __init__(self, ctx: moderngl.Context, city: City):
         self.ctx = ctx
-        self.layers: dict[str, tuple[BuildingChunks, moderngl.Buffer]] = {}
+        self.layers: dict[str, tuple[BuildingChunks, moderngl.Buffer, moderngl.Buffer]] = {}  # chunks, vertices, faces
         self.triangle_count = 0
+        placement = placements(city.masses)
+        self.placements = create_buffer(ctx, placement)  # the vertex stage places the rooms as the buildings
         for name, vertices in polygonised_vertices(city.masses).items():
             if len(vertices):
                 vertices, chunks = chunk_vertices(vertices)
-                self.layers[name] = (chunks, create_buffer(ctx, vertices))
+                vertices, faces = face_table(vertices, placement)
+                self.layers[name] = (chunks, create_buffer(ctx, vertices), create_buffer(ctx, faces))
                 self.triangle_count += len(vertices) // 3
         self._vaos = VertexArrays(ctx)
 
     def draw(self, program: moderngl.Program, layer: str, view_projection: np.ndarray):
         if layer not in self.layers:
             return
-        chunks, vbo = self.layers[layer]
-        vao = self._vaos.get((program.glo, layer), program, [(vbo, VERTEX_FORMAT, *VERTEX_ATTRIBUTES)])
+        chunks, vbo, faces = self.layers[layer]
+        faces.bind_to_storage_buffer(FACES_BINDING)
+        self.placements.bind_to_storage_buffer(PLACEMENTS_BINDING)
+        vao = self._vaos.get((program.glo, layer), program, [(vbo, GPU_VERTEX_FORMAT, *GPU_VERTEX_ATTRIBUTES)])
         for first, count in chunks.visible_runs(chunks.visible(view_projection)):
             vao.render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def release(self):
         self._vaos.release()
-        for _, vbo in self.layers.values():
+        self.placements.release()
+        for _, vbo, faces in self.layers.values():
             vbo.release()
+            faces.release()
 
 
 def draw_interior_depth(f):

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..errors import CityshadeError, UsageError
 from ..gl import create_buffer
-from ..scene import VERTEX_DTYPE
+from ..scene import GPU_VERTEX_DTYPE
 from ._city_gpu import CityGPU
 from ._tile_cache import Tile, TileCache, read_tile
 from ._visibility import COMMAND_WORDS, BuildingVisibility
@@ -183,7 +183,7 @@ class _Arena:
 
     def __init__(self, ctx: moderngl.Context, capacity: int):
         self.ctx, self.capacity = ctx, capacity
-        self.buffer = create_buffer(ctx, reserve=max(capacity, 1) * VERTEX_DTYPE.itemsize)
+        self.buffer = create_buffer(ctx, reserve=max(capacity, 1) * GPU_VERTEX_DTYPE.itemsize)
         self.slots: dict[int, tuple[int, int]] = {}  # key -> (first, count)
 
     def _gap(self, count: int) -> int | None:
@@ -205,7 +205,7 @@ class _Arena:
         return first
 
     def compact(self):
-        size = VERTEX_DTYPE.itemsize
+        size = GPU_VERTEX_DTYPE.itemsize
         end = 0
         for key, (first, count) in sorted(self.slots.items(), key=lambda item: item[1][0]):
             if first != end:  # through a scratch buffer: a copy within one buffer must not overlap
@@ -233,8 +233,9 @@ class StreamedCityGPU(CityGPU):
         self._upload_city(ctx, cache.city)
         self.facades, self._lod_faces = cache.facades, cache.lod_faces
         budget = cache.total_bytes if budget is None else int(budget)
-        self.arena = _Arena(ctx, min(budget, cache.total_bytes) // VERTEX_DTYPE.itemsize)
+        self.arena = _Arena(ctx, min(budget, cache.total_bytes) // GPU_VERTEX_DTYPE.itemsize)
         self.building_vbo = self.arena.buffer
+        self.building_indices = None  # a tile's slot holds its triangle list as meshed
         self.building_vertex_count = 0  # resident
         self._count = cache.boxes["draw"][:, 0].copy()
         self._local_first = cache.boxes["draw"][:, 1].copy()
@@ -245,13 +246,14 @@ class StreamedCityGPU(CityGPU):
         self.visibility = BuildingVisibility(ctx, boxes)
         self.resident_draws = create_buffer(ctx, reserve=max(len(boxes), 1) * COMMAND_WORDS * 4)
         self._upload_records(cache.records.copy())
+        self._upload_faces(cache.faces)
         self.streamer = TileStreamer(
             cache.tiles, budget, read or partial(read_tile, cache), self._load_tile, self._release_tile
         )
 
     def _load_tile(self, index: int, vertices: np.ndarray):
         first = self.arena.allocate(index, len(vertices))
-        self.building_vbo.write(vertices.tobytes(), offset=first * VERTEX_DTYPE.itemsize)
+        self.building_vbo.write(vertices.tobytes(), offset=first * GPU_VERTEX_DTYPE.itemsize)
         boxes = self._tile_boxes[index]
         draw = self.visibility.boxes["draw"]
         draw[boxes, 0] = self._count[boxes]

@@ -1,11 +1,12 @@
 """A city's buildings cut into square tiles on disk, for streaming (docs/scale.md, "Streaming").
 
 A cache folder holds `manifest.json` (format, cityshade version and a hash of its source code,
-vertex and record layouts, the source file's name, size and SHA-256, and per tile its file,
+vertex, face and record layouts, the source file's name, size and SHA-256, and per tile its file,
 bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' vertices: masses,
 ground, trees, lamps, viewpoints; the building records with their facades assigned; the cull
-pass's boxes in the whole city's order, each box's first vertex counted within its tile) and
-`tiles/NNNNN.npy` (each tile's vertices, its buildings one after another in box order). A tile is
+pass's boxes in the whole city's order, each box's first vertex counted within its tile; the whole
+city's face table, scene/_face_table.py) and `tiles/NNNNN.npy` (each tile's vertices as the GPU
+holds them, rows of that table, its buildings one after another in box order). A tile is
 the buildings whose masses stand in one square of `tile_size` metres; the city is meshed tile by
 tile, so cutting it never holds more than one tile's vertices.
 
@@ -31,7 +32,7 @@ import numpy as np
 
 from .._files import atomic_folder, check_replaceable_folder
 from ..errors import CityshadeError
-from ..scene import BUILDING_DTYPE, VERTEX_DTYPE, City
+from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
 from ._city_gpu import CityBuildings
 from ._culling import building_cells
@@ -66,7 +67,7 @@ class Tile:
     @property
     def resident_bytes(self) -> int:
         """What the tile holds once loaded: its vertices (on the GPU, or on the CPU on the way there)."""
-        return self.vertices * VERTEX_DTYPE.itemsize
+        return self.vertices * GPU_VERTEX_DTYPE.itemsize
 
     def distance(self, x: float, z: float) -> float:
         """Metres from (x, z) to the tile's bounds on the ground (0 inside)."""
@@ -86,6 +87,7 @@ class TileCache:
     box_tile: np.ndarray  # the tile of each box
     facades: dict
     lod_faces: np.ndarray  # SAMPLE_FACE_DTYPE, by building
+    faces: np.ndarray  # FACE_DTYPE: the face table of every tile's vertices
     source: dict
 
     @property
@@ -127,7 +129,8 @@ def _layouts() -> dict:
         "format": FORMAT,
         "cityshade": __version__,
         "meshing_code": _code_hash(),
-        "vertex": str(VERTEX_DTYPE.descr),
+        "vertex": str(GPU_VERTEX_DTYPE.descr),
+        "faces": str(FACE_DTYPE.descr),
         "record": str(BUILDING_DTYPE.descr),
     }
 
@@ -181,7 +184,8 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     start = time.perf_counter()
     masses = city.masses
     records = np.zeros(len(masses), BUILDING_DTYPE)
-    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), [], [], [], [], []
+    placement = placements(masses)
+    facades, lod_faces, tiles, boxes, cells, box_tile, face_rows = Counter(), [], [], [], [], [], []
     with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
         (tmp / TILE_FOLDER).mkdir()
@@ -194,6 +198,8 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
             lod_faces.append(faces)
             if not len(tile_boxes):
                 continue
+            vertices, faces = face_table(vertices, placement, first_row=sum(map(len, face_rows)))
+            face_rows.append(faces)
             name = f"{TILE_FOLDER}/{len(tiles):05d}.npy"
             size, digest = _tile_file(tmp, name, vertices)
             lo, hi = tile_boxes["lo"].min(axis=0), tile_boxes["hi"].max(axis=0)
@@ -212,6 +218,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
             "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),
             "facades": dict(facades),
             "lod_faces": _by_building(lod_faces),
+            "faces": np.concatenate(face_rows) if face_rows else np.zeros(0, FACE_DTYPE),
         }
         data = pickle.dumps(rest, protocol=pickle.HIGHEST_PROTOCOL)
         (tmp / CITY_FILE).write_bytes(data)
@@ -312,6 +319,7 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
         rest["box_tile"],
         rest["facades"],
         rest["lod_faces"],
+        rest["faces"],
         manifest.get("source"),
     )
 
@@ -367,6 +375,6 @@ def read_tile(cache: TileCache, index: int) -> np.ndarray:
         vertices = np.load(io.BytesIO(data), allow_pickle=False)
     except ValueError as exc:
         raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({exc})") from None
-    if vertices.dtype != VERTEX_DTYPE or vertices.shape != (tile.vertices,):
+    if vertices.dtype != GPU_VERTEX_DTYPE or vertices.shape != (tile.vertices,):
         raise CacheProblem(cache.folder, f"{tile.file} holds {vertices.shape} {vertices.dtype}, not its tile")
     return vertices

@@ -1,8 +1,9 @@
 """GPU-driven visibility of the city's buildings (shaders/frame/cull.glsl, frame/hiz.glsl).
 
-Each building is one contiguous vertex range of the city's vertex buffer with a bounding box; a
-compute pass writes one DrawArraysIndirectCommand per building (instanceCount 0 when culled) and
-the buildings are drawn with one multi-draw indirect call, in vertex-buffer order, so the picture
+Each building is one contiguous range of the city's triangle list (indices of its index buffer, or
+vertices of a streamed city's arena) with a bounding box; a compute pass writes one indirect draw
+command per building (count, instanceCount (0 when culled), first index or vertex, 0: read as a
+DrawElementsIndirectCommand with base vertex 0, or a DrawArraysIndirectCommand) and the buildings are drawn with one multi-draw indirect call, in vertex-buffer order, so the picture
 is that of drawing everything. Per building rather than per chunk: a building's box is tight, so
 it hides behind the street's first row where a chunk's box (a whole block, its tallest tower
 included) would not.

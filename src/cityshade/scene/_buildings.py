@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
@@ -71,7 +70,7 @@ class BuildingMass:
     def wall_top(self) -> float:
         return self.height - self.roof.height
 
-    @cached_property  # the footprint may have many vertices: scanned once
+    @property  # not cached: a cached array costs 200 bytes a building for the city's whole life
     def extent(self) -> np.ndarray:
         pts = np.asarray(self.footprint, dtype=np.float64)
         width, depth = pts.max(axis=0)

@@ -40,8 +40,6 @@ VERTEX_DTYPE = np.dtype(
         ("ids", "<i4", 4),  # building index, surface kind, room column of the face's first and last bay
     ]
 )
-VERTEX_FORMAT = "3f 3f 3f 4f 4f 4i"
-VERTEX_ATTRIBUTES = ("in_position", "in_local", "in_normal", "in_facade", "in_face", "in_ids")
 
 CURVE_SEGMENTS = 48
 # A dome's facets: fine enough that its windows and silhouette lie within a pixel's edge of the exact
@@ -176,13 +174,19 @@ def vertex_records(
     out["ids"][:, 0] = building
     out["ids"][:, 1] = surface
     out["ids"][:, 2:] = rows[4]
-    local = out["local"].astype(np.float64)
+    out["position"] = world_positions(out["local"], cos_yaw, sin_yaw, origin)
+    return out
+
+
+def world_positions(local: np.ndarray, cos_yaw: np.ndarray, sin_yaw: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    """Object-space float32 points (n, 3) placed in the world (float64, to be stored as float32):
+    rotation_y(yaw) applied term by term in float64, in this order, so that one building or a city
+    at once, and the GPU's vertex stage (shaders/common/building_vertex.glsl), get the same floats."""
+    local = np.asarray(local, np.float32).astype(np.float64)
     x, z = local[:, 0], local[:, 2]
-    # rotation_y(yaw) applied term by term: the same floats for one building or a city at once
-    out["position"] = np.column_stack(
+    return np.column_stack(
         [cos_yaw * x + sin_yaw * z + origin[..., 0], local[:, 1], cos_yaw * z - sin_yaw * x + origin[..., 1]]
     )
-    return out
 
 
 def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
