@@ -325,3 +325,28 @@ def test_faces_too_narrow_for_the_grammar_are_plain_walls_as_in_the_renderer(gl_
     writer.write()
     names = [doc.gltf.materials[p.material].name for mesh in doc.gltf.meshes for p in mesh.primitives]
     assert names.count("plain walls") == 1 and sum(n.startswith("facades") for n in names) == 2
+
+
+def test_a_baked_dome_has_unit_normals_and_tangents(gl_context):
+    """A dome's rings lean inwards: their tangents along the ring (glTF requires unit vectors) are
+    normalised, not the horizontal part of the normal turned."""
+    from cityshade.export._content import BuildingWriter, Stats
+    from cityshade.export._gltf import Document
+    from cityshade.scene import dome
+
+    doc = Document({})
+    writer = BuildingWriter(doc, [dome((0.0, 0.0), 30.0, style=4)], [{"source_id": "way/1"}], 0.5, Stats())
+    assert len(writer.canvases[0]) >= 3  # baked ring by ring
+    writer.write()
+    gltf = doc.finish()
+    blob = gltf.binary_blob()
+
+    def read(index, width):
+        accessor = gltf.accessors[index]
+        view = gltf.bufferViews[accessor.bufferView]
+        return np.frombuffer(blob, np.float32, accessor.count * width, view.byteOffset).reshape(-1, width)
+
+    tangents = [read(p.attributes.TANGENT, 4) for m in gltf.meshes for p in m.primitives if p.attributes.TANGENT]
+    normals = [read(p.attributes.NORMAL, 3) for m in gltf.meshes for p in m.primitives]
+    assert tangents and np.allclose(np.linalg.norm(np.concatenate(tangents)[:, :3], axis=1), 1.0, atol=1e-5)
+    assert np.allclose(np.linalg.norm(np.concatenate(normals), axis=1), 1.0, atol=1e-5)

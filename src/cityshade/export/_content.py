@@ -158,6 +158,7 @@ class BuildingWriter:
                 sides = wall_sides(walls)
                 n = walls["normal"]
                 tangents = np.column_stack([-n[:, 2], np.zeros(len(n)), n[:, 0]]) @ rot.T  # along mesh u
+                tangents /= np.linalg.norm(tangents, axis=1, keepdims=True)  # a dome's tilted rings: shorter
                 tangents = np.column_stack([tangents, -np.ones(len(n))])  # bitangent = cross(n, t) * -1 = up
                 for side, canvas in enumerate(self.canvases[i]):
                     sel = sides == side
