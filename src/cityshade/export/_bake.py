@@ -26,7 +26,7 @@ from ..grammar import (
     seed_cells,
     seed_vector,
 )
-from ..scene import building_record, face_levels
+from ..scene import SHAPES, face_levels
 
 PAGE = 2048  # texels: the side of an ordinary atlas page
 ATLAS_LIMIT = 8192  # texels: the largest texture side every desktop and web GPU of the last decade loads
@@ -92,7 +92,6 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
     start = compiled.address(BUILDING_STYLES[mass.style])
     sides = wall_sides(walls)
     room = mass.room_size
-    shape = building_record(mass)["ids"][3]  # its SHAPE_* code: a dome's rings stack their levels
     out = []
     for side in range(int(sides.max()) + 1 if len(sides) else 0):
         on_face = walls[sides == side]
@@ -117,7 +116,7 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
                 seed_vector(mass.seed),
                 (float(room[0]), float(room[1])),
                 float(mass.lights),
-                int(face_levels(mass.first_level, shape, base, facade[0, 3])),
+                int(face_levels(mass.first_level, SHAPES[mass.shape], base, facade[0, 3])),
                 base=base,
                 values=(float(levels), float(mass.style), float(mass.use), float(mass.extent[1])),
             )
