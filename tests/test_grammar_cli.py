@@ -129,6 +129,8 @@ def test_render_use_and_face_options(tmp_path, capsys):
     assert (labels["front"] == labels["front_cpu"]).all() and (labels["side"] == labels["side_cpu"]).all()
     assert (labels["front"] != labels["side"]).any()  # another facade of the building: other choices
     assert len(np.unique(labels["office"].reshape(-1, 3), axis=0)) == 1  # an office: all glass
-    for bad in (["--use", "store"], ["--face", "2047"]):
+    for bad in (["--use", "store"], ["--face", "2047"], ["--level", "abc"], ["--level=-3"], ["--level", "1.5"]):
+        capsys.readouterr()
         assert main(["grammar", "render", str(grammar), *bad, "--out", str(tmp_path / "bad.png")]) == 2
         assert not (tmp_path / "bad.png").exists()
+        assert len(capsys.readouterr().err.strip().splitlines()) == 1, bad
