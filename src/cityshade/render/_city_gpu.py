@@ -24,7 +24,7 @@ from ._culling import BuildingChunks, chunk_vertices
 from ._facades import assign_facades
 from ._polygonised import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
-from ._visibility import BuildingVisibility, building_boxes, building_ranges
+from ._visibility import BOUNDS_BINDING, BuildingVisibility, building_boxes, building_ranges
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -116,6 +116,7 @@ class CityGPU:
         """The storage buffers the buildings' vertex stage reads (common/building_vertex.glsl)."""
         self.faces.bind_to_storage_buffer(FACES_BINDING)
         self.placements.bind_to_storage_buffer(PLACEMENTS_BINDING)
+        self.visibility.bounds.bind_to_storage_buffer(BOUNDS_BINDING)
 
     def _upload_records(self, records: np.ndarray):
         self.records = create_buffer(self.ctx, records)

@@ -20,6 +20,7 @@ import numpy as np
 from ..gl import (
     FRAME_BLOCK,
     MAX_USES,
+    R32F,
     SHADING_BLOCK,
     ProgramCache,
     RenderTarget,
@@ -41,7 +42,7 @@ from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
 from ._textures import CityTextures
 from ._trees import TreePass, draw_trees
-from ._visibility import cull_pass, hiz_pass, occluder_pass
+from ._visibility import cull_pass, farthest_pass, hiz_pass, occluder_pass
 
 ROOM_LIGHT = np.array([1.0, 0.78, 0.52]) * 1.1
 ROOM_DARK = np.array([0.018, 0.02, 0.03])
@@ -136,16 +137,30 @@ class FrameInputs:
         switch = self.view.settings.relief_range
         return switch_distance(self.view.size[1], self.view.camera.fov_y) if switch is None else switch
 
-    def buildings_depth_program(self):
-        """The buildings' depth-only program for the camera (the depth prepass, GPU culling's
-        occluders): with relief on, a wall that may be recessed writes the deepest depth its relief
-        may give (shaders/relief/depth.glsl), so the traced depth passes the buildings pass's test."""
-        relief = self.view.settings.relief
-        program = self.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True, "RELIEF_DEPTH_BOUND": relief})
-        set_uniforms(program, u_view_proj=self.view.view_projection)
-        if relief:
-            self.gpu.city.relief.bind_depth_bound(program, self.relief_switch())
-        return program
+    def relief_parts(self) -> tuple[dict, ...]:
+        """The buildings' draws, as defines: with relief on, two (common/building_vertex.glsl): the
+        buildings a relief may be traced on (RELIEF_NEAR: relief-bay buildings, and those within the
+        switch distance), by a program that writes the relief's depth, then the others (RELIEF_FAR)
+        by one that keeps the rasterised depth, whose fragments a rasteriser can still reject by
+        depth before shading them (llvmpipe tests depth after shading in a program that writes
+        gl_FragDepth); with relief off, one."""
+        return ({"RELIEF_NEAR": True}, {"RELIEF_FAR": True}) if self.view.settings.relief else ({},)
+
+    def buildings_depth_programs(self) -> list:
+        """The buildings' depth-only programs for the camera (the depth prepass, GPU culling's
+        occluders), one per relief part: a wall that may be recessed writes the deepest depth its
+        relief may give (shaders/relief/depth.glsl), so the traced depth passes the buildings pass's
+        test; the far part writes the rasterised depth as its shading program does, sample by sample."""
+        out = []
+        for part in self.relief_parts():
+            program = self.gpu.programs.get(
+                "city/building.glsl", {"DEPTH_ONLY": True, "RELIEF_DEPTH_BOUND": "RELIEF_NEAR" in part, **part}
+            )
+            set_uniforms(program, u_view_proj=self.view.view_projection)
+            if part:
+                self.gpu.city.relief.bind_depth_bound(program, self.relief_switch())
+            out.append(program)
+        return out
 
     def write_frame_blocks(self):
         """The values programs share, once per frame: camera, sun and sky for every program
@@ -246,20 +261,31 @@ def grammar_evaluation(f: FrameInputs):
 
 
 def depth_prepass(f: FrameInputs):
-    f.draw_buildings(f.buildings_depth_program())
-    ground = f.gpu.programs.get("city/ground.glsl", {"DEPTH_ONLY": True})
-    set_uniforms(ground, u_view_proj=f.view.view_projection)
-    f.gpu.city.draw_ground(ground)
+    for program in f.buildings_depth_programs():
+        f.draw_buildings(program)
 
 
 def draw_buildings(f: FrameInputs, defines: dict | None = None):
+    """The buildings' shading program (city/building.glsl), in FrameInputs.relief_parts's draws
+    (the polygonised baseline's, which write no relief depth, in one)."""
     defines = {**grammar_defines(), "GRAMMAR_DEFERRED": f.view.settings.grammar_deferred, **(defines or {})}
+    polygonised = defines.get("POLYGONISED_EXTERIOR") or defines.get("POLYGONISED_WINDOWS")
+    after_prepass = f.view.settings.depth_prepass and not defines.get("ID_PASS")
+    for part in ({},) if polygonised else f.relief_parts():
+        # the part that writes its depth rejects what lies behind the prepass itself (farthest_pass)
+        farthest = after_prepass and "RELIEF_NEAR" in part
+        draw_buildings_with(f, {**defines, **part, "PREPASS_FARTHEST": farthest})
+
+
+def draw_buildings_with(f: FrameInputs, defines: dict):
     program = f.gpu.programs.get("city/building.glsl", f.building_defines(**defines))
     bind_textures(program, {**f.room_textures(), "u_env": f.gpu.env, "u_facade": f.gpu.textures.facade})
     set_uniforms(program, u_view_proj=f.view.view_projection)
     f.gpu.textures.grammar.bind(program)
     if f.view.settings.grammar_deferred:
         f.gpu.textures.grammar_pass.bind_results(program)
+    if defines.get("PREPASS_FARTHEST"):
+        f.gpu.city.visibility.farthest.bind_to_image(0, read=True, write=False, format=R32F)
     f.gpu.city.relief.bind(program, f.relief_switch())
     f.gpu.city.street_lights.bind(program)
     if defines.get("BUILDING_LOD", f.view.settings.building_lod):
@@ -362,9 +388,12 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
         # cascaded shadow maps of buildings and trees, each cascade at its own rate (SpeedTree §4.3.2)
         passes.append(Pass("shadows", shadow_pass, (*CITY, "trees"), "shadow maps"))
     if settings.culling == "gpu":
-        # the big buildings in the frustum into the depth buffer, its max-depth pyramid, then every
-        # building against frustum and pyramid into draw commands (render/_visibility.py)
-        passes.append(Pass("occluders", occluder_pass, CITY, "hdr", GLState(colour_write=False), clear=black))
+        # the big buildings in the frustum into the depth buffer (back faces culled, as in the
+        # buildings pass), its max-depth pyramid, then every building against frustum and pyramid
+        # into draw commands (render/_visibility.py)
+        passes.append(
+            Pass("occluders", occluder_pass, CITY, "hdr", GLState(colour_write=False, cull=True), clear=black)
+        )
         passes.append(Pass("hi-z", hiz_pass, ("hdr",), "depth pyramid", OFF))
         passes.append(Pass("cull", cull_pass, (*CITY, "depth pyramid"), "building draws", OFF))
     if settings.grammar_deferred:
@@ -430,15 +459,26 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
                 GLState(depth_write=False, cull=True, blend=(moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA)),
             )
         )
-        shading_depth = "<"
     elif settings.depth_prepass:
-        # interior-mapping §3.1 "z-cull": every opaque surface into the z-buffer first, so the
-        # shading passes touch only the visible one
-        passes.append(Pass("depth prepass", depth_prepass, CITY, "hdr", GLState(colour_write=False), clear=black))
-        shading_depth = "<="
-    else:
-        shading_depth = "<"
-    # facades; behind the glass, interior-mapped rooms
+        # interior-mapping §3.1 "z-cull": the buildings into the z-buffer first, so the buildings
+        # pass shades only the visible surface (back faces culled, as there). Not the ground: flat,
+        # it hides no building, and drawn after them it meets their depth anyway
+        passes.append(
+            Pass("depth prepass", depth_prepass, CITY, "hdr", GLState(colour_write=False, cull=True), clear=black)
+        )
+        if settings.relief:
+            # the farthest prepass depth of each pixel, for the buildings that write their relief's
+            # depth: a rasteriser tests such a fragment's depth after shading it (llvmpipe does), so
+            # the buildings pass rejects it itself where it lies behind that
+            passes.append(Pass("prepass farthest", farthest_pass, ("hdr",), "farthest depth", OFF))
+            facade_inputs = (*facade_inputs, "farthest depth")
+    # "<=" with the prepass (a surface must pass its own depth) and without, so that where two
+    # surfaces meet at one depth the one drawn last wins either way and the prepass changes no pixel
+    shading_depth = "<" if settings.polygonised_interiors else "<="
+    # facades; behind the glass, interior-mapped rooms. The buildings are closed and wound
+    # counter-clockwise seen from outside: their back faces are culled, which a program writing
+    # gl_FragDepth would shade before its depth test, and whose depth (the pixel centre's, for every
+    # sample) can beat the front face's at a silhouette
     if not settings.polygonised_interiors:
         passes.append(
             Pass(
@@ -446,7 +486,7 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
                 draw_buildings,
                 facade_inputs,
                 "hdr",
-                GLState(depth_func=shading_depth),
+                GLState(depth_func=shading_depth, cull=True),
                 clear=None if settings.depth_prepass else black,
             )
         )

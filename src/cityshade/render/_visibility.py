@@ -36,6 +36,7 @@ TILE = 8  # hiz.glsl's local size (each way)
 # cull.glsl's BuildingBox; draw: vertex count, first vertex, building index
 BOX_DTYPE = np.dtype([("lo", "f4", 4), ("hi", "f4", 4), ("draw", "u4", 4)])
 COMMAND_WORDS = 5  # count, instanceCount, first, baseInstance; moderngl draws with a 20-byte stride
+BOUNDS_BINDING = 13  # the storage buffer of each building's box by building index (common/building_vertex.glsl)
 
 
 def building_ranges(vertices: np.ndarray, building_count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -63,6 +64,15 @@ def building_boxes(vertices: np.ndarray, first: np.ndarray, count: np.ndarray) -
         boxes["hi"][:, :3] = np.maximum.reduceat(positions, first[buildings], axis=0)
     boxes["draw"][:, 0], boxes["draw"][:, 1], boxes["draw"][:, 2] = count[buildings], first[buildings], buildings
     return boxes
+
+
+def building_bounds(boxes: np.ndarray) -> np.ndarray:
+    """The boxes by building index, (buildings, 2, 4) float32: low and high corner (zero for a
+    building without vertices), for the buildings' vertex stage."""
+    buildings = boxes["draw"][:, 2]
+    bounds = np.zeros((int(buildings.max()) + 1 if len(boxes) else 0, 2, 4), np.float32)
+    bounds[buildings, 0], bounds[buildings, 1] = boxes["lo"], boxes["hi"]
+    return bounds
 
 
 def box_pixels(view_projection: np.ndarray, lo: np.ndarray, hi: np.ndarray, viewport: tuple[int, int]):
@@ -170,11 +180,13 @@ class BuildingVisibility:
         self.boxes = boxes
         self.count = len(boxes)
         self.box_buffer = create_buffer(ctx, boxes)
+        self.bounds = create_buffer(ctx, building_bounds(boxes))  # the boxes don't move; their draws may
         size = max(self.count, 1) * COMMAND_WORDS * 4
         self.frustum_draws = create_buffer(ctx, reserve=size)  # any view, frustum only (reused per call)
         self.occluder_draws = create_buffer(ctx, reserve=size)
         self.camera_draws = create_buffer(ctx, reserve=size)  # frustum and Hi-Z
         self.pyramid: moderngl.Texture | None = None
+        self.farthest: moderngl.Texture | None = None  # after the depth prepass (build_farthest)
 
     def _run(
         self,
@@ -206,6 +218,16 @@ class BuildingVisibility:
         """Draw commands of the big buildings in the camera's frustum (the eye is FrameBlock's u_camera)."""
         return self._run(self.occluder_draws, view_projection, {"OCCLUDERS": True}, u_occluder_size=OCCLUDER_SIZE)
 
+    def _farthest_samples(self, depth: moderngl.Texture, samples: int, out: moderngl.Texture):
+        """Level 0 of `out`: the farthest of each pixel's samples of `depth` (frame/hiz.glsl FROM_DEPTH)."""
+        program = programs(self.ctx).get("frame/hiz.glsl", {"FROM_DEPTH": True, "MULTISAMPLED": samples > 0})
+        bind_textures(program, {"u_depth": depth})
+        set_uniforms(program, **({"u_samples": samples} if samples else {}))
+        out.bind_to_image(1, read=False, write=True, level=0, format=R32F)
+        w, h = depth.size
+        program.run(-(-w // TILE), -(-h // TILE))
+        self.ctx.memory_barrier()
+
     def build_pyramid(self, depth: moderngl.Texture, samples: int):
         """The max-depth pyramid of a depth texture (the frame's, after the occluders)."""
         size = depth.size
@@ -213,16 +235,24 @@ class BuildingVisibility:
             if self.pyramid is not None:
                 self.pyramid.release()
             self.pyramid = pyramid_texture(self.ctx, size)
-        program = programs(self.ctx).get("frame/hiz.glsl", {"FROM_DEPTH": True, "MULTISAMPLED": samples > 0})
-        bind_textures(program, {"u_depth": depth})
-        set_uniforms(program, **({"u_samples": samples} if samples else {}))
+        self._farthest_samples(depth, samples, self.pyramid)
         reduce = programs(self.ctx).get("frame/hiz.glsl")
-        for level, (w, h) in enumerate(pyramid_levels(size)):
-            if level:
-                self.pyramid.bind_to_image(0, read=True, write=False, level=level - 1, format=R32F)
+        for level, (w, h) in enumerate(pyramid_levels(size)[1:], start=1):
+            self.pyramid.bind_to_image(0, read=True, write=False, level=level - 1, format=R32F)
             self.pyramid.bind_to_image(1, read=False, write=True, level=level, format=R32F)
-            (reduce if level else program).run(-(-w // TILE), -(-h // TILE))
+            reduce.run(-(-w // TILE), -(-h // TILE))
             self.ctx.memory_barrier()
+
+    def build_farthest(self, depth: moderngl.Texture, samples: int):
+        """The farthest of each pixel's samples of `depth` (the frame's, after the depth prepass), in a
+        texture of its own (`farthest`): the buildings pass rejects a fragment beyond it before
+        shading it (city/building.glsl PREPASS_FARTHEST)."""
+        if self.farthest is None or self.farthest.size != depth.size:
+            if self.farthest is not None:
+                self.farthest.release()
+            self.farthest = self.ctx.texture(depth.size, 1, dtype="f4")
+            self.farthest.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self._farthest_samples(depth, samples, self.farthest)
 
     def cull(self, view_projection: np.ndarray) -> moderngl.Buffer:
         """Draw commands of the buildings in the frustum and not hidden behind the pyramid."""
@@ -241,10 +271,11 @@ class BuildingVisibility:
         return np.frombuffer(commands.read(), np.uint32).reshape(-1, COMMAND_WORDS)[: self.count, 1] > 0
 
     def release(self):
-        for buffer in (self.box_buffer, self.frustum_draws, self.occluder_draws, self.camera_draws):
+        for buffer in (self.box_buffer, self.bounds, self.frustum_draws, self.occluder_draws, self.camera_draws):
             buffer.release()
-        if self.pyramid is not None:
-            self.pyramid.release()
+        for texture in (self.pyramid, self.farthest):
+            if texture is not None:
+                texture.release()
 
 
 # -- the frame's passes (render/_frame.py): `f` is the frame's FrameInputs ------------------------------
@@ -252,12 +283,17 @@ class BuildingVisibility:
 
 def occluder_pass(f):
     """The big buildings in the frustum, depth-only, into the frame's depth buffer."""
-    program = f.buildings_depth_program()  # as the prepass: no deeper than the relief may reach
-    f.gpu.city.draw_buildings(program, draws=f.gpu.city.visibility.occluders(f.view.view_projection))
+    draws = f.gpu.city.visibility.occluders(f.view.view_projection)
+    for program in f.buildings_depth_programs():  # as the prepass: no deeper than the relief may reach
+        f.gpu.city.draw_buildings(program, draws=draws)
 
 
 def hiz_pass(f):
     f.gpu.city.visibility.build_pyramid(f.gpu.targets.hdr.depth, f.gpu.targets.hdr.samples)
+
+
+def farthest_pass(f):
+    f.gpu.city.visibility.build_farthest(f.gpu.targets.hdr.depth, f.gpu.targets.hdr.samples)
 
 
 def cull_pass(f):

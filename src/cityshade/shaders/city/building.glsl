@@ -1,7 +1,7 @@
 // Buildings: one draw call for the whole city. Exterior bay texture whose alpha marks the glass
 // (interior-mapping §2.3); behind the glass, rooms ray-cast per pixel (interior/interior.glsl).
 // Defines: DEPTH_ONLY (z prepass; with RELIEF_DEPTH_BOUND the deepest depth the relief may give,
-// relief/depth.glsl), ID_PASS (face/room/building ids; the fourth channel is the grammar
+// relief/depth.glsl), PREPASS_FARTHEST (after the prepass: a fragment behind it is discarded unshaded), ID_PASS (face/room/building ids; the fourth channel is the grammar
 // label, or with ID_ROOM_STATE the room seen, or with ID_WINDOW the window it is seen through), INTERIOR_MAPPING (off: the
 // reflective-only windows baseline), IM_SINGLE_ATLAS, INTERIOR_LOD, BUILDING_LOD (city/lod.glsl); the polygonised-interiors
 // baseline draws the buildings twice: POLYGONISED_EXTERIOR (glass cut out) before its real rooms,
@@ -13,8 +13,10 @@
 #include "common/buildings.glsl"
 // Where a relief is traced the fragment takes its depth; the prepass writes the deepest it may be.
 // (The polygonised baseline's rooms and glass are real geometry at the wall: it keeps the wall's.)
+// RELIEF_FAR (common/building_vertex.glsl) draws only buildings no relief is traced on: the depth stays.
 #if (defined DEPTH_ONLY && defined RELIEF_DEPTH_BOUND) || \
-    (!defined DEPTH_ONLY && !defined RELIEF_OFF && !defined POLYGONISED_EXTERIOR && !defined POLYGONISED_WINDOWS)
+    (!defined DEPTH_ONLY && !defined RELIEF_OFF && !defined RELIEF_FAR && !defined POLYGONISED_EXTERIOR && \
+     !defined POLYGONISED_WINDOWS)
 #define RELIEF_DEPTH
 #endif
 #include "relief/depth.glsl"
@@ -45,6 +47,11 @@ const vec3 NO_ROOM_PANE = vec3(0.02, 0.022, 0.025);  // an outbuilding's pane: d
 const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a dark space
 
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
+#if defined PREPASS_FARTHEST
+// the farthest depth of each pixel's samples after the prepass (an image: the samplers are all taken)
+layout(r32f, binding = 0) readonly uniform image2D u_prepass_farthest;
+const float PREPASS_MARGIN = 2.0 / 16777216.0;  // two steps of the 24-bit depth buffer
+#endif
 
 in vec3 v_world;
 in vec3 v_local;
@@ -114,6 +121,12 @@ bool window_bay_relief(Building b, vec3 n, vec3 wall, vec2 facade, vec2 spacing,
 }
 
 void main() {
+#if defined PREPASS_FARTHEST
+    // after the depth prepass (render/_frame.py): the depth this fragment writes is never nearer
+    // than its own (relief/depth.glsl), so beyond the farthest of its pixel's samples (and the
+    // rounding of the written depth) it fails every sample's test; rejected before it is shaded
+    if (gl_FragCoord.z > imageLoad(u_prepass_farthest, ivec2(gl_FragCoord.xy)).r + PREPASS_MARGIN) discard;
+#endif
     Building b = buildings[v_ids.x];
     mat3 rot = building_rotation(b);
     vec3 n = normalize(v_normal);

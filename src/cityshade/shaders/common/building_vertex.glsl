@@ -1,5 +1,12 @@
 // The buildings' vertex stage (the batched mesh of cityshade/scene/_meshes.py, held on the GPU as
 // cityshade/scene/_face_table.py lays it out), shared by every program that draws the city's buildings.
+// RELIEF_NEAR / RELIEF_FAR: the buildings pass in two draws (render/_frame.py draw_buildings), the
+// buildings whose relief may be traced (relief-bay buildings, and those whose box comes within the
+// switch distance of the eye) by the program that writes the relief's depth, the others by one
+// that does not, so that their fragments keep the depth test before shading; each program puts the
+// other's buildings outside the clip volume.
+// included here, outside the stages: a file is pasted once per program, and both stages need it
+#include "common/buildings.glsl"
 #if defined VERTEX_SHADER
 uniform mat4 u_view_proj;
 in vec3 in_local;
@@ -17,6 +24,20 @@ flat out vec2 v_spacing;  // bay width, storey height: flat, so that every pixel
 flat out vec4 v_face;  // the face's width, base, top, room depth (constant over a triangle)
 flat out ivec4 v_ids;  // building, surface kind, room columns of the face's first and last bay
 invariant gl_Position;  // the z prepass and the shading pass must produce identical depths
+
+#if defined RELIEF_NEAR || defined RELIEF_FAR
+// per building: its box's low and high corner, world (render/_visibility.py building_bounds)
+layout(std430, binding = 13) readonly buffer BuildingBounds { vec4 bounds[]; };
+uniform float u_relief_range;  // metres: openings are traced nearer than this (relief/building.glsl)
+
+// Whether a fragment of the building may trace a relief: a relief bay (traced at every distance), or
+// a point of its box within the switch distance, with a margin over the fragment's own distance (an
+// edge pixel's centre may lie a little off its triangle).
+bool relief_near(int building) {
+    vec3 nearest = clamp(u_camera, bounds[2 * building].xyz, bounds[2 * building + 1].xyz);
+    return buildings[building].facade.x == FACADE_RELIEF || distance(u_camera, nearest) <= u_relief_range * 1.01 + 1.0;
+}
+#endif
 
 uvec4 face_row(uint first) {
     uint w = in_face_row * FACE_WORDS + first;
@@ -36,6 +57,14 @@ void main() {
     v_ids = ivec4(face_row(9u));
     v_world = world_position(placements[v_ids.x]);
     gl_Position = u_view_proj * vec4(v_world, 1.0);
+#if defined RELIEF_NEAR || defined RELIEF_FAR
+#if defined RELIEF_NEAR
+    bool other = !relief_near(v_ids.x);
+#else
+    bool other = relief_near(v_ids.x);
+#endif
+    if (other) gl_Position = vec4(0.0, 0.0, 2.0, 1.0);  // beyond the far plane: every triangle of it clipped
+#endif
     v_local = in_local;
     v_facade = in_facade;
     v_normal = uintBitsToFloat(face_row(0u).xyz);
