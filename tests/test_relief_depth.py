@@ -165,7 +165,7 @@ def test_the_depth_prepass_changes_no_pixel(closeup_frames):
     culled and "<=" in both frames, a tie between two surfaces goes the same way, so the frame's
     depth is the same to the bit and no pixel takes another surface's colour. (One did: a line of
     pixels along a building's silhouette, where its back face met its front face at one depth,
-    took the back face's colour, 19 to 50 levels off.) A few pixels, each at an edge between two
+    took the back face's colour, up to 53 levels off.) A few pixels, each at an edge between two
     buildings or a building and the ground, differ by 1 to 3 levels: most likely a 2x2 quad whose
     other pixels the prepass rejects before shading, which moves a texture's footprint."""
     (on, depth_on), (off, depth_off) = closeup_frames[True], closeup_frames[False]
