@@ -230,7 +230,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     result = BenchResult("facades", describe_context(ctx), timing=timing_record(frames))
     for path in PATHS:
         result.methods[f"fig. 11 {path}"] = method_record(
-            cull_back_faces=False,
+            cull_back_faces=True,  # the buildings pass culls them (render/_frame.py)
             depth_prepass=path == "forward",
             frustum_culling=False,
             msaa=0,
@@ -242,7 +242,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
             "deferred: G-buffer, grammar once per pixel, buildings pass reading it back",
         )
         result.methods[f"city frame, grammar {path}"] = method_record(
-            cull_back_faces=False,
+            cull_back_faces=True,  # the buildings pass culls them (render/_frame.py)
             depth_prepass=True,
             frustum_culling=True,
             msaa=RenderSettings().samples,

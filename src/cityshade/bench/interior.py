@@ -65,11 +65,10 @@ def frames_in(seconds_per_frame: float) -> float:
 
 
 def method(settings: RenderSettings, size) -> dict:
-    """What a variant runs with: the polygonised path culls back faces (render/_frame.py), interior
-    mapping draws them without (its depth prepass rejects back faces before shading); both are culled
-    by chunk against the frustum."""
+    """What a variant runs with: both cull back faces (render/_frame.py) and by chunk against the
+    frustum."""
     return method_record(
-        cull_back_faces=settings.polygonised_interiors,
+        cull_back_faces=True,
         depth_prepass=settings.depth_prepass,
         frustum_culling=True,
         msaa=settings.samples,
