@@ -250,8 +250,7 @@ class BuildingVisibility:
         if self.farthest is None or self.farthest.size != depth.size:
             if self.farthest is not None:
                 self.farthest.release()
-            self.farthest = self.ctx.texture(depth.size, 1, dtype="f4")
-            self.farthest.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            self.farthest = pyramid_texture(self.ctx, depth.size)  # only its level 0 is filled and read
         self._farthest_samples(depth, samples, self.farthest)
 
     def cull(self, view_projection: np.ndarray) -> moderngl.Buffer:
