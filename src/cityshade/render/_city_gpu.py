@@ -81,7 +81,7 @@ class CityBuildings:
 class CityGPU:
     def __init__(self, ctx: moderngl.Context, city: City):
         self._upload_city(ctx, city)
-        buildings = CityBuildings.of(city.masses)
+        buildings = CityBuildings.of(list(city.masses))  # mass objects for the meshing only: the city keeps columns
         self.facades = buildings.facades
         self._lod_faces = buildings.lod_faces
         self.chunks = buildings.chunks

@@ -28,7 +28,7 @@ from ..trees import (
     lod_alphas,
     vanish_alphas,
 )
-from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
+from ..gl import VertexArrays, bind_textures, create_buffer, grow_buffer, set_uniforms, upload_texture
 from ._culling import frustum_planes
 from ._tree_cells import TreeCells
 from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
@@ -44,6 +44,8 @@ PARTS = {  # part -> (program, layout, attributes, extra defines)
 }
 MESHES = ("trunks", "leaves", "fronds")  # each bucket's meshes, in the order of trees/cull.glsl's commands
 INSTANCE_FLOATS = 8
+INSTANCE_BYTES = INSTANCE_FLOATS * 4
+COMMAND_BYTES = len(MESHES) * COMMAND_WORDS * 4  # an instance's draw commands
 BARK, LEAF = ("u_bark_color", "u_bark_normal"), ("u_leaf_color", "u_leaf_detail")
 BRANCHES = ("trunks", "fins")  # the parts drawn from branch geometry, with bark
 PART_SAMPLERS = {"trunks": BARK, "fins": BARK, "leaves": LEAF, "fronds": LEAF}  # the textures each part samples
@@ -113,18 +115,13 @@ class TreePass:
             "u_leaf_color": upload_texture(ctx, leaves.color, "srgb", repeat=False),
             "u_leaf_detail": upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
-        # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
-        capacity = {index: max(int(np.sum(trees["species"] == index)), 1) for index in self.models}
+        # (species, lod) -> (instance buffer, trees drawn); the buffers grow to the most trees a frame
+        # draws (from the street, a few hundred of a city's hundreds of thousands), not to every tree
         self.instances = {
-            (index, lod): (create_buffer(ctx, reserve=capacity[index] * INSTANCE_FLOATS * 4), 0)
-            for index in self.models
-            for lod in (0, 1)
+            (index, lod): (create_buffer(ctx, reserve=INSTANCE_BYTES), 0) for index in self.models for lod in (0, 1)
         }
-        # (species, lod) -> draw commands of trees/cull.glsl, one per instance and mesh
-        self.commands = {
-            key: create_buffer(ctx, reserve=capacity[key[0]] * len(MESHES) * COMMAND_WORDS * 4)
-            for key in self.instances
-        }
+        # (species, lod) -> draw commands of trees/cull.glsl, one per instance and mesh, grown likewise
+        self.commands = {key: create_buffer(ctx, reserve=COMMAND_BYTES) for key in self.instances}
         self.culled = False  # whether the commands of the instances written last are current
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
         # contiguous copies of what every frame reads of every tree (the records' fields are strided)
@@ -168,6 +165,7 @@ class TreePass:
                 data[:, 5] = alphas[lod][chosen]
                 data[:, 6] = t["phase"]
                 buffer = self.instances[index, lod][0]
+                grow_buffer(buffer, len(data), INSTANCE_BYTES)
                 buffer.write(data.tobytes())
                 self.instances[index, lod] = (buffer, len(t))
         self.culled = False
@@ -185,6 +183,7 @@ class TreePass:
                 continue
             counts = tuple(self.parts[species, lod, mesh].count for mesh in MESHES)
             buffer.bind_to_storage_buffer(1)
+            grow_buffer(self.commands[species, lod], count, COMMAND_BYTES)
             run_cull(
                 self.ctx,
                 "trees/cull.glsl",

@@ -9,6 +9,7 @@ import numpy as np
 from ..errors import UsageError
 from ._buildings import BuildingMass, box, cylinder, dome
 from ._camera import Camera
+from ._mass_table import MassTable
 
 GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
 GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_PAVEMENT, "GROUND_GRASS": GROUND_GRASS}
@@ -32,7 +33,7 @@ MAP_GROUND_MATERIALS = {
 class City:
     name: str
     seed: int
-    masses: list[BuildingMass]
+    masses: MassTable  # given as any sequence of BuildingMass, kept as a MassTable
     # ground rectangles (x0, z0, x1, z1, material) drawn over an asphalt plane
     ground: list[tuple[float, float, float, float, int]]
     bounds: tuple[float, float, float, float]
@@ -45,6 +46,10 @@ class City:
     lamps: np.ndarray | None = None  # street lights (N, 4: x, y, z of the bulb, reach in metres)
     origin: tuple[float, float] | None = None  # longitude, latitude of scene (0, 0)
     crs: str | None = None  # the projection from longitude/latitude to scene metres
+
+    def __post_init__(self):
+        if not isinstance(self.masses, MassTable):
+            self.masses = MassTable(self.masses)
 
     def camera(self, name: str) -> Camera:
         if name not in self.viewpoints:

@@ -1,0 +1,192 @@
+"""A city's building masses as NumPy columns: what a City keeps of its buildings.
+
+A BuildingMass as a Python object (a frozen dataclass, its footprint a tuple of tuples) costs about
+a kilobyte; a city of 100,000 buildings held them for its whole life. The table keeps each number
+in a column (float64, so every value reads back bit for bit), the footprints as one array of points
+with each mass's first row, and the rarer values that are whole objects (roofs, courtyards, doors,
+tags) in pools of distinct values indexed per mass: most masses share the same few. It reads as a
+sequence of BuildingMass, each built when asked for (by index, or one after another).
+"""
+
+from __future__ import annotations
+
+import operator
+from collections.abc import Iterable, Sequence
+from dataclasses import fields
+
+import numpy as np
+
+from ._buildings import BuildingMass
+from ._records import SHAPES
+
+SHAPE_NAMES = tuple(SHAPES)
+NUMBERS = {  # field -> dtype of its column (float64 and int64: any value a mass holds, exactly)
+    "height": np.float64,
+    "yaw": np.float64,
+    "floor_height": np.float64,
+    "room_width": np.float64,
+    "seed": np.int64,
+    "style": np.int64,
+    "lights": np.float64,
+    "use": np.int64,
+    "shop_front": np.bool_,
+    "wall_jitter": np.float64,
+    "furniture": np.bool_,
+    "curtains": np.bool_,
+    "interior": np.bool_,
+    "base": np.float64,
+    "first_level": np.int64,
+    "walls": np.bool_,
+}
+MASS_POOLS = ("holes", "roof", "wall_colour", "wall_material", "doors", "guessed")  # objects: index into a pool
+MASS_COLUMNS = {  # every column: dtype and shape past the first axis
+    "shape": (np.uint8, ()),
+    "position": (np.float64, (2,)),
+    "footprint_start": (np.int64, ()),  # one more row than masses: the last is the points' count
+    "footprint_points": (np.float64, (2,)),
+    **{name: (dtype, ()) for name, dtype in NUMBERS.items()},
+    **{name: (np.int32, ()) for name in MASS_POOLS},
+}
+STORED_FIELDS = {"shape", "position", "footprint", *NUMBERS, *MASS_POOLS}
+if STORED_FIELDS != {f.name for f in fields(BuildingMass)}:  # a new field of BuildingMass needs a column
+    raise ImportError(f"MassTable stores {sorted(STORED_FIELDS)}, not BuildingMass's fields")
+
+
+class _Pool:
+    """Distinct values in first-seen order; equal values (by repr: 0.0 and -0.0 stay apart) share a slot."""
+
+    def __init__(self):
+        self.values: list = []
+        self._by_repr: dict[str, int] = {}
+        self._by_id: dict[int, tuple[object, int]] = {}  # the value kept: its id is not reused meanwhile
+
+    def index(self, value) -> int:
+        seen = self._by_id.get(id(value))
+        if seen is not None:
+            return seen[1]
+        key = f"{type(value).__qualname__}:{value!r}"
+        slot = self._by_repr.setdefault(key, len(self.values))
+        if slot == len(self.values):
+            self.values.append(value)
+        self._by_id[id(value)] = (value, slot)
+        return slot
+
+
+class MassTable(Sequence):
+    """Building masses in columns (MASS_COLUMNS), read back as BuildingMass objects equal bit for bit to
+    those stored. Build one from masses (`MassTable(masses)`) or from checked columns (`from_columns`)."""
+
+    __hash__ = None
+
+    def __init__(self, masses: Iterable[BuildingMass] = ()):
+        masses = list(masses)
+        pools = {name: _Pool() for name in MASS_POOLS}
+        columns = {
+            "shape": np.array([SHAPES[m.shape] for m in masses], np.uint8),
+            "position": np.array([m.position for m in masses], np.float64).reshape(-1, 2),
+            "footprint_start": np.cumsum([0] + [len(m.footprint) for m in masses], dtype=np.int64),
+            "footprint_points": np.array([p for m in masses for p in m.footprint], np.float64).reshape(-1, 2),
+        }
+        for name, dtype in NUMBERS.items():
+            columns[name] = np.array([getattr(m, name) for m in masses], dtype)
+        for name in MASS_POOLS:
+            columns[name] = np.array([pools[name].index(getattr(m, name)) for m in masses], np.int32)
+        self._set(columns, {name: pool.values for name, pool in pools.items()})
+
+    @classmethod
+    def from_columns(cls, columns: dict[str, np.ndarray], pools: dict[str, list]) -> MassTable:
+        """A table of these columns (MASS_COLUMNS, each as its dtype and shape) and pools (MASS_POOLS, the values
+        the pooled columns index); ValueError naming the first column that does not fit."""
+        table = cls.__new__(cls)
+        table._set(columns, pools)
+        return table
+
+    def _set(self, columns: dict[str, np.ndarray], pools: dict[str, list]):
+        _check(columns, pools)
+        self._columns = {name: columns[name] for name in MASS_COLUMNS}
+        self._pools = {name: list(pools[name]) for name in MASS_POOLS}
+
+    def __setstate__(self, state: dict):  # unpickled (a tile cache's city): checked as from_columns
+        self._set(state["_columns"], state["_pools"])
+
+    def column(self, name: str) -> np.ndarray:
+        """One column (MASS_COLUMNS), read only."""
+        view = self._columns[name].view()
+        view.flags.writeable = False
+        return view
+
+    def pool(self, name: str) -> tuple:
+        """The distinct values a pooled column (MASS_POOLS) indexes."""
+        return tuple(self._pools[name])
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of the columns (the pools' objects not counted: a few shared values in most cities)."""
+        return sum(column.nbytes for column in self._columns.values())
+
+    def __len__(self) -> int:
+        return len(self._columns["shape"])
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        i = operator.index(index)
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(f"mass index {index} out of range for {len(self)} masses")
+        return self._mass({name: column[i].tolist() for name, column in self._columns.items()}, i)
+
+    def __iter__(self):
+        rows = {name: column.tolist() for name, column in self._columns.items()}
+        for i in range(len(self)):
+            yield self._mass({name: values[i] for name, values in rows.items()}, i)
+
+    def _mass(self, row: dict, i: int) -> BuildingMass:
+        start, end = self._columns["footprint_start"][i : i + 2].tolist()
+        return BuildingMass(
+            shape=SHAPE_NAMES[row["shape"]],
+            position=tuple(row["position"]),
+            footprint=tuple(map(tuple, self._columns["footprint_points"][start:end].tolist())),
+            **{name: row[name] for name in NUMBERS},
+            **{name: self._pools[name][row[name]] for name in MASS_POOLS},
+        )
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, (MassTable, list, tuple)):
+            return NotImplemented
+        return len(self) == len(other) and all(a == b for a, b in zip(self, other))
+
+    def __add__(self, other) -> list[BuildingMass]:
+        return list(self) + list(other)
+
+    def __radd__(self, other) -> list[BuildingMass]:
+        return list(other) + list(self)
+
+    def __repr__(self) -> str:
+        return f"MassTable({len(self)} masses, {self.nbytes:,} bytes of columns)"
+
+
+def _check(columns: dict[str, np.ndarray], pools: dict[str, list]):
+    if set(columns) != set(MASS_COLUMNS):
+        raise ValueError(f"mass table columns {sorted(columns)} are not {sorted(MASS_COLUMNS)}")
+    if set(pools) != set(MASS_POOLS):
+        raise ValueError(f"mass table pools {sorted(pools)} are not {sorted(MASS_POOLS)}")
+    count = len(columns["shape"])
+    for name, (dtype, shape) in MASS_COLUMNS.items():
+        column = columns[name]
+        rows = {"footprint_start": count + 1, "footprint_points": None}.get(name, count)
+        if not isinstance(column, np.ndarray) or column.dtype != dtype or column.shape[1:] != shape:
+            got = f"{column.dtype} {column.shape}" if isinstance(column, np.ndarray) else type(column).__name__
+            raise ValueError(f"mass table column {name!r} holds {got}, not {np.dtype(dtype)} (rows, *{shape})")
+        if rows is not None and len(column) != rows:
+            raise ValueError(f"mass table column {name!r} has {len(column)} rows, not {rows}")
+    start = columns["footprint_start"]
+    if start[0] != 0 or start[-1] != len(columns["footprint_points"]) or np.any(np.diff(start) < 0):
+        raise ValueError("mass table column 'footprint_start' does not step through 'footprint_points' in order")
+    if np.any(columns["shape"] >= len(SHAPE_NAMES)):
+        raise ValueError(f"mass table column 'shape' holds a code beyond {len(SHAPE_NAMES) - 1}")
+    for name in MASS_POOLS:
+        index = columns[name]
+        if len(index) and (index.min() < 0 or index.max() >= len(pools[name])):
+            raise ValueError(f"mass table column {name!r} points outside its pool of {len(pools[name])} values")
