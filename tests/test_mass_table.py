@@ -9,7 +9,18 @@ import numpy as np
 import pytest
 
 from cityshade.maps import building_masses, guess_missing, load_map
-from cityshade.scene import MASS_COLUMNS, MASS_POOLS, BuildingMass, City, MassTable, Roof, box, default_city, dome
+from cityshade.scene import (
+    MASS_COLUMNS,
+    MASS_POOLS,
+    BuildingMass,
+    City,
+    MassColumns,
+    MassTable,
+    Roof,
+    box,
+    default_city,
+    dome,
+)
 from cityshade.scene import make_city
 
 MAPS = Path(__file__).parent / "data" / "maps"
@@ -148,6 +159,10 @@ def _outside_pool(columns, pools):
     columns["doors"][1] = len(pools["doors"])
 
 
+def _float_seeds(columns, pools):
+    columns["seed"] = columns["seed"].astype(np.float64)
+
+
 def _not_an_array(columns, pools):
     columns["walls"] = list(columns["walls"])
 
@@ -163,6 +178,7 @@ def _not_an_array(columns, pools):
         (_footprints_out_of_step, "'footprint_start'"),
         (_shape_code, "'shape' holds a code"),
         (_outside_pool, "'doors' points outside its pool"),
+        (_float_seeds, "'seed' holds float64 (4,), not integers"),
         (_not_an_array, "'walls' holds list"),
     ],
 )
@@ -177,9 +193,22 @@ def test_a_wrong_column_is_refused(damage, named):
 def test_a_damaged_pickle_is_refused():
     """A pickled table (a tile cache's city) is checked as it is read back."""
     table = MassTable(_odd_masses())
-    table._columns["use"] = table._columns["use"].astype(np.int8)
-    with pytest.raises(ValueError, match="'use' holds int8"):
+    table._columns["yaw"] = table._columns["yaw"].astype(np.float32)
+    with pytest.raises(ValueError, match="'yaw' holds float32"):
         pickle.loads(pickle.dumps(table))
+
+
+def test_columns_added_mass_by_mass_are_the_table():
+    """default_city adds its masses one by one (MassColumns); integers narrowed where they fit."""
+    masses = _odd_masses() + list(default_city(blocks=2).masses)
+    columns = MassColumns()
+    for mass in masses:
+        columns.append(mass)
+    table = columns.table()
+    assert [_bits(m) for m in table] == [_bits(m) for m in MassTable(masses)] == [_bits(m) for m in masses]
+    assert table.column("seed").dtype == np.int64  # 2**40 + 3 and -7
+    assert table.column("use").dtype == table.column("roof").dtype == np.uint8
+    assert MassTable(masses[4:]).column("seed").dtype == np.uint32
 
 
 def test_a_city_keeps_its_masses_as_a_table():

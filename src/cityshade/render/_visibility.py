@@ -167,14 +167,18 @@ class BuildingVisibility:
 
     def __init__(self, ctx: moderngl.Context, boxes: np.ndarray):
         self.ctx = ctx
-        self.boxes = boxes
-        self.count = len(boxes)
+        self.count = len(boxes)  # the boxes themselves live in box_buffer only: no CPU copy for a city's life
         self.box_buffer = create_buffer(ctx, boxes)
         size = max(self.count, 1) * COMMAND_WORDS * 4
         self.frustum_draws = create_buffer(ctx, reserve=size)  # any view, frustum only (reused per call)
         self.occluder_draws = create_buffer(ctx, reserve=size)
         self.camera_draws = create_buffer(ctx, reserve=size)  # frustum and Hi-Z
         self.pyramid: moderngl.Texture | None = None
+
+    @property
+    def boxes(self) -> np.ndarray:
+        """The boxes as uploaded (read back from the GPU)."""
+        return np.frombuffer(self.box_buffer.read(), BOX_DTYPE, count=self.count)
 
     def _run(
         self,

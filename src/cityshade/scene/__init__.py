@@ -23,7 +23,7 @@ from ._city import (
     make_city,
 )
 from ._footprints import load_footprints
-from ._mass_table import MASS_COLUMNS, MASS_POOLS, MassTable
+from ._mass_table import MASS_COLUMNS, MASS_POOLS, MassColumns, MassTable
 from ._materials import ROOF_PARTS, ROOF_PATTERNS, TINT_GAIN, roof_material
 from ._batch import batch
 from ._meshes import (
@@ -66,6 +66,7 @@ __all__ = [
     "SHAPES",
     "BuildingMass",
     "MassTable",
+    "MassColumns",
     "MASS_COLUMNS",
     "MASS_POOLS",
     "box",

@@ -11,6 +11,7 @@ sequence of BuildingMass, each built when asked for (by index, or one after anot
 from __future__ import annotations
 
 import operator
+from array import array
 from collections.abc import Iterable, Sequence
 from dataclasses import fields
 
@@ -20,33 +21,38 @@ from ._buildings import BuildingMass
 from ._records import SHAPES
 
 SHAPE_NAMES = tuple(SHAPES)
-NUMBERS = {  # field -> dtype of its column (float64 and int64: any value a mass holds, exactly)
+# integer columns (np.integer) take the narrowest integer type their values fit: a seed below 2**32
+# needs no eight bytes; floats stay float64, so that every value reads back bit for bit
+NUMBERS = {  # field -> dtype of its column
     "height": np.float64,
     "yaw": np.float64,
     "floor_height": np.float64,
     "room_width": np.float64,
-    "seed": np.int64,
-    "style": np.int64,
+    "seed": np.integer,
+    "style": np.integer,
     "lights": np.float64,
-    "use": np.int64,
+    "use": np.integer,
     "shop_front": np.bool_,
     "wall_jitter": np.float64,
     "furniture": np.bool_,
     "curtains": np.bool_,
     "interior": np.bool_,
     "base": np.float64,
-    "first_level": np.int64,
+    "first_level": np.integer,
     "walls": np.bool_,
 }
 MASS_POOLS = ("holes", "roof", "wall_colour", "wall_material", "doors", "guessed")  # objects: index into a pool
 MASS_COLUMNS = {  # every column: dtype and shape past the first axis
     "shape": (np.uint8, ()),
     "position": (np.float64, (2,)),
-    "footprint_start": (np.int64, ()),  # one more row than masses: the last is the points' count
+    "footprint_start": (np.integer, ()),  # one more row than masses: the last is the points' count
     "footprint_points": (np.float64, (2,)),
     **{name: (dtype, ()) for name, dtype in NUMBERS.items()},
-    **{name: (np.int32, ()) for name in MASS_POOLS},
+    **{name: (np.integer, ()) for name in MASS_POOLS},
 }
+VALUE_FIELDS = (*NUMBERS, *MASS_POOLS)  # a mass's fields besides shape, position and footprint, in column order
+READ_CHUNK = 4096  # masses read at a time when iterating: their Python values are made a chunk at a time
+TYPECODES = {np.float64: "d", np.integer: "q", np.uint8: "B", np.bool_: "B"}  # array.array's, while adding
 STORED_FIELDS = {"shape", "position", "footprint", *NUMBERS, *MASS_POOLS}
 if STORED_FIELDS != {f.name for f in fields(BuildingMass)}:  # a new field of BuildingMass needs a column
     raise ImportError(f"MassTable stores {sorted(STORED_FIELDS)}, not BuildingMass's fields")
@@ -72,6 +78,42 @@ class _Pool:
         return slot
 
 
+class MassColumns:
+    """Masses added one at a time into growing C arrays (no Python object per number): a city built
+    mass by mass, each mass dropped once added, leaves no heap of freed objects behind, which the
+    allocator could not hand back while the city's other objects lie scattered among them."""
+
+    def __init__(self):
+        self._columns = {name: array(TYPECODES[dtype]) for name, (dtype, _) in MASS_COLUMNS.items()}
+        self._columns["footprint_start"].append(0)
+        self._pools = {name: _Pool() for name in MASS_POOLS}
+
+    def append(self, mass: BuildingMass):
+        c = self._columns
+        c["shape"].append(SHAPES[mass.shape])
+        c["position"].extend(mass.position)
+        for point in mass.footprint:
+            c["footprint_points"].extend(point)
+        c["footprint_start"].append(len(c["footprint_points"]) // 2)
+        for name, dtype in NUMBERS.items():
+            value = getattr(mass, name)
+            c[name].append(bool(value) if dtype is np.bool_ else value)
+        for name, pool in self._pools.items():
+            c[name].append(pool.index(getattr(mass, name)))
+
+    def table(self) -> MassTable:
+        return MassTable.from_columns(*self.arrays())
+
+    def arrays(self) -> tuple[dict[str, np.ndarray], dict[str, list]]:
+        """(columns, pools) as MassTable.from_columns takes them."""
+        columns = {}
+        for name, (dtype, shape) in MASS_COLUMNS.items():
+            values = np.asarray(self._columns[name])
+            values = _narrowest(values) if dtype is np.integer else values.astype(dtype)
+            columns[name] = values.reshape(-1, *shape)
+        return columns, {name: pool.values for name, pool in self._pools.items()}
+
+
 class MassTable(Sequence):
     """Building masses in columns (MASS_COLUMNS), read back as BuildingMass objects equal bit for bit to
     those stored. Build one from masses (`MassTable(masses)`) or from checked columns (`from_columns`)."""
@@ -79,19 +121,10 @@ class MassTable(Sequence):
     __hash__ = None
 
     def __init__(self, masses: Iterable[BuildingMass] = ()):
-        masses = list(masses)
-        pools = {name: _Pool() for name in MASS_POOLS}
-        columns = {
-            "shape": np.array([SHAPES[m.shape] for m in masses], np.uint8),
-            "position": np.array([m.position for m in masses], np.float64).reshape(-1, 2),
-            "footprint_start": np.cumsum([0] + [len(m.footprint) for m in masses], dtype=np.int64),
-            "footprint_points": np.array([p for m in masses for p in m.footprint], np.float64).reshape(-1, 2),
-        }
-        for name, dtype in NUMBERS.items():
-            columns[name] = np.array([getattr(m, name) for m in masses], dtype)
-        for name in MASS_POOLS:
-            columns[name] = np.array([pools[name].index(getattr(m, name)) for m in masses], np.int32)
-        self._set(columns, {name: pool.values for name, pool in pools.items()})
+        columns = MassColumns()
+        for mass in masses:
+            columns.append(mass)
+        self._set(*columns.arrays())
 
     @classmethod
     def from_columns(cls, columns: dict[str, np.ndarray], pools: dict[str, list]) -> MassTable:
@@ -135,22 +168,28 @@ class MassTable(Sequence):
             i += len(self)
         if not 0 <= i < len(self):
             raise IndexError(f"mass index {index} out of range for {len(self)} masses")
-        return self._mass({name: column[i].tolist() for name, column in self._columns.items()}, i)
+        return next(self._masses(i, i + 1))
 
     def __iter__(self):
-        rows = {name: column.tolist() for name, column in self._columns.items()}
-        for i in range(len(self)):
-            yield self._mass({name: values[i] for name, values in rows.items()}, i)
+        for start in range(0, len(self), READ_CHUNK):
+            yield from self._masses(start, min(start + READ_CHUNK, len(self)))
 
-    def _mass(self, row: dict, i: int) -> BuildingMass:
-        start, end = self._columns["footprint_start"][i : i + 2].tolist()
-        return BuildingMass(
-            shape=SHAPE_NAMES[row["shape"]],
-            position=tuple(row["position"]),
-            footprint=tuple(map(tuple, self._columns["footprint_points"][start:end].tolist())),
-            **{name: row[name] for name in NUMBERS},
-            **{name: self._pools[name][row[name]] for name in MASS_POOLS},
-        )
+    def _masses(self, start: int, end: int):
+        """Masses start..end-1, made from their rows as Python values."""
+        c = self._columns
+        first, last = c["footprint_start"][[start, end]].tolist()
+        points = c["footprint_points"][first:last].tolist()
+        corners = (c["footprint_start"][start : end + 1] - first).tolist()
+        shapes, positions = c["shape"][start:end].tolist(), c["position"][start:end].tolist()
+        numbers = [c[name][start:end].tolist() for name in NUMBERS]
+        pooled = [[self._pools[name][k] for k in c[name][start:end].tolist()] for name in MASS_POOLS]
+        for k, values in enumerate(zip(*numbers, *pooled)):
+            yield BuildingMass(
+                shape=SHAPE_NAMES[shapes[k]],
+                position=tuple(positions[k]),
+                footprint=tuple(map(tuple, points[corners[k] : corners[k + 1]])),
+                **dict(zip(VALUE_FIELDS, values)),
+            )
 
     def __eq__(self, other) -> bool:
         if not isinstance(other, (MassTable, list, tuple)):
@@ -167,6 +206,21 @@ class MassTable(Sequence):
         return f"MassTable({len(self)} masses, {self.nbytes:,} bytes of columns)"
 
 
+def _narrowest(values: np.ndarray) -> np.ndarray:
+    """Integers (int64) as the narrowest integer type that holds them all."""
+    if not len(values):
+        return values.copy()
+    low, high = int(values.min()), int(values.max())
+    for dtype in (np.uint8, np.uint16, np.uint32) if low >= 0 else (np.int8, np.int16, np.int32):
+        if np.iinfo(dtype).min <= low and high <= np.iinfo(dtype).max:
+            return values.astype(dtype)
+    return values.copy()
+
+
+def _fits(dtype: np.dtype, wanted) -> bool:
+    return np.issubdtype(dtype, np.integer) if wanted is np.integer else dtype == wanted
+
+
 def _check(columns: dict[str, np.ndarray], pools: dict[str, list]):
     if set(columns) != set(MASS_COLUMNS):
         raise ValueError(f"mass table columns {sorted(columns)} are not {sorted(MASS_COLUMNS)}")
@@ -176,13 +230,14 @@ def _check(columns: dict[str, np.ndarray], pools: dict[str, list]):
     for name, (dtype, shape) in MASS_COLUMNS.items():
         column = columns[name]
         rows = {"footprint_start": count + 1, "footprint_points": None}.get(name, count)
-        if not isinstance(column, np.ndarray) or column.dtype != dtype or column.shape[1:] != shape:
+        if not isinstance(column, np.ndarray) or not _fits(column.dtype, dtype) or column.shape[1:] != shape:
             got = f"{column.dtype} {column.shape}" if isinstance(column, np.ndarray) else type(column).__name__
-            raise ValueError(f"mass table column {name!r} holds {got}, not {np.dtype(dtype)} (rows, *{shape})")
+            wanted = "integers" if dtype is np.integer else np.dtype(dtype)
+            raise ValueError(f"mass table column {name!r} holds {got}, not {wanted} (rows, *{shape})")
         if rows is not None and len(column) != rows:
             raise ValueError(f"mass table column {name!r} has {len(column)} rows, not {rows}")
     start = columns["footprint_start"]
-    if start[0] != 0 or start[-1] != len(columns["footprint_points"]) or np.any(np.diff(start) < 0):
+    if start[0] != 0 or start[-1] != len(columns["footprint_points"]) or np.any(start[1:] < start[:-1]):
         raise ValueError("mass table column 'footprint_start' does not step through 'footprint_points' in order")
     if np.any(columns["shape"] >= len(SHAPE_NAMES)):
         raise ValueError(f"mass table column 'shape' holds a code beyond {len(SHAPE_NAMES) - 1}")
