@@ -211,6 +211,20 @@ def test_columns_added_mass_by_mass_are_the_table():
     assert MassTable(masses[4:]).column("seed").dtype == np.uint32
 
 
+def test_a_column_of_one_value_is_stored_once():
+    """A district's yaws, flags and roofs are the same for every mass: one row each, broadcast;
+    0.0 and -0.0 are not the same value."""
+    city = default_city(blocks=3)
+    masses = list(city.masses)
+    assert city.masses.column("yaw").strides[0] == city.masses.column("roof").strides[0] == 0
+    assert city.masses.column("seed").strides[0] > 0
+    assert city.masses.nbytes < sum(city.masses.column(name).nbytes for name in MASS_COLUMNS) - 20 * len(masses)
+    turned = [box((0.0, 0.0), 4.0, 4.0, 9.0, yaw=yaw) for yaw in (0.0, -0.0, 0.0)]
+    table = MassTable(turned)
+    assert table.column("yaw").strides[0] > 0
+    assert [_bits(m) for m in table] == [_bits(m) for m in turned]
+
+
 def test_a_city_keeps_its_masses_as_a_table():
     city = default_city(blocks=2)
     assert isinstance(city.masses, MassTable)

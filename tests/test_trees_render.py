@@ -16,7 +16,7 @@ from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas, vanish_alphas
 from cityshade.render._culling import boxes_visible, frustum_planes
 from trees_scene import SIZE, one_tree, render, save
-from cityshade.render._trees import TreePass
+from cityshade.render._trees import INSTANCE_BYTES, TreePass
 from cityshade.trees import tree_instances
 
 
@@ -320,6 +320,7 @@ def test_trees_prepared_from_their_cells_are_those_of_every_tree(ctx, programs, 
     positions = rng.uniform(-1500, 1500, (6000, 3)) * [1, 0, 1]
     trees = tree_instances(positions, rng.choice(["oak", "fir", "poplar"], len(positions)), rng)
     tree = TreePass(ctx, programs, trees)
+    most = {}  # (species, lod) -> the most trees prepared
     try:
         for heading in np.radians([0, 75, 160, 250]):
             eye = (30.0, height, -40.0)
@@ -334,5 +335,9 @@ def test_trees_prepared_from_their_cells_are_those_of_every_tree(ctx, programs, 
                 assert np.array_equal(written, rows.astype(np.float32)), (heading, key, count, len(rows))
                 drawn += count
             assert 0 < drawn < len(trees) // 2, drawn
+            for key, (_, count) in tree.instances.items():
+                most[key] = max(most.get(key, 1), count)
+        for key, (buffer, count) in tree.instances.items():  # grown to the most trees drawn, not to every tree
+            assert buffer.size <= 2 * most[key] * INSTANCE_BYTES < np.sum(trees["species"] == key[0]) * INSTANCE_BYTES
     finally:
         tree.release()

@@ -50,6 +50,7 @@ MASS_COLUMNS = {  # every column: dtype and shape past the first axis
     **{name: (dtype, ()) for name, dtype in NUMBERS.items()},
     **{name: (np.integer, ()) for name in MASS_POOLS},
 }
+ROW_COLUMNS = {name for name in MASS_COLUMNS if not name.startswith("footprint_")}  # one row per mass
 VALUE_FIELDS = (*NUMBERS, *MASS_POOLS)  # a mass's fields besides shape, position and footprint, in column order
 READ_CHUNK = 4096  # masses read at a time when iterating: their Python values are made a chunk at a time
 TYPECODES = {np.float64: "d", np.integer: "q", np.uint8: "B", np.bool_: "B"}  # array.array's, while adding
@@ -136,7 +137,9 @@ class MassTable(Sequence):
 
     def _set(self, columns: dict[str, np.ndarray], pools: dict[str, list]):
         _check(columns, pools)
-        self._columns = {name: columns[name] for name in MASS_COLUMNS}
+        self._columns = {
+            name: _one_if_constant(columns[name]) if name in ROW_COLUMNS else columns[name] for name in MASS_COLUMNS
+        }
         self._pools = {name: list(pools[name]) for name in MASS_POOLS}
 
     def __setstate__(self, state: dict):  # unpickled (a tile cache's city): checked as from_columns
@@ -155,7 +158,10 @@ class MassTable(Sequence):
     @property
     def nbytes(self) -> int:
         """Bytes of the columns (the pools' objects not counted: a few shared values in most cities)."""
-        return sum(column.nbytes for column in self._columns.values())
+        return sum(
+            column.itemsize * (column[:1].size if _constant(column) else column.size)
+            for column in self._columns.values()
+        )
 
     def __len__(self) -> int:
         return len(self._columns["shape"])
@@ -204,6 +210,21 @@ class MassTable(Sequence):
 
     def __repr__(self) -> str:
         return f"MassTable({len(self)} masses, {self.nbytes:,} bytes of columns)"
+
+
+def _constant(column: np.ndarray) -> bool:
+    return column.ndim > 0 and column.strides[0] == 0
+
+
+def _one_if_constant(column: np.ndarray) -> np.ndarray:
+    """A column whose rows all hold the same bits (a district's yaws, its flags, its flat roofs) as
+    that one row, broadcast (read only) to every mass; other columns as they are."""
+    if len(column) < 2 or _constant(column):
+        return column
+    bits = column.reshape(len(column), -1).view(np.uint8)
+    if not np.all(bits == bits[0]):
+        return column
+    return np.broadcast_to(column[:1].copy(), column.shape)
 
 
 def _narrowest(values: np.ndarray) -> np.ndarray:
