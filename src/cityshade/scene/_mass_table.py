@@ -168,7 +168,10 @@ class MassTable(Sequence):
 
     def __getitem__(self, index):
         if isinstance(index, slice):
-            return [self[i] for i in range(*index.indices(len(self)))]
+            start, stop, step = index.indices(len(self))
+            if step == 1:
+                return list(self._masses(start, max(start, stop)))
+            return [self[i] for i in range(start, stop, step)]
         i = operator.index(index)
         if i < 0:
             i += len(self)
