@@ -21,10 +21,11 @@ from ..trees import (
     downsample_views,
     frame_basis,
     frame_direction,
+    view_space_normals,
 )
 
 BAKE_SHADERS = ("trees/trunk.glsl", "trees/leaves.glsl", "trees/bark.glsl", "trees/bake.glsl", "trees/instance.glsl")
-ATLAS_VERSION = 1
+ATLAS_VERSION = 2
 
 
 def bounding_sphere(mesh: TreeMesh) -> tuple[np.ndarray, float]:
@@ -79,6 +80,7 @@ def bake_atlas(ctx, mesh_parts: dict, textures, species, centre, radius) -> dict
                 vao()
     views = [target.read(k)[::-1].astype(np.float32) for k in range(3)]  # row 0 at v = 0, as the atlas
     target.release()
+    views[1][..., :3] = view_space_normals(views[1][..., :3])
     color, surface = downsample_views(views[0], views[1], views[2][..., 0], BAKE_SUPERSAMPLE)
     return {"color": color, "surface": surface}
 

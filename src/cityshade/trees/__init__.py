@@ -41,6 +41,7 @@ from ._impostors import (
     impostor_twin,
     octahedral_normal,
     octahedral_normal_decode,
+    view_space_normals,
 )
 from ._lod import lod_alphas, vanish_alphas
 from ._placement import SPECIES_ORDER, TREE_DTYPE, city_trees, park_trees, street_trees, tree_instances
@@ -85,6 +86,7 @@ __all__ = [
     "impostor_twin",
     "octahedral_normal",
     "octahedral_normal_decode",
+    "view_space_normals",
     "lod_alphas",
     "vanish_alphas",
     "SPECIES_ORDER",

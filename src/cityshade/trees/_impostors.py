@@ -7,7 +7,12 @@ facing the frame nearest to the direction toward the viewer (or the sun, in the 
 the card shows the picture exactly as it was taken; only the viewing angle's difference from the
 frame's differs. Each texel holds the albedo and coverage (colour) and the normal, depth and
 foliage share (surface) of the tree behind it; the card is lit per pixel from those
-(shaders/trees/impostor.glsl, twin `shade_impostor` here).
+(shaders/trees/impostor.glsl, twin `impostor_twin` here).
+
+Normals are stored in the view's own axes (right, up, toward the eye), and turned at draw time
+into the axes of the actual direction toward the camera: the leaf cards of the mesh face the
+camera, so their normals follow the eye and not the nearest frame (with model-space normals a
+street view, whose nearest frames look from 8 or more degrees up, lit the leaves as if from there).
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ class ImpostorAtlas:
     """One species' views. Rows run bottom to top (row 0 is texture coordinate v = 0)."""
 
     color: np.ndarray  # (H, W, 4) float16: linear albedo rgb, coverage
-    surface: np.ndarray  # (H, W, 4) uint8: octahedral normal rg, depth b (0 nearest), foliage share a
+    surface: np.ndarray  # (H, W, 4) uint8: octahedral view-space normal rg, depth b (0 nearest), foliage share a
     centre: np.ndarray  # (3,) model-space centre of the tree's bounding sphere
     radius: float  # metres: the sphere's radius, the card's half-size at scale 1
 
@@ -64,6 +69,19 @@ def frame_basis(direction) -> tuple[np.ndarray, np.ndarray]:
     right = np.cross(ref, d)
     right /= np.linalg.norm(right)
     return right, np.cross(d, right)
+
+
+def view_space_normals(normals: np.ndarray) -> np.ndarray:
+    """(H, W, 3) model-space normals of the whole baked atlas -> each frame's (right, up, toward) axes."""
+    p = normals.shape[0] // FRAMES
+    out = np.empty_like(normals)
+    for i in range(FRAMES):
+        for j in range(FRAMES):
+            d = frame_direction((i, j))
+            axes = np.stack([*frame_basis(d), d])
+            block = (slice(j * p, (j + 1) * p), slice(i * p, (i + 1) * p))  # rows are v, columns u
+            out[block] = normals[block] @ axes.T
+    return out
 
 
 def octahedral_normal(n: np.ndarray) -> np.ndarray:
@@ -156,6 +174,8 @@ def impostor_twin(atlas: ImpostorAtlas, place, scale: float, eye, inv_view_proj,
     direction = frame_direction(frame)
     right, up = (rotate @ axis for axis in frame_basis(direction))
     normal_axis = rotate @ direction
+    eye_axis = (eye - centre) / np.linalg.norm(eye - centre)
+    eye_axes = np.stack([*frame_basis(eye_axis), eye_axis])  # view-space normals -> world
     w, h = size
     px, py = np.meshgrid((np.arange(w) + 0.5) / w * 2 - 1, 1 - (np.arange(h) + 0.5) / h * 2)
     far = np.stack([px, py, np.ones_like(px), np.ones_like(px)], axis=-1) @ np.asarray(inv_view_proj).T
@@ -170,7 +190,7 @@ def impostor_twin(atlas: ImpostorAtlas, place, scale: float, eye, inv_view_proj,
     texel = bilinear(atlas.color.astype(np.float32), uv)
     surface = bilinear(atlas.surface.astype(np.float32) / 255.0, uv)
     covered = inside & (texel[..., 3] >= 0.5)
-    normal = octahedral_normal_decode(surface[covered][:, :2] * 2 - 1) @ rotate.T
+    normal = octahedral_normal_decode(surface[covered][:, :2] * 2 - 1) @ eye_axes
     color = np.zeros((h, w, 3))
     color[covered] = shade_impostor(
         texel[covered][:, :3],

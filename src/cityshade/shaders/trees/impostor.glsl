@@ -3,7 +3,8 @@
 // the atlas frame nearest to the direction toward the camera (in the shadow pass, toward the
 // sun), so it shows that frame's picture as it was taken. Each pixel is lit from the texel's
 // albedo, normal and foliage share: bark as lit_surface, foliage as the leaves' shade_leaf; the
-// shadow look-up goes to the texel's depth behind the card. Defines as trees/leaves.glsl:
+// normal, stored in the frame's axes, is turned into the axes facing the camera itself (as the
+// mesh's leaf cards face it); the shadow look-up goes to the texel's depth behind the card. Defines as trees/leaves.glsl:
 // SHADOW_PASS, ALPHA_TO_COVERAGE (off: alpha test), TWO_SIDED, NO_SHADOWS, ID_PASS.
 
 uniform float u_frames;           // frames per side of the atlas
@@ -20,7 +21,7 @@ out vec3 v_world;
 out vec2 v_uv;
 out float v_fade;
 flat out vec3 v_depth_axis;  // world metres from the card plane at depth 0.5 to depth 0
-flat out vec2 v_yaw;         // cos, sin
+flat out mat3 v_eye_axes;    // right, up, toward the camera: the stored normals' axes, in the world
 
 // Inverse of hemi_octahedral_direction (trees/_impostors.py): y clamped to the upper hemisphere.
 vec2 hemi_octahedral(vec3 d) {
@@ -35,6 +36,13 @@ vec3 hemi_octahedral_direction(vec2 uv) {
     return normalize(vec3(x, 1.0 - abs(x) - abs(z), z));
 }
 
+// (right, up, d) of a card facing direction d: the picture's axes (frame_basis in trees/_impostors.py).
+mat3 card_axes(vec3 d) {
+    vec3 ref = abs(d.y) > 0.999 ? vec3(0.0, 0.0, -1.0) : vec3(0.0, 1.0, 0.0);
+    vec3 right = normalize(cross(ref, d));
+    return mat3(right, cross(d, right), d);
+}
+
 void main() {
     float c = cos(in_place.w), s = sin(in_place.w);
     vec3 centre = tree_to_world(u_impostor_centre);
@@ -46,16 +54,15 @@ void main() {
     vec3 local = vec3(c * toward.x - s * toward.z, toward.y, s * toward.x + c * toward.z);  // world -> model
     vec2 frame = clamp(floor(hemi_octahedral(local) * u_frames), 0.0, u_frames - 1.0);
     vec3 d = hemi_octahedral_direction((frame + 0.5) / u_frames);
-    vec3 ref = abs(d.y) > 0.999 ? vec3(0.0, 0.0, -1.0) : vec3(0.0, 1.0, 0.0);
-    vec3 right = normalize(cross(ref, d));
-    vec3 up = cross(d, right);
+    mat3 axes = card_axes(d);
+    vec3 right = axes[0], up = axes[1];
     vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1)) * 2.0 - 1.0;
     vec3 world = tree_to_world(u_impostor_centre + (right * corner.x + up * corner.y) * u_impostor_radius);
     v_world = world;
     v_uv = (frame + corner * 0.5 + 0.5) / u_frames;
     v_fade = in_params.y;
     v_depth_axis = tree_dir_to_world(d) * u_impostor_radius * in_params.x;
-    v_yaw = vec2(c, s);
+    v_eye_axes = card_axes(normalize(toward));
     gl_Position = u_view_proj * vec4(world, 1.0);
 }
 #endif
@@ -67,7 +74,7 @@ in vec3 v_world;
 in vec2 v_uv;
 in float v_fade;
 flat in vec3 v_depth_axis;
-flat in vec2 v_yaw;
+flat in mat3 v_eye_axes;
 #include "trees/fade.glsl"
 
 // Mip averaging thins the coverage at the silhouette, as the leaf atlas's: scaled back up per level.
@@ -110,8 +117,7 @@ void main() {
     if (alpha <= 0.0) discard;
     vec3 albedo = texture(u_impostor_color, v_uv).rgb;
     vec4 surface = texture(u_impostor_surface, v_uv);
-    vec3 n = octahedral_normal_decode(surface.rg * 2.0 - 1.0);
-    vec3 normal = vec3(v_yaw.x * n.x + v_yaw.y * n.z, n.y, -v_yaw.y * n.x + v_yaw.x * n.z);
+    vec3 normal = v_eye_axes * octahedral_normal_decode(surface.rg * 2.0 - 1.0);
     vec3 view = v_world - u_camera;
     float dist = length(view);
     view /= dist;
