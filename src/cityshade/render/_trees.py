@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
+from moderngl import InvalidObject
 
 from ..trees import (
     BRANCH_ATTRIBUTES,
@@ -168,7 +169,7 @@ class TreePass:
         if focal_rows is not None:
             rows = self._heights[near] * focal_rows / np.maximum(distance, 1e-6)
             if s.impostors:  # the band is linear in distance: in metres per row
-                mesh, impostor = lod_alphas(1.0 / rows, *(1.0 / np.array(s.impostor_rows)))
+                mesh, impostor = lod_alphas(1.0 / rows, *(1.0 / np.array(s.impostor_rows)), overlap=0.0)
                 alphas = (alphas[0] * mesh, alphas[1] * mesh, impostor)
             alphas = tuple(alpha * vanish_alphas(rows, *s.vanish_rows) for alpha in alphas)
         shown = (alphas[0] > 0.0) | (alphas[1] > 0.0) | (alphas[2] > 0.0)
@@ -248,7 +249,7 @@ class TreePass:
         arrays = bake_atlas(ctx, drawn, bind, self.models[species].species, centre, radius)
         vaos.release()
         one.release()
-        if saved[0] is not None:  # None: none bound yet
+        if saved[0] is not None and not isinstance(saved[0].mglo, InvalidObject):  # none bound, or released since
             saved[0].use()
         ctx.polygon_offset = saved[1]
         return arrays
