@@ -376,9 +376,13 @@ class TreePass:
         caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
         span). With `ids`, the id AOV into the bound uint target instead: FACE_TRUNK on trunks and
         fins, FACE_FOLIAGE on leaves and fronds, alpha-tested (a face code cannot be a coverage
-        mix). `env` is the sky's radiance, for the leaves' sky light. Returns the number of draw calls."""
+        mix). `env` is the sky's radiance, for the leaves' sky light. Returns the number of draw calls.
+        Into a target without multisampling, where alpha to coverage does nothing (every fragment
+        is written whatever its alpha, so a level fading out would vanish at once), the LOD fades
+        dither with the fizzle instead."""
         s, ctx = self.settings, self.ctx
-        alpha_to_coverage = s.alpha_to_coverage and not ids
+        multisampled = ctx.fbo is not None and ctx.fbo.samples > 0
+        alpha_to_coverage = s.alpha_to_coverage and multisampled and not ids
         base = dict(
             ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None), ID_PASS=ids
         )
