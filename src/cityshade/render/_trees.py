@@ -42,7 +42,8 @@ from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
 # A tree whose height spans fewer image rows than this starts to become its impostor (measured:
 # docs/trees.md, scripts/impostor-switch.py).
-IMPOSTOR_ROWS = 60.0
+IMPOSTOR_ROWS = 70.0
+BAKED_LOD = 1  # the mesh LOD the impostor shows: the one it takes over from (scripts/impostor-switch.py)
 _ATLASES: dict[str, dict[str, np.ndarray]] = {}  # atlas key -> arrays, baked or read once per process
 INSTANCE_LAYOUT = "4f 4f/i"
 INSTANCE_ATTRIBUTES = ("in_place", "in_params")
@@ -205,14 +206,14 @@ class TreePass:
         return data.tobytes()
 
     def impostor(self, species: int) -> GPUImpostor:
-        """The species' impostor: its atlas baked from the near LOD's mesh (or read from the cache)
+        """The species' impostor: its atlas baked from the BAKED_LOD mesh (or read from the cache)
         the first time it is asked for. Baking binds its own framebuffer and draws with depth
         function "<" (the shadow pass's; the tree pass sets its own): the framebuffer bound before
         and the polygon offset are put back."""
         if species in self.impostors:
             return self.impostors[species]
         model = self.models[species]
-        mesh = model.lods[0]
+        mesh = model.lods[BAKED_LOD]
         centre, radius = bounding_sphere(mesh)
         textures = [self._texture_arrays[name] for name in sorted(self._texture_arrays)]
         key = atlas_key(mesh, textures)
@@ -230,7 +231,7 @@ class TreePass:
         vaos = VertexArrays(ctx)
         drawn = {}
         for part in MESHES:
-            gpu = self.parts[species, 0, part]
+            gpu = self.parts[species, BAKED_LOD, part]
             if gpu.count == 0:
                 continue
             _, layout, attributes, _ = PARTS[part]
