@@ -28,7 +28,7 @@ from cityshade.scene import Camera
 from cityshade.trees import SPECIES_ORDER, tree_instances
 
 ROWS = (240, 160, 120, 90, 70, 60, 50, 40, 30, 20, 12)
-FOCAL = 768 / (2 * np.tan(np.radians(30.0)))  # rows per metre at a metre: 1024x768, 60 degrees
+FOCAL = 768 / (2 * np.tan(np.radians(30.0)))  # rows per metre at a metre: 1024x768, 60 degrees (the table's metres)
 BACKGROUND = np.array([0.45, 0.6, 0.8])
 DIFFERS = 24  # 8-bit display levels (any channel) a pixel must change by to count
 
