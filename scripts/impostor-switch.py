@@ -4,10 +4,11 @@ height spans), in the street viewer's pixel scale; prints how the two differ, be
 mesh's own two LODs differ at the same size (a difference the renderer already fades across),
 and writes the docs picture of both at the switch (docs/images/trees_impostor_switch.png).
 
-Three measures over the pixels where either picture has the tree: pixels whose colour differs by
+Four measures over the pixels where either picture has the tree: pixels whose colour differs by
 more than DIFFERS levels; pixels that are tree in one picture and sky in the other (silhouette);
-and the mean colour difference of 4x4-pixel blocks (what is left when leaf-sized detail is
-averaged away), in 8-bit levels.
+the mean colour difference of 4x4-pixel blocks (what is left when leaf-sized detail is averaged
+away), in 8-bit levels; and the difference of the two trees' mean colours (each over its own tree
+pixels, largest channel), in 8-bit levels: positive where the first picture is the brighter.
 
     python scripts/impostor-switch.py --out docs/images/trees_impostor_switch.png
 """
@@ -81,7 +82,9 @@ def differences(a: np.ndarray, b: np.ndarray) -> str:
 
     touched = tree[:n, :n].reshape(n // 4, 4, n // 4, 4).any(axis=(1, 3))
     blurred = np.abs(blocks(a) - blocks(b)).mean(axis=2)[touched].mean()
-    return f"{colour:6.1%} {outline:6.1%} {blurred:5.1f}"
+    shift = a[in_a].mean(axis=0) - b[in_b].mean(axis=0)
+    mean = shift[np.argmax(np.abs(shift))]
+    return f"{colour:6.1%} {outline:6.1%} {blurred:5.1f} {mean:+6.1f}"
 
 
 def main():
@@ -95,8 +98,8 @@ def main():
     print(
         f"pixels differing by more than {DIFFERS}/255 over the tree's pixels, {args.samples}x MSAA, at 1024x768 60 deg"
     )
-    print("                                impostor vs mesh          far LOD vs near LOD")
-    print("species  rows  metres  mesh LOD  colour  outline  4x4      colour  outline  4x4")
+    print("                                impostor vs mesh                 far LOD vs near LOD")
+    print("species  rows  metres  mesh LOD  colour  outline  4x4   mean     colour  outline  4x4   mean")
     pictures = []
     for name in SPECIES_ORDER:
         trees = tree_instances([(0.0, 0.0, 0.0)], name, np.random.default_rng(0))
