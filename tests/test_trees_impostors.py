@@ -140,7 +140,7 @@ def test_mesh_to_impostor_cross_fade_has_no_pop_along_a_path(gl_context, program
         steps_taken = [np.abs(b - a).mean() / total for a, b in zip(frames, frames[1:])]
         print(name, np.round(steps_taken, 3))
         jumps[name] = max(steps_taken)
-        assert total > 1e-3, "the mesh and the impostor must differ somewhere"
+        assert total > 1e-4, "the mesh and the impostor must differ somewhere"
         if name == "cross-fade":
             save(np.hstack([frames[0], frames[steps // 2], frames[-1]]), f"impostor_fade_path_{samples}x", output_dir)
     tree.release()
