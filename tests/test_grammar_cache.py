@@ -8,7 +8,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cityshade.grammar._cache import BORDER, CONTENT, FINEST_TEXEL, MAX_PROBES, PAGE, needed_pages, page_hash, page_table
+from cityshade.grammar._cache import (
+    BORDER,
+    CONTENT,
+    FINEST_TEXEL,
+    MAX_PROBES,
+    PAGE,
+    needed_pages,
+    page_hash,
+    page_table,
+)
 from cityshade.grammar._random import facade_cells
 from cityshade.grammar._reference import evaluate
 from cityshade.errors import UsageError
