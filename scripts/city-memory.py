@@ -33,6 +33,11 @@ def main(blocks: int):
     print(f"resident bytes per building (bench scale's count): {resident / n:,.0f}")
     for name, size in sorted(_buffers(renderer.city), key=lambda item: -item[1]):
         print(f"  GL buffer {name}: {size / n:,.0f}")
+    trees = renderer.trees
+    drawn = sum(buffer.size for buffer, _ in trees.instances.values()) + sum(b.size for b in trees.commands.values())
+    print(f"  GL buffers of tree instances and draw commands (grow to the trees drawn): {drawn / n:,.1f}")
+    print(f"  masses ({city.masses!r}): {city.masses.nbytes / n:,.0f}")
+    print(f"  tree records ({len(trees.trees):,} trees): {trees.trees.nbytes / n:,.0f}")
     renderer.release()
 
 

@@ -36,14 +36,15 @@ def test_buffer_bytes_count_each_gl_buffer_once(gl_context):
     class Holder:  # stands in for a cityshade object holding buffers
         __module__ = "cityshade.test"
 
-    first, second = gl_context.buffer(reserve=1000), gl_context.buffer(reserve=24)
+    first, second, third = (gl_context.buffer(reserve=n) for n in (1000, 24, 8))
     holder, inner = Holder(), Holder()
     holder.a, holder.b, holder.inner, inner.again, inner.c = first, first, inner, first, second
+    holder.by_key = {(0, 1): (third, 5), (0, 2): [first]}  # as the trees keep theirs, by species and level
     try:
-        assert scale._buffer_bytes(holder, None) == 1024
+        assert scale._buffer_bytes(holder, None) == 1032
     finally:
-        first.release()
-        second.release()
+        for buffer in (first, second, third):
+            buffer.release()
 
 
 def _run(source, buildings, street, aerial, reference=None, **more):

@@ -6,7 +6,15 @@ import moderngl
 import pytest
 
 from cityshade.errors import GLUnavailableError, ShaderError
-from cityshade.gl import MAX_SAMPLERS, ProgramCache, _programs, create_context, sampler_units
+from cityshade.gl import (
+    MAX_SAMPLERS,
+    ProgramCache,
+    _programs,
+    create_buffer,
+    create_context,
+    grow_buffer,
+    sampler_units,
+)
 
 SOURCES = {
     "test/lib.glsl": "float twice(float x) { return 2.0 * x; }\n",
@@ -82,3 +90,16 @@ def test_samplers_get_units_of_their_own_and_at_most_16(gl_context, fake_sources
     assert fits["u_many"].value == list(range(MAX_SAMPLERS))
     with pytest.raises(ShaderError, match="test/samplers.glsl has 17 active samplers"):
         sampler_units(cache.get("test/samplers.glsl", {"COUNT": MAX_SAMPLERS + 1}))
+
+
+def test_a_grown_buffer_keeps_its_name_and_never_shrinks(gl_context):
+    buffer = create_buffer(gl_context, reserve=20)
+    name = buffer.glo
+    grow_buffer(buffer, 1, 20)
+    assert buffer.size == 20
+    grow_buffer(buffer, 5, 20)  # the next power of two of items
+    assert (buffer.size, buffer.glo) == (160, name)
+    buffer.write(bytes(range(100)))
+    grow_buffer(buffer, 2, 20)
+    assert buffer.size == 160 and buffer.read(100) == bytes(range(100))
+    buffer.release()

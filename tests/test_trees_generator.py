@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from cityshade.gl import srgb_to_linear
 from cityshade.trees import SPECIES, bark_textures, generate_tree, leaf_textures
 
 
@@ -66,3 +67,24 @@ def test_textures_are_tileable_and_leaves_have_alpha_and_offsets():
     assert 0.1 < (alpha > 127).mean() < 0.7
     offsets = leaves.detail[..., 2][alpha > 127]
     assert len(np.unique(offsets)) > 20  # one constant per leaf, many leaves
+
+
+@pytest.mark.parametrize("level", [2, 4, 6, 8])
+def test_leaf_atlas_mips_keep_the_leaves_colour(level):
+    """A box-filtered mip texel (what build_mipmaps makes) of the leaf atlas has the mean colour of
+    the leaves under it, not that colour darkened by the gaps' coverage: the transparent texels
+    carry leaf colour. Alpha is the leaves' coverage, untouched by the fill."""
+    color = leaf_textures().color.astype(np.float64) / 255.0
+    linear, alpha = srgb_to_linear(color[..., :3]), color[..., 3:]
+    assert set(np.unique(alpha)) == {0.0, 1.0}
+    n, block = color.shape[0] >> level, 1 << level
+    mip = linear.reshape(n, block, n, block, 3).mean(axis=(1, 3))
+    coverage = alpha.reshape(n, block, n, block, 1).sum(axis=(1, 3))
+    leaves = (linear * alpha).reshape(n, block, n, block, 3).sum(axis=(1, 3)) / np.maximum(coverage, 1)
+    seen = coverage[..., 0] > 0
+    ratio = mip[seen].sum(axis=-1) / leaves[seen].sum(axis=-1)
+    far = np.abs(ratio - 1) > 0.15
+    assert 0.95 < np.median(ratio) < 1.05 and far.mean() < 0.05, (
+        f"mip level {level}: median colour ratio to the leaves' {np.median(ratio):.3f}, "
+        f"{far.sum()} of {far.size} texels off by more than 15%"
+    )

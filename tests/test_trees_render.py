@@ -16,7 +16,7 @@ from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas, vanish_alphas
 from cityshade.render._culling import boxes_visible, frustum_planes
 from trees_scene import SIZE, one_tree, render, save
-from cityshade.render._trees import TreePass
+from cityshade.render._trees import INSTANCE_BYTES, TreePass
 from cityshade.trees import tree_instances
 
 
@@ -182,7 +182,9 @@ def test_trees_vanish_as_they_shrink_below_a_pixel_or_two(ctx, programs):
     """A tree's alphas fade from whole where its height spans TreeSettings.vanish_rows[0] rows of
     the image to nothing at vanish_rows[1]; a tree that spans fewer rows is not drawn at all."""
     assert list(vanish_alphas([10.0, 3.0, 2.25, 1.5, 1.0], 3.0, 1.5)) == [1.0, 1.0, 0.5, 0.0, 0.0]
-    tree = one_tree(ctx, programs, "oak", shadows=False, fins=False)
+    tree = one_tree(
+        ctx, programs, "oak", shadows=False, fins=False, impostors=False
+    )  # impostors: test_trees_impostors.py
     height = tree.models[next(iter(tree.models))].height
     focal = 100.0  # rows per metre at a metre
     written = []
@@ -285,25 +287,30 @@ def test_lod_cross_fade_has_no_pop_along_a_path(ctx, programs, output_dir):
 
 def _prepared_everywhere(tree: TreePass, eye, view_projection, focal_rows) -> dict:
     """The instance rows `prepare` must write, by (species, lod), from every tree of the pass (the
-    numpy twin of the cells' shortcut): distance, LOD and vanish alphas, box against the frustum,
-    nearest first."""
+    numpy twin of the cells' shortcut): distance, LOD, impostor (lod 2) and vanish alphas, box
+    against the frustum, nearest first."""
     trees = tree.trees
     positions = np.asarray(trees["position"], np.float32)
     heights = (np.array([tree.models[int(k)].height for k in trees["species"]]) * trees["scale"]).astype(np.float32)
     distance = np.linalg.norm(positions - np.asarray(eye, float), axis=1)
-    alphas = lod_alphas(distance, *tree.settings.lod_band)
+    alphas = (*lod_alphas(distance, *tree.settings.lod_band), np.zeros(len(trees)))
     if focal_rows is not None:
-        fade = vanish_alphas(heights * focal_rows / np.maximum(distance, 1e-6), *tree.settings.vanish_rows)
+        rows = heights * focal_rows / np.maximum(distance, 1e-6)
+        start, end = tree.settings.impostor_rows
+        share = np.clip((1 / rows - 1 / start) / (1 / end - 1 / start), 0, 1)  # 0: mesh, 1: impostor
+        mesh, impostor = lod_alphas(share, 0.0, 1.0, overlap=0.0)
+        alphas = (alphas[0] * mesh, alphas[1] * mesh, impostor)
+        fade = vanish_alphas(rows, *tree.settings.vanish_rows)
         alphas = tuple(alpha * fade for alpha in alphas)
     reach = (heights + np.float32(tree.sway()))[:, None].astype(float)
-    shown = ((alphas[0] > 0) | (alphas[1] > 0)) & boxes_visible(
+    shown = ((alphas[0] > 0) | (alphas[1] > 0) | (alphas[2] > 0)) & boxes_visible(
         frustum_planes(view_projection), positions - reach, positions + reach
     )
     order = np.flatnonzero(shown)
     order = order[np.argsort(distance[order], kind="stable")]
     rows = {}
     for species in tree.models:
-        for lod in (0, 1):
+        for lod in (0, 1, 2):
             keep = order[(trees["species"][order] == species) & (alphas[lod][order] > 0)]
             rows[species, lod] = np.column_stack(
                 [positions[keep], trees["yaw"][keep], trees["scale"][keep], alphas[lod][keep], trees["phase"][keep]]
@@ -320,6 +327,7 @@ def test_trees_prepared_from_their_cells_are_those_of_every_tree(ctx, programs, 
     positions = rng.uniform(-1500, 1500, (6000, 3)) * [1, 0, 1]
     trees = tree_instances(positions, rng.choice(["oak", "fir", "poplar"], len(positions)), rng)
     tree = TreePass(ctx, programs, trees)
+    most = {}  # (species, lod) -> the most trees prepared
     try:
         for heading in np.radians([0, 75, 160, 250]):
             eye = (30.0, height, -40.0)
@@ -329,10 +337,21 @@ def test_trees_prepared_from_their_cells_are_those_of_every_tree(ctx, programs, 
             expected = _prepared_everywhere(tree, eye, view_projection, focal_rows)
             drawn = 0
             for key, rows in expected.items():
-                buffer, count = tree.instances[key]
-                written = np.frombuffer(buffer.read(), np.float32).reshape(-1, 8)[:count, :7]
+                if key[1] == 2:
+                    impostor = tree.impostors.get(key[0])
+                    buffer, count = (impostor.instances, impostor.count) if impostor else (None, 0)
+                else:
+                    buffer, count = tree.instances[key]
+                if buffer is None:
+                    written = np.zeros((0, 7), np.float32)
+                else:
+                    written = np.frombuffer(buffer.read(), np.float32).reshape(-1, 8)[:count, :7]
                 assert np.array_equal(written, rows.astype(np.float32)), (heading, key, count, len(rows))
                 drawn += count
             assert 0 < drawn < len(trees) // 2, drawn
+            for key, (_, count) in tree.instances.items():
+                most[key] = max(most.get(key, 1), count)
+        for key, (buffer, count) in tree.instances.items():  # grown to the most trees drawn, not to every tree
+            assert buffer.size <= 2 * most[key] * INSTANCE_BYTES < np.sum(trees["species"] == key[0]) * INSTANCE_BYTES
     finally:
         tree.release()

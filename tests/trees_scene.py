@@ -39,13 +39,15 @@ def render(
     camera,
     samples=4,
     shadows=None,
-    parts=("trunks", "fins", "leaves", "fronds"),
+    parts=("trunks", "fins", "leaves", "fronds", "impostors"),
     background=(0.0, 0.0, 0.0),
     fade=None,
     time=0.0,
+    focal_rows=None,
 ):
+    """The tree pass's HDR colour; `focal_rows` as TreePass.prepare's (impostors need it)."""
     daylight = Daylight.at(16.0)
-    tree_pass.prepare(camera.eye)
+    tree_pass.prepare(camera.eye, focal_rows=focal_rows)
     write_frame_block(ctx, camera, daylight, time)
     if fade is not None:  # only the near LOD, at this alpha
         for (species, lod), (buffer, count) in tree_pass.instances.items():

@@ -85,6 +85,10 @@ def _buffer_bytes(*owners) -> int:
         seen.add(id(owner))
         if isinstance(owner, moderngl.Buffer):
             total += owner.size
+        elif isinstance(owner, dict):  # e.g. the trees' instance buffers, by species and level
+            stack.extend(owner.values())
+        elif isinstance(owner, (list, tuple)):
+            stack.extend(owner)
         elif hasattr(owner, "__dict__") and type(owner).__module__.startswith("cityshade"):
             stack.extend(vars(owner).values())
     return total

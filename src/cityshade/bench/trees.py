@@ -26,6 +26,7 @@ FEATURES = (  # name, tree settings that switch it off, frame settings that swit
     ("two-sided leaf lighting", {"two_sided": False}, {}),
     ("god rays", {}, {"god_rays": False}),
     ("cascaded shadows", {}, {"shadows": False}),
+    ("impostor cards for far trees (off: their meshes)", {"impostors": False}, {}),
 )
 
 
@@ -132,6 +133,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         result.ratios["a2c_cost"] = costs["alpha to coverage (off: alpha test)"]
         result.ratios["god_rays_cost"] = costs["god rays"]
         result.ratios["shadows_cost"] = costs["cascaded shadows"]
+        result.ratios["impostors_cost"] = costs["impostor cards for far trees (off: their meshes)"]
         result.notes += [
             "The chapter reports no timings; the paper column is its qualitative claims: fins cost little "
             "because fins cover few pixels (§4.2.2); slower cascade updates reduce shadow-pass cost (§4.3.2).",

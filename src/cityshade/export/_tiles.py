@@ -71,7 +71,7 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
         raise UsageError(
             "--format 3dtiles needs a map (--map FILE): a built-in city has no place on Earth; use --format glb"
         )
-    masses = export.city.masses
+    masses = list(export.city.masses)  # objects once: read by index below, tile by tile
     bounds = [building_vertices(m, i)["position"] for i, m in enumerate(masses)]
     lo = np.array([b.min(axis=0) for b in bounds])
     hi = np.array([b.max(axis=0) for b in bounds])

@@ -3,7 +3,7 @@ context), vertex arrays, texture uploads with an explicit colour space, full-scr
 targets and timing."""
 
 from ._generated import declare_constants
-from ._buffers import DrawBuffers, create_buffer
+from ._buffers import DrawBuffers, create_buffer, grow_buffer
 from ._blocks import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, UniformBlock
 from ._colour import linear_to_srgb, srgb_to_linear
 from ._context import create_context, describe_context
@@ -21,6 +21,7 @@ __all__ = [
     "FRAME_BLOCK",
     "DrawBuffers",
     "create_buffer",
+    "grow_buffer",
     "MAX_SAMPLERS",
     "SHADING_BLOCK",
     "MAX_USES",

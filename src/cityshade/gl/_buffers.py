@@ -26,6 +26,14 @@ def create_buffer(ctx: moderngl.Context, data: np.ndarray | bytes = b"", reserve
     return ctx.buffer(reserve=max(reserve, MIN_BYTES))
 
 
+def grow_buffer(buffer: moderngl.Buffer, count: int, item_bytes: int):
+    """Makes `buffer` hold at least `count` items of `item_bytes` (its contents then undefined):
+    reallocated in place for the next power of two of items, so its GL name, and the vertex arrays
+    over it, stay valid."""
+    if buffer.size < count * item_bytes:
+        buffer.orphan(item_bytes << (count - 1).bit_length())
+
+
 class DrawBuffers:
     """Buffers whose contents are replaced from draw to draw (instance lists that change with the
     view), and the vertex arrays over them, both kept across draws: a buffer is remade, and the

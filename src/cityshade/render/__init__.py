@@ -20,7 +20,7 @@ from ._settings import RenderSettings
 from ._streaming import check_memory_budget, format_bytes
 from ._tile_cache import CacheProblem, TileCache, open_tiles, write_tiles
 from ._tile_cli import add_streaming_arguments, streamed_tiles
-from ._trees import TreeSettings
+from ._trees import TreePass, TreeSettings
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
@@ -57,6 +57,7 @@ __all__ = [
     "write_tiles",
     "add_streaming_arguments",
     "streamed_tiles",
+    "TreePass",
     "TreeSettings",
     "upscale",
     "upscale_reference",

@@ -81,7 +81,7 @@ class CityBuildings:
 class CityGPU:
     def __init__(self, ctx: moderngl.Context, city: City):
         self._upload_city(ctx, city)
-        buildings = CityBuildings.of(city.masses)
+        buildings = CityBuildings.of(list(city.masses))  # mass objects for the meshing only: the city keeps columns
         self.facades = buildings.facades
         self._lod_faces = buildings.lod_faces
         self.chunks = buildings.chunks
@@ -120,7 +120,7 @@ class CityGPU:
 
     def _upload_records(self, records: np.ndarray):
         self.records = create_buffer(self.ctx, records)
-        self._assigned_facades = records["facade"].copy()  # for start_grammars_at
+        self._assigned_starts = records["facade"][:, 1].copy()  # the one word start_grammars_at changes
 
     def _vao(self, program, vbo, fmt, attributes, index_buffer=None):
         return self._vaos.get((id(program), id(vbo)), program, [(vbo, fmt, *attributes)], index_buffer)
@@ -147,7 +147,7 @@ class CityGPU:
         """Every grammar facade starts at rule `address` of the grammar texture (RenderSettings.grammar_start);
         None: each building's own style, as assigned."""
         records = np.frombuffer(self.records.read(), BUILDING_DTYPE).copy()
-        records["facade"] = self._assigned_facades
+        records["facade"][:, 1] = self._assigned_starts
         if address is not None:
             records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
         self.records.write(records.tobytes())

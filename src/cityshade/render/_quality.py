@@ -2,7 +2,7 @@
 internal resolution misses the target frame rate (render/_resolution.py takes and releases them).
 
 Each step is cheaper where the frame's cost does not shrink with the resolution: the shadow
-cascades (their tree casters above all), the far trees' meshes, relief tracing. Steps add up:
+cascades (their tree casters above all), the far trees, relief tracing. Steps add up:
 step 3 keeps steps 1 and 2. At full quality (no step) the settings are the ones given.
 """
 
@@ -25,7 +25,8 @@ class QualityStep:
 QUALITY_STEPS = (
     # the shadow pass is mostly trees cast into three cascades: redraw them half as often
     QualityStep("shadows every 2nd frame", settings={"shadow_refresh": 2}),
-    # far trees are a few pixels of a 1,700-triangle mesh each, in the view and in every cascade
+    # far trees are impostor cards (two triangles each) but still cost each tree's preparation and
+    # pixels, in the view and in every cascade
     QualityStep("far trees fade sooner", vanish=2.0),
     # relief tracing of facades and bark, and the trunks' silhouette fins
     QualityStep("flat facades and bark", settings={"relief": False}, trees={"relief": False, "fins": False}),

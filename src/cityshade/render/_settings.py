@@ -44,6 +44,9 @@ class RenderSettings:
     grammar_deferred: bool = True  # facade grammars in a deferred pass (Krecklau §4); measured faster
     grammar_cache: bool = False  # the deferred pass shades from a page cache of evaluated facades (docs/scale.md)
     grammar_cache_pages: int = 4096  # page slots of the cache's atlas (32 x 32 texels of 32 bytes: 128 MiB)
+    # a missing page is evaluated into the cache only where it covers at least this many pixels of the
+    # frame; the pixels of the others are evaluated per pixel (docs/scale.md, "The grammar cache")
+    grammar_cache_min_pixels: int = 256
     culling: str = "gpu"  # buildings: "gpu" (frustum and hierarchical depth, render/_visibility.py),
     # "frustum" (96 m chunks on the CPU), "off" (all drawn)
     ssao: bool = False  # screen-space ambient occlusion of the lit frame (Krecklau §4's pipeline)
@@ -61,6 +64,8 @@ class RenderSettings:
             raise UsageError(f"unknown culling {self.culling!r}; allowed: {', '.join(CULLING)}")
         if self.grammar_cache_pages < 1:
             raise UsageError(f"grammar_cache_pages must be at least 1, not {self.grammar_cache_pages}")
+        if self.grammar_cache_min_pixels < 0:
+            raise UsageError(f"grammar_cache_min_pixels must be 0 or more, not {self.grammar_cache_min_pixels}")
 
     def with_(self, **changes) -> "RenderSettings":
         return replace(self, **changes)

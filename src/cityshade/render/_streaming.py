@@ -241,10 +241,10 @@ class StreamedCityGPU(CityGPU):
         self._local_first = cache.boxes["draw"][:, 1].copy()
         order = np.argsort(cache.box_tile, kind="stable")
         self._tile_boxes = np.split(order, np.cumsum(np.bincount(cache.box_tile, minlength=len(cache.tiles)))[:-1])
-        boxes = cache.boxes.copy()
-        boxes["draw"][:, 0] = 0
-        self.visibility = BuildingVisibility(ctx, boxes)
-        self.resident_draws = create_buffer(ctx, reserve=max(len(boxes), 1) * COMMAND_WORDS * 4)
+        self.boxes = cache.boxes.copy()  # their draw fields follow the tiles resident, uploaded when they change
+        self.boxes["draw"][:, 0] = 0
+        self.visibility = BuildingVisibility(ctx, self.boxes)
+        self.resident_draws = create_buffer(ctx, reserve=max(len(self.boxes), 1) * COMMAND_WORDS * 4)
         self._upload_records(cache.records.copy())
         self._upload_faces(cache.faces)
         self.streamer = TileStreamer(
@@ -255,7 +255,7 @@ class StreamedCityGPU(CityGPU):
         first = self.arena.allocate(index, len(vertices))
         self.building_vbo.write(vertices.tobytes(), offset=first * GPU_VERTEX_DTYPE.itemsize)
         boxes = self._tile_boxes[index]
-        draw = self.visibility.boxes["draw"]
+        draw = self.boxes["draw"]
         draw[boxes, 0] = self._count[boxes]
         draw[boxes, 1] = first + self._local_first[boxes]
         self.building_vertex_count += len(vertices)
@@ -263,17 +263,17 @@ class StreamedCityGPU(CityGPU):
     def _release_tile(self, index: int):
         self.building_vertex_count -= self.arena.slots[index][1]
         self.arena.free(index)
-        draw = self.visibility.boxes["draw"]
+        draw = self.boxes["draw"]
         draw[self._tile_boxes[index], 0] = 0
 
     def _moved_boxes(self):
         """The boxes' draw fields after the arena compacted: each resident tile's slot start."""
-        draw = self.visibility.boxes["draw"]
+        draw = self.boxes["draw"]
         for index, (first, _) in self.arena.slots.items():
             draw[self._tile_boxes[index], 1] = first + self._local_first[self._tile_boxes[index]]
 
     def _upload_boxes(self):
-        boxes = self.visibility.boxes
+        boxes = self.boxes
         self.visibility.box_buffer.write(boxes.tobytes())
         commands = np.zeros((len(boxes), COMMAND_WORDS), np.uint32)
         commands[:, 0], commands[:, 2] = boxes["draw"][:, 0], boxes["draw"][:, 1]

@@ -182,7 +182,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     """Meshes the city tile by tile (so at most one tile's vertices are in memory) and writes the
     cache folder whole (or leaves the old one); returns {"tiles", "buildings", "bytes", "seconds"}."""
     start = time.perf_counter()
-    masses = city.masses
+    masses = list(city.masses)  # mass objects while meshing: the city keeps columns
     records = np.zeros(len(masses), BUILDING_DTYPE)
     placement = placements(masses)
     facades, lod_faces, tiles, boxes, cells, box_tile, face_rows = Counter(), [], [], [], [], [], []

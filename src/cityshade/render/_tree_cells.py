@@ -18,7 +18,7 @@ class TreeCells:
         """`positions` (N, 3) and `heights` (N,) of the trees, as the tree pass tests them."""
         keys = np.floor(positions[:, [0, 2]] / cell).astype(np.int64)
         _, cell_of = np.unique(keys, axis=0, return_inverse=True)
-        cell_of = cell_of.reshape(-1)
+        cell_of = cell_of.reshape(-1).astype(np.int32)  # a city's trees: 4 bytes each, not 8
         count = int(cell_of.max()) + 1 if len(cell_of) else 0
         self.cell_of = cell_of
         self.lo = np.full((count, 3), np.inf)

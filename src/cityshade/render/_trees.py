@@ -1,8 +1,11 @@
 """The tree pass: trunks (relief-mapped), silhouette fins, leaf cards and fronds, instanced per
-species and LOD; and the same trees as shadow casters for the cascades (§4.2-4.6).
+species and LOD, and far trees as impostor cards; and the same trees as shadow casters for the
+cascades (§4.2-4.6).
 
 Each tree's LOD alphas come from its distance (`trees.lod_alphas`); a tree in the cross-fade
 band is drawn in both LODs with offset alphas that alpha to coverage turns into sample masks.
+The mesh gives way to the impostor (render/_impostors.py) the same way, over a band of the image
+rows the tree's height spans.
 """
 
 from __future__ import annotations
@@ -11,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
+from moderngl import InvalidObject
 
 from ..trees import (
     BRANCH_ATTRIBUTES,
@@ -19,6 +23,7 @@ from ..trees import (
     CARD_LAYOUT,
     FROND_ATTRIBUTES,
     FROND_LAYOUT,
+    ImpostorAtlas,
     SPECIES,
     SPECIES_ORDER,
     bark_textures,
@@ -28,12 +33,18 @@ from ..trees import (
     lod_alphas,
     vanish_alphas,
 )
-from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms, upload_texture
+from ..gl import VertexArrays, bind_textures, create_buffer, grow_buffer, set_uniforms, upload_texture
 from ._culling import frustum_planes
+from ._impostors import GPUImpostor, atlas_key, bake_atlas, bounding_sphere, cached_atlas
 from ._tree_cells import TreeCells
 from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
+# A tree whose height spans fewer image rows than this starts to become its impostor (measured:
+# docs/trees.md, scripts/impostor-switch.py).
+IMPOSTOR_ROWS = 70.0
+BAKED_LOD = 1  # the mesh LOD the impostor shows: the one it takes over from (scripts/impostor-switch.py)
+_ATLASES: dict[str, dict[str, np.ndarray]] = {}  # atlas key -> arrays, baked or read once per process
 INSTANCE_LAYOUT = "4f 4f/i"
 INSTANCE_ATTRIBUTES = ("in_place", "in_params")
 PARTS = {  # part -> (program, layout, attributes, extra defines)
@@ -44,6 +55,8 @@ PARTS = {  # part -> (program, layout, attributes, extra defines)
 }
 MESHES = ("trunks", "leaves", "fronds")  # each bucket's meshes, in the order of trees/cull.glsl's commands
 INSTANCE_FLOATS = 8
+INSTANCE_BYTES = INSTANCE_FLOATS * 4
+COMMAND_BYTES = len(MESHES) * COMMAND_WORDS * 4  # an instance's draw commands
 BARK, LEAF = ("u_bark_color", "u_bark_normal"), ("u_leaf_color", "u_leaf_detail")
 BRANCHES = ("trunks", "fins")  # the parts drawn from branch geometry, with bark
 PART_SAMPLERS = {"trunks": BARK, "fins": BARK, "leaves": LEAF, "fronds": LEAF}  # the textures each part samples
@@ -68,6 +81,8 @@ class TreeSettings:
     leaf_depth: float = 3.0  # self-shadow shift toward the eye at depth offset 1, in card half-sizes
     normal_bias: float = 1.5  # mip bias of the leaf normal fetch (§4.4.2)
     card_shift: float = 1.0  # shadow cards move this many half-sizes toward the light (fig. 4-10)
+    impostors: bool = True  # far trees as impostor cards (needs the image's rows: prepare's focal_rows)
+    impostor_rows: tuple[float, float] = (IMPOSTOR_ROWS, IMPOSTOR_ROWS * 0.7)  # height in rows: mesh -> impostor
 
     def with_(self, **changes) -> "TreeSettings":
         return replace(self, **changes)
@@ -107,25 +122,27 @@ class TreePass:
                 self.parts[index, lod, "leaves"] = _Part(ctx, mesh.cards, mesh.card_indices)
                 self.parts[index, lod, "fronds"] = _Part(ctx, mesh.fronds, mesh.frond_indices)
         bark, leaves = bark_textures(), leaf_textures()
+        self._texture_arrays = {
+            "u_bark_color": bark.color_height,
+            "u_bark_normal": bark.normal,
+            "u_leaf_color": leaves.color,
+            "u_leaf_detail": leaves.detail,
+        }
         self.textures = {
             "u_bark_color": upload_texture(ctx, bark.color_height, "srgb"),
             "u_bark_normal": upload_texture(ctx, bark.normal, "stored", dtype="f1"),
             "u_leaf_color": upload_texture(ctx, leaves.color, "srgb", repeat=False),
             "u_leaf_detail": upload_texture(ctx, leaves.detail, "stored", dtype="f1", repeat=False),
         }
-        # (species, lod) -> (instance buffer sized for every tree of the species, trees drawn)
-        capacity = {index: max(int(np.sum(trees["species"] == index)), 1) for index in self.models}
+        # (species, lod) -> (instance buffer, trees drawn); the buffers grow to the most trees a frame
+        # draws (from the street, a few hundred of a city's hundreds of thousands), not to every tree
         self.instances = {
-            (index, lod): (create_buffer(ctx, reserve=capacity[index] * INSTANCE_FLOATS * 4), 0)
-            for index in self.models
-            for lod in (0, 1)
+            (index, lod): (create_buffer(ctx, reserve=INSTANCE_BYTES), 0) for index in self.models for lod in (0, 1)
         }
-        # (species, lod) -> draw commands of trees/cull.glsl, one per instance and mesh
-        self.commands = {
-            key: create_buffer(ctx, reserve=capacity[key[0]] * len(MESHES) * COMMAND_WORDS * 4)
-            for key in self.instances
-        }
+        # (species, lod) -> draw commands of trees/cull.glsl, one per instance and mesh, grown likewise
+        self.commands = {key: create_buffer(ctx, reserve=COMMAND_BYTES) for key in self.instances}
         self.culled = False  # whether the commands of the instances written last are current
+        self.impostors: dict[int, GPUImpostor] = {}  # species -> atlas and cards, made when first needed
         self.fin_counts = {index: 0 for index in self.models}  # near-LOD trees that get fins
         # contiguous copies of what every frame reads of every tree (the records' fields are strided)
         self._positions = np.ascontiguousarray(trees["position"], np.float32)
@@ -145,32 +162,97 @@ class TreePass:
         s = self.settings
         near = self._cells.candidates(eye, view_projection, self.sway(), focal_rows, s.vanish_rows[1])
         distance = np.linalg.norm(self._positions[near] - np.asarray(eye, float), axis=1)
-        alphas = lod_alphas(distance, *s.lod_band)
+        alphas = (*lod_alphas(distance, *s.lod_band), np.zeros(len(near)))  # near LOD, far LOD, impostor
         if focal_rows is not None:
             rows = self._heights[near] * focal_rows / np.maximum(distance, 1e-6)
+            if s.impostors:  # the band is linear in distance: in metres per row
+                mesh, impostor = lod_alphas(1.0 / rows, *(1.0 / np.array(s.impostor_rows)), overlap=0.0)
+                alphas = (alphas[0] * mesh, alphas[1] * mesh, impostor)
             alphas = tuple(alpha * vanish_alphas(rows, *s.vanish_rows) for alpha in alphas)
-        shown = (alphas[0] > 0.0) | (alphas[1] > 0.0)
+        shown = (alphas[0] > 0.0) | (alphas[1] > 0.0) | (alphas[2] > 0.0)
         if view_projection is not None:
             shown &= self._visible(view_projection, near)
         order = np.flatnonzero(shown)  # positions in `near`, sorted after the cuts
         order = order[np.argsort(distance[order], kind="stable")]
         species = self.trees["species"][near[order]]
         for index, model in self.models.items():
-            for lod in (0, 1):
+            for lod in (0, 1, 2):
                 chosen = order[(species == index) & (alphas[lod][order] > 0.0)]
-                t = self.trees[near[chosen]]
+                if lod == 2:
+                    if len(chosen) or index in self.impostors:
+                        cards = self.impostor(index)
+                        cards.count = len(chosen)
+                        grow_buffer(cards.instances, len(chosen), INSTANCE_BYTES)
+                        cards.instances.write(self._instance_data(near[chosen], alphas[2][chosen]))
+                    continue
                 if lod == 0:
                     self.fin_counts[index] = int(np.sum(distance[chosen] < s.fin_fade[1] + model.height))
-                data = np.zeros((len(t), 8), np.float32)
-                data[:, 0:3] = t["position"]
-                data[:, 3] = t["yaw"]
-                data[:, 4] = t["scale"]
-                data[:, 5] = alphas[lod][chosen]
-                data[:, 6] = t["phase"]
                 buffer = self.instances[index, lod][0]
-                buffer.write(data.tobytes())
-                self.instances[index, lod] = (buffer, len(t))
+                grow_buffer(buffer, len(chosen), INSTANCE_BYTES)
+                buffer.write(self._instance_data(near[chosen], alphas[lod][chosen]))
+                self.instances[index, lod] = (buffer, len(chosen))
         self.culled = False
+
+    def _instance_data(self, trees: np.ndarray, alphas: np.ndarray) -> bytes:
+        """The instance rows (INSTANCE_LAYOUT) of `trees` (indices) at the given fade alphas."""
+        t = self.trees[trees]
+        data = np.zeros((len(t), INSTANCE_FLOATS), np.float32)
+        data[:, 0:3] = t["position"]
+        data[:, 3] = t["yaw"]
+        data[:, 4] = t["scale"]
+        data[:, 5] = alphas
+        data[:, 6] = t["phase"]
+        return data.tobytes()
+
+    def impostor(self, species: int) -> GPUImpostor:
+        """The species' impostor: its atlas baked from the BAKED_LOD mesh (or read from the cache)
+        the first time it is asked for. Baking binds its own framebuffer and draws with depth
+        function "<" (the shadow pass's; the tree pass sets its own): the framebuffer bound before
+        and the polygon offset are put back."""
+        if species in self.impostors:
+            return self.impostors[species]
+        model = self.models[species]
+        mesh = model.lods[BAKED_LOD]
+        centre, radius = bounding_sphere(mesh)
+        textures = [self._texture_arrays[name] for name in sorted(self._texture_arrays)]
+        key = atlas_key(mesh, textures)
+        if key not in _ATLASES:
+            _ATLASES[key] = cached_atlas(model.species.name, key, lambda: self._bake(species, centre, radius))
+        atlas = ImpostorAtlas(_ATLASES[key]["color"], _ATLASES[key]["surface"], centre, radius)
+        self.impostors[species] = GPUImpostor(self.ctx, atlas, INSTANCE_BYTES)
+        return self.impostors[species]
+
+    def _bake(self, species: int, centre: np.ndarray, radius: float) -> dict[str, np.ndarray]:
+        ctx = self.ctx
+        saved = ctx.fbo, ctx.polygon_offset
+        ctx.polygon_offset = (0.0, 0.0)
+        one = create_buffer(ctx, np.array([0, 0, 0, 0, 1, 1, 0, 0], np.float32))  # at the origin, unturned
+        vaos = VertexArrays(ctx)
+        drawn = {}
+        for part in MESHES:
+            gpu = self.parts[species, BAKED_LOD, part]
+            if gpu.count == 0:
+                continue
+            _, layout, attributes, _ = PARTS[part]
+            program = self._program(part, BAKE=True, NO_SHADOWS=True)
+            vao = vaos.get(
+                part,
+                program,
+                [(gpu.vbo, layout, *attributes), (one, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
+                index_buffer=gpu.ibo,
+            )
+            drawn[part] = (lambda vao=vao, n=gpu.count: vao.render(moderngl.TRIANGLES, vertices=n), program)
+
+        def bind(program, part):
+            bind_textures(program, {name: self.textures[name] for name in PART_SAMPLERS[part]})
+
+        arrays = bake_atlas(ctx, drawn, bind, self.models[species].species, centre, radius)
+        vaos.release()
+        one.release()
+        if saved[0] is not None and not isinstance(saved[0].mglo, InvalidObject):  # none bound, or released since
+            saved[0].use()
+        ctx.polygon_offset = saved[1]
+        return arrays
 
     def sway(self) -> float:
         """How far the wind can move a tree beyond its model's reach, every way."""
@@ -185,6 +267,7 @@ class TreePass:
                 continue
             counts = tuple(self.parts[species, lod, mesh].count for mesh in MESHES)
             buffer.bind_to_storage_buffer(1)
+            grow_buffer(self.commands[species, lod], count, COMMAND_BYTES)
             run_cull(
                 self.ctx,
                 "trees/cull.glsl",
@@ -285,7 +368,7 @@ class TreePass:
         uniforms: dict,
         view: np.ndarray,
         shadows=None,
-        parts=("trunks", "fins", "leaves", "fronds"),
+        parts=("trunks", "fins", "leaves", "fronds", "impostors"),
         ids: bool = False,
         env: moderngl.TextureCube | None = None,
     ) -> int:
@@ -294,9 +377,13 @@ class TreePass:
         caller writes. `view` is the camera's view matrix (its rows give the axes the leaf cards
         span). With `ids`, the id AOV into the bound uint target instead: FACE_TRUNK on trunks and
         fins, FACE_FOLIAGE on leaves and fronds, alpha-tested (a face code cannot be a coverage
-        mix). `env` is the sky's radiance, for the leaves' sky light. Returns the number of draw calls."""
+        mix). `env` is the sky's radiance, for the leaves' sky light. Returns the number of draw calls.
+        Into a target without multisampling, where alpha to coverage does nothing (every fragment
+        is written whatever its alpha, so a level fading out would vanish at once), the LOD fades
+        dither with the fizzle instead."""
         s, ctx = self.settings, self.ctx
-        alpha_to_coverage = s.alpha_to_coverage and not ids
+        multisampled = ctx.fbo is not None and ctx.fbo.samples > 0
+        alpha_to_coverage = s.alpha_to_coverage and multisampled and not ids
         base = dict(
             ALPHA_TO_COVERAGE=alpha_to_coverage, NO_SHADOWS=not (s.shadows and shadows is not None), ID_PASS=ids
         )
@@ -325,7 +412,7 @@ class TreePass:
         if alpha_to_coverage:
             ctx.enable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
         calls = 0
-        for part in parts:
+        for part in (p for p in parts if p in PARTS):  # the meshes; impostors below
             if part == "fins" and not s.fins:
                 continue
             program = programs[part]
@@ -338,11 +425,35 @@ class TreePass:
                 ctx.enable(moderngl.CULL_FACE)
             calls += self._draw_part(program, part)
             ctx.disable(moderngl.CULL_FACE)
+        if "impostors" in parts:
+            program = self.programs.get("trees/impostor.glsl", {**base, "TWO_SIDED": s.two_sided})
+            set_uniforms(program, **uniforms, u_specular_fade=np.array(s.specular_fade))
+            if shadows is not None:
+                shadows.bind(program)
+            calls += self._draw_impostors(program)
         ctx.disable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
         return calls
 
+    def _draw_impostors(self, program) -> int:
+        """The prepared impostor cards, one instanced strip of four vertices per species."""
+        calls = 0
+        for species, impostor in self.impostors.items():
+            if impostor.count == 0:
+                continue
+            set_uniforms(program, **impostor.uniforms())
+            bind_textures(program, {"u_impostor_color": impostor.color, "u_impostor_surface": impostor.surface})
+            vao = self._vaos.get(
+                (program.glo, species, "impostors"),
+                program,
+                [(impostor.instances, INSTANCE_LAYOUT, *INSTANCE_ATTRIBUTES)],
+            )
+            vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=impostor.count)
+            calls += 1
+        return calls
+
     def draw_shadow(self, view_proj: np.ndarray, sun_dir, casters) -> int:
-        """The trees' casters of one cascade; leaf cards face the light and move toward it."""
+        """The trees' casters of one cascade; leaf cards face the light and move toward it.
+        Impostor cards, whole trees, cast wherever leaves do (every cascade), facing the light."""
         right, up = light_basis(sun_dir)
         cards = {
             "u_card_right": right,
@@ -356,10 +467,16 @@ class TreePass:
             program = self._program(part, SHADOW_PASS=True)
             set_uniforms(program, **self._common(), u_view_proj=view_proj, **({} if part in BRANCHES else cards))
             calls += self._draw_part(program, part)
+        if "leaves" in casters:
+            program = self.programs.get("trees/impostor.glsl", {"SHADOW_PASS": True})
+            set_uniforms(program, u_view_proj=view_proj, u_light_dir=np.asarray(sun_dir, float))
+            calls += self._draw_impostors(program)
         return calls
 
     def release(self):
         self._vaos.release()
+        for impostor in self.impostors.values():
+            impostor.release()
         for part in self.parts.values():
             part.release()
         for buffer, _ in self.instances.values():

@@ -177,8 +177,7 @@ class BuildingVisibility:
 
     def __init__(self, ctx: moderngl.Context, boxes: np.ndarray):
         self.ctx = ctx
-        self.boxes = boxes
-        self.count = len(boxes)
+        self.count = len(boxes)  # the boxes themselves live in box_buffer only: no CPU copy for a city's life
         self.box_buffer = create_buffer(ctx, boxes)
         self.bounds = create_buffer(ctx, building_bounds(boxes))  # the boxes don't move; their draws may
         size = max(self.count, 1) * COMMAND_WORDS * 4
@@ -187,6 +186,11 @@ class BuildingVisibility:
         self.camera_draws = create_buffer(ctx, reserve=size)  # frustum and Hi-Z
         self.pyramid: moderngl.Texture | None = None
         self.farthest: moderngl.Texture | None = None  # after the depth prepass (build_farthest)
+
+    @property
+    def boxes(self) -> np.ndarray:
+        """The boxes as uploaded (read back from the GPU)."""
+        return np.frombuffer(self.box_buffer.read(), BOX_DTYPE, count=self.count)
 
     def _run(
         self,

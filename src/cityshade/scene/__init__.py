@@ -23,6 +23,7 @@ from ._city import (
     make_city,
 )
 from ._footprints import load_footprints
+from ._mass_table import MASS_COLUMNS, MASS_POOLS, MassColumns, MassTable
 from ._materials import ROOF_PARTS, ROOF_PATTERNS, TINT_GAIN, roof_material
 from ._batch import batch
 from ._meshes import (
@@ -64,6 +65,10 @@ from ._uses import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, lit_share, lit_shar
 __all__ = [
     "SHAPES",
     "BuildingMass",
+    "MassTable",
+    "MassColumns",
+    "MASS_COLUMNS",
+    "MASS_POOLS",
     "box",
     "cylinder",
     "dome",

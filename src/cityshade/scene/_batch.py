@@ -61,6 +61,7 @@ class _Sections:
 
 def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
     """All masses as one vertex array (one draw call) and their records (one SSBO)."""
+    masses = list(masses)  # a city's MassTable makes each mass when read: once, then read by index
     if not masses:
         return np.zeros(0, VERTEX_DTYPE), np.zeros(0, BUILDING_DTYPE)
     sections = _Sections()

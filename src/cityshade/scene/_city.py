@@ -9,6 +9,7 @@ import numpy as np
 from ..errors import UsageError
 from ._buildings import BuildingMass, box, cylinder, dome
 from ._camera import Camera
+from ._mass_table import MassColumns, MassTable
 
 GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
 GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_PAVEMENT, "GROUND_GRASS": GROUND_GRASS}
@@ -32,7 +33,7 @@ MAP_GROUND_MATERIALS = {
 class City:
     name: str
     seed: int
-    masses: list[BuildingMass]
+    masses: MassTable  # given as any sequence of BuildingMass, kept as a MassTable
     # ground rectangles (x0, z0, x1, z1, material) drawn over an asphalt plane
     ground: list[tuple[float, float, float, float, int]]
     bounds: tuple[float, float, float, float]
@@ -45,6 +46,10 @@ class City:
     lamps: np.ndarray | None = None  # street lights (N, 4: x, y, z of the bulb, reach in metres)
     origin: tuple[float, float] | None = None  # longitude, latitude of scene (0, 0)
     crs: str | None = None  # the projection from longitude/latitude to scene metres
+
+    def __post_init__(self):
+        if not isinstance(self.masses, MassTable):
+            self.masses = MassTable(self.masses)
 
     def camera(self, name: str) -> Camera:
         if name not in self.viewpoints:
@@ -106,7 +111,7 @@ def default_city(seed: int = 7, blocks: int = 6) -> City:
     rng = np.random.default_rng(seed)
     pitch, street = 84.0, 16.0
     half = blocks * pitch / 2
-    masses: list[BuildingMass] = []
+    masses = MassColumns()  # columns as they come: 100,000 mass objects at once would fragment the heap
     ground, parks = [], []
     park_block = (blocks // 2, blocks // 2 - 2)
     special_block = (blocks // 2 - 1, blocks // 2)
@@ -159,7 +164,7 @@ def default_city(seed: int = 7, blocks: int = 6) -> City:
         "closeup": Camera((main_x + 5.0, 8.0, 14.0), (main_x + 12.0, 12.0, 0.0), fov_y=60.0),
         "dome": Camera((main_x - 9.0, 14.0, 87.0), (main_x + 31.0, 8.0, 57.0), fov_y=50.0),
     }
-    return City("default", seed, masses, ground, (-half, -half, half, half), viewpoints, parks, streets)
+    return City("default", seed, masses.table(), ground, (-half, -half, half, half), viewpoints, parks, streets)
 
 
 def grid_city(count: int = 100, seed: int = 1, spacing: float = 40.0, floors: int = 31, windows: int = 6) -> City:

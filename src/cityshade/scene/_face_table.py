@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._mass_table import MassTable
 from ._meshes import VERTEX_DTYPE, world_positions
 
 GPU_VERTEX_DTYPE = np.dtype(
@@ -56,10 +57,14 @@ _WORDS = np.r_[
 
 def placements(masses) -> np.ndarray:
     """The masses' PLACEMENT_DTYPE rows, with the values scene.batch places their vertices by."""
-    yaw = np.array([m.yaw for m in masses], np.float64)
+    if isinstance(masses, MassTable):  # its columns: no mass objects built
+        yaw, origin = masses.column("yaw"), masses.column("position")
+    else:
+        yaw = np.array([m.yaw for m in masses], np.float64)
+        origin = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
     out = np.zeros(len(masses), PLACEMENT_DTYPE)
     out["rotation"] = np.column_stack([np.cos(yaw), np.sin(yaw)]) if len(masses) else np.zeros((0, 2))
-    out["origin"] = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
+    out["origin"] = origin
     return out
 
 

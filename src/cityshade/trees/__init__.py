@@ -1,5 +1,5 @@
 """Procedural trees: species, generator, textures, placement, and the numpy twins of the fin
-extrusion, cascade scheduling and LOD fade used by the tree renderer."""
+extrusion, cascade scheduling, LOD fade and impostor shading used by the tree renderer."""
 
 from ._cascades import (
     SHADOW_CASTERS,
@@ -25,6 +25,23 @@ from ._generator import (
     TreeModel,
     generate_tree,
     skeleton,
+)
+from ._impostors import (
+    BAKE_SUPERSAMPLE,
+    FRAME_PIXELS,
+    FRAMES,
+    ImpostorAtlas,
+    Light,
+    downsample_views,
+    frame_basis,
+    frame_direction,
+    frame_of,
+    hemi_octahedral,
+    hemi_octahedral_direction,
+    impostor_twin,
+    octahedral_normal,
+    octahedral_normal_decode,
+    view_space_normals,
 )
 from ._lod import lod_alphas, vanish_alphas
 from ._placement import SPECIES_ORDER, TREE_DTYPE, city_trees, park_trees, street_trees, tree_instances
@@ -55,6 +72,21 @@ __all__ = [
     "TreeModel",
     "generate_tree",
     "skeleton",
+    "BAKE_SUPERSAMPLE",
+    "FRAME_PIXELS",
+    "FRAMES",
+    "ImpostorAtlas",
+    "Light",
+    "downsample_views",
+    "frame_basis",
+    "frame_direction",
+    "frame_of",
+    "hemi_octahedral",
+    "hemi_octahedral_direction",
+    "impostor_twin",
+    "octahedral_normal",
+    "octahedral_normal_decode",
+    "view_space_normals",
     "lod_alphas",
     "vanish_alphas",
     "SPECIES_ORDER",

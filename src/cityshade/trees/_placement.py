@@ -66,8 +66,8 @@ def street_trees(streets, seed: int, spacing: float = 18.0, inset: float = 1.2, 
             (others[..., 0] - 4 < x) & (x < others[..., 2] + 4) & (others[..., 1] - 4 < z) & (z < others[..., 3] + 4)
         )
         free = ~crossing.any(axis=0)
-        positions += [(float(a), 0.0, float(b)) for a, b in zip(x[free], z[free])]
-    return tree_instances(positions, species, rng)
+        positions.append(np.column_stack([x[free], np.zeros(int(free.sum())), z[free]]))
+    return tree_instances(np.concatenate(positions) if positions else np.zeros((0, 3)), species, rng)
 
 
 def city_trees(city, seed: int | None = None) -> np.ndarray:

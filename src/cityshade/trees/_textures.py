@@ -3,6 +3,8 @@
 - Bark: one layer per species; colour + height (RGBA) and a tangent-space normal map, all
   tileable so the trunk's UVs can repeat. The height map drives relief mapping and the fins.
 - Leaf atlas: 2x2 cells (broad leaves, small leaves, needle cluster, frond) with alpha.
+  Its transparent texels carry the colour of the nearest leaves (push-pull fill), so the
+  mipmaps' colour stays the leaves' colour where they average leaf and gap; alpha is untouched.
   Its companion "leaf detail" map holds the V-shaped normal (§4.4.2, RG) and the per-leaf
   depth offset used for leaf self-shadowing (fig. 4-11, B): one constant per leaf.
 """
@@ -13,6 +15,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+
+from ..gl import linear_to_srgb, srgb_to_linear
 
 BARK_SIZE = 256
 ATLAS_CELL = 256
@@ -163,6 +167,29 @@ def _frond_cell(rng):
     return cell, detail
 
 
+def fill_transparent(cell: np.ndarray) -> np.ndarray:
+    """A square power-of-two RGBA cell ([0, 1] sRGB colour, alpha coverage) whose transparent
+    texels take the mean linear colour of the opaque texels in the smallest aligned block around
+    them that has any (push-pull): the GPU's box-filtered colour mips then average leaves with
+    leaf-coloured gaps instead of black ones. Opaque texels and alpha are kept."""
+    coverage = cell[..., 3:]
+    weighted, weight = srgb_to_linear(cell[..., :3]) * coverage, coverage
+    pyramid = [(weighted, weight)]
+    while weight.shape[0] > 1:  # pull: sums of colour x coverage and of coverage, per 2x2 block
+        n = weight.shape[0] // 2
+        weighted = weighted.reshape(n, 2, n, 2, 3).sum(axis=(1, 3))
+        weight = weight.reshape(n, 2, n, 2, 1).sum(axis=(1, 3))
+        pyramid.append((weighted, weight))
+    colour = pyramid[-1][0] / np.maximum(pyramid[-1][1], 1e-12)
+    for weighted, weight in reversed(pyramid[:-1]):  # push: empty blocks inherit the coarser mean
+        coarse = colour.repeat(2, axis=0).repeat(2, axis=1)
+        colour = np.where(weight > 0, weighted / np.maximum(weight, 1e-12), coarse)
+    filled = cell.copy()
+    transparent = cell[..., 3] == 0
+    filled[transparent, :3] = linear_to_srgb(colour[transparent])
+    return filled
+
+
 @lru_cache(maxsize=1)
 def leaf_textures() -> LeafTextures:
     rng = np.random.default_rng(11)
@@ -177,6 +204,6 @@ def leaf_textures() -> LeafTextures:
     detail = np.zeros((n * s, n * s, 4))
     for index, (c, d) in enumerate(cells):
         row, col = divmod(index, n)
-        color[row * s : (row + 1) * s, col * s : (col + 1) * s] = c
+        color[row * s : (row + 1) * s, col * s : (col + 1) * s] = fill_transparent(c)
         detail[row * s : (row + 1) * s, col * s : (col + 1) * s] = d
     return LeafTextures(_to_uint8(color), _to_uint8(detail))

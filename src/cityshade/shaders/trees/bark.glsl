@@ -21,11 +21,18 @@ float bark_height(vec2 uv) {
     return textureLod(u_bark_color, vec3(uv, u_bark_layer), 0.0).a;
 }
 
-vec3 shade_bark(vec2 uv, vec3 t, vec3 b, vec3 n, vec3 world) {
-    vec3 albedo = texture(u_bark_color, vec3(uv, u_bark_layer)).rgb;
+vec3 bark_albedo(vec2 uv) {
+    return texture(u_bark_color, vec3(uv, u_bark_layer)).rgb;
+}
+
+// The normal map's normal in the (t, b, n) frame.
+vec3 bark_normal(vec2 uv, vec3 t, vec3 b, vec3 n) {
     vec3 nt = texture(u_bark_normal, vec3(uv, u_bark_layer)).xyz * 2.0 - 1.0;
-    vec3 normal = normalize(t * nt.x + b * nt.y + n * nt.z);
-    return lit_surface(albedo, normal, shadow_factor(world));
+    return normalize(t * nt.x + b * nt.y + n * nt.z);
+}
+
+vec3 shade_bark(vec2 uv, vec3 t, vec3 b, vec3 n, vec3 world) {
+    return lit_surface(bark_albedo(uv), bark_normal(uv, t, b, n), shadow_factor(world));
 }
 
 #endif

@@ -3,7 +3,8 @@
 // the light and shifts them toward it by half their height (fig. 4-10), through u_card_right,
 // u_card_up and u_card_shift. Defines: FRONDS, SHADOW_PASS, ALPHA_TO_COVERAGE (off: alpha test),
 // LEAF_SELF_SHADOW (shadow look-up moved along the view by the per-leaf depth offset, listing
-// 4-1), TWO_SIDED, NO_SHADOWS, ID_PASS (the id AOV's FACE_FOLIAGE where the alpha-tested leaf is).
+// 4-1), TWO_SIDED, NO_SHADOWS, ID_PASS (the id AOV's FACE_FOLIAGE where the alpha-tested leaf is),
+// BAKE (albedo and normal of the alpha-tested leaf into an impostor view, trees/bake.glsl).
 
 #define ATLAS_CELLS 2.0
 #define FROND_CELL 3.0
@@ -92,10 +93,32 @@ void main() {
     out_ids = uvec4(uint(FACE_FOLIAGE), 0u, 0u, 0u);
 }
 #else
-#include "trees/leaf_lighting.glsl"
-#include "shadow/csm.glsl"
 uniform sampler2D u_leaf_detail;  // rg V-shaped normal, b per-leaf depth offset
 uniform float u_normal_bias;      // mip bias of the leaf normal fetch (§4.4.2)
+
+// The leaf's normal from `n`, the card's (or frond's) normal facing the viewer: cards tilt it
+// by the V-shaped normal map.
+vec3 leaf_normal(vec3 n) {
+#if defined FRONDS
+    return n;
+#else
+    vec2 vn = texture(u_leaf_detail, v_uv, u_normal_bias).rg * 2.0 - 1.0;
+    return normalize(n + v_right * vn.x + v_up * vn.y);
+#endif
+}
+
+#if defined BAKE
+#include "trees/bake.glsl"
+uniform vec3 u_bake_dir;  // toward the view's eye
+void main() {
+    if (leaf_alpha(v_uv) < 0.5) discard;
+    vec3 n = normalize(v_normal);
+    if (dot(n, u_bake_dir) < 0.0) n = -n;
+    write_bake(texture(u_leaf_color, v_uv).rgb, leaf_normal(n), 1.0);
+}
+#else
+#include "trees/leaf_lighting.glsl"
+#include "shadow/csm.glsl"
 uniform float u_leaf_depth;       // shift toward the eye at depth offset 1, in card half-sizes
 layout(location = 0) out vec4 out_color;
 
@@ -115,12 +138,7 @@ void main() {
     view /= dist;
     vec3 n = normalize(v_normal);
     if (dot(n, view) > 0.0) n = -n;  // light the side facing the viewer
-    vec2 vn = texture(u_leaf_detail, v_uv, u_normal_bias).rg * 2.0 - 1.0;
-#if defined FRONDS
-    vec3 normal = n;
-#else
-    vec3 normal = normalize(n + v_right * vn.x + v_up * vn.y);
-#endif
+    vec3 normal = leaf_normal(n);
     vec3 shadow_pos = v_world;
 #if defined LEAF_SELF_SHADOW
     shadow_pos -= view * (texture(u_leaf_detail, v_uv).b * u_leaf_depth * v_size);  // toward the eye
@@ -128,5 +146,6 @@ void main() {
     vec3 color = shade_leaf(albedo.rgb, normal, view, shadow_factor(shadow_pos), dist);
     out_color = vec4(color, alpha);
 }
+#endif
 #endif
 #endif

@@ -1,7 +1,8 @@
 // Tree trunks and branches: generalised cylinders, relief-mapped bark (§4.2).
 // Defines: RELIEF (relief mapping; off = normal-mapped bark), SHADOW_PASS (depth only),
 // NO_SHADOWS, ALPHA_TO_COVERAGE (the LOD cross-fade alpha goes to coverage; off: fizzle, §4.6.2),
-// ID_PASS (the id AOV: FACE_TRUNK; the relief shifts only the bark's texture, not the outline).
+// ID_PASS (the id AOV: FACE_TRUNK; the relief shifts only the bark's texture, not the outline),
+// BAKE (albedo and normal into an impostor view, trees/bake.glsl; no relief, no fade).
 
 #if defined VERTEX_SHADER
 #include "trees/instance.glsl"
@@ -41,6 +42,13 @@ void main() {
 }
 #else
 #include "trees/relief.glsl"
+#if defined BAKE
+#include "trees/bake.glsl"
+void main() {
+    mat3 frame = bark_frame(v_normal, v_tangent);
+    write_bake(bark_albedo(v_uv), bark_normal(v_uv, frame[0], frame[1], frame[2]), 0.0);
+}
+#else
 layout(location = 0) out vec4 out_color;
 void main() {
     mat3 frame = bark_frame(v_normal, v_tangent);
@@ -55,5 +63,6 @@ void main() {
 #endif
     out_color = vec4(shade_bark(uv, t, b, n, v_world), v_fade);
 }
+#endif
 #endif
 #endif
