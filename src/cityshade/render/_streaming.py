@@ -274,7 +274,7 @@ class StreamedCityGPU(CityGPU):
 
     def _upload_boxes(self):
         boxes = self.boxes
-        self.visibility.box_buffer.write(boxes.tobytes())
+        self.visibility.upload_draws(boxes)
         commands = np.zeros((len(boxes), COMMAND_WORDS), np.uint32)
         commands[:, 0], commands[:, 2] = boxes["draw"][:, 0], boxes["draw"][:, 1]
         commands[:, 1] = commands[:, 0] > 0

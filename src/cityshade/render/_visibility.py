@@ -177,9 +177,10 @@ class BuildingVisibility:
 
     def __init__(self, ctx: moderngl.Context, boxes: np.ndarray):
         self.ctx = ctx
-        self.count = len(boxes)  # the boxes themselves live in box_buffer only: no CPU copy for a city's life
-        self.box_buffer = create_buffer(ctx, boxes)
-        self.bounds = create_buffer(ctx, building_bounds(boxes))  # the boxes don't move; their draws may
+        self.count = len(boxes)  # the boxes live on the GPU only: no CPU copy for a city's life
+        # per box: vertex count, first vertex, building (the draws change as tiles stream; the boxes don't)
+        self.draw_buffer = create_buffer(ctx, np.ascontiguousarray(boxes["draw"]))
+        self.bounds = create_buffer(ctx, building_bounds(boxes))  # per building: its box's corners, once
         size = max(self.count, 1) * COMMAND_WORDS * 4
         self.frustum_draws = create_buffer(ctx, reserve=size)  # any view, frustum only (reused per call)
         self.occluder_draws = create_buffer(ctx, reserve=size)
@@ -189,8 +190,16 @@ class BuildingVisibility:
 
     @property
     def boxes(self) -> np.ndarray:
-        """The boxes as uploaded (read back from the GPU)."""
-        return np.frombuffer(self.box_buffer.read(), BOX_DTYPE, count=self.count)
+        """The boxes as uploaded (read back from the GPU): each draw with its building's corners."""
+        boxes = np.zeros(self.count, BOX_DTYPE)
+        boxes["draw"] = np.frombuffer(self.draw_buffer.read(), np.uint32, count=4 * self.count).reshape(-1, 4)
+        corners = np.frombuffer(self.bounds.read(), np.float32).reshape(-1, 2, 4)[boxes["draw"][:, 2]]
+        boxes["lo"], boxes["hi"] = corners[:, 0], corners[:, 1]
+        return boxes
+
+    def upload_draws(self, boxes: np.ndarray):
+        """New draw fields for the boxes (a streamed city's, as its tiles come and go)."""
+        self.draw_buffer.write(np.ascontiguousarray(boxes["draw"]).tobytes())
 
     def _run(
         self,
@@ -200,7 +209,8 @@ class BuildingVisibility:
         pyramid: moderngl.Texture | None = None,
         **uniforms,
     ) -> moderngl.Buffer:
-        self.box_buffer.bind_to_storage_buffer(1)
+        self.draw_buffer.bind_to_storage_buffer(1)
+        self.bounds.bind_to_storage_buffer(BOUNDS_BINDING)
         run_cull(
             self.ctx,
             "frame/cull.glsl",
@@ -274,7 +284,7 @@ class BuildingVisibility:
         return np.frombuffer(commands.read(), np.uint32).reshape(-1, COMMAND_WORDS)[: self.count, 1] > 0
 
     def release(self):
-        for buffer in (self.box_buffer, self.bounds, self.frustum_draws, self.occluder_draws, self.camera_draws):
+        for buffer in (self.draw_buffer, self.bounds, self.frustum_draws, self.occluder_draws, self.camera_draws):
             buffer.release()
         for texture in (self.pyramid, self.farthest):
             if texture is not None:

@@ -11,13 +11,11 @@
 #if defined COMPUTE_SHADER
 layout(local_size_x = 64) in;
 
-struct BuildingBox {
-    vec4 lo;     // xyz: the box's low corner (world)
-    vec4 hi;     // xyz: the high corner
-    uvec4 draw;  // vertex count, first vertex, building
-};
-layout(std430, binding = 1) readonly buffer Boxes { BuildingBox boxes[]; };
+layout(std430, binding = 1) readonly buffer Draws { uvec4 draws[]; };  // vertex count, first vertex, building
 layout(std430, binding = 2) writeonly buffer Commands { uint commands[]; };
+// per building: its box's low and high corner (xyz, world), at the binding the buildings' vertex stage
+// reads it from too (render/_visibility.py BOUNDS_BINDING, building_bounds)
+layout(std430, binding = 13) readonly buffer Bounds { vec4 bounds[]; };
 
 uniform uint u_box_count;
 #if defined OCCLUDERS
@@ -28,17 +26,18 @@ uniform float u_occluder_size;  // half diagonal over distance from the eye
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= u_box_count) return;
-    BuildingBox box = boxes[i];
-    bool drawn = in_frustum(box.lo.xyz, box.hi.xyz);
+    uvec4 draw = draws[i];
+    vec3 lo = bounds[2u * draw.z].xyz, hi = bounds[2u * draw.z + 1u].xyz;
+    bool drawn = in_frustum(lo, hi);
 #if defined OCCLUDERS
-    vec3 centre = 0.5 * (box.lo.xyz + box.hi.xyz);
-    drawn = drawn && 0.5 * length(box.hi.xyz - box.lo.xyz) >= u_occluder_size * distance(u_camera, centre);
+    vec3 centre = 0.5 * (lo + hi);
+    drawn = drawn && 0.5 * length(hi - lo) >= u_occluder_size * distance(u_camera, centre);
 #elif defined HIZ
-    drawn = drawn && !hidden(box.lo.xyz, box.hi.xyz);
+    drawn = drawn && !hidden(lo, hi);
 #endif
-    commands[uint(COMMAND_WORDS) * i] = box.draw.x;
+    commands[uint(COMMAND_WORDS) * i] = draw.x;
     commands[uint(COMMAND_WORDS) * i + 1u] = drawn ? 1u : 0u;
-    commands[uint(COMMAND_WORDS) * i + 2u] = box.draw.y;
+    commands[uint(COMMAND_WORDS) * i + 2u] = draw.y;
     commands[uint(COMMAND_WORDS) * i + 3u] = 0u;
 }
 #endif
