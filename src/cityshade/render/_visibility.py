@@ -242,13 +242,18 @@ class BuildingVisibility:
         program.run(-(-w // TILE), -(-h // TILE))
         self.ctx.memory_barrier()
 
+    def _fitted(self, texture: moderngl.Texture | None, size: tuple[int, int]) -> moderngl.Texture:
+        """`texture` if it has `size`, else a new pyramid texture of that size (the old one released)."""
+        if texture is not None and texture.size == size:
+            return texture
+        if texture is not None:
+            texture.release()
+        return pyramid_texture(self.ctx, size)
+
     def build_pyramid(self, depth: moderngl.Texture, samples: int):
         """The max-depth pyramid of a depth texture (the frame's, after the occluders)."""
         size = depth.size
-        if self.pyramid is None or self.pyramid.size != size:
-            if self.pyramid is not None:
-                self.pyramid.release()
-            self.pyramid = pyramid_texture(self.ctx, size)
+        self.pyramid = self._fitted(self.pyramid, size)
         self._farthest_samples(depth, samples, self.pyramid)
         reduce = programs(self.ctx).get("frame/hiz.glsl")
         for level, (w, h) in enumerate(pyramid_levels(size)[1:], start=1):
@@ -261,10 +266,7 @@ class BuildingVisibility:
         """The farthest of each pixel's samples of `depth` (the frame's, after the depth prepass), in a
         texture of its own (`farthest`): the buildings pass rejects a fragment beyond it before
         shading it (city/building.glsl PREPASS_FARTHEST)."""
-        if self.farthest is None or self.farthest.size != depth.size:
-            if self.farthest is not None:
-                self.farthest.release()
-            self.farthest = pyramid_texture(self.ctx, depth.size)  # only its level 0 is filled and read
+        self.farthest = self._fitted(self.farthest, depth.size)  # only its level 0 is filled and read
         self._farthest_samples(depth, samples, self.farthest)
 
     def cull(self, view_projection: np.ndarray) -> moderngl.Buffer:
