@@ -8,7 +8,9 @@ import moderngl
 import numpy as np
 import pytest
 
+from cityshade.errors import UsageError
 from cityshade.gl import ProgramCache, RenderTarget
+from cityshade.render import TreeSettings
 from cityshade.render._daylight import Daylight
 from cityshade.render._shadows import CascadedShadows
 from cityshade.scene import Camera
@@ -191,3 +193,10 @@ def test_a_second_pass_reads_the_atlas_baked_by_the_first(gl_context, programs, 
     again = second.impostor(next(iter(second.models))).atlas
     second.release()
     assert np.array_equal(atlas.color, again.color) and np.array_equal(atlas.surface, again.surface)
+
+
+@pytest.mark.parametrize("rows", [(49.0, 70.0), (70.0, 70.0), (70.0, 0.0), (70.0, -5.0)])
+def test_impostor_rows_out_of_order_refused_in_one_line(rows):
+    with pytest.raises(UsageError) as refused:
+        TreeSettings(impostor_rows=rows)
+    assert "\n" not in str(refused.value) and repr(rows) in str(refused.value)

@@ -33,6 +33,7 @@ from ..trees import (
     lod_alphas,
     vanish_alphas,
 )
+from ..errors import UsageError
 from ..gl import VertexArrays, bind_textures, create_buffer, grow_buffer, set_uniforms, upload_texture
 from ._culling import frustum_planes
 from ._impostors import GPUImpostor, atlas_key, bake_atlas, bounding_sphere, cached_atlas
@@ -83,6 +84,14 @@ class TreeSettings:
     card_shift: float = 1.0  # shadow cards move this many half-sizes toward the light (fig. 4-10)
     impostors: bool = True  # far trees as impostor cards (needs the image's rows: prepare's focal_rows)
     impostor_rows: tuple[float, float] = (IMPOSTOR_ROWS, IMPOSTOR_ROWS * 0.7)  # height in rows: mesh -> impostor
+
+    def __post_init__(self):
+        mesh, impostor = self.impostor_rows
+        if not mesh > impostor > 0:
+            raise UsageError(
+                f"impostor_rows {self.impostor_rows!r}: give the rows where the mesh starts to fade, then "
+                "the fewer rows where the tree is wholly its impostor, both above 0"
+            )
 
     def with_(self, **changes) -> "TreeSettings":
         return replace(self, **changes)
