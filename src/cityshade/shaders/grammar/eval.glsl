@@ -19,7 +19,7 @@
 #define GRAMMAR_BIG 1e30
 #define GRAMMAR_REPEAT_SLACK 1e-4
 
-uniform sampler2D u_grammar_rules;      // RGBA16F, GRAMMAR_WIDTH texels per row
+layout(std430, binding = GRAMMAR_RULES_BINDING) readonly buffer GrammarRules { vec4 grammar_rules[]; };  // by address
 uniform sampler2D u_grammar_noise;      // R32F uniform noise
 uniform sampler2DArray u_grammar_tiles; // RGBA8, layer = 3 * tile + usage - 1
 uniform int u_grammar_tile_size;        // texels per tile side (a power of two)
@@ -70,6 +70,7 @@ vec3 f_d[GRAMMAR_MAX_LAYERS];
 vec4 f_params[GRAMMAR_MAX_LAYERS];
 vec3 f_tint[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
 bool g_active;
+int g_end;  // the layer ends after this step, skipping this many more layers; -1: it goes on
 bool g_view_dependent;
 vec3 g_C, g_N;
 float g_A, g_AN, g_AS, g_best_w;
@@ -84,7 +85,7 @@ vec4 g_hole_scope;
 vec2 g_uv;  // the pixel's facade uv
 
 vec4 grammar_texel(int address) {
-    return texelFetch(u_grammar_rules, ivec2(address % GRAMMAR_WIDTH, address / GRAMMAR_WIDTH), 0);
+    return grammar_rules[address];
 }
 
 float grammar_channel(int address, int index) {
@@ -176,10 +177,11 @@ float grammar_drawn(float low, float high, int part) {
     return low + (high - low) * grammar_random(g_lb, g_addr + GRAMMAR_PART_STREAMS * (part + 1));
 }
 
-void grammar_repeat(vec4 head, int a) {
+// `noise`: the step's draw (grammar_step_noise), part 0's stream.
+void grammar_repeat(vec4 head, int a, float noise) {
     float size = g_size[a];
     // head.w: 1 (or 3) the paper's ceil, else the nearest count (half up); 2 (or 3) a rand size.
-    float v = head.w >= 2.0 ? grammar_drawn(head.y, grammar_texel(g_addr + 1).x, 0) : head.y;
+    float v = head.w >= 2.0 ? head.y + (grammar_texel(g_addr + 1).x - head.y) * noise : head.y;
     float ratio = size / v;
     float count = max(mod(head.w, 2.0) == 1.0 ? ceil(ratio - GRAMMAR_REPEAT_SLACK) : floor(ratio + 0.5), 1.0);
     float w = size / count;
@@ -327,43 +329,50 @@ int grammar_program(int first, int n) {
     return -1;
 }
 
-// Case: the first condition that holds picks its rule, else the last rule (head.z).
-void grammar_case(vec4 head) {
-    int taken = grammar_program(g_addr + 1, int(head.y));
-    g_addr = taken >= 0 ? taken : int(head.z);
-}
 
 float grammar_token(vec2 token) {
     return token.x == 0.0 ? token.y : grammar_variable(int(token.y));
 }
 
-// Bind, a reference with arguments: each argument's value becomes a parameter (the others 0),
+// Case (head.x 14): the first condition that holds picks its rule, else the last rule (head.z).
+// Bind (15), a reference with arguments: each argument's value becomes a parameter (the others 0),
 // then the rule. Arguments of one token each (a number or a variable, the common case) are
-// read directly; others run as a program.
-void grammar_bind(vec4 head) {
+// read directly; others run as a program. Both make one grammar_program call, so the shader has
+// one copy of its loop.
+void grammar_case_or_bind(vec4 head) {
+    bool bind = head.x == 15.0;
     int n = int(head.y);
     int count = int(head.w);
+    bool tokens = bind && n == count;
+    int taken = grammar_program(g_addr + 1, tokens ? 0 : n);
+    if (!bind) {
+        g_addr = taken >= 0 ? taken : int(head.z);
+        return;
+    }
     vec4 values;
-    if (n == count) {
+    if (tokens) {
         vec4 a = grammar_texel(g_addr + 1);
         vec4 b = count > 2 ? grammar_texel(g_addr + 2) : vec4(0.0);
         values = vec4(grammar_token(a.xy), grammar_token(a.zw), grammar_token(b.xy), grammar_token(b.zw));
     } else {
-        grammar_program(g_addr + 1, n);
         values = vec4(g_values[0], g_values[1], g_values[2], g_values[3]);
     }
     g_params = values * vec4(greaterThan(vec4(float(count)), vec4(0.0, 1.0, 2.0, 3.0)));
     g_addr = int(head.z);
 }
 
-float grammar_rand_value(int level) {
-    int slot = max(g_sp - level, 0);
-    return grammar_random(level == 0 ? g_lb : g_stack[slot], g_addr);
+// The one noise value a step draws: Rand's and RandUni's, from the scope at RandStack level
+// head.z (0: this scope) in the rule's stream, or Repeat's rand size, from this scope in its
+// part 0's stream.
+float grammar_step_noise(int op, vec4 head) {
+    bool repeat = op == 1 || op == 2;
+    int level = repeat ? 0 : int(head.z);
+    vec2 corner = level == 0 ? g_lb : g_stack[max(g_sp - level, 0)];
+    return grammar_random(corner, g_addr + (repeat ? GRAMMAR_PART_STREAMS : 0));
 }
 
-void grammar_rand(vec4 head) {
+void grammar_rand(vec4 head, float r) {
     int n = int(head.y);
-    float r = grammar_rand_value(int(head.z));
     for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
         vec4 part = grammar_texel(g_addr + 1 + i / 2);
         float accumulated = (i % 2 == 0) ? part.x : part.z;
@@ -417,11 +426,8 @@ vec4 grammar_current_scope() {
 
 // SkipMask: skips head.z layers where the mask's nearest texel is 0, head.w where it is 1 (in both
 // modes: holes have the numpy twin's edges). The bit that skips more cuts a hole.
-void grammar_skip_mask(vec4 head) {
-    ivec2 texel;
-    int tile;
-    float bit;
-    grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile, bit);
+// `bit`: the mask's nearest texel (the step's sample).
+void grammar_skip_mask(vec4 head, float bit) {
     bool one = bit > 0.5;
     if (g_addr == g_through) {  // seen through this hole
         one = head.w > head.z;
@@ -433,21 +439,16 @@ void grammar_skip_mask(vec4 head) {
         g_hole = g_addr;
         g_hole_scope = grammar_current_scope();
     }
-    grammar_end_layer(int(one ? head.w : head.z));
+    g_end = int(one ? head.w : head.z);
 }
 
-void grammar_mat(vec4 head, int op) {
+// rgba, texel, tile, a_exact: the step's sample of the Mat's tile or colour (grammar_evaluate).
+void grammar_mat(vec4 head, int op, vec4 rgba, ivec2 texel, int tile, float a_exact) {
     if (g_through >= 0) {  // a layer above the hole seen through: not in the way
-        grammar_end_layer(0);
+        g_end = 0;
         return;
     }
     int usage = int(head.y);
-    int code = int(head.z);
-    vec4 params = (op == 12 && head.w == 0.0) ? vec4(0.0, 0.0, 1.0, 1.0) : grammar_texel(g_addr + 1);
-    ivec2 texel;
-    int tile;
-    float a_exact;
-    vec4 rgba = grammar_sample(code, usage, params, texel, tile, a_exact);
     if (op == 13) {
         ivec2 unused_texel;
         int unused_tile;
@@ -483,7 +484,7 @@ void grammar_mat(vec4 head, int op) {
     if (g_A >= GRAMMAR_OPAQUE && g_AE >= GRAMMAR_OPAQUE) {
         g_active = false;
     } else {
-        grammar_end_layer(0);
+        g_end = 0;
     }
 }
 
@@ -518,24 +519,33 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
         // Binds (a reference's arguments) and Cases lead straight on to the next rule: they take
         // steps of the same budget without the operator dispatch below.
         for (; (head.x == 14.0 || head.x == 15.0) && step < GRAMMAR_MAX_STEPS - 1; ++step) {
-            if (head.x == 15.0) {
-                grammar_bind(head);
-            } else {
-                grammar_case(head);
-            }
+            grammar_case_or_bind(head);
             head = grammar_texel(g_addr);
         }
         int op = int(head.x);
         if (op == 14 || op == 15) break;  // the budget ran out on a chain of them (the checks refuse such grammars)
+        g_end = -1;
+        // The step's one noise value and one tile sample, made here for the operators that use
+        // them: the GPU runs every branch below where any pixel of its group takes it, so each
+        // kind of fetch appears once. A Mat (12, 13) samples its tile or colour; a SkipMask (10) its mask.
+        float noise = grammar_step_noise(op, head);
+        bool mask = op == 10;
+        bool mat = op == 12 || op == 13;
+        vec4 params = mat && !(op == 12 && head.w == 0.0) ? grammar_texel(g_addr + 1) : vec4(0.0, 0.0, 1.0, 1.0);
+        ivec2 texel;
+        int tile;
+        float exact;
+        vec4 sampled = grammar_sample(mask ? int(head.y) : (mat ? int(head.z) : 0), mask ? 1 : int(head.y), params,
+                                      texel, tile, exact);
         if (op == 1 || op == 2) {
-            grammar_repeat(head, op - 1);
+            grammar_repeat(head, op - 1, noise);
         } else if (op == 3 || op == 4) {
             grammar_split(head, op - 3);
         } else if (op == 5) {
-            grammar_rand(head);
+            grammar_rand(head, noise);
         } else if (op == 6) {
             int n = int(head.y);
-            int k = min(int(floor(grammar_rand_value(int(head.z)) * float(n))), n - 1);
+            int k = min(int(floor(noise * float(n))), n - 1);
             g_addr = int(grammar_channel(g_addr, 3 + k));
         } else if (op == 7) {
             int slot = min(g_sp, GRAMMAR_MAX_STACK - 1);
@@ -555,11 +565,11 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             f_sp[top] = g_sp;
             f_tint[top] = g_tint;
             g_depth = top + 1;
-            grammar_end_layer(0);
+            g_end = 0;
         } else if (op == 9) {
-            grammar_end_layer(int(head.y));
+            g_end = int(head.y);
         } else if (op == 10) {
-            grammar_skip_mask(head);
+            grammar_skip_mask(head, exact);
         } else if (op == 11) {
             grammar_intrusion(head);
         } else if (op == 17) {
@@ -568,8 +578,11 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             g_tint *= grammar_texel(g_addr + 1).rgb;
             g_addr = int(head.y);
         } else {
-            grammar_mat(head, op);
+            grammar_mat(head, op, sampled, texel, tile, exact);
         }
+        // the layer ends here for the operators that set g_end: one copy of its loop in the shader,
+        // as the GPU runs every branch of the dispatch above where any pixel of its group takes it
+        if (g_end >= 0) grammar_end_layer(g_end);
     }
 
     GrammarResult result;
