@@ -13,6 +13,10 @@
 #error "the parameters are kept in a vec4"
 #endif
 
+#if GRAMMAR_MAX_LAYERS != 4
+#error "the layer frames are four variables and an ivec4 (f_frame0..3, f_index)"
+#endif
+
 #define GRAMMAR_NOISE_SIZE 256
 #define GRAMMAR_NOISE_DENSITY 8.0
 #define GRAMMAR_OPAQUE 0.999
@@ -64,11 +68,17 @@ vec2 g_dtdx, g_dtdy;
 vec2 g_stack[GRAMMAR_MAX_STACK];
 int g_sp;
 int g_depth;
-int f_addr[GRAMMAR_MAX_LAYERS], f_index[GRAMMAR_MAX_LAYERS], f_sp[GRAMMAR_MAX_LAYERS];
-vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS], f_split[GRAMMAR_MAX_LAYERS];
-vec3 f_d[GRAMMAR_MAX_LAYERS];
-vec4 f_params[GRAMMAR_MAX_LAYERS];
-vec3 f_tint[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
+// The entered Layers' frames: the scope their layers start from. Four named frames picked by
+// selects (grammar_frame), not an array: llvmpipe reads and writes a dynamically indexed array
+// through memory, lane by lane, which cost more than the rest of a step.
+struct LayerFrame {
+    vec4 lb_size, t_split;
+    vec4 params;  // GRAMMAR_MAX_PARAMS is 4
+    vec3 d, tint;
+    int addr, sp;
+};
+LayerFrame f_frame0, f_frame1, f_frame2, f_frame3;
+ivec4 f_index;  // per frame, the layer entered last
 bool g_active;
 int g_end;  // the layer ends after this step, skipping this many more layers; -1: it goes on
 bool g_view_dependent;
@@ -144,32 +154,47 @@ vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int t
 #endif
 }
 
+LayerFrame grammar_frame(int k) {
+    return k == 0 ? f_frame0 : (k == 1 ? f_frame1 : (k == 2 ? f_frame2 : f_frame3));
+}
+
+// Enters Layer `addr` with `layers` layers at the current scope.
+void grammar_enter_layer(int addr, int layers) {
+    int top = min(g_depth, GRAMMAR_MAX_LAYERS - 1);
+    LayerFrame f = LayerFrame(vec4(g_lb, g_size), vec4(g_t, g_split), g_params, g_d, g_tint, addr, g_sp);
+    if (top == 0) f_frame0 = f;
+    else if (top == 1) f_frame1 = f;
+    else if (top == 2) f_frame2 = f;
+    else f_frame3 = f;
+    f_index[top] = layers;
+    g_depth = top + 1;
+}
+
 // The current layer is done, skipping `skip` more: enter the next layer below, or finish.
 void grammar_end_layer(int skip) {
     for (int i = 0; i <= GRAMMAR_MAX_LAYERS; ++i) {
-        int top = g_depth - 1;
-        if (top < 0) {
+        if (g_depth == 0) {
             g_active = false;
             return;
         }
-        int index = f_index[top] - 1 - skip;
-        f_index[top] = index;
-        if (index >= 0) {
-            vec2 offset = float(index + 1) * g_s;  // layer i is translated by i * s
-            g_lb = f_lb[top] + offset;
-            g_t = f_t[top] + offset;
-            g_size = f_size[top];
-            g_split = f_split[top];
-            g_params = f_params[top];
-            g_d = f_d[top];
-            g_sp = f_sp[top];
-            g_tint = f_tint[top];
-            g_addr = int(grammar_channel(f_addr[top], 2 + index));
-            return;
-        }
+        int index = f_index[g_depth - 1] - 1 - skip;
+        f_index[g_depth - 1] = index;
+        if (index >= 0) break;
         g_depth -= 1;  // this Layer is exhausted: continue below it in the enclosing one
         skip = 0;
     }
+    int index = f_index[g_depth - 1];
+    LayerFrame f = grammar_frame(g_depth - 1);
+    vec2 offset = float(index + 1) * g_s;  // layer i is translated by i * s
+    g_lb = f.lb_size.xy + offset;
+    g_size = f.lb_size.zw;
+    g_t = f.t_split.xy + offset;
+    g_split = f.t_split.zw;
+    g_params = f.params;
+    g_d = f.d;
+    g_sp = f.sp;
+    g_tint = f.tint;
+    g_addr = int(grammar_channel(f.addr, 2 + index));
 }
 
 // A size drawn from rand(low, high) for this scope: the rule's part `part` has its own stream.
@@ -553,18 +578,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             g_sp = slot + 1;
             g_addr = int(head.y);
         } else if (op == 8) {
-            int top = min(g_depth, GRAMMAR_MAX_LAYERS - 1);
-            f_addr[top] = g_addr;
-            f_index[top] = int(head.y);
-            f_lb[top] = g_lb;
-            f_size[top] = g_size;
-            f_split[top] = g_split;
-            f_params[top] = g_params;
-            f_t[top] = g_t;
-            f_d[top] = g_d;
-            f_sp[top] = g_sp;
-            f_tint[top] = g_tint;
-            g_depth = top + 1;
+            grammar_enter_layer(g_addr, int(head.y));
             g_end = 0;
         } else if (op == 9) {
             g_end = int(head.y);
