@@ -17,6 +17,10 @@
 #error "the layer frames are four variables and an ivec4 (f_frame0..3, f_index)"
 #endif
 
+#if GRAMMAR_MAX_STACK != 8 || GRAMMAR_MAX_EXPR_STACK != 8
+#error "the random-seed stack is four vec4 (g_stack01..67), the expression stack two (g_values_lo, _hi)"
+#endif
+
 #define GRAMMAR_NOISE_SIZE 256
 #define GRAMMAR_NOISE_DENSITY 8.0
 #define GRAMMAR_OPAQUE 0.999
@@ -65,7 +69,9 @@ vec2 grammar_building_seed = vec2(0.0);
 int grammar_through = -1;
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
-vec2 g_stack[GRAMMAR_MAX_STACK];
+// The random-seed stack: two entries in each vec4, read and written through selects (as the
+// layer frames below).
+vec4 g_stack01, g_stack23, g_stack45, g_stack67;
 int g_sp;
 int g_depth;
 // The entered Layers' frames: the scope their layers start from. Four named frames picked by
@@ -303,7 +309,14 @@ float grammar_variable(int index) {
 // number (0), a variable (1), apply an operator (3-17); the token (2, rule) returns the rule if
 // the value on top is not 0. At most GRAMMAR_MAX_CASE_TOKENS tokens: the work is bounded.
 // Division and modulo by 0 give 0 (as _expressions.apply). Returns -1 when no test was taken.
-float g_values[GRAMMAR_MAX_EXPR_STACK];
+vec4 g_values_lo, g_values_hi;  // the program's stack, entries 0-3 and 4-7 (vectors: see g_stack01)
+
+float grammar_value(int k) { return k < 4 ? g_values_lo[k & 3] : g_values_hi[k & 3]; }
+
+void grammar_set_value(int k, float v) {
+    if (k < 4) g_values_lo[k & 3] = v;
+    else g_values_hi[k & 3] = v;
+}
 
 int grammar_program(int first, int n) {
     int sp = 0;
@@ -312,28 +325,28 @@ int grammar_program(int first, int n) {
         int code = int(i % 2 == 0 ? pair.x : pair.z);
         float value = i % 2 == 0 ? pair.y : pair.w;
         if (code == 0 || code == 1) {
-            g_values[min(sp, GRAMMAR_MAX_EXPR_STACK - 1)] = code == 0 ? value : grammar_variable(int(value));
+            grammar_set_value(min(sp, GRAMMAR_MAX_EXPR_STACK - 1), code == 0 ? value : grammar_variable(int(value)));
             sp = min(sp + 1, GRAMMAR_MAX_EXPR_STACK);
             continue;
         }
         if (code == 2) {
             sp = max(sp - 1, 0);
-            if (g_values[sp] != 0.0) return int(value);
+            if (grammar_value(sp) != 0.0) return int(value);
             continue;
         }
         int top = max(sp - 1, 0);
-        float x = g_values[top];
+        float x = grammar_value(top);
         if (code == 16) {
-            g_values[top] = x == 0.0 ? 1.0 : 0.0;
+            grammar_set_value(top, x == 0.0 ? 1.0 : 0.0);
             continue;
         }
         if (code == 17) {
-            g_values[top] = -x;
+            grammar_set_value(top, -x);
             continue;
         }
         sp = max(sp - 1, 1);
         top = sp - 1;
-        float a = g_values[top];
+        float a = grammar_value(top);
         float b = x;
         float r;
         if (code == 3) r = a + b;
@@ -349,7 +362,7 @@ int grammar_program(int first, int n) {
         else if (code == 13) r = float(a >= b);
         else if (code == 14) r = float(a != 0.0 && b != 0.0);
         else r = float(a != 0.0 || b != 0.0);
-        g_values[top] = r;
+        grammar_set_value(top, r);
     }
     return -1;
 }
@@ -380,10 +393,29 @@ void grammar_case_or_bind(vec4 head) {
         vec4 b = count > 2 ? grammar_texel(g_addr + 2) : vec4(0.0);
         values = vec4(grammar_token(a.xy), grammar_token(a.zw), grammar_token(b.xy), grammar_token(b.zw));
     } else {
-        values = vec4(g_values[0], g_values[1], g_values[2], g_values[3]);
+        values = g_values_lo;
     }
     g_params = values * vec4(greaterThan(vec4(float(count)), vec4(0.0, 1.0, 2.0, 3.0)));
     g_addr = int(head.z);
+}
+
+vec2 grammar_stack(int k) {
+    vec4 pair = k < 2 ? g_stack01 : (k < 4 ? g_stack23 : (k < 6 ? g_stack45 : g_stack67));
+    return (k & 1) == 0 ? pair.xy : pair.zw;
+}
+
+vec4 grammar_stack_put(vec4 pair, int k, vec2 corner) {
+    return (k & 1) == 0 ? vec4(corner, pair.zw) : vec4(pair.xy, corner);
+}
+
+// RandStack: the scope's corner pushed (the last entry overwritten once the stack is full).
+void grammar_push_stack(vec2 corner) {
+    int slot = min(g_sp, GRAMMAR_MAX_STACK - 1);
+    if (slot < 2) g_stack01 = grammar_stack_put(g_stack01, slot, corner);
+    else if (slot < 4) g_stack23 = grammar_stack_put(g_stack23, slot, corner);
+    else if (slot < 6) g_stack45 = grammar_stack_put(g_stack45, slot, corner);
+    else g_stack67 = grammar_stack_put(g_stack67, slot, corner);
+    g_sp = slot + 1;
 }
 
 // The one noise value a step draws: Rand's and RandUni's, from the scope at RandStack level
@@ -392,7 +424,7 @@ void grammar_case_or_bind(vec4 head) {
 float grammar_step_noise(int op, vec4 head) {
     bool repeat = op == 1 || op == 2;
     int level = repeat ? 0 : int(head.z);
-    vec2 corner = level == 0 ? g_lb : g_stack[max(g_sp - level, 0)];
+    vec2 corner = level == 0 ? g_lb : grammar_stack(max(g_sp - level, 0));
     return grammar_random(corner, g_addr + (repeat ? GRAMMAR_PART_STREAMS : 0));
 }
 
@@ -526,7 +558,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_d = dir;
     g_dtdx = duv_dx;
     g_dtdy = duv_dy;
-    g_stack[0] = grammar_building_seed.x > 0.0 ? grammar_building_seed : seed;  // seed cells are >= 1
+    g_stack01 = vec4(grammar_building_seed.x > 0.0 ? grammar_building_seed : seed, 0.0, 0.0);  // seed cells are >= 1
+    g_stack23 = g_stack45 = g_stack67 = vec4(0.0);
     g_sp = 1;
     g_depth = 0;
     g_active = true;
@@ -573,9 +606,7 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             int k = min(int(floor(noise * float(n))), n - 1);
             g_addr = int(grammar_channel(g_addr, 3 + k));
         } else if (op == 7) {
-            int slot = min(g_sp, GRAMMAR_MAX_STACK - 1);
-            g_stack[slot] = g_lb;
-            g_sp = slot + 1;
+            grammar_push_stack(g_lb);
             g_addr = int(head.y);
         } else if (op == 8) {
             grammar_enter_layer(g_addr, int(head.y));
