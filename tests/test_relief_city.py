@@ -320,7 +320,6 @@ def test_dusk_holes_recessed_as_the_twin_says(gl_context, view, switch_m, output
     assert not (moved & ~holes & ~id_edges(flat)).any(), "a frame or a pixel off the building moved"
 
 
-
 OPENING_FOUND, HOLE_OPENING = 8, 16  # shaders/grammar/building.glsl GRAMMAR_DEFERRED_OPENING, _HOLE_OPENING
 
 

@@ -3,8 +3,9 @@
 A cheap pass draws every building into a G-buffer (facade uv, scope size, seed, facade.level,
 normal); one full-screen pass then evaluates the grammar once per grammar-facade pixel and stores
 the lit colour, the glass flag and the label, and the window opening the relief recesses there
-(its index, scope and the flat grammar's colour), so the buildings pass need not evaluate again. The building pass reads them back at its own pixel
-(GRAMMAR_DEFERRED in shaders/grammar/building.glsl) and continues into the rooms behind the glass.
+(its index, scope and the flat grammar's colour), so the buildings pass need not evaluate again.
+The building pass reads them back at its own pixel (GRAMMAR_DEFERRED in
+shaders/grammar/building.glsl) and continues into the rooms behind the glass.
 With the page cache (grammar._cache) the G-buffer also names the cache page each pixel needs, the
 cache update evaluates missing pages, and the evaluation reads resident pages instead.
 """

@@ -97,9 +97,10 @@ FacadeResult grammar_facade_result(GrammarResult g, vec3 n, vec3 point) {
 // The deferred pass's first id channel: glass, a hole seen (where the page cache did not answer),
 // or the mark on a pixel it left to the cheapest level of detail (city/lod.glsl), so both passes
 // agree on the pixel's level; where the page cache did not answer and relief is on, also the
-// window opening it found for the relief (relief/openings.glsl: found, a hole's, its index + 1 from
-// bit GRAMMAR_DEFERRED_OPENING_SHIFT, and the face's key from bit GRAMMAR_DEFERRED_FACE_SHIFT). The second: the flat grammar's sRGB colour in 8 bits per
-// channel (packUnorm4x8) and its label in the top byte.
+// window opening it found for the relief (relief/openings.glsl: found, a hole's, its index + 1
+// from bit GRAMMAR_DEFERRED_OPENING_SHIFT, the face's key from bit GRAMMAR_DEFERRED_FACE_SHIFT).
+// The second: the flat grammar's sRGB colour in 8 bits per channel (packUnorm4x8) and its label
+// in the top byte.
 const uint GRAMMAR_DEFERRED_GLASS = 1u;
 const uint GRAMMAR_DEFERRED_SKIPPED = 2u;
 const uint GRAMMAR_DEFERRED_HOLE = 4u;
