@@ -1,4 +1,4 @@
-"""The grammar's GPU resources (rule texture, noise, tile array) and the standalone facade render."""
+"""The grammar's GPU resources (rules, noise, tile array) and the standalone facade render."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import moderngl
 import numpy as np
 
 from ..assets import TileArray
-from ..gl import RenderTarget, bind_textures, draw_fullscreen, programs, upload_texture
+from ..gl import RenderTarget, bind_textures, create_buffer, draw_fullscreen, programs, upload_texture
 from . import _limits as limits
 from ._compiler import CompiledGrammars
 from ._expressions import BUILDING, FACADE_LEVEL, PARAMETER
@@ -14,6 +14,7 @@ from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
 MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
+RULES_BINDING = 14  # the storage buffer of the rules in eval.glsl
 
 
 def shader_defines(nearest: bool = False) -> dict[str, object]:
@@ -24,17 +25,19 @@ def shader_defines(nearest: bool = False) -> dict[str, object]:
         GRAMMAR_FIRST_BUILDING=BUILDING,
         GRAMMAR_FACADE_LEVEL=FACADE_LEVEL,
         GRAMMAR_FIRST_PARAMETER=PARAMETER,
+        GRAMMAR_RULES_BINDING=RULES_BINDING,
     )
 
 
 class GrammarTextures:
-    """Uploads a compiled grammar, the noise texture and the tile array; binds them to a program."""
+    """Uploads a compiled grammar, the noise texture and the tile array; binds them to a program.
+    The rules are a storage buffer of float32 texels (the compiled float16 values, exactly): on
+    llvmpipe a buffer read is cheaper than a texel fetch, and the evaluator reads one or more a step."""
 
     def __init__(self, ctx: moderngl.Context, compiled: CompiledGrammars, tiles: TileArray):
         self.compiled = compiled
         self.tiles = tiles
-        rows, width, _ = compiled.texels.shape
-        self.rules = upload_texture(ctx, compiled.texels, "stored", mipmaps=False, dtype="f2")
+        self.rules = create_buffer(ctx, compiled.flat())
         self.noise = upload_texture(ctx, noise_texture(), "stored", mipmaps=False, dtype="f4")
         # sRGB tiles, decoded by the shader (common/srgb.glsl) after the grammar picks and filters them
         self.tile_array = upload_texture(ctx, tiles.layers, "stored")
@@ -44,18 +47,17 @@ class GrammarTextures:
         self.labels[: len(tiles.labels)] = tiles.labels
 
     def bind(self, program):
-        """Binds the three textures to the program's samplers and sets the tile uniforms."""
-        bind_textures(
-            program, {"u_grammar_rules": self.rules, "u_grammar_noise": self.noise, "u_grammar_tiles": self.tile_array}
-        )
+        """Binds the rules' storage buffer and the two textures, and sets the tile uniforms."""
+        self.rules.bind_to_storage_buffer(RULES_BINDING)
+        bind_textures(program, {"u_grammar_noise": self.noise, "u_grammar_tiles": self.tile_array})
         if "u_grammar_tile_size" in program:
             program["u_grammar_tile_size"] = self.tiles.size
         if "u_grammar_tile_labels" in program:
             program["u_grammar_tile_labels"].write(self.labels.tobytes())
 
     def release(self):
-        for texture in (self.rules, self.noise, self.tile_array):
-            texture.release()
+        for resource in (self.rules, self.noise, self.tile_array):
+            resource.release()
 
 
 class FacadeRenderer:

@@ -13,13 +13,21 @@
 #error "the parameters are kept in a vec4"
 #endif
 
+#if GRAMMAR_MAX_LAYERS != 4
+#error "the layer frames are four variables and an ivec4 (f_frame0..3, f_index)"
+#endif
+
+#if GRAMMAR_MAX_STACK != 8 || GRAMMAR_MAX_EXPR_STACK != 8
+#error "the random-seed stack is four vec4 (g_stack01..67), the expression stack two (g_values_lo, _hi)"
+#endif
+
 #define GRAMMAR_NOISE_SIZE 256
 #define GRAMMAR_NOISE_DENSITY 8.0
 #define GRAMMAR_OPAQUE 0.999
 #define GRAMMAR_BIG 1e30
 #define GRAMMAR_REPEAT_SLACK 1e-4
 
-uniform sampler2D u_grammar_rules;      // RGBA16F, GRAMMAR_WIDTH texels per row
+layout(std430, binding = GRAMMAR_RULES_BINDING) readonly buffer GrammarRules { vec4 grammar_rules[]; };  // by address
 uniform sampler2D u_grammar_noise;      // R32F uniform noise
 uniform sampler2DArray u_grammar_tiles; // RGBA8, layer = 3 * tile + usage - 1
 uniform int u_grammar_tile_size;        // texels per tile side (a power of two)
@@ -61,15 +69,24 @@ vec2 grammar_building_seed = vec2(0.0);
 int grammar_through = -1;
 vec3 g_d;
 vec2 g_dtdx, g_dtdy;
-vec2 g_stack[GRAMMAR_MAX_STACK];
+// The random-seed stack: two entries in each vec4, read and written through selects (as the
+// layer frames below).
+vec4 g_stack01, g_stack23, g_stack45, g_stack67;
 int g_sp;
 int g_depth;
-int f_addr[GRAMMAR_MAX_LAYERS], f_index[GRAMMAR_MAX_LAYERS], f_sp[GRAMMAR_MAX_LAYERS];
-vec2 f_lb[GRAMMAR_MAX_LAYERS], f_size[GRAMMAR_MAX_LAYERS], f_t[GRAMMAR_MAX_LAYERS], f_split[GRAMMAR_MAX_LAYERS];
-vec3 f_d[GRAMMAR_MAX_LAYERS];
-vec4 f_params[GRAMMAR_MAX_LAYERS];
-vec3 f_tint[GRAMMAR_MAX_LAYERS];  // GRAMMAR_MAX_PARAMS is 4
+// The entered Layers' frames: the scope their layers start from. Four named frames picked by
+// selects (grammar_frame), not an array: llvmpipe reads and writes a dynamically indexed array
+// through memory, lane by lane, which cost more than the rest of a step.
+struct LayerFrame {
+    vec4 lb_size, t_split;
+    vec4 params;  // GRAMMAR_MAX_PARAMS is 4
+    vec3 d, tint;
+    int addr, sp;
+};
+LayerFrame f_frame0, f_frame1, f_frame2, f_frame3;
+ivec4 f_index;  // per frame, the layer entered last
 bool g_active;
+int g_end;  // the layer ends after this step, skipping this many more layers; -1: it goes on
 bool g_view_dependent;
 vec3 g_C, g_N;
 float g_A, g_AN, g_AS, g_best_w;
@@ -84,7 +101,7 @@ vec4 g_hole_scope;
 vec2 g_uv;  // the pixel's facade uv
 
 vec4 grammar_texel(int address) {
-    return texelFetch(u_grammar_rules, ivec2(address % GRAMMAR_WIDTH, address / GRAMMAR_WIDTH), 0);
+    return grammar_rules[address];
 }
 
 float grammar_channel(int address, int index) {
@@ -143,32 +160,47 @@ vec4 grammar_sample(int code, int usage, vec4 params, out ivec2 texel, out int t
 #endif
 }
 
+LayerFrame grammar_frame(int k) {
+    return k == 0 ? f_frame0 : (k == 1 ? f_frame1 : (k == 2 ? f_frame2 : f_frame3));
+}
+
+// Enters Layer `addr` with `layers` layers at the current scope.
+void grammar_enter_layer(int addr, int layers) {
+    int top = min(g_depth, GRAMMAR_MAX_LAYERS - 1);
+    LayerFrame f = LayerFrame(vec4(g_lb, g_size), vec4(g_t, g_split), g_params, g_d, g_tint, addr, g_sp);
+    if (top == 0) f_frame0 = f;
+    else if (top == 1) f_frame1 = f;
+    else if (top == 2) f_frame2 = f;
+    else f_frame3 = f;
+    f_index[top] = layers;
+    g_depth = top + 1;
+}
+
 // The current layer is done, skipping `skip` more: enter the next layer below, or finish.
 void grammar_end_layer(int skip) {
     for (int i = 0; i <= GRAMMAR_MAX_LAYERS; ++i) {
-        int top = g_depth - 1;
-        if (top < 0) {
+        if (g_depth == 0) {
             g_active = false;
             return;
         }
-        int index = f_index[top] - 1 - skip;
-        f_index[top] = index;
-        if (index >= 0) {
-            vec2 offset = float(index + 1) * g_s;  // layer i is translated by i * s
-            g_lb = f_lb[top] + offset;
-            g_t = f_t[top] + offset;
-            g_size = f_size[top];
-            g_split = f_split[top];
-            g_params = f_params[top];
-            g_d = f_d[top];
-            g_sp = f_sp[top];
-            g_tint = f_tint[top];
-            g_addr = int(grammar_channel(f_addr[top], 2 + index));
-            return;
-        }
+        int index = f_index[g_depth - 1] - 1 - skip;
+        f_index[g_depth - 1] = index;
+        if (index >= 0) break;
         g_depth -= 1;  // this Layer is exhausted: continue below it in the enclosing one
         skip = 0;
     }
+    int index = f_index[g_depth - 1];
+    LayerFrame f = grammar_frame(g_depth - 1);
+    vec2 offset = float(index + 1) * g_s;  // layer i is translated by i * s
+    g_lb = f.lb_size.xy + offset;
+    g_size = f.lb_size.zw;
+    g_t = f.t_split.xy + offset;
+    g_split = f.t_split.zw;
+    g_params = f.params;
+    g_d = f.d;
+    g_sp = f.sp;
+    g_tint = f.tint;
+    g_addr = int(grammar_channel(f.addr, 2 + index));
 }
 
 // A size drawn from rand(low, high) for this scope: the rule's part `part` has its own stream.
@@ -176,10 +208,11 @@ float grammar_drawn(float low, float high, int part) {
     return low + (high - low) * grammar_random(g_lb, g_addr + GRAMMAR_PART_STREAMS * (part + 1));
 }
 
-void grammar_repeat(vec4 head, int a) {
+// `noise`: the step's draw (grammar_step_noise), part 0's stream.
+void grammar_repeat(vec4 head, int a, float noise) {
     float size = g_size[a];
     // head.w: 1 (or 3) the paper's ceil, else the nearest count (half up); 2 (or 3) a rand size.
-    float v = head.w >= 2.0 ? grammar_drawn(head.y, grammar_texel(g_addr + 1).x, 0) : head.y;
+    float v = head.w >= 2.0 ? head.y + (grammar_texel(g_addr + 1).x - head.y) * noise : head.y;
     float ratio = size / v;
     float count = max(mod(head.w, 2.0) == 1.0 ? ceil(ratio - GRAMMAR_REPEAT_SLACK) : floor(ratio + 0.5), 1.0);
     float w = size / count;
@@ -276,7 +309,14 @@ float grammar_variable(int index) {
 // number (0), a variable (1), apply an operator (3-17); the token (2, rule) returns the rule if
 // the value on top is not 0. At most GRAMMAR_MAX_CASE_TOKENS tokens: the work is bounded.
 // Division and modulo by 0 give 0 (as _expressions.apply). Returns -1 when no test was taken.
-float g_values[GRAMMAR_MAX_EXPR_STACK];
+vec4 g_values_lo, g_values_hi;  // the program's stack, entries 0-3 and 4-7 (vectors: see g_stack01)
+
+float grammar_value(int k) { return k < 4 ? g_values_lo[k & 3] : g_values_hi[k & 3]; }
+
+void grammar_set_value(int k, float v) {
+    if (k < 4) g_values_lo[k & 3] = v;
+    else g_values_hi[k & 3] = v;
+}
 
 int grammar_program(int first, int n) {
     int sp = 0;
@@ -285,28 +325,28 @@ int grammar_program(int first, int n) {
         int code = int(i % 2 == 0 ? pair.x : pair.z);
         float value = i % 2 == 0 ? pair.y : pair.w;
         if (code == 0 || code == 1) {
-            g_values[min(sp, GRAMMAR_MAX_EXPR_STACK - 1)] = code == 0 ? value : grammar_variable(int(value));
+            grammar_set_value(min(sp, GRAMMAR_MAX_EXPR_STACK - 1), code == 0 ? value : grammar_variable(int(value)));
             sp = min(sp + 1, GRAMMAR_MAX_EXPR_STACK);
             continue;
         }
         if (code == 2) {
             sp = max(sp - 1, 0);
-            if (g_values[sp] != 0.0) return int(value);
+            if (grammar_value(sp) != 0.0) return int(value);
             continue;
         }
         int top = max(sp - 1, 0);
-        float x = g_values[top];
+        float x = grammar_value(top);
         if (code == 16) {
-            g_values[top] = x == 0.0 ? 1.0 : 0.0;
+            grammar_set_value(top, x == 0.0 ? 1.0 : 0.0);
             continue;
         }
         if (code == 17) {
-            g_values[top] = -x;
+            grammar_set_value(top, -x);
             continue;
         }
         sp = max(sp - 1, 1);
         top = sp - 1;
-        float a = g_values[top];
+        float a = grammar_value(top);
         float b = x;
         float r;
         if (code == 3) r = a + b;
@@ -322,48 +362,74 @@ int grammar_program(int first, int n) {
         else if (code == 13) r = float(a >= b);
         else if (code == 14) r = float(a != 0.0 && b != 0.0);
         else r = float(a != 0.0 || b != 0.0);
-        g_values[top] = r;
+        grammar_set_value(top, r);
     }
     return -1;
 }
 
-// Case: the first condition that holds picks its rule, else the last rule (head.z).
-void grammar_case(vec4 head) {
-    int taken = grammar_program(g_addr + 1, int(head.y));
-    g_addr = taken >= 0 ? taken : int(head.z);
-}
 
 float grammar_token(vec2 token) {
     return token.x == 0.0 ? token.y : grammar_variable(int(token.y));
 }
 
-// Bind, a reference with arguments: each argument's value becomes a parameter (the others 0),
+// Case (head.x 14): the first condition that holds picks its rule, else the last rule (head.z).
+// Bind (15), a reference with arguments: each argument's value becomes a parameter (the others 0),
 // then the rule. Arguments of one token each (a number or a variable, the common case) are
-// read directly; others run as a program.
-void grammar_bind(vec4 head) {
+// read directly; others run as a program. Both make one grammar_program call, so the shader has
+// one copy of its loop.
+void grammar_case_or_bind(vec4 head) {
+    bool bind = head.x == 15.0;
     int n = int(head.y);
     int count = int(head.w);
+    bool tokens = bind && n == count;
+    int taken = grammar_program(g_addr + 1, tokens ? 0 : n);
+    if (!bind) {
+        g_addr = taken >= 0 ? taken : int(head.z);
+        return;
+    }
     vec4 values;
-    if (n == count) {
+    if (tokens) {
         vec4 a = grammar_texel(g_addr + 1);
         vec4 b = count > 2 ? grammar_texel(g_addr + 2) : vec4(0.0);
         values = vec4(grammar_token(a.xy), grammar_token(a.zw), grammar_token(b.xy), grammar_token(b.zw));
     } else {
-        grammar_program(g_addr + 1, n);
-        values = vec4(g_values[0], g_values[1], g_values[2], g_values[3]);
+        values = g_values_lo;
     }
     g_params = values * vec4(greaterThan(vec4(float(count)), vec4(0.0, 1.0, 2.0, 3.0)));
     g_addr = int(head.z);
 }
 
-float grammar_rand_value(int level) {
-    int slot = max(g_sp - level, 0);
-    return grammar_random(level == 0 ? g_lb : g_stack[slot], g_addr);
+vec2 grammar_stack(int k) {
+    vec4 pair = k < 2 ? g_stack01 : (k < 4 ? g_stack23 : (k < 6 ? g_stack45 : g_stack67));
+    return (k & 1) == 0 ? pair.xy : pair.zw;
 }
 
-void grammar_rand(vec4 head) {
+vec4 grammar_stack_put(vec4 pair, int k, vec2 corner) {
+    return (k & 1) == 0 ? vec4(corner, pair.zw) : vec4(pair.xy, corner);
+}
+
+// RandStack: the scope's corner pushed (the last entry overwritten once the stack is full).
+void grammar_push_stack(vec2 corner) {
+    int slot = min(g_sp, GRAMMAR_MAX_STACK - 1);
+    if (slot < 2) g_stack01 = grammar_stack_put(g_stack01, slot, corner);
+    else if (slot < 4) g_stack23 = grammar_stack_put(g_stack23, slot, corner);
+    else if (slot < 6) g_stack45 = grammar_stack_put(g_stack45, slot, corner);
+    else g_stack67 = grammar_stack_put(g_stack67, slot, corner);
+    g_sp = slot + 1;
+}
+
+// The one noise value a step draws: Rand's and RandUni's, from the scope at RandStack level
+// head.z (0: this scope) in the rule's stream, or Repeat's rand size, from this scope in its
+// part 0's stream.
+float grammar_step_noise(int op, vec4 head) {
+    bool repeat = op == 1 || op == 2;
+    int level = repeat ? 0 : int(head.z);
+    vec2 corner = level == 0 ? g_lb : grammar_stack(max(g_sp - level, 0));
+    return grammar_random(corner, g_addr + (repeat ? GRAMMAR_PART_STREAMS : 0));
+}
+
+void grammar_rand(vec4 head, float r) {
     int n = int(head.y);
-    float r = grammar_rand_value(int(head.z));
     for (int i = 0; i < GRAMMAR_MAX_PARTS; ++i) {
         vec4 part = grammar_texel(g_addr + 1 + i / 2);
         float accumulated = (i % 2 == 0) ? part.x : part.z;
@@ -417,11 +483,8 @@ vec4 grammar_current_scope() {
 
 // SkipMask: skips head.z layers where the mask's nearest texel is 0, head.w where it is 1 (in both
 // modes: holes have the numpy twin's edges). The bit that skips more cuts a hole.
-void grammar_skip_mask(vec4 head) {
-    ivec2 texel;
-    int tile;
-    float bit;
-    grammar_sample(int(head.y), 1, vec4(0.0, 0.0, 1.0, 1.0), texel, tile, bit);
+// `bit`: the mask's nearest texel (the step's sample).
+void grammar_skip_mask(vec4 head, float bit) {
     bool one = bit > 0.5;
     if (g_addr == g_through) {  // seen through this hole
         one = head.w > head.z;
@@ -433,21 +496,16 @@ void grammar_skip_mask(vec4 head) {
         g_hole = g_addr;
         g_hole_scope = grammar_current_scope();
     }
-    grammar_end_layer(int(one ? head.w : head.z));
+    g_end = int(one ? head.w : head.z);
 }
 
-void grammar_mat(vec4 head, int op) {
+// rgba, texel, tile, a_exact: the step's sample of the Mat's tile or colour (grammar_evaluate).
+void grammar_mat(vec4 head, int op, vec4 rgba, ivec2 texel, int tile, float a_exact) {
     if (g_through >= 0) {  // a layer above the hole seen through: not in the way
-        grammar_end_layer(0);
+        g_end = 0;
         return;
     }
     int usage = int(head.y);
-    int code = int(head.z);
-    vec4 params = (op == 12 && head.w == 0.0) ? vec4(0.0, 0.0, 1.0, 1.0) : grammar_texel(g_addr + 1);
-    ivec2 texel;
-    int tile;
-    float a_exact;
-    vec4 rgba = grammar_sample(code, usage, params, texel, tile, a_exact);
     if (op == 13) {
         ivec2 unused_texel;
         int unused_tile;
@@ -483,7 +541,7 @@ void grammar_mat(vec4 head, int op) {
     if (g_A >= GRAMMAR_OPAQUE && g_AE >= GRAMMAR_OPAQUE) {
         g_active = false;
     } else {
-        grammar_end_layer(0);
+        g_end = 0;
     }
 }
 
@@ -500,7 +558,8 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
     g_d = dir;
     g_dtdx = duv_dx;
     g_dtdy = duv_dy;
-    g_stack[0] = grammar_building_seed.x > 0.0 ? grammar_building_seed : seed;  // seed cells are >= 1
+    g_stack01 = vec4(grammar_building_seed.x > 0.0 ? grammar_building_seed : seed, 0.0, 0.0);  // seed cells are >= 1
+    g_stack23 = g_stack45 = g_stack67 = vec4(0.0);
     g_sp = 1;
     g_depth = 0;
     g_active = true;
@@ -518,48 +577,44 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
         // Binds (a reference's arguments) and Cases lead straight on to the next rule: they take
         // steps of the same budget without the operator dispatch below.
         for (; (head.x == 14.0 || head.x == 15.0) && step < GRAMMAR_MAX_STEPS - 1; ++step) {
-            if (head.x == 15.0) {
-                grammar_bind(head);
-            } else {
-                grammar_case(head);
-            }
+            grammar_case_or_bind(head);
             head = grammar_texel(g_addr);
         }
         int op = int(head.x);
         if (op == 14 || op == 15) break;  // the budget ran out on a chain of them (the checks refuse such grammars)
+        g_end = -1;
+        // The step's one noise value and one tile sample, made here for the operators that use
+        // them: the GPU runs every branch below where any pixel of its group takes it, so each
+        // kind of fetch appears once. A Mat (12, 13) samples its tile or colour; a SkipMask (10) its mask.
+        float noise = grammar_step_noise(op, head);
+        bool mask = op == 10;
+        bool mat = op == 12 || op == 13;
+        vec4 params = mat && !(op == 12 && head.w == 0.0) ? grammar_texel(g_addr + 1) : vec4(0.0, 0.0, 1.0, 1.0);
+        ivec2 texel;
+        int tile;
+        float exact;
+        vec4 sampled = grammar_sample(mask ? int(head.y) : (mat ? int(head.z) : 0), mask ? 1 : int(head.y), params,
+                                      texel, tile, exact);
         if (op == 1 || op == 2) {
-            grammar_repeat(head, op - 1);
+            grammar_repeat(head, op - 1, noise);
         } else if (op == 3 || op == 4) {
             grammar_split(head, op - 3);
         } else if (op == 5) {
-            grammar_rand(head);
+            grammar_rand(head, noise);
         } else if (op == 6) {
             int n = int(head.y);
-            int k = min(int(floor(grammar_rand_value(int(head.z)) * float(n))), n - 1);
+            int k = min(int(floor(noise * float(n))), n - 1);
             g_addr = int(grammar_channel(g_addr, 3 + k));
         } else if (op == 7) {
-            int slot = min(g_sp, GRAMMAR_MAX_STACK - 1);
-            g_stack[slot] = g_lb;
-            g_sp = slot + 1;
+            grammar_push_stack(g_lb);
             g_addr = int(head.y);
         } else if (op == 8) {
-            int top = min(g_depth, GRAMMAR_MAX_LAYERS - 1);
-            f_addr[top] = g_addr;
-            f_index[top] = int(head.y);
-            f_lb[top] = g_lb;
-            f_size[top] = g_size;
-            f_split[top] = g_split;
-            f_params[top] = g_params;
-            f_t[top] = g_t;
-            f_d[top] = g_d;
-            f_sp[top] = g_sp;
-            f_tint[top] = g_tint;
-            g_depth = top + 1;
-            grammar_end_layer(0);
+            grammar_enter_layer(g_addr, int(head.y));
+            g_end = 0;
         } else if (op == 9) {
-            grammar_end_layer(int(head.y));
+            g_end = int(head.y);
         } else if (op == 10) {
-            grammar_skip_mask(head);
+            grammar_skip_mask(head, exact);
         } else if (op == 11) {
             grammar_intrusion(head);
         } else if (op == 17) {
@@ -568,8 +623,11 @@ GrammarResult grammar_evaluate(int start, vec2 uv, vec2 facade, vec2 seed, vec3 
             g_tint *= grammar_texel(g_addr + 1).rgb;
             g_addr = int(head.y);
         } else {
-            grammar_mat(head, op);
+            grammar_mat(head, op, sampled, texel, tile, exact);
         }
+        // the layer ends here for the operators that set g_end: one copy of its loop in the shader,
+        // as the GPU runs every branch of the dispatch above where any pixel of its group takes it
+        if (g_end >= 0) grammar_end_layer(g_end);
     }
 
     GrammarResult result;
