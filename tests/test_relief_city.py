@@ -320,6 +320,64 @@ def test_dusk_holes_recessed_as_the_twin_says(gl_context, view, switch_m, output
     assert not (moved & ~holes & ~id_edges(flat)).any(), "a frame or a pixel off the building moved"
 
 
+OPENING_FOUND, HOLE_OPENING = 8, 16  # shaders/grammar/building.glsl GRAMMAR_DEFERRED_OPENING, _HOLE_OPENING
+
+
+@pytest.mark.parametrize("where", ["default close-up", "dusk"])
+def test_deferred_openings_draw_what_evaluating_in_place_draws(gl_context, monkeypatch, where, output_dir):
+    """The deferred grammar pass passes on the window opening each pixel recesses (its index, scope
+    and the flat grammar's colour), so the buildings pass does not evaluate the grammar again for
+    the relief. The same frame (4x MSAA) with the deferred pass built without it (RELIEF_OFF there:
+    it passes nothing on and the buildings pass evaluates in place, as before) differs only in the
+    frame's colour where the flat grammar is no glass: the deferred pass filters the tile over the
+    neighbouring pixels' footprint (as its lit colour) and keeps 8 bits; never in where an opening is
+    or what it shows. The default city's close-up (its glazed terminals, within a 120 m switch)
+    and dusk's holes (what shows through them is still evaluated in the buildings pass)."""
+    from cityshade.gl import ProgramCache
+    from cityshade.scene import make_city
+
+    if where == "dusk":
+        city, camera, size, switch = DUSK_STREET, DUSK_STREET.viewpoints["oblique"], CITY_SIZE, None
+    else:
+        city = make_city("default")
+        camera, size, switch = city.camera("closeup"), (320, 180), 120.0
+    get = ProgramCache.get
+    frames = {}
+    for path in ("deferred", "in place"):
+
+        def built(self, shader, defines=None, varyings=(), path=path):
+            if path == "in place" and shader == "grammar/deferred.glsl":
+                defines = {**(defines or {}), "RELIEF_OFF": True}
+            return get(self, shader, defines, varyings)
+
+        monkeypatch.setattr(ProgramCache, "get", built)
+        renderer = Renderer(size, RenderSettings(lights=0.6, animation_time=1.3, relief_range=switch), ctx=gl_context)
+        renderer.set_city(city)
+        frames[path] = render_finite(renderer, camera).astype(int)
+        ids = renderer.textures.grammar_pass.result.read(1)[..., 0]
+        renderer.release()
+        found = (ids & OPENING_FOUND) != 0
+        openings = found & ((ids >> 8 & 0xFF) > 0)
+        if path == "deferred":
+            holes = openings & ((ids & HOLE_OPENING) != 0)
+            print(f"{where}: the deferred pass found {openings.sum()} pixels' openings, {holes.sum()} of them holes'")
+            assert openings.sum() > 0.02 * openings.size
+            if where == "dusk":
+                assert holes.sum() > 0.02 * holes.size
+        else:
+            assert not found.any(), "built without the openings, the deferred pass passes none on"
+    difference = np.abs(frames["deferred"] - frames["in place"]).max(axis=-1)
+    Image.fromarray(np.hstack([frames["deferred"], frames["in place"]]).astype(np.uint8)).save(
+        output_dir / f"relief_deferred_openings_{where.replace(' ', '_')}.png"
+    )
+    print(
+        f"{where}: {(difference > 0).sum()} of {difference.size} pixels differ, {(difference > 2).sum()} by more "
+        f"than 2/255 (at most {difference.max()})"
+    )
+    assert frames["deferred"].std() > 10, "not an empty picture"
+    assert (difference > 0).sum() <= 0.002 * difference.size and difference.max() <= 24
+
+
 WINDOW_BAY_STREET = City(
     "window bay street",
     0,

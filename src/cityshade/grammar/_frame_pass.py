@@ -2,8 +2,10 @@
 
 A cheap pass draws every building into a G-buffer (facade uv, scope size, seed, facade.level,
 normal); one full-screen pass then evaluates the grammar once per grammar-facade pixel and stores
-the lit colour, the glass flag and the label. The building pass reads them back at its own pixel
-(GRAMMAR_DEFERRED in shaders/grammar/building.glsl) and continues into the rooms behind the glass.
+the lit colour, the glass flag and the label, and the window opening the relief recesses there
+(its index, scope and the flat grammar's colour), so the buildings pass need not evaluate again.
+The building pass reads them back at its own pixel (GRAMMAR_DEFERRED in
+shaders/grammar/building.glsl) and continues into the rooms behind the glass.
 With the page cache (grammar._cache) the G-buffer also names the cache page each pixel needs, the
 cache update evaluates missing pages, and the evaluation reads resident pages instead.
 """
@@ -19,7 +21,9 @@ from ._gpu import GrammarTextures, shader_defines
 
 G_BUFFER = (("f4", 4), ("f4", 4), ("f2", 4))  # uv + scope size; seed, facade.level, building + 1; normal
 PAGES = (("u4", 4),)  # with the cache: the page key and the face's size (grammar/cache.glsl)
-RESULT = (("f2", 4), ("u4", 4))  # lit colour; glass, label
+# lit colour; flags, the relief's opening, colour and label, the window's centre; the opening's scope
+RESULT = (("f2", 4), ("u4", 4), ("f4", 4))
+RGBA32F = 0x8814  # GL_RGBA32F: the opening's scope is read as an image (the buildings pass's samplers are all taken)
 
 
 class DeferredGrammarPass:
@@ -73,9 +77,11 @@ class DeferredGrammarPass:
                 "GRAMMAR_CACHE": self.cached(f),
                 "BUILDING_LOD": f.view.settings.building_lod,
                 "NO_SHADOWS": f.gpu.shadows is None,
+                "RELIEF_OFF": not f.view.settings.relief,
             },
         )
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
+        f.gpu.city.relief.bind_openings(program)  # which terminals and holes the relief recesses
         if self.cached(f):
             self.cache.bind(program)
             bind_textures(program, {"u_page": gbuffer.colors[len(G_BUFFER)]})
@@ -89,11 +95,15 @@ class DeferredGrammarPass:
         draw_fullscreen(program)
 
     def bind_results(self, program):
-        """The building pass's inputs: lit colour and (glass, label). Nothing before the pass first
-        ran (the id pass evaluates the grammar itself)."""
+        """The building pass's inputs: lit colour, the ids (glass, label, the relief's opening) and
+        the opening's scope. Nothing before the pass first ran (the id pass evaluates the grammar
+        itself)."""
         if self.result is None:
             return
-        bind_textures(program, dict(zip(("u_grammar_deferred_color", "u_grammar_deferred_ids"), self.result.colors)))
+        color, ids, opening = self.result.colors
+        bind_textures(program, {"u_grammar_deferred_color": color, "u_grammar_deferred_ids": ids})
+        if "u_grammar_deferred_opening" in program:  # image unit 1 (shaders/relief/building.glsl)
+            opening.bind_to_image(1, read=True, write=False, format=RGBA32F)
 
     def _release_targets(self):
         for target in (self.gbuffer, self.result):

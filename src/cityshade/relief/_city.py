@@ -29,7 +29,7 @@ from ._maps import DetailMaps
 FACADE_RELIEF = 2  # the record's facade.x for relief-bay facades (shaders/relief/building.glsl)
 RELIEF_STYLES = (2,)  # building styles drawn with the relief bay (no grammar style of their own)
 RELIEF_SHAPES = ("prism",)  # flat walls only
-MAX_OPENINGS = 64  # shaders/relief/building.glsl RELIEF_MAX_OPENINGS
+MAX_OPENINGS = 64  # shaders/relief/openings.glsl RELIEF_MAX_OPENINGS
 
 
 def switch_distance(height_px: int, fov_y: float) -> float:
@@ -179,20 +179,25 @@ class CityRelief:
             u_relief_depth_unit=a.maps.depth_unit,
             u_relief_bay=a.bay,
             u_relief_window_bay=a.window_bay,
-            u_relief_openings=len(terminals),
             u_relief_profile=(PROFILE[0] + 2, PROFILE[1] + 2),
             u_relief_range=range_m,
         )
-        if "u_relief_terminals" in program:
-            uniform = program["u_relief_terminals"]
-            padded = terminals + [(-1, -1)] * (uniform.array_length - len(terminals))
-            uniform.value = padded[: uniform.array_length]
+        self.bind_openings(program)
         if "u_relief_colours" in program:
             uniform = program["u_relief_colours"]
             flat = [c for terminal, _ in terminals for c in a.colours[terminal]]
             flat += [(0.0, 0.0, 0.0)] * (uniform.array_length - len(flat))
             uniform.value = flat[: uniform.array_length]
         self.facade.bind(program, "bmf")
+
+    def bind_openings(self, program: moderngl.Program):
+        """Which glazed terminals and holes have an opening, and its first row (shaders/relief/openings.glsl)."""
+        terminals = sorted(self.atlas.terminals.items())
+        _set_present(program, u_relief_openings=len(terminals))
+        if "u_relief_terminals" in program:
+            uniform = program["u_relief_terminals"]
+            padded = terminals + [(-1, -1)] * (uniform.array_length - len(terminals))
+            uniform.value = padded[: uniform.array_length]
 
     def bind_depth_bound(self, program: moderngl.Program, range_m: float):
         """For a depth-only program with RELIEF_DEPTH_BOUND (shaders/relief/depth.glsl): the switch

@@ -181,7 +181,7 @@ void main() {
         else if (grammar) {
             bool hole;
             f = grammar_building_facade(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, opening, hole);
-            traced = grammar_relief(b, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, hole, f, opening);
+            traced = grammar_relief(b, v_ids.x, n, v_ids.z, v_local, v_facade, v_spacing.y, v_face, d, s, hole, f, opening);
             recessed = traced;
         }
         else if (relief) {

@@ -5,6 +5,7 @@
 
 #include "common/buildings.glsl"
 #include "common/facade.glsl"
+#include "common/hash.glsl"
 #include "common/srgb.glsl"
 #include "grammar/eval.glsl"
 
@@ -89,15 +90,32 @@ FacadeResult grammar_facade_result(GrammarResult g, vec3 n, vec3 point) {
 // through (GrammarResult.hole: relief/building.glsl recesses the hole). With GRAMMAR_DEFERRED it was evaluated
 // and lit (with facade_light) by the deferred pass's full-screen evaluation of this pixel
 // (cityshade/grammar/_frame_pass.py), which keeps the window's centre: only glass, label and window
-// come back here, and grammar_deferred_color gives the lit colour. The id pass always evaluates, so
+// come back here, and grammar_deferred_color gives the lit colour (the relief's window opening comes
+// back too: relief/building.glsl grammar_deferred_opening). The id pass always evaluates, so
 // ids stay exact.
 
 // The deferred pass's first id channel: glass, a hole seen (where the page cache did not answer),
 // or the mark on a pixel it left to the cheapest level of detail (city/lod.glsl), so both passes
-// agree on the pixel's level.
+// agree on the pixel's level; where the page cache did not answer and relief is on, also the
+// window opening it found for the relief (relief/openings.glsl: found, a hole's, its index + 1
+// from bit GRAMMAR_DEFERRED_OPENING_SHIFT, the face's key from bit GRAMMAR_DEFERRED_FACE_SHIFT).
+// The second: the flat grammar's sRGB colour in 8 bits per channel (packUnorm4x8) and its label
+// in the top byte.
 const uint GRAMMAR_DEFERRED_GLASS = 1u;
 const uint GRAMMAR_DEFERRED_SKIPPED = 2u;
 const uint GRAMMAR_DEFERRED_HOLE = 4u;
+const uint GRAMMAR_DEFERRED_OPENING = 8u;
+const uint GRAMMAR_DEFERRED_HOLE_OPENING = 16u;
+const uint GRAMMAR_DEFERRED_OPENING_SHIFT = 8u;
+const uint GRAMMAR_DEFERRED_FACE_SHIFT = 16u;
+const uint GRAMMAR_DEFERRED_LABEL_SHIFT = 24u;
+
+// 16 bits naming the face a pixel is on: its building's index and its seed cells (grammar_scope:
+// one per face), so the buildings pass can tell the deferred pass's pixel from another surface's
+// fragment in it (an edge's under multisampling, a hidden one) and evaluate such a fragment itself.
+uint grammar_face_key(int building, ivec2 cells) {
+    return hash3(ivec3(building, cells), 0x46u) >> 16u;
+}
 
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
 uniform sampler2D u_grammar_deferred_color;
@@ -118,7 +136,8 @@ FacadeResult grammar_building_facade(Building b, vec3 n, int face_index, vec3 wa
     bool glass = (ids.x & GRAMMAR_DEFERRED_GLASS) != 0u;
     hole = (ids.x & GRAMMAR_DEFERRED_HOLE) != 0u;
     window = grammar_window(vec4(uintBitsToFloat(ids.zw), 0.0, 0.0), face);  // the window's centre
-    return FacadeResult(vec3(0.0), n, vec2(0.0), glass ? 1.0 : 0.0, wall, glass ? uint(GRAMMAR_ROOM_LABEL) : ids.y);
+    uint label = ids.y >> GRAMMAR_DEFERRED_LABEL_SHIFT;
+    return FacadeResult(vec3(0.0), n, vec2(0.0), glass ? 1.0 : 0.0, wall, glass ? uint(GRAMMAR_ROOM_LABEL) : label);
 #else
     GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, dFdx(facade), dFdy(facade));
     window = grammar_window(g.scope, face);

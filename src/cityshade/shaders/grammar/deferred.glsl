@@ -1,7 +1,7 @@
 // The deferred grammar pass (§4): one full-screen evaluation per pixel from the G-buffer that
 // grammar/city.glsl wrote, with the same lighting as the forward path. The building pass picks the
-// result up (lit colour, and glass + label so rooms still show through the glass); other pixels
-// are left alone.
+// result up (lit colour, and glass + label so rooms still show through the glass, and the window
+// opening the relief recesses there); other pixels are left alone.
 #include "common/fullscreen.glsl"
 
 #if defined FRAGMENT_SHADER
@@ -15,6 +15,9 @@ uniform usampler2D u_page;  // the G-buffer's page per pixel
 #if defined BUILDING_LOD
 #include "city/lod.glsl"
 #endif
+#if !defined RELIEF_OFF
+#include "relief/openings.glsl"
+#endif
 
 uniform sampler2D u_scope;
 uniform sampler2D u_rule;
@@ -23,7 +26,10 @@ uniform sampler2D u_depth;
 uniform vec2 u_viewport;
 
 layout(location = 0) out vec4 out_color;
-layout(location = 1) out uvec4 out_ids;  // glass | hole seen, label, the window's centre (grammar uv, float bits)
+// flags and the relief's opening, colour and label, the window's centre (grammar uv, float bits):
+// grammar/building.glsl GRAMMAR_DEFERRED_*
+layout(location = 1) out uvec4 out_ids;
+layout(location = 2) out vec4 out_opening;  // the relief's opening's scope (relief/openings.glsl), grammar uv
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -67,6 +73,17 @@ void main() {
     vec3 point = world.xyz / world.w;
     out_color = vec4(facade_light(grammar_facade_result(g, n, point), mat3(1.0), d, shadow_factor(point)), 1.0);
     uint seen = (g.glass ? GRAMMAR_DEFERRED_GLASS : 0u) | (!cached && g.hole >= 0 ? GRAMMAR_DEFERRED_HOLE : 0u);
-    out_ids = uvec4(seen, uint(g.label), floatBitsToUint(centre));
+    out_opening = vec4(0.0);
+#if !defined RELIEF_OFF
+    if (!cached) {  // found here once, so the buildings pass need not evaluate the grammar for its relief
+        GrammarOpening o = grammar_opening(g);
+        seen |= GRAMMAR_DEFERRED_OPENING | (o.hole ? GRAMMAR_DEFERRED_HOLE_OPENING : 0u)
+              | uint(o.index + 1) << GRAMMAR_DEFERRED_OPENING_SHIFT
+              | grammar_face_key(int(rule.w) - 1, ivec2(round(rule.xy * GRAMMAR_NOISE_DENSITY))) << GRAMMAR_DEFERRED_FACE_SHIFT;
+        out_opening = o.scope;
+    }
+#endif
+    uint color_label = packUnorm4x8(vec4(g.color, 0.0)) | uint(g.label) << GRAMMAR_DEFERRED_LABEL_SHIFT;
+    out_ids = uvec4(seen, color_label, floatBitsToUint(centre));
 }
 #endif

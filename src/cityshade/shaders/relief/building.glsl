@@ -19,13 +19,11 @@
 #include "relief/maps.glsl"
 #include "relief/trace.glsl"
 #include "relief/materials.glsl"
+#include "relief/openings.glsl"
 
-#define RELIEF_MAX_OPENINGS 64
 uniform float u_relief_depth_unit;  // metres per depth step
 uniform ivec4 u_relief_bay;         // the window bay's region (first row, columns, rows, 1: repeats)
 uniform ivec4 u_relief_window_bay;  // the textured window bay's opening (first row, columns, rows, 0)
-uniform int u_relief_openings;      // how many glazed terminals and holes have a window opening
-uniform ivec2 u_relief_terminals[RELIEF_MAX_OPENINGS];  // rule address (Mat or SkipMask), first atlas row of its opening
 uniform vec3 u_relief_colours[2 * RELIEF_MAX_OPENINGS];  // per opening: sRGB frame, reveal (the flat grammar's)
 uniform ivec2 u_relief_profile;     // an opening's columns and rows, the ring of wall texels included
 uniform float u_relief_range;       // metres: openings are traced nearer than this, flat grammar beyond
@@ -74,12 +72,23 @@ FacadeResult opening_traced(Building b, vec3 n, vec3 wall, vec2 facade, vec4 rec
     return relief_traced(b, n, wall, start, scale, d, material);
 }
 
-// The index of a glazed terminal's or a hole's opening, -1 for none.
-int relief_opening(int terminal) {
-    for (int i = 0; i < u_relief_openings; i++)
-        if (terminal >= 0 && u_relief_terminals[i].x == terminal) return i;
-    return -1;
+#if defined GRAMMAR_DEFERRED && !defined ID_PASS
+// the deferred pass's opening scopes (grammar/_frame_pass.py; an image: the samplers are all taken)
+layout(rgba32f, binding = 1) readonly uniform image2D u_grammar_deferred_opening;
+
+// The opening the deferred pass found at this pixel (grammar/deferred.glsl), the flat grammar's
+// glass there and its colour (sRGB, to 8 bits); false where it passed none on (a pixel the page
+// cache answered, or one it did not evaluate) or found it on another face than this fragment's
+// (face_key: grammar_face_key): the caller evaluates the grammar then.
+bool grammar_deferred_opening(uint face_key, out GrammarOpening o, out bool glass, out vec3 color) {
+    uvec4 ids = texelFetch(u_grammar_deferred_ids, ivec2(gl_FragCoord.xy), 0);
+    o = GrammarOpening(int(ids.x >> GRAMMAR_DEFERRED_OPENING_SHIFT & 0xFFu) - 1, (ids.x & GRAMMAR_DEFERRED_HOLE_OPENING) != 0u,
+                       imageLoad(u_grammar_deferred_opening, ivec2(gl_FragCoord.xy)));
+    glass = (ids.x & GRAMMAR_DEFERRED_GLASS) != 0u;
+    color = unpackUnorm4x8(ids.y).rgb;
+    return (ids.x & GRAMMAR_DEFERRED_OPENING) != 0u && (ids.x >> GRAMMAR_DEFERRED_FACE_SHIFT & 0xFFFFu) == face_key;
 }
+#endif
 
 // A grammar facade's window, recessed: where the flat grammar (facade result f, its window
 // `opening`) shows a glazed terminal with an opening, the opening's profile is stretched over the
@@ -87,28 +96,40 @@ int relief_opening(int terminal) {
 // opening become the relief's (the rectangle: the room behind is the window's). Where it shows what
 // a hole lets through (GrammarResult.hole: dusk's rooms), the hole's profile is stretched over the
 // hole's scope and traced; through its bottom, the grammar seen through that hole from where the ray
-// meets it (the hole's room, entered from the recessed point). s: the distance; hole_seen: the flat
-// grammar shows a hole here (grammar_building_facade). Returns whether the relief was traced.
-bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
+// meets it (the hole's room, entered from the recessed point). building: b's index; s: the
+// distance; hole_seen: the flat grammar shows a hole here (grammar_building_facade). With
+// GRAMMAR_DEFERRED the deferred pass found the opening (grammar_deferred_opening), else it is
+// evaluated here. Returns whether the relief was traced.
+bool grammar_relief(Building b, int building, vec3 n, int face_index, vec3 wall, vec2 facade, float storey, vec4 face, vec3 d,
                     float s, bool hole_seen, inout FacadeResult f, inout vec4 opening) {
 #if defined RELIEF_OFF
     return false;
 #else
     if (s > u_relief_range || (f.glass <= 0.0 && f.label != uint(GRAMMAR_WINDOW_LABEL) && !hole_seen)) return false;
     vec2 duv_dx = dFdx(facade), duv_dy = dFdy(facade);
-    GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, duv_dx, duv_dy);
-    int opening_index = g.glass || g.label == GRAMMAR_WINDOW_LABEL ? relief_opening(g.terminal) : -1;
-    bool hole = opening_index < 0;  // a hole's recess, if no glazed terminal's
-    if (hole) opening_index = relief_opening(g.hole);
-    if (opening_index < 0) return false;
-    vec4 rect = grammar_window(hole ? g.hole_scope : g.scope, face);
+    GrammarOpening o;
+    bool glass;  // the flat grammar's, at the wall point
+    vec3 color;  // sRGB
+#if defined GRAMMAR_DEFERRED && !defined ID_PASS
+    uint key = grammar_face_key(building, grammar_facade_cells(b.facade.zw, face_index));
+    bool found = grammar_deferred_opening(key, o, glass, color);
+#else
+    bool found = false;
+#endif
+    if (!found) {
+        GrammarResult g = grammar_facade(b, n, face_index, facade, storey, face, d, duv_dx, duv_dy);
+        o = grammar_opening(g);
+        glass = g.glass;
+        color = g.color;
+    }
+    if (o.index < 0) return false;
+    vec4 rect = grammar_window(o.scope, face);
     uint material;
-    f = opening_traced(b, n, wall, facade, rect, ivec4(u_relief_terminals[opening_index].y, u_relief_profile, 0), d,
-                       material);
+    f = opening_traced(b, n, wall, facade, rect, ivec4(u_relief_terminals[o.index].y, u_relief_profile, 0), d, material);
     opening = rect;
-    if (hole && material == RELIEF_GLASS) {
+    if (o.hole && material == RELIEF_GLASS) {
         vec3 offset = f.point - wall;
-        grammar_through = g.hole;
+        grammar_through = u_relief_terminals[o.index].x;  // the hole's SkipMask
         GrammarResult behind = grammar_facade(b, n, face_index, facade + vec2(dot(offset, normalize(cross(n, vec3(0.0, 1.0, 0.0)))), offset.y),
                                               storey, face, d, duv_dx, duv_dy);
         f = grammar_facade_result(behind, n, f.point);
@@ -117,8 +138,8 @@ bool grammar_relief(Building b, vec3 n, int face_index, vec3 wall, vec2 facade, 
     }
     // the frame and the reveal in the flat grammar's colours (the grammar's own, untinted): the
     // tile's own colour where the wall point is on the frame too, else the frame's mean colour
-    if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(g.glass ? u_relief_colours[2 * opening_index] : g.color);
-    else if (material == RELIEF_WALL) f.albedo = srgb_to_linear(u_relief_colours[2 * opening_index + 1]);
+    if (material == RELIEF_FRAME) f.albedo = srgb_to_linear(glass ? u_relief_colours[2 * o.index] : color);
+    else if (material == RELIEF_WALL) f.albedo = srgb_to_linear(u_relief_colours[2 * o.index + 1]);
     f.label = f.glass > 0.0 ? uint(GRAMMAR_ROOM_LABEL) : uint(GRAMMAR_WINDOW_LABEL);
     return true;
 #endif
