@@ -17,7 +17,7 @@ from PIL import Image
 
 from cityshade.gl import create_context
 from cityshade.render import Renderer, RenderSettings, parse_time
-from cityshade.scene import GROUND_GRASS, Camera, City, box
+from cityshade.scene import GROUND_GRASS, Camera, City
 from cityshade.trees import SCENE_TIME, SPECIES_ORDER, city_trees, park_scene, tree_instances
 
 LAWN = (-300.0, -300.0, 300.0, 300.0)
@@ -25,12 +25,10 @@ PANEL = 128  # pixels per side of a single tree's picture
 
 
 def one_tree(species: str) -> City:
-    """A lawn with one tree of `species` at the origin, unturned and at its model's size, and a shed
-    behind the cameras (the renderer fails on a city without buildings)."""
+    """A lawn with one tree of `species` at the origin, unturned and at its model's size."""
     trees = tree_instances([(0.0, 0.0, 0.0)], species, np.random.default_rng(0))
     trees["yaw"], trees["scale"] = 0.0, 1.0
-    shed = box((-2.0, 36.0), 4.0, 3.0, 3.0, seed=0)
-    return City(species, 0, [shed], [(*LAWN, GROUND_GRASS)], LAWN, trees=trees)
+    return City(species, 0, [], [(*LAWN, GROUND_GRASS)], LAWN, trees=trees)
 
 
 def side_by_side(*images: np.ndarray, scale: int = 1) -> Image.Image:
@@ -100,6 +98,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("docs/images"), help="folder of the four pictures")
     args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
     ctx = create_context(headless=True)
     names = {name: args.out / f"trees_{name}.png" for name in ("park", "fins_closeup", "a2c", "species")}
     park(ctx, names["park"])

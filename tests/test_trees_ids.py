@@ -95,3 +95,29 @@ def test_trees_change_no_building_pixel_they_do_not_cover(gl_context, monkeypatc
     assert np.sum(with_trees[..., 0] == FACE["trunk"]) > 0 and np.sum(with_trees[..., 0] == FACE["foliage"]) > 0
     assert not np.any(changed & ~on_tree)
     assert not with_trees[on_tree][:, 1:].any()
+
+
+@pytest.mark.parametrize("culling", ["gpu", "off"])
+def test_a_city_of_trees_alone_renders(gl_context, culling, output_dir):
+    """A park without buildings (a city of trees and ground only): the frame and the id AOV are
+    drawn, the tree shows where the AOV has its faces, and no pixel is a building's."""
+    from cityshade.scene import GROUND_GRASS, City
+    from cityshade.trees import tree_instances
+
+    trees = tree_instances([(0.0, 0.0, 0.0)], "oak", np.random.default_rng(0))
+    lawn = (-100.0, -100.0, 100.0, 100.0)
+    city = City("park", 0, [], [(*lawn, GROUND_GRASS)], lawn, trees=trees)
+    renderer = Renderer((160, 90), RenderSettings(samples=0, culling=culling), ctx=gl_context)
+    try:
+        renderer.set_city(city)
+        camera = Camera((0.0, 4.0, 24.0), (0.0, 5.0, 0.0))
+        image = renderer.render(camera)
+        ids = renderer.render_ids(camera)
+    finally:
+        renderer.release()
+    Image.fromarray(image).save(output_dir / f"trees_alone_{culling}.png")
+    tree = np.isin(ids[..., 0], [FACE["trunk"], FACE["foliage"]])
+    assert 100 < np.count_nonzero(tree) < tree.size // 2, np.count_nonzero(tree)
+    assert not ids[..., 2].any()  # no building index anywhere
+    # the tree's pixels are darker than the sky above the lawn in the same rows
+    assert image[tree].mean() < image[:45][~tree[:45]].mean()

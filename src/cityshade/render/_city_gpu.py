@@ -146,6 +146,8 @@ class CityGPU:
     def start_grammars_at(self, address: int | None):
         """Every grammar facade starts at rule `address` of the grammar texture (RenderSettings.grammar_start);
         None: each building's own style, as assigned."""
+        if not len(self._assigned_starts):  # a city without buildings (its buffer holds a placeholder)
+            return
         records = np.frombuffer(self.records.read(), BUILDING_DTYPE).copy()
         records["facade"][:, 1] = self._assigned_starts
         if address is not None:

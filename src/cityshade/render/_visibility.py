@@ -44,7 +44,7 @@ def building_ranges(vertices: np.ndarray, building_count: int) -> tuple[np.ndarr
     building = vertices["ids"][:, 0]
     count = np.bincount(building, minlength=building_count)
     first = np.zeros(building_count, dtype=np.int64)
-    starts = np.flatnonzero(np.r_[True, building[1:] != building[:-1]])
+    starts = np.flatnonzero(np.r_[True, building[1:] != building[:-1]])[: len(building)]  # none without vertices
     first[building[starts]] = starts
     if len(starts) != np.count_nonzero(count):
         raise ValueError("a building's vertices are not contiguous in the vertex buffer")
