@@ -160,8 +160,18 @@ void main() {
         int door;
         bool at_door = door_at(b, v_local, n, door_uv, door);  // a mapped or guessed door, in front of any facade
         // plain walls (too narrow for a grammar) and dormer fronts (one window bay) keep to their own
+        // NEAR_GRAMMAR / NEAR_OTHER (common/building_vertex.glsl): which kind of building this program
+        // draws is known here, so the other kind's facade code is compiled out
+#if defined NEAR_GRAMMAR
+        bool grammar = !at_door && v_ids.y == SURFACE_WALL;
+        bool relief = false;
+#elif defined NEAR_OTHER
+        bool grammar = false;
+        bool relief = v_ids.y == SURFACE_WALL && has_relief_facade(b);
+#else
         bool grammar = !at_door && v_ids.y == SURFACE_WALL && has_grammar_facade(b);
         bool relief = v_ids.y == SURFACE_WALL && has_relief_facade(b);
+#endif
 #if defined BUILDING_LOD
         // far away: the style's mean colour (the deferred pass decided for grammar pixels)
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS

@@ -4,7 +4,9 @@
 // buildings whose relief may be traced (relief-bay buildings, and those whose box comes within the
 // switch distance of the eye) by the program that writes the relief's depth, the others by one
 // that does not, so that their fragments keep the depth test before shading; each program puts the
-// other's buildings outside the clip volume.
+// other's buildings outside the clip volume. The near part's shading draw is split once more:
+// NEAR_GRAMMAR draws its grammar buildings, NEAR_OTHER the rest, so that each program holds only
+// its own facades' code (llvmpipe runs every branch that any pixel of a group takes).
 // included here, outside the stages: a file is pasted once per program, and both stages need it
 #include "common/buildings.glsl"
 #if defined VERTEX_SHADER
@@ -62,6 +64,11 @@ void main() {
     bool other = !relief_near(v_ids.x);
 #else
     bool other = relief_near(v_ids.x);
+#endif
+#if defined NEAR_GRAMMAR
+    other = other || buildings[v_ids.x].facade.x != FACADE_GRAMMAR;
+#elif defined NEAR_OTHER
+    other = other || buildings[v_ids.x].facade.x == FACADE_GRAMMAR;
 #endif
     if (other) gl_Position = vec4(0.0, 0.0, 2.0, 1.0);  // beyond the far plane: every triangle of it clipped
 #endif
