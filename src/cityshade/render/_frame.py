@@ -275,8 +275,8 @@ def draw_buildings(f: FrameInputs, defines: dict | None = None):
         # the part that writes its depth rejects what lies behind the prepass itself (farthest_pass)
         farthest = after_prepass and "RELIEF_NEAR" in part
         # and is drawn in two, its grammar buildings and the others (common/building_vertex.glsl)
-        for kind in ("NEAR_GRAMMAR", "NEAR_OTHER") if "RELIEF_NEAR" in part else (None,):
-            draw_buildings_with(f, {**defines, **part, "PREPASS_FARTHEST": farthest, **({kind: True} if kind else {})})
+        for kind in ({"NEAR_GRAMMAR": True}, {"NEAR_OTHER": True}) if "RELIEF_NEAR" in part else ({},):
+            draw_buildings_with(f, {**defines, **part, **kind, "PREPASS_FARTHEST": farthest})
 
 
 def draw_buildings_with(f: FrameInputs, defines: dict):

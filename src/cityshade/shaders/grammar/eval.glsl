@@ -367,7 +367,6 @@ int grammar_program(int first, int n) {
     return -1;
 }
 
-
 float grammar_token(vec2 token) {
     return token.x == 0.0 ? token.y : grammar_variable(int(token.y));
 }
