@@ -46,7 +46,7 @@ def facade_means(renderer: Renderer, cameras: list[Camera]) -> np.ndarray:
     return np.array(means)
 
 
-def renderer_for(gl_context, style: int, pixels, seed: int = 3, lights: float = 0.5) -> Renderer:
+def renderer_for(gl_context, style: int, pixels, seed: int = 3, lights: float = 0.5, **settings) -> Renderer:
     renderer = Renderer(
         SIZE,
         RenderSettings(
@@ -57,6 +57,7 @@ def renderer_for(gl_context, style: int, pixels, seed: int = 3, lights: float = 
             lights=lights,
             building_lod=True,
             building_lod_pixels=pixels,
+            **settings,
         ),
         ctx=gl_context,
     )
@@ -195,22 +196,103 @@ def test_the_cheap_colours_on_the_gpu_match_the_numpy_reference(gl_context):
     its numpy twin grammar_colours, building by building of the built-in district's grammar
     buildings: the glass share within 0.002, the linear colour within 0.03 (the GPU blends a
     tile's layers with its coarsest mipmap's alpha, as the frame does far away, where the twin
-    keeps the exact alpha; and its mipmaps are box-filtered in 8 bits level by level)."""
+    keeps the exact alpha; and its mipmaps are box-filtered in 8 bits level by level). Evaluated
+    lazily into the city's colours buffer, those buildings hold them, the city's other grammar
+    buildings the not-ready marker and the buildings without a grammar zero."""
     from cityshade.render._building_lod import grammar_colours
-    from cityshade.render._lod_colours import grammar_colours_gpu
+    from cityshade.render._lod_colours import NOT_READY, grammar_colours_gpu
 
     renderer = Renderer((32, 24), RenderSettings(samples=0), ctx=gl_context)
     try:
         renderer.set_city(make_city("default"))
         faces = renderer.city._lod_faces[::7][:40]  # a spread of styles, sizes and seeds
         count = renderer.city.building_count
-        gpu = grammar_colours_gpu(gl_context, renderer.textures.grammar, faces, count)
+        gpu = grammar_colours_gpu(gl_context, renderer.textures.grammar, faces)
+        lazy = renderer.city.lod_colours()
+        lazy.evaluate(renderer.textures.grammar, np.arange(0, len(lazy.faces), 7)[:40])
+        held = np.frombuffer(lazy.buffer.read(), np.float32).reshape(-1, 4)
+        grammar = renderer.city._lod_faces["building"]
     finally:
         renderer.release()
     reference = grammar_colours(faces, count)
     index = faces["building"]
-    difference = np.abs(gpu[index] - reference[index])
+    difference = np.abs(gpu - reference[index])
     print(f"{len(faces)} buildings: largest difference {difference.max(axis=0).round(4).tolist()} (r, g, b, glass)")
     assert len(np.unique(faces["style"])) > 1 and reference[index, :3].std(axis=0).max() > 0.02
     assert difference[:, 3].max() < 0.002 and difference[:, :3].max() < 0.03
-    assert not np.any(gpu[np.setdiff1d(np.arange(count), index)]), "buildings without a sampled face stay zero"
+    assert np.array_equal(held[index], gpu)
+    waiting = np.setdiff1d(grammar, index)
+    assert len(waiting) and np.all(held[waiting, 3] == NOT_READY)
+    assert not np.any(held[np.setdiff1d(np.arange(count), grammar)]), "buildings without a sampled face stay zero"
+
+
+def eager_and_lazy(renderer: Renderer, camera: Camera) -> dict[str, np.ndarray]:
+    """The still and its id AOV with the cheap colours evaluated lazily (only those the view needs),
+    then with every grammar building's colour evaluated up front."""
+    lazy = renderer.city.lod_colours()
+    images = {"lazy": renderer.render(camera), "lazy ids": renderer.render_ids(camera)}
+    evaluated = int(np.count_nonzero(~lazy.pending))
+    print(f"the lazy still evaluated {evaluated} of {len(lazy.faces)} grammar buildings' colours")
+    assert 0 < evaluated < len(lazy.faces), "the view needs some colours, not all"
+    lazy.evaluate(renderer.textures.grammar, np.arange(len(lazy.faces)))
+    images["eager"], images["eager ids"] = renderer.render(camera), renderer.render_ids(camera)
+    return images
+
+
+def test_a_lazy_still_equals_evaluating_every_colour_up_front(gl_context, tmp_path):
+    """A still (whole city and streamed) evaluates the colours its view needs before its frame: the
+    same picture and id AOV, pixel for pixel, as every colour evaluated first; and building LOD
+    changes the picture there (some buildings are at the cheap level)."""
+    from cityshade.render import open_tiles, write_tiles
+
+    city = make_city("default")
+    camera = city.camera("street")
+    write_tiles(city, tmp_path / "tiles", tile_size=64.0)
+    differing = {}
+    for source in ("whole", "streamed"):
+        renderer = Renderer(SIZE, RenderSettings(samples=0, building_lod=True), ctx=gl_context)
+        try:
+            if source == "whole":
+                renderer.set_city(city)
+                full = Renderer(SIZE, RenderSettings(samples=0, building_lod=False), ctx=gl_context)
+                full.set_city(city)
+                images = {"full": full.render(camera)}
+                full.release()
+            else:
+                cache = open_tiles(tmp_path / "tiles")
+                renderer.set_tiles(cache, int(0.9 * cache.total_bytes))  # one tile holds three quarters
+                renderer.wait_for_tiles(camera)
+                assert not renderer.city.drawn_buildings().all(), "some tiles stay on disk"
+            images.update(eager_and_lazy(renderer, camera))
+        finally:
+            renderer.release()
+        for name in ("", " ids"):
+            differing[source + name] = int(np.count_nonzero(np.any(images["lazy" + name] != images["eager" + name], -1)))
+    print("pixels differing, lazy against eager:", differing)
+    assert differing == dict.fromkeys(differing, 0)
+    assert np.count_nonzero(np.any(images["full"] != images["eager"], axis=-1)) > 100, "the LOD shows"
+
+
+@pytest.mark.parametrize("deferred", [True, False], ids=["deferred grammar", "forward grammar"])
+def test_a_colour_not_evaluated_keeps_the_finer_level(gl_context, deferred):
+    """Every pixel in the cheap band (CHEAP) but no colour evaluated (a budget of none per drawn
+    frame): the grammar building is drawn as with the cheap band beyond it, pixel for pixel; the
+    still, which evaluates its colour, differs (it is at the cheap level)."""
+    camera = Camera((0.0, 15.0, -150.0), (0.0, 15.0, 0.0), fov_y=FOV, far=2000.0)
+    images = {}
+    for name, pixels, budget in (
+        ("not ready", CHEAP, 0),
+        ("finer", (*CHEAP[:2], *FULL[2:]), 0),
+        ("ready", CHEAP, 0),
+    ):
+        renderer = renderer_for(
+            gl_context, STYLES["office grammar"], pixels, building_lod_budget=budget, grammar_deferred=deferred
+        )
+        try:
+            images[name] = renderer.render(camera) if name == "ready" else renderer.draw(camera).read()[..., :3]
+            assert renderer.last_lod_colours == (1 if name == "ready" else 0)
+        finally:
+            renderer.release()
+    differing = {k: int(np.count_nonzero(np.any(images[k] != images["finer"], axis=-1))) for k in ("not ready", "ready")}
+    print("pixels differing from the finer level:", differing)
+    assert differing["not ready"] == 0 and differing["ready"] > 200

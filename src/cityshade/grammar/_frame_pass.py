@@ -82,6 +82,8 @@ class DeferredGrammarPass:
         )
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
         f.gpu.city.relief.bind_openings(program)  # which terminals and holes the relief recesses
+        if f.view.settings.building_lod:
+            f.gpu.city.bind_lod_colours()  # which buildings' cheap colours are ready
         if self.cached(f):
             self.cache.bind(program)
             bind_textures(program, {"u_page": gbuffer.colors[len(G_BUFFER)]})

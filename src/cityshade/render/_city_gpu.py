@@ -18,13 +18,13 @@ from ..relief import CityRelief
 from ..scene import BUILDING_DTYPE, FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, PLACEMENTS_BINDING
 from ..scene import City, batch, face_table, placements, shared_vertices
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
-from ._building_lod import LOD_COLOURS_BINDING, grammar_sample_faces
-from ._lod_colours import grammar_colours_gpu
+from ._building_lod import grammar_sample_faces
 from ._culling import BuildingChunks, chunk_vertices
 from ._facades import assign_facades
+from ._lod_colours import LodColours
 from ._polygonised import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
-from ._visibility import BOUNDS_BINDING, BuildingVisibility, building_boxes, building_ranges
+from ._visibility import BOUNDS_BINDING, BuildingVisibility, building_boxes, building_bounds, building_ranges
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -99,7 +99,7 @@ class CityGPU:
         self.ctx = ctx
         self.city = city
         self.building_count = len(city.masses)
-        self._lod_colours: moderngl.Buffer | None = None
+        self._lod_colours: LodColours | None = None
         self.relief = CityRelief(ctx)
         ground = ground_vertices(city)
         self.ground_vbo = create_buffer(ctx, ground)
@@ -154,18 +154,29 @@ class CityGPU:
             records["facade"][records["facade"][:, 0] == FACADE_GRAMMAR, 1] = address
         self.records.write(records.tobytes())
 
-    def prepare_lod_colours(self, grammar: GrammarTextures):
-        """Evaluates the grammar buildings' cheap colours (city/lod.glsl) on the GPU, once: before a
-        frame's passes, since it draws into a target of its own."""
+    def lod_colours(self) -> LodColours:
+        """The grammar buildings' cheap colours (city/lod.glsl), none evaluated until a view needs them."""
         if self._lod_colours is None:
-            colours = grammar_colours_gpu(self.ctx, grammar, self._lod_faces, max(self.building_count, 1))
-            self._lod_colours = create_buffer(self.ctx, colours)
+            bounds = building_bounds(self.visibility.boxes) if len(self._lod_faces) else np.zeros((0, 2, 4), np.float32)
+            self._lod_colours = LodColours(self.ctx, self._lod_faces, bounds, self.building_count)
+        return self._lod_colours
+
+    def drawn_buildings(self) -> np.ndarray | None:
+        """Per building, whether it can be drawn now (None: all of them)."""
+        return None
+
+    def update_lod_colours(self, grammar: GrammarTextures, camera, size, distances, budget: int | None) -> int:
+        """Evaluates the cheap colours the view of `camera` (a viewport `size`, the ShadingBlock's
+        lod_distances) needs, at most `budget` of them (None: all), nearest first; returns how many.
+        Before a frame's passes, since it draws into a target of its own."""
+        colours = self.lod_colours()
+        needed = colours.needed(camera.view_projection(size[0] / size[1]), camera.eye, distances[2], self.drawn_buildings())
+        colours.evaluate(grammar, needed[:budget])
+        return colours.last_count
 
     def bind_lod_colours(self):
-        """Binds the cheap colours of prepare_lod_colours."""
-        if self._lod_colours is None:
-            raise RuntimeError("the building LOD colours are not evaluated: call prepare_lod_colours() first")
-        self._lod_colours.bind_to_storage_buffer(LOD_COLOURS_BINDING)
+        """Binds the cheap colours (a building not evaluated yet reads as not ready)."""
+        self.lod_colours().bind()
 
     def polygonised(self) -> PolygonisedGPU:
         """Real interior geometry for the polygonised-interiors baseline, built on first use."""

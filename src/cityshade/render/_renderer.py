@@ -13,6 +13,7 @@ from .._values import check_size
 from ..errors import UsageError
 from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
 from ..scene import Camera, City
+from ._building_lod import lod_distances
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_passes, id_passes, run_passes
@@ -61,6 +62,8 @@ class Renderer:
         self.targets = FrameTargets()
         self.last_frame_seconds = float("nan")
         self.last_pass_seconds: dict[str, float] = {}  # by pass name, from draw(..., profile=True)
+        self.last_lod_colours = 0  # building LOD colours the last frame evaluated before its passes
+        self.last_lod_seconds = 0.0  # and the time they took (within last_frame_seconds)
 
     def _current(self):
         """Makes this renderer's context the current one: GL calls go to the current context, and
@@ -150,7 +153,9 @@ class Renderer:
             self._env_key = key
         return daylight
 
-    def _inputs(self, camera: Camera) -> FrameInputs:
+    def _inputs(self, camera: Camera, lod_budget: int | None = None) -> FrameInputs:
+        """The frame's inputs for `camera`, with at most `lod_budget` cheap colours evaluated first
+        (None: every one the view needs)."""
         if self.city is None:
             raise RuntimeError("no city: call set_city() first")
         if isinstance(self.city, StreamedCityGPU):
@@ -164,7 +169,7 @@ class Renderer:
         self.frame_index += 1
         self._start_grammars()
         if self.settings.building_lod:
-            self.city.prepare_lod_colours(self.textures.grammar)
+            self._update_lod_colours(camera, lod_budget)
         if self.settings.grammar_deferred:
             pages = self.settings.grammar_cache_pages if self.settings.grammar_cache else None
             self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(
@@ -183,6 +188,14 @@ class Renderer:
         )
         return FrameInputs(gpu, FrameView(camera, s, daylight, self.size, self.frame_index - 1))
 
+    def _update_lod_colours(self, camera: Camera, budget: int | None):
+        """The cheap colours `camera`'s view needs (render/_lod_colours.py), timed into last_lod_seconds."""
+        start = time.perf_counter()
+        distances = lod_distances(self.settings.building_lod_pixels, self.size[1], camera.fov_y)
+        self.last_lod_colours = self.city.update_lod_colours(self.textures.grammar, camera, self.size, distances, budget)
+        self.ctx.finish()
+        self.last_lod_seconds = time.perf_counter() - start
+
     def _start_grammars(self):
         """Writes settings.grammar_start into the city's records when it or the city changed."""
         start = self.settings.grammar_start
@@ -198,10 +211,16 @@ class Renderer:
         self._grammar_start = (start,)
 
     def draw(
-        self, camera: Camera, framebuffer: moderngl.Framebuffer | None = None, profile: bool = False
+        self,
+        camera: Camera,
+        framebuffer: moderngl.Framebuffer | None = None,
+        profile: bool = False,
+        still: bool = False,
     ) -> RenderTarget:
         """Draws one frame; returns the display target (also blitted to `framebuffer` if given).
-        With `profile`, each pass is timed on its own (ctx.finish() around it) into last_pass_seconds."""
+        With `profile`, each pass is timed on its own (ctx.finish() around it) into last_pass_seconds.
+        Building LOD evaluates settings.building_lod_budget of the cheap colours the view needs per
+        frame (the others stay at the finer level until a later frame), or with `still` all of them."""
         self._current()
         t = self.targets
         if t.hdr is None:
@@ -210,21 +229,22 @@ class Renderer:
             t.display = RenderTarget(self.ctx, self.size, (("f1", 4),))
         if self.settings.ssao and t.occluded is None:
             t.occluded = RenderTarget(self.ctx, self.size, (("f2", 4),))
-        inputs = self._inputs(camera)
+        self.last_lod_colours, self.last_lod_seconds = 0, 0.0
+        inputs = self._inputs(camera, None if still else self.settings.building_lod_budget)
         times = {} if profile else None
         start = time.perf_counter()
         run_passes(inputs, frame_passes(self.settings), times)
         if framebuffer is not None:
             self.ctx.copy_framebuffer(framebuffer, t.display.fbo)
         self.ctx.finish()
-        self.last_frame_seconds = time.perf_counter() - start
+        self.last_frame_seconds = time.perf_counter() - start + self.last_lod_seconds
         if times is not None:
-            self.last_pass_seconds = times
+            self.last_pass_seconds = {"lod colours": self.last_lod_seconds, **times} if self.settings.building_lod else times
         return t.display
 
     def render(self, camera: Camera) -> np.ndarray:
-        """One frame as an HxWx3 uint8 sRGB array."""
-        return self.draw(camera).read()[..., :3].copy()
+        """One frame as an HxWx3 uint8 sRGB array: a still, every building LOD colour its view needs evaluated."""
+        return self.draw(camera, still=True).read()[..., :3].copy()
 
     def read_hdr(self) -> np.ndarray:
         """The last frame's linear HDR colour before tone mapping, HxWx3 float32 (to check it is finite)."""

@@ -28,6 +28,9 @@ class RenderSettings:
     # pixels a room spans where each cross-fade band starts and ends: relief traced straight into the
     # wall over the first band, the style's mean colour over the second (render/_building_lod.py)
     building_lod_pixels: tuple[float, float, float, float] = (16.0, 12.0, 8.0, 6.0)
+    # grammar buildings whose cheap colour a drawn frame evaluates at most (nearest first; about 0.3 ms
+    # each here); until then a building stays at the finer level. A still evaluates all its view needs
+    building_lod_budget: int = 32
     room_texture_size: int = 256
     room_variants: int = 8
     samples: int = 4  # MSAA of the HDR target

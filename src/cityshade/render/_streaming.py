@@ -295,6 +295,12 @@ class StreamedCityGPU(CityGPU):
         self._moved_boxes()
         self._upload_boxes()
 
+    def drawn_buildings(self) -> np.ndarray:
+        """Per building, whether its tile is resident."""
+        drawn = np.zeros(max(self.building_count, 1), bool)
+        drawn[self.boxes["draw"][:, 2]] = self.boxes["draw"][:, 0] > 0
+        return drawn
+
     def draw_buildings(self, program, view_projection: np.ndarray | None = None, draws: moderngl.Buffer | None = None):
         """As CityGPU's, always through draw commands: the arena's free slots hold stale vertices."""
         if draws is None:

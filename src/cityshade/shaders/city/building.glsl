@@ -177,7 +177,7 @@ void main() {
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
         cheap = grammar ? grammar_deferred_skipped() : lod_cheap(s);
 #else
-        cheap = lod_cheap(s);
+        cheap = lod_cheap_facade(s, grammar, v_ids.x);
 #endif
 #endif
         if (at_door) f = FacadeResult(door_albedo(b, door, door_uv), n, vec2(0.0), 0.0, v_local, GRAMMAR_DOOR_LABEL);

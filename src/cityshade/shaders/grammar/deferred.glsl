@@ -44,7 +44,8 @@ void main() {
     vec4 world = u_inv_view_proj * clip;
     vec3 d = normalize(world.xyz / world.w - u_camera);
 #if defined BUILDING_LOD
-    if (lod_cheap(distance(world.xyz / world.w, u_camera))) {  // far: the building pass draws the style's mean
+    // far, its colour evaluated: the building pass draws the style's mean
+    if (lod_cheap_facade(distance(world.xyz / world.w, u_camera), true, int(rule.w) - 1)) {
         out_color = vec4(0.0);
         out_ids = uvec4(GRAMMAR_DEFERRED_SKIPPED, 0u, 0u, 0u);
         return;
