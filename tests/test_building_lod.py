@@ -267,7 +267,9 @@ def test_a_lazy_still_equals_evaluating_every_colour_up_front(gl_context, tmp_pa
         finally:
             renderer.release()
         for name in ("", " ids"):
-            differing[source + name] = int(np.count_nonzero(np.any(images["lazy" + name] != images["eager" + name], -1)))
+            differing[source + name] = int(
+                np.count_nonzero(np.any(images["lazy" + name] != images["eager" + name], -1))
+            )
     print("pixels differing, lazy against eager:", differing)
     assert differing == dict.fromkeys(differing, 0)
     assert np.count_nonzero(np.any(images["full"] != images["eager"], axis=-1)) > 100, "the LOD shows"
@@ -293,6 +295,8 @@ def test_a_colour_not_evaluated_keeps_the_finer_level(gl_context, deferred):
             assert renderer.last_lod_colours == (1 if name == "ready" else 0)
         finally:
             renderer.release()
-    differing = {k: int(np.count_nonzero(np.any(images[k] != images["finer"], axis=-1))) for k in ("not ready", "ready")}
+    differing = {
+        k: int(np.count_nonzero(np.any(images[k] != images["finer"], axis=-1))) for k in ("not ready", "ready")
+    }
     print("pixels differing from the finer level:", differing)
     assert differing["not ready"] == 0 and differing["ready"] > 200

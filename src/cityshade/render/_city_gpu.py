@@ -170,7 +170,9 @@ class CityGPU:
         lod_distances) needs, at most `budget` of them (None: all), nearest first; returns how many.
         Before a frame's passes, since it draws into a target of its own."""
         colours = self.lod_colours()
-        needed = colours.needed(camera.view_projection(size[0] / size[1]), camera.eye, distances[2], self.drawn_buildings())
+        needed = colours.needed(
+            camera.view_projection(size[0] / size[1]), camera.eye, distances[2], self.drawn_buildings()
+        )
         colours.evaluate(grammar, needed[:budget])
         return colours.last_count
 

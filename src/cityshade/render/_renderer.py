@@ -192,7 +192,9 @@ class Renderer:
         """The cheap colours `camera`'s view needs (render/_lod_colours.py), timed into last_lod_seconds."""
         start = time.perf_counter()
         distances = lod_distances(self.settings.building_lod_pixels, self.size[1], camera.fov_y)
-        self.last_lod_colours = self.city.update_lod_colours(self.textures.grammar, camera, self.size, distances, budget)
+        self.last_lod_colours = self.city.update_lod_colours(
+            self.textures.grammar, camera, self.size, distances, budget
+        )
         self.ctx.finish()
         self.last_lod_seconds = time.perf_counter() - start
 
@@ -239,7 +241,9 @@ class Renderer:
         self.ctx.finish()
         self.last_frame_seconds = time.perf_counter() - start + self.last_lod_seconds
         if times is not None:
-            self.last_pass_seconds = {"lod colours": self.last_lod_seconds, **times} if self.settings.building_lod else times
+            self.last_pass_seconds = (
+                {"lod colours": self.last_lod_seconds, **times} if self.settings.building_lod else times
+            )
         return t.display
 
     def render(self, camera: Camera) -> np.ndarray:
