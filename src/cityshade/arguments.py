@@ -90,3 +90,16 @@ def add_grammar_cache_option(parser, default: bool):
         help="shade grammar facades from a page cache of facades evaluated once per texel, evaluating "
         "per pixel only where a page is not resident yet (docs/scale.md)",
     )
+
+
+def add_building_lod_option(parser, default: bool):
+    """--building-lod / --no-building-lod, for the commands that draw the city's frame."""
+    import argparse
+
+    parser.add_argument(
+        "--building-lod",
+        action=argparse.BooleanOptionalAction,
+        default=default,
+        help="far facades drop relief, grammar and rooms for their own mean colour (dithered bands); "
+        "a grammar building's colour is evaluated once a view draws it far away (docs/frame.md)",
+    )

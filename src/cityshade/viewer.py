@@ -10,7 +10,7 @@ from dataclasses import replace
 import moderngl_window as mglw
 import numpy as np
 
-from .arguments import add_grammar_cache_option, add_map_option
+from .arguments import add_building_lod_option, add_grammar_cache_option, add_map_option
 from .errors import CityshadeError
 from .render import (
     QUALITY_STEPS,
@@ -299,13 +299,19 @@ def register(subparsers):
         "less often, far trees fading sooner, flat facades, no shadows) "
         f"(default {DEFAULT_TARGET_FPS:g}; 0: always full resolution and quality)",
     )
+    add_building_lod_option(parser, RenderSettings.building_lod)
     add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     add_streaming_arguments(parser)
     parser.set_defaults(run=_run)
 
 
 def _run(args) -> int:
-    settings = RenderSettings(time_of_day=parse_time(args.time), samples=args.samples, grammar_cache=args.grammar_cache)
+    settings = RenderSettings(
+        time_of_day=parse_time(args.time),
+        samples=args.samples,
+        grammar_cache=args.grammar_cache,
+        building_lod=args.building_lod,
+    )
     from .maps import require_map_for_date
 
     require_map_for_date(args.date, args.map or args.tiles)

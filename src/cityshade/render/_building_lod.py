@@ -194,7 +194,7 @@ def grammar_colours(faces: np.ndarray, count: int) -> np.ndarray:
             level=each(level),
         )
         colour = _linear(np.asarray(result.color, np.float64)).reshape(-1, per, 3)
-        glass = np.asarray(result.glass).reshape(-1, per)
+        glass = (np.asarray(result.glass) | (np.asarray(result.hole) >= 0)).reshape(-1, per)  # a hole: a window
         colours[index[part]] = [_wall_mean(c, g) for c, g in zip(colour, glass)]
     return colours
 

@@ -6,6 +6,7 @@ import time
 from pathlib import Path
 
 from ..arguments import (
+    add_building_lod_option,
     add_grammar_cache_option,
     add_map_option,
     check_seed,
@@ -72,12 +73,6 @@ def register(subparsers):
         help="flat facades: no relief bay, window-bay and grammar windows not recessed",
     )
     parser.add_argument(
-        "--building-lod",
-        action="store_true",
-        help="far facades drop relief, grammar and rooms for their own mean colour (dithered); "
-        "the first frame evaluates every grammar building once on the GPU (about 8 ms each here)",
-    )
-    parser.add_argument(
         "--samples",
         type=int,
         default=4,
@@ -91,6 +86,7 @@ def register(subparsers):
         help="with --map: tint walls whose height and roofs whose shape the map did not give "
         "(orange) apart from what it gave (blue)",
     )
+    add_building_lod_option(parser, RenderSettings.building_lod)
     add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     add_streaming_arguments(parser)
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")

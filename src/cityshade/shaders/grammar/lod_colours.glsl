@@ -42,6 +42,7 @@ void main() {
     vec2 coarsest = vec2(size.x + size.y) * 1e3;  // derivatives past any tile: its last mipmap, one mean texel
     GrammarResult g = grammar_evaluate(int(f.size_start_face.z), uv, size, seed, vec3(0.0, 0.0, 1.0), coarsest,
                                        coarsest);
-    out_colour = g.glass ? vec4(0.0) : vec4(srgb_to_linear(g.color), 1.0);
+    // a hole cut into the wall (a room of the grammar's own behind it) is a window as glass is
+    out_colour = g.glass || g.hole >= 0 ? vec4(0.0) : vec4(srgb_to_linear(g.color), 1.0);
 }
 #endif
