@@ -264,7 +264,7 @@ class Renderer:
         self._current()
         if self.targets.ids is None:
             self.targets.ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
-        run_passes(self._inputs(camera), id_passes(self.settings, room_state, windows))
+        run_passes(self._inputs(camera, lod_budget=0), id_passes(self.settings, room_state, windows))  # full detail
         return self.targets.ids.read().copy()
 
     def depth(self, aov: bool = False) -> np.ndarray:
