@@ -97,17 +97,19 @@ def test_trees_change_no_building_pixel_they_do_not_cover(gl_context, monkeypatc
     assert not with_trees[on_tree][:, 1:].any()
 
 
+@pytest.mark.parametrize("building_lod", [False, True], ids=["", "building LOD"])
 @pytest.mark.parametrize("culling", ["gpu", "off"])
-def test_a_city_of_trees_alone_renders(gl_context, culling, output_dir):
+def test_a_city_of_trees_alone_renders(gl_context, culling, building_lod, output_dir):
     """A park without buildings (a city of trees and ground only): the frame and the id AOV are
-    drawn, the tree shows where the AOV has its faces, and no pixel is a building's."""
+    drawn, the tree shows where the AOV has its faces, and no pixel is a building's; with building
+    LOD too (no grammar building to evaluate)."""
     from cityshade.scene import GROUND_GRASS, City
     from cityshade.trees import tree_instances
 
     trees = tree_instances([(0.0, 0.0, 0.0)], "oak", np.random.default_rng(0))
     lawn = (-100.0, -100.0, 100.0, 100.0)
     city = City("park", 0, [], [(*lawn, GROUND_GRASS)], lawn, trees=trees)
-    renderer = Renderer((160, 90), RenderSettings(samples=0, culling=culling), ctx=gl_context)
+    renderer = Renderer((160, 90), RenderSettings(samples=0, culling=culling, building_lod=building_lod), ctx=gl_context)
     try:
         renderer.set_city(city)
         camera = Camera((0.0, 4.0, 24.0), (0.0, 5.0, 0.0))
@@ -115,7 +117,7 @@ def test_a_city_of_trees_alone_renders(gl_context, culling, output_dir):
         ids = renderer.render_ids(camera)
     finally:
         renderer.release()
-    Image.fromarray(image).save(output_dir / f"trees_alone_{culling}.png")
+    Image.fromarray(image).save(output_dir / f"trees_alone_{culling}{'_lod' if building_lod else ''}.png")
     tree = np.isin(ids[..., 0], [FACE["trunk"], FACE["foliage"]])
     assert 100 < np.count_nonzero(tree) < tree.size // 2, np.count_nonzero(tree)
     assert not ids[..., 2].any()  # no building index anywhere

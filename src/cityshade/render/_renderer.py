@@ -168,7 +168,7 @@ class Renderer:
             self.shadows = CascadedShadows(self.ctx, resolution)
         self.frame_index += 1
         self._start_grammars()
-        if self.settings.building_lod:
+        if self.settings.building_lod and lod_budget != 0:
             self._update_lod_colours(camera, lod_budget)
         if self.settings.grammar_deferred:
             pages = self.settings.grammar_cache_pages if self.settings.grammar_cache else None
