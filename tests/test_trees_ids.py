@@ -109,7 +109,9 @@ def test_a_city_of_trees_alone_renders(gl_context, culling, building_lod, output
     trees = tree_instances([(0.0, 0.0, 0.0)], "oak", np.random.default_rng(0))
     lawn = (-100.0, -100.0, 100.0, 100.0)
     city = City("park", 0, [], [(*lawn, GROUND_GRASS)], lawn, trees=trees)
-    renderer = Renderer((160, 90), RenderSettings(samples=0, culling=culling, building_lod=building_lod), ctx=gl_context)
+    renderer = Renderer(
+        (160, 90), RenderSettings(samples=0, culling=culling, building_lod=building_lod), ctx=gl_context
+    )
     try:
         renderer.set_city(city)
         camera = Camera((0.0, 4.0, 24.0), (0.0, 5.0, 0.0))
