@@ -19,6 +19,7 @@ BENCHMARKS = {
     "export": "cityshade.bench.export",
     "dataset": "cityshade.bench.dataset",
     "scale": "cityshade.bench.scale",
+    "lod": "cityshade.bench.lod",
 }
 
 
