@@ -299,3 +299,10 @@ def test_a_colour_not_evaluated_keeps_the_finer_level(gl_context, deferred):
     }
     print("pixels differing from the finer level:", differing)
     assert differing["not ready"] == 0 and differing["ready"] > 200
+
+
+def test_a_negative_budget_is_refused():
+    from cityshade.errors import UsageError
+
+    with pytest.raises(UsageError, match="building_lod_budget must be 0 or more, not -1"):
+        RenderSettings(building_lod_budget=-1)

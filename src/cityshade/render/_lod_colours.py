@@ -1,8 +1,9 @@
 """The cheap level's colours on the GPU (shaders/grammar/lod_colours.glsl): each grammar
 building's sample face evaluated by the frame's own grammar program at the numpy reference's
 points (render/_building_lod.py: grammar_colours is the twin), a tile of pixels per building, a
-batch of buildings per draw, the tiles' means taken from the read-back batch. About a quarter of a
-millisecond per building here, where the numpy reference takes fourteen.
+batch of buildings per draw, the tiles' means taken from the read-back batch. From a quarter of a
+millisecond per building here in full batches to one in a frame's 32, where the numpy reference
+takes fourteen.
 
 `LodColours` evaluates them lazily: a building's colour only once a view draws it (its box in the
 frustum) and some of it lies beyond the cheap band's start (less a margin, so that a camera moving

@@ -28,7 +28,7 @@ class RenderSettings:
     # pixels a room spans where each cross-fade band starts and ends: relief traced straight into the
     # wall over the first band, the style's mean colour over the second (render/_building_lod.py)
     building_lod_pixels: tuple[float, float, float, float] = (16.0, 12.0, 8.0, 6.0)
-    # grammar buildings whose cheap colour a drawn frame evaluates at most (nearest first; about 0.3 ms
+    # grammar buildings whose cheap colour a drawn frame evaluates at most (nearest first; about 1 ms
     # each here); until then a building stays at the finer level. A still evaluates all its view needs
     building_lod_budget: int = 32
     room_texture_size: int = 256
@@ -69,6 +69,8 @@ class RenderSettings:
             raise UsageError(f"grammar_cache_pages must be at least 1, not {self.grammar_cache_pages}")
         if self.grammar_cache_min_pixels < 0:
             raise UsageError(f"grammar_cache_min_pixels must be 0 or more, not {self.grammar_cache_min_pixels}")
+        if self.building_lod_budget < 0:
+            raise UsageError(f"building_lod_budget must be 0 or more, not {self.building_lod_budget}")
 
     def with_(self, **changes) -> "RenderSettings":
         return replace(self, **changes)
