@@ -18,8 +18,8 @@ from cityshade.cli import main
 from cityshade.errors import CityshadeError, UsageError
 from cityshade.render import Renderer, RenderSettings, open_tiles, streamed_tiles, write_tiles
 from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
-from cityshade.render._tile_cache import CacheProblem, read_tile
-from cityshade.scene import GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
+from cityshade.render._tile_cache import SLOT_UNIT, CacheProblem, read_tile, slot_bytes
+from cityshade.scene import FACE_DTYPE, GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
 
 MAPS = Path(__file__).parent / "data" / "maps"
 TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
@@ -69,11 +69,13 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
     manifest = json.loads((folder / "manifest.json").read_text())
     data = TAGGED.read_bytes()
     assert manifest["source"] == {"name": TAGGED.name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
-    assert manifest["format"] == 1 and manifest["cityshade"] and manifest["tiles"]
+    assert manifest["format"] == 2 and manifest["cityshade"] and manifest["tiles"]
     for tile in manifest["tiles"]:
         path = folder / tile["file"]
         assert path.stat().st_size == tile["bytes"]
-        assert tile["resident_bytes"] == tile["vertices"] * GPU_VERTEX_DTYPE.itemsize
+        assert tile["resident_bytes"] == slot_bytes(tile["vertices"], tile["faces"])
+        vertices_and_faces = tile["vertices"] * GPU_VERTEX_DTYPE.itemsize + tile["faces"] * FACE_DTYPE.itemsize
+        assert vertices_and_faces <= tile["resident_bytes"] < vertices_and_faces + FACE_DTYPE.itemsize + SLOT_UNIT
         x0, z0, x1, z1 = tile["bounds"]
         assert x0 <= x1 and z0 <= z1
     assert sorted(p.name for p in folder.iterdir()) == ["city.pickle", "manifest.json", "tiles"]
@@ -82,7 +84,7 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
 def test_tiles_hold_every_building_once(district, district_tiles):
     cache = district_tiles
     placement = placements(district.masses)
-    vertices = [expand_face_table(read_tile(cache, i), cache.faces, placement) for i in range(len(cache.tiles))]
+    vertices = [expand_face_table(*read_tile(cache, i), placement) for i in range(len(cache.tiles))]
     assert sum(t.buildings for t in cache.tiles) == len(cache.boxes) == len(district.masses)
     held = np.concatenate([np.unique(v["ids"][:, 0]) for v in vertices])
     assert sorted(held.tolist()) == sorted(cache.boxes["draw"][:, 2].tolist())
@@ -154,16 +156,31 @@ def test_frames_never_wait_for_the_tile_reader(district, district_tiles, gl_cont
     assert streamer.resident and np.count_nonzero(ids[..., 2]) > 0
 
 
+def held_tiles(city: StreamedCityGPU, placement) -> dict[int, np.ndarray]:
+    """Each resident tile's vertices as the vertex stage gets them from its slot of the arena (the
+    vertices there, read through the face rows they point at)."""
+    size = GPU_VERTEX_DTYPE.itemsize
+    table = np.frombuffer(city.faces.read(), np.uint8)
+    table = table[: len(table) // FACE_DTYPE.itemsize * FACE_DTYPE.itemsize].view(FACE_DTYPE)
+    held = {}
+    for index, (first, _) in city.arena.slots.items():
+        count = city.streamer.tiles[index].vertices
+        vertices = np.frombuffer(city.building_vbo.read(size=count * size, offset=first * SLOT_UNIT), GPU_VERTEX_DTYPE)
+        held[index] = expand_face_table(vertices, table, placement)
+    return held
+
+
 def test_resident_bytes_stay_under_the_budget_along_a_path(district, district_tiles, gl_context):
     """Walking across the city: at every step the resident tiles (uploaded and being read) fit the
     budget, tiles are released behind the camera, and each resident tile's slot of the arena holds
-    its vertices."""
+    its vertices and face rows."""
     cache = district_tiles
     budget = cache.total_bytes // 4
+    placement = placements(district.masses)
     city = StreamedCityGPU(gl_context, cache, budget)
     released = set()
     try:
-        assert city.arena.capacity * GPU_VERTEX_DTYPE.itemsize <= budget
+        assert city.arena.capacity * SLOT_UNIT <= budget
         x0, z0, x1, z1 = district.bounds
         for t in np.linspace(0, 1, 12):
             eye = (x0 + t * (x1 - x0), 2.0, z0 + t * (z1 - z0))
@@ -173,14 +190,30 @@ def test_resident_bytes_stay_under_the_budget_along_a_path(district, district_ti
             city.wait(eye)
             released |= before - set(city.streamer.resident)
             assert city.streamer.resident_bytes <= budget
-            for index, (first, count) in city.arena.slots.items():
-                size = GPU_VERTEX_DTYPE.itemsize
-                held = city.building_vbo.read(size=count * size, offset=first * size)
-                assert held == read_tile(cache, index).tobytes()
+            for index, held in held_tiles(city, placement).items():
+                assert held.tobytes() == expand_face_table(*read_tile(cache, index), placement).tobytes()
         assert city.streamer.peak_bytes <= budget
     finally:
         city.release()
     assert released
+
+
+def test_compacting_the_arena_moves_face_rows_with_their_vertices(district, district_tiles, gl_context):
+    """Slots moved down to close the gaps: each tile's vertices point at their rows where they are now."""
+    cache, placement = district_tiles, placements(district.masses)
+    city = StreamedCityGPU(gl_context, cache)
+    try:
+        city.wait(district.camera("street").eye)
+        for index in list(city.arena.slots)[::2]:  # every other slot freed: gaps between the rest
+            city.streamer.resident.pop(index)
+            city._release_tile(index)
+        before = {index: first for index, (first, _) in city.arena.slots.items()}
+        city.arena.compact()
+        assert any(city.arena.slots[index][0] < first for index, first in before.items())
+        for index, held in held_tiles(city, placement).items():
+            assert held.tobytes() == expand_face_table(*read_tile(cache, index), placement).tobytes()
+    finally:
+        city.release()
 
 
 def test_update_never_waits_for_a_slow_read(district_tiles):
@@ -206,15 +239,16 @@ def test_update_never_waits_for_a_slow_read(district_tiles):
 
 
 def test_arena_compacts_when_no_gap_is_wide_enough(gl_context):
-    arena = _Arena(gl_context, 30)
-    size = GPU_VERTEX_DTYPE.itemsize
+    moves = []
+    size = 24
+    arena = _Arena(gl_context, 30, size, lambda *move: moves.append(move))
     data = {k: np.full(10 * size, k, np.uint8).tobytes() for k in range(3)}
     for k in range(3):
         arena.buffer.write(data[k], offset=arena.allocate(k, 10) * size)
     arena.free(0)
     arena.free(2)
     first = arena.allocate(3, 20)  # 20 free, in two gaps of 10
-    assert arena.slots[1] == (0, 10) and first == 10
+    assert arena.slots[1] == (0, 10) and first == 10 and moves == [(1, 10, 0)]
     assert arena.buffer.read(size=10 * size, offset=0) == data[1]
     arena.buffer.release()
 
@@ -253,7 +287,7 @@ def _garbage_manifest(folder: Path):
 
 
 def _truncated_tile(folder: Path):
-    path = folder / "tiles" / "00000.npy"
+    path = folder / "tiles" / "00000.npz"
     path.write_bytes(path.read_bytes()[:100])
 
 
@@ -266,7 +300,7 @@ DAMAGE = {
     "version": (_set_version, "made with cityshade '0.0.1'"),
     "code": (_set_code, "made with meshing_code '0123456789abcdef'"),
     "manifest": (_garbage_manifest, "manifest.json is damaged"),
-    "tile": (_truncated_tile, "tiles/00000.npy is missing or damaged"),
+    "tile": (_truncated_tile, "tiles/00000.npz is missing or damaged"),
     "city": (_truncated_city, "city.pickle is damaged"),
 }
 
@@ -305,14 +339,47 @@ def test_a_cache_of_another_file_is_made_again(tagged_tiles, capsys):
 
 def test_an_altered_tile_fails_when_read(tagged_tiles, tmp_path, capsys):
     """Same size, other bytes: the reader's SHA-256 check stops it, one line, before any frame."""
-    path = tagged_tiles / "tiles" / "00000.npy"
+    path = tagged_tiles / "tiles" / "00000.npz"
     data = bytearray(path.read_bytes())
     data[-1] ^= 0xFF
     path.write_bytes(bytes(data))
     err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
-    assert "tiles/00000.npy is damaged (its SHA-256 is not the manifest's)" in err
+    assert "tiles/00000.npz is damaged (its SHA-256 is not the manifest's)" in err
     with pytest.raises(CityshadeError):
         read_tile(open_tiles(tagged_tiles), 0)
+
+
+def _rewritten_tile(folder: Path, **arrays):
+    """Tile 0's file replaced by `arrays`, its size and SHA-256 in the manifest to match."""
+    path = folder / "tiles" / "00000.npz"
+    np.savez(path, **arrays)
+    data = path.read_bytes()
+    manifest = json.loads((folder / "manifest.json").read_text())
+    manifest["tiles"][0].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest())
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+
+
+@pytest.mark.parametrize(
+    "arrays, reason",
+    [
+        ("no faces", "cannot be read (KeyError"),
+        ("rows beyond", "has vertices of face rows it does not hold"),
+        ("vertices as faces", "holds faces of another layout or count than its tile's"),
+    ],
+)
+def test_a_tile_file_of_other_contents_is_one_line(arrays, reason, tagged_tiles, tmp_path, capsys):
+    """A tile file whose manifest entry matches but whose arrays are not its tile's: refused when read."""
+    vertices, faces = read_tile(open_tiles(tagged_tiles), 0)
+    if arrays == "no faces":
+        _rewritten_tile(tagged_tiles, vertices=vertices)
+    elif arrays == "rows beyond":
+        vertices["face"][-1] = len(faces)
+        _rewritten_tile(tagged_tiles, vertices=vertices, faces=faces)
+    else:
+        _rewritten_tile(tagged_tiles, vertices=vertices, faces=vertices)
+    err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
+    assert f"tiles/00000.npz {reason}" in err
+    assert not (tmp_path / "a.png").exists()
 
 
 class _Payload:

@@ -2,11 +2,12 @@
 
 A cache folder holds `manifest.json` (format, cityshade version and a hash of its source code,
 vertex, face and record layouts, the source file's name, size and SHA-256, and per tile its file,
-bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' vertices: masses,
+bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' geometry: masses,
 ground, trees, lamps, viewpoints; the building records with their facades assigned; the cull
-pass's boxes in the whole city's order, each box's first vertex counted within its tile; the whole
-city's face table, scene/_face_table.py) and `tiles/NNNNN.npy` (each tile's vertices as the GPU
-holds them, rows of that table, its buildings one after another in box order). A tile is
+pass's boxes in the whole city's order, each box's first vertex counted within its tile) and
+`tiles/NNNNN.npz` (each tile's vertices as the GPU holds them, its buildings one after another in
+box order, and its own face table, scene/_face_table.py, the vertices' rows counted from the
+tile's first). A tile is
 the buildings whose masses stand in one square of `tile_size` metres; the city is meshed tile by
 tile, so cutting it never holds more than one tile's vertices.
 
@@ -24,6 +25,7 @@ import json
 import pickle
 import time
 import warnings
+import zipfile
 from collections import Counter
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -39,12 +41,25 @@ from ._culling import building_cells
 from ._facades import NARROW_FACES, GrammarFitWarning
 from ._visibility import BOX_DTYPE
 
-FORMAT = 1
+FORMAT = 2  # 2: each tile holds its own face table (1: one table for the city, in city.pickle)
 TILE_SIZE = 256.0  # metres: about a district of a dozen blocks
 MANIFEST = "manifest.json"
 CITY_FILE = "city.pickle"
 TILE_FOLDER = "tiles"
 HASH_BLOCK = 1 << 20
+# A resident tile's slot of the streaming arena holds its vertices, then its face rows from the first
+# whole row after them; slots start at multiples of SLOT_UNIT bytes, so that both counts are whole
+SLOT_UNIT = int(np.lcm(GPU_VERTEX_DTYPE.itemsize, FACE_DTYPE.itemsize))
+
+
+def face_offset(vertices: int) -> int:
+    """Bytes from a slot's start to its first face row: its vertices, rounded up to a whole row."""
+    return -(-vertices * GPU_VERTEX_DTYPE.itemsize // FACE_DTYPE.itemsize) * FACE_DTYPE.itemsize
+
+
+def slot_bytes(vertices: int, faces: int) -> int:
+    """The bytes of the slot that holds `vertices` and `faces` rows (whole SLOT_UNITs)."""
+    return -(-(face_offset(vertices) + faces * FACE_DTYPE.itemsize) // SLOT_UNIT) * SLOT_UNIT
 
 
 class CacheProblem(CityshadeError):
@@ -61,13 +76,15 @@ class Tile:
     bounds: tuple[float, float, float, float]  # x0, z0, x1, z1 of its buildings' boxes (metres)
     buildings: int
     vertices: int
+    faces: int  # rows of its face table
     bytes: int  # the file's size
     sha256: str
 
     @property
     def resident_bytes(self) -> int:
-        """What the tile holds once loaded: its vertices (on the GPU, or on the CPU on the way there)."""
-        return self.vertices * GPU_VERTEX_DTYPE.itemsize
+        """What the tile holds once loaded: its slot of vertices and face rows (on the GPU, or on
+        the CPU on the way there)."""
+        return slot_bytes(self.vertices, self.faces)
 
     def distance(self, x: float, z: float) -> float:
         """Metres from (x, z) to the tile's bounds on the ground (0 inside)."""
@@ -77,7 +94,7 @@ class Tile:
 
 @dataclass
 class TileCache:
-    """An opened (checked) cache: the city without its building vertices, and the tiles' list."""
+    """An opened (checked) cache: the city without its buildings' geometry, and the tiles' list."""
 
     folder: Path
     tiles: list[Tile]
@@ -87,7 +104,6 @@ class TileCache:
     box_tile: np.ndarray  # the tile of each box
     facades: dict
     lod_faces: np.ndarray  # SAMPLE_FACE_DTYPE, by building
-    faces: np.ndarray  # FACE_DTYPE: the face table of every tile's vertices
     source: dict
 
     @property
@@ -170,9 +186,9 @@ def check_cache_folder(folder: Path):
     check_replaceable_folder(folder, _is_cache)
 
 
-def _tile_file(folder: Path, name: str, vertices: np.ndarray) -> tuple[int, str]:
+def _tile_file(folder: Path, name: str, vertices: np.ndarray, faces: np.ndarray) -> tuple[int, str]:
     stream = io.BytesIO()
-    np.save(stream, vertices, allow_pickle=False)
+    np.savez(stream, vertices=vertices, faces=faces)
     data = stream.getvalue()
     (folder / name).write_bytes(data)
     return len(data), _sha256(data)
@@ -185,7 +201,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     masses = list(city.masses)  # mass objects while meshing: the city keeps columns
     records = np.zeros(len(masses), BUILDING_DTYPE)
     placement = placements(masses)
-    facades, lod_faces, tiles, boxes, cells, box_tile, face_rows = Counter(), [], [], [], [], [], []
+    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), [], [], [], [], []
     with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
         (tmp / TILE_FOLDER).mkdir()
@@ -198,14 +214,13 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
             lod_faces.append(faces)
             if not len(tile_boxes):
                 continue
-            vertices, faces = face_table(vertices, placement, first_row=sum(map(len, face_rows)))
-            face_rows.append(faces)
-            name = f"{TILE_FOLDER}/{len(tiles):05d}.npy"
-            size, digest = _tile_file(tmp, name, vertices)
+            vertices, faces = face_table(vertices, placement)
+            name = f"{TILE_FOLDER}/{len(tiles):05d}.npz"
+            size, digest = _tile_file(tmp, name, vertices, faces)
             lo, hi = tile_boxes["lo"].min(axis=0), tile_boxes["hi"].max(axis=0)
             bounds = (float(lo[0]), float(lo[2]), float(hi[0]), float(hi[2]))
             box_tile.append(np.full(len(tile_boxes), len(tiles)))
-            tiles.append(Tile(name, bounds, len(tile_boxes), len(vertices), size, digest))
+            tiles.append(Tile(name, bounds, len(tile_boxes), len(vertices), len(faces), size, digest))
             boxes.append(tile_boxes)
             cells.append(tile_cells)
         boxes = np.concatenate(boxes) if boxes else np.zeros(0, BOX_DTYPE)
@@ -218,7 +233,6 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
             "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),
             "facades": dict(facades),
             "lod_faces": _by_building(lod_faces),
-            "faces": np.concatenate(face_rows) if face_rows else np.zeros(0, FACE_DTYPE),
         }
         data = pickle.dumps(rest, protocol=pickle.HIGHEST_PROTOCOL)
         (tmp / CITY_FILE).write_bytes(data)
@@ -287,6 +301,7 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
                 tuple(float(v) for v in t["bounds"]),
                 int(t["buildings"]),
                 int(t["vertices"]),
+                int(t["faces"]),
                 int(t["bytes"]),
                 str(t["sha256"]),
             )
@@ -319,7 +334,6 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
         rest["box_tile"],
         rest["facades"],
         rest["lod_faces"],
-        rest["faces"],
         manifest.get("source"),
     )
 
@@ -367,14 +381,21 @@ class _CityUnpickler(pickle.Unpickler):
         raise _ForeignObject(f"refers to {module}.{name}")
 
 
-def read_tile(cache: TileCache, index: int) -> np.ndarray:
-    """Tile `index`'s vertices, checked against the manifest (size, SHA-256, layout)."""
+def read_tile(cache: TileCache, index: int) -> tuple[np.ndarray, np.ndarray]:
+    """Tile `index`'s vertices and face rows, checked against the manifest (size, SHA-256, layouts)."""
     tile = cache.tiles[index]
     data = _read_checked(cache.folder, tile.file, tile.bytes, tile.sha256)
     try:
-        vertices = np.load(io.BytesIO(data), allow_pickle=False)
-    except ValueError as exc:
-        raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({exc})") from None
-    if vertices.dtype != GPU_VERTEX_DTYPE or vertices.shape != (tile.vertices,):
-        raise CacheProblem(cache.folder, f"{tile.file} holds {vertices.shape} {vertices.dtype}, not its tile")
-    return vertices
+        with np.load(io.BytesIO(data), allow_pickle=False) as arrays:
+            vertices, faces = arrays["vertices"], arrays["faces"]
+    except (ValueError, KeyError, OSError, zipfile.BadZipFile) as exc:
+        raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({type(exc).__name__}: {exc})") from None
+    for name, array, dtype, rows in (
+        ("vertices", vertices, GPU_VERTEX_DTYPE, tile.vertices),
+        ("faces", faces, FACE_DTYPE, tile.faces),
+    ):
+        if array.dtype != dtype or array.shape != (rows,):
+            raise CacheProblem(cache.folder, f"{tile.file} holds {name} of another layout or count than its tile's")
+    if len(vertices) and int(vertices["face"].max()) >= len(faces):
+        raise CacheProblem(cache.folder, f"{tile.file} has vertices of face rows it does not hold")
+    return vertices, faces
