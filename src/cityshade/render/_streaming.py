@@ -9,9 +9,11 @@ single still, which waits for its view's tiles). Resident bytes, the tiles uploa
 being read, never exceed the budget: a read is asked for only when its tile fits beside them.
 
 `StreamedCityGPU` is a CityGPU whose building vertex buffer is an arena of the budget's size (or
-the whole city's, if smaller) with a slot per resident tile, which holds the tile's vertices and,
-after them, its face rows: the same buffer is the face table the vertex stage reads, and a tile's
-vertices point at their rows where its slot holds them. The records and the cull pass's boxes
+the whole city's, if smaller) with a slot per resident tile, which holds the tile's vertices, its
+face rows and its ground triangles: the same buffer is the face table the vertex stage reads (a
+tile's vertices point at their rows where its slot holds them) and the ground's vertex buffer
+(drawn by a command per tile, after the triangles wider than a tile, which stay resident). The
+records and the cull pass's boxes
 stay those of the whole city, in the whole city's order; a box's vertex count is 0 while its tile
 is away and its first vertex points into its tile's slot while it is resident. Every draw goes
 through draw commands (the cull pass's, or `resident_draws` for all resident buildings), so the
@@ -31,8 +33,8 @@ import numpy as np
 from ..errors import CityshadeError, UsageError
 from ..gl import create_buffer
 from ..scene import FACE_DTYPE, GPU_VERTEX_DTYPE
-from ._city_gpu import CityGPU
-from ._tile_cache import SLOT_UNIT, Tile, TileCache, face_offset, read_tile
+from ._city_gpu import GROUND_ATTRIBUTES, GROUND_FORMAT, CityGPU
+from ._tile_cache import GROUND_DTYPE, SLOT_UNIT, Tile, TileCache, face_offset, ground_offset, read_tile
 from ._visibility import COMMAND_WORDS, BuildingVisibility
 
 _STOP = -1
@@ -252,6 +254,9 @@ class StreamedCityGPU(CityGPU):
         self.boxes["draw"][:, 0] = 0
         self.visibility = BuildingVisibility(ctx, self.boxes)
         self.resident_draws = create_buffer(ctx, reserve=max(len(self.boxes), 1) * COMMAND_WORDS * 4)
+        self._ground_draws = np.zeros((len(cache.tiles), COMMAND_WORDS), np.uint32)  # a command per tile, in tile order
+        self._ground_draws[:, 1] = 1
+        self.ground_draws = create_buffer(ctx, self._ground_draws)  # none resident yet
         self._upload_records(cache.records.copy())
         self.streamer = TileStreamer(
             cache.tiles, budget, read or partial(read_tile, cache), self._load_tile, self._release_tile
@@ -260,13 +265,21 @@ class StreamedCityGPU(CityGPU):
     def _first_vertex(self, index: int) -> int:
         return self.arena.slots[index][0] * SLOT_UNIT // GPU_VERTEX_DTYPE.itemsize
 
-    def _load_tile(self, index: int, data: tuple[np.ndarray, np.ndarray]):
-        vertices, faces = data
+    def _ground_first(self, index: int) -> int:
+        tile = self.streamer.tiles[index]
+        return (
+            self.arena.slots[index][0] * SLOT_UNIT + ground_offset(tile.vertices, tile.faces)
+        ) // GROUND_DTYPE.itemsize
+
+    def _load_tile(self, index: int, data: tuple[np.ndarray, np.ndarray, np.ndarray]):
+        vertices, faces, ground = data
         start = self.arena.allocate(index, self.streamer.tiles[index].resident_bytes // SLOT_UNIT) * SLOT_UNIT
         rows = start + face_offset(len(vertices))
         vertices["face"] += np.uint32(rows // FACE_DTYPE.itemsize)  # the tile's rows where its slot holds them
         self.building_vbo.write(vertices.tobytes(), offset=start)
         self.building_vbo.write(faces.tobytes(), offset=rows)
+        self.building_vbo.write(ground.tobytes(), offset=start + ground_offset(len(vertices), len(faces)))
+        self._ground_draws[index, 0] = len(ground)
         boxes = self._tile_boxes[index]
         draw = self.boxes["draw"]
         draw[boxes, 0] = self._count[boxes]
@@ -285,14 +298,17 @@ class StreamedCityGPU(CityGPU):
         self.arena.free(index)
         draw = self.boxes["draw"]
         draw[self._tile_boxes[index], 0] = 0
+        self._ground_draws[index, 0] = 0
 
     def _moved_boxes(self):
-        """The boxes' draw fields after the arena compacted: each resident tile's slot start."""
+        """The boxes' and the ground's draws after the arena compacted: each resident tile's slot start."""
         draw = self.boxes["draw"]
         for index in self.arena.slots:
             draw[self._tile_boxes[index], 1] = self._first_vertex(index) + self._local_first[self._tile_boxes[index]]
+            self._ground_draws[index, 2] = self._ground_first(index)
 
     def _upload_boxes(self):
+        self.ground_draws.write(self._ground_draws.tobytes())
         boxes = self.boxes
         self.visibility.upload_draws(boxes)
         commands = np.zeros((len(boxes), COMMAND_WORDS), np.uint32)
@@ -321,7 +337,15 @@ class StreamedCityGPU(CityGPU):
             draws = self.resident_draws if view_projection is None else self.visibility.frustum(view_projection)
         super().draw_buildings(program, draws=draws)
 
+    def draw_ground(self, program):
+        """The triangles wider than a tile, then each resident tile's, in tile order."""
+        super().draw_ground(program)
+        if self.streamer.tiles:
+            vao = self._vao(program, self.arena.buffer, GROUND_FORMAT, GROUND_ATTRIBUTES)
+            vao.render_indirect(self.ground_draws, moderngl.TRIANGLES, count=len(self.streamer.tiles))
+
     def release(self):
         self.streamer.close()
         self.resident_draws.release()
+        self.ground_draws.release()
         super().release()
