@@ -22,7 +22,7 @@ from cityshade.render import Renderer, RenderSettings, open_tiles, streamed_tile
 from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
 from cityshade.render._city_gpu import ground_vertices
 from cityshade.render._tile_cache import GROUND_DTYPE, SLOT_UNIT, CacheProblem, ground_offset, read_tile, slot_bytes
-from cityshade.scene import FACE_DTYPE, Camera, GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
+from cityshade.scene import FACE_DTYPE, GROUND_LAND, Camera, GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
 
 MAPS = Path(__file__).parent / "data" / "maps"
 TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
@@ -114,13 +114,16 @@ def test_tiles_hold_every_building_once(district, district_tiles):
 
 def test_tiles_hold_the_ground_of_their_cells(tagged_city, tagged_small_tiles):
     """Every ground triangle once, in the whole city's order: the tiles' (those in a cell with
-    buildings, no wider than a tile) and the city's own (the rest: the land plane's edge)."""
+    buildings, no wider than a tile) and the city's own (the rest, and the land under the map,
+    which no tile holds: a tile away leaves no hole in it)."""
     cache = tagged_small_tiles
     whole = ground_vertices(tagged_city).reshape(-1, 12)
     base = ground_vertices(cache.city).reshape(-1, 12)
     tiled = [read_tile(cache, i)[2].reshape(-1, 12) for i in range(len(cache.tiles))]
     assert sum(map(len, tiled)) + len(base) == len(whole) and sum(map(len, tiled)) and len(base)
     assert all(np.all(np.ptp(part[:, [0, 4, 8]], axis=1) <= TILE) for part in tiled)
+    assert not any(np.any(part[:, 3] == GROUND_LAND) for part in tiled)
+    assert np.count_nonzero(whole[:, 3] == GROUND_LAND) == np.count_nonzero(base[:, 3] == GROUND_LAND) > 0
     position = {row.tobytes(): i for i, row in enumerate(whole)}
     assert len(position) == len(whole)  # no triangle twice, so each is found by its bytes
     found = [np.array([position[row.tobytes()] for row in part], int) for part in (*tiled, base)]
@@ -183,6 +186,28 @@ def test_streamed_ground_looks_as_the_whole_city(tagged_city, tagged_small_tiles
     assert int(np.count_nonzero(off > COLOUR_TOLERANCE)) == 0, (
         f"colours: {np.count_nonzero(off)} pixels differ, by {off.max()}"
     )
+
+
+def test_tiles_away_leave_no_hole_in_the_ground(tagged_city, tagged_tiles, gl_context):
+    """Only the nearest tile resident, from the air: where the whole city shows anything, the
+    streamed one shows the ground or a building, never the sky below the horizon (tiles of the
+    default size, which the land's cells under a map would fit)."""
+    cache, camera = open_tiles(tagged_tiles), tagged_city.camera("aerial")
+    assert len(cache.tiles) > 1
+    nearest = nearest_first(cache.tiles, camera.eye)[0]
+    renderer = Renderer(SIZE, RenderSettings(samples=0), ctx=gl_context)
+    try:
+        renderer.set_city(tagged_city)
+        whole = renderer.render_ids(camera)
+        renderer.set_tiles(cache, cache.tiles[nearest].resident_bytes)
+        renderer.wait_for_tiles(camera)
+        assert set(renderer.city.streamer.resident) == {nearest}
+        streamed = renderer.render_ids(camera)
+    finally:
+        renderer.release()
+    holes = int(np.count_nonzero((whole[..., 0] != 0) & (streamed[..., 0] == 0)))
+    assert holes == 0, f"{holes} pixels show the sky through the ground"
+    assert np.count_nonzero(np.any(streamed != whole, axis=-1)) > 0  # tiles are away
 
 
 def test_frames_never_wait_for_the_tile_reader(district, district_tiles, gl_context):

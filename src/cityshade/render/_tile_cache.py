@@ -35,7 +35,7 @@ import numpy as np
 
 from .._files import atomic_folder, check_replaceable_folder
 from ..errors import CityshadeError
-from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, City, face_table, placements
+from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
 from ._city_gpu import CityBuildings, ground_vertices
 from ._culling import building_cells
@@ -173,12 +173,13 @@ def _split(cell: np.ndarray, cells: int) -> list[np.ndarray]:
 
 def _groups(masses: list, ground: np.ndarray, tile_size: float) -> tuple[list, list]:
     """Per tile (square cells with buildings, in (x, z) order): the buildings whose masses stand in
-    it and the ground triangles whose centres lie in it, of those no wider than a tile. The ground
-    of cells without buildings and the wider triangles (the plane under a city, reaching the
-    horizon) are no tile's."""
+    it and the ground triangles whose centres lie in it, of those no wider than a tile. No tile
+    holds the ground of cells without buildings, the wider triangles, nor the land under a map
+    (GROUND_LAND, reaching the horizon): a tile away must not leave a hole down to the sky below
+    the horizon."""
     position = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
     corners = ground.reshape(-1, 3, 4)[:, :, [0, 2]].astype(np.float64)
-    small = np.all(np.ptp(corners, axis=1) <= tile_size, axis=1)
+    small = np.all(np.ptp(corners, axis=1) <= tile_size, axis=1) & (ground.reshape(-1, 3, 4)[:, 0, 3] != GROUND_LAND)
     keys = np.floor(np.concatenate([position, corners[small].mean(axis=1)]) / tile_size).astype(np.int64)
     cells, cell = np.unique(keys.reshape(-1, 2), axis=0, return_inverse=True)
     cell = cell.ravel()
