@@ -12,12 +12,12 @@ being read, never exceed the budget: a read is asked for only when its tile fits
 the whole city's, if smaller) with a slot per resident tile, which holds the tile's vertices, its
 face rows and its ground triangles: the same buffer is the face table the vertex stage reads (a
 tile's vertices point at their rows where its slot holds them) and the ground's vertex buffer
-(drawn by a command per tile, after the triangles wider than a tile, which stay resident). The
-records and the cull pass's boxes
-stay those of the whole city, in the whole city's order; a box's vertex count is 0 while its tile
-is away and its first vertex points into its tile's slot while it is resident. Every draw goes
-through draw commands (the cull pass's, or `resident_draws` for all resident buildings), so the
-buildings that are resident are drawn exactly as the whole city would draw them.
+(drawn by a command per tile, after the ground no tile holds, which stays resident). The records
+and the cull pass's boxes stay those of the whole city, in the whole city's order; a box's vertex
+count is 0 while its tile is away and its first vertex points into its tile's slot while it is
+resident. Every draw goes through draw commands (the cull pass's, or `resident_draws` for all
+resident buildings), so the buildings that are resident are drawn exactly as the whole city would
+draw them.
 """
 
 from __future__ import annotations
@@ -243,7 +243,7 @@ class StreamedCityGPU(CityGPU):
         self.facades, self._lod_faces = cache.facades, cache.lod_faces
         budget = cache.total_bytes if budget is None else int(budget)
         self.arena = _Arena(ctx, min(budget, cache.total_bytes) // SLOT_UNIT, SLOT_UNIT, self._rebase_faces)
-        self.building_vbo = self.faces = self.arena.buffer  # vertices and face rows, a slot per tile
+        self.building_vbo = self.faces = self.arena.buffer  # vertices, face rows and ground, a slot per tile
         self.building_indices = None  # a tile's slot holds its triangle list as meshed
         self.building_vertex_count = 0  # resident
         self._count = cache.boxes["draw"][:, 0].copy()
@@ -338,7 +338,7 @@ class StreamedCityGPU(CityGPU):
         super().draw_buildings(program, draws=draws)
 
     def draw_ground(self, program):
-        """The triangles wider than a tile, then each resident tile's, in tile order."""
+        """The ground no tile holds, then each resident tile's, in tile order."""
         super().draw_ground(program)
         if self.streamer.tiles:
             vao = self._vao(program, self.arena.buffer, GROUND_FORMAT, GROUND_ATTRIBUTES)

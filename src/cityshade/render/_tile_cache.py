@@ -1,15 +1,16 @@
-"""A city's buildings cut into square tiles on disk, for streaming (docs/scale.md, "Streaming").
+"""A city's buildings and ground cut into square tiles on disk, for streaming (docs/scale.md,
+"Streaming").
 
 A cache folder holds `manifest.json` (format, cityshade version and a hash of its source code,
-vertex, face and record layouts, the source file's name, size and SHA-256, and per tile its file,
-bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' geometry: masses,
-ground, trees, lamps, viewpoints; the building records with their facades assigned; the cull
-pass's boxes in the whole city's order, each box's first vertex counted within its tile) and
-`tiles/NNNNN.npz` (each tile's vertices as the GPU holds them, its buildings one after another in
-box order, and its own face table, scene/_face_table.py, the vertices' rows counted from the
-tile's first). A tile is
-the buildings whose masses stand in one square of `tile_size` metres; the city is meshed tile by
-tile, so cutting it never holds more than one tile's vertices.
+vertex, face, ground and record layouts, the source file's name, size and SHA-256, and per tile
+its file, bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' geometry:
+masses, the ground no tile holds, trees, lamps, viewpoints; the building records with their
+facades assigned; the cull pass's boxes in the whole city's order, each box's first vertex counted
+within its tile) and `tiles/NNNNN.npz` (each tile's vertices as the GPU holds them, its buildings
+one after another in box order; its own face table, scene/_face_table.py, the vertices' rows
+counted from the tile's first; its ground triangles). A tile is the buildings whose masses stand
+in one square of `tile_size` metres and the ground of that square (_groups); the city is meshed
+tile by tile, so cutting it never holds more than one tile's vertices.
 
 Anything that does not match (another format, cityshade version or source code, vertex layout or
 source file; a missing, truncated or altered file) raises CacheProblem with one line saying what;
