@@ -15,6 +15,7 @@ from ..gl import RenderTarget, create_context, describe_context, programs, uploa
 from ..scene import Camera, City
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
+from ._godrays import GodRayTargets
 from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_passes, id_passes, run_passes
 from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
@@ -127,8 +128,8 @@ class Renderer:
             self._release_targets()
 
     def _release_targets(self):
-        for name in ("hdr", "resolved", "occluded", "display", "ids"):  # the grammar's targets belong to its pass
-            target = self.targets.get(name)
+        for name in ("hdr", "resolved", "occluded", "display", "ids", "god_rays"):  # the grammar's belong to its pass
+            target = getattr(self.targets, name)
             if target is not None:
                 target.release()
         self.targets = FrameTargets()
@@ -210,6 +211,8 @@ class Renderer:
             t.display = RenderTarget(self.ctx, self.size, (("f1", 4),))
         if self.settings.ssao and t.occluded is None:
             t.occluded = RenderTarget(self.ctx, self.size, (("f2", 4),))
+        if self.settings.god_rays and t.god_rays is None:
+            t.god_rays = GodRayTargets(self.ctx, self.size)
         inputs = self._inputs(camera)
         times = {} if profile else None
         start = time.perf_counter()
