@@ -37,6 +37,7 @@ from ._city_gpu import CityGPU
 from ._daylight import Daylight
 from ._godrays import GodRayTargets, god_ray_uniforms
 from ._night_sky import night_amount
+from ._sky_discs import sky_disc_uniforms
 from ._polygonised import draw_interior_depth, draw_interior_layers
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
@@ -78,7 +79,8 @@ class FrameResources:
     programs: ProgramCache
     city: CityGPU  # the buildings', ground's and lamps' buffers
     textures: CityTextures  # rooms, facades, sprites, grammars
-    env: moderngl.TextureCube  # the sky's radiance, remade when the daylight changes
+    env: moderngl.TextureCube  # the sky's radiance with the sun and moon, remade when the daylight changes
+    sky: moderngl.TextureCube  # the same without their discs, which the sky pass draws per pixel
     targets: FrameTargets
     shadows: CascadedShadows | None = None  # None: shadows off
     trees: TreePass | None = None  # None: no trees drawn
@@ -330,8 +332,13 @@ def trees(f: FrameInputs):
 
 def draw_sky(f: FrameInputs):
     program = f.gpu.programs.get("frame/sky.glsl")
-    bind_textures(program, {"u_env": f.gpu.env})
-    set_uniforms(program, u_stars=night_amount(f.view.daylight.sun_elevation))
+    bind_textures(program, {"u_env": f.gpu.sky})
+    v = f.view
+    set_uniforms(
+        program,
+        u_stars=night_amount(v.daylight.sun_elevation),
+        **sky_disc_uniforms(v.daylight, v.size[1], v.camera.fov_y),
+    )
     draw_fullscreen(program)
 
 

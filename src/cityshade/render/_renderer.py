@@ -58,7 +58,7 @@ class Renderer:
         self.shadows: CascadedShadows | None = None
         self.frame_index = 0  # drives the shadow cascades' update rates
         self._env_key = None
-        self.env = None
+        self.env = self.sky = None  # the sky's cube maps, with and without the discs (_sky_cubemap)
         self.targets = FrameTargets()
         self.last_frame_seconds = float("nan")
         self.last_pass_seconds: dict[str, float] = {}  # by pass name, from draw(..., profile=True)
@@ -139,17 +139,24 @@ class Renderer:
         daylight = Daylight.at(s.time_of_day, s.sun, s.moon)
         key = (round(daylight.hours, 3), s.sun, s.moon)
         if key != self._env_key:
-            if self.env is not None:
-                self.env.release()
-            radiance = assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sky_sun), dusk=daylight.dusk)
-            night = night_amount(daylight.sun_elevation)
-            if night > 0.0 or daylight.moon_direction is not None:
-                radiance = night_sky(
-                    radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction, daylight.moon_lit
-                )
-            self.env = upload_cubemap(self.ctx, radiance)
+            self._release_sky()
+            self.env, self.sky = (self._sky_cubemap(daylight, disc) for disc in (True, False))
             self._env_key = key
         return daylight
+
+    def _sky_cubemap(self, daylight: Daylight, disc: bool) -> moderngl.TextureCube:
+        """The sky's radiance, with the sun's and moon's discs (for reflections) or without them."""
+        radiance = assets.environment_cubemap(ENV_SIZE, tuple(daylight.sky_sun), daylight.dusk, disc)
+        night = night_amount(daylight.sun_elevation)
+        if night > 0.0 or daylight.moon_direction is not None:
+            directions = assets.cube_directions(ENV_SIZE)
+            radiance = night_sky(radiance, directions, night, daylight.moon_direction, daylight.moon_lit, disc)
+        return upload_cubemap(self.ctx, radiance)
+
+    def _release_sky(self):
+        for cube in (self.env, self.sky):
+            if cube is not None:
+                cube.release()
 
     def _inputs(self, camera: Camera) -> FrameInputs:
         if self.city is None:
@@ -178,6 +185,7 @@ class Renderer:
             self.city,
             self.textures,
             self.env,
+            self.sky,
             self.targets,
             shadows=self.shadows if s.shadows else None,
             trees=self.trees if s.trees else None,
@@ -262,8 +270,7 @@ class Renderer:
         if self.city is not None:
             self.city.release()
         self.textures.release()
-        if self.env is not None:
-            self.env.release()
+        self._release_sky()
         for owned in (self.trees, self.shadows):
             if owned is not None:
                 owned.release()
