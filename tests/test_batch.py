@@ -106,3 +106,10 @@ def test_helsinki_meshed_at_once_equals_one_by_one(helsinki_pbf):
 def test_no_masses_give_empty_arrays():
     vertices, records = batch([])
     assert len(vertices) == 0 and len(records) == 0
+
+
+def test_canopies_alone_mesh_as_one_by_one():
+    """A batch whose prisms all lack walls (a tile of canopies alone) has no wall edges at all."""
+    canopies = [mass for mass in _odd_masses() if not mass.walls]
+    assert canopies
+    _assert_same(canopies)

@@ -16,15 +16,20 @@ import pytest
 
 from cityshade.cli import main
 from cityshade.errors import CityshadeError, UsageError
+from cityshade.interior import FACE_CODES
+from cityshade.maps import load_map, map_city
 from cityshade.render import Renderer, RenderSettings, open_tiles, streamed_tiles, write_tiles
 from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
-from cityshade.render._tile_cache import CacheProblem, read_tile
-from cityshade.scene import GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
+from cityshade.render._city_gpu import ground_vertices
+from cityshade.render._tile_cache import GROUND_DTYPE, SLOT_UNIT, CacheProblem, ground_offset, read_tile, slot_bytes
+from cityshade.scene import FACE_DTYPE, GROUND_LAND, Camera, GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
 
 MAPS = Path(__file__).parent / "data" / "maps"
 TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
 SIZE = (160, 120)
 TILE = 64.0  # metres: the 329-building default city in 64 tiles
+COLOUR_TOLERANCE = 2  # of 255: the ground is drawn in another order, its pixels shaded alike
+PARTS = {"vertices": GPU_VERTEX_DTYPE, "faces": FACE_DTYPE, "ground": GROUND_DTYPE}  # a tile's, in its slot's order
 
 
 @pytest.fixture(scope="module")
@@ -36,6 +41,19 @@ def district():
 def district_tiles(district, tmp_path_factory):
     folder = tmp_path_factory.mktemp("district") / "tiles"
     write_tiles(district, folder, tile_size=TILE)
+    return open_tiles(folder)
+
+
+@pytest.fixture(scope="module")
+def tagged_city():
+    return map_city(load_map(TAGGED))
+
+
+@pytest.fixture(scope="module")
+def tagged_small_tiles(tagged_city, tmp_path_factory):
+    """The tagged map in tiles of TILE metres: its five buildings in five tiles, with their ground."""
+    folder = tmp_path_factory.mktemp("tagged") / "tiles"
+    write_tiles(tagged_city, folder, tile_size=TILE)
     return open_tiles(folder)
 
 
@@ -69,11 +87,13 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
     manifest = json.loads((folder / "manifest.json").read_text())
     data = TAGGED.read_bytes()
     assert manifest["source"] == {"name": TAGGED.name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
-    assert manifest["format"] == 1 and manifest["cityshade"] and manifest["tiles"]
+    assert manifest["format"] == 2 and manifest["cityshade"] and manifest["tiles"]
     for tile in manifest["tiles"]:
         path = folder / tile["file"]
         assert path.stat().st_size == tile["bytes"]
-        assert tile["resident_bytes"] == tile["vertices"] * GPU_VERTEX_DTYPE.itemsize
+        assert tile["resident_bytes"] == slot_bytes(tile["vertices"], tile["faces"], tile["ground"])
+        held = sum(tile[part] * dtype.itemsize for part, dtype in PARTS.items())
+        assert held <= tile["resident_bytes"] < held + FACE_DTYPE.itemsize + GROUND_DTYPE.itemsize + SLOT_UNIT
         x0, z0, x1, z1 = tile["bounds"]
         assert x0 <= x1 and z0 <= z1
     assert sorted(p.name for p in folder.iterdir()) == ["city.pickle", "manifest.json", "tiles"]
@@ -82,7 +102,7 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
 def test_tiles_hold_every_building_once(district, district_tiles):
     cache = district_tiles
     placement = placements(district.masses)
-    vertices = [expand_face_table(read_tile(cache, i), cache.faces, placement) for i in range(len(cache.tiles))]
+    vertices = [expand_face_table(*read_tile(cache, i)[:2], placement) for i in range(len(cache.tiles))]
     assert sum(t.buildings for t in cache.tiles) == len(cache.boxes) == len(district.masses)
     held = np.concatenate([np.unique(v["ids"][:, 0]) for v in vertices])
     assert sorted(held.tolist()) == sorted(cache.boxes["draw"][:, 2].tolist())
@@ -90,6 +110,25 @@ def test_tiles_hold_every_building_once(district, district_tiles):
         for box in cache.boxes[cache.box_tile == i]:
             count, first, building = (int(x) for x in box["draw"][:3])
             assert np.all(v["ids"][first : first + count, 0] == building)
+
+
+def test_tiles_hold_the_ground_of_their_cells(tagged_city, tagged_small_tiles):
+    """Every ground triangle once, in the whole city's order: the tiles' (those in a cell with
+    buildings, no wider than a tile) and the city's own (the rest, and the land under the map,
+    which no tile holds: a tile away leaves no hole in it)."""
+    cache = tagged_small_tiles
+    whole = ground_vertices(tagged_city).reshape(-1, 12)
+    base = ground_vertices(cache.city).reshape(-1, 12)
+    tiled = [read_tile(cache, i)[2].reshape(-1, 12) for i in range(len(cache.tiles))]
+    assert sum(map(len, tiled)) + len(base) == len(whole) and sum(map(len, tiled)) and len(base)
+    assert all(np.all(np.ptp(part[:, [0, 4, 8]], axis=1) <= TILE) for part in tiled)
+    assert not any(np.any(part[:, 3] == GROUND_LAND) for part in tiled)
+    assert np.count_nonzero(whole[:, 3] == GROUND_LAND) == np.count_nonzero(base[:, 3] == GROUND_LAND) > 0
+    position = {row.tobytes(): i for i, row in enumerate(whole)}
+    assert len(position) == len(whole)  # no triangle twice, so each is found by its bytes
+    found = [np.array([position[row.tobytes()] for row in part], int) for part in (*tiled, base)]
+    assert sorted(np.concatenate(found).tolist()) == list(range(len(whole)))
+    assert all(np.all(np.diff(part) > 0) for part in found)
 
 
 # -- drawing ---------------------------------------------------------------------------------------
@@ -119,6 +158,56 @@ def test_streamed_ids_equal_the_whole_city(district, district_tiles, gl_context,
     differing = int(np.count_nonzero(np.any(streamed != whole, axis=-1)))
     assert differing == 0, f"{differing} of {whole.shape[0] * whole.shape[1]} pixels differ"
     assert np.count_nonzero(whole[..., 2]) > 0.2 * whole.shape[0] * whole.shape[1]
+
+
+@pytest.mark.parametrize("low", [False, True])
+def test_streamed_ground_looks_as_the_whole_city(tagged_city, tagged_small_tiles, gl_context, low):
+    """Every tile resident, the ground drawn from the tiles' slots after the triangles no tile holds:
+    the same ids (materials, lamp lists) and the same colours as the whole city's ground, from the
+    map's aerial camera and from 2 m above its target, looking across the ground."""
+    camera = tagged_city.camera("aerial")
+    if low:
+        x, _, z = camera.target
+        camera = Camera((x - 60.0, 2.0, z - 60.0), camera.target)
+    renderer = Renderer(SIZE, RenderSettings(samples=0), ctx=gl_context)
+    try:
+        renderer.set_city(tagged_city)
+        whole, whole_ids = renderer.render(camera), renderer.render_ids(camera)
+        renderer.set_tiles(tagged_small_tiles)
+        renderer.wait_for_tiles(camera)
+        streamed, streamed_ids = renderer.render(camera), renderer.render_ids(camera)
+    finally:
+        renderer.release()
+    ground = np.count_nonzero(whole_ids[..., 0] == FACE_CODES["FACE_GROUND"])
+    assert ground > 0.2 * whole_ids.shape[0] * whole_ids.shape[1]
+    differing = int(np.count_nonzero(np.any(streamed_ids != whole_ids, axis=-1)))
+    assert differing == 0, f"ids: {differing} of {ground} ground pixels differ"
+    off = np.abs(streamed.astype(int) - whole.astype(int)).max(axis=-1)
+    assert int(np.count_nonzero(off > COLOUR_TOLERANCE)) == 0, (
+        f"colours: {np.count_nonzero(off)} pixels differ, by {off.max()}"
+    )
+
+
+def test_tiles_away_leave_no_hole_in_the_ground(tagged_city, tagged_tiles, gl_context):
+    """Only the nearest tile resident, from the air: where the whole city shows anything, the
+    streamed one shows the ground or a building, never the sky below the horizon (tiles of the
+    default size, which the land's cells under a map would fit)."""
+    cache, camera = open_tiles(tagged_tiles), tagged_city.camera("aerial")
+    assert len(cache.tiles) > 1
+    nearest = nearest_first(cache.tiles, camera.eye)[0]
+    renderer = Renderer(SIZE, RenderSettings(samples=0), ctx=gl_context)
+    try:
+        renderer.set_city(tagged_city)
+        whole = renderer.render_ids(camera)
+        renderer.set_tiles(cache, cache.tiles[nearest].resident_bytes)
+        renderer.wait_for_tiles(camera)
+        assert set(renderer.city.streamer.resident) == {nearest}
+        streamed = renderer.render_ids(camera)
+    finally:
+        renderer.release()
+    holes = int(np.count_nonzero((whole[..., 0] != 0) & (streamed[..., 0] == 0)))
+    assert holes == 0, f"{holes} pixels show the sky through the ground"
+    assert np.count_nonzero(np.any(streamed != whole, axis=-1)) > 0  # tiles are away
 
 
 def test_frames_never_wait_for_the_tile_reader(district, district_tiles, gl_context):
@@ -154,16 +243,40 @@ def test_frames_never_wait_for_the_tile_reader(district, district_tiles, gl_cont
     assert streamer.resident and np.count_nonzero(ids[..., 2]) > 0
 
 
+def held_tiles(city: StreamedCityGPU, placement) -> dict[int, np.ndarray]:
+    """Each resident tile's vertices as the vertex stage gets them from its slot of the arena (the
+    vertices there, read through the face rows they point at, and the ground)."""
+    size = GPU_VERTEX_DTYPE.itemsize
+    table = np.frombuffer(city.faces.read(), np.uint8)
+    table = table[: len(table) // FACE_DTYPE.itemsize * FACE_DTYPE.itemsize].view(FACE_DTYPE)
+    held = {}
+    for index, (first, _) in city.arena.slots.items():
+        tile = city.streamer.tiles[index]
+        vertices = city.building_vbo.read(size=tile.vertices * size, offset=first * SLOT_UNIT)
+        ground_at = first * SLOT_UNIT + ground_offset(tile.vertices, tile.faces)
+        ground = (
+            city.building_vbo.read(size=tile.ground * GROUND_DTYPE.itemsize, offset=ground_at) if tile.ground else b""
+        )
+        held[index] = (expand_face_table(np.frombuffer(vertices, GPU_VERTEX_DTYPE), table, placement).tobytes(), ground)
+    return held
+
+
+def tile_as_drawn(cache, index: int, placement) -> tuple[bytes, bytes]:
+    vertices, faces, ground = read_tile(cache, index)
+    return expand_face_table(vertices, faces, placement).tobytes(), ground.tobytes()
+
+
 def test_resident_bytes_stay_under_the_budget_along_a_path(district, district_tiles, gl_context):
     """Walking across the city: at every step the resident tiles (uploaded and being read) fit the
     budget, tiles are released behind the camera, and each resident tile's slot of the arena holds
-    its vertices."""
+    its vertices and face rows."""
     cache = district_tiles
     budget = cache.total_bytes // 4
+    placement = placements(district.masses)
     city = StreamedCityGPU(gl_context, cache, budget)
     released = set()
     try:
-        assert city.arena.capacity * GPU_VERTEX_DTYPE.itemsize <= budget
+        assert city.arena.capacity * SLOT_UNIT <= budget
         x0, z0, x1, z1 = district.bounds
         for t in np.linspace(0, 1, 12):
             eye = (x0 + t * (x1 - x0), 2.0, z0 + t * (z1 - z0))
@@ -173,14 +286,38 @@ def test_resident_bytes_stay_under_the_budget_along_a_path(district, district_ti
             city.wait(eye)
             released |= before - set(city.streamer.resident)
             assert city.streamer.resident_bytes <= budget
-            for index, (first, count) in city.arena.slots.items():
-                size = GPU_VERTEX_DTYPE.itemsize
-                held = city.building_vbo.read(size=count * size, offset=first * size)
-                assert held == read_tile(cache, index).tobytes()
+            for index, held in held_tiles(city, placement).items():
+                assert held == tile_as_drawn(cache, index, placement)
         assert city.streamer.peak_bytes <= budget
     finally:
         city.release()
     assert released
+
+
+def test_compacting_the_arena_moves_face_rows_and_ground_with_their_vertices(
+    tagged_city, tagged_small_tiles, gl_context
+):
+    """Slots moved down to close the gaps: each tile's vertices point at their rows where they are
+    now, and its ground is drawn from where it is now."""
+    cache, placement = tagged_small_tiles, placements(tagged_city.masses)
+    city = StreamedCityGPU(gl_context, cache)
+    try:
+        city.wait(tagged_city.camera("aerial").eye)
+        for index in list(city.arena.slots)[::2]:  # every other slot freed: gaps between the rest
+            city.streamer.resident.pop(index)
+            city._release_tile(index)
+        before = {index: first for index, (first, _) in city.arena.slots.items()}
+        city.arena.compact()
+        assert any(city.arena.slots[index][0] < first for index, first in before.items())
+        city._moved_boxes()
+        for index, held in held_tiles(city, placement).items():
+            assert held == tile_as_drawn(cache, index, placement)
+            count, _, first = city._ground_draws[index, :3].tolist()
+            size = GROUND_DTYPE.itemsize
+            assert count == cache.tiles[index].ground
+            assert (city.building_vbo.read(size=count * size, offset=first * size) if count else b"") == held[1]
+    finally:
+        city.release()
 
 
 def test_update_never_waits_for_a_slow_read(district_tiles):
@@ -206,15 +343,16 @@ def test_update_never_waits_for_a_slow_read(district_tiles):
 
 
 def test_arena_compacts_when_no_gap_is_wide_enough(gl_context):
-    arena = _Arena(gl_context, 30)
-    size = GPU_VERTEX_DTYPE.itemsize
+    moves = []
+    size = 24
+    arena = _Arena(gl_context, 30, size, lambda *move: moves.append(move))
     data = {k: np.full(10 * size, k, np.uint8).tobytes() for k in range(3)}
     for k in range(3):
         arena.buffer.write(data[k], offset=arena.allocate(k, 10) * size)
     arena.free(0)
     arena.free(2)
     first = arena.allocate(3, 20)  # 20 free, in two gaps of 10
-    assert arena.slots[1] == (0, 10) and first == 10
+    assert arena.slots[1] == (0, 10) and first == 10 and moves == [(1, 10, 0)]
     assert arena.buffer.read(size=10 * size, offset=0) == data[1]
     arena.buffer.release()
 
@@ -253,7 +391,7 @@ def _garbage_manifest(folder: Path):
 
 
 def _truncated_tile(folder: Path):
-    path = folder / "tiles" / "00000.npy"
+    path = folder / "tiles" / "00000.npz"
     path.write_bytes(path.read_bytes()[:100])
 
 
@@ -266,7 +404,7 @@ DAMAGE = {
     "version": (_set_version, "made with cityshade '0.0.1'"),
     "code": (_set_code, "made with meshing_code '0123456789abcdef'"),
     "manifest": (_garbage_manifest, "manifest.json is damaged"),
-    "tile": (_truncated_tile, "tiles/00000.npy is missing or damaged"),
+    "tile": (_truncated_tile, "tiles/00000.npz is missing or damaged"),
     "city": (_truncated_city, "city.pickle is damaged"),
 }
 
@@ -305,14 +443,50 @@ def test_a_cache_of_another_file_is_made_again(tagged_tiles, capsys):
 
 def test_an_altered_tile_fails_when_read(tagged_tiles, tmp_path, capsys):
     """Same size, other bytes: the reader's SHA-256 check stops it, one line, before any frame."""
-    path = tagged_tiles / "tiles" / "00000.npy"
+    path = tagged_tiles / "tiles" / "00000.npz"
     data = bytearray(path.read_bytes())
     data[-1] ^= 0xFF
     path.write_bytes(bytes(data))
     err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
-    assert "tiles/00000.npy is damaged (its SHA-256 is not the manifest's)" in err
+    assert "tiles/00000.npz is damaged (its SHA-256 is not the manifest's)" in err
     with pytest.raises(CityshadeError):
         read_tile(open_tiles(tagged_tiles), 0)
+
+
+def _rewritten_tile(folder: Path, **arrays):
+    """Tile 0's file replaced by `arrays`, its size and SHA-256 in the manifest to match."""
+    path = folder / "tiles" / "00000.npz"
+    np.savez(path, **arrays)
+    data = path.read_bytes()
+    manifest = json.loads((folder / "manifest.json").read_text())
+    manifest["tiles"][0].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest())
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+
+
+@pytest.mark.parametrize(
+    "arrays, reason",
+    [
+        ("no faces", "cannot be read (KeyError"),
+        ("rows beyond", "has vertices of face rows it does not hold"),
+        ("vertices as faces", "holds faces of another layout or count than its tile's"),
+        ("ground of another layout", "holds ground of another layout or count than its tile's"),
+    ],
+)
+def test_a_tile_file_of_other_contents_is_one_line(arrays, reason, tagged_tiles, tmp_path, capsys):
+    """A tile file whose manifest entry matches but whose arrays are not its tile's: refused when read."""
+    vertices, faces, ground = read_tile(open_tiles(tagged_tiles), 0)
+    if arrays == "no faces":
+        _rewritten_tile(tagged_tiles, vertices=vertices, ground=ground)
+    elif arrays == "rows beyond":
+        vertices["face"][-1] = len(faces)
+        _rewritten_tile(tagged_tiles, vertices=vertices, faces=faces, ground=ground)
+    elif arrays == "ground of another layout":
+        _rewritten_tile(tagged_tiles, vertices=vertices, faces=faces, ground=ground.astype(np.float64))
+    else:
+        _rewritten_tile(tagged_tiles, vertices=vertices, faces=vertices, ground=ground)
+    err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
+    assert f"tiles/00000.npz {reason}" in err
+    assert not (tmp_path / "a.png").exists()
 
 
 class _Payload:

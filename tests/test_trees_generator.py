@@ -40,6 +40,20 @@ def test_mesh_is_valid(name, seed):
 
 
 @pytest.mark.parametrize("name", sorted(SPECIES))
+def test_no_branch_or_leaf_goes_into_the_ground(name):
+    """A fir's lowest branches droop (its spread is over 90 degrees) but run along the ground
+    rather than into it: seed 1's once reached 0.71 m below it."""
+    lowest = {}
+    for seed in range(12):
+        near = generate_tree(SPECIES[name], seed).lods[0]
+        lowest[seed] = min(near.branches[:, 1].min(), near.cards[:, 1].min() if len(near.cards) else np.inf)
+        if near.fronds.size:
+            lowest[seed] = min(lowest[seed], near.fronds[:, 1].min())
+    print({seed: round(float(y), 2) for seed, y in lowest.items()})
+    assert min(lowest.values()) > -0.05
+
+
+@pytest.mark.parametrize("name", sorted(SPECIES))
 def test_far_lod_is_lighter_and_fits_the_near_one(name):
     tree = generate_tree(SPECIES[name], 1)
     near, far = tree.lods

@@ -9,7 +9,7 @@ from ._atlas import room_atlas
 from ._curtain import curtain_texture
 from ._facade import facade_texture
 from ._rooms import FACES, ROOM_STYLES, room_textures
-from ._sky import cube_directions, environment_cubemap, sky_colour
+from ._sky import SUN_RADIANCE, SUN_RADIUS, cube_directions, environment_cubemap, sky_colour, sun_colour
 from ._sprites import SPRITE_KINDS, furniture_sprites
 from ._tiles import LABEL_COLOURS, LABELS, TILE_INDEX, TILES, TileArray, tile_array
 
@@ -30,5 +30,8 @@ __all__ = [
     "room_atlas",
     "room_textures",
     "sky_colour",
+    "sun_colour",
+    "SUN_RADIANCE",
+    "SUN_RADIUS",
     "tile_array",
 ]

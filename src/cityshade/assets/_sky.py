@@ -38,10 +38,16 @@ def _normalise(x):
     return x / np.maximum(np.linalg.norm(x, axis=-1, keepdims=True), 1e-12)
 
 
-def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.ndarray:
+def sun_colour(dusk: float) -> np.ndarray:
+    """The sun's colour, white by day, orange at dusk (its disc is SUN_RADIANCE times it)."""
+    return _mix((1.0, 0.95, 0.88), (1.0, 0.45, 0.16), float(np.clip(dusk, 0.0, 1.0)))
+
+
+def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7, disc: bool = True) -> np.ndarray:
     """Linear HDR radiance (..., 3) float32 seen along unit-ish `direction` (..., 3).
 
-    y is up. dusk = 0 is day, 1 late dusk. Below the horizon is dark ground.
+    y is up. dusk = 0 is day, 1 late dusk. Below the horizon is dark ground. Without `disc`, the
+    sky around the sun but not its disc (the sky pass draws that per pixel, shaders/frame/sky.glsl).
     """
     dirs = _normalise(direction)
     sun = _normalise(sun_direction)
@@ -58,9 +64,9 @@ def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.nd
     up = np.clip(y, 0, 1)
     sky = _mix(horizon, zenith, up**0.45)
 
-    sun_colour = _mix((1.0, 0.95, 0.88), (1.0, 0.45, 0.16), dusk)
+    sun = sun_colour(dusk)
     near = np.clip(cos_sun, 0, 1)
-    sky += sun_colour * (1.5 * near**200 + 0.35 * near**12)[..., None]
+    sky += sun * (1.5 * near**200 + 0.35 * near**12)[..., None]
 
     # Soft clouds on a plane above the viewer, fading out toward the horizon.
     lift = np.maximum(y, 0) + 0.12
@@ -78,8 +84,8 @@ def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.nd
     )
     sky = _mix(sky, cloud_colour, cover)
 
-    disc = cos_sun > np.cos(SUN_RADIUS)
-    sky[disc] = sun_colour * SUN_RADIANCE
+    if disc:
+        sky[cos_sun > np.cos(SUN_RADIUS)] = sun * SUN_RADIANCE
 
     ground = _mix(
         horizon * 0.25, np.broadcast_to(np.float32([0.02, 0.02, 0.025]), horizon.shape), np.clip(-y * 6, 0, 1)
@@ -106,17 +112,17 @@ def cube_directions(size: int) -> np.ndarray:
 
 
 @lru_cache(maxsize=8)
-def _cubemap(size: int, sun: tuple[float, float, float], dusk: float) -> np.ndarray:
-    radiance = sky_colour(cube_directions(size), sun, dusk)
+def _cubemap(size: int, sun: tuple[float, float, float], dusk: float, disc: bool) -> np.ndarray:
+    radiance = sky_colour(cube_directions(size), sun, dusk, disc)
     radiance.flags.writeable = False
     return radiance
 
 
-def environment_cubemap(size: int = 128, sun_direction=DEFAULT_SUN, dusk: float = 0.7) -> np.ndarray:
+def environment_cubemap(size: int = 128, sun_direction=DEFAULT_SUN, dusk: float = 0.7, disc: bool = True) -> np.ndarray:
     """(6, size, size, 3) float32 linear HDR radiance of sky_colour on a GL cube map.
 
     Faces in GL order +X, -X, +Y, -Y, +Z, -Z with the orientation in this module's
     docstring; row 0 of each face is t = 0. Read-only (cached).
     """
     sun = tuple(float(c) for c in np.asarray(sun_direction, np.float64).reshape(3))
-    return _cubemap(int(size), sun, float(dusk))
+    return _cubemap(int(size), sun, float(dusk), bool(disc))

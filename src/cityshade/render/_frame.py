@@ -35,8 +35,9 @@ from ..relief import switch_distance
 from ._building_lod import bay_mean, lod_distances, relief_mean
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
-from ._godrays import god_ray_uniforms
+from ._godrays import GodRayTargets, god_ray_uniforms
 from ._night_sky import night_amount
+from ._sky_discs import sky_disc_uniforms
 from ._polygonised import draw_interior_depth, draw_interior_layers
 from ._settings import RenderSettings
 from ._shadows import CascadedShadows, shadow_pass
@@ -52,8 +53,8 @@ WINDOW_TINT = np.array([0.02, 0.025, 0.03])  # the glass where no room is drawn 
 @dataclass
 class FrameTargets:
     """Where passes draw: the multisampled HDR target, its resolve, the resolve with ambient
-    occlusion, the 8-bit display image, the id AOV and the deferred grammar's G-buffer and results
-    (None until a pass needs them)."""
+    occlusion, the 8-bit display image, the id AOV, the deferred grammar's G-buffer and results and
+    the god rays' half-resolution steps (None until a pass needs them)."""
 
     hdr: RenderTarget | None = None
     resolved: RenderTarget | None = None
@@ -62,10 +63,12 @@ class FrameTargets:
     ids: RenderTarget | None = None
     grammar_gbuffer: RenderTarget | None = None
     grammar_result: RenderTarget | None = None
+    god_rays: GodRayTargets | None = None  # drawn by its pass, which binds them itself
 
     def get(self, name: str) -> RenderTarget | None:
-        """The target called `name`; None for what a pass binds itself (the shadow maps)."""
-        return getattr(self, name, None)
+        """The target called `name`; None for what a pass binds itself (the shadow maps, the god rays' steps)."""
+        target = getattr(self, name, None)
+        return target if isinstance(target, RenderTarget) else None
 
 
 @dataclass
@@ -76,7 +79,8 @@ class FrameResources:
     programs: ProgramCache
     city: CityGPU  # the buildings', ground's and lamps' buffers
     textures: CityTextures  # rooms, facades, sprites, grammars
-    env: moderngl.TextureCube  # the sky's radiance, remade when the daylight changes
+    env: moderngl.TextureCube  # the sky's radiance with the sun and moon, remade when the daylight changes
+    sky: moderngl.TextureCube  # the same without their discs, which the sky pass draws per pixel
     targets: FrameTargets
     shadows: CascadedShadows | None = None  # None: shadows off
     trees: TreePass | None = None  # None: no trees drawn
@@ -328,8 +332,13 @@ def trees(f: FrameInputs):
 
 def draw_sky(f: FrameInputs):
     program = f.gpu.programs.get("frame/sky.glsl")
-    bind_textures(program, {"u_env": f.gpu.env})
-    set_uniforms(program, u_stars=night_amount(f.view.daylight.sun_elevation))
+    bind_textures(program, {"u_env": f.gpu.sky})
+    v = f.view
+    set_uniforms(
+        program,
+        u_stars=night_amount(v.daylight.sun_elevation),
+        **sky_disc_uniforms(v.daylight, v.size[1], v.camera.fov_y),
+    )
     draw_fullscreen(program)
 
 
@@ -354,13 +363,24 @@ def tone_map_source(settings: RenderSettings) -> str:
     return "occluded" if settings.ssao else "resolved"
 
 
-def tone_map(f: FrameInputs):
-    program = f.gpu.programs.get("frame/tonemap.glsl", {"GOD_RAYS": f.view.settings.god_rays})
-    bind_textures(program, {"u_hdr": f.gpu.targets.get(tone_map_source(f.view.settings)).colors[0]})
+def _god_ray_uniforms(f: FrameInputs) -> dict:
     v = f.view
-    set_uniforms(
-        program, **god_ray_uniforms(v.view_projection, v.camera.eye, v.daylight.sun_direction, v.daylight.sun_color)
-    )
+    return god_ray_uniforms(v.view_projection, v.camera.eye, v.daylight.sun_direction, v.daylight.sun_color)
+
+
+def god_rays(f: FrameInputs):
+    targets = f.gpu.targets
+    hdr = targets.get(tone_map_source(f.view.settings)).colors[0]
+    targets.god_rays.draw(f.gpu.programs, hdr, _god_ray_uniforms(f)["u_sun_screen"])
+
+
+def tone_map(f: FrameInputs):
+    rays = f.view.settings.god_rays
+    program = f.gpu.programs.get("frame/tonemap.glsl", {"GOD_RAYS": rays})
+    source = f.gpu.targets.get(tone_map_source(f.view.settings)).colors[0]
+    bind_textures(program, {"u_hdr": source, **({"u_god_rays_image": f.gpu.targets.god_rays.image} if rays else {})})
+    if rays:
+        set_uniforms(program, **_god_ray_uniforms(f))
     draw_fullscreen(program)
 
 
@@ -507,7 +527,11 @@ def frame_passes(settings: RenderSettings) -> list[Pass]:
         # screen-space ambient occlusion from the resolved depth (Krecklau §4's pipeline)
         passes.append(Pass("ssao", ssao, ("resolved",), "occluded", OFF))
     # god rays around the sun (SpeedTree §4.5), then HDR -> sRGB 8-bit
-    passes.append(Pass("tone map", tone_map, (tone_map_source(settings),), "display", OFF))
+    tone_map_reads = (tone_map_source(settings),)
+    if settings.god_rays:
+        passes.append(Pass("god rays", god_rays, tone_map_reads, "god_rays", OFF))
+        tone_map_reads += ("god_rays",)
+    passes.append(Pass("tone map", tone_map, tone_map_reads, "display", OFF))
     return passes
 
 

@@ -1,6 +1,7 @@
 """The night: the dusk sky of `assets.sky_colour` darkened as the sun sinks through twilight, with
-the moon's disc (linear HDR, on the environment cube map's texels). The stars are drawn per pixel
-by the sky pass (shaders/frame/stars.glsl), finer than a texel."""
+the moon's disc (linear HDR, on the environment cube map's texels, for reflections). The stars and
+the sun's and moon's discs are drawn per pixel by the sky pass (shaders/frame/stars.glsl,
+frame/sky.glsl), finer than a texel."""
 
 from __future__ import annotations
 
@@ -17,15 +18,29 @@ def night_amount(sun_elevation: float) -> float:
     return t * t * (3 - 2 * t)
 
 
+def night_dimming(night: float) -> float:
+    """What the night leaves of the day sky's radiance (the sun's disc too)."""
+    return 1.0 - 0.97 * night
+
+
+def moon_radiance(moon_lit: float) -> np.ndarray:
+    return MOON_RADIANCE * np.float32(0.15 + 0.85 * moon_lit)
+
+
 def night_sky(
-    radiance: np.ndarray, directions: np.ndarray, night: float, moon: np.ndarray | None = None, moon_lit: float = 1.0
+    radiance: np.ndarray,
+    directions: np.ndarray,
+    night: float,
+    moon: np.ndarray | None = None,
+    moon_lit: float = 1.0,
+    disc: bool = True,
 ) -> np.ndarray:
     """Radiance (..., 3) darkened toward the night sky by `night` (0..1), with the moon's disc toward
-    unit vector `moon` (lit fraction `moon_lit`)."""
+    unit vector `moon` (lit fraction `moon_lit`; without `disc`, none: the sky pass draws it per pixel)."""
     dirs = directions / np.linalg.norm(directions, axis=-1, keepdims=True)
     up = np.clip(dirs[..., 1], 0.0, 1.0)[..., None]
-    sky = radiance * np.float32(1.0 - 0.97 * night) + NIGHT_ZENITH * np.float32(night)
-    if moon is not None:
-        disc = (dirs @ np.asarray(moon, np.float32)) > np.cos(MOON_RADIUS)
-        sky[disc] = MOON_RADIANCE * np.float32(0.15 + 0.85 * moon_lit)
-    return np.where(up > 0.0, sky, radiance * np.float32(1.0 - 0.97 * night)).astype(np.float32)
+    dimmed = radiance * np.float32(night_dimming(night))
+    sky = dimmed + NIGHT_ZENITH * np.float32(night)
+    if moon is not None and disc:
+        sky[(dirs @ np.asarray(moon, np.float32)) > np.cos(MOON_RADIUS)] = moon_radiance(moon_lit)
+    return np.where(up > 0.0, sky, dimmed).astype(np.float32)

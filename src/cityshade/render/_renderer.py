@@ -16,6 +16,7 @@ from ..scene import Camera, City
 from ._building_lod import lod_distances
 from ._city_gpu import CityGPU
 from ._daylight import Daylight
+from ._godrays import GodRayTargets
 from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_passes, id_passes, run_passes
 from ._night_sky import night_amount, night_sky
 from ._settings import RenderSettings
@@ -58,7 +59,7 @@ class Renderer:
         self.shadows: CascadedShadows | None = None
         self.frame_index = 0  # drives the shadow cascades' update rates
         self._env_key = None
-        self.env = None
+        self.env = self.sky = None  # the sky's cube maps, with and without the discs (_sky_cubemap)
         self.targets = FrameTargets()
         self.last_frame_seconds = float("nan")
         self.last_pass_seconds: dict[str, float] = {}  # by pass name, from draw(..., profile=True)
@@ -130,8 +131,8 @@ class Renderer:
             self._release_targets()
 
     def _release_targets(self):
-        for name in ("hdr", "resolved", "occluded", "display", "ids"):  # the grammar's targets belong to its pass
-            target = self.targets.get(name)
+        for name in ("hdr", "resolved", "occluded", "display", "ids", "god_rays"):  # the grammar's belong to its pass
+            target = getattr(self.targets, name)
             if target is not None:
                 target.release()
         self.targets = FrameTargets()
@@ -141,17 +142,24 @@ class Renderer:
         daylight = Daylight.at(s.time_of_day, s.sun, s.moon)
         key = (round(daylight.hours, 3), s.sun, s.moon)
         if key != self._env_key:
-            if self.env is not None:
-                self.env.release()
-            radiance = assets.environment_cubemap(ENV_SIZE, sun_direction=tuple(daylight.sky_sun), dusk=daylight.dusk)
-            night = night_amount(daylight.sun_elevation)
-            if night > 0.0 or daylight.moon_direction is not None:
-                radiance = night_sky(
-                    radiance, assets.cube_directions(ENV_SIZE), night, daylight.moon_direction, daylight.moon_lit
-                )
-            self.env = upload_cubemap(self.ctx, radiance)
+            self._release_sky()
+            self.env, self.sky = (self._sky_cubemap(daylight, disc) for disc in (True, False))
             self._env_key = key
         return daylight
+
+    def _sky_cubemap(self, daylight: Daylight, disc: bool) -> moderngl.TextureCube:
+        """The sky's radiance, with the sun's and moon's discs (for reflections) or without them."""
+        radiance = assets.environment_cubemap(ENV_SIZE, tuple(daylight.sky_sun), daylight.dusk, disc)
+        night = night_amount(daylight.sun_elevation)
+        if night > 0.0 or daylight.moon_direction is not None:
+            directions = assets.cube_directions(ENV_SIZE)
+            radiance = night_sky(radiance, directions, night, daylight.moon_direction, daylight.moon_lit, disc)
+        return upload_cubemap(self.ctx, radiance)
+
+    def _release_sky(self):
+        for cube in (self.env, self.sky):
+            if cube is not None:
+                cube.release()
 
     def _inputs(self, camera: Camera, lod_budget: int | None = None) -> FrameInputs:
         """The frame's inputs for `camera`, with at most `lod_budget` cheap colours evaluated first
@@ -182,6 +190,7 @@ class Renderer:
             self.city,
             self.textures,
             self.env,
+            self.sky,
             self.targets,
             shadows=self.shadows if s.shadows else None,
             trees=self.trees if s.trees else None,
@@ -231,6 +240,8 @@ class Renderer:
             t.display = RenderTarget(self.ctx, self.size, (("f1", 4),))
         if self.settings.ssao and t.occluded is None:
             t.occluded = RenderTarget(self.ctx, self.size, (("f2", 4),))
+        if self.settings.god_rays and t.god_rays is None:
+            t.god_rays = GodRayTargets(self.ctx, self.size)
         self.last_lod_colours, self.last_lod_seconds = 0, 0.0
         inputs = self._inputs(camera, None if still else self.settings.building_lod_budget)
         times = {} if profile else None
@@ -283,8 +294,7 @@ class Renderer:
         if self.city is not None:
             self.city.release()
         self.textures.release()
-        if self.env is not None:
-            self.env.release()
+        self._release_sky()
         for owned in (self.trees, self.shadows):
             if owned is not None:
                 owned.release()

@@ -9,11 +9,15 @@ single still, which waits for its view's tiles). Resident bytes, the tiles uploa
 being read, never exceed the budget: a read is asked for only when its tile fits beside them.
 
 `StreamedCityGPU` is a CityGPU whose building vertex buffer is an arena of the budget's size (or
-the whole city's, if smaller) with a slot per resident tile. The records and the cull pass's boxes
-stay those of the whole city, in the whole city's order; a box's vertex count is 0 while its tile
-is away and its first vertex points into its tile's slot while it is resident. Every draw goes
-through draw commands (the cull pass's, or `resident_draws` for all resident buildings), so the
-buildings that are resident are drawn exactly as the whole city would draw them.
+the whole city's, if smaller) with a slot per resident tile, which holds the tile's vertices, its
+face rows and its ground triangles: the same buffer is the face table the vertex stage reads (a
+tile's vertices point at their rows where its slot holds them) and the ground's vertex buffer
+(drawn by a command per tile, after the ground no tile holds, which stays resident). The records
+and the cull pass's boxes stay those of the whole city, in the whole city's order; a box's vertex
+count is 0 while its tile is away and its first vertex points into its tile's slot while it is
+resident. Every draw goes through draw commands (the cull pass's, or `resident_draws` for all
+resident buildings), so the buildings that are resident are drawn exactly as the whole city would
+draw them.
 """
 
 from __future__ import annotations
@@ -28,9 +32,9 @@ import numpy as np
 
 from ..errors import CityshadeError, UsageError
 from ..gl import create_buffer
-from ..scene import GPU_VERTEX_DTYPE
-from ._city_gpu import CityGPU
-from ._tile_cache import Tile, TileCache, read_tile
+from ..scene import FACE_DTYPE, GPU_VERTEX_DTYPE
+from ._city_gpu import GROUND_ATTRIBUTES, GROUND_FORMAT, CityGPU
+from ._tile_cache import GROUND_DTYPE, SLOT_UNIT, Tile, TileCache, face_offset, ground_offset, read_tile
 from ._visibility import COMMAND_WORDS, BuildingVisibility
 
 _STOP = -1
@@ -60,15 +64,15 @@ def check_memory_budget(tiles: list[Tile], budget: int | None, eye):
 
 
 class TileStreamer:
-    """Which tiles are resident around the camera; `load(index, vertices)` and `release(index)` are
-    called on the thread that calls `update` (the GL thread), `read(index)` on the worker."""
+    """Which tiles are resident around the camera; `load(index, data)` and `release(index)` are
+    called on the thread that calls `update` (the GL thread), `read(index)` (its data) on the worker."""
 
     def __init__(
         self,
         tiles: list[Tile],
         budget: int,
-        read: Callable[[int], np.ndarray],
-        load: Callable[[int, np.ndarray], None],
+        read: Callable[[int], object],
+        load: Callable[[int, object], None],
         release: Callable[[int], None],
     ):
         self.tiles, self.budget = tiles, budget
@@ -78,7 +82,7 @@ class TileStreamer:
         self.peak_bytes = 0
         self._bounds = np.array([t.bounds for t in tiles], np.float64).reshape(-1, 4)
         self._requests: queue.Queue[int] = queue.Queue()
-        self._done: queue.Queue[tuple[int, np.ndarray | None, BaseException | None]] = queue.Queue()
+        self._done: queue.Queue[tuple[int, object, BaseException | None]] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="tile reader", daemon=True)
         self._worker.start()
 
@@ -112,7 +116,7 @@ class TileStreamer:
             chosen.append(index)
         return chosen
 
-    def _take(self, index: int, vertices: np.ndarray | None, error: BaseException | None, wanted: set[int]) -> bool:
+    def _take(self, index: int, data: object, error: BaseException | None, wanted: set[int]) -> bool:
         del self.reading[index]
         if error is not None:
             if isinstance(error, CityshadeError):
@@ -120,7 +124,7 @@ class TileStreamer:
             raise CityshadeError(f"reading {self.tiles[index].file} failed: {error}", exit_code=2)
         if index not in wanted:  # the camera moved on while it was read
             return False
-        self._load(index, vertices)
+        self._load(index, data)
         self.resident[index] = self.tiles[index].resident_bytes
         return True
 
@@ -178,12 +182,15 @@ class TileStreamer:
 
 
 class _Arena:
-    """First-fit slots (in vertices) of a fixed buffer; `compact` moves every slot down to close
-    the gaps (GPU copies), when a tile that fits the free space finds no gap wide enough."""
+    """First-fit slots (in units of `unit` bytes) of a fixed buffer; `compact` moves every slot down
+    to close the gaps (GPU copies), when a tile that fits the free space finds no gap wide enough,
+    and tells `moved(key, old_first, new_first)` of each slot it moved."""
 
-    def __init__(self, ctx: moderngl.Context, capacity: int):
-        self.ctx, self.capacity = ctx, capacity
-        self.buffer = create_buffer(ctx, reserve=max(capacity, 1) * GPU_VERTEX_DTYPE.itemsize)
+    def __init__(
+        self, ctx: moderngl.Context, capacity: int, unit: int, moved: Callable[[int, int, int], None] | None = None
+    ):
+        self.ctx, self.capacity, self.unit, self._moved = ctx, capacity, unit, moved
+        self.buffer = create_buffer(ctx, reserve=max(capacity, 1) * unit)
         self.slots: dict[int, tuple[int, int]] = {}  # key -> (first, count)
 
     def _gap(self, count: int) -> int | None:
@@ -200,12 +207,12 @@ class _Arena:
             self.compact()
             first = self._gap(count)
             if first is None:
-                raise RuntimeError(f"{count} vertices do not fit the arena's {self.capacity}")
+                raise RuntimeError(f"{count} units do not fit the arena's {self.capacity}")
         self.slots[key] = (first, count)
         return first
 
     def compact(self):
-        size = GPU_VERTEX_DTYPE.itemsize
+        size = self.unit
         end = 0
         for key, (first, count) in sorted(self.slots.items(), key=lambda item: item[1][0]):
             if first != end:  # through a scratch buffer: a copy within one buffer must not overlap
@@ -214,6 +221,8 @@ class _Arena:
                 self.ctx.copy_buffer(self.buffer, scratch, count * size, write_offset=end * size)
                 scratch.release()
                 self.slots[key] = (end, count)
+                if self._moved is not None:
+                    self._moved(key, first, end)
             end += count
 
     def free(self, key: int):
@@ -233,8 +242,8 @@ class StreamedCityGPU(CityGPU):
         self._upload_city(ctx, cache.city)
         self.facades, self._lod_faces = cache.facades, cache.lod_faces
         budget = cache.total_bytes if budget is None else int(budget)
-        self.arena = _Arena(ctx, min(budget, cache.total_bytes) // GPU_VERTEX_DTYPE.itemsize)
-        self.building_vbo = self.arena.buffer
+        self.arena = _Arena(ctx, min(budget, cache.total_bytes) // SLOT_UNIT, SLOT_UNIT, self._rebase_faces)
+        self.building_vbo = self.faces = self.arena.buffer  # vertices, face rows and ground, a slot per tile
         self.building_indices = None  # a tile's slot holds its triangle list as meshed
         self.building_vertex_count = 0  # resident
         self._count = cache.boxes["draw"][:, 0].copy()
@@ -245,34 +254,61 @@ class StreamedCityGPU(CityGPU):
         self.boxes["draw"][:, 0] = 0
         self.visibility = BuildingVisibility(ctx, self.boxes)
         self.resident_draws = create_buffer(ctx, reserve=max(len(self.boxes), 1) * COMMAND_WORDS * 4)
+        self._ground_draws = np.zeros((len(cache.tiles), COMMAND_WORDS), np.uint32)  # a command per tile, in tile order
+        self._ground_draws[:, 1] = 1
+        self.ground_draws = create_buffer(ctx, self._ground_draws)  # none resident yet
         self._upload_records(cache.records.copy())
-        self._upload_faces(cache.faces)
         self.streamer = TileStreamer(
             cache.tiles, budget, read or partial(read_tile, cache), self._load_tile, self._release_tile
         )
 
-    def _load_tile(self, index: int, vertices: np.ndarray):
-        first = self.arena.allocate(index, len(vertices))
-        self.building_vbo.write(vertices.tobytes(), offset=first * GPU_VERTEX_DTYPE.itemsize)
+    def _first_vertex(self, index: int) -> int:
+        return self.arena.slots[index][0] * SLOT_UNIT // GPU_VERTEX_DTYPE.itemsize
+
+    def _ground_first(self, index: int) -> int:
+        tile = self.streamer.tiles[index]
+        return (
+            self.arena.slots[index][0] * SLOT_UNIT + ground_offset(tile.vertices, tile.faces)
+        ) // GROUND_DTYPE.itemsize
+
+    def _load_tile(self, index: int, data: tuple[np.ndarray, np.ndarray, np.ndarray]):
+        vertices, faces, ground = data
+        start = self.arena.allocate(index, self.streamer.tiles[index].resident_bytes // SLOT_UNIT) * SLOT_UNIT
+        rows = start + face_offset(len(vertices))
+        vertices["face"] += np.uint32(rows // FACE_DTYPE.itemsize)  # the tile's rows where its slot holds them
+        self.building_vbo.write(vertices.tobytes(), offset=start)
+        self.building_vbo.write(faces.tobytes(), offset=rows)
+        self.building_vbo.write(ground.tobytes(), offset=start + ground_offset(len(vertices), len(faces)))
+        self._ground_draws[index, 0] = len(ground)
         boxes = self._tile_boxes[index]
         draw = self.boxes["draw"]
         draw[boxes, 0] = self._count[boxes]
-        draw[boxes, 1] = first + self._local_first[boxes]
+        draw[boxes, 1] = self._first_vertex(index) + self._local_first[boxes]
         self.building_vertex_count += len(vertices)
 
+    def _rebase_faces(self, index: int, old_first: int, new_first: int):
+        """A slot the arena moved: its vertices point at their face rows where the slot is now."""
+        size, offset = self.streamer.tiles[index].vertices * GPU_VERTEX_DTYPE.itemsize, new_first * SLOT_UNIT
+        held = np.frombuffer(self.building_vbo.read(size=size, offset=offset), GPU_VERTEX_DTYPE).copy()
+        held["face"] -= np.uint32((old_first - new_first) * SLOT_UNIT // FACE_DTYPE.itemsize)  # slots only move down
+        self.building_vbo.write(held.tobytes(), offset=offset)
+
     def _release_tile(self, index: int):
-        self.building_vertex_count -= self.arena.slots[index][1]
+        self.building_vertex_count -= self.streamer.tiles[index].vertices
         self.arena.free(index)
         draw = self.boxes["draw"]
         draw[self._tile_boxes[index], 0] = 0
+        self._ground_draws[index, 0] = 0
 
     def _moved_boxes(self):
-        """The boxes' draw fields after the arena compacted: each resident tile's slot start."""
+        """The boxes' and the ground's draws after the arena compacted: each resident tile's slot start."""
         draw = self.boxes["draw"]
-        for index, (first, _) in self.arena.slots.items():
-            draw[self._tile_boxes[index], 1] = first + self._local_first[self._tile_boxes[index]]
+        for index in self.arena.slots:
+            draw[self._tile_boxes[index], 1] = self._first_vertex(index) + self._local_first[self._tile_boxes[index]]
+            self._ground_draws[index, 2] = self._ground_first(index)
 
     def _upload_boxes(self):
+        self.ground_draws.write(self._ground_draws.tobytes())
         boxes = self.boxes
         self.visibility.upload_draws(boxes)
         commands = np.zeros((len(boxes), COMMAND_WORDS), np.uint32)
@@ -307,7 +343,15 @@ class StreamedCityGPU(CityGPU):
             draws = self.resident_draws if view_projection is None else self.visibility.frustum(view_projection)
         super().draw_buildings(program, draws=draws)
 
+    def draw_ground(self, program):
+        """The ground no tile holds, then each resident tile's, in tile order."""
+        super().draw_ground(program)
+        if self.streamer.tiles:
+            vao = self._vao(program, self.arena.buffer, GROUND_FORMAT, GROUND_ATTRIBUTES)
+            vao.render_indirect(self.ground_draws, moderngl.TRIANGLES, count=len(self.streamer.tiles))
+
     def release(self):
         self.streamer.close()
         self.resident_draws.release()
+        self.ground_draws.release()
         super().release()

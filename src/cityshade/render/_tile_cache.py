@@ -1,14 +1,16 @@
-"""A city's buildings cut into square tiles on disk, for streaming (docs/scale.md, "Streaming").
+"""A city's buildings and ground cut into square tiles on disk, for streaming (docs/scale.md,
+"Streaming").
 
 A cache folder holds `manifest.json` (format, cityshade version and a hash of its source code,
-vertex, face and record layouts, the source file's name, size and SHA-256, and per tile its file,
-bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' vertices: masses,
-ground, trees, lamps, viewpoints; the building records with their facades assigned; the cull
-pass's boxes in the whole city's order, each box's first vertex counted within its tile; the whole
-city's face table, scene/_face_table.py) and `tiles/NNNNN.npy` (each tile's vertices as the GPU
-holds them, rows of that table, its buildings one after another in box order). A tile is
-the buildings whose masses stand in one square of `tile_size` metres; the city is meshed tile by
-tile, so cutting it never holds more than one tile's vertices.
+vertex, face, ground and record layouts, the source file's name, size and SHA-256, and per tile
+its file, bounds, counts, bytes and SHA-256), `city.pickle` (the City without the tiles' geometry:
+masses, the ground no tile holds, trees, lamps, viewpoints; the building records with their
+facades assigned; the cull pass's boxes in the whole city's order, each box's first vertex counted
+within its tile) and `tiles/NNNNN.npz` (each tile's vertices as the GPU holds them, its buildings
+one after another in box order; its own face table, scene/_face_table.py, the vertices' rows
+counted from the tile's first; its ground triangles). A tile is the buildings whose masses stand
+in one square of `tile_size` metres and the ground of that square (_groups); the city is meshed
+tile by tile, so cutting it never holds more than one tile's vertices.
 
 Anything that does not match (another format, cityshade version or source code, vertex layout or
 source file; a missing, truncated or altered file) raises CacheProblem with one line saying what;
@@ -17,6 +19,7 @@ the caller rebuilds the cache from the source or reports the line.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
 import io
@@ -24,6 +27,7 @@ import json
 import pickle
 import time
 import warnings
+import zipfile
 from collections import Counter
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -32,19 +36,43 @@ import numpy as np
 
 from .._files import atomic_folder, check_replaceable_folder
 from ..errors import CityshadeError
-from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, City, face_table, placements
+from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
-from ._city_gpu import CityBuildings
+from ._city_gpu import CityBuildings, ground_vertices
 from ._culling import building_cells
 from ._facades import NARROW_FACES, GrammarFitWarning
 from ._visibility import BOX_DTYPE
 
-FORMAT = 1
+FORMAT = 2  # 2: each tile holds its own face table (1: one table for the city, in city.pickle)
 TILE_SIZE = 256.0  # metres: about a district of a dozen blocks
 MANIFEST = "manifest.json"
 CITY_FILE = "city.pickle"
 TILE_FOLDER = "tiles"
 HASH_BLOCK = 1 << 20
+GROUND_DTYPE = np.dtype((np.float32, 4))  # a ground vertex: x, y, z, material (render/_city_gpu.py)
+# A resident tile's slot of the streaming arena holds its building vertices, its face rows from the
+# first whole row after them, then its ground vertices likewise; slots start at multiples of
+# SLOT_UNIT bytes, so that each part starts at a whole row of its own
+SLOT_UNIT = int(np.lcm.reduce([GPU_VERTEX_DTYPE.itemsize, FACE_DTYPE.itemsize, GROUND_DTYPE.itemsize]))
+
+
+def _whole(size: int, row: int) -> int:
+    return -(-size // row) * row
+
+
+def face_offset(vertices: int) -> int:
+    """Bytes from a slot's start to its first face row."""
+    return _whole(vertices * GPU_VERTEX_DTYPE.itemsize, FACE_DTYPE.itemsize)
+
+
+def ground_offset(vertices: int, faces: int) -> int:
+    """Bytes from a slot's start to its first ground vertex."""
+    return _whole(face_offset(vertices) + faces * FACE_DTYPE.itemsize, GROUND_DTYPE.itemsize)
+
+
+def slot_bytes(vertices: int, faces: int, ground: int) -> int:
+    """The bytes of the slot that holds `vertices`, `faces` rows and `ground` vertices (whole SLOT_UNITs)."""
+    return _whole(ground_offset(vertices, faces) + ground * GROUND_DTYPE.itemsize, SLOT_UNIT)
 
 
 class CacheProblem(CityshadeError):
@@ -61,13 +89,16 @@ class Tile:
     bounds: tuple[float, float, float, float]  # x0, z0, x1, z1 of its buildings' boxes (metres)
     buildings: int
     vertices: int
+    faces: int  # rows of its face table
+    ground: int  # vertices of its ground triangles
     bytes: int  # the file's size
     sha256: str
 
     @property
     def resident_bytes(self) -> int:
-        """What the tile holds once loaded: its vertices (on the GPU, or on the CPU on the way there)."""
-        return self.vertices * GPU_VERTEX_DTYPE.itemsize
+        """What the tile holds once loaded: its slot of vertices, face rows and ground (on the GPU,
+        or on the CPU on the way there)."""
+        return slot_bytes(self.vertices, self.faces, self.ground)
 
     def distance(self, x: float, z: float) -> float:
         """Metres from (x, z) to the tile's bounds on the ground (0 inside)."""
@@ -77,7 +108,7 @@ class Tile:
 
 @dataclass
 class TileCache:
-    """An opened (checked) cache: the city without its building vertices, and the tiles' list."""
+    """An opened (checked) cache: the city without its buildings' geometry, and the tiles' list."""
 
     folder: Path
     tiles: list[Tile]
@@ -87,7 +118,6 @@ class TileCache:
     box_tile: np.ndarray  # the tile of each box
     facades: dict
     lod_faces: np.ndarray  # SAMPLE_FACE_DTYPE, by building
-    faces: np.ndarray  # FACE_DTYPE: the face table of every tile's vertices
     source: dict
 
     @property
@@ -131,16 +161,34 @@ def _layouts() -> dict:
         "meshing_code": _code_hash(),
         "vertex": str(GPU_VERTEX_DTYPE.descr),
         "faces": str(FACE_DTYPE.descr),
+        "ground": str(GROUND_DTYPE.descr),
         "record": str(BUILDING_DTYPE.descr),
     }
 
 
-def _groups(masses: list, tile_size: float) -> list[np.ndarray]:
-    """Building indices per tile (square cells of where each mass stands), cells in (x, z) order."""
-    position = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
-    cell = np.unique(np.floor(position / tile_size).astype(np.int64), axis=0, return_inverse=True)[1].ravel()
+def _split(cell: np.ndarray, cells: int) -> list[np.ndarray]:
+    """The indices of `cell` in each of `cells` cells, ascending."""
     order = np.argsort(cell, kind="stable")
-    return np.split(order, np.cumsum(np.bincount(cell))[:-1])
+    return np.split(order, np.cumsum(np.bincount(cell, minlength=cells))[:-1])
+
+
+def _groups(masses: list, ground: np.ndarray, tile_size: float) -> tuple[list, list]:
+    """Per tile (square cells with buildings, in (x, z) order): the buildings whose masses stand in
+    it and the ground triangles whose centres lie in it, of those no wider than a tile. No tile
+    holds the ground of cells without buildings, the wider triangles, nor the land under a map
+    (GROUND_LAND, reaching the horizon): a tile away must not leave a hole down to the sky below
+    the horizon."""
+    position = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
+    corners = ground.reshape(-1, 3, 4)[:, :, [0, 2]].astype(np.float64)
+    small = np.all(np.ptp(corners, axis=1) <= tile_size, axis=1) & (ground.reshape(-1, 3, 4)[:, 0, 3] != GROUND_LAND)
+    keys = np.floor(np.concatenate([position, corners[small].mean(axis=1)]) / tile_size).astype(np.int64)
+    cells, cell = np.unique(keys.reshape(-1, 2), axis=0, return_inverse=True)
+    cell = cell.ravel()
+    built = np.flatnonzero(np.bincount(cell[: len(position)], minlength=len(cells)))
+    triangles = np.flatnonzero(small)
+    buildings = _split(cell[: len(position)], len(cells))
+    tile_ground = _split(cell[len(position) :], len(cells))
+    return [buildings[k] for k in built], [triangles[tile_ground[k]] for k in built]
 
 
 def _mesh_tile(masses: list, index: np.ndarray):
@@ -161,6 +209,13 @@ def _mesh_tile(masses: list, index: np.ndarray):
     return vertices, boxes, cells, meshed
 
 
+def _bounds(boxes: np.ndarray, ground: np.ndarray) -> tuple[float, float, float, float]:
+    """x0, z0, x1, z1 of the buildings' boxes and the ground triangles' corners."""
+    x = np.r_[boxes["lo"][:, 0], boxes["hi"][:, 0], ground[:, 0]]
+    z = np.r_[boxes["lo"][:, 2], boxes["hi"][:, 2], ground[:, 2]]
+    return float(x.min()), float(z.min()), float(x.max()), float(z.max())
+
+
 def _is_cache(folder: Path) -> bool:
     return (folder / MANIFEST).is_file()
 
@@ -170,9 +225,9 @@ def check_cache_folder(folder: Path):
     check_replaceable_folder(folder, _is_cache)
 
 
-def _tile_file(folder: Path, name: str, vertices: np.ndarray) -> tuple[int, str]:
+def _tile_file(folder: Path, name: str, vertices: np.ndarray, faces: np.ndarray, ground: np.ndarray) -> tuple[int, str]:
     stream = io.BytesIO()
-    np.save(stream, vertices, allow_pickle=False)
+    np.savez(stream, vertices=vertices, faces=faces, ground=ground)
     data = stream.getvalue()
     (folder / name).write_bytes(data)
     return len(data), _sha256(data)
@@ -185,40 +240,41 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     masses = list(city.masses)  # mass objects while meshing: the city keeps columns
     records = np.zeros(len(masses), BUILDING_DTYPE)
     placement = placements(masses)
-    facades, lod_faces, tiles, boxes, cells, box_tile, face_rows = Counter(), [], [], [], [], [], []
+    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), [], [], [], [], []
+    ground = ground_vertices(city).reshape(-1, 3, 4)
+    resident = np.ones(len(ground), bool)  # the ground no tile holds
     with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
         (tmp / TILE_FOLDER).mkdir()
-        for index in _groups(masses, tile_size) if masses else []:
+        for index, triangles in zip(*_groups(masses, ground, tile_size)):
             vertices, tile_boxes, tile_cells, meshed = _mesh_tile(masses, index)
             records[index] = meshed.records
             facades.update(meshed.facades)
-            faces = meshed.lod_faces.copy()
-            faces["building"] = index[faces["building"]]  # the tile's building -> the city's
-            lod_faces.append(faces)
+            sample_faces = meshed.lod_faces.copy()
+            sample_faces["building"] = index[sample_faces["building"]]  # the tile's building -> the city's
+            lod_faces.append(sample_faces)
             if not len(tile_boxes):
                 continue
-            vertices, faces = face_table(vertices, placement, first_row=sum(map(len, face_rows)))
-            face_rows.append(faces)
-            name = f"{TILE_FOLDER}/{len(tiles):05d}.npy"
-            size, digest = _tile_file(tmp, name, vertices)
-            lo, hi = tile_boxes["lo"].min(axis=0), tile_boxes["hi"].max(axis=0)
-            bounds = (float(lo[0]), float(lo[2]), float(hi[0]), float(hi[2]))
+            vertices, faces = face_table(vertices, placement)
+            tile_ground = ground[triangles].reshape(-1, 4)
+            resident[triangles] = False
+            name = f"{TILE_FOLDER}/{len(tiles):05d}.npz"
+            size, digest = _tile_file(tmp, name, vertices, faces, tile_ground)
             box_tile.append(np.full(len(tile_boxes), len(tiles)))
-            tiles.append(Tile(name, bounds, len(tile_boxes), len(vertices), size, digest))
+            counts = len(tile_boxes), len(vertices), len(faces), len(tile_ground)
+            tiles.append(Tile(name, _bounds(tile_boxes, tile_ground), *counts, size, digest))
             boxes.append(tile_boxes)
             cells.append(tile_cells)
         boxes = np.concatenate(boxes) if boxes else np.zeros(0, BOX_DTYPE)
         cells = np.concatenate(cells) if cells else np.zeros((0, 2), np.int64)
         order = np.lexsort((boxes["draw"][:, 2], cells[:, 1], cells[:, 0]))  # as CityGPU orders them
         rest = {
-            "city": city,
+            "city": dataclasses.replace(city, ground_mesh=ground[resident].reshape(-1, 4)),  # the tiles hold the rest
             "records": records,
             "boxes": boxes[order],
             "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),
             "facades": dict(facades),
             "lod_faces": _by_building(lod_faces),
-            "faces": np.concatenate(face_rows) if face_rows else np.zeros(0, FACE_DTYPE),
         }
         data = pickle.dumps(rest, protocol=pickle.HIGHEST_PROTOCOL)
         (tmp / CITY_FILE).write_bytes(data)
@@ -287,6 +343,8 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
                 tuple(float(v) for v in t["bounds"]),
                 int(t["buildings"]),
                 int(t["vertices"]),
+                int(t["faces"]),
+                int(t["ground"]),
                 int(t["bytes"]),
                 str(t["sha256"]),
             )
@@ -319,7 +377,6 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
         rest["box_tile"],
         rest["facades"],
         rest["lod_faces"],
-        rest["faces"],
         manifest.get("source"),
     )
 
@@ -367,14 +424,23 @@ class _CityUnpickler(pickle.Unpickler):
         raise _ForeignObject(f"refers to {module}.{name}")
 
 
-def read_tile(cache: TileCache, index: int) -> np.ndarray:
-    """Tile `index`'s vertices, checked against the manifest (size, SHA-256, layout)."""
+def read_tile(cache: TileCache, index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tile `index`'s vertices, face rows and ground vertices, checked against the manifest (size,
+    SHA-256, layouts)."""
     tile = cache.tiles[index]
     data = _read_checked(cache.folder, tile.file, tile.bytes, tile.sha256)
     try:
-        vertices = np.load(io.BytesIO(data), allow_pickle=False)
-    except ValueError as exc:
-        raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({exc})") from None
-    if vertices.dtype != GPU_VERTEX_DTYPE or vertices.shape != (tile.vertices,):
-        raise CacheProblem(cache.folder, f"{tile.file} holds {vertices.shape} {vertices.dtype}, not its tile")
-    return vertices
+        with np.load(io.BytesIO(data), allow_pickle=False) as arrays:
+            vertices, faces, ground = arrays["vertices"], arrays["faces"], arrays["ground"]
+    except (ValueError, KeyError, OSError, zipfile.BadZipFile) as exc:
+        raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({type(exc).__name__}: {exc})") from None
+    for name, array, dtype, rows in (
+        ("vertices", vertices, GPU_VERTEX_DTYPE, tile.vertices),
+        ("faces", faces, FACE_DTYPE, tile.faces),
+        ("ground", ground, GROUND_DTYPE, tile.ground),
+    ):
+        if array.dtype != dtype.base or array.shape != (rows, *dtype.shape):
+            raise CacheProblem(cache.folder, f"{tile.file} holds {name} of another layout or count than its tile's")
+    if len(vertices) and int(vertices["face"].max()) >= len(faces):
+        raise CacheProblem(cache.folder, f"{tile.file} has vertices of face rows it does not hold")
+    return vertices, faces, ground

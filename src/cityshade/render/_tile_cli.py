@@ -141,4 +141,4 @@ def _open_or_make(folder: Path, path: Path | None, source: dict | None, city) ->
 
 def _describe(cache: TileCache, budget: int | None) -> str:
     held = "all resident" if budget is None or budget >= cache.total_bytes else f"budget {format_bytes(budget)}"
-    return f"{len(cache.tiles)} tiles, {format_bytes(cache.total_bytes)} of buildings, {held}"
+    return f"{len(cache.tiles)} tiles, {format_bytes(cache.total_bytes)} of tiles, {held}"

@@ -210,7 +210,8 @@ def _wall_rows(a, b, owner, rank, room_width, base, top, storey):
     mass's rings apart), as ring_wall_rows makes them mass by mass; also each mass's next room
     column (where its gables' rooms go)."""
     next_column = np.zeros(len(room_width), dtype=np.int64)
-    new_ring = np.r_[True, (owner[1:] != owner[:-1]) | (rank[1:] != rank[:-1])]
+    new_ring = np.ones(len(owner), bool)  # none when no mass of the batch has plain walls
+    new_ring[1:] = (owner[1:] != owner[:-1]) | (rank[1:] != rank[:-1])
     ring = np.cumsum(new_ring) - 1
     ring_owner = owner[new_ring]
     d = b - a

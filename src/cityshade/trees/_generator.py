@@ -22,6 +22,7 @@ CARD_LAYOUT = "3f 2f 1f 1f 1f 1f"
 CARD_ATTRIBUTES = ("in_center", "in_corner", "in_size", "in_cell", "in_wind", "in_spin")
 FROND_LAYOUT = "3f 3f 2f 1f"
 FROND_ATTRIBUTES = ("in_position", "in_normal", "in_uv", "in_wind")
+BRANCH_FLOOR = 0.4  # metres: the lowest a branch's axis may sink, so its bark and needles stay above the ground
 
 LOD_DETAIL = (
     # radial segments, segments per metre, share of leaf cards kept, card size scale
@@ -78,6 +79,8 @@ def _grow(start, direction, length, radius, level, species, rng, wind0) -> Branc
         d = _rotate(d, _perpendicular(d), rng.normal(0, species.gnarl * (0.3 if level == 0 else 1.0)))
         if level > 0:  # the trunk stays upright; branches bend up or droop
             d = d + np.array([0.0, species.tropism * step * 4, 0.0])
+            if points[-1][1] + d[1] * step < BRANCH_FLOOR:  # a drooping branch runs along the ground, not into it
+                d[1] = max(d[1], 0.0)
         d /= np.linalg.norm(d)
         points.append(points[-1] + d * step)
     s = np.linspace(0.0, 1.0, segments + 1)

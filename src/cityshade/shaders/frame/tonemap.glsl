@@ -5,7 +5,15 @@
 #include "common/srgb.glsl"
 uniform sampler2D u_hdr;
 #if defined GOD_RAYS
-#include "post/godrays.glsl"
+uniform sampler2D u_god_rays_image;  // post/godrays.glsl's last step, half resolution
+uniform vec2 u_sun_screen;           // the sun's position in texture coordinates (may be off screen)
+uniform float u_god_rays;            // strength; 0 when the sun is behind the camera
+
+// the rays, fading with the distance to the sun on screen so they stay around it
+vec3 god_rays(vec2 uv) {
+    float falloff = 1.0 - smoothstep(0.2, 0.9, length((uv - u_sun_screen) * vec2(1.6, 1.0)));
+    return texture(u_god_rays_image, uv).rgb * u_god_rays * falloff;
+}
 #endif
 in vec2 v_uv;
 layout(location = 0) out vec4 out_color;
@@ -18,7 +26,7 @@ vec3 aces(vec3 x) {
 void main() {
     vec3 hdr = texture(u_hdr, v_uv).rgb;
 #if defined GOD_RAYS
-    hdr += god_rays(u_hdr, v_uv);
+    hdr += god_rays(v_uv);
 #endif
     hdr *= u_exposure;
     out_color = vec4(linear_to_srgb(aces(hdr)), 1.0);
