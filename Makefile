@@ -6,7 +6,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 
-BENCHES := interior facades relief trees scale
+BENCHES := interior facades relief trees scale lod
 # `ruff format --check` covers these paths; the rest of the tree joins them as it is next edited
 # (reformatting every file at once would collide with concurrent work on it).
 .PHONY: setup data demo demo-osm lint test test-slow fuzz bench bench-quick validate-export clean
