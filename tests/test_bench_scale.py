@@ -9,7 +9,7 @@ import pytest
 
 from cityshade.bench import scale
 from cityshade.maps import load_map, map_city, tiled_extract
-from cityshade.render import Renderer, RenderSettings
+from cityshade.render import Renderer, RenderSettings, frame_passes
 from cityshade.scene import default_city
 
 
@@ -76,7 +76,15 @@ def test_ratios_come_from_the_interleaved_frames():
     cache = {"frames": {"cached": [1.0, 2.0], "uncached": [3.0, 3.0]}, "cache": [], "speedup": 2.0}
     runs = [
         _run("generator", 948, [1.0, 1.2], [0.5, 0.7], grammar_cache=cache),
-        _run("generator", 100_349, [1.3, 1.5], [2.0, 2.4], reference=([1.0, 1.0], [0.8, 0.8]), viewer=viewer),
+        _run(
+            "generator",
+            100_349,
+            [1.3, 1.5],
+            [2.0, 2.4],
+            reference=([1.0, 1.0], [0.8, 0.8]),
+            viewer=viewer,
+            street_profile_ms={"buildings": 400.0, "trees": 120.0, "frame": 520.0},
+        ),
         _run("osm", 1_000, [1.0], [1.0]),
     ]
     result = scale._result(runs, 2, True, (1_000,))
@@ -94,6 +102,22 @@ def test_ratios_come_from_the_interleaved_frames():
     assert data["timing"]["quick"] is True and data["timing"]["frames_per_path"] == 2
     beside = next(t for t in data["tables"] if t["title"].startswith("Beside"))
     assert [row[1] for row in beside["rows"]] == [329, 22_208, 948, 100_349, 1_000, 20_000]
+    profile = next(t for t in data["tables"] if t["title"].startswith("Per pass"))
+    assert profile["rows"] == [["buildings", 400.0], ["trees", 120.0], ["frame", 520.0]]
+
+
+def test_street_profile_times_every_pass_of_the_frame(gl_context):
+    city = default_city(blocks=3)
+    renderer = Renderer((96, 72), RenderSettings(samples=0), ctx=gl_context)
+    try:
+        renderer.set_city(city)
+        profile = scale.street_profile(renderer, city)
+    finally:
+        renderer.release()
+    passes = [p.name for p in frame_passes(renderer.settings)]
+    assert sorted(profile) == sorted([*passes, "frame"])
+    assert list(profile.values())[:-1] == sorted(list(profile.values())[:-1], reverse=True)
+    assert profile["frame"] == pytest.approx(sum(v for k, v in profile.items() if k != "frame"), abs=0.2)
 
 
 def test_bytes_per_building_add_gpu_buffers_on_a_hardware_gpu():

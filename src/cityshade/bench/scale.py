@@ -9,7 +9,8 @@ drawn too, its frames taking turns with the big city's, so the growth ratios com
 under the same load. The largest generator city is also walked in the viewer's draw path (headless,
 with the target frame rate on) for `viewer_fps_llvmpipe`. The 1,000-building generator city's street
 walk is also drawn with the grammar cache and without, frame by frame in turn, for
-`grammar_cache_speedup`.
+`grammar_cache_speedup`, and its street view profiled pass by pass (`Renderer.draw(profile=True)`,
+as `cityshade render --profile` times them).
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ COUNTS = (1_000, 10_000, 100_000)
 BLOCKS = {1_000: 10, 10_000: 32, 100_000: 102}  # default_city(blocks=N): 948, 9,865 and 100,349 buildings
 SIZE = (1024, 768)
 FULL_FRAMES, QUICK_FRAMES = 60, 3  # per camera path (a 100,000-building frame takes a minute here)
+PROFILE_FRAMES = 3  # the biggest city's street view drawn with each pass timed: the median per pass
 VIEWER_FRAMES = {False: 60, True: 24}  # quick: enough for the smallest scale and every quality step (3 frames each)
 TARGET_FPS = 15.0
 CULLING_VIEWS = ("street", "aerial")  # the 1,000-building cities drawn with GPU culling and without
@@ -211,6 +213,19 @@ def grammar_cache_frames(city: City, frames: int, size: tuple[int, int] = SIZE) 
     return {"frames": seconds, "cache": counts, "speedup": round(speedup, 3)}
 
 
+def street_profile(renderer: Renderer, city: City) -> dict[str, float]:
+    """Milliseconds per pass of the street walk's first view, the median of PROFILE_FRAMES frames,
+    each pass timed on its own (ctx.finish() around it), slowest first; 'frame' their sum."""
+    camera = CAMERA_PATHS["street"](city, 0.0)
+    times = []
+    for _ in range(PROFILE_FRAMES):
+        renderer.draw(camera, profile=True)
+        times.append(renderer.last_pass_seconds)
+    median = {name: round(1e3 * statistics.median(t[name] for t in times), 1) for name in times[0]}
+    ordered = dict(sorted(median.items(), key=lambda item: -item[1]))
+    return {**ordered, "frame": round(sum(ordered.values()), 1)}
+
+
 def culled_pixels_differing(renderer: Renderer, city: City) -> dict[str, int]:
     """Per view of CULLING_VIEWS: pixels that differ between culling="gpu" and culling="off" (what
     GPU culling leaves out must be hidden: 0 expected). The renderer holds `city`."""
@@ -265,6 +280,7 @@ def measure_city(
     timing = time_interleaved(renderer.ctx, draws, frames, warmup=1)
     for other in others:
         other.release()
+    profile = street_profile(renderer, city) if viewer_frames else None
     out = {
         "source": source,
         "buildings": len(city.masses),
@@ -275,6 +291,8 @@ def measure_city(
         "frames": {name: list(t.samples) for name, t in timing.items()},
         "culled_pixels_differing": culled_pixels_differing(renderer, city) if count == COUNTS[0] else None,
     }
+    if profile is not None:
+        out["street_profile_ms"] = profile
     renderer.release()
     if source == "generator" and count == COUNTS[0]:
         out["grammar_cache"] = grammar_cache_frames(city, frames)
@@ -442,6 +460,12 @@ def _result(runs: list[dict], frames: int, quick: bool, osm_counts) -> BenchResu
                 f"{viewer['frames']} ({viewer['frames_counted']})",
             ]
         ],
+    )
+    result.add_table(
+        f"Per pass, the {biggest['buildings']:,}-building street view, {SIZE[0]}x{SIZE[1]}, no MSAA "
+        f"(median of {PROFILE_FRAMES} frames, each pass timed on its own)",
+        ["pass", "ms"],
+        [[name, ms] for name, ms in biggest["street_profile_ms"].items()],
     )
     result.ratios.update(
         {
