@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gzip
 import json
 import os
 from pathlib import Path
@@ -376,6 +377,34 @@ def test_compressed_xml_is_read_and_checked_like_plain_xml(tmp_path, module, suf
     cut = tmp_path / f"cut{suffix}"
     cut.write_bytes(compress(plain)[:200])
     _refused(cut, "not a readable OpenStreetMap file")
+
+
+def _gzip_of(path: Path, head: bytes, unit: bytes, count: int) -> Path:
+    """`head` and `count` times `unit`, gzip-compressed chunk by chunk: megabytes in, kilobytes out."""
+    with gzip.open(path, "wb") as out:
+        out.write(head)
+        for _ in range(count):
+            out.write(unit)
+    return path
+
+
+XML_HEAD = b'<?xml version="1.0"?>\n<osm version="0.6">\n'
+
+
+def test_a_gzip_bomb_of_one_long_line_is_refused_at_the_line_cap(tmp_path):
+    bomb = _gzip_of(tmp_path / "bomb.osm.gz", XML_HEAD + b"<!-- ", b"a" * (1 << 20), 17)  # 17 MiB, 17 KB packed
+    assert bomb.stat().st_size < 100_000
+    _refused(bomb, f"line 3 is longer than the {16 << 20} bytes", "one element a line")
+
+
+def test_a_gzip_bomb_is_refused_at_the_uncompressed_cap(tmp_path):
+    from cityshade.maps._osm import check_xml
+
+    bomb = _gzip_of(tmp_path / "bomb.osm.gz", XML_HEAD, b"<!-- padding -->\n" * 4096, 64)  # 4.25 MiB
+    with pytest.raises(CityshadeError) as info:
+        check_xml(bomb, "osm.gz", limits=(1 << 20, 1 << 16))
+    assert f"more than the {1 << 20} bytes a map may have (uncompressed)" in str(info.value)
+    check_xml(bomb, "osm.gz", limits=(5 << 20, 1 << 16))  # within the caps it passes the scan
 
 
 def test_a_file_that_cannot_be_opened_is_one_line(tmp_path, monkeypatch):

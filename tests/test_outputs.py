@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gzip
 import os
 import socket
 import stat
@@ -10,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cityshade._files import output_target, read_input_bytes, write_png
+from cityshade._files import open_input_stream, output_target, read_input_bytes, write_png
 from cityshade.cli import main
 from cityshade.errors import UsageError
 from cityshade.grammar import library_path
@@ -98,15 +99,33 @@ def test_output_folders_that_are_files(tmp_path, capsys):
     assert blocker.read_text() == "keep"
 
 
+def _read_gzip_stream(path: Path, limit: int) -> bytes:
+    with open_input_stream(path, limit, limit, compression="gz") as stream:
+        return stream.read(limit)
+
+
+@pytest.mark.parametrize("read", [read_input_bytes, _read_gzip_stream])
 @pytest.mark.parametrize("path", ["/dev/zero", "fifo", "dir"])
-def test_inputs_must_be_regular_files(tmp_path, path):
+def test_inputs_must_be_regular_files(tmp_path, path, read):
     if path == "fifo":
         path = tmp_path / "fifo"
         os.mkfifo(path)
     elif path == "dir":
         path = tmp_path
     with pytest.raises(UsageError, match="not a file|is a directory|a character device|a FIFO"):
-        read_input_bytes(Path(path), 1024)
+        read(Path(path), 1024)
+
+
+def test_compressed_inputs_are_capped_in_all_and_per_line(tmp_path):
+    packed = tmp_path / "packed.gz"
+    packed.write_bytes(gzip.compress(b"short\n" + b"x" * 5000 + b"\n"))
+    with open_input_stream(packed, 10_000, 1000, compression="gz") as stream:
+        assert stream.readline() == b"short\n"
+        with pytest.raises(UsageError, match="line 2 is longer than the 1000 bytes"):
+            stream.readline()
+    with open_input_stream(packed, 1000, 10_000, compression="gz") as stream:
+        with pytest.raises(UsageError, match="more than the 1000 bytes a file may have .uncompressed."):
+            stream.read(4096)
 
 
 def test_inputs_are_read_up_to_a_cap(tmp_path):

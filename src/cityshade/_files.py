@@ -8,7 +8,9 @@ redirection: the link stays and its target, which must itself be missing or regu
 
 from __future__ import annotations
 
+import bz2
 import contextlib
+import gzip
 import os
 import shutil
 import signal
@@ -173,27 +175,87 @@ class InputError(UsageError):
         self.reason = reason
 
 
-def read_input_bytes(path: Path, limit: int, what: str = "file") -> bytes:
-    """The bytes of a regular file of at most `limit` bytes; raises InputError otherwise, naming
-    the file and never quoting its content."""
-    path = Path(path)
+def _open_input(path: Path, what: str):
+    """An open binary handle on the regular file `path`; InputError naming it otherwise."""
     try:
-        with open(path, "rb", opener=_open_nonblocking) as handle:
-            info = os.fstat(handle.fileno())
-            if not stat.S_ISREG(info.st_mode):
-                raise InputError(path, f"this is {_kind(info.st_mode)}, not a {what}; give a regular file")
-            if info.st_size > limit:
-                raise InputError(path, f"{info.st_size} bytes is more than the {limit} bytes a {what} may have")
-            data = handle.read(limit + 1)
+        handle = open(path, "rb", opener=_open_nonblocking)
     except FileNotFoundError:
         raise InputError(path, f"no such {what}; check the path") from None
     except IsADirectoryError:
         raise InputError(path, f"this is a directory, not a {what}") from None
     except OSError as exc:
         raise InputError(path, f"cannot read the {what} ({exc.strerror})") from None
+    info = os.fstat(handle.fileno())
+    if not stat.S_ISREG(info.st_mode):
+        handle.close()
+        raise InputError(path, f"this is {_kind(info.st_mode)}, not a {what}; give a regular file")
+    return handle
+
+
+def read_input_bytes(path: Path, limit: int, what: str = "file") -> bytes:
+    """The bytes of a regular file of at most `limit` bytes; raises InputError otherwise, naming
+    the file and never quoting its content."""
+    path = Path(path)
+    with _open_input(path, what) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        if size > limit:
+            raise InputError(path, f"{size} bytes is more than the {limit} bytes a {what} may have")
+        try:
+            data = handle.read(limit + 1)
+        except OSError as exc:
+            raise InputError(path, f"cannot read the {what} ({exc.strerror})") from None
     if len(data) > limit:  # it grew while being read
         raise InputError(path, f"more than the {limit} bytes a {what} may have")
     return data
+
+
+DECOMPRESSORS = {"gz": lambda raw: gzip.GzipFile(fileobj=raw, mode="rb"), "bz2": bz2.BZ2File}
+
+
+class CappedStream:
+    """A binary input stream that raises InputError once more than `limit` bytes have been read
+    from it in all, or one line is longer than `line_limit` bytes: what a small compressed file
+    expands to is known only while reading it."""
+
+    def __init__(self, path: Path, stream, limit: int, line_limit: int, what: str):
+        self.path, self._stream, self.limit, self.line_limit, self.what = path, stream, limit, line_limit, what
+        self.read_bytes = 0
+        self.lines = 0  # newlines read so far
+
+    def _counted(self, data: bytes) -> bytes:
+        self.read_bytes += len(data)
+        self.lines += data.count(b"\n")
+        if self.read_bytes > self.limit:
+            raise InputError(self.path, f"more than the {self.limit} bytes a {self.what} may have (uncompressed)")
+        return data
+
+    def read(self, size: int) -> bytes:
+        return self._counted(self._stream.read(size))
+
+    def readline(self) -> bytes:
+        line = self._stream.readline(self.line_limit + 1)
+        if len(line) > self.line_limit:
+            raise InputError(
+                self.path,
+                f"line {self.lines + 1} is longer than the {self.line_limit} bytes a {self.what} line may have",
+            )
+        return self._counted(line)
+
+    def __iter__(self):
+        while line := self.readline():
+            yield line
+
+
+@contextlib.contextmanager
+def open_input_stream(path: Path, limit: int, line_limit: int, what: str = "file", compression: str | None = None):
+    """A CappedStream over the regular file `path`, decompressed when `compression` is 'gz' or
+    'bz2'; raises InputError (naming the file, never quoting it) as read_input_bytes does. Damaged
+    compressed data raises the decompressor's OSError, EOFError or zlib.error while reading."""
+    path = Path(path)
+    with _open_input(path, what) as handle:
+        stream = DECOMPRESSORS[compression](handle) if compression else handle
+        with stream:
+            yield CappedStream(path, stream, limit, line_limit, what)
 
 
 def _open_nonblocking(name, flags):

@@ -13,8 +13,6 @@ and external entities) is refused outright, so nothing is expanded and no local 
 
 from __future__ import annotations
 
-import bz2
-import gzip
 import re
 import zlib
 from pathlib import Path
@@ -23,6 +21,7 @@ import numpy as np
 import osmium
 import shapely
 
+from .._files import InputError, open_input_stream
 from ..errors import UsageError
 from ._assemble import RAILWAYS, Raw, area_kind, assemble, is_building, point_kind
 from ._model import MapData, ReadReport
@@ -30,8 +29,14 @@ from ._model import MapData, ReadReport
 PROLOG_BYTES = 65536
 SNIFF = 64
 _WKB = osmium.geom.WKBFactory()
-OPENERS = {"gz": gzip.open, "bz2": bz2.open}
 SCAN_BYTES = 1 << 24
+# XML is about ten times its .osm.pbf: a city's extract (Berlin, 80 MB as PBF) is about 1 GiB of it,
+# and libosmium keeps every node's location while reading. 4 GiB of XML, however small its .gz,
+# is a region, which belongs in a .osm.pbf; beyond it a file is refused before libosmium reads it.
+MAX_XML_BYTES = 4 << 30
+# The scan holds one line: exports write an element a line, under 2 MB even for a relation of
+# 30,000 members, so 16 MiB leaves room for small files written without line breaks.
+MAX_XML_LINE = 16 << 20
 _EXPONENT = re.compile(rb'\bl(?:at|on)="\s*[-+]?[0-9.]*[eE][-+]?[0-9]+\s*"')
 LINE_KEYS = ("highway", "railway", "natural")
 
@@ -44,7 +49,7 @@ def osm_format(path: Path) -> str | None:
     for magic, compression in ((b"\x1f\x8b", "gz"), (b"BZh", "bz2")):
         if head.startswith(magic):
             try:
-                with OPENERS[compression](path) as stream:
+                with _open(path, f"osm.{compression}", (SNIFF, SNIFF)) as stream:
                     head = stream.read(SNIFF)
             except (OSError, EOFError, ValueError):
                 return f"osm.{compression}"  # damaged: reading it says so
@@ -58,16 +63,21 @@ def _is_xml(head: bytes) -> bool:
     return head.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<")
 
 
-def _open(path: Path, kind: str):
-    return OPENERS[kind.rpartition(".")[2]](path) if "." in kind else open(path, "rb")
+def _open(path: Path, kind: str, limits: tuple[int, int] = (MAX_XML_BYTES, MAX_XML_LINE)):
+    """The file's XML as a capped stream: (uncompressed bytes, bytes of one line) at most."""
+    compression = kind.rpartition(".")[2] if "." in kind else None
+    return open_input_stream(path, *limits, "map", compression)
 
 
-def check_xml(path: Path, kind: str = "osm") -> None:
-    """Refuse XML that declares a document type (entities) before its first element, or that writes a
-    coordinate with an exponent (libosmium reads an overflowing `lat="1e308"` as 0 without a word)."""
+def check_xml(path: Path, kind: str = "osm", limits: tuple[int, int] = (MAX_XML_BYTES, MAX_XML_LINE)) -> None:
+    """Refuse XML that declares a document type (entities) before its first element, that writes a
+    coordinate with an exponent (libosmium reads an overflowing `lat="1e308"` as 0 without a word),
+    or that is larger, uncompressed, than `limits` (bytes in all, bytes of one line) allow."""
     try:
-        with _open(path, kind) as stream:
+        with _open(path, kind, limits) as stream:
             _scan_xml(path, stream)
+    except InputError as exc:
+        raise UsageError(f"{exc}; give a smaller extract, or the map as .osm.pbf, written one element a line") from None
     except (OSError, EOFError, zlib.error) as exc:
         raise UsageError(
             f"{path}: not a readable OpenStreetMap file ({kind} data damaged or cut short: "
@@ -85,9 +95,8 @@ def _scan_xml(path: Path, stream) -> None:
             f"{path}: the XML declares a document type or entities, which OpenStreetMap files "
             "never need; refusing it (entities could expand without bound or read local files)"
         )
-    stream.seek(0)
-    line = 1
-    while chunk := stream.read(SCAN_BYTES) + stream.readline():
+    line, chunk = 1, head + stream.readline()
+    while chunk:
         match = _EXPONENT.search(chunk)
         if match:
             node = re.search(rb'id="(-?\d+)"', chunk[chunk.rfind(b"<", 0, match.start()) : match.start()])
@@ -98,6 +107,7 @@ def _scan_xml(path: Path, stream) -> None:
                 "exponent; write latitude and longitude as plain decimals within ±90 and ±180"
             )
         line += chunk.count(b"\n")
+        chunk = stream.read(SCAN_BYTES) + stream.readline()
 
 
 def _coordinates(way) -> np.ndarray | None:
