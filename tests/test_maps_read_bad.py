@@ -322,10 +322,21 @@ def test_geojson_properties_that_are_lists_or_strings_are_ignored_and_counted(tm
     }
 
 
-def test_deep_nesting_and_invalid_json_are_one_line(tmp_path):
-    deep = tmp_path / "deep.geojson"
-    deep.write_text('{"type": "FeatureCollection", "features": ' + "[" * 5000 + "]" * 5000 + "}")
-    _refused(deep, "nested too deeply")
+@pytest.mark.parametrize("depth", [70, 5000])
+@pytest.mark.parametrize("name, kind", [("deep.geojson", "FeatureCollection"), ("deep.city.json", "CityJSON")])
+def test_json_nested_beyond_the_limit_is_one_line(tmp_path, depth, name, kind):
+    deep = tmp_path / name
+    deep.write_text(f'{{"type": "{kind}", "features": ' + "[" * depth + "]" * depth + "}")
+    _refused(deep, "nested too deeply to be a map (arrays and objects nested more than 64 levels deep")
+
+
+def test_json_nested_within_the_limit_loads(tmp_path):
+    nested = "[" * 60 + "]" * 60
+    path = _geojson(tmp_path, {"type": "Feature", "properties": {"notes": json.loads(nested)}, "geometry": GOOD})
+    assert len(load_map(path).buildings) == 1
+
+
+def test_invalid_json_is_one_line(tmp_path):
     broken = tmp_path / "broken.geojson"
     broken.write_text('{"type": "FeatureCollection",\n "features": [}')
     _refused(broken, f"{broken}:2:15: error: invalid JSON")

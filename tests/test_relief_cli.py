@@ -67,6 +67,23 @@ def test_damaged_files_exit_2(tmp_path, pngs, capsys):
     assert "v9.cfdm: compressed facade format version 9" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("option", ["--stats", "--verify"])
+def test_a_header_nested_thousands_deep_is_one_line(tmp_path, capsys, option):
+    import struct
+    import zlib
+
+    from cityshade.relief._format import _PREFIX, MAGIC, VERSION
+
+    header = b'{"method": ' + b"[" * 5000 + b"]" * 5000 + b"}"
+    body = _PREFIX.pack(MAGIC, VERSION, len(header)) + header
+    path = tmp_path / "header_deep_5000.cfdm"
+    path.write_bytes(body + struct.pack("<I", zlib.crc32(body)))
+    assert main(["compress", option, str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert "header_deep_5000.cfdm: malformed compressed facade header (arrays and objects nested more than 64" in err
+
+
 def test_bad_inputs_write_nothing(tmp_path, pngs, capsys):
     Image.fromarray(np.zeros((20, 20), np.uint16)).save(tmp_path / "small.png")
     out = tmp_path / "never.cfdm"

@@ -21,6 +21,7 @@ import numpy as np
 import pyproj
 import shapely
 
+from .._json import check_depth
 from ..errors import UsageError
 from ._assemble import Raw, area_kind, assemble, is_building, point_kind
 from ._model import MapData, ReadReport
@@ -30,16 +31,15 @@ GEOGRAPHIC_SHARE = 0.5  # of coordinates inside lon/lat ranges for a file withou
 
 
 def parse_json(path: Path, text: str):
-    """json.loads with one-line errors: position of a syntax error, nesting too deep."""
+    """json.loads with one-line errors: position of a syntax error, nesting too deep (checked first)."""
+    try:
+        check_depth(text)
+    except ValueError as exc:
+        raise UsageError(f"{path}: JSON nested too deeply to be a map ({exc}; maps nest ten at most)") from None
     try:
         return json.loads(text, parse_int=lambda digits: float(digits) if len(digits) > 15 else int(digits))
     except json.JSONDecodeError as exc:
         raise UsageError(f"{path}:{exc.lineno}:{exc.colno}: error: invalid JSON: {exc.msg}") from None
-    except RecursionError:
-        raise UsageError(
-            f"{path}: JSON nested too deeply to be a map (arrays or objects inside each other "
-            "about a thousand levels deep)"
-        ) from None
 
 
 def _positions(value) -> np.ndarray | None:

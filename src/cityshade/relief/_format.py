@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .._files import read_input_bytes, write_bytes
+from .._json import check_depth
 from ..errors import CityshadeError
 from ._compress import MAP_NAMES, CompressedFacade
 from ._factor import MAX_TERMS, METHODS, Factors
@@ -91,7 +92,9 @@ def from_bytes(data: bytes, source: str = "<bytes>") -> CompressedFacade:
     if header_len > len(data) - _PREFIX.size - 4:
         raise CityshadeError(f"{source}: malformed compressed facade header (longer than the file)")
     try:
-        header = json.loads(data[_PREFIX.size : _PREFIX.size + header_len].decode("utf-8"))
+        header_bytes = data[_PREFIX.size : _PREFIX.size + header_len]
+        check_depth(header_bytes)  # json.loads recurses per level: a deep header would exhaust the stack
+        header = json.loads(header_bytes.decode("utf-8"))
         payload = data[_PREFIX.size + header_len : -4]
         expected = _expected_sections(header, source)
         arrays = {}
