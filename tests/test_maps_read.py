@@ -328,6 +328,49 @@ def test_cityjson_reference_system_is_projected(tmp_path):
     assert data.buildings[0].footprint_area == pytest.approx(80.0, rel=0.002)
 
 
+def _edited(path: Path, edit) -> Path:
+    document = json.loads(path.read_text())
+    edit(document["CityObjects"])
+    path.write_text(json.dumps(document))
+    return path
+
+
+def test_cityjson_building_with_geometry_only_in_its_parts_is_drawn_by_them(tmp_path):
+    def move_into_a_part(objects):  # as in published LoD2 data: Buildings hold no geometry of their own
+        house = objects["house"]
+        objects["main"] = {"type": "BuildingPart", "parents": ["house"], "geometry": house["geometry"]}
+        house.update(geometry=[], children=["main", "shed"])
+
+    data = load_map(_edited(_cityjson(tmp_path), move_into_a_part))
+    house, shed, main = data.buildings
+    assert house.surfaces is None and house.height == 9.0 and house.tags["building"] == "yes"
+    assert main.parent == shed.parent == house.index and len(main.surfaces["RoofSurface"]) == 2
+
+
+def test_cityjson_part_of_a_parent_without_geometry_or_children_loads(tmp_path):
+    def orphan(objects):
+        objects["house"].update(geometry=[], children=[])
+
+    data = load_map(_edited(_cityjson(tmp_path), orphan))
+    (shed,) = data.buildings
+    assert (shed.height, shed.min_height) == (2.0, 0.0)
+    assert data.report.skipped[("building", "no geometry and no parts with geometry")] == 1
+
+
+@pytest.mark.parametrize("code", ["999999", "4326"])  # unknown; lon/lat, but the vertices are RD New metres
+def test_cityjson_reference_system_that_cannot_place_it_keeps_metres_and_says_so(tmp_path, code):
+    path = _cityjson(
+        tmp_path,
+        transform={"scale": [1, 1, 1], "translate": [85000.0, 446000.0, 0.0]},
+        metadata={"referenceSystem": f"https://www.opengis.net/def/crs/EPSG/0/{code}"},
+    )
+    data = load_map(path)
+    assert data.crs == "local" and len(data.buildings) == 2
+    assert data.report.fallbacks == {
+        ("crs", "unknown coordinate system, or the data is not on the Earth in it (taken as metres)"): 1
+    }
+
+
 def test_helsinki_extract(helsinki_pbf):
     data = load_map(helsinki_pbf)
     outlines = [b for b in data.buildings if not b.is_part]

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import pyproj
 import shapely
 
 from ._model import BUILDING_ATTRIBUTES, Area, Entrance, Lamp, MapBuilding, MapData, MapTree, Railway, ReadReport, Road
@@ -158,12 +159,12 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
     x0, y0, x1, y1 = shapely.total_bounds(geometries)
     centre = ((x0 + x1) / 2.0, (y0 + y1) / 2.0)
     local = isinstance(source_crs, str) and source_crs == LOCAL
-    projection = LocalMetres(centre) if local else Projection(centre, source_crs or "EPSG:4326")
+    projection = LocalMetres(centre) if local else _projection(centre, source_crs, report)
     with np.errstate(invalid="ignore", over="ignore"):
         projected = projection.geometries(geometries)
     for raw, geometry in zip(raws, projected):
         raw.geometry = geometry
-        if "surfaces" in raw.fixed:  # CityJSON's semantic surfaces: plan position to map metres, z kept
+        if raw.fixed.get("surfaces") is not None:  # CityJSON's semantic surfaces: plan to map metres, z kept
             raw.fixed["surfaces"] = {
                 kind: [np.column_stack([projection.points(ring[:, :2]), ring[:, 2]]) for ring in rings]
                 for kind, rings in raw.fixed["surfaces"].items()
@@ -192,6 +193,20 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
     if coast:
         _add_sea(data, coast)
     return data
+
+
+def _projection(centre: tuple[float, float], source_crs, report: ReadReport):
+    """Projection from `source_crs` (None: lon/lat), or metres as they are when the data's centre
+    is not on the Earth in it (a system named wrongly, or one pyproj cannot project from)."""
+    try:
+        return Projection(centre, source_crs or "EPSG:4326")
+    except (pyproj.exceptions.CRSError, pyproj.exceptions.ProjError, ValueError):
+        report.fallback(
+            "crs",
+            "unknown coordinate system, or the data is not on the Earth in it (taken as metres)",
+            str(source_crs)[:60],
+        )
+        return LocalMetres(centre)
 
 
 def _finite(raws: list[Raw], report: ReadReport, geographic: bool) -> list[Raw]:

@@ -171,7 +171,9 @@ def read_cityjson(path: Path, text: str) -> MapData:
             continue
         family = [name] + _names(obj.get("children"), read)
         parents = [p for p in _names(obj.get("parents"), objects) if isinstance(objects[p], dict)]
-        ground_family = [parents[0]] + _names(objects[parents[0]].get("children"), objects) if parents else family
+        # the parent and its children, and this object's own family (a parent need not list its parts)
+        siblings = [parents[0]] + _names(objects[parents[0]].get("children"), objects) if parents else []
+        ground_family = siblings + family
         lows = [read[n][1][:, 2].min() for n in ground_family if n in read]
         if name not in read and len(family) == 1:
             if _best_geometry(obj) is None:

@@ -28,7 +28,8 @@ def utm_crs(lon: float, lat: float) -> str:
 
 
 class Projection:
-    """Maps points of `source_crs` to metres about `centre` (given in source units)."""
+    """Maps points of `source_crs` to metres about `centre` (given in source units). Raises ValueError
+    when the centre is not on the Earth in that system, pyproj's CRSError when it cannot be used."""
 
     def __init__(self, centre: tuple[float, float], source_crs: str | pyproj.CRS = "EPSG:4326"):
         source = pyproj.CRS.from_user_input(source_crs)
@@ -36,6 +37,8 @@ class Projection:
             source = source.sub_crs_list[0]
         to_geographic = pyproj.Transformer.from_crs(source, "EPSG:4326", always_xy=True)
         lon, lat = to_geographic.transform(*centre)
+        if not in_range(lon, lat):
+            raise ValueError(f"the centre {centre[0]:.6g}, {centre[1]:.6g} is not on the Earth in {source.name}")
         self.origin = (float(lon), float(lat))
         self.crs = utm_crs(lon, lat)
         self._transformer = pyproj.Transformer.from_crs(source, self.crs, always_xy=True)
