@@ -111,6 +111,22 @@ def test_nesting_deeper_than_gpu_limit():
     assert "nested RandStacks" in error_of(stacks)
 
 
+@pytest.mark.parametrize(
+    "argument, column",
+    [("Layer(" * 3000 + "W" + ")" * 3000, 388), ("-" * 100_000 + "1", 78)],
+)
+def test_arguments_nested_thousands_deep_are_refused_at_the_limit(argument, column):
+    message = error_of(f"S->Mat(Color, {argument}, 0, 0, 1, 1)\n" if argument[0] != "L" else f"S->{argument}\n")
+    assert message.startswith(f"bad.grammar:1:{column}: error: arguments nest more than 64 levels deep"), message[:200]
+
+
+def test_arguments_nested_within_the_limit_parse():
+    from cityshade.grammar._syntax import parse_text
+
+    (rule,) = parse_text(f"S->Mat(Color, {'-' * 40}0.5, 0, 0, 1, 1)\n", "ok.grammar").rules
+    assert rule.args[1].expr.op == "neg"
+
+
 def test_more_rules_than_fit_the_texture():
     text = "S->RandUni(0, " + ", ".join(f"M{i}" for i in range(2100)) + ")\n"
     text += "".join(f"M{i}->Mat(Color, 0, {i / 2100:.6f}, 0.5, 0.5, 1)\n" for i in range(2100))

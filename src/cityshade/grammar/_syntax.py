@@ -64,6 +64,10 @@ COMMENT: /#[^\n]*/
 %ignore COMMENT
 """
 
+# Arguments nest (calls, brackets, operators) at most this deep: the passes that read them recurse
+# once per level, and a grammar's conditions fit the GPU's 8-slot stack and 4 nested Layers anyway.
+MAX_NESTING = 64
+
 _TOKEN_WORDS = {
     "ARROW": "'->'",
     "LPAR": "'('",
@@ -160,9 +164,31 @@ def _arg(path: str, node) -> Arg:
     return Arg("expr", "an expression", _loc(path, first), _expr(path, node))
 
 
+def _check_nesting(tree: Tree, path: str, text: str) -> None:
+    """Raises GrammarError at the first token nested deeper than MAX_NESTING (walked without recursion)."""
+    stack = [(tree, 0)]
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_NESTING:
+            while not isinstance(node, Token):
+                node = node.children[0]
+            raise GrammarError(
+                [
+                    Diagnostic(
+                        _loc(path, node),
+                        f"arguments nest more than {MAX_NESTING} levels deep",
+                        "write the inner part as a rule of its own",
+                    )
+                ],
+                {path: text},
+            )
+        stack.extend((child, depth + 1) for child in node.children if isinstance(child, Tree))
+
+
 def parse_expression(text: str, where: Location) -> Expr:
     """A built-in expression's text (split.first, ...), located where its name was written."""
     tree = _parser().parse(text, start="expr")
+    _check_nesting(tree, where.path, text)
     located = _expr(where.path, tree)
     return _relocate(located, where)
 
@@ -181,6 +207,7 @@ def parse_text(text: str, path: str) -> SourceFile:
         tree = _parser().parse(text, start="start")
     except UnexpectedInput as exc:
         raise GrammarError([_syntax_diagnostic(exc, text, path)], {path: text}) from None
+    _check_nesting(tree, path, text)
     rules, uses = [], []
     for node in tree.children:
         if node.data == "use":
