@@ -71,6 +71,17 @@ def test_bad_cga_is_one_line_and_writes_nothing(tmp_path, capsys, content, messa
     assert len(err) == 1 and message in err[0] and not out.exists()
 
 
+def test_a_value_of_a_hundred_thousand_unary_minuses_is_not_evaluated():
+    minuses = "-" * 100_000
+    text = f'attr h = {minuses}3\nLot --> split(y) {{ h : A | {minuses}2 : B }}\nA --> color("#ff0000")\nB --> NIL\n'
+    translation = translate(text, "minus.cga")
+    assert [note.format("minus.cga") for note in translation.notes[:2]] == [
+        "minus.cga:1: a value of 100001 tokens: not evaluated; it is unknown",
+        "minus.cga:2: size 'h': not a positive number here; 1 is used",
+    ]
+    assert "Lot->SplitY(Abs, 1, A," in translation.text
+
+
 @settings(max_examples=60, deadline=None)
 @given(st.text(alphabet="AB xy{}()[]|:~'*%=.,-->0123456789\n\"#split case else color", max_size=120))
 def test_any_text_translates_or_is_refused(text):

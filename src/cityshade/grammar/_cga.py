@@ -124,6 +124,10 @@ _LABELS = (
     ("sill", "cornice"),
 )
 _CONDITION_NAMES = {"split.index", "split.total", "scope.sx", "scope.sy"}
+# Tokens of one value (attr, const, size, colour) that are evaluated. Real values are a number or a short sum; a
+# longer one is not (Python's parser needs memory and stack per nested operator: 100,000 unary
+# minuses exhaust them), and 256 keeps the recursive evaluation far from the recursion limit.
+MAX_VALUE_TOKENS = 256
 
 
 class CgaError(UsageError):
@@ -343,6 +347,9 @@ class _Importer:
     def value(self, tokens: list[_Tok]):
         if len(tokens) == 1 and tokens[0].kind == "str":
             return tokens[0].text[1:-1]
+        if len(tokens) > MAX_VALUE_TOKENS:
+            self.note(tokens[0].line, f"a value of {len(tokens)} tokens", "not evaluated; it is unknown")
+            return None
         text = " ".join(t.text for t in tokens)
         try:
             return _constant(ast.parse(text, mode="eval").body, self.values)
