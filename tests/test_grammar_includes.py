@@ -76,6 +76,28 @@ def test_a_file_named_on_the_command_line_is_quoted_only_if_it_is_a_grammar(tmp_
     assert "T->Skip(0 0)" in capsys.readouterr().err  # the author's own grammar: line and caret
 
 
+def test_a_grammar_named_link_to_a_file_elsewhere_is_not_quoted(secret, capsys):
+    root, folder = secret
+    for name, target in (("shadow.grammar", "shadow"), ("outside.grammar", "shadow.grammar")):
+        (folder / name).symlink_to(root / "private" / target)
+        assert main(["grammar", "check", str(folder / name)]) == 1
+        err = capsys.readouterr().err
+        assert f"{folder / name}:1:" in err and "SECRETHASH" not in err
+    (folder / "mine.grammar").write_text("S->Skip(0)\nT->Skip(0 0)\n")
+    (folder / "same.grammar").symlink_to(folder / "mine.grammar")  # a link within the folder is the author's
+    assert main(["grammar", "check", str(folder / "same.grammar")]) == 1
+    assert "T->Skip(0 0)" in capsys.readouterr().err
+
+
+def test_a_byte_order_mark_is_skipped_as_cga_import_skips_it(tmp_path):
+    path = tmp_path / "bom.grammar"
+    path.write_bytes(b"\xef\xbb\xbfS->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)\n")
+    assert load(path).start == "S"
+    path.write_bytes(b"\xef\xbb\xbfS->Mat(Color, 1.0, 0.0, 0.0, 1.0, 1.0)\n")
+    with pytest.raises(GrammarError, match=f"^{path}:1:15: error"):  # columns as an editor counts them
+        load(path)
+
+
 def test_a_subfolder_and_the_library_may_be_used(tmp_path):
     (tmp_path / "parts").mkdir()
     (tmp_path / "parts" / "p.grammar").write_text("T->Skip(0)\n")

@@ -11,6 +11,7 @@ other file. An included file that does not parse is reported without quoting its
 
 from __future__ import annotations
 
+import codecs
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -67,6 +68,7 @@ def read_source(path: Path) -> str:
                 )
             ]
         )
+    data = data.removeprefix(codecs.BOM_UTF8)  # editors on Windows start UTF-8 files with one
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -104,7 +106,7 @@ def _parse_file(path: Path, sources: dict[str, str], quote_syntax_errors: bool) 
     """Parses a file; its lines may be quoted in errors only if it is a .grammar file, and, for
     syntax errors, only if asked (the file named on the command line, not an included one)."""
     text = read_source(path)
-    quoted = path.suffix == GRAMMAR_SUFFIX
+    quoted = _quotable(path)
     try:
         parsed = parse_text(text, str(path))
     except GrammarError as exc:
@@ -114,6 +116,13 @@ def _parse_file(path: Path, sources: dict[str, str], quote_syntax_errors: bool) 
     if quoted:
         sources[str(path)] = text
     return parsed
+
+
+def _quotable(path: Path) -> bool:
+    """Whether errors may quote the file's lines: a .grammar file in its folder (or below), also once
+    links are resolved. The name alone would quote the first line of `x.grammar` -> /etc/shadow."""
+    real = path.resolve()
+    return path.suffix == real.suffix == GRAMMAR_SUFFIX and path.parent.resolve() in real.parents
 
 
 def _collect(
