@@ -286,6 +286,16 @@ def test_json_above_the_size_limit_is_refused(tmp_path, monkeypatch):
     _refused(_geojson(tmp_path, GOOD), "above the 100-byte limit")
 
 
+def test_cityjson_has_its_own_smaller_size_limit(tmp_path, monkeypatch):
+    from cityshade.maps import _load
+
+    monkeypatch.setattr(_load, "MAX_CITYJSON_BYTES", 100)
+    city = tmp_path / "big.city.json"
+    city.write_text(json.dumps({"type": "CityJSON", "CityObjects": {}, "vertices": [[0, 0, 0]] * 20}))
+    _refused(city, "bytes of CityJSON is above the 100-byte limit; split the file into tiles")
+    assert len(load_map(_geojson(tmp_path, GOOD)).buildings) == 1  # GeoJSON keeps the 1 GiB limit
+
+
 def test_geojson_with_nothing_usable_exits_2_with_the_reason(tmp_path):
     path = _geojson(tmp_path, {"type": "Polygon", "coordinates": []})
     _refused(path, "nothing usable", "Polygon coordinates are not rings", "feature/0")
