@@ -375,6 +375,23 @@ def test_cityjson_with_broken_boundaries_skips_the_object(tmp_path):
     _refused(path, "nothing usable", "CityObject/a", "malformed geometry")
 
 
+def test_cityjson_coordinates_that_overflow_are_skipped_without_a_warning(tmp_path):
+    import warnings
+
+    path = tmp_path / "huge.city.json"
+    face = {"type": "MultiSurface", "lod": "1", "boundaries": [[[0, 1, 2]], [[0, 2, 3]]]}
+    document = {
+        "type": "CityJSON",
+        "transform": {"scale": [1e308] * 3, "translate": [0, 0, 0]},
+        "CityObjects": {"b": {"type": "Building", "geometry": [face]}},
+        "vertices": [[0, 0, 0], [10, 0, 0], [10, 10, 5], [0, 10, 5]],
+    }
+    path.write_text(json.dumps(document))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # a warning would reach stderr before the one line
+        _refused(path, "nothing usable in the map: 1 building skipped")
+
+
 def test_the_content_decides_the_format_not_the_name(tmp_path, silent_pbf):
     xml = tmp_path / "really_xml.pbf"
     xml.write_bytes((Path(__file__).parent / "data" / "maps" / "tagged.osm").read_bytes())

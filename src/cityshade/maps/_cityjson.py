@@ -135,6 +135,12 @@ def _tags(obj: dict) -> dict[str, str]:
 
 
 def read_cityjson(path: Path, text: str) -> MapData:
+    # coordinates that overflow or are NaN are skipped and counted where they are used, not warned about
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _read_cityjson(path, text)
+
+
+def _read_cityjson(path: Path, text: str) -> MapData:
     data = parse_json(path, text)
     if not isinstance(data, dict) or data.get("type") != "CityJSON" or not isinstance(data.get("CityObjects"), dict):
         raise UsageError(f"{path}: not CityJSON (expected type 'CityJSON' with 'CityObjects')")
