@@ -85,7 +85,7 @@ def test_a_link_to_a_regular_file_is_followed_and_kept(tmp_path):
 
 
 def test_a_name_too_long_once_the_temporary_suffix_is_added(tmp_path):
-    with pytest.raises(UsageError, match="file name is too long"):
+    with pytest.raises(UsageError, match="name is too long"):
         output_target(tmp_path / ("n" * 246 + ".png"))
     output_target(tmp_path / ("n" * 200 + ".png"))
 

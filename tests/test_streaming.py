@@ -96,7 +96,10 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
         assert held <= tile["resident_bytes"] < held + FACE_DTYPE.itemsize + GROUND_DTYPE.itemsize + SLOT_UNIT
         x0, z0, x1, z1 = tile["bounds"]
         assert x0 <= x1 and z0 <= z1
-    assert sorted(p.name for p in folder.iterdir()) == ["city.pickle", "manifest.json", "tiles"]
+    assert sorted(p.name for p in folder.iterdir()) == [".cityshade-output", "city.pickle", "manifest.json", "tiles"]
+    marker = json.loads((folder / ".cityshade-output").read_text())
+    written = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+    assert marker == {"kind": "tile-cache", "format": 1, "files": [n for n in written if n != ".cityshade-output"]}
 
 
 def test_tiles_hold_every_building_once(district, district_tiles):
@@ -476,7 +479,7 @@ def test_a_tile_file_of_other_contents_is_one_line(arrays, reason, tagged_tiles,
     """A tile file whose manifest entry matches but whose arrays are not its tile's: refused when read."""
     vertices, faces, ground = read_tile(open_tiles(tagged_tiles), 0)
     if arrays == "no faces":
-        _rewritten_tile(tagged_tiles, vertices=vertices, ground=ground)
+        _rewritten_tile(tagged_tiles, vertices=vertices, ground=ground, other=faces)  # as large, no faces.npy
     elif arrays == "rows beyond":
         vertices["face"][-1] = len(faces)
         _rewritten_tile(tagged_tiles, vertices=vertices, faces=faces, ground=ground)
