@@ -350,3 +350,22 @@ def test_a_baked_dome_has_unit_normals_and_tangents(gl_context):
     normals = [read(p.attributes.NORMAL, 3) for m in gltf.meshes for p in m.primitives]
     assert tangents and np.allclose(np.linalg.norm(np.concatenate(tangents)[:, :3], axis=1), 1.0, atol=1e-5)
     assert np.allclose(np.linalg.norm(np.concatenate(normals), axis=1), 1.0, atol=1e-5)
+
+
+@pytest.mark.parametrize(
+    "option, value, allowed",
+    [
+        ("--texel", "inf", "more than 0 and at most 100"),
+        ("--texel", "1e308", "more than 0 and at most 100"),
+        ("--texel", "nan", "more than 0 and at most 100"),
+        ("--texel", "-1", "more than 0 and at most 100"),
+        ("--lod", "2000", "from 0 (full detail) to 16"),
+        ("--lod", "-1", "from 0 (full detail) to 16"),
+    ],
+)
+@pytest.mark.parametrize("fmt", ["glb", "3dtiles"])
+def test_texel_and_lod_out_of_range_are_one_line(option, value, allowed, fmt, tmp_path, capsys):
+    out = tmp_path / "out"
+    err = _fails(["export", "--map", str(TAGGED), "--format", fmt, "--out", str(out), option, value], capsys)
+    assert f"{option} {float(value) if option == '--texel' else value}" in err and allowed in err
+    assert not list(tmp_path.iterdir())
