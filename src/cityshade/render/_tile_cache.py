@@ -11,6 +11,8 @@ one after another in box order; its own face table, scene/_face_table.py, the ve
 counted from the tile's first; its ground triangles). A tile is the buildings whose masses stand
 in one square of `tile_size` metres and the ground of that square (_groups); the city is meshed
 tile by tile, so cutting it never holds more than one tile's vertices.
+The folder also carries cityshade's output marker (_files.atomic_folder), so that only a cache is
+ever replaced by one.
 
 Anything that does not match (another format, cityshade version or source code, vertex layout or
 source file; a missing, truncated or altered file) raises CacheProblem with one line saying what;
