@@ -45,7 +45,7 @@ test-slow: setup
 
 # The fuzzers with a large budget: CITYSHADE_FUZZ_SECONDS per fuzzer (default 60; docs/robustness.md).
 fuzz: setup
-	$(BIN)/python -m pytest -n 2 -q -m fuzz tests/test_fuzz.py tests/test_fuzz_maps.py
+	$(BIN)/python -m pytest -n 2 -q -m fuzz tests
 
 bench: setup
 	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --json bench-results/$$b.json || exit 1; done

@@ -276,7 +276,7 @@ def test_bad_input_one_line_exit_2_nothing_written(tmp_path, capsys):
     assert "cannot write" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]  # no partial file, tileset or temporary
     err = _fails(base + ["--out", str(tmp_path), "--format", "3dtiles"], capsys)  # would replace notes.txt
-    assert "no tileset.json" in err and a_file.read_text() == "x"
+    assert "is not an earlier output of this command" in err and a_file.read_text() == "x"
 
 
 def test_region_keeps_what_lies_inside_as_gltf(tmp_path, capsys):
@@ -350,3 +350,22 @@ def test_a_baked_dome_has_unit_normals_and_tangents(gl_context):
     normals = [read(p.attributes.NORMAL, 3) for m in gltf.meshes for p in m.primitives]
     assert tangents and np.allclose(np.linalg.norm(np.concatenate(tangents)[:, :3], axis=1), 1.0, atol=1e-5)
     assert np.allclose(np.linalg.norm(np.concatenate(normals), axis=1), 1.0, atol=1e-5)
+
+
+@pytest.mark.parametrize(
+    "option, value, allowed",
+    [
+        ("--texel", "inf", "more than 0 and at most 100"),
+        ("--texel", "1e308", "more than 0 and at most 100"),
+        ("--texel", "nan", "more than 0 and at most 100"),
+        ("--texel", "-1", "more than 0 and at most 100"),
+        ("--lod", "2000", "from 0 (full detail) to 16"),
+        ("--lod", "-1", "from 0 (full detail) to 16"),
+    ],
+)
+@pytest.mark.parametrize("fmt", ["glb", "3dtiles"])
+def test_texel_and_lod_out_of_range_are_one_line(option, value, allowed, fmt, tmp_path, capsys):
+    out = tmp_path / "out"
+    err = _fails(["export", "--map", str(TAGGED), "--format", fmt, "--out", str(out), option, value], capsys)
+    assert f"{option} {float(value) if option == '--texel' else value}" in err and allowed in err
+    assert not list(tmp_path.iterdir())

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import gzip
+import json
 import os
 import socket
 import stat
@@ -13,6 +14,8 @@ import pytest
 
 from cityshade._files import open_input_stream, output_target, read_input_bytes, write_png
 from cityshade.cli import main
+from cityshade.export._export import check_output
+from cityshade.render._tile_cache import check_cache_folder
 from cityshade.errors import UsageError
 from cityshade.grammar import library_path
 
@@ -86,7 +89,7 @@ def test_a_link_to_a_regular_file_is_followed_and_kept(tmp_path):
 
 
 def test_a_name_too_long_once_the_temporary_suffix_is_added(tmp_path):
-    with pytest.raises(UsageError, match="file name is too long"):
+    with pytest.raises(UsageError, match="name is too long"):
         output_target(tmp_path / ("n" * 246 + ".png"))
     output_target(tmp_path / ("n" * 200 + ".png"))
 
@@ -134,3 +137,93 @@ def test_inputs_are_read_up_to_a_cap(tmp_path):
     with pytest.raises(UsageError, match="2000 bytes is more than the 1024"):
         read_input_bytes(big, 1024)
     assert read_input_bytes(big, 2000) == b"x" * 2000
+
+
+# -- folder outputs: a tileset, a tile cache -------------------------------------------------------
+
+TAGGED = Path(__file__).parent / "data" / "maps" / "tagged.osm"
+FOLDER_COMMANDS = {
+    "export 3dtiles": lambda out: ["export", "--map", str(TAGGED), "--format", "3dtiles", "--texel", "1", "--out", out],
+    "tile": lambda out: ["tile", str(TAGGED), "--out", out],
+    "render --tiles": lambda out: ["render", "--map", str(TAGGED), "--tiles", out, "--out", f"{out}.png"],
+}
+# what each command's folder held before it carried a marker
+LEGACY = {"export 3dtiles": "tileset.json", "tile": "manifest.json", "render --tiles": "manifest.json"}
+
+
+def _one_line(capsys, argv: list[str]) -> str:
+    code = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "Traceback" not in err, err
+    return err
+
+
+@pytest.mark.parametrize("command", FOLDER_COMMANDS)
+def test_a_folder_without_the_marker_is_never_replaced(command, tmp_path, capsys):
+    """An output of an older version, or a folder of the user's that happens to hold its file."""
+    folder = tmp_path / "v"
+    folder.mkdir()
+    (folder / LEGACY[command]).write_text("{}")
+    (folder / "THESIS.txt").write_text("keep")
+    err = _one_line(capsys, FOLDER_COMMANDS[command](str(folder)))
+    assert "has no .cityshade-output file" in err and "delete it yourself" in err
+    assert sorted(p.name for p in folder.iterdir()) == sorted([LEGACY[command], "THESIS.txt"])
+
+
+@pytest.mark.parametrize("command", ["export 3dtiles", "tile"])
+def test_an_earlier_output_is_replaced_only_while_it_holds_nothing_else(command, tmp_path, capsys):
+    folder = tmp_path / "out"
+    argv = FOLDER_COMMANDS[command](str(folder))
+    assert main(argv) == 0
+    (folder / "tiles" / "notes.txt").write_text("keep")
+    assert "holds 'tiles/notes.txt', which cityshade did not write there" in _one_line(capsys, argv)
+    assert (folder / "tiles" / "notes.txt").read_text() == "keep"
+    (folder / "tiles" / "notes.txt").unlink()
+    (folder / "tiles" / "link").symlink_to(tmp_path)  # a link, even to a folder, is not the command's
+    assert "holds 'tiles/link'" in _one_line(capsys, argv)
+    (folder / "tiles" / "link").unlink()
+    assert main(argv) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no temporary folder left
+
+
+def test_a_marker_of_another_kind_or_format_or_damaged_is_refused(tmp_path, capsys):
+    folder = tmp_path / "out"
+    assert main(FOLDER_COMMANDS["tile"](str(folder))) == 0
+    assert "another kind of cityshade output, not a 3dtiles" in _one_line(
+        capsys, FOLDER_COMMANDS["export 3dtiles"](str(folder))
+    )
+    marker = folder / ".cityshade-output"
+    written = json.loads(marker.read_text())
+    for content, reason in (
+        ({**written, "format": 99}, "written by another cityshade version"),
+        ("[" * 100_000, ".cityshade-output' is damaged"),
+        ({**written, "files": "tiles"}, ".cityshade-output' is damaged"),
+    ):
+        marker.write_text(content if isinstance(content, str) else json.dumps(content))
+        assert reason in _one_line(capsys, FOLDER_COMMANDS["tile"](str(folder)))
+    marker.unlink()
+    os.mkfifo(marker)
+    assert "a FIFO, not a cityshade output marker" in _one_line(capsys, FOLDER_COMMANDS["tile"](str(folder)))
+    assert (folder / "manifest.json").is_file()
+
+
+@pytest.mark.parametrize("command", FOLDER_COMMANDS)
+@pytest.mark.parametrize("where", ["fifo", "long name"])
+def test_folder_outputs_follow_the_rules_for_files(command, where, tmp_path, capsys):
+    """A FIFO, and a name with no room for the temporary folder's suffix."""
+    if where == "fifo":
+        os.mkfifo(tmp_path / "fifo")
+    out = tmp_path / ("fifo" if where == "fifo" else "n" * 250)
+    err = _one_line(capsys, FOLDER_COMMANDS[command](str(out)))
+    assert "not a directory (a FIFO)" in err or "name is too long" in err
+    assert all(not p.is_dir() for p in tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("check", [lambda out: check_output(out, "3dtiles"), check_cache_folder])
+@pytest.mark.parametrize("where", ["/sys/fs/cgroup/cityshade-test", "/proc/cityshade-test/tiles"])
+def test_folder_outputs_under_kernel_file_systems_are_refused(check, where):
+    """Paths that do not exist, checked by what each command runs before any work, so that nothing
+    is ever written there."""
+    with pytest.raises(UsageError, match="kernel file system"):
+        check(Path(where))
+    assert not Path(where).exists()

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import threading
 import time
 from argparse import Namespace
@@ -96,7 +97,10 @@ def test_tile_writes_manifest_tiles_and_a_summary(tmp_path, capsys):
         assert held <= tile["resident_bytes"] < held + FACE_DTYPE.itemsize + GROUND_DTYPE.itemsize + SLOT_UNIT
         x0, z0, x1, z1 = tile["bounds"]
         assert x0 <= x1 and z0 <= z1
-    assert sorted(p.name for p in folder.iterdir()) == ["city.pickle", "manifest.json", "tiles"]
+    assert sorted(p.name for p in folder.iterdir()) == [".cityshade-output", "city.pickle", "manifest.json", "tiles"]
+    marker = json.loads((folder / ".cityshade-output").read_text())
+    written = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+    assert marker == {"kind": "tile-cache", "format": 1, "files": [n for n in written if n != ".cityshade-output"]}
 
 
 def test_tiles_hold_every_building_once(district, district_tiles):
@@ -476,7 +480,7 @@ def test_a_tile_file_of_other_contents_is_one_line(arrays, reason, tagged_tiles,
     """A tile file whose manifest entry matches but whose arrays are not its tile's: refused when read."""
     vertices, faces, ground = read_tile(open_tiles(tagged_tiles), 0)
     if arrays == "no faces":
-        _rewritten_tile(tagged_tiles, vertices=vertices, ground=ground)
+        _rewritten_tile(tagged_tiles, vertices=vertices, ground=ground, other=faces)  # as large, no faces.npy
     elif arrays == "rows beyond":
         vertices["face"][-1] = len(faces)
         _rewritten_tile(tagged_tiles, vertices=vertices, faces=faces, ground=ground)
@@ -487,6 +491,127 @@ def test_a_tile_file_of_other_contents_is_one_line(arrays, reason, tagged_tiles,
     err = one_line_error(capsys, ["render", "--tiles", str(tagged_tiles), "--out", str(tmp_path / "a.png")])
     assert f"tiles/00000.npz {reason}" in err
     assert not (tmp_path / "a.png").exists()
+
+
+def _edit_manifest(folder: Path, change):
+    manifest = json.loads((folder / "manifest.json").read_text())
+    change(manifest)
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+
+
+def _refused(folder: Path, tile: int | None = None) -> str:
+    """The one line that opening the cache (and reading `tile`) fails with."""
+    with pytest.raises(CacheProblem) as failure:
+        cache = open_tiles(folder)
+        if tile is not None:
+            read_tile(cache, tile)
+    assert "\n" not in str(failure.value)
+    return str(failure.value)
+
+
+@pytest.mark.parametrize("name", ["manifest.json", "city.pickle", "tiles/00000.npz"])
+@pytest.mark.parametrize("kind", ["fifo", "/dev/zero"])
+def test_cache_files_that_are_not_regular_files_are_one_line(name, kind, tagged_tiles):
+    path = tagged_tiles / name
+    path.unlink()
+    if kind == "fifo":
+        os.mkfifo(path)
+    else:
+        path.symlink_to(kind)
+    assert name in _refused(tagged_tiles, 0)
+
+
+@pytest.mark.parametrize(
+    "text", ["[" * 100_000, '{"tiles": ' + "[" * 50 + "]" * 50 + "}"], ids=["past the parser", "tiles 50 deep"]
+)
+def test_a_deeply_nested_manifest_is_one_line(text, tagged_tiles):
+    (tagged_tiles / "manifest.json").write_text(text)
+    assert "manifest.json is damaged" in _refused(tagged_tiles)
+
+
+def test_files_the_manifest_names_outside_the_cache_are_refused_unsized(tagged_tiles, tmp_path):
+    secret = tmp_path / "secret.bin"
+    secret.write_bytes(b"s" * 12345)
+    for name in ("../secret.bin", str(secret), "tiles/../../secret.bin"):
+        _edit_manifest(tagged_tiles, lambda m: m["tiles"][0].update(file=name))
+        reason = _refused(tagged_tiles)
+        assert "tile 0's file is not a name like tiles/00000.npz" in reason and "12345" not in reason
+    _edit_manifest(tagged_tiles, lambda m: m["tiles"][0].update(file="tiles/00000.npz"))
+    (tagged_tiles / "tiles" / "00000.npz").unlink()
+    (tagged_tiles / "tiles" / "00000.npz").symlink_to(secret)
+    reason = _refused(tagged_tiles)
+    assert "tiles/00000.npz leads outside the cache" in reason and "12345" not in reason and "secret" not in reason
+
+
+@pytest.mark.parametrize(
+    "change, reason",
+    [
+        (lambda m: m["tiles"][0].update(bytes=float("inf")), "tile 0's bytes is not a whole number"),
+        (lambda m: m["tiles"][0].update(vertices=-1), "tile 0's vertices is not a whole number"),
+        (lambda m: m["tiles"][0].update(faces="12"), "tile 0's faces is not a whole number"),
+        (lambda m: m["tiles"][0].update(ground=10**30), "tile 0's ground is not a whole number"),
+        (lambda m: m["tiles"][0].update(vertices=10**9), "tile 0's counts need more bytes than its file has"),
+        (lambda m: m["tiles"][0].update(bounds=[0, 0, float("nan"), 1]), "tile 0's bounds are not four finite"),
+        (lambda m: m["tiles"][0].update(sha256=None), "tile 0's sha256 is not 64 hexadecimal digits"),
+        (lambda m: m["tiles"].append([]), "is not an object"),
+        (lambda m: m.update(tiles={"a": 1}), "its tiles are not a list"),
+        (lambda m: m.update(city="/etc/passwd"), "its city is not city.pickle"),
+        (lambda m: m["city"].update(bytes=True), "the city's bytes is not a whole number"),
+        (lambda m: m.update(cityshade=["x"] * 10**5), "made with cityshade of another kind, this cityshade needs"),
+    ],
+)
+def test_hostile_manifest_values_are_one_line(change, reason, tagged_tiles):
+    _edit_manifest(tagged_tiles, change)
+    assert reason in _refused(tagged_tiles)
+
+
+def _rewritten_city(folder: Path, change):
+    """city.pickle with `change` made to its parts, its size and SHA-256 in the manifest to match."""
+    import pickle
+
+    path = folder / "city.pickle"
+    rest = pickle.loads(path.read_bytes())
+    change(rest)
+    data = pickle.dumps(rest)
+    path.write_bytes(data)
+    _edit_manifest(folder, lambda m: m["city"].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest()))
+
+
+@pytest.mark.parametrize(
+    "change, reason",
+    [
+        (lambda rest: rest["box_tile"].__setitem__(0, 99), "has boxes of tiles the manifest does not list"),
+        (lambda rest: rest["boxes"]["draw"].__setitem__((0, 1), 10**6), "has boxes of vertices or buildings"),
+        (lambda rest: rest.pop("records"), "is not a tile cache's city"),
+    ],
+)
+def test_a_city_whose_boxes_name_other_tiles_is_one_line(change, reason, tagged_tiles):
+    _rewritten_city(tagged_tiles, change)
+    assert f"city.pickle {reason}" in _refused(tagged_tiles)
+
+
+def test_a_tile_header_larger_than_its_tile_is_refused_before_allocating(tagged_tiles):
+    """A faces.npy of a header alone claiming 10**12 rows (and the bytes its rows would take in
+    another member): refused from the header, before 10**12 rows are allocated."""
+    import io
+    import zipfile
+
+    vertices, faces, ground = read_tile(open_tiles(tagged_tiles), 0)
+    stream = io.BytesIO()
+    with zipfile.ZipFile(stream, "w") as archive:
+        for name, array in (("vertices", vertices), ("ground", ground)):
+            with archive.open(f"{name}.npy", "w") as member:
+                np.lib.format.write_array(member, array)
+        with archive.open("faces.npy", "w") as member:
+            header = {"descr": np.lib.format.dtype_to_descr(faces.dtype), "fortran_order": False, "shape": (10**12,)}
+            np.lib.format.write_array_header_1_0(member, header)
+        archive.writestr("padding", bytes(faces.nbytes))
+    data = stream.getvalue()
+    (tagged_tiles / "tiles" / "00000.npz").write_bytes(data)
+    _edit_manifest(
+        tagged_tiles, lambda m: m["tiles"][0].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest())
+    )
+    assert "tiles/00000.npz holds faces of another layout or count than its tile's" in _refused(tagged_tiles, 0)
 
 
 class _Payload:

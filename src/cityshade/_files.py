@@ -4,6 +4,9 @@ temporary file beside the target, renamed into place once complete, with the per
 created file would have, and only over a missing or regular file (never a device, FIFO, socket,
 directory, or anything under /proc or /sys). A symbolic link at the output is followed like a shell
 redirection: the link stays and its target, which must itself be missing or regular, gets the file.
+A folder output (a tileset, a tile cache) is built beside its target under the same rules and
+swapped in whole; an existing folder is replaced only when it is empty or holds only the files that
+cityshade's marker in it lists as its own, for an output of the same kind.
 """
 
 from __future__ import annotations
@@ -11,6 +14,7 @@ from __future__ import annotations
 import bz2
 import contextlib
 import gzip
+import json
 import os
 import shutil
 import signal
@@ -24,6 +28,12 @@ from .errors import UsageError
 _SYSTEM_TREES = (Path("/proc"), Path("/sys"))
 # mkstemp adds '.' + name + '.' + 8 random characters + suffix; room for them must be left.
 _TEMP_EXTRA = 10
+# mkdtemp's '.' + name + '.old.' + 8 random characters, for the folder an output replaces.
+_FOLDER_TEMP_EXTRA = 14
+# A folder output's marker: its kind, format and the files cityshade wrote, the only ones it replaces.
+OUTPUT_MARKER = ".cityshade-output"
+MARKER_FORMAT = 1
+MARKER_LIMIT = 64 << 20  # lists every file: a million tiles' names fit
 
 
 def _umask() -> int:
@@ -45,10 +55,9 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
-def output_target(path: Path) -> Path:
-    """The file an output to `path` will replace, after every check; raises UsageError (one line)
-    for outputs that must not be written. Creates nothing."""
-    path = Path(path)
+def _resolved(path: Path) -> tuple[str, Path, int | None]:
+    """(the path as given, its real path, the real path's mode or None when missing); refuses
+    anything under /proc or /sys."""
     shown = str(path)
     real = Path(os.path.realpath(path))
     for tree in _SYSTEM_TREES:
@@ -57,15 +66,16 @@ def output_target(path: Path) -> Path:
                 f"cannot write {shown!r}: it is under {tree}, a kernel file system; choose another output path"
             )
     try:
-        mode = os.stat(real).st_mode
+        return shown, real, os.stat(real).st_mode
     except (FileNotFoundError, NotADirectoryError):
-        mode = None
+        return shown, real, None
     except OSError as exc:
         raise UsageError(f"cannot write {shown!r}: {exc.strerror}; choose another output path") from None
-    if mode is not None and stat.S_ISDIR(mode):
-        raise UsageError(f"output path {shown!r} is a directory; give a file name such as out/city.png")
-    if mode is not None and not stat.S_ISREG(mode):
-        raise UsageError(f"cannot write {shown!r}: it is {_kind(mode)}; only new or regular files are replaced")
+
+
+def _check_room(shown: str, real: Path, mode: int | None, extra: int):
+    """Refuses a target whose nearest existing folder is not a writable directory, or whose name
+    with `extra` bytes more (a temporary name's) is too long for the file system."""
     probe = real.parent
     while not probe.exists():
         probe = probe.parent
@@ -77,11 +87,21 @@ def output_target(path: Path) -> Path:
         name_max = os.pathconf(probe, "PC_NAME_MAX")
     except (OSError, ValueError):
         name_max = 255
-    if len(os.fsencode(real.name)) + len(os.fsencode(real.suffix)) + _TEMP_EXTRA > name_max:
+    if len(os.fsencode(real.name)) + extra > name_max:
         raise UsageError(
-            f"cannot write {shown!r}: the file name is too long for this file system "
-            f"(at most {name_max - _TEMP_EXTRA - len(os.fsencode(real.suffix))} bytes here)"
+            f"cannot write {shown!r}: the name is too long for this file system (at most {name_max - extra} bytes here)"
         )
+
+
+def output_target(path: Path) -> Path:
+    """The file an output to `path` will replace, after every check; raises UsageError (one line)
+    for outputs that must not be written. Creates nothing."""
+    shown, real, mode = _resolved(Path(path))
+    if mode is not None and stat.S_ISDIR(mode):
+        raise UsageError(f"output path {shown!r} is a directory; give a file name such as out/city.png")
+    if mode is not None and not stat.S_ISREG(mode):
+        raise UsageError(f"cannot write {shown!r}: it is {_kind(mode)}; only new or regular files are replaced")
+    _check_room(shown, real, mode, len(os.fsencode(real.suffix)) + _TEMP_EXTRA)
     return real
 
 
@@ -104,27 +124,91 @@ def atomic_output(path: Path):
             os.unlink(tmp)
 
 
-def check_replaceable_folder(path: Path, is_replaceable) -> Path:
-    """Fails with one line unless `path` is missing, an empty folder or one `is_replaceable` accepts."""
-    path = Path(path)
-    if path.exists() and not (path.is_dir() and (not any(path.iterdir()) or is_replaceable(path))):
-        raise UsageError(f"{str(path)!r} exists and is not an earlier output of this command; choose another folder")
-    output_target(path / "x")
-    return path
+def _folder_target(path: Path, extra: int) -> tuple[str, Path, int | None]:
+    """A folder output's real path, after the rules for files: nothing under /proc or /sys, only a
+    missing path or a directory, a writable parent, room for `extra` bytes more in its name."""
+    shown, real, mode = _resolved(Path(path))
+    if mode is not None and not stat.S_ISDIR(mode):
+        kind = "a file" if stat.S_ISREG(mode) else _kind(mode)
+        raise UsageError(f"cannot write {shown!r}: it exists and is not a directory ({kind}); choose another folder")
+    _check_room(shown, real, mode, extra)
+    return shown, real, mode
+
+
+def _walk_error(exc: OSError):
+    raise exc
+
+
+def _check_owned(shown: str, folder: Path, kind: str):
+    """Fails with one line unless `folder` holds only what cityshade wrote there as a `kind` output:
+    its marker lists those files, and anything else (a file of the user's, a link) must stay."""
+    marker = folder / OUTPUT_MARKER
+    if not os.path.lexists(marker):
+        raise UsageError(
+            f"{shown!r} exists and is not an earlier output of this command: it has no {OUTPUT_MARKER} file "
+            "(nor do outputs of older cityshade versions); delete it yourself or choose another folder"
+        )
+    data = read_input_bytes(marker, MARKER_LIMIT, "cityshade output marker")
+    try:
+        written = json.loads(data)
+    except (ValueError, RecursionError):
+        written = None
+    if not isinstance(written, dict) or not isinstance(written.get("files"), list):
+        raise UsageError(f"{str(marker)!r} is damaged; delete {shown!r} yourself or choose another folder")
+    if written.get("kind") != kind:
+        raise UsageError(f"{shown!r} holds another kind of cityshade output, not a {kind}; choose another folder")
+    if written.get("format") != MARKER_FORMAT:
+        raise UsageError(
+            f"{shown!r} was written by another cityshade version (its {OUTPUT_MARKER} is not of format "
+            f"{MARKER_FORMAT}); delete it yourself or choose another folder"
+        )
+    owned = {name for name in written["files"] if isinstance(name, str)} | {OUTPUT_MARKER}
+    try:
+        for root, folders, files in os.walk(folder, onerror=_walk_error):  # never into a link
+            for name in folders + files:
+                entry = Path(root, name)
+                mode = os.lstat(entry).st_mode
+                inside = entry.relative_to(folder).as_posix()
+                if not stat.S_ISDIR(mode) and not (stat.S_ISREG(mode) and inside in owned):
+                    raise UsageError(
+                        f"{shown!r} holds {inside!r}, which cityshade did not write there; "
+                        "move it out or choose another folder"
+                    )
+    except OSError as exc:
+        raise UsageError(f"cannot replace {shown!r}: {exc.strerror} in it; choose another folder") from None
+
+
+def check_replaceable_folder(path: Path, kind: str) -> Path:
+    """The real folder a `kind` output (e.g. "3dtiles") to `path` will take the place of, after every
+    check; fails with one line unless it is missing, empty or an earlier `kind` output holding only
+    the files cityshade wrote there. Creates nothing."""
+    shown, real, mode = _folder_target(path, _FOLDER_TEMP_EXTRA)
+    if mode is not None and any(real.iterdir()):
+        _check_owned(shown, real, kind)
+    return real
+
+
+def _mark(folder: Path, kind: str):
+    """Writes the marker that lets a later run of the same command replace `folder`."""
+    files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+    marker = {"kind": kind, "format": MARKER_FORMAT, "files": files}
+    (folder / OUTPUT_MARKER).write_text(json.dumps(marker, indent=0), encoding="utf-8")
 
 
 @contextlib.contextmanager
-def atomic_folder(path: Path, is_replaceable):
-    """Yields a temporary folder beside `path`; on success it takes `path`'s place (an existing
-    folder there is replaced only when `is_replaceable(path)` says it is an earlier output), on error
-    or a signal it is removed: `path` holds the old folder or the new one, never a half-written one."""
-    path = check_replaceable_folder(path, is_replaceable)
+def atomic_folder(path: Path, kind: str):
+    """Yields a temporary folder beside `path`; on success it gets a `kind` marker and takes `path`'s
+    place (check_replaceable_folder says which folder may be replaced), on error or a signal it is
+    removed: `path` holds the old folder or the new one, never a half-written one."""
+    path = check_replaceable_folder(path, kind)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = old = None
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
         yield tmp
+        _mark(tmp, kind)
         os.chmod(tmp, 0o777 & ~_umask())
+        check_replaceable_folder(path, kind)  # a file may have been put there meanwhile
         if path.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
             os.replace(path, old / path.name)
@@ -136,12 +220,10 @@ def atomic_folder(path: Path, is_replaceable):
 
 
 def output_folder(path: Path) -> Path:
-    """A folder outputs go into: refused with one line if it exists as something else."""
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise UsageError(f"output folder {str(path)!r} exists and is not a directory; choose another folder")
-    output_target(path / "x")
-    return path
+    """A folder outputs go into (each written as a file): refused with one line if it exists as
+    something else or cannot be written."""
+    _folder_target(path, 0)
+    return Path(path)
 
 
 def write_bytes(path: Path, data: bytes):

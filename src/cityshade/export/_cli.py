@@ -44,7 +44,7 @@ def run(args) -> int:
     from ._export import check_output
 
     fmt = output_format(args)
-    check_output(args.out, fmt)  # before the map is read
+    check_output(args.out, fmt, args.texel, args.lod)  # before the map is read
     region = parse_region(args.region) if args.region is not None else None
     export = map_export_city(args.map) if args.map is not None else layout_export_city(args.city)
     if region is not None:

@@ -2,19 +2,22 @@
 
 from __future__ import annotations
 
-import os
-import shutil
-import tempfile
+import numbers
 import time
 from pathlib import Path
 
-from .._files import atomic_output
+from .._files import atomic_output, check_replaceable_folder, output_target
 from ..errors import UsageError
 from ._content import BuildingWriter, Stats, add_ground, add_trees, simplified
 from ._gltf import Document, glb_bytes, gltf_text
 from ._source import ExportCity
 
 FORMATS = ("glb", "gltf", "3dtiles")
+TILESET_KIND = "3dtiles"  # a tileset folder's marker kind (_files.OUTPUT_MARKER)
+# The texel of each level is texel * 2**level, up to lod + the tileset's 8 levels: these keep it a
+# finite, plain size (a texel of 100 m already leaves most walls one texel wide).
+MAX_TEXEL = 100.0
+MAX_LOD = 16
 ATTRIBUTION = "© OpenStreetMap contributors, ODbL 1.0"
 
 
@@ -56,53 +59,26 @@ def city_document(
     return doc.finish(), stats
 
 
-def check_output(out: Path, fmt: str):
-    """Fails with one line before any work if `out` cannot be written."""
+def check_output(out: Path, fmt: str, texel: float = 0.05, lod: int = 0):
+    """Fails with one line before any work if the options are out of range or `out` cannot be
+    written (a tileset replaces only an earlier tileset, _files.check_replaceable_folder)."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt!r}: unknown; use one of {', '.join(FORMATS)}")
-    if fmt != "3dtiles" and out.is_dir():
+    if isinstance(texel, bool) or not isinstance(texel, numbers.Real) or not 0 < texel <= MAX_TEXEL:
+        raise UsageError(f"--texel {texel}: give metres per texel, more than 0 and at most {MAX_TEXEL:g}")
+    if isinstance(lod, bool) or not isinstance(lod, numbers.Integral) or not 0 <= lod <= MAX_LOD:
+        raise UsageError(f"--lod {lod}: give a level from 0 (full detail) to {MAX_LOD}")
+    if fmt == "3dtiles":
+        check_replaceable_folder(out, TILESET_KIND)
+    elif out.is_dir():
         raise UsageError(f"--out {str(out)!r} is a directory; give a file name such as city.{fmt}")
-    if fmt == "3dtiles" and out.exists() and not out.is_dir():
-        raise UsageError(f"--out {str(out)!r} is a file; a tileset is written to a directory")
-    if fmt == "3dtiles" and out.is_dir() and any(out.iterdir()) and not (out / "tileset.json").is_file():
-        # the directory is replaced as a whole: only ever an earlier tileset
-        raise UsageError(f"--out {str(out)!r} holds files but no tileset.json; give a new directory for the tileset")
-    folder = out.absolute().parent
-    probe = folder
-    while not probe.exists():
-        probe = probe.parent
-    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
-        raise UsageError(f"cannot write {str(out)!r}: {str(probe)!r} is not a writable directory; choose another --out")
-
-
-def write_directory(out: Path, fill) -> None:
-    """Fills a temporary directory beside `out` with `fill(path)`, then puts it in out's place."""
-    out.absolute().parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.absolute().parent))
-    try:
-        fill(tmp)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o777 & ~umask)
-        if out.exists():
-            old = out.with_name(f".{out.name}.old")
-            os.replace(out, old)
-            os.replace(tmp, out)
-            shutil.rmtree(old)
-        else:
-            os.replace(tmp, out)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp)
+    else:
+        output_target(out)
 
 
 def export_city(export: ExportCity, out: Path, fmt: str = "glb", texel: float = 0.05, lod: int = 0) -> dict:
     """Writes the export; returns what it wrote (counts, sizes, seconds)."""
-    check_output(out, fmt)
-    if not texel > 0:
-        raise UsageError(f"--texel {texel}: must be a positive number of metres per texel")
-    if lod < 0:
-        raise UsageError(f"--lod {lod}: must be 0 (full detail) or more")
+    check_output(out, fmt, texel, lod)
     began = time.perf_counter()
     try:
         summary = _write(export, out, fmt, texel, lod)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._files import atomic_folder
 from ..errors import UsageError
 from ..scene import building_vertices
 from ._gltf import glb_bytes
@@ -65,7 +66,7 @@ def _height(node: _Node) -> int:
 
 
 def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
-    from ._export import city_document, summary_of, write_directory
+    from ._export import TILESET_KIND, city_document, summary_of
 
     if export.origin is None:
         raise UsageError(
@@ -145,7 +146,8 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
         }
         (folder / "tileset.json").write_text(json.dumps(tileset, indent=1), encoding="utf-8")
 
-    write_directory(out, fill)
+    with atomic_folder(out, TILESET_KIND) as folder:
+        fill(folder)
     leaves, ground = stats_all[:-1], stats_all[-1]
     summary = summary_of(ground)
     summary.update(

@@ -11,6 +11,8 @@ one after another in box order; its own face table, scene/_face_table.py, the ve
 counted from the tile's first; its ground triangles). A tile is the buildings whose masses stand
 in one square of `tile_size` metres and the ground of that square (_groups); the city is meshed
 tile by tile, so cutting it never holds more than one tile's vertices.
+The folder also carries cityshade's output marker (_files.atomic_folder), so that only a cache is
+ever replaced by one.
 
 Anything that does not match (another format, cityshade version or source code, vertex layout or
 source file; a missing, truncated or altered file) raises CacheProblem with one line saying what;
@@ -24,17 +26,22 @@ import functools
 import hashlib
 import io
 import json
+import math
+import os
 import pickle
+import re
+import stat
 import time
 import warnings
 import zipfile
+import zlib
 from collections import Counter
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_folder, check_replaceable_folder
+from .._files import InputError, atomic_folder, check_replaceable_folder, read_input_bytes
 from ..errors import CityshadeError
 from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
@@ -48,6 +55,12 @@ TILE_SIZE = 256.0  # metres: about a district of a dozen blocks
 MANIFEST = "manifest.json"
 CITY_FILE = "city.pickle"
 TILE_FOLDER = "tiles"
+KIND = "tile-cache"  # its marker's kind (_files.OUTPUT_MARKER)
+MANIFEST_LIMIT = 64 << 20  # bytes: about 200,000 tiles' entries
+MAX_BYTES = 1 << 40  # the most a city file or tile may have (a TiB): bounds the manifest's counts
+MANIFEST_NESTING = 5  # levels: the manifest, its tiles, a tile, its bounds, a bound
+SHA256 = re.compile("[0-9a-f]{64}")
+TILE_NAME = re.compile(rf"{TILE_FOLDER}/[0-9]{{5,9}}\.npz")  # the names write_tiles gives
 HASH_BLOCK = 1 << 20
 GROUND_DTYPE = np.dtype((np.float32, 4))  # a ground vertex: x, y, z, material (render/_city_gpu.py)
 # A resident tile's slot of the streaming arena holds its building vertices, its face rows from the
@@ -216,13 +229,9 @@ def _bounds(boxes: np.ndarray, ground: np.ndarray) -> tuple[float, float, float,
     return float(x.min()), float(z.min()), float(x.max()), float(z.max())
 
 
-def _is_cache(folder: Path) -> bool:
-    return (folder / MANIFEST).is_file()
-
-
 def check_cache_folder(folder: Path):
     """Fails with one line before any work if `folder` cannot take a cache (it holds something else)."""
-    check_replaceable_folder(folder, _is_cache)
+    check_replaceable_folder(folder, KIND)
 
 
 def _tile_file(folder: Path, name: str, vertices: np.ndarray, faces: np.ndarray, ground: np.ndarray) -> tuple[int, str]:
@@ -243,7 +252,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), [], [], [], [], []
     ground = ground_vertices(city).reshape(-1, 3, 4)
     resident = np.ones(len(ground), bool)  # the ground no tile holds
-    with atomic_folder(folder, _is_cache) as tmp, warnings.catch_warnings():
+    with atomic_folder(folder, KIND) as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
         (tmp / TILE_FOLDER).mkdir()
         for index, triangles in zip(*_groups(masses, ground, tile_size)):
@@ -298,12 +307,25 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
     return {"tiles": len(tiles), "buildings": len(masses), "bytes": written, "seconds": time.perf_counter() - start}
 
 
+def _damaged(folder: Path, what: str) -> CacheProblem:
+    return CacheProblem(folder, f"{MANIFEST} is damaged ({what}); make the cache again")
+
+
+def _inside(folder: Path, name: str) -> Path:
+    """The file `name` (a name write_tiles gives) in the cache; one that a symbolic link takes out
+    of the folder is refused, and nothing about it is said."""
+    real = Path(os.path.realpath(folder))
+    path = Path(os.path.realpath(real / name))
+    if real not in path.parents:
+        raise CacheProblem(folder, f"{name} leads outside the cache (a symbolic link); make the cache again")
+    return path
+
+
 def _read_checked(folder: Path, name: str, size: int, sha256: str) -> bytes:
-    path = folder / name
     try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise CacheProblem(folder, f"cannot read {name} ({exc.strerror or exc})") from None
+        data = read_input_bytes(_inside(folder, name), size, "cache file")
+    except InputError as exc:
+        raise CacheProblem(folder, f"{name} is missing or damaged ({exc.reason})") from None
     if len(data) != size:
         raise CacheProblem(folder, f"{name} is damaged ({len(data)} bytes, the manifest says {size})")
     if _sha256(data) != sha256:
@@ -311,19 +333,101 @@ def _read_checked(folder: Path, name: str, size: int, sha256: str) -> bytes:
     return data
 
 
+def _nesting(value) -> int:
+    """How deeply lists and objects nest in a parsed JSON value (counted level by level, not by recursion)."""
+    depth, level = 0, [value]
+    while level:
+        depth += 1
+        level = [v for x in level if isinstance(x, (dict, list)) for v in (x.values() if isinstance(x, dict) else x)]
+    return depth
+
+
 def _manifest(folder: Path) -> dict:
-    path = folder / MANIFEST
     if not folder.is_dir():
         raise CacheProblem(folder, "no such folder")
+    if not (folder / MANIFEST).exists():
+        raise CacheProblem(folder, f"no {MANIFEST}")
     try:
-        manifest = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise CacheProblem(folder, f"no {MANIFEST}") from None
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise CacheProblem(folder, f"{MANIFEST} is damaged ({type(exc).__name__})") from None
+        manifest = json.loads(read_input_bytes(_inside(folder, MANIFEST), MANIFEST_LIMIT, "tile manifest"))
+    except InputError as exc:
+        raise CacheProblem(folder, f"{MANIFEST}: {exc.reason}") from None
+    except RecursionError:
+        raise _damaged(folder, "nested too deeply") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise _damaged(folder, type(exc).__name__) from None
     if not isinstance(manifest, dict):
-        raise CacheProblem(folder, f"{MANIFEST} is damaged (not an object)")
+        raise _damaged(folder, "not an object")
+    if _nesting(manifest) > MANIFEST_NESTING:
+        raise _damaged(folder, "nested too deeply")
     return manifest
+
+
+def _shown(value) -> str:
+    """A manifest's value for a message: short plain values only, never a whole structure."""
+    text = repr(value) if isinstance(value, (str, int, float, type(None))) else "of another kind"
+    return text if len(text) <= 80 else "another"
+
+
+def _count(folder: Path, what: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_BYTES:
+        raise _damaged(folder, f"{what} is not a whole number from 0 to {MAX_BYTES}")
+    return value
+
+
+def _tile(folder: Path, index: int, entry) -> Tile:
+    """Tile `index` of the manifest, every field checked: a file name write_tiles gives, finite
+    bounds, counts from 0 to MAX_BYTES, a SHA-256."""
+    where = f"tile {index}"
+    if not isinstance(entry, dict):
+        raise _damaged(folder, f"{where} is not an object")
+    bounds = entry.get("bounds")
+    if not (
+        isinstance(bounds, list)
+        and len(bounds) == 4
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in bounds)
+    ):
+        raise _damaged(folder, f"{where}'s bounds are not four finite numbers")
+    name, digest = entry.get("file"), entry.get("sha256")
+    if not isinstance(name, str) or not TILE_NAME.fullmatch(name):
+        raise _damaged(folder, f"{where}'s file is not a name like {TILE_FOLDER}/00000.npz")
+    if not isinstance(digest, str) or not SHA256.fullmatch(digest):
+        raise _damaged(folder, f"{where}'s sha256 is not 64 hexadecimal digits")
+    counts = [_count(folder, f"{where}'s {key}", entry.get(key)) for key in _TILE_COUNTS]
+    tile = Tile(name, tuple(float(v) for v in bounds), *counts, digest)
+    if sum(rows * dtype.itemsize for rows, dtype in _parts(tile).values()) > tile.bytes:
+        # np.savez stores the arrays as they are: a file never holds less than its arrays' bytes
+        raise _damaged(folder, f"{where}'s counts need more bytes than its file has")
+    return tile
+
+
+def _parts(tile: Tile) -> dict:
+    """The arrays of a tile's file: name -> (rows, row dtype)."""
+    return {
+        "vertices": (tile.vertices, GPU_VERTEX_DTYPE),
+        "faces": (tile.faces, FACE_DTYPE),
+        "ground": (tile.ground, GROUND_DTYPE),
+    }
+
+
+_TILE_COUNTS = ("buildings", "vertices", "faces", "ground", "bytes")
+
+
+def _city_entry(folder: Path, entry) -> tuple[int, str]:
+    if not isinstance(entry, dict) or entry.get("file") != CITY_FILE:
+        raise _damaged(folder, f"its city is not {CITY_FILE}")
+    digest = entry.get("sha256")
+    if not isinstance(digest, str) or not SHA256.fullmatch(digest):
+        raise _damaged(folder, "the city's sha256 is not 64 hexadecimal digits")
+    return _count(folder, "the city's bytes", entry.get("bytes")), digest
+
+
+def _file_size(folder: Path, name: str) -> int | None:
+    """The size of a regular file in the cache, None for anything else."""
+    try:
+        info = os.stat(_inside(folder, name))
+    except OSError:
+        return None
+    return info.st_size if stat.S_ISREG(info.st_mode) else None
 
 
 def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
@@ -332,30 +436,19 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
     manifest = _manifest(folder)
     for key, wanted in _layouts().items():
         if manifest.get(key) != wanted:
-            raise CacheProblem(folder, f"made with {key} {manifest.get(key)!r}, this cityshade needs {wanted!r}")
+            raise CacheProblem(folder, f"made with {key} {_shown(manifest.get(key))}, this cityshade needs {wanted!r}")
     if source is not None and manifest.get("source") != source:
-        made = manifest.get("source") or {}
-        raise CacheProblem(folder, f"made from another file ({made.get('name')!r}, {made.get('bytes')} bytes)")
-    try:
-        tiles = [
-            Tile(
-                str(t["file"]),
-                tuple(float(v) for v in t["bounds"]),
-                int(t["buildings"]),
-                int(t["vertices"]),
-                int(t["faces"]),
-                int(t["ground"]),
-                int(t["bytes"]),
-                str(t["sha256"]),
-            )
-            for t in manifest["tiles"]
-        ]
-        city_entry = manifest["city"]
-        data = _read_checked(folder, str(city_entry["file"]), int(city_entry["bytes"]), str(city_entry["sha256"]))
-    except (KeyError, TypeError, ValueError) as exc:
-        raise CacheProblem(folder, f"{MANIFEST} is damaged (bad or missing {exc})") from None
+        made = manifest.get("source")
+        made = made if isinstance(made, dict) else {}
+        raise CacheProblem(
+            folder, f"made from another file ({_shown(made.get('name'))}, {_shown(made.get('bytes'))} bytes)"
+        )
+    if not isinstance(manifest.get("tiles"), list):
+        raise _damaged(folder, "its tiles are not a list")
+    tiles = [_tile(folder, i, entry) for i, entry in enumerate(manifest["tiles"])]
+    data = _read_checked(folder, CITY_FILE, *_city_entry(folder, manifest.get("city")))
     for tile in tiles:
-        size = (folder / tile.file).stat().st_size if (folder / tile.file).is_file() else None
+        size = _file_size(folder, tile.file)
         if size != tile.bytes:
             raise CacheProblem(
                 folder, f"{tile.file} is missing or damaged ({size} bytes, the manifest says {tile.bytes})"
@@ -368,6 +461,7 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
         ) from None
     except Exception as exc:  # noqa: BLE001 - any unpickling failure means a damaged file
         raise CacheProblem(folder, f"{CITY_FILE} cannot be read ({type(exc).__name__})") from None
+    _check_rest(folder, rest, tiles)
     return TileCache(
         folder,
         tiles,
@@ -379,6 +473,29 @@ def open_tiles(folder: Path, source: dict | None = None) -> TileCache:
         rest["lod_faces"],
         manifest.get("source"),
     )
+
+
+def _check_rest(folder: Path, rest, tiles: list[Tile]):
+    """The unpickled city's parts and the tile indices and vertex ranges its boxes name, which the
+    streamer indexes with."""
+    kinds = {"city": City, "records": np.ndarray, "boxes": np.ndarray, "box_tile": np.ndarray, "facades": dict}
+    kinds["lod_faces"] = np.ndarray
+    if not isinstance(rest, dict) or not all(isinstance(rest.get(k), kind) for k, kind in kinds.items()):
+        raise CacheProblem(folder, f"{CITY_FILE} is not a tile cache's city; make the cache again")
+    boxes, box_tile, records = rest["boxes"], rest["box_tile"], rest["records"]
+    if (
+        boxes.dtype != BOX_DTYPE
+        or records.dtype != BUILDING_DTYPE
+        or box_tile.dtype.kind not in "iu"
+        or box_tile.shape != boxes.shape
+    ):
+        raise CacheProblem(folder, f"{CITY_FILE} holds boxes or records of another layout")
+    if len(box_tile) and not (0 <= box_tile.min() and box_tile.max() < len(tiles)):
+        raise CacheProblem(folder, f"{CITY_FILE} has boxes of tiles the manifest does not list")
+    vertices = np.array([t.vertices for t in tiles] or [0], np.int64)[box_tile]
+    draw = boxes["draw"].astype(np.int64)
+    if np.any(draw[:, 0] + draw[:, 1] > vertices) or (len(draw) and draw[:, 2].max() >= len(records)):
+        raise CacheProblem(folder, f"{CITY_FILE} has boxes of vertices or buildings its tiles do not hold")
 
 
 def _by_building(faces: list[np.ndarray]) -> np.ndarray:
@@ -429,18 +546,24 @@ def read_tile(cache: TileCache, index: int) -> tuple[np.ndarray, np.ndarray, np.
     SHA-256, layouts)."""
     tile = cache.tiles[index]
     data = _read_checked(cache.folder, tile.file, tile.bytes, tile.sha256)
+    arrays = {}
     try:
-        with np.load(io.BytesIO(data), allow_pickle=False) as arrays:
-            vertices, faces, ground = arrays["vertices"], arrays["faces"], arrays["ground"]
-    except (ValueError, KeyError, OSError, zipfile.BadZipFile) as exc:
+        with zipfile.ZipFile(io.BytesIO(data)) as archive:
+            for name, (rows, dtype) in _parts(tile).items():
+                with archive.open(f"{name}.npy") as member:  # the header first: nothing larger is allocated
+                    shape, _, stored = _NPY_HEADERS[np.lib.format.read_magic(member)](member)
+                    if stored != dtype.base or shape != (rows, *dtype.shape):
+                        raise CacheProblem(
+                            cache.folder, f"{tile.file} holds {name} of another layout or count than its tile's"
+                        )
+                with archive.open(f"{name}.npy") as member:
+                    arrays[name] = np.lib.format.read_array(member, allow_pickle=False)
+    except (ValueError, KeyError, OSError, EOFError, NotImplementedError, zipfile.BadZipFile, zlib.error) as exc:
         raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({type(exc).__name__}: {exc})") from None
-    for name, array, dtype, rows in (
-        ("vertices", vertices, GPU_VERTEX_DTYPE, tile.vertices),
-        ("faces", faces, FACE_DTYPE, tile.faces),
-        ("ground", ground, GROUND_DTYPE, tile.ground),
-    ):
-        if array.dtype != dtype.base or array.shape != (rows, *dtype.shape):
-            raise CacheProblem(cache.folder, f"{tile.file} holds {name} of another layout or count than its tile's")
+    vertices, faces, ground = arrays["vertices"], arrays["faces"], arrays["ground"]
     if len(vertices) and int(vertices["face"].max()) >= len(faces):
         raise CacheProblem(cache.folder, f"{tile.file} has vertices of face rows it does not hold")
     return vertices, faces, ground
+
+
+_NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
