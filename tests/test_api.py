@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 
 import cityshade
+from cityshade.errors import UsageError
+from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import make_city
 
 
@@ -35,3 +37,41 @@ def test_the_render_package_imports_and_the_old_call_warns():
     with pytest.warns(DeprecationWarning, match="render_image"):
         image = cityshade.render("interior", camera="corner", size=(16, 12))
     assert image.shape == (12, 16, 3)
+
+
+@pytest.mark.parametrize("lights", [2, -0.1, "a", float("nan"), True])
+def test_render_settings_refuse_a_share_of_lit_rooms_outside_0_to_1(lights):
+    with pytest.raises(UsageError, match=r"^invalid --lights .+; the share of lit rooms is a number from 0 to 1$"):
+        RenderSettings(lights=lights)
+    assert RenderSettings(lights="0.25").lights == 0.25  # the command line's text, as a number
+
+
+def test_render_image_refuses_a_time_that_is_not_text():
+    with pytest.raises(UsageError, match=r"^invalid time 1910; use HH:MM from 00:00 to 23:59"):
+        cityshade.render_image("interior", camera="corner", size=(16, 12), time=1910)
+
+
+@pytest.mark.parametrize(
+    ("name", "seed", "message"),
+    [
+        ("grid", "x", r"^invalid --seed 'x'; a seed is a whole number from 0 to 2147483647$"),
+        ("grid", -1, r"^invalid --seed -1; a seed is a whole number"),
+        (["grid"], None, r"^unknown city \['grid'\]; allowed: default, "),
+    ],
+)
+def test_make_city_refuses_a_bad_name_or_seed(name, seed, message):
+    with pytest.raises(UsageError, match=message):
+        make_city(name, seed)
+
+
+def test_the_renderer_refuses_what_is_not_a_city_or_a_camera(gl_context):
+    renderer = Renderer((16, 12), RenderSettings(samples=0, trees=False), ctx=gl_context)
+    try:
+        with pytest.raises(UsageError, match=r"^invalid city 'grid'; Renderer.set_city takes a City"):
+            renderer.set_city("grid")
+        renderer.set_city(make_city("interior"))
+        for draw in (renderer.render_ids, renderer.render):
+            with pytest.raises(UsageError, match=r"^invalid camera None; give a Camera"):
+                draw(None)
+    finally:
+        renderer.release()

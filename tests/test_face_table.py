@@ -10,14 +10,12 @@ import moderngl
 import numpy as np
 import pytest
 
-from cityshade.gl import ProgramCache, RenderTarget, VertexArrays, create_buffer
+from cityshade.gl import ProgramCache, RenderTarget, VertexArrays, binding, create_buffer
 from cityshade.maps import load_map, map_city
 from cityshade.scene import (
-    FACES_BINDING,
     GPU_VERTEX_ATTRIBUTES,
     GPU_VERTEX_DTYPE,
     GPU_VERTEX_FORMAT,
-    PLACEMENTS_BINDING,
     batch,
     box,
     default_city,
@@ -118,8 +116,8 @@ def test_the_vertex_stage_reads_each_value_exactly(gl_context):
     target = RenderTarget(gl_context, (4, 4))  # transform feedback still wants a framebuffer bound
     try:
         target.use()
-        faces.bind_to_storage_buffer(FACES_BINDING)
-        placed.bind_to_storage_buffer(PLACEMENTS_BINDING)
+        faces.bind_to_storage_buffer(binding("BuildingFaces"))
+        placed.bind_to_storage_buffer(binding("BuildingPlacements"))
         vao.transform(out, moderngl.TRIANGLES, vertices=len(indices))
         got = np.frombuffer(out.read(), np.uint32).reshape(meshed.shape)
     finally:

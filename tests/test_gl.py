@@ -33,6 +33,13 @@ SOURCES = {
         "#if defined FRAGMENT_SHADER\nout vec4 c;\nuniform sampler2D u_many[COUNT];\n"
         "void main() { c = vec4(0.0); for (int i = 0; i < COUNT; i++) c += texture(u_many[i], vec2(0.5)); }\n#endif\n"
     ),
+    # city/building.glsl's street lamps and LOD colours as they once were: both at one binding
+    "test/binding_6.glsl": (
+        "#undef BINDING_BUILDING_LOD_COLOURS\n#define BINDING_BUILDING_LOD_COLOURS BINDING_STREET_LAMPS\n"
+        "#if defined VERTEX_SHADER\nvoid main() { gl_Position = vec4(0.0); }\n#endif\n"
+        '#if defined FRAGMENT_SHADER\n#include "city/street_lights.glsl"\n#include "city/lod.glsl"\n'
+        "out vec4 c;\nvoid main() { c = lamps[0] + building_lod_colours[0]; }\n#endif\n"
+    ),
 }
 
 
@@ -65,12 +72,19 @@ def test_every_city_program_variant_compiles(gl_context):
         ("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "INTERIOR_LOD": True}),
         ("city/building.glsl", {**grammar, "INTERIOR_MAPPING": True, "IM_SINGLE_ATLAS": True, "ID_PASS": True}),
         ("city/building.glsl", grammar),
+        ("city/building.glsl", {**grammar, "BUILDING_LOD": True, "PREPASS_FARTHEST": True}),
         ("city/building.glsl", {"DEPTH_ONLY": True}),
         ("city/ground.glsl", {}),
         ("frame/sky.glsl", {}),
         ("frame/tonemap.glsl", {}),
     ]:
         assert cache.get(path, defines) is not None
+
+
+def test_a_program_with_two_storage_buffers_at_one_binding_is_refused(gl_context, fake_sources):
+    """The facades read whichever of the two was bound last as both (the lamps as LOD colours)."""
+    with pytest.raises(ShaderError, match="storage buffers BuildingLodColours and StreetLamps share binding"):
+        ProgramCache(gl_context).get("test/binding_6.glsl")
 
 
 def test_missing_gl_gives_one_clear_error(monkeypatch):

@@ -31,20 +31,25 @@ def test_light_grid_lists_exactly_the_lamps_within_reach_of_each_cell():
     assert 0 < len(grid.indices) / len(lamps) < 40  # each lamp in a handful of cells, not everywhere
 
 
+def paved_map(building: shapely.Polygon, pavement: shapely.Polygon, lamps: list[Lamp]) -> MapData:
+    """One 12 m building on a paved area, with lamps."""
+    return MapData(
+        Path("lamps.osm"),
+        (24.94, 60.17),
+        "EPSG:32635",
+        buildings=[MapBuilding(0, "way/1", building, height=12.0)],
+        areas=[Area("way/2", pavement, "pavement")],
+        lamps=lamps,
+    )
+
+
 def lamp_square(with_lamps: bool = True) -> MapData:
     """A 200 m paved square with a grid of lamps and one building in a corner."""
     lamps = [
         Lamp(f"node/{i}", (float(x), float(y)), height=6.0 + (i % 3))
         for i, (x, y) in enumerate((x, y) for x in range(-60, 61, 24) for y in range(-60, 61, 30))
     ]
-    return MapData(
-        Path("square.osm"),
-        (24.94, 60.17),
-        "EPSG:32635",
-        buildings=[MapBuilding(0, "way/1", shapely.box(80, 80, 95, 95), height=12.0)],
-        areas=[Area("way/2", shapely.box(-100, -100, 100, 100), "pavement")],
-        lamps=lamps if with_lamps else [],
-    )
+    return paved_map(shapely.box(80, 80, 95, 95), shapely.box(-100, -100, 100, 100), lamps if with_lamps else [])
 
 
 @pytest.fixture(scope="module")
@@ -77,10 +82,10 @@ def test_gpu_lamp_lists_match_the_twin_pixel_by_pixel(gl_context, square_city):
     assert len(np.unique(expected[check])) > 3
 
 
-def render(city, sun, camera):
+def render(city, sun, camera, **settings):
     from cityshade.api import render_city
 
-    return render_city(city, camera=camera, size=(96, 64), samples=0, frames=0, sun=sun, shadows=False)[0]
+    return render_city(city, camera=camera, size=(96, 64), samples=0, frames=0, sun=sun, shadows=False, **settings)[0]
 
 
 def test_lamps_light_the_night_near_them_and_not_the_day(square_city):
@@ -93,6 +98,25 @@ def test_lamps_light_the_night_near_them_and_not_the_day(square_city):
     # by day the lamps are off: only the posts differ
     day_difference = np.abs(render(square_city, NOON, camera).astype(float) - render(dark, NOON, camera)).mean(axis=-1)
     assert (day_difference > 20).mean() < 0.01
+
+
+def lamp_by_a_wall(with_lamp: bool = True) -> MapData:
+    """A building with a lamp a few metres from its west wall."""
+    lamps = [Lamp("node/1", (6.0, 13.0), height=6.0)] if with_lamp else []
+    return paved_map(shapely.box(10, 10, 25, 25), shapely.box(-40, -10, 40, 40), lamps)
+
+
+def test_building_lod_leaves_the_lamps_on_near_facades_as_they_are():
+    """The LOD colours once shared the lamps' storage binding, so with building LOD on the facades
+    read LOD colours as lamps; near the camera, where no facade switches level, on and off agree."""
+    lit, dark = map_city(lamp_by_a_wall()), map_city(lamp_by_a_wall(with_lamp=False))
+    camera = Camera((-4.0, 3.0, -17.5), (10.0, 4.0, -17.5), fov_y=60.0)
+    lit.viewpoints["wall"] = dark.viewpoints["wall"] = camera
+    off, on = (render(lit, NIGHT, "wall", building_lod=lod).astype(int) for lod in (False, True))
+    lamp_lit = render(dark, NIGHT, "wall").astype(int).sum(axis=-1) + 30 < off.sum(axis=-1)
+    assert lamp_lit.mean() > 0.05, "the lamp lights part of the wall"
+    differ = int(np.count_nonzero(np.any(on != off, axis=-1)[lamp_lit]))
+    assert differ == 0, f"{differ} of {int(lamp_lit.sum())} lamp-lit pixels differ with building LOD on"
 
 
 def test_lit_roads_get_lamps_on_the_kerb_except_near_mapped_ones():

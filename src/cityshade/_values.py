@@ -82,6 +82,13 @@ def check_count(value, option: str) -> int:
     return count
 
 
+def check_type(value, kind: type, what: str, hint: str):
+    """`value` if it is a `kind`; else one line naming it, as the other checks do."""
+    if not isinstance(value, kind):
+        raise UsageError(f"invalid {what} {_shown(value)}; {hint}")
+    return value
+
+
 def _shown(value) -> str:
     text = repr(value if not isinstance(value, str) else value)
     return text if len(text) <= 40 else text[:37] + "..."

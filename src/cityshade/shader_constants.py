@@ -42,7 +42,7 @@ CONSTANTS: dict[str, int | str] = {
     "GRAMMAR_ROOM_LABEL": LABELS.index("room"),
     "GRAMMAR_DOOR_LABEL": LABELS.index("door"),
     "GRAMMAR_WINDOW_LABEL": LABELS.index("window"),
-    **FACE_TABLE_CONSTANTS,  # FACE_WORDS, FACES_BINDING: the buildings' face table (scene/_face_table.py)
+    **FACE_TABLE_CONSTANTS,  # FACE_WORDS: the buildings' face table (scene/_face_table.py)
     **DOOR_CONSTANTS,  # DOOR_WIDTH, DOOR_HEIGHT, DOOR_PLANE, DOOR_FACING, MAX_DOORS: scene/_doors.py
     "RELIEF_GLASS": f"{GLASS}u",  # compared with the uint materials of the relief maps
     "RELIEF_FRAME": f"{MATERIALS.index('frame')}u",

@@ -3,6 +3,7 @@ context), vertex arrays, texture uploads with an explicit colour space, full-scr
 targets and timing."""
 
 from ._generated import declare_constants
+from ._bindings import binding
 from ._buffers import DrawBuffers, create_buffer, grow_buffer
 from ._blocks import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, UniformBlock
 from ._colour import linear_to_srgb, srgb_to_linear
@@ -26,6 +27,7 @@ __all__ = [
     "SHADING_BLOCK",
     "MAX_USES",
     "bind_textures",
+    "binding",
     "sampler_units",
     "UniformBlock",
     "declare_constants",

@@ -8,6 +8,8 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from ._bindings import binding, binding_macro
+
 # std140: (alignment, size) in bytes of the types the blocks use
 _STD140 = {"float": (4, 4), "int": (4, 4), "vec2": (8, 8), "vec3": (16, 12), "vec4": (16, 16), "mat4": (16, 64)}
 _ARRAY_STRIDE = 16  # std140: every array element starts on a vec4
@@ -32,8 +34,11 @@ def _layout(kind: str) -> tuple[int, int]:
 @dataclass(frozen=True)
 class UniformBlock:
     name: str
-    binding: int
     fields: tuple[tuple[str, str, str], ...]  # (GLSL name, GLSL type, comment)
+
+    @property
+    def binding(self) -> int:
+        return binding(self.name)
 
     @property
     def include(self) -> str:
@@ -43,7 +48,7 @@ class UniformBlock:
     def glsl(self) -> str:
         lines = [
             f"// Generated from cityshade.gl ({self.name}): do not edit.",
-            f"layout(std140, binding = {self.binding}) uniform {self.name} {{",
+            f"layout(std140, binding = {binding_macro(self.name)}) uniform {self.name} {{",
         ]
         for name, kind, comment in self.fields:
             base, count = _array(kind)
@@ -100,7 +105,6 @@ class UniformBlock:
 # any code that draws with the city's shaders on its own.
 FRAME_BLOCK = UniformBlock(
     "FrameBlock",
-    0,
     (
         ("u_inv_view_proj", "mat4", "the camera's clip space -> world"),
         ("u_camera", "vec3", "the eye, world"),
@@ -122,7 +126,6 @@ MAX_USES = 8  # building use codes the shading block has room for (cityshade.sce
 # city/building.glsl).
 SHADING_BLOCK = UniformBlock(
     "ShadingBlock",
-    1,
     (
         ("u_room_light", "vec3", "radiance of a lit room"),
         (

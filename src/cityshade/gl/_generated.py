@@ -3,6 +3,7 @@ value or layout is written once (in Python) and never copied into a shader by ha
 
 from __future__ import annotations
 
+from ._bindings import binding_defines
 from ._blocks import FRAME_BLOCK, SHADING_BLOCK
 from ._programs import GENERATED, PRELUDE
 
@@ -17,6 +18,7 @@ def declare_constants(name: str, values: dict[str, object]):
         PRELUDE.append(path)
 
 
+declare_constants("bindings", binding_defines())  # before the blocks, which bind by these names
 GENERATED[FRAME_BLOCK.include] = FRAME_BLOCK.glsl()
 PRELUDE.append(FRAME_BLOCK.include)  # shared by all programs: declared in every one
 GENERATED[SHADING_BLOCK.include] = SHADING_BLOCK.glsl()  # included by the shaders that read it

@@ -5,7 +5,8 @@ A program is one file whose stages are selected with `#if defined VERTEX_SHADER`
 a file (once per stage) and `#line` directives keep every line traceable to its file, so a
 compile error names the file and line it came from. `generated/NAME.glsl` includes are text made
 from Python definitions (gl/_generated.py); those in PRELUDE (the frame block, the shared
-constants) go into every stage of every program.
+constants, the binding points) go into every stage of every program. A linked program in which
+two active resources share a binding point is refused (gl/_bindings.py).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from importlib import resources
 import moderngl
 
 from ..errors import ShaderError
+from ._bindings import check_bindings
 
 GLSL_VERSION = 430  # every program is GLSL 4.30 core; the loader writes the #version line
 STAGES = {
@@ -126,15 +128,19 @@ class ProgramCache:
         body = assembler.expand(path, set())
         try:
             if "COMPUTE_SHADER" in body:
-                return self.ctx.compute_shader(_define_block("COMPUTE_SHADER", defines) + body)
-            stages = {
-                arg: _define_block(token, defines) + body
-                for arg, token in STAGES.items()
-                if f"defined {token}" in body or f"defined({token})" in body
-            }
-            program = self.ctx.program(**stages, varyings=varyings)
+                program = self.ctx.compute_shader(_define_block("COMPUTE_SHADER", defines) + body)
+            else:
+                stages = {
+                    arg: _define_block(token, defines) + body
+                    for arg, token in STAGES.items()
+                    if f"defined {token}" in body or f"defined({token})" in body
+                }
+                program = self.ctx.program(**stages, varyings=varyings)
         except moderngl.Error as exc:
             raise ShaderError(f"{path}: {assembler.locate(str(exc)).strip()}") from None
+        check_bindings(program, f"shaders/{path}")
+        if isinstance(program, moderngl.ComputeShader):
+            return program
         # what the files declare, for gl.set_uniforms and gl.bind_textures in strict mode
         program.extra = {
             "path": f"shaders/{path}",

@@ -21,7 +21,7 @@ import weakref
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget, VertexArrays, bind_textures, create_buffer, set_uniforms
+from ..gl import RenderTarget, VertexArrays, bind_textures, binding, create_buffer, set_uniforms
 from ._gpu import shader_defines
 
 PAGE = 32  # texels per page side, border included (64 measured: 1.75x the texels for the same view)
@@ -34,7 +34,6 @@ PAGE_BUDGET = 256  # pages evaluated per frame at most (262,144 texels)
 # The key: x = building index + 1 (21 bits) | filter level - level << 21 (3 bits) | the face's storeys << 24 (8 bits);
 # y = face index (10 bits) | level << 10 (4 bits) | page column << 14 (10 bits) | page row << 24 (8 bits).
 PAGE_RECORD = 8  # uint32 per page to evaluate: key x, key y, face width bits, height bits, slot, 0, 0, 0
-TABLE_BINDING, RECORDS_BINDING = 9, 10
 
 
 def cache_defines() -> dict[str, object]:
@@ -184,15 +183,15 @@ class GrammarPageCache:
         program = f.gpu.programs.get("grammar/cache_page.glsl", {**shader_defines(), **cache_defines()})
         set_uniforms(program, u_cache_atlas_size=tuple(map(float, self.atlas_size)), u_cache_per_row=self.per_row)
         grammar.bind(program)
-        f.gpu.city.records.bind_to_storage_buffer(0)
-        self.records.bind_to_storage_buffer(RECORDS_BINDING)
+        f.gpu.city.records.bind_to_storage_buffer(binding("Buildings"))
+        self.records.bind_to_storage_buffer(binding("GrammarPageRecords"))
         self.atlas.use()
         self.vertex_arrays.get(id(program), program, []).render(moderngl.TRIANGLES, vertices=6, instances=len(records))
 
     def bind(self, program):
         """The atlas, the page table and its layout for a program that reads the cache."""
         bind_textures(program, dict(zip(("u_cache_color", "u_cache_normal", "u_cache_ids"), self.atlas.colors)))
-        self.table.bind_to_storage_buffer(TABLE_BINDING)
+        self.table.bind_to_storage_buffer(binding("GrammarPageTable"))
         set_uniforms(
             program,
             u_cache_atlas_size=tuple(map(float, self.atlas_size)),

@@ -15,7 +15,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget, bind_textures, draw_fullscreen
+from ..gl import RenderTarget, bind_textures, binding, draw_fullscreen
 from ._cache import GrammarPageCache, cache_defines
 from ._gpu import GrammarTextures, shader_defines
 
@@ -90,7 +90,7 @@ class DeferredGrammarPass:
         if f.gpu.shadows is not None:
             f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)
-        f.gpu.city.records.bind_to_storage_buffer(0)  # the buildings' attributes for conditions
+        f.gpu.city.records.bind_to_storage_buffer(binding("Buildings"))  # the buildings' attributes for conditions
         bind_textures(
             program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors[:3], gbuffer.depth)))
         )
@@ -104,8 +104,8 @@ class DeferredGrammarPass:
             return
         color, ids, opening = self.result.colors
         bind_textures(program, {"u_grammar_deferred_color": color, "u_grammar_deferred_ids": ids})
-        if "u_grammar_deferred_opening" in program:  # image unit 1 (shaders/relief/building.glsl)
-            opening.bind_to_image(1, read=True, write=False, format=RGBA32F)
+        if "u_grammar_deferred_opening" in program:  # an image (shaders/relief/building.glsl)
+            opening.bind_to_image(binding("u_grammar_deferred_opening"), read=True, write=False, format=RGBA32F)
 
     def _release_targets(self):
         for target in (self.gbuffer, self.result):

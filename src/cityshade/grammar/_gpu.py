@@ -6,7 +6,7 @@ import moderngl
 import numpy as np
 
 from ..assets import TileArray
-from ..gl import RenderTarget, bind_textures, create_buffer, draw_fullscreen, programs, upload_texture
+from ..gl import RenderTarget, bind_textures, binding, create_buffer, draw_fullscreen, programs, upload_texture
 from . import _limits as limits
 from ._compiler import CompiledGrammars
 from ._expressions import BUILDING, FACADE_LEVEL, PARAMETER
@@ -14,7 +14,6 @@ from ._random import noise_texture
 from ._reference import FACADE_LIGHT
 
 MAX_TILES = 64  # size of u_grammar_tile_labels[] in eval.glsl
-RULES_BINDING = 14  # the storage buffer of the rules in eval.glsl
 
 
 def shader_defines(nearest: bool = False) -> dict[str, object]:
@@ -25,7 +24,6 @@ def shader_defines(nearest: bool = False) -> dict[str, object]:
         GRAMMAR_FIRST_BUILDING=BUILDING,
         GRAMMAR_FACADE_LEVEL=FACADE_LEVEL,
         GRAMMAR_FIRST_PARAMETER=PARAMETER,
-        GRAMMAR_RULES_BINDING=RULES_BINDING,
     )
 
 
@@ -48,7 +46,7 @@ class GrammarTextures:
 
     def bind(self, program):
         """Binds the rules' storage buffer and the two textures, and sets the tile uniforms."""
-        self.rules.bind_to_storage_buffer(RULES_BINDING)
+        self.rules.bind_to_storage_buffer(binding("GrammarRules"))
         bind_textures(program, {"u_grammar_noise": self.noise, "u_grammar_tiles": self.tile_array})
         if "u_grammar_tile_size" in program:
             program["u_grammar_tile_size"] = self.tiles.size

@@ -8,7 +8,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import ProgramCache, RenderTarget, bind_textures, create_buffer, draw_fullscreen, upload_texture
+from ..gl import ProgramCache, RenderTarget, bind_textures, binding, create_buffer, draw_fullscreen, upload_texture
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices
 from ._maps import DetailMaps
 from ._pack import pack_bits
@@ -21,7 +21,6 @@ RENDERERS = {
     "cfdm": ("fdm", "svd"),
     "bcfdm": ("fdm", "bmf"),
 }
-BOXES_BINDING = 5  # matches trace.glsl
 
 
 def renderer_defines(renderer: str, lsb_mod37: bool = False, tiled: bool = False) -> dict[str, object]:
@@ -115,7 +114,7 @@ class GpuFacade:
         for name, value in (("u_map_size", (cols, rows)), ("u_slab_depth", self.slab_depth)):
             if name in program:
                 program[name].value = value
-        self.boxes.bind_to_storage_buffer(BOXES_BINDING)
+        self.boxes.bind_to_storage_buffer(binding("ReliefBoxes"))
 
     def release(self):
         for textures in self.codec_textures.values():

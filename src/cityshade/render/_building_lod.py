@@ -23,7 +23,6 @@ ROOM_METRES = 4.5  # a room's width on the facade: one window bay
 SAMPLE_POINTS = 512  # grammar points per building for its cheap colour (a jittered grid: its mean within ~1%)
 SAMPLE_GRID = (32, 16)  # the grid's columns and rows (SAMPLE_POINTS cells, twice as wide as tall)
 CHUNK_POINTS = 1 << 15  # points per numpy evaluation
-LOD_COLOURS_BINDING = 6  # the storage buffer of the grammar buildings' cheap colours (city/lod.glsl)
 
 
 def room_distance(pixels: float, rows: int, fov_y_degrees: float) -> float:

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays, create_buffer
+from ..gl import VertexArrays, binding, create_buffer
 from ..grammar import FACADE_GRAMMAR, GrammarTextures
 from ..relief import CityRelief
-from ..scene import BUILDING_DTYPE, FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, PLACEMENTS_BINDING
+from ..scene import BUILDING_DTYPE, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT
 from ..scene import City, batch, face_table, placements, shared_vertices
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._building_lod import grammar_sample_faces
@@ -24,7 +24,7 @@ from ._facades import assign_facades
 from ._lod_colours import LodColours
 from ._polygonised import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
-from ._visibility import BOUNDS_BINDING, BuildingVisibility, building_boxes, building_bounds, building_ranges
+from ._visibility import BuildingVisibility, building_boxes, building_bounds, building_ranges
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")
@@ -114,9 +114,9 @@ class CityGPU:
 
     def _bind_vertex_tables(self):
         """The storage buffers the buildings' vertex stage reads (common/building_vertex.glsl)."""
-        self.faces.bind_to_storage_buffer(FACES_BINDING)
-        self.placements.bind_to_storage_buffer(PLACEMENTS_BINDING)
-        self.visibility.bounds.bind_to_storage_buffer(BOUNDS_BINDING)
+        self.faces.bind_to_storage_buffer(binding("BuildingFaces"))
+        self.placements.bind_to_storage_buffer(binding("BuildingPlacements"))
+        self.visibility.bounds.bind_to_storage_buffer(binding("BuildingBounds"))
 
     def _upload_records(self, records: np.ndarray):
         self.records = create_buffer(self.ctx, records)
@@ -132,7 +132,7 @@ class CityGPU:
         commands count the vertices of the meshed triangle list: with the index buffer, its indices."""
         if self.building_vbo is None:
             return
-        self.records.bind_to_storage_buffer(0)
+        self.records.bind_to_storage_buffer(binding("Buildings"))
         self._bind_vertex_tables()
         vao = self._vao(program, self.building_vbo, GPU_VERTEX_FORMAT, GPU_VERTEX_ATTRIBUTES, self.building_indices)
         if draws is not None:

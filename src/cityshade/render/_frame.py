@@ -25,6 +25,7 @@ from ..gl import (
     ProgramCache,
     RenderTarget,
     bind_textures,
+    binding,
     draw_fullscreen,
     set_uniforms,
 )
@@ -291,7 +292,7 @@ def draw_buildings_with(f: FrameInputs, defines: dict):
     if f.view.settings.grammar_deferred:
         f.gpu.textures.grammar_pass.bind_results(program)
     if defines.get("PREPASS_FARTHEST"):
-        f.gpu.city.visibility.farthest.bind_to_image(0, read=True, write=False, format=R32F)
+        f.gpu.city.visibility.farthest.bind_to_image(binding("u_prepass_farthest"), read=True, write=False, format=R32F)
     f.gpu.city.relief.bind(program, f.relief_switch())
     f.gpu.city.street_lights.bind(program)
     if defines.get("BUILDING_LOD", f.view.settings.building_lod):

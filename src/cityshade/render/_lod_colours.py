@@ -15,9 +15,18 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget, bind_textures, create_buffer, draw_fullscreen, programs, set_uniforms, upload_texture
+from ..gl import (
+    RenderTarget,
+    bind_textures,
+    binding,
+    create_buffer,
+    draw_fullscreen,
+    programs,
+    set_uniforms,
+    upload_texture,
+)
 from ..grammar import GrammarTextures, seed_vector, shader_defines
-from ._building_lod import LOD_COLOURS_BINDING, SAMPLE_GRID, unit_samples
+from ._building_lod import SAMPLE_GRID, unit_samples
 from ._culling import boxes_visible, frustum_planes
 
 TILES = (32, 32)  # buildings per batch at most: tiles across and up (a 1024 x 512 target)
@@ -58,7 +67,7 @@ def grammar_colours_gpu(ctx: moderngl.Context, grammar: GrammarTextures, faces: 
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         grammar.bind(program)
         bind_textures(program, {"u_unit_samples": unit})
-        params.bind_to_storage_buffer(0)
+        params.bind_to_storage_buffer(binding("SampleFaces"))
         for first in range(0, len(faces), per_batch):
             set_uniforms(program, u_first=first, u_tiles_across=TILES[0], u_face_count=len(faces))
             draw_fullscreen(program)
@@ -76,7 +85,7 @@ def grammar_colours_gpu(ctx: moderngl.Context, grammar: GrammarTextures, faces: 
 
 
 class LodColours:
-    """The storage buffer of every building's cheap colour (LOD_COLOURS_BINDING, by building index),
+    """The storage buffer of every building's cheap colour (BuildingLodColours, by building index),
     its grammar buildings' filled in as views need them. faces: grammar_sample_faces; bounds:
     visibility.building_bounds (each building's box)."""
 
@@ -118,7 +127,7 @@ class LodColours:
         self.last_count = len(chosen)
 
     def bind(self):
-        self.buffer.bind_to_storage_buffer(LOD_COLOURS_BINDING)
+        self.buffer.bind_to_storage_buffer(binding("BuildingLodColours"))
 
     def release(self):
         self.buffer.release()

@@ -7,9 +7,9 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import VertexArrays, bind_textures, create_buffer, set_uniforms
+from ..gl import VertexArrays, bind_textures, binding, create_buffer, set_uniforms
 from ..interior import POLYGONISED_LAYERS, polygonised_vertices
-from ..scene import FACES_BINDING, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, PLACEMENTS_BINDING, City, face_table
+from ..scene import GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, City, face_table
 from ..scene import placements
 from ._culling import BuildingChunks, chunk_vertices
 
@@ -33,8 +33,8 @@ class PolygonisedGPU:
         if layer not in self.layers:
             return
         chunks, vbo, faces = self.layers[layer]
-        faces.bind_to_storage_buffer(FACES_BINDING)
-        self.placements.bind_to_storage_buffer(PLACEMENTS_BINDING)
+        faces.bind_to_storage_buffer(binding("BuildingFaces"))
+        self.placements.bind_to_storage_buffer(binding("BuildingPlacements"))
         vao = self._vaos.get((program.glo, layer), program, [(vbo, GPU_VERTEX_FORMAT, *GPU_VERTEX_ATTRIBUTES)])
         for first, count in chunks.visible_runs(chunks.visible(view_projection)):
             vao.render(moderngl.TRIANGLES, vertices=count, first=first)
@@ -61,6 +61,6 @@ def draw_interior_layers(f):
     program = f.gpu.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.view.settings.single_atlas})
     set_uniforms(program, u_view_proj=f.view.view_projection)
     bind_textures(program, f.room_textures())
-    f.gpu.city.records.bind_to_storage_buffer(0)
+    f.gpu.city.records.bind_to_storage_buffer(binding("Buildings"))
     for layer in POLYGONISED_LAYERS:
         f.gpu.city.polygonised().draw(program, layer, f.view.view_projection)

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import assets
 from .._budget import check_image_memory, release_freed_memory
-from .._values import check_size
+from .._values import check_size, check_type
 from ..errors import UsageError
 from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
 from ..scene import Camera, City
@@ -81,6 +81,9 @@ class Renderer:
         return describe_context(self.ctx)
 
     def set_city(self, city: City):
+        check_type(
+            city, City, "city", "Renderer.set_city takes a City: cityshade.make_city(name) or maps.map_city(data)"
+        )
         self._current()
         if self.city is not None:
             self.city.release()
@@ -164,6 +167,7 @@ class Renderer:
     def _inputs(self, camera: Camera, lod_budget: int | None = None) -> FrameInputs:
         """The frame's inputs for `camera`, with at most `lod_budget` cheap colours evaluated first
         (None: every one the view needs)."""
+        check_type(camera, Camera, "camera", "give a Camera, e.g. city.camera('street')")
         if self.city is None:
             raise RuntimeError("no city: call set_city() first")
         if isinstance(self.city, StreamedCityGPU):

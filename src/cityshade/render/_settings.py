@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from .._values import check_lights
 from ..errors import UsageError
 
 CULLING = ("gpu", "frustum", "off")
@@ -59,6 +60,7 @@ class RenderSettings:
     # grammar_files stem); None: each building's own style
 
     def __post_init__(self):
+        object.__setattr__(self, "lights", check_lights(self.lights))  # frozen: the checked number
         if not 16 <= self.shadow_resolution <= 8192:
             raise UsageError(f"shadow_resolution {self.shadow_resolution!r}: give texels per side, 16 to 8192")
         if self.shadow_refresh < 1:

@@ -12,10 +12,9 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ..gl import create_buffer, set_uniforms
+from ..gl import binding, create_buffer, set_uniforms
 
 CELL = 16.0  # metres per grid cell
-BINDING_LAMPS, BINDING_CELLS, BINDING_INDICES = 6, 7, 8
 
 
 @dataclass(frozen=True)
@@ -90,8 +89,8 @@ class StreetLightsGPU:
         self.buffers = [create_buffer(ctx, data) for data in (lamps, self.grid.starts, self.grid.indices)]
 
     def bind(self, program):
-        for buffer, binding in zip(self.buffers, (BINDING_LAMPS, BINDING_CELLS, BINDING_INDICES)):
-            buffer.bind_to_storage_buffer(binding)
+        for buffer, name in zip(self.buffers, ("StreetLamps", "LampCellStarts", "LampCellIndices")):
+            buffer.bind_to_storage_buffer(binding(name))
         set_uniforms(
             program,
             u_lamp_origin=np.array(self.grid.origin, float),

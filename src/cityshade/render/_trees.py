@@ -34,7 +34,7 @@ from ..trees import (
     vanish_alphas,
 )
 from ..errors import UsageError
-from ..gl import VertexArrays, bind_textures, create_buffer, grow_buffer, set_uniforms, upload_texture
+from ..gl import VertexArrays, bind_textures, binding, create_buffer, grow_buffer, set_uniforms, upload_texture
 from ._culling import frustum_planes
 from ._impostors import GPUImpostor, atlas_key, bake_atlas, bounding_sphere, cached_atlas
 from ._tree_cells import TreeCells
@@ -275,7 +275,7 @@ class TreePass:
             if count == 0:
                 continue
             counts = tuple(self.parts[species, lod, mesh].count for mesh in MESHES)
-            buffer.bind_to_storage_buffer(1)
+            buffer.bind_to_storage_buffer(binding("Instances"))
             grow_buffer(self.commands[species, lod], count, COMMAND_BYTES)
             run_cull(
                 self.ctx,

@@ -26,7 +26,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import R32F, bind_textures, create_buffer, programs, pyramid_levels, pyramid_texture, set_uniforms
+from ..gl import R32F, bind_textures, binding, create_buffer, programs, pyramid_levels, pyramid_texture, set_uniforms
 from ._culling import frustum_planes
 
 OCCLUDER_SIZE = 0.1  # half diagonal / distance: about 11 degrees across
@@ -36,7 +36,6 @@ TILE = 8  # hiz.glsl's local size (each way)
 # cull.glsl's BuildingBox; draw: vertex count, first vertex, building index
 BOX_DTYPE = np.dtype([("lo", "f4", 4), ("hi", "f4", 4), ("draw", "u4", 4)])
 COMMAND_WORDS = 5  # count, instanceCount, first, baseInstance; moderngl draws with a 20-byte stride
-BOUNDS_BINDING = 13  # the storage buffer of each building's box by building index (common/building_vertex.glsl)
 
 
 def building_ranges(vertices: np.ndarray, building_count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -167,7 +166,7 @@ def run_cull(
             u_depth_margin=DEPTH_MARGIN,
         )
     set_uniforms(program, **uniforms)
-    out.bind_to_storage_buffer(2)
+    out.bind_to_storage_buffer(binding("Commands"))
     program.run(-(-count // GROUP))
     ctx.memory_barrier()  # the commands feed indirect draws and read-backs
 
@@ -209,8 +208,8 @@ class BuildingVisibility:
         pyramid: moderngl.Texture | None = None,
         **uniforms,
     ) -> moderngl.Buffer:
-        self.draw_buffer.bind_to_storage_buffer(1)
-        self.bounds.bind_to_storage_buffer(BOUNDS_BINDING)
+        self.draw_buffer.bind_to_storage_buffer(binding("Draws"))
+        self.bounds.bind_to_storage_buffer(binding("BuildingBounds"))
         run_cull(
             self.ctx,
             "frame/cull.glsl",
@@ -237,7 +236,7 @@ class BuildingVisibility:
         program = programs(self.ctx).get("frame/hiz.glsl", {"FROM_DEPTH": True, "MULTISAMPLED": samples > 0})
         bind_textures(program, {"u_depth": depth})
         set_uniforms(program, **({"u_samples": samples} if samples else {}))
-        out.bind_to_image(1, read=False, write=True, level=0, format=R32F)
+        out.bind_to_image(binding("u_level"), read=False, write=True, level=0, format=R32F)
         w, h = depth.size
         program.run(-(-w // TILE), -(-h // TILE))
         self.ctx.memory_barrier()
@@ -257,8 +256,8 @@ class BuildingVisibility:
         self._farthest_samples(depth, samples, self.pyramid)
         reduce = programs(self.ctx).get("frame/hiz.glsl")
         for level, (w, h) in enumerate(pyramid_levels(size)[1:], start=1):
-            self.pyramid.bind_to_image(0, read=True, write=False, level=level - 1, format=R32F)
-            self.pyramid.bind_to_image(1, read=False, write=True, level=level, format=R32F)
+            self.pyramid.bind_to_image(binding("u_finer"), read=True, write=False, level=level - 1, format=R32F)
+            self.pyramid.bind_to_image(binding("u_level"), read=False, write=True, level=level, format=R32F)
             reduce.run(-(-w // TILE), -(-h // TILE))
             self.ctx.memory_barrier()
 

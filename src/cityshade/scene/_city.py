@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._values import check_seed
 from ..errors import UsageError
 from ._buildings import BuildingMass, box, cylinder, dome
 from ._camera import Camera
@@ -281,6 +282,6 @@ CITIES = {"default": default_city, "grid": grid_city, "interior": interior_city,
 
 
 def make_city(name: str = "default", seed: int | None = None) -> City:
-    if name not in CITIES:
+    if not isinstance(name, str) or name not in CITIES:
         raise UsageError(f"unknown city {name!r}; allowed: {', '.join(CITIES)}")
-    return CITIES[name]() if seed is None else CITIES[name](seed=seed)
+    return CITIES[name]() if seed is None else CITIES[name](seed=check_seed(seed))

@@ -2,8 +2,8 @@
 v, and a row of the face table. What every vertex of a face repeats (normal, bay width and storey
 height, the face's width, base, top and room depth, the ids) is one row of the face table, which
 the vertex stage reads by the vertex's row index (shaders/common/building_vertex.glsl, a storage
-buffer at FACES_BINDING); the world position is placed there from the object-space one by the
-building's placement (cos and sin of its yaw, its origin: float64, PLACEMENTS_BINDING) with the
+buffer BuildingFaces); the world position is placed there from the object-space one by the
+building's placement (cos and sin of its yaw, its origin: float64, BuildingPlacements) with the
 float64 arithmetic of `world_positions`, which gives the meshed float32 bits exactly (face_table
 checks that every vertex was placed so). The rows hold the very bits of the meshed VERTEX_DTYPE
 records, so every program sees the values it saw before, bit for bit. `shared_vertices` then
@@ -40,12 +40,7 @@ FACE_DTYPE = np.dtype(
 FACE_WORDS = FACE_DTYPE.itemsize // 4
 # per building: cos and sin of its yaw, its origin's world x and z (a dvec4 in the shader)
 PLACEMENT_DTYPE = np.dtype([("rotation", "<f8", 2), ("origin", "<f8", 2)])
-FACES_BINDING, PLACEMENTS_BINDING = 11, 12  # the storage buffers of common/building_vertex.glsl
-FACE_TABLE_CONSTANTS = {
-    "FACE_WORDS": f"{FACE_WORDS}u",
-    "FACES_BINDING": FACES_BINDING,
-    "PLACEMENTS_BINDING": PLACEMENTS_BINDING,
-}
+FACE_TABLE_CONSTANTS = {"FACE_WORDS": f"{FACE_WORDS}u"}
 FNV_PRIME = np.uint64(0x100000001B3)  # the rows' hash (FNV-1a over their words)
 
 # the words of a VERTEX_DTYPE record that FACE_DTYPE's fields come from, in FACE_DTYPE's order

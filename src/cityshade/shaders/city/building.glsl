@@ -49,7 +49,7 @@ const float NO_ROOM_PANE_F0 = 0.15;                 // dusty glass in front of a
 uniform sampler2D u_facade;     // one window bay; alpha 0 = glass
 #if defined PREPASS_FARTHEST
 // the farthest depth of each pixel's samples after the prepass (an image: the samplers are all taken)
-layout(r32f, binding = 0) readonly uniform image2D u_prepass_farthest;
+layout(r32f, binding = BINDING_PREPASS_FARTHEST) readonly uniform image2D u_prepass_farthest;
 const float PREPASS_MARGIN = 2.0 / 16777216.0;  // two steps of the 24-bit depth buffer
 #endif
 

@@ -25,10 +25,10 @@ bool lod_cheap(float s) { return lod_coarse(u_building_lod.zw, s); }
 
 // Per building (index), its grammar's mean wall colour (linear) and glass share: taken with the
 // building's own seed and face, as the grammar's once-per-building choices set its colour
-// (cityshade/render/_building_lod.py, LOD_COLOURS_BINDING); zero for the other buildings. A grammar
+// (cityshade/render/_building_lod.py); zero for the other buildings. A grammar
 // building's colour is evaluated once a view needs it (cityshade/render/_lod_colours.py): until
 // then its glass share is negative and the building keeps the finer level.
-layout(std430, binding = 6) readonly buffer BuildingLodColours { vec4 building_lod_colours[]; };
+layout(std430, binding = BINDING_BUILDING_LOD_COLOURS) readonly buffer BuildingLodColours { vec4 building_lod_colours[]; };
 
 bool lod_colour_ready(int index) { return building_lod_colours[index].a >= 0.0; }
 

@@ -3,9 +3,9 @@
 #ifndef CITY_STREET_LIGHTS_GLSL
 #define CITY_STREET_LIGHTS_GLSL
 
-layout(std430, binding = 6) readonly buffer StreetLamps { vec4 lamps[]; };  // bulb x, y, z; reach (m)
-layout(std430, binding = 7) readonly buffer LampCellStarts { uint lamp_cell_start[]; };
-layout(std430, binding = 8) readonly buffer LampCellIndices { uint lamp_index[]; };
+layout(std430, binding = BINDING_STREET_LAMPS) readonly buffer StreetLamps { vec4 lamps[]; };  // bulb x, y, z; reach (m)
+layout(std430, binding = BINDING_LAMP_CELL_STARTS) readonly buffer LampCellStarts { uint lamp_cell_start[]; };
+layout(std430, binding = BINDING_LAMP_CELL_INDICES) readonly buffer LampCellIndices { uint lamp_index[]; };
 uniform vec2 u_lamp_origin;
 uniform ivec2 u_lamp_cells;
 uniform float u_lamp_cell_size;

@@ -15,9 +15,9 @@ in vec3 in_local;
 in vec2 in_facade;  // u along the face, v up
 in uint in_face_row;
 // FACE_WORDS words a row, in FACE_DTYPE's order: normal, bay width and storey height, face, ids
-layout(std430, binding = FACES_BINDING) readonly buffer BuildingFaces { uint face_words[]; };
+layout(std430, binding = BINDING_BUILDING_FACES) readonly buffer BuildingFaces { uint face_words[]; };
 // per building: cos and sin of its yaw, its origin's world x and z (PLACEMENT_DTYPE)
-layout(std430, binding = PLACEMENTS_BINDING) readonly buffer BuildingPlacements { dvec4 placements[]; };
+layout(std430, binding = BINDING_BUILDING_PLACEMENTS) readonly buffer BuildingPlacements { dvec4 placements[]; };
 out vec3 v_world;  // for the shadow look-up
 out vec3 v_local;
 out vec3 v_normal;
@@ -29,7 +29,7 @@ invariant gl_Position;  // the z prepass and the shading pass must produce ident
 
 #if defined RELIEF_NEAR || defined RELIEF_FAR
 // per building: its box's low and high corner, world (render/_visibility.py building_bounds)
-layout(std430, binding = 13) readonly buffer BuildingBounds { vec4 bounds[]; };
+layout(std430, binding = BINDING_BUILDING_BOUNDS) readonly buffer BuildingBounds { vec4 bounds[]; };
 uniform float u_relief_range;  // metres: openings are traced nearer than this (relief/building.glsl)
 
 // Whether a fragment of the building may trace a relief: a relief bay (traced at every distance), or

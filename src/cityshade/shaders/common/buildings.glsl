@@ -14,7 +14,7 @@ struct Building {
     vec4 doors[MAX_DOORS];  // xy: a door's point on the outline (object space), zw: its wall's outward normal (0: none)
 };
 
-layout(std430, binding = 0) readonly buffer Buildings {
+layout(std430, binding = BINDING_BUILDINGS) readonly buffer Buildings {
     Building buildings[];
 };
 

@@ -11,11 +11,11 @@
 #if defined COMPUTE_SHADER
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 1) readonly buffer Draws { uvec4 draws[]; };  // vertex count, first vertex, building
-layout(std430, binding = 2) writeonly buffer Commands { uint commands[]; };
-// per building: its box's low and high corner (xyz, world), at the binding the buildings' vertex stage
-// reads it from too (render/_visibility.py BOUNDS_BINDING, building_bounds)
-layout(std430, binding = 13) readonly buffer Bounds { vec4 bounds[]; };
+layout(std430, binding = BINDING_DRAWS) readonly buffer Draws { uvec4 draws[]; };  // vertex count, first vertex, building
+layout(std430, binding = BINDING_COMMANDS) writeonly buffer Commands { uint commands[]; };
+// per building: its box's low and high corner (xyz, world): the buffer the buildings' vertex stage
+// reads too (render/_visibility.py building_bounds)
+layout(std430, binding = BINDING_BUILDING_BOUNDS) readonly buffer BuildingBounds { vec4 bounds[]; };
 
 uniform uint u_box_count;
 #if defined OCCLUDERS

@@ -5,7 +5,7 @@
 // Defines: FROM_DEPTH (level 0 from u_depth), MULTISAMPLED (u_depth has samples).
 #if defined COMPUTE_SHADER
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(r32f, binding = 1) writeonly uniform image2D u_level;
+layout(r32f, binding = BINDING_LEVEL) writeonly uniform image2D u_level;
 #if defined FROM_DEPTH
 #if defined MULTISAMPLED
 uniform sampler2DMS u_depth;
@@ -14,7 +14,7 @@ uniform int u_samples;
 uniform sampler2D u_depth;
 #endif
 #else
-layout(r32f, binding = 0) readonly uniform image2D u_finer;
+layout(r32f, binding = BINDING_FINER) readonly uniform image2D u_finer;
 #endif
 
 void main() {

@@ -59,7 +59,7 @@ uint grammar_cache_hash(uvec2 key) {
 }
 
 #if defined GRAMMAR_CACHE_READ
-layout(std430, binding = 9) readonly buffer GrammarPageTable { uvec4 grammar_page_table[]; };  // key x, key y, slot
+layout(std430, binding = BINDING_GRAMMAR_PAGE_TABLE) readonly buffer GrammarPageTable { uvec4 grammar_page_table[]; };  // key x, key y, slot
 uniform int u_cache_table_mask;
 uniform int u_cache_probes;
 uniform sampler2D u_cache_color;   // sRGB colour, specular intensity

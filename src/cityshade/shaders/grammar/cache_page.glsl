@@ -9,7 +9,7 @@ struct GrammarPageRecord {
     uvec4 key;   // key x, key y, face width and height (float bits)
     uvec4 slot;  // x: the slot
 };
-layout(std430, binding = 10) readonly buffer GrammarPageRecords { GrammarPageRecord grammar_page_records[]; };
+layout(std430, binding = BINDING_GRAMMAR_PAGE_RECORDS) readonly buffer GrammarPageRecords { GrammarPageRecord grammar_page_records[]; };
 
 #if defined VERTEX_SHADER
 flat out uvec4 v_key;

@@ -27,7 +27,7 @@
 #define GRAMMAR_BIG 1e30
 #define GRAMMAR_REPEAT_SLACK 1e-4
 
-layout(std430, binding = GRAMMAR_RULES_BINDING) readonly buffer GrammarRules { vec4 grammar_rules[]; };  // by address
+layout(std430, binding = BINDING_GRAMMAR_RULES) readonly buffer GrammarRules { vec4 grammar_rules[]; };  // by address
 uniform sampler2D u_grammar_noise;      // R32F uniform noise
 uniform sampler2DArray u_grammar_tiles; // RGBA8, layer = 3 * tile + usage - 1
 uniform int u_grammar_tile_size;        // texels per tile side (a power of two)

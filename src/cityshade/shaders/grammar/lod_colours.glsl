@@ -14,7 +14,7 @@ struct SampleFace {
     vec4 building;         // building.levels, .style, .use, .height
     vec4 seed;             // xy: the building's seed vector, z: facade.level
 };
-layout(std430, binding = 0) readonly buffer SampleFaces { SampleFace faces[]; };
+layout(std430, binding = BINDING_SAMPLE_FACES) readonly buffer SampleFaces { SampleFace faces[]; };
 uniform sampler2D u_unit_samples;  // RG32F, LOD_SAMPLES_X x LOD_SAMPLES_Y: the points over the unit square
 uniform int u_first;               // the face of the tile at the bottom left
 uniform int u_tiles_across;

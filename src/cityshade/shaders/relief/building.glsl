@@ -74,7 +74,7 @@ FacadeResult opening_traced(Building b, vec3 n, vec3 wall, vec2 facade, vec4 rec
 
 #if defined GRAMMAR_DEFERRED && !defined ID_PASS
 // the deferred pass's opening scopes (grammar/_frame_pass.py; an image: the samplers are all taken)
-layout(rgba32f, binding = 1) readonly uniform image2D u_grammar_deferred_opening;
+layout(rgba32f, binding = BINDING_GRAMMAR_DEFERRED_OPENING) readonly uniform image2D u_grammar_deferred_opening;
 
 // The opening the deferred pass found at this pixel (grammar/deferred.glsl), the flat grammar's
 // glass there and its colour (sRGB, to 8 bits); false where it passed none on (a pixel the page

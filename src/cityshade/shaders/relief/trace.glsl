@@ -19,7 +19,7 @@
 #endif
 
 // Free boxes, x0 | y0 << 16 and x1 | y1 << 16 in texels (half-open).
-layout(std430, binding = 5) readonly buffer ReliefBoxes { uvec2 uBoxes[]; };
+layout(std430, binding = BINDING_RELIEF_BOXES) readonly buffer ReliefBoxes { uvec2 uBoxes[]; };
 
 uniform ivec2 u_map_size;     // columns, rows
 uniform float u_slab_depth;   // deepest texel + 1: the bottom of the traced volume

@@ -13,8 +13,8 @@ struct TreeInstance {
     vec4 place;   // trunk base xyz, yaw
     vec4 params;  // scale, LOD alpha, wind phase, unused
 };
-layout(std430, binding = 1) readonly buffer Instances { TreeInstance instances[]; };
-layout(std430, binding = 2) writeonly buffer Commands { uint commands[]; };
+layout(std430, binding = BINDING_INSTANCES) readonly buffer Instances { TreeInstance instances[]; };
+layout(std430, binding = BINDING_COMMANDS) writeonly buffer Commands { uint commands[]; };
 
 uniform uint u_instance_count;
 uniform float u_tree_height;  // the species' model height (metres at scale 1)
