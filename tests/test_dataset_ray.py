@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.dataset import CLASSES, generate, parse_config, read_manifest
 from cityshade.errors import UsageError
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from PIL import Image
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.grammar import library_path
 
 FIG12 = str(library_path("fig12.grammar"))

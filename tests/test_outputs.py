@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from cityshade._files import output_target, read_input_bytes, write_png
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.errors import UsageError
 from cityshade.grammar import library_path
 

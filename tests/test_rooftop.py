@@ -284,7 +284,7 @@ def test_export_draws_dormer_fronts_of_a_grammar_building_as_window_bays(tmp_pat
     bays there too, every front triangle in the window-bay material, none in a facade atlas."""
     import pygltflib
 
-    from cityshade.cli import main
+    from cityshade.commands import main
     from cityshade.export._bake import has_grammar
 
     assert has_grammar(masses[HOUSE])

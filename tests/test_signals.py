@@ -63,7 +63,7 @@ def test_a_signal_during_compress_exits_cleanly(tmp_path, signum):
 
 
 def test_a_video_needs_an_mp4_name(tmp_path, capsys):
-    from cityshade.cli import main
+    from cityshade.commands import main
 
     assert main(["video", "--size", "8x8", "--frames", "1", "--out", str(tmp_path / "city")]) == 2
     assert "give a name ending in .mp4" in capsys.readouterr().err

@@ -11,7 +11,7 @@ import pytest
 
 import cityshade._budget as budget
 from cityshade._budget import check_gl_size
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.errors import UsageError
 from cityshade.grammar import compile_grammars, library_path, load
 

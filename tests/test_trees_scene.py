@@ -3,7 +3,7 @@
 import numpy as np
 from PIL import Image
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.render import Daylight, Renderer, RenderSettings, parse_time
 from cityshade.render._godrays import god_ray_uniforms
 from cityshade.scene import Camera, City, box

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from cityshade.errors import UsageError
-from cityshade.render._video import render_video
+from cityshade.commands.video import render_video
 from cityshade.scene import make_city
 from cityshade.scene._paths import PATHS
 

@@ -18,8 +18,15 @@ from ._renderer import Renderer
 from ._resolution import ResolutionScale
 from ._settings import RenderSettings
 from ._streaming import check_memory_budget, format_bytes
-from ._tile_cache import CacheProblem, TileCache, open_tiles, write_tiles
-from ._tile_cli import add_streaming_arguments, streamed_tiles
+from ._tile_cache import (
+    TILE_SIZE,
+    CacheProblem,
+    TileCache,
+    check_cache_folder,
+    open_tiles,
+    source_identity,
+    write_tiles,
+)
 from ._trees import TreePass, TreeSettings
 from ._upscale import upscale, upscale_reference
 
@@ -55,8 +62,9 @@ __all__ = [
     "TileCache",
     "open_tiles",
     "write_tiles",
-    "add_streaming_arguments",
-    "streamed_tiles",
+    "TILE_SIZE",
+    "check_cache_folder",
+    "source_identity",
     "TreePass",
     "TreeSettings",
     "upscale",
