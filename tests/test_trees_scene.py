@@ -4,7 +4,8 @@ import numpy as np
 from PIL import Image
 
 from cityshade.commands import main
-from cityshade.render import Daylight, Renderer, RenderSettings, parse_time
+from cityshade._values import parse_time
+from cityshade.render import Daylight, Renderer, RenderSettings
 from cityshade.render._godrays import god_ray_uniforms
 from cityshade.scene import Camera, City, box
 from cityshade.scene._city import GROUND_PAVEMENT

@@ -12,7 +12,7 @@ from .._files import atomic_output, signals_deferred
 from ..errors import UsageError
 from ..scene import PATHS, City, camera_path, make_city
 from .arguments import add_map_option, check_writable, parse_size
-from ..render import parse_time
+from .._values import parse_time
 from ..render import Renderer
 from ..render import RenderSettings
 

@@ -6,7 +6,8 @@ from dataclasses import replace
 
 import moderngl_window as mglw
 
-from ..render import RenderSettings, parse_time
+from .._values import parse_time
+from ..render import RenderSettings
 from ..scene import make_city
 from ..viewer import DEFAULT_TARGET_FPS, HELP, open_viewer
 from .arguments import add_building_lod_option, add_grammar_cache_option, add_map_option

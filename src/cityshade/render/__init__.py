@@ -1,15 +1,8 @@
-"""The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings.
-
-`cityshade.render` is this package. It used to be a function as well; calling the package still
-works for now, with a DeprecationWarning: use `cityshade.render_image(...)`."""
-
-import sys
-import types
-import warnings
+"""The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings."""
 
 from ._building_lod import bay_mean
 from ._culling import boxes_visible, frustum_planes
-from ._daylight import Daylight, parse_time
+from ._daylight import Daylight
 from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade, styles_with_relief
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._guessed import guessed_aov
@@ -35,7 +28,6 @@ __all__ = [
     "boxes_visible",
     "frustum_planes",
     "Daylight",
-    "parse_time",
     "FACADE_KINDS",
     "FacadeKind",
     "assign_facades",
@@ -70,16 +62,3 @@ __all__ = [
     "upscale",
     "upscale_reference",
 ]
-
-
-class _DeprecatedCall(types.ModuleType):
-    def __call__(self, *args, **kwargs):
-        warnings.warn(
-            "cityshade.render(...) is deprecated; use cityshade.render_image(...)", DeprecationWarning, stacklevel=2
-        )
-        from ..api import render_image
-
-        return render_image(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _DeprecatedCall
