@@ -5,6 +5,9 @@ only from layers below it, and no import circle joins them."""
 from __future__ import annotations
 
 import ast
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 SRC = Path(__file__).resolve().parent.parent / "src" / "cityshade"
@@ -221,3 +224,23 @@ def test_the_check_sees_a_gl_object_made_outside_gl(tmp_path):
     )
     (fake / "gl" / "y.py").write_text("ctx.texture((1, 1), 4)\n")
     assert gl_object_calls(fake) == ["cityshade/trees/x.py:1: ctx.buffer", "cityshade/trees/x.py:2: ctx.vertex_array"]
+
+
+# Libraries that take a second or more to import, or matter only to one command: imported where used.
+HEAVY = ("scipy", "ray", "pyarrow", "matplotlib", "osmium")
+
+
+def heavy_modules_after(statement: str) -> list[str]:
+    """The HEAVY libraries loaded by running `statement` in a fresh Python on this tree."""
+    code = f"import sys\n{statement}\nprint(' '.join(m for m in {HEAVY!r} if m in sys.modules))"
+    env = {**os.environ, "PYTHONPATH": str(SRC.parent)}
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    return done.stdout.split()
+
+
+def test_import_cityshade_loads_no_heavy_library():
+    assert heavy_modules_after("import cityshade") == []
+
+
+def test_the_check_sees_a_heavy_import():
+    assert heavy_modules_after("import cityshade, scipy.ndimage") == ["scipy"]
