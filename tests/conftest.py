@@ -25,6 +25,15 @@ def gl_context():
     ctx.release()
 
 
+@pytest.hookimpl(tryfirst=True)  # before -m deselects by marker
+def pytest_collection_modifyitems(items):
+    """A test that asks for gl_context (itself or through a fixture) needs OpenGL; modules that make
+    contexts another way mark themselves with `pytestmark = pytest.mark.gl`."""
+    for item in items:
+        if "gl_context" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.gl)
+
+
 @pytest.fixture(autouse=True)
 def _session_context_current(request):
     """Tests that make contexts of their own (Renderer() without ctx, cityshade.render_image) leave

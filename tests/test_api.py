@@ -8,6 +8,8 @@ import pytest
 import cityshade
 from cityshade.scene import make_city
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 def test_render_returns_an_rgb_uint8_array():
     image = cityshade.render_image("interior", camera="corner", size=(64, 48), lights=0.7)

@@ -13,6 +13,8 @@ import shapely
 from cityshade.maps import MapBuilding, MapData, Road, load_map, map_city, street_segment, sun_and_moon, to_scene
 from cityshade.scene import FLAGS, USES, box
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 HELSINKI = (24.9384, 60.1699)
 
 

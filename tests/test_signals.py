@@ -10,6 +10,8 @@ import time
 
 import pytest
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
 def test_a_signal_during_video_leaves_nothing(tmp_path, signum):

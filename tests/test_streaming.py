@@ -25,6 +25,8 @@ from cityshade.render._city_gpu import ground_vertices
 from cityshade.render._tile_cache import GROUND_DTYPE, SLOT_UNIT, CacheProblem, ground_offset, read_tile, slot_bytes
 from cityshade.scene import FACE_DTYPE, GROUND_LAND, Camera, GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 MAPS = Path(__file__).parent / "data" / "maps"
 TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
 SIZE = (160, 120)
