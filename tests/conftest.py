@@ -7,11 +7,16 @@ import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 # Uniform names that no variant of a program declares are errors, not silence (cityshade.gl.set_uniforms).
 os.environ.setdefault("CITYSHADE_STRICT_UNIFORMS", "1")
 # Compressed relief maps are cached here, not in the user's cache folder (cityshade.relief.cache_dir).
 os.environ.setdefault("CITYSHADE_CACHE_DIR", tempfile.mkdtemp(prefix="cityshade-test-cache-"))
+
+# Property tests check results, not speed: on a busy machine a deadline fails correct code.
+settings.register_profile("cityshade", deadline=None)
+settings.load_profile("cityshade")
 
 OUTPUT = Path(__file__).parent / "output"
 
