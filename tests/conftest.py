@@ -7,11 +7,16 @@ import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 # Uniform names that no variant of a program declares are errors, not silence (cityshade.gl.set_uniforms).
 os.environ.setdefault("CITYSHADE_STRICT_UNIFORMS", "1")
 # Compressed relief maps are cached here, not in the user's cache folder (cityshade.relief.cache_dir).
 os.environ.setdefault("CITYSHADE_CACHE_DIR", tempfile.mkdtemp(prefix="cityshade-test-cache-"))
+
+# Property tests check results, not speed: on a busy machine a deadline fails correct code.
+settings.register_profile("cityshade", deadline=None)
+settings.load_profile("cityshade")
 
 OUTPUT = Path(__file__).parent / "output"
 
@@ -23,6 +28,15 @@ def gl_context():
     ctx = create_context(headless=True)
     yield ctx
     ctx.release()
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m deselects by marker
+def pytest_collection_modifyitems(items):
+    """A test that asks for gl_context (itself or through a fixture) needs OpenGL; modules that make
+    contexts another way mark themselves with `pytestmark = pytest.mark.gl`."""
+    for item in items:
+        if "gl_context" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.gl)
 
 
 @pytest.fixture(autouse=True)

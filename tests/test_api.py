@@ -10,6 +10,8 @@ from cityshade.errors import UsageError
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import make_city
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 def test_render_returns_an_rgb_uint8_array():
     image = cityshade.render_image("interior", camera="corner", size=(64, 48), lights=0.7)
@@ -30,13 +32,11 @@ def test_every_interior_camera_renders(camera):
     assert image.std() > 5, f"{camera}: a flat picture"
 
 
-def test_the_render_package_imports_and_the_old_call_warns():
+def test_the_render_package_is_a_plain_package():
     import cityshade.render._frame  # the package is not hidden by a function of the same name
 
     assert cityshade.render._frame.frame_passes is cityshade.render.frame_passes
-    with pytest.warns(DeprecationWarning, match="render_image"):
-        image = cityshade.render("interior", camera="corner", size=(16, 12))
-    assert image.shape == (12, 16, 3)
+    assert not callable(cityshade.render)  # the image function is cityshade.render_image
 
 
 @pytest.mark.parametrize("lights", [2, -0.1, "a", float("nan"), True])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 import cityshade
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.errors import UsageError
 from cityshade.grammar import GrammarError, library_path, loads
 

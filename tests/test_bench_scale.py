@@ -12,6 +12,8 @@ from cityshade.maps import load_map, map_city, tiled_extract
 from cityshade.render import Renderer, RenderSettings, frame_passes
 from cityshade.scene import default_city
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 def test_the_street_camera_lands_on_the_same_street_of_the_tiled_extract(helsinki_pbf, tmp_path):
     """The extract's first tile is Helsinki where it was: moved by the camera's shift, Helsinki's

@@ -8,6 +8,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 def run_cli(*args, cwd=None):
     return subprocess.run(

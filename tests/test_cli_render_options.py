@@ -14,7 +14,7 @@ from PIL import Image
 
 FOOTPRINTS = Path(__file__).parents[1] / "examples" / "footprints.geojson"
 SIZE = "96x54"
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.gl]  # renders through the command line
 
 
 def render_cli(tmp_path: Path, name: str, *args: str) -> np.ndarray:

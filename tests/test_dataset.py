@@ -32,6 +32,8 @@ from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import batch, make_city
 from cityshade.scene._raycast import intersect
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 SIZE = (160, 120)
 WINDOW = CLASSES.index("window")
 

@@ -15,9 +15,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.dataset import CLASSES, generate, parse_config, read_manifest
 from cityshade.errors import UsageError
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 TINY = {"image": {"width": 48, "height": 32}, "run": {"batch": 1}}
 OUTPUTS = ("rgb", "depth", "normal", "class", "instance", "meta")

@@ -10,10 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.assets import LABELS
 from cityshade.export import Canvas, GpuBaker, bake_reference, pack
 from cityshade.grammar import facade_seed_vector, library_texture, seed_vector
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 TAGGED = Path(__file__).parent / "data" / "maps" / "tagged.osm"
 

@@ -1,4 +1,4 @@
-"""`load_footprints`: a map file's City (through `maps.load_map`): heights, turned object spaces, roofs of
+"""A footprint map's City (`maps.map_city` of `maps.load_map`): heights, turned object spaces, roofs of
 any outline, clear errors."""
 
 from __future__ import annotations
@@ -11,21 +11,22 @@ import pytest
 import shapely
 
 from cityshade.errors import CityshadeError
-from cityshade.scene import ROOF_PARTS, building_vertices, load_footprints, rotation_y
+from cityshade.maps import load_map, map_city
+from cityshade.scene import ROOF_PARTS, building_vertices, rotation_y
 from cityshade.scene._meshes import SURFACE_ROOF
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "footprints.geojson"
 
 
 def test_example_loads_every_polygon_with_its_height():
-    city = load_footprints(EXAMPLE)
+    city = map_city(load_map(EXAMPLE))
     assert len(city.masses) == 5  # a MultiPolygon gives two buildings
     heights = sorted(round(m.height, 1) for m in city.masses)
     assert heights.count(18.0) == 2 and heights[-1] == 32.0  # height 18 (x2), '32 m'; the rest guessed
 
 
 def test_object_space_follows_the_footprint_and_world_positions_round_trip():
-    city = load_footprints(EXAMPLE)
+    city = map_city(load_map(EXAMPLE))
     turned = max(city.masses, key=lambda m: m.height)  # the 32 m building is turned ~10 degrees
     assert abs(np.degrees(turned.yaw)) % 90 > 3
     local = np.asarray(turned.footprint)
@@ -39,7 +40,7 @@ def test_object_space_follows_the_footprint_and_world_positions_round_trip():
 
 
 def test_roof_covers_a_non_convex_footprint_exactly():
-    city = load_footprints(EXAMPLE)
+    city = map_city(load_map(EXAMPLE))
     l_shape = max(city.masses, key=lambda m: len(m.footprint))
     assert not shapely.Polygon(l_shape.footprint).equals(shapely.Polygon(l_shape.footprint).convex_hull)
     vertices = building_vertices(l_shape, 0)
@@ -66,7 +67,7 @@ def test_bad_files_name_the_problem(tmp_path, text, message):
     path = tmp_path / "bad.geojson"
     path.write_text(text)
     with pytest.raises(CityshadeError, match=message.replace("(", r"\(").replace(")", r"\)")) as info:
-        load_footprints(path)
+        map_city(load_map(path))
     assert str(path) in str(info.value)
 
 
@@ -87,12 +88,12 @@ def test_projected_coordinates_stay_in_metres(tmp_path):
             }
         )
     )
-    (mass,) = load_footprints(path).masses
+    (mass,) = map_city(load_map(path)).masses
     assert np.allclose(sorted(mass.extent[[0, 2]]), [20.0, 30.0]) and mass.height == 12.0
 
 
 def test_osm_extract_gives_its_closed_building_ways():
-    city = load_footprints(EXAMPLE.with_suffix(".osm"))
+    city = map_city(load_map(EXAMPLE.with_suffix(".osm")))
     six_levels, tagged = sorted(round(m.height, 1) for m in city.masses)  # the footway is no building
     assert tagged == 40.0 and 6 * 2.5 <= six_levels <= 6 * 4.0
 
@@ -102,8 +103,8 @@ def test_osm_errors_name_line_and_column(tmp_path):
     path.write_text('<osm>\n  <node id="1" lat="1" lon="2">\n</osm>\n')
     path.write_text('<osm version="0.6">\n  <node id="1" lat="1" lon="2">\n</osm>\n')
     with pytest.raises(CityshadeError, match=r"bad.osm:3:3: not a readable OpenStreetMap file \(XML parsing error"):
-        load_footprints(path)
+        map_city(load_map(path))
     shapefile = tmp_path / "city.shp"
     shapefile.write_bytes(b"\x00\x00\x27\x0a")
     with pytest.raises(CityshadeError, match="not a map file this reader knows"):
-        load_footprints(shapefile)
+        map_city(load_map(shapefile))

@@ -21,7 +21,8 @@ from cityshade.errors import CityshadeError
 from cityshade.grammar import LIBRARY_STYLES, GrammarError, compile_grammars, library_path, loads
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._reference import evaluate_facade
-from cityshade.scene import BuildingMass, load_footprints
+from cityshade.maps import load_map, map_city
+from cityshade.scene import BuildingMass
 from cityshade.scene._meshes import SURFACE_ROOF, building_vertices
 
 FUZZ_SECONDS = float(os.environ.get("CITYSHADE_FUZZ_SECONDS", "60"))
@@ -215,7 +216,7 @@ def check_geojson(text: str, folder):
     path = folder / "fuzz.geojson"
     path.write_text(text, encoding="utf-8")
     try:
-        load_footprints(path)
+        map_city(load_map(path))
     except CityshadeError as exc:
         assert "\n" not in str(exc) and str(path) in str(exc), str(exc)
 

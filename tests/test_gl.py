@@ -16,6 +16,8 @@ from cityshade.gl import (
     sampler_units,
 )
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 SOURCES = {
     "test/lib.glsl": "float twice(float x) { return 2.0 * x; }\n",
     "test/ok.glsl": (

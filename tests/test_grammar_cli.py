@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from PIL import Image
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.grammar import library_path
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 FIG12 = str(library_path("fig12.grammar"))
 

@@ -13,6 +13,8 @@ from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
 from cityshade.grammar._reference import evaluate, evaluate_facade, facade_view
 from cityshade.scene import USES
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 def colours(*names: str) -> str:
     """Constant-colour terminals, one per name, so every scope has its own id."""

@@ -16,6 +16,8 @@ from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
 from cityshade.grammar._random import seed_vector
 from cityshade.grammar._reference import evaluate_facade
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 FACADE = (16.0, 12.0)
 SIZE = (64, 48)
 COLOURS = "".join(f"{n}->Mat(Color, 0, 0.{k + 1}, 0.5, 0.5, 1)\n" for k, n in enumerate("ABCDEF"))

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cityshade.assets import LABELS
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.grammar import GrammarError, compile_grammars, loads
 from cityshade.grammar._cga import CgaError, translate
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.grammar import GrammarError, load, loads
 
 SECRET = "root:$6$SECRETHASH:19000:0:99999:7:::"

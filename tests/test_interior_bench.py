@@ -27,6 +27,8 @@ from cityshade.render import Renderer
 from cityshade.scene import cylinder, grid_city
 from render_checks import render_finite
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 def test_apartment_block_counts():
     """Fig. 9's block: 31 storeys, 6x6 windows -> 31 floors, 31 ceilings, 2 x (6 + 6) wall quads."""

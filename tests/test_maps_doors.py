@@ -84,7 +84,7 @@ def test_a_street_behind_the_neighbour_does_not_put_the_door_on_the_party_wall(t
 
 
 def test_a_mapped_shop_gives_shop_fronts_and_info_counts_doors(capsys):
-    from cityshade.cli import main
+    from cityshade.commands import main
 
     _, by_id = _map()
     assert by_id["way/100"].shop_front and not by_id["way/101"].shop_front

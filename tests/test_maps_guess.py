@@ -278,7 +278,7 @@ def test_regression_trained_on_the_map_beats_no_learning():
 
 def test_info_counts_tagged_and_guessed_per_attribute(helsinki_pbf, capsys):
     """`cityshade info --json`: per attribute, the tagged and guessed counts add up to the buildings."""
-    from cityshade.cli import main
+    from cityshade.commands import main
 
     assert main(["info", str(helsinki_pbf), "--json"]) == 0
     info = json.loads(capsys.readouterr().out)

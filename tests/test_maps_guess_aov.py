@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 import shapely
 
 from cityshade.api import render_city
@@ -12,6 +13,8 @@ from cityshade.interior import FACE_NAMES
 from cityshade.maps import MapBuilding, MapData, map_city
 from cityshade.render import guessed_aov
 from cityshade.scene import BuildingMass
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 FACE = {name: code for code, name in FACE_NAMES.items()}
 SQUARE = ((0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0))

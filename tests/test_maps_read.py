@@ -392,7 +392,7 @@ def test_helsinki_extract(helsinki_pbf):
 
 
 def test_info_prints_counts_and_reasons(capsys):
-    from cityshade.cli import main
+    from cityshade.commands import main
 
     assert main(["info", str(DATA / "tagged.osm")]) == 0
     out = capsys.readouterr().out
@@ -402,7 +402,7 @@ def test_info_prints_counts_and_reasons(capsys):
 
 
 def test_info_json_counts_tagged_and_guessed_per_attribute(capsys, tmp_path):
-    from cityshade.cli import main
+    from cityshade.commands import main
 
     path = tmp_path / "two.geojson"
     path.write_text(
@@ -428,7 +428,7 @@ def test_info_json_counts_tagged_and_guessed_per_attribute(capsys, tmp_path):
 
 
 def test_info_on_a_bad_file_is_one_line_and_exit_2(capsys, tmp_path):
-    from cityshade.cli import main
+    from cityshade.commands import main
 
     assert main(["info", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip()

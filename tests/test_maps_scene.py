@@ -13,6 +13,8 @@ import shapely
 from cityshade.maps import MapBuilding, MapData, Road, load_map, map_city, street_segment, sun_and_moon, to_scene
 from cityshade.scene import FLAGS, USES, box
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 HELSINKI = (24.9384, 60.1699)
 
 
@@ -157,7 +159,7 @@ def test_render_map_cli_bad_values_one_line_exit_2(helsinki_pbf, tmp_path, optio
 def test_video_and_viewer_take_a_map(helsinki_pbf, tmp_path):
     from cityshade.maps import city_from_map, sky_clock
     from cityshade.render import RenderSettings
-    from cityshade.render._video import render_video
+    from cityshade.commands.video import render_video
     from cityshade.viewer import open_viewer
 
     city, camera, placed = city_from_map(helsinki_pbf, "street", "2025-06-21", "21:00")

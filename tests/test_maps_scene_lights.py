@@ -14,6 +14,8 @@ from cityshade.render import Renderer, RenderSettings
 from cityshade.render._street_lights import CELL, lamps_reaching_cell, light_grid
 from cityshade.scene import Camera
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 FACE_GROUND = 9
 NIGHT, NOON = (-30.0, 0.0), (50.0, 180.0)
 

@@ -13,11 +13,13 @@ import numpy as np
 import pytest
 
 from cityshade._files import open_input_stream, output_target, read_input_bytes, write_png
-from cityshade.cli import main
-from cityshade.export._export import check_output
-from cityshade.render._tile_cache import check_cache_folder
+from cityshade.commands import main
+from cityshade.export import check_output
+from cityshade.render import check_cache_folder
 from cityshade.errors import UsageError
 from cityshade.grammar import library_path
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 FIG12 = str(library_path("fig12.grammar"))
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.relief import generate_facade, save_png_maps
 
 

@@ -10,7 +10,7 @@ import zlib
 
 import pytest
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.errors import CityshadeError
 from cityshade.relief import compress, from_bytes, generate_facade, to_bytes
 

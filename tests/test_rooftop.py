@@ -19,6 +19,8 @@ from cityshade.scene._meshes import SURFACE_DORMER, SURFACE_ROOF, SURFACE_WALL
 from cityshade.scene._roof_units import CLEARANCE, HOUSING_ROOF, rooftop_units, unit_count
 from cityshade.scene._roofs import PARAPET_THICKNESS
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 EXTRACT = Path(__file__).parent / "data" / "maps" / "roofs_dormers.osm"
 GABLED, HIPPED, NO_ROOMS, HOUSE, OFFICE, SHOP = range(6)
 
@@ -284,7 +286,7 @@ def test_export_draws_dormer_fronts_of_a_grammar_building_as_window_bays(tmp_pat
     bays there too, every front triangle in the window-bay material, none in a facade atlas."""
     import pygltflib
 
-    from cityshade.cli import main
+    from cityshade.commands import main
     from cityshade.export._bake import has_grammar
 
     assert has_grammar(masses[HOUSE])

@@ -11,9 +11,11 @@ import pytest
 
 import cityshade._budget as budget
 from cityshade._budget import check_gl_size
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.errors import UsageError
 from cityshade.grammar import compile_grammars, library_path, load
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 FIG12 = str(library_path("fig12.grammar"))
 

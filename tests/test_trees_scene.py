@@ -1,15 +1,19 @@
 """The trees in the city frame: cascaded shadows on the ground, the tree scene from the CLI."""
 
 import numpy as np
+import pytest
 from PIL import Image
 
-from cityshade.cli import main
-from cityshade.render import Daylight, Renderer, RenderSettings, parse_time
+from cityshade.commands import main
+from cityshade._values import parse_time
+from cityshade.render import Daylight, Renderer, RenderSettings
 from cityshade.render._godrays import god_ray_uniforms
 from cityshade.scene import Camera, City, box
 from cityshade.scene._city import GROUND_PAVEMENT
 from cityshade.trees import SCENE_TIME, city_trees, park_scene
 from render_checks import render_finite
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 SIZE = (160, 120)
 

@@ -10,9 +10,11 @@ import numpy as np
 import pytest
 
 from cityshade.errors import UsageError
-from cityshade.render._video import render_video
+from cityshade.commands.video import render_video
 from cityshade.scene import make_city
 from cityshade.scene._paths import PATHS
+
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 
 def test_video_has_every_frame_and_the_evening_darkens(tmp_path):

@@ -10,6 +10,8 @@ from cityshade.errors import UsageError
 from cityshade.render import RenderSettings, upscale_reference
 from cityshade.viewer import KEY_NAMES, open_viewer
 
+pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
+
 
 @pytest.fixture(scope="module")
 def viewer():

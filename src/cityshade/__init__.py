@@ -1,10 +1,9 @@
 """cityshade: real-time rendering of large virtual cities, facades, interiors, relief and trees per pixel."""
 
 from . import shader_constants  # noqa: F401  (declares the constants every shader program gets)
-from . import render  # the package; calling it still renders, with a DeprecationWarning
+from ._version import __version__  # noqa: F401
 from .api import render_city, render_image
 from .render import Renderer, RenderSettings
 from .scene import Camera, City, make_city
 
-__all__ = ["render", "render_image", "render_city", "Renderer", "RenderSettings", "Camera", "City", "make_city"]
-__version__ = "0.1.0"
+__all__ = ["render_image", "render_city", "Renderer", "RenderSettings", "Camera", "City", "make_city"]

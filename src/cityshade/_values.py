@@ -25,6 +25,14 @@ def check_size(size) -> tuple[int, int]:
     return width, height
 
 
+def parse_time(text: str) -> float:
+    """'HH:MM' -> hours as a float."""
+    match = re.fullmatch(r"(\d{1,2}):(\d{2})", text.strip()) if isinstance(text, str) else None
+    if not match or int(match.group(1)) > 23 or int(match.group(2)) > 59:
+        raise UsageError(f"invalid time {text!r}; use HH:MM from 00:00 to 23:59, e.g. 18:50")
+    return int(match.group(1)) + int(match.group(2)) / 60.0
+
+
 def parse_size(text: str) -> tuple[int, int]:
     match = re.fullmatch(r"(\d{1,9})x(\d{1,9})", text.strip())
     if not match:

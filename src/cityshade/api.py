@@ -7,9 +7,9 @@ from time import perf_counter
 
 import numpy as np
 
-from ._values import check_lights, check_samples, check_seed, check_size
+from ._values import check_lights, check_samples, check_seed, check_size, parse_time
 from .errors import UsageError
-from .render import Renderer, RenderSettings, TileCache, guessed_aov, parse_time
+from .render import Renderer, RenderSettings, TileCache, guessed_aov
 from .scene import City, make_city
 
 

@@ -1,1 +1,5 @@
 """Benchmarks that reproduce the papers' experiments; `cityshade bench NAME`."""
+
+from ._harness import write
+
+__all__ = ["write"]

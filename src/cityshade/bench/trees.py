@@ -14,7 +14,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._files import write_figure
-from ..render import Renderer, RenderSettings, frame_passes, parse_time, run_passes
+from .._values import parse_time
+from ..render import Renderer, RenderSettings, frame_passes, run_passes
 from ..trees import EVERY_FRAME, PAPER_RATES, SCENE_TIME, park_scene
 from ._harness import BenchResult, method_record, time_interleaved, timing_record
 

@@ -13,10 +13,11 @@ from ._bake import (
     pack,
     wall_sides,
 )
-from ._export import FORMATS, city_document, export_city
+from ._export import FORMATS, check_output, city_document, export_city
 from ._source import ExportCity, crop, layout_export_city, map_export_city, parse_region
 
 __all__ = [
+    "check_output",
     "ATLAS_LIMIT",
     "FORMATS",
     "Atlas",

@@ -42,9 +42,10 @@ from ._city import (  # noqa: E402
 )
 from ._fit import min_width  # noqa: E402
 from ._frame_pass import DeferredGrammarPass  # noqa: E402
-from ._gpu import GrammarTextures, shader_defines  # noqa: E402
+from ._cga import CgaError, translate  # noqa: E402
+from ._gpu import FacadeRenderer, GrammarTextures, shader_defines  # noqa: E402
 from ._random import FACADE_INDICES, facade_seed_vector, seed_cells, seed_vector  # noqa: E402
-from ._reference import evaluate, hole_cut  # noqa: E402
+from ._reference import CPU_BYTES_PER_PIXEL, evaluate, evaluate_facade, hole_cut  # noqa: E402
 
 __all__ = [
     "BUILDING_STYLES",
@@ -54,7 +55,12 @@ __all__ = [
     "library_texture_with",
     "seed_cells",
     "seed_vector",
+    "CPU_BYTES_PER_PIXEL",
     "evaluate",
+    "evaluate_facade",
+    "CgaError",
+    "translate",
+    "FacadeRenderer",
     "hole_cut",
     "DeferredGrammarPass",
     "GrammarTextures",

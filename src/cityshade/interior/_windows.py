@@ -15,7 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from ._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 
@@ -43,6 +42,8 @@ def _groups(keys: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 def windows_straddling_rooms(ids: np.ndarray) -> WindowCount:
     """Counts over an id AOV with window keys (H, W, 4)."""
+    from scipy import ndimage  # a second of imports that `import cityshade` does not pay
+
     seen = np.isin(ids[..., 0], ROOM_FACES) & (ids[..., 3] != 0)
     building = ids[..., 2][seen].astype(np.int64)
     rooms = ids[..., 1][seen].astype(np.int64)

@@ -15,6 +15,7 @@ from ._model import (
     Road,
     to_scene,
 )
+from ._doors import on_ground
 from ._guess import guess_missing
 from ._load import load_map
 from ._tiling import measure_load, tiled_extract
@@ -26,6 +27,7 @@ from ._streets import MAIN_ROADS, ROAD_LINKS
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
 
 __all__ = [
+    "on_ground",
     "MAIN_ROADS",
     "ROAD_LINKS",
     "AREA_KINDS",

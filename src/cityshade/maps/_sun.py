@@ -10,7 +10,7 @@ import datetime as dt
 import re
 
 from ..errors import UsageError
-from ..render import parse_time
+from .._values import parse_time
 
 DEFAULT_DATE = "2025-06-21"  # the longest day: long low sun in the evening in northern cities
 

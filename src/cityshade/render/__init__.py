@@ -1,15 +1,8 @@
-"""The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings.
-
-`cityshade.render` is this package. It used to be a function as well; calling the package still
-works for now, with a DeprecationWarning: use `cityshade.render_image(...)`."""
-
-import sys
-import types
-import warnings
+"""The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings."""
 
 from ._building_lod import bay_mean
 from ._culling import boxes_visible, frustum_planes
-from ._daylight import Daylight, parse_time
+from ._daylight import Daylight
 from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade, styles_with_relief
 from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
 from ._guessed import guessed_aov
@@ -18,8 +11,15 @@ from ._renderer import Renderer
 from ._resolution import ResolutionScale
 from ._settings import RenderSettings
 from ._streaming import check_memory_budget, format_bytes
-from ._tile_cache import CacheProblem, TileCache, open_tiles, write_tiles
-from ._tile_cli import add_streaming_arguments, streamed_tiles
+from ._tile_cache import (
+    TILE_SIZE,
+    CacheProblem,
+    TileCache,
+    check_cache_folder,
+    open_tiles,
+    source_identity,
+    write_tiles,
+)
 from ._trees import TreePass, TreeSettings
 from ._upscale import upscale, upscale_reference
 
@@ -28,7 +28,6 @@ __all__ = [
     "boxes_visible",
     "frustum_planes",
     "Daylight",
-    "parse_time",
     "FACADE_KINDS",
     "FacadeKind",
     "assign_facades",
@@ -55,23 +54,11 @@ __all__ = [
     "TileCache",
     "open_tiles",
     "write_tiles",
-    "add_streaming_arguments",
-    "streamed_tiles",
+    "TILE_SIZE",
+    "check_cache_folder",
+    "source_identity",
     "TreePass",
     "TreeSettings",
     "upscale",
     "upscale_reference",
 ]
-
-
-class _DeprecatedCall(types.ModuleType):
-    def __call__(self, *args, **kwargs):
-        warnings.warn(
-            "cityshade.render(...) is deprecated; use cityshade.render_image(...)", DeprecationWarning, stacklevel=2
-        )
-        from ..api import render_image
-
-        return render_image(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _DeprecatedCall

@@ -3,23 +3,12 @@ cityshade.scene.lit_shares.)"""
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import UsageError
-
 SUNRISE, SUNSET = 6.0, 19.0
 MAX_ELEVATION = 62.0
-
-
-def parse_time(text: str) -> float:
-    """'HH:MM' -> hours as a float."""
-    match = re.fullmatch(r"(\d{1,2}):(\d{2})", text.strip()) if isinstance(text, str) else None
-    if not match or int(match.group(1)) > 23 or int(match.group(2)) > 59:
-        raise UsageError(f"invalid time {text!r}; use HH:MM from 00:00 to 23:59, e.g. 18:50")
-    return int(match.group(1)) + int(match.group(2)) / 60.0
 
 
 def _smoothstep(a: float, b: float, x: float) -> float:

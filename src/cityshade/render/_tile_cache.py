@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from .._files import InputError, atomic_folder, check_replaceable_folder, read_input_bytes
+from .._version import __version__
 from ..errors import CityshadeError
 from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
@@ -166,8 +167,6 @@ def _code_hash() -> str:
 def _layouts() -> dict:
     """What must match for a cache to be read: its format, cityshade's version and source code, and
     the layouts."""
-    from .. import __version__  # set after the package's imports, this module among them
-
     return {
         "format": FORMAT,
         "cityshade": __version__,

@@ -22,7 +22,6 @@ from ._city import (
     grid_city,
     make_city,
 )
-from ._footprints import load_footprints
 from ._mass_table import MASS_COLUMNS, MASS_POOLS, MassColumns, MassTable
 from ._materials import ROOF_PARTS, ROOF_PATTERNS, TINT_GAIN, roof_material
 from ._batch import batch
@@ -78,7 +77,6 @@ __all__ = [
     "default_city",
     "grid_city",
     "make_city",
-    "load_footprints",
     "VERTEX_DTYPE",
     "FACE_DTYPE",
     "FACE_TABLE_CONSTANTS",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..arguments import (
+from .arguments import (
     add_building_lod_option,
     add_grammar_cache_option,
     add_map_option,
@@ -17,9 +17,9 @@ from ..arguments import (
 )
 from ..errors import UsageError
 from ..scene import CITIES
-from ._settings import RenderSettings
-from ._streaming import format_bytes
-from ._tile_cli import add_streaming_arguments, streamed_tiles
+from ..render import RenderSettings
+from ..render import format_bytes
+from .tile import add_streaming_arguments, streamed_tiles
 
 
 def _trees_scene(args) -> int:

@@ -1,5 +1,5 @@
 """Command-line arguments shared by every command: sizes, metres, shares and seeds, and checking and
-writing output files. Technique packages import these from here, not from each other. The checks
+writing output files. Command modules import these from here, not from each other. The checks
 themselves live in `_values` (shared with the Python API) and `_files` (the one atomic writer)."""
 
 from __future__ import annotations
@@ -7,9 +7,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ._files import output_target, write_png
-from ._values import check_count, check_lights, check_seed, parse_size
-from .errors import UsageError
+from .._files import output_target, write_png
+from .._values import check_count, check_lights, check_seed, parse_size
+from ..errors import UsageError
 
 __all__ = [
     "check_count",

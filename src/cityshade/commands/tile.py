@@ -10,10 +10,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..arguments import parse_memory_size
+from .arguments import parse_memory_size
 from ..errors import UsageError
-from ._streaming import format_bytes
-from ._tile_cache import (
+from ..render import format_bytes
+from ..render import (
     TILE_SIZE,
     CacheProblem,
     check_cache_folder,

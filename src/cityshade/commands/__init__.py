@@ -1,4 +1,4 @@
-"""The `cityshade` command. Each technique adds its subcommands through a `register` function."""
+"""The `cityshade` command. Each command module adds its subcommands through a `register` function."""
 
 from __future__ import annotations
 
@@ -8,21 +8,21 @@ import importlib
 import sys
 import warnings
 
-from ._files import signals_as_exit
-from .errors import CityshadeError, UsageError
+from .._files import signals_as_exit
+from ..errors import CityshadeError, UsageError
 
 # Modules that define `register(subparsers)`; each adds its own subcommands.
 COMMAND_MODULES = (
-    "cityshade.render._cli",
-    "cityshade.render._video",
-    "cityshade.render._tile_cli",
-    "cityshade.viewer",
-    "cityshade.bench._cli",
-    "cityshade.grammar._cli",
-    "cityshade.relief._cli",
-    "cityshade.maps._info",
-    "cityshade.export._cli",
-    "cityshade.dataset._cli",
+    "cityshade.commands.render",
+    "cityshade.commands.video",
+    "cityshade.commands.tile",
+    "cityshade.commands.view",
+    "cityshade.commands.bench",
+    "cityshade.commands.grammar",
+    "cityshade.commands.compress",
+    "cityshade.commands.info",
+    "cityshade.commands.export",
+    "cityshade.commands.dataset",
 )
 
 

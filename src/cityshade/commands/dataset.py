@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..arguments import add_map_option
+from .arguments import add_map_option
 from ..errors import UsageError
 
 
@@ -39,7 +39,7 @@ def register(subparsers):
 
 
 def run(args) -> int:
-    from . import load_config
+    from ..dataset import load_config
 
     generating = args.samples is not None or args.out is not None or args.map is not None or args.city is not None
     if generating:
@@ -50,14 +50,14 @@ def run(args) -> int:
         if args.shards is not None and args.shards < 1:
             raise UsageError(f"--shards {args.shards}: give the number of samples per shard, at least 1")
         config = load_config(args.config)
-        from ._run import generate
+        from ..dataset import generate
 
         rows = generate(
             args.out, args.samples, config, args.map, args.city, args.workers, args.address, args.seed, args.resume
         )
         print(f"wrote {args.out}: {len(rows)} samples listed in {args.out / 'manifest.parquet'}")
         if args.shards is not None:
-            from ._shards import write_shards
+            from ..dataset import write_shards
 
             print(f"wrote {len(write_shards(args.out, args.shards))} shards to {args.out / 'shards'}")
     elif args.preview is None or args.shards is not None:
@@ -65,7 +65,7 @@ def run(args) -> int:
             "give --map FILE or --city NAME with --samples N --out DIR [--shards SAMPLES], or --preview DIR"
         )
     if args.preview is not None:
-        from ._preview import write_preview
+        from ..dataset import write_preview
 
         print(f"wrote {write_preview(args.preview)}")
     return 0

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import shapely
 
-from ._doors import on_ground
-from ._guess import guess_missing
-from ._load import load_map
-from ._model import BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapData
+from ..maps import on_ground
+from ..maps import guess_missing
+from ..maps import load_map
+from ..maps import BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapData
 
 GREEN = ("grass", "park", "meadow", "forest", "farmland")
 

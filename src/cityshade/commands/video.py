@@ -11,10 +11,10 @@ from rich.progress import Progress
 from .._files import atomic_output, signals_deferred
 from ..errors import UsageError
 from ..scene import PATHS, City, camera_path, make_city
-from ..arguments import add_map_option, check_writable, parse_size
-from ._daylight import parse_time
-from ._renderer import Renderer
-from ._settings import RenderSettings
+from .arguments import add_map_option, check_writable, parse_size
+from .._values import parse_time
+from ..render import Renderer
+from ..render import RenderSettings
 
 
 def render_video(

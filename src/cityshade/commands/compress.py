@@ -11,15 +11,15 @@ from rich.console import Console
 from rich.progress import Progress
 
 from .._files import output_target
-from ..arguments import check_seed, parse_metres
+from .arguments import check_seed, parse_metres
 from ..errors import CityshadeError, Finding, UsageError
-from ._compress import MAP_NAMES, compress, detail_matrices, digest
-from ._factor import MAX_TERMS, METHODS
-from ._format import read_compressed, write_compressed
-from ._grammar_source import grammar_maps
-from ._limits import check_facade_texels
-from ._layout import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, generate_facade
-from ._maps import DetailMaps, load_png_maps
+from ..relief import MAP_NAMES, compress, detail_matrices, digest
+from ..relief import MAX_TERMS, METHODS
+from ..relief import read_compressed, write_compressed
+from ..relief import grammar_maps
+from ..relief import check_facade_texels
+from ..relief import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, generate_facade
+from ..relief import DetailMaps, load_png_maps
 
 
 def register(subparsers):

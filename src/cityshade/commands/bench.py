@@ -6,7 +6,7 @@ import importlib
 from pathlib import Path
 
 from .._files import output_folder, output_target
-from ._harness import write
+from ..bench import write
 
 # benchmark name -> module with run(quick: bool) -> BenchResult
 BENCHMARKS = {

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..arguments import add_map_option
+from .arguments import add_map_option
 from ..scene import CITIES
 
 
@@ -40,8 +40,7 @@ def output_format(args) -> str:
 
 
 def run(args) -> int:
-    from . import crop, export_city, layout_export_city, map_export_city, parse_region
-    from ._export import check_output
+    from ..export import check_output, crop, export_city, layout_export_city, map_export_city, parse_region
 
     fmt = output_format(args)
     check_output(args.out, fmt, args.texel, args.lod)  # before the map is read

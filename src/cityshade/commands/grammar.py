@@ -5,8 +5,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ._diagnostics import GrammarError
-from ._random import FACADE_INDICES
+from ..grammar import GrammarError
+from ..grammar import FACADE_INDICES
 
 
 def register(subparsers):
@@ -15,7 +15,7 @@ def register(subparsers):
     check = commands.add_parser("check", help="check grammar files; errors as FILE:LINE:COL: error: ...")
     check.add_argument("files", nargs="+", type=Path, metavar="FILE")
     check.set_defaults(run=_check)
-    from ..arguments import check_count, check_seed, parse_metres, parse_size
+    from .arguments import check_count, check_seed, parse_metres, parse_size
 
     render = commands.add_parser("render", help="render one facade (GPU, or the numpy evaluator with --cpu)")
     render.add_argument("file", type=Path, metavar="FILE")
@@ -64,7 +64,7 @@ def register(subparsers):
 
 
 def _check(args) -> int:
-    from . import compile_grammars, load
+    from ..grammar import compile_grammars, load
 
     failed = False
     for path in args.files:
@@ -85,9 +85,9 @@ def _check(args) -> int:
 def _import(args) -> int:
     """Translates, lists what was not translated (FILE:LINE: what: instead) and checks the result."""
     from .._files import atomic_output, read_input_bytes
-    from ..arguments import check_writable
-    from . import loads
-    from ._cga import CgaError, translate
+    from .arguments import check_writable
+    from ..grammar import loads
+    from ..grammar import CgaError, translate
 
     if args.out is not None:
         check_writable(args.out)
@@ -130,12 +130,12 @@ def _render(args) -> int:
     import numpy as np
 
     from ..assets import LABEL_COLOURS, tile_array
-    from ..arguments import check_writable, save_png
-    from . import compile_grammars, load
+    from .arguments import check_writable, save_png
+    from ..grammar import compile_grammars, load
     from ..scene import USES
-    from ._random import facade_seed_vector, seed_vector
+    from ..grammar import facade_seed_vector, seed_vector
     from .._budget import check_image_memory
-    from ._reference import CPU_BYTES_PER_PIXEL, evaluate_facade
+    from ..grammar import CPU_BYTES_PER_PIXEL, evaluate_facade
 
     for path in (args.out, args.labels):
         if path is not None:
@@ -167,7 +167,7 @@ def _render(args) -> int:
         colour, labels = result.color, result.label
     else:
         from ..gl import create_context
-        from ._gpu import FacadeRenderer, GrammarTextures
+        from ..grammar import FacadeRenderer, GrammarTextures
 
         ctx = create_context()
         renderer = FacadeRenderer(ctx, GrammarTextures(ctx, compiled, tiles))
