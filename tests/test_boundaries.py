@@ -80,7 +80,7 @@ def test_the_check_sees_a_private_import(tmp_path):
 # package face (cityshade/__init__.py), which every `import cityshade...` runs first.
 LAYERS = (
     ("errors",),  # the one error type every part raises
-    ("_values", "_files", "_json", "_budget", "_version"),  # checked values, atomic files, bounded JSON, memory budgets: plain Python
+    ("_values", "_files", "_json", "_budget", "_version"),  # plain Python: checks, files, JSON, budgets
     ("gl", "assets"),  # the GL toolkit; procedural textures in numpy
     ("scene",),  # the city model: cameras, masses and their meshes
     ("grammar", "trees"),  # facade grammars and trees, over the scene
