@@ -6,14 +6,13 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
-import time
 
 import numpy as np
 import pytest
 import shapely
-from hypothesis import HealthCheck, given, settings
+from fuzzing import LARGE, SMALL, for_a_while
+from hypothesis import given
 from hypothesis import strategies as st
 
 from cityshade.assets import tile_array
@@ -25,9 +24,6 @@ from cityshade.maps import load_map, map_city
 from cityshade.scene import BuildingMass
 from cityshade.scene._meshes import SURFACE_ROOF, building_vertices
 
-FUZZ_SECONDS = float(os.environ.get("CITYSHADE_FUZZ_SECONDS", "60"))
-SMALL = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-LARGE = settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 # ------------------------------------------------------------------ grammar mutations
 
@@ -224,24 +220,17 @@ def check_geojson(text: str, folder):
 # ------------------------------------------------------------------ the long runs (make fuzz)
 
 
-def _for_a_while(test):
-    """Runs a hypothesis test (a fresh random batch each call) until FUZZ_SECONDS have passed."""
-    end = time.monotonic() + FUZZ_SECONDS
-    while time.monotonic() < end:
-        test()
-
-
 @pytest.mark.fuzz
 def test_mutated_grammars_long():
-    _for_a_while(LARGE(given(mutated_grammars())(check_grammar)))
+    for_a_while(LARGE(given(mutated_grammars())(check_grammar)))
 
 
 @pytest.mark.fuzz
 def test_random_outlines_mesh_long():
-    _for_a_while(LARGE(given(outlines())(check_outline)))
+    for_a_while(LARGE(given(outlines())(check_outline)))
 
 
 @pytest.mark.fuzz
 def test_hostile_geojson_long(tmp_path_factory):
     folder = tmp_path_factory.mktemp("geojson")
-    _for_a_while(LARGE(given(geojson_documents())(lambda text: check_geojson(text, folder))))
+    for_a_while(LARGE(given(geojson_documents())(lambda text: check_geojson(text, folder))))

@@ -1,7 +1,7 @@
 """The constants that Python and GLSL share - face codes, building shapes and flags, surfaces,
 ground materials, facade techniques, grammar labels, relief materials and faces - each defined once,
 in Python, and emitted as the generated include that every program gets (`#define NAME value`).
-A shader that defines one of these names itself fails tests/test_constants.py."""
+A shader that defines one of these names itself fails tests/gl/test_constants.py."""
 
 from __future__ import annotations
 

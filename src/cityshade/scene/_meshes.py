@@ -43,7 +43,7 @@ VERTEX_DTYPE = np.dtype(
 
 CURVE_SEGMENTS = 48
 # A dome's facets: fine enough that its windows and silhouette lie within a pixel's edge of the exact
-# hemisphere (the twin's) in a dome-filling view (tests/test_dome_grammar.py).
+# hemisphere (the twin's) in a dome-filling view (tests/grammar/test_dome_grammar.py).
 DOME_SEGMENTS = 128
 DOME_RINGS = 32
 # Outlines with a vertex per less than 5 cm on average (surveyed or generated curves, fuzzed data)

@@ -1,7 +1,7 @@
 """Exposure and the tone map (shaders/frame/tonemap.glsl) against a numpy twin, pixel by pixel:
 the display image is the resolved HDR frame times the time of day's exposure, through the ACES
 curve and sRGB encoding, with the god rays' half-resolution radial blur added before it
-(render/_godrays.py's numpy twin; tests/test_trees_scene.py checks what they do to a picture)."""
+(render/_godrays.py's numpy twin; tests/trees/test_trees_scene.py checks what they do to a picture)."""
 
 from __future__ import annotations
 

@@ -22,9 +22,9 @@ from cityshade.export._export import check_output
 from cityshade.maps import load_map, map_city
 from cityshade.render import _tile_cache, open_tiles, write_tiles
 from cityshade.render._tile_cache import CacheProblem, read_tile
-from test_fuzz import LARGE, SMALL, _for_a_while
+from fuzzing import LARGE, SMALL, for_a_while
 
-TAGGED = Path(__file__).parent / "data" / "maps" / "tagged.osm"
+TAGGED = Path(__file__).parents[1] / "data" / "maps" / "tagged.osm"
 SECRET = b"s" * 4321  # a file beside the folder: never read, quoted or sized
 
 # ------------------------------------------------------------------ damaged tile caches
@@ -287,19 +287,19 @@ def test_damaged_tile_caches_long(pristine, tmp_path_factory):
         with pytest.MonkeyPatch.context() as monkeypatch:
             check_damaged_cache(pristine, work, edits, files, monkeypatch)
 
-    _for_a_while(LARGE(given(edits=manifest_damage(), files=st.lists(file_damage, max_size=3))(check)))
+    for_a_while(LARGE(given(edits=manifest_damage(), files=st.lists(file_damage, max_size=3))(check)))
 
 
 @pytest.mark.fuzz
 def test_marked_folders_long(tmp_path_factory):
     work = tmp_path_factory.mktemp("marked") / "work"
-    _for_a_while(LARGE(given(folder=marked_folders())(lambda folder: check_marked_folder(work, *folder))))
+    for_a_while(LARGE(given(folder=marked_folders())(lambda folder: check_marked_folder(work, *folder))))
 
 
 @pytest.mark.fuzz
 def test_export_options_long(tagged_export, tmp_path_factory):
     out = tmp_path_factory.mktemp("export") / "out"
-    _for_a_while(
+    for_a_while(
         LARGE(
             given(fmt=formats, texel=texels, lod=lods, region=regions)(
                 lambda fmt, texel, lod, region: check_export_options(tagged_export, out, fmt, texel, lod, region)

@@ -143,7 +143,7 @@ def test_inputs_are_read_up_to_a_cap(tmp_path):
 
 # -- folder outputs: a tileset, a tile cache -------------------------------------------------------
 
-TAGGED = Path(__file__).parent / "data" / "maps" / "tagged.osm"
+TAGGED = Path(__file__).parents[1] / "data" / "maps" / "tagged.osm"
 FOLDER_COMMANDS = {
     "export 3dtiles": lambda out: ["export", "--map", str(TAGGED), "--format", "3dtiles", "--texel", "1", "--out", out],
     "tile": lambda out: ["tile", str(TAGGED), "--out", out],

@@ -70,7 +70,7 @@ def test_render_writes_png_and_reports_frame(tmp_path):
 def test_warnings_are_one_line_each(tmp_path):
     """cityshade's own warnings (here faces too narrow for their grammar) reach stderr as one line
     each, `cityshade: warning: ...`, without the Python source line behind them."""
-    data = Path(__file__).parent / "data" / "maps" / "shed.osm"
+    data = Path(__file__).parents[1] / "data" / "maps" / "shed.osm"
     result = run_cli("tile", str(data), "--out", str(tmp_path / "tiles"))
     assert result.returncode == 0, result.stderr
     lines = result.stderr.strip().splitlines()

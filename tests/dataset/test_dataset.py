@@ -204,7 +204,7 @@ def test_window_and_depth_agree_with_numpy_twins(interior_sampler, name, output_
     drawn = np.isfinite(z) & (z < 500)
     same_surface = np.all(ref[..., [0, 2]] == gpu[..., [0, 2]], axis=-1) & drawn
     # where the twin traces the recess, the depth lies behind the wall, as the twin's does (the traced
-    # depth itself against the twin: tests/test_relief_depth.py); elsewhere it is the mesh's
+    # depth itself against the twin: tests/relief/test_relief_depth.py); elsewhere it is the mesh's
     inside = same_surface & recessed
     behind = arrays["depth"][inside] - z[inside]
     print(

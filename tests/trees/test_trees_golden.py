@@ -18,7 +18,7 @@ from cityshade.scene import Camera
 from golden_images import check_golden, check_golden_rejects
 from trees_scene import display, one_tree, render
 
-GOLDEN = Path(__file__).parent / "golden" / "trees"
+GOLDEN = Path(__file__).parents[1] / "golden" / "trees"
 VARIANTS = {
     "all": {},
     "no_fins": {"fins": False},

@@ -17,7 +17,7 @@ from cityshade.grammar import facade_seed_vector, library_texture, seed_vector
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
-TAGGED = Path(__file__).parent / "data" / "maps" / "tagged.osm"
+TAGGED = Path(__file__).parents[1] / "data" / "maps" / "tagged.osm"
 
 
 def test_gpu_bake_matches_numpy_twin(gl_context):

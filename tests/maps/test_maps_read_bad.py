@@ -394,7 +394,7 @@ def test_cityjson_coordinates_that_overflow_are_skipped_without_a_warning(tmp_pa
 
 def test_the_content_decides_the_format_not_the_name(tmp_path, silent_pbf):
     xml = tmp_path / "really_xml.pbf"
-    xml.write_bytes((Path(__file__).parent / "data" / "maps" / "tagged.osm").read_bytes())
+    xml.write_bytes((Path(__file__).parents[1] / "data" / "maps" / "tagged.osm").read_bytes())
     pbf = tmp_path / "really_pbf.osm"
     pbf.write_bytes(silent_pbf.read_bytes())
     assert len(load_map(xml).buildings) == 5 and len(load_map(pbf).buildings) > 2000
@@ -405,7 +405,7 @@ def test_compressed_xml_is_read_and_checked_like_plain_xml(tmp_path, module, suf
     import importlib
 
     compress = importlib.import_module(module).compress
-    plain = (Path(__file__).parent / "data" / "maps" / "tagged.osm").read_bytes()
+    plain = (Path(__file__).parents[1] / "data" / "maps" / "tagged.osm").read_bytes()
     path = tmp_path / f"tagged{suffix}"
     path.write_bytes(compress(plain))
     assert len(load_map(path).buildings) == 5

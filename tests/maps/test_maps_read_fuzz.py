@@ -1,6 +1,6 @@
 """Fuzzing the map readers: whatever the bytes, `load_map` returns a map or raises one line with exit code 2.
 
-The budget is small in the normal suite; `CITYSHADE_FUZZ_EXAMPLES=100000 pytest tests/test_maps_read_fuzz.py`
+The budget is small in the normal suite; `CITYSHADE_FUZZ_EXAMPLES=100000 pytest tests/maps/test_maps_read_fuzz.py`
 runs a long campaign (about an hour on 2 cores; 1,500 took 53 s).
 """
 
@@ -12,22 +12,13 @@ import random
 from pathlib import Path
 
 import pytest
+from fuzzing import loads_or_one_line
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cityshade.errors import CityshadeError
-from cityshade.maps import load_map
 
 EXAMPLES = int(os.environ.get("CITYSHADE_FUZZ_EXAMPLES", "60"))
-DATA = Path(__file__).parent / "data" / "maps"
-
-
-def _loads_or_one_line(path: Path) -> None:
-    try:
-        load_map(path)
-    except CityshadeError as exc:
-        message = str(exc)
-        assert exc.exit_code == 2 and "\n" not in message and str(path) in message, message
+DATA = Path(__file__).parents[1] / "data" / "maps"
 
 
 def _mutated(data: bytes, rng: random.Random) -> bytes:
@@ -70,7 +61,7 @@ def test_mutated_files(tmp_path, helsinki_pbf, source, suffix):
     path = tmp_path / f"fuzz{suffix}"
     for _ in range(EXAMPLES):
         path.write_bytes(_mutated(original, rng))
-        _loads_or_one_line(path)
+        loads_or_one_line(path)
 
 
 _numbers = st.one_of(
@@ -121,7 +112,7 @@ _feature = st.fixed_dictionaries(
 def test_generated_geojson(tmp_path, features):
     path = tmp_path / "generated.geojson"
     path.write_text(json.dumps({"type": "FeatureCollection", "features": features}))
-    _loads_or_one_line(path)
+    loads_or_one_line(path)
 
 
 _indices = st.recursive(st.integers(-2, 12), lambda inner: st.lists(inner, max_size=6), max_leaves=40)
@@ -173,7 +164,7 @@ def test_generated_cityjson(tmp_path, objects, vertices, transform):
         document["transform"] = transform
     path = tmp_path / "generated.city.json"
     path.write_text(json.dumps(document))
-    _loads_or_one_line(path)
+    loads_or_one_line(path)
 
 
 _coordinate = st.one_of(
@@ -254,4 +245,4 @@ def test_generated_osm_xml(tmp_path, nodes, ways, relations):
     ]
     path = tmp_path / "generated.osm"
     path.write_text('<?xml version="1.0" encoding="UTF-8"?>\n<osm version="0.6">\n' + "\n".join(body) + "\n</osm>\n")
-    _loads_or_one_line(path)
+    loads_or_one_line(path)

@@ -12,7 +12,7 @@ import pytest
 from PIL import Image
 
 
-FOOTPRINTS = Path(__file__).parents[1] / "examples" / "footprints.geojson"
+FOOTPRINTS = Path(__file__).parents[2] / "examples" / "footprints.geojson"
 SIZE = "96x54"
 pytestmark = [pytest.mark.slow, pytest.mark.gl]  # renders through the command line
 

@@ -13,7 +13,7 @@ from cityshade.gl._programs import GENERATED
 from cityshade.grammar import shader_defines
 from cityshade.shader_constants import CONSTANTS
 
-SHADERS = Path(__file__).resolve().parent.parent / "src" / "cityshade" / "shaders"
+SHADERS = Path(__file__).resolve().parents[2] / "src" / "cityshade" / "shaders"
 
 
 def hand_definitions(text: str) -> list[str]:

@@ -23,7 +23,7 @@ from cityshade.scene import (
 )
 from cityshade.scene import make_city
 
-MAPS = Path(__file__).parent / "data" / "maps"
+MAPS = Path(__file__).parents[1] / "data" / "maps"
 
 
 def _bits(value):

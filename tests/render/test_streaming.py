@@ -28,7 +28,7 @@ from cityshade.scene import FACE_DTYPE, GROUND_LAND, Camera, GPU_VERTEX_DTYPE, e
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
-MAPS = Path(__file__).parent / "data" / "maps"
+MAPS = Path(__file__).parents[1] / "data" / "maps"
 TAGGED, SHED = MAPS / "tagged.osm", MAPS / "shed.osm"
 SIZE = (160, 120)
 TILE = 64.0  # metres: the 329-building default city in 64 tiles

@@ -15,7 +15,7 @@ from cityshade.maps import load_map, map_city
 from cityshade.scene import ROOF_PARTS, building_vertices, rotation_y
 from cityshade.scene._meshes import SURFACE_ROOF
 
-EXAMPLE = Path(__file__).parents[1] / "examples" / "footprints.geojson"
+EXAMPLE = Path(__file__).parents[2] / "examples" / "footprints.geojson"
 
 
 def test_example_loads_every_polygon_with_its_height():

@@ -12,7 +12,7 @@ import shapely
 from cityshade.maps import load_map
 from cityshade.maps._tags import colour, direction, length
 
-DATA = Path(__file__).parent / "data" / "maps"
+DATA = Path(__file__).parents[1] / "data" / "maps"
 
 
 @pytest.fixture(scope="module")

@@ -21,7 +21,7 @@ from cityshade.scene._roofs import PARAPET_THICKNESS
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
-EXTRACT = Path(__file__).parent / "data" / "maps" / "roofs_dormers.osm"
+EXTRACT = Path(__file__).parents[1] / "data" / "maps" / "roofs_dormers.osm"
 GABLED, HIPPED, NO_ROOMS, HOUSE, OFFICE, SHOP = range(6)
 
 

@@ -19,7 +19,7 @@ from cityshade.maps._masses import STYLE_BY_USE
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import Camera, door_hit, rotation_y
 
-ENTRANCES = Path(__file__).parent / "data" / "maps" / "entrances.osm"
+ENTRANCES = Path(__file__).parents[1] / "data" / "maps" / "entrances.osm"
 DOOR_LABEL = assets.LABELS.index("door")
 
 

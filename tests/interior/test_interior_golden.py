@@ -22,7 +22,7 @@ from cityshade.scene import make_city
 from golden_images import check_golden, check_golden_rejects
 from render_checks import render_finite
 
-GOLDEN = Path(__file__).parent / "golden" / "interior"
+GOLDEN = Path(__file__).parents[1] / "golden" / "interior"
 SCENE = make_city("interior")
 SETTINGS = RenderSettings(samples=0, lights=0.55, animation_time=0.5)
 SWITCHED = {  # feature -> the settings that change it

@@ -16,7 +16,7 @@ from cityshade.commands import main
 from cityshade.grammar import GrammarError, compile_grammars, loads
 from cityshade.grammar._cga import CgaError, translate
 
-DATA = Path(__file__).parent / "data" / "cga"
+DATA = Path(__file__).parents[1] / "data" / "cga"
 
 
 @pytest.mark.parametrize(

@@ -19,8 +19,8 @@ from hypothesis import strategies as st
 from cityshade.grammar import GrammarError, loads
 from cityshade.grammar._cga import CgaError, translate
 from cityshade.maps import load_map
-from test_fuzz import LARGE, SMALL, _for_a_while
-from test_maps_read_fuzz import _loads_or_one_line as loads_or_one_line
+from fuzzing import LARGE, SMALL, for_a_while
+from fuzzing import loads_or_one_line
 
 
 # ------------------------------------------------------------------ OpenStreetMap XML
@@ -245,15 +245,15 @@ def test_cga_small(text):
 @pytest.mark.fuzz
 def test_osm_xml_and_gzip_long(tmp_path_factory):
     folder = tmp_path_factory.mktemp("osm")
-    _for_a_while(LARGE(given(osm_documents(), st.booleans())(lambda d, packed: check_osm(d, packed, folder))))
+    for_a_while(LARGE(given(osm_documents(), st.booleans())(lambda d, packed: check_osm(d, packed, folder))))
 
 
 @pytest.mark.fuzz
 def test_cityjson_long(tmp_path_factory):
     folder = tmp_path_factory.mktemp("cityjson")
-    _for_a_while(LARGE(given(cityjson_documents())(lambda text: check_cityjson(text, folder))))
+    for_a_while(LARGE(given(cityjson_documents())(lambda text: check_cityjson(text, folder))))
 
 
 @pytest.mark.fuzz
 def test_cga_long():
-    _for_a_while(LARGE(given(cga_files())(check_cga)))
+    for_a_while(LARGE(given(cga_files())(check_cga)))

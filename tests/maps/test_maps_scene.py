@@ -61,7 +61,7 @@ def test_map_city_has_every_building():
 
 
 def test_a_garden_shed_read_from_a_file_has_no_interior_and_the_house_has_rooms():
-    house, shed = map_city(load_map(Path(__file__).parent / "data" / "maps" / "shed.osm")).masses
+    house, shed = map_city(load_map(Path(__file__).parents[1] / "data" / "maps" / "shed.osm")).masses
     assert shed.flags & FLAGS["FLAG_NO_INTERIOR"] and shed.height < house.height
     assert not house.flags & FLAGS["FLAG_NO_INTERIOR"]
 

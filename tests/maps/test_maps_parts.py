@@ -16,7 +16,7 @@ from cityshade.scene import building_vertices, rotation_y
 from cityshade.scene._meshes import SURFACE_WALL
 from render_checks import style_face_labels
 
-PARTS = Path(__file__).parent / "data" / "maps" / "parts.osm"
+PARTS = Path(__file__).parents[1] / "data" / "maps" / "parts.osm"
 STEP = 0.01  # metres off a wall to tell which side of it a mass stands
 
 
