@@ -7,9 +7,7 @@ import pytest
 from PIL import Image
 
 from cityshade.assets import tile_array
-from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
-from cityshade.grammar._random import facade_seed_vector, seed_vector
-from cityshade.grammar._reference import evaluate_facade
+from cityshade.grammar import FacadeRenderer, GrammarTextures, evaluate_facade, facade_seed_vector, seed_vector
 from render_checks import assert_finite
 
 SIZE = (128, 96)

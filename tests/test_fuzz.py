@@ -11,19 +11,24 @@ import re
 import numpy as np
 import pytest
 import shapely
-from fuzzing import LARGE, SMALL, for_a_while
 from hypothesis import given
 from hypothesis import strategies as st
 
 from cityshade.assets import tile_array
 from cityshade.errors import CityshadeError
-from cityshade.grammar import LIBRARY_STYLES, GrammarError, compile_grammars, library_path, loads
-from cityshade.grammar._random import seed_vector
-from cityshade.grammar._reference import evaluate_facade
+from cityshade.grammar import (
+    LIBRARY_STYLES,
+    GrammarError,
+    compile_grammars,
+    evaluate_facade,
+    library_path,
+    loads,
+    seed_vector,
+)
 from cityshade.maps import load_map, map_city
 from cityshade.scene import BuildingMass
 from cityshade.scene._meshes import SURFACE_ROOF, building_vertices
-
+from fuzzing import LARGE, SMALL, for_a_while
 
 # ------------------------------------------------------------------ grammar mutations
 

@@ -9,9 +9,9 @@ import json
 import numpy as np
 import pytest
 
-from cityshade.commands.bench import BENCHMARKS
-from cityshade.bench._harness import MIN_TIMED_FRAMES
+from cityshade.bench.testing import MIN_TIMED_FRAMES
 from cityshade.commands import main
+from cityshade.commands.bench import BENCHMARKS
 
 pytestmark = [pytest.mark.slow, pytest.mark.gl]  # renders through the command line
 METHOD_KEYS = {"cull_back_faces": bool, "depth_prepass": bool, "frustum_culling": bool, "msaa": int, "size": list}

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.bench._harness import MIN_TIMED_FRAMES, write
+from cityshade.bench import write
 from cityshade.bench.interior import (
     FULL,
     QUICK,
@@ -21,8 +21,9 @@ from cityshade.bench.interior import (
     run_plan,
     scaled_rooms,
 )
+from cityshade.bench.testing import MIN_TIMED_FRAMES
 from cityshade.interior import POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
-from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
+from cityshade.interior.testing import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer
 from cityshade.scene import cylinder, grid_city
 from render_checks import render_finite

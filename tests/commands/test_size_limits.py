@@ -55,7 +55,7 @@ def test_the_cpu_grammar_render_is_checked_against_memory(tmp_path, one_gib, cap
 def test_the_cpu_grammar_render_in_tiles_equals_one_piece(monkeypatch):
     import cityshade.grammar._reference as reference
     from cityshade.assets import tile_array
-    from cityshade.grammar._random import seed_vector
+    from cityshade.grammar import seed_vector
 
     compiled = compile_grammars({"g": load(FIG12)})
     args = (compiled, compiled.address("g", None), (20.0, 16.0), (61, 47), seed_vector(3), tile_array(128))

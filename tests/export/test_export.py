@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cityshade.commands import main
 from cityshade.assets import LABELS
+from cityshade.commands import main
 from cityshade.export import Canvas, GpuBaker, bake_reference, pack
 from cityshade.grammar import facade_seed_vector, library_texture, seed_vector
 
@@ -236,8 +236,8 @@ def test_tileset_hierarchy_and_earth_position(tmp_path, capsys):
 
 
 def _check_sizes(texel: float):
-    from cityshade.export import map_export_city
-    from cityshade.export._bake import canvases_of, check_size, has_grammar
+    from cityshade.export import canvases_of, has_grammar, map_export_city
+    from cityshade.export.testing import check_size
     from cityshade.scene import building_vertices
 
     city = map_export_city(TAGGED).city
@@ -312,8 +312,7 @@ def test_region_keeps_what_lies_inside_as_gltf(tmp_path, capsys):
 def test_faces_too_narrow_for_the_grammar_are_plain_walls_as_in_the_renderer(gl_context):
     """A 4 m wide brick block (brick fits 5 m faces): its two narrow ends get no canvas but a plain
     wall in the grammar's wall colour, as the renderer draws them, with the renderer's counted warning."""
-    from cityshade.export._content import BuildingWriter, Stats
-    from cityshade.export._gltf import Document
+    from cityshade.export.testing import BuildingWriter, Document, Stats
     from cityshade.render import GrammarFitWarning
     from cityshade.scene import box
 
@@ -332,8 +331,7 @@ def test_faces_too_narrow_for_the_grammar_are_plain_walls_as_in_the_renderer(gl_
 def test_a_baked_dome_has_unit_normals_and_tangents(gl_context):
     """A dome's rings lean inwards: their tangents along the ring (glTF requires unit vectors) are
     normalised, not the horizontal part of the normal turned."""
-    from cityshade.export._content import BuildingWriter, Stats
-    from cityshade.export._gltf import Document
+    from cityshade.export.testing import BuildingWriter, Document, Stats
     from cityshade.scene import dome
 
     doc = Document({})

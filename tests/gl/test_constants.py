@@ -8,8 +8,7 @@ import re
 from pathlib import Path
 
 from cityshade.gl import programs
-from cityshade.gl._bindings import BINDINGS, binding_defines, binding_macro
-from cityshade.gl._programs import GENERATED
+from cityshade.gl.testing import BINDINGS, GENERATED, binding_defines, binding_macro
 from cityshade.grammar import shader_defines
 from cityshade.shader_constants import CONSTANTS
 

@@ -66,7 +66,7 @@ def test_compile_error_names_the_file_and_line(gl_context, fake_sources):
 
 
 def test_every_city_program_variant_compiles(gl_context):
-    from cityshade.grammar._gpu import shader_defines
+    from cityshade.grammar import shader_defines
 
     cache = ProgramCache(gl_context)
     grammar = shader_defines()

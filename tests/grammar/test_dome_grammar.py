@@ -16,7 +16,7 @@ import pytest
 from PIL import Image
 
 from cityshade.interior import FACE_NAMES, windows_straddling_rooms
-from cityshade.interior._faces import FACE_EXTERIOR, FACE_ROOF
+from cityshade.interior.testing import FACE_EXTERIOR, FACE_ROOF
 from cityshade.render import GrammarFitWarning, Renderer, RenderSettings
 from cityshade.scene import Camera, City, dome, dome_faces, make_city
 from render_checks import (

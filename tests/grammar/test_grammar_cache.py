@@ -8,19 +8,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cityshade.grammar._cache import (
+from cityshade.errors import UsageError
+from cityshade.grammar import evaluate
+from cityshade.grammar.testing import (
     BORDER,
     CONTENT,
     FINEST_TEXEL,
     MAX_PROBES,
     PAGE,
+    facade_cells,
     needed_pages,
     page_hash,
     page_table,
 )
-from cityshade.grammar._random import facade_cells
-from cityshade.grammar._reference import evaluate
-from cityshade.errors import UsageError
 from cityshade.render import Renderer, RenderSettings, frame_passes
 from cityshade.scene import BUILDING_DTYPE, Camera, make_city
 from golden_images import golden_difference

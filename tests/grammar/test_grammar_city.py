@@ -9,7 +9,7 @@ from PIL import Image
 
 from cityshade.assets import LABELS, tile_array
 from cityshade.grammar import BUILDING_STYLES, evaluate, facade_seed_vector, library_texture, library_texture_with
-from cityshade.interior._faces import FACE_EXTERIOR
+from cityshade.interior.testing import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
 from cityshade.scene import SURFACE_WALL, USE_CODES, USES, Camera, City, batch, box, dome, dome_faces, make_city
 from render_checks import grammar_test_settings, render_finite

@@ -11,8 +11,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from cityshade.assets import tile_array
-from cityshade.grammar import GrammarError, compile_grammars, loads
-from cityshade.grammar._reference import evaluate
+from cityshade.grammar import GrammarError, compile_grammars, evaluate, loads
 from cityshade.scene import USES
 
 ARITHMETIC = ["+", "-", "*", "%"]

@@ -8,7 +8,7 @@ import pytest
 
 from cityshade.assets import LABELS
 from cityshade.grammar import BUILDING_STYLES, library_min_widths, loads, min_width
-from cityshade.interior._faces import FACE_EXTERIOR
+from cityshade.interior.testing import FACE_EXTERIOR
 from cityshade.render import Renderer, RenderSettings, assign_facades
 from cityshade.render._facades import NARROW_FACES, GrammarFitWarning
 from cityshade.scene import SURFACE_PLAIN_WALL, Camera, City, batch, box
@@ -63,7 +63,7 @@ def test_plain_walls_take_the_grammars_wall_colour_not_the_buildings_tint(gl_con
     building's own seed moves its grammar's tone by about 0.05), not like the mapped colour (0.3 off)."""
     from dataclasses import replace
 
-    from cityshade.interior._faces import FACE_EXTERIOR
+    from cityshade.interior.testing import FACE_EXTERIOR
 
     red = (0.6, 0.27, 0.2)
     masses = [

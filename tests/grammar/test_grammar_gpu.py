@@ -4,14 +4,22 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from grammar_compare import FACADE, SIZE, compare, ctx  # noqa: F401  (ctx is a fixture)
 
 from cityshade.assets import LABELS, tile_array
-from cityshade.grammar import compile_grammars, library_path, load, loads
-from cityshade.grammar._random import seed_vector
-from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
-from cityshade.grammar._reference import evaluate, evaluate_facade, facade_view
+from cityshade.grammar import (
+    FacadeRenderer,
+    GrammarTextures,
+    compile_grammars,
+    evaluate,
+    evaluate_facade,
+    library_path,
+    load,
+    loads,
+    seed_vector,
+)
+from cityshade.grammar.testing import facade_view
 from cityshade.scene import USES
+from grammar_compare import FACADE, SIZE, compare, ctx  # noqa: F401  (ctx is a fixture)
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 

@@ -8,13 +8,10 @@ import math
 
 import numpy as np
 import pytest
-from grammar_compare import ctx  # noqa: F401  (ctx is a fixture)
 
 from cityshade.assets import tile_array
-from cityshade.grammar import compile_grammars, loads
-from cityshade.grammar._gpu import FacadeRenderer, GrammarTextures
-from cityshade.grammar._random import seed_vector
-from cityshade.grammar._reference import evaluate_facade
+from cityshade.grammar import FacadeRenderer, GrammarTextures, compile_grammars, evaluate_facade, loads, seed_vector
+from grammar_compare import ctx  # noqa: F401  (ctx is a fixture)
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 

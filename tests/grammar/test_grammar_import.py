@@ -7,14 +7,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cityshade.assets import LABELS
 from cityshade.commands import main
-from cityshade.grammar import GrammarError, compile_grammars, loads
-from cityshade.grammar._cga import CgaError, translate
+from cityshade.grammar import CgaError, GrammarError, compile_grammars, loads, translate
+from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 
 DATA = Path(__file__).parents[1] / "data" / "cga"
 

@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 
 from cityshade.assets import LABELS, tile_array
-from cityshade.grammar import LIBRARY_STYLES, compile_grammars, load_library
-from cityshade.grammar._reference import evaluate_facade
-from cityshade.grammar._random import seed_vector
+from cityshade.grammar import LIBRARY_STYLES, compile_grammars, evaluate_facade, load_library, seed_vector
+from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 
 
 @pytest.fixture(scope="module")
@@ -98,8 +96,7 @@ def test_seeds_vary_a_style(library):
 def test_fig12_keeps_the_papers_ceil_rounding():
     """fig12.grammar writes `Ceil`: a 21 m facade has ceil(21 / 2.5) = 9 windows on its ground
     floor, as in the paper, where the nearest count would give 8."""
-    from cityshade.grammar import library_path, load
-    from cityshade.grammar._reference import evaluate
+    from cityshade.grammar import evaluate, library_path, load
 
     compiled = compile_grammars({"f": load(library_path("fig12.grammar"))})
     u = (np.arange(2100, dtype=np.float32) + 0.5) / 100

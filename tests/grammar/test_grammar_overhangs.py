@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cityshade.assets import LABELS, tile_array
-from cityshade.grammar import GrammarError, compile_grammars, loads
-from cityshade.grammar._reference import evaluate
+from cityshade.grammar import GrammarError, compile_grammars, evaluate, loads
+from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 
 # Sills 0.3 m wider than their window on each side, and a cornice ledge 0.25 m over the bays.
 SILLS = """\

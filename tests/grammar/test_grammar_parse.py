@@ -121,7 +121,7 @@ def test_arguments_nested_thousands_deep_are_refused_at_the_limit(argument, colu
 
 
 def test_arguments_nested_within_the_limit_parse():
-    from cityshade.grammar._syntax import parse_text
+    from cityshade.grammar.testing import parse_text
 
     (rule,) = parse_text(f"S->Mat(Color, {'-' * 40}0.5, 0, 0, 1, 1)\n", "ok.grammar").rules
     assert rule.args[1].expr.op == "neg"

@@ -8,8 +8,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from cityshade.assets import tile_array
-from cityshade.grammar import compile_grammars, loads
-from cityshade.grammar._reference import evaluate
+from cityshade.grammar import compile_grammars, evaluate, loads
 
 SAMPLES = 4000
 
@@ -147,7 +146,7 @@ def test_rand_uni_spreads_evenly():
 def test_rand_sizes_stay_in_range_fill_the_scope_and_are_stable(low, spread, seed):
     """An absolute rand(low, high) part: its width lies in [low, high], the floating part takes
     the rest, and the same facade and seed draw the same width."""
-    from cityshade.grammar._random import seed_vector
+    from cityshade.grammar import seed_vector
 
     low, high = stored(low), stored(low + spread)
     text = f"S->SplitX(Abs, rand({low!r}, {high!r}), P0, Rel, 1, P1)\n" + colours(2)
@@ -167,7 +166,7 @@ def test_rand_sizes_stay_in_range_fill_the_scope_and_are_stable(low, spread, see
 
 
 def test_rand_sizes_vary_with_the_seed():
-    from cityshade.grammar._random import seed_vector
+    from cityshade.grammar import seed_vector
 
     text = "S->SplitX(Abs, rand(1, 5), P0, Rel, 1, P1)\n" + colours(2)
     compiled = compile_grammars({"g": loads(text)})

@@ -5,9 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from cityshade.assets import tile_array
-from cityshade.grammar import compile_grammars, loads
-from cityshade.grammar._random import facade_cells, facade_seed_vector, seed_cells, seed_vector
-from cityshade.grammar._reference import evaluate
+from cityshade.grammar import compile_grammars, evaluate, facade_seed_vector, loads, seed_cells, seed_vector
+from cityshade.grammar.testing import facade_cells
 
 
 def test_seed_zero_is_a_seed_like_any_other():

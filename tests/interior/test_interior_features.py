@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
+from cityshade.interior.testing import FACE_CEILING, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import Camera, City, box
 from render_checks import render_finite

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade.interior._faces import FACE_FURNITURE
+from cityshade.interior.testing import FACE_FURNITURE
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import make_city
 from golden_images import check_golden, check_golden_rejects

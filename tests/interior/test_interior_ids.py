@@ -11,7 +11,7 @@ from PIL import Image
 
 from cityshade import assets
 from cityshade.interior import FACE_NAMES, InteriorParams, reference_ids
-from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
+from cityshade.interior.testing import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.relief import relief_atlas
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render._city_gpu import GROUND_MARGIN

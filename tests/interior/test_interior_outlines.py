@@ -11,7 +11,7 @@ import pytest
 from PIL import Image
 
 from cityshade.interior import FACE_NAMES, windows_straddling_rooms
-from cityshade.interior._faces import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
+from cityshade.interior.testing import FACE_CEILING, FACE_FLOOR, FACE_WALL_X, FACE_WALL_Z
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import Camera, City, cylinder, make_city
 from render_checks import grammar_facades, id_edges, interior_twin

@@ -16,12 +16,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from cityshade.grammar import GrammarError, loads
-from cityshade.grammar._cga import CgaError, translate
+from cityshade.grammar import CgaError, GrammarError, loads, translate
 from cityshade.maps import load_map
-from fuzzing import LARGE, SMALL, for_a_while
-from fuzzing import loads_or_one_line
-
+from fuzzing import LARGE, SMALL, for_a_while, loads_or_one_line
 
 # ------------------------------------------------------------------ OpenStreetMap XML
 

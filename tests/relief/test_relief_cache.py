@@ -23,9 +23,7 @@ from cityshade.relief import (
     stack_bmf,
     style_openings,
 )
-from cityshade.relief._city import cached_openings
-from cityshade.relief._grammar_source import OPENING_DEPTH
-from cityshade.relief._layout import WALL
+from cityshade.relief.testing import OPENING_DEPTH, WALL, cached_openings
 
 
 @pytest.fixture()

@@ -9,10 +9,15 @@ from PIL import Image
 
 from cityshade import assets
 from cityshade.assets import LABELS
-from cityshade.grammar import BUILDING_STYLES, library_texture
 from cityshade.bench.relief import CityChunks, city_frames, flyover_camera
 from cityshade.gl import programs as gl_programs
+from cityshade.grammar import BUILDING_STYLES, library_texture
+from cityshade.interior import GrammarFacades, reference_ids
+from cityshade.interior.testing import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.relief import (
+    FACADE_RELIEF,
+    RELIEF_SHAPES,
+    RELIEF_STYLES,
     DetailMaps,
     FacadeView,
     GpuFacade,
@@ -21,16 +26,12 @@ from cityshade.relief import (
     facade_camera,
     generate_bay,
     paper_facade,
+    relief_atlas,
     slab_faces,
     trace_view,
 )
-from cityshade.relief import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, relief_atlas
-from cityshade.render import assign_facades, choose_facade
-from cityshade.relief._reference import MISS
-from cityshade.relief._view import SINGLE_FACADE
-from cityshade.interior import GrammarFacades, reference_ids
-from cityshade.interior._faces import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
-from cityshade.render import Renderer, RenderSettings
+from cityshade.relief.testing import MISS, SINGLE_FACADE
+from cityshade.render import Renderer, RenderSettings, assign_facades, choose_facade
 from cityshade.render._city_gpu import GROUND_MARGIN
 from cityshade.scene import Camera, City, batch, box, default_city
 from render_checks import hit_edges, id_edges, interior_params, render_finite, style_min_width

@@ -72,7 +72,8 @@ def test_a_header_nested_thousands_deep_is_one_line(tmp_path, capsys, option):
     import struct
     import zlib
 
-    from cityshade.relief._format import _PREFIX, MAGIC, VERSION
+    from cityshade.relief import VERSION
+    from cityshade.relief.testing import _PREFIX, MAGIC
 
     header = b'{"method": ' + b"[" * 5000 + b"]" * 5000 + b"}"
     body = _PREFIX.pack(MAGIC, VERSION, len(header)) + header

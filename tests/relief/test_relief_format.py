@@ -21,7 +21,7 @@ from cityshade.relief import (
     to_bytes,
     write_compressed,
 )
-from cityshade.relief._format import MAGIC
+from cityshade.relief.testing import MAGIC
 from relief_strategies import piecewise_constant
 
 

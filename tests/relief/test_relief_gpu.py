@@ -5,10 +5,19 @@ import pytest
 from PIL import Image
 
 from cityshade.gl import programs
-from cityshade.relief import detail_matrices, generate_facade, paper_facade
-from cityshade.relief._gpu import RENDERERS, GpuFacade, decode_on_gpu
-from cityshade.relief._reference import MISS
-from cityshade.relief._view import SINGLE_FACADE, FacadeView, MeshFacade, facade_camera, trace_view
+from cityshade.relief import (
+    RENDERERS,
+    FacadeView,
+    GpuFacade,
+    MeshFacade,
+    decode_on_gpu,
+    detail_matrices,
+    facade_camera,
+    generate_facade,
+    paper_facade,
+    trace_view,
+)
+from cityshade.relief.testing import MISS, SINGLE_FACADE
 from render_checks import assert_finite, hit_edges
 
 SIZE = (96, 96)

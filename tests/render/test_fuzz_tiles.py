@@ -17,8 +17,7 @@ from hypothesis import strategies as st
 
 from cityshade._files import OUTPUT_MARKER, atomic_folder
 from cityshade.errors import UsageError
-from cityshade.export import FORMATS, crop, map_export_city, parse_region
-from cityshade.export._export import check_output
+from cityshade.export import FORMATS, check_output, crop, map_export_city, parse_region
 from cityshade.maps import load_map, map_city
 from cityshade.render import _tile_cache, open_tiles, write_tiles
 from cityshade.render._tile_cache import CacheProblem, read_tile

@@ -198,16 +198,13 @@ def test_dormer_fronts_show_their_rooms_in_the_id_pass_as_the_twin(gl_context, m
     pixel rays at the building's triangles."""
     import warnings
 
-    from render_checks import id_edges
-
     from cityshade import assets
     from cityshade.grammar import BUILDING_STYLES
-    from cityshade.interior import FACE_CODES, InteriorParams
-    from cityshade.interior._reference import face_frame, find_room, trace
-    from cityshade.interior._faces import room_state
-    from cityshade.interior._solids import object_to_world
+    from cityshade.interior import FACE_CODES, InteriorParams, find_room, room_state, trace
+    from cityshade.interior.testing import face_frame, object_to_world
     from cityshade.render import GrammarFitWarning, Renderer, RenderSettings
     from cityshade.scene import Camera, City
+    from render_checks import id_edges
 
     style = {name: number for number, name in BUILDING_STYLES.items()}["classical"]
     city_masses = list(masses)
@@ -287,7 +284,7 @@ def test_export_draws_dormer_fronts_of_a_grammar_building_as_window_bays(tmp_pat
     import pygltflib
 
     from cityshade.commands import main
-    from cityshade.export._bake import has_grammar
+    from cityshade.export import has_grammar
 
     assert has_grammar(masses[HOUSE])
     out = tmp_path / "dormers.glb"
