@@ -153,7 +153,9 @@ def relief_frame_ms(ctx, size, frames: int) -> dict[str, float]:
     try:
         for name in ("street", "closeup"):
             camera = city.camera(name)
-            timed = time_interleaved(ctx, {k: (lambda i, r=r: r.draw(camera)) for k, r in renderers.items()}, frames)
+            timed = time_interleaved(
+                ctx, {k: (lambda i, r=r, camera=camera: r.draw(camera)) for k, r in renderers.items()}, frames
+            )
             out.update({(name, k): v.ms()[0] for k, v in timed.items()})
     finally:
         for renderer in renderers.values():
@@ -210,8 +212,9 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     try:
         for view, camera in cameras.items():
             for grammar in GRAMMARS:
+                settings = {path: fig11_settings(path, grammar) for path in PATHS}
                 timed = time_interleaved(
-                    ctx, {path: (lambda i, s=fig11_settings(path, grammar): draw(s, camera)) for path in PATHS}, frames
+                    ctx, {path: (lambda i, s=settings[path], camera=camera: draw(s, camera)) for path in PATHS}, frames
                 )
                 for path, value in timed.items():
                     ms[(view, grammar, path)], iqr[(view, grammar, path)] = value.ms()

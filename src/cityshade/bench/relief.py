@@ -177,7 +177,7 @@ def _table2(result: BenchResult, ctx, programs, facades: dict, quick: bool) -> d
     for name, (maps, compressed) in facades.items():
         gpu = GpuFacade(ctx, maps, compressed)
 
-        def draw(renderer: str) -> Callable[[int], None]:
+        def draw(renderer: str, gpu=gpu, maps=maps) -> Callable[[int], None]:
             base, mod37 = renderer.split(" ")[0], renderer.endswith("(mod 37)")
             return lambda i: view.draw(gpu, _orbit_camera(maps, i, frames), base, lsb_mod37=mod37)
 
@@ -460,7 +460,9 @@ def _opening_renderers(result: BenchResult, ctx, programs, quick: bool):
     rows = []
     for distance in OPENING_DISTANCES:
         camera = facade_camera(maps, 35, 10, distance, target=(0.3, 0.4), fov_y=50.0)
-        timed = time_interleaved(ctx, {r: (lambda i, r=r: view.draw(gpu, camera, r)) for r in RENDERERS}, frames)
+        timed = time_interleaved(
+            ctx, {r: (lambda i, r=r, camera=camera: view.draw(gpu, camera, r)) for r in RENDERERS}, frames
+        )
         ref = trace_view(maps, camera, size)
         on = ref.material != -1
         errors = {}
@@ -505,7 +507,7 @@ def _city_switch(result: BenchResult, ctx, quick: bool):
         for name in ("street", "closeup"):
             camera = city.camera(name)
             timed = time_interleaved(
-                ctx, {m: (lambda i, r=r: r.draw(camera)) for m, r in renderers.items()}, FRAMES[quick]
+                ctx, {m: (lambda i, r=r, camera=camera: r.draw(camera)) for m, r in renderers.items()}, FRAMES[quick]
             )
             images = {m: r.targets.display.read()[..., :3].astype(int) for m, r in renderers.items()}
             exact = images[EXACT_EVERYWHERE]

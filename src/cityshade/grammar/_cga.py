@@ -679,7 +679,7 @@ class _Importer:
             self.note(line, "a split without parts", "drawn transparent")
             return "Skip(0)"
         out, fractions, tiles = [], [], 0
-        for sizes, successor, group, repeated in parts:
+        for sizes, successor, group, _repeated in parts:
             if group is not None:
                 inner = self.split_parts(group)
                 tiles += 1

@@ -162,50 +162,61 @@ def _value(arg: Arg, kind: Kind, src: SourceRule, names, tiles, errors, op):
                 suggest(arg.text, LABELS[1:], "label") or "labels: " + ", ".join(LABELS[1:]),
             )
         return LABELS.index(arg.text)
-    params = src.definition.params
     if kind is Kind.CONDITION:
-        return check_expr(arg.expr, errors, params)  # None, with the reason reported, if it is bad
-    if kind is Kind.RULE and arg.kind == "expr" and arg.expr.op == "call":
-        return _bound(arg, src, names, errors, fail)
+        return check_expr(arg.expr, errors, src.definition.params)  # None, with the reason reported, if it is bad
     if kind is Kind.RULE:
-        if arg.kind != "name":
-            return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
-        full = src.resolve(arg.text)
-        if full not in names:
-            local = [
-                n[len(src.namespace) + 1 :] if src.namespace else n
-                for n in names
-                if not src.namespace or n.startswith(src.namespace + ".")
-            ]
-            return fail(
-                f"undefined rule '{arg.text}'",
-                suggest(arg.text, local, "rule") or f"define it as {arg.text}->Operator(...)",
-            )
-        wanted = names[full].definition.params
-        if wanted:
-            return fail(
-                f"rule '{arg.text}' takes {len(wanted)} parameter{'s' * (len(wanted) > 1)} ({', '.join(wanted)})",
-                f"write {arg.text}({', '.join(wanted)})",
-            )
-        return full
+        return _rule_value(arg, kind, src, names, errors, op, fail)
     if kind in (Kind.POLICY, Kind.USAGE, Kind.ROUNDING):
         table = {Kind.POLICY: POLICIES, Kind.USAGE: USAGES, Kind.ROUNDING: ROUNDINGS}[kind]
         if arg.kind != "name" or arg.text not in table:
             return fail(f"{op} expects {kind.value} here, not {arg.text!r}", suggest(arg.text, table, "constant"))
         return table[arg.text]
     if kind in (Kind.TEXTURE, Kind.MASK):
-        if arg.kind == "number" and kind is Kind.TEXTURE and arg.value == 0:
-            return TexRef(-1, True)
-        if arg.kind != "texref":
-            return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
-        name = arg.text[4:]
-        if name not in tiles:
-            return fail(f"unknown texture '{name}'", suggest(name, tiles, "texture"))
-        return TexRef(tiles[name], arg.text.startswith("Fit>"))
+        return _texture_value(arg, kind, tiles, op, fail)
     if kind is Kind.SIZE and arg.kind == "expr" and arg.expr.op == "call":
         return _random_size(arg, op, fail)
     if arg.kind != "number":
         return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
+    return _number_value(arg, kind, op, fail)
+
+
+def _rule_value(arg: Arg, kind: Kind, src: SourceRule, names, errors, op, fail):
+    if arg.kind == "expr" and arg.expr.op == "call":
+        return _bound(arg, src, names, errors, fail)
+    if arg.kind != "name":
+        return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
+    full = src.resolve(arg.text)
+    if full not in names:
+        local = [
+            n[len(src.namespace) + 1 :] if src.namespace else n
+            for n in names
+            if not src.namespace or n.startswith(src.namespace + ".")
+        ]
+        return fail(
+            f"undefined rule '{arg.text}'",
+            suggest(arg.text, local, "rule") or f"define it as {arg.text}->Operator(...)",
+        )
+    wanted = names[full].definition.params
+    if wanted:
+        return fail(
+            f"rule '{arg.text}' takes {len(wanted)} parameter{'s' * (len(wanted) > 1)} ({', '.join(wanted)})",
+            f"write {arg.text}({', '.join(wanted)})",
+        )
+    return full
+
+
+def _texture_value(arg: Arg, kind: Kind, tiles, op, fail):
+    if arg.kind == "number" and kind is Kind.TEXTURE and arg.value == 0:
+        return TexRef(-1, True)
+    if arg.kind != "texref":
+        return fail(f"{op} expects {kind.value} here, not {arg.text!r}")
+    name = arg.text[4:]
+    if name not in tiles:
+        return fail(f"unknown texture '{name}'", suggest(name, tiles, "texture"))
+    return TexRef(tiles[name], arg.text.startswith("Fit>"))
+
+
+def _number_value(arg: Arg, kind: Kind, op, fail):
     value = arg.value
     if not abs(value) <= limits.HALF_MAX:
         return fail(
@@ -287,30 +298,7 @@ def _operator_checks(rule: Rule, errors: list):
                 )
             )
     if rule.operator in ("SplitX", "SplitY"):
-        policies = rule.values[0::3]
-        for policy, size, arg in zip(policies, rule.values[1::3], definition.args[1::3]):
-            if policy == TILE and isinstance(size, RandomSize):
-                errors.append(Diagnostic(arg.location, "a Tile's size is fixed", "use rand for Abs or Rel parts"))
-        if policies.count(TILE) > 1:
-            second = [i for i, p in enumerate(policies) if p == TILE][1]
-            errors.append(
-                Diagnostic(
-                    definition.args[3 * second].location,
-                    "a Split has at most one Tile part",
-                    "nest a second Split for a second run of tiles",
-                )
-            )
-        for policy, what in ((1, "relative"), (-1, "absolute")):
-            total = sum(getattr(size, "high", size) for p, size in zip(policies, rule.values[1::3]) if p == policy)
-            if total > limits.HALF_MAX:
-                errors.append(
-                    Diagnostic(
-                        definition.operator_location,
-                        f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "
-                        f"numbers hold ({limits.HALF_MAX:g})",
-                        "use smaller sizes",
-                    )
-                )
+        _split_checks(rule, definition, errors)
     if rule.operator in ("SplitX", "SplitY", "Rand") and len(rule.children) > limits.MAX_PARTS:
         errors.append(
             Diagnostic(
@@ -320,33 +308,71 @@ def _operator_checks(rule: Rule, errors: list):
             )
         )
     if rule.operator == "Case":
-        conditions = rule.values[0:-1:2]
-        tokens = sum(len(program(c)) + 1 for c in conditions)
-        if tokens > limits.MAX_CASE_TOKENS:
+        _case_checks(rule, definition, errors)
+    if rule.operator in ("Mat", "MatAlpha"):
+        _mat_checks(rule, definition, errors)
+
+
+def _split_checks(rule: Rule, definition, errors: list):
+    """A Split's tiles and the sums of its sizes."""
+    policies = rule.values[0::3]
+    for policy, size, arg in zip(policies, rule.values[1::3], definition.args[1::3]):
+        if policy == TILE and isinstance(size, RandomSize):
+            errors.append(Diagnostic(arg.location, "a Tile's size is fixed", "use rand for Abs or Rel parts"))
+    if policies.count(TILE) > 1:
+        second = [i for i, p in enumerate(policies) if p == TILE][1]
+        errors.append(
+            Diagnostic(
+                definition.args[3 * second].location,
+                "a Split has at most one Tile part",
+                "nest a second Split for a second run of tiles",
+            )
+        )
+    for policy, what in ((1, "relative"), (-1, "absolute")):
+        total = sum(getattr(size, "high", size) for p, size in zip(policies, rule.values[1::3]) if p == policy)
+        if total > limits.HALF_MAX:
             errors.append(
                 Diagnostic(
                     definition.operator_location,
-                    f"the conditions of this Case take {tokens} steps; the GPU limit is {limits.MAX_CASE_TOKENS}",
-                    "split it into two Cases",
+                    f"the {what} sizes add up to {total:g}, more than the GPU's 16-bit "
+                    f"numbers hold ({limits.HALF_MAX:g})",
+                    "use smaller sizes",
                 )
             )
-        for condition, arg in zip(conditions, definition.args[0::2]):
-            if stack_depth(condition) > limits.MAX_EXPR_STACK:
-                errors.append(
-                    Diagnostic(
-                        arg.location,
-                        f"this condition nests deeper than {limits.MAX_EXPR_STACK} values",
-                        "write it with fewer parentheses",
-                    )
+
+
+def _case_checks(rule: Rule, definition, errors: list):
+    """A Case's conditions fit the GPU's token and stack limits."""
+    conditions = rule.values[0:-1:2]
+    tokens = sum(len(program(c)) + 1 for c in conditions)
+    if tokens > limits.MAX_CASE_TOKENS:
+        errors.append(
+            Diagnostic(
+                definition.operator_location,
+                f"the conditions of this Case take {tokens} steps; the GPU limit is {limits.MAX_CASE_TOKENS}",
+                "split it into two Cases",
+            )
+        )
+    for condition, arg in zip(conditions, definition.args[0::2]):
+        if stack_depth(condition) > limits.MAX_EXPR_STACK:
+            errors.append(
+                Diagnostic(
+                    arg.location,
+                    f"this condition nests deeper than {limits.MAX_EXPR_STACK} values",
+                    "write it with fewer parentheses",
                 )
-    if rule.operator in ("Mat", "MatAlpha"):
-        for start in range(1, len(rule.values), 5):
-            tex, params = rule.values[start], rule.values[start + 1 : start + 5]
-            outside = [i for i, p in enumerate(params) if not 0 <= p <= 1]
-            if tex.fit and outside:
-                arg = definition.args[start + 1 + outside[0]]
-                what = "a constant colour" if tex.tile < 0 else "a fitted texture's rectangle"
-                errors.append(Diagnostic(arg.location, f"{what} needs four values in [0, 1]"))
+            )
+
+
+def _mat_checks(rule: Rule, definition, errors: list):
+    """A fitted texture's or constant colour's rectangle lies in [0, 1]."""
+    for start in range(1, len(rule.values), 5):
+        tex, params = rule.values[start], rule.values[start + 1 : start + 5]
+        outside = [i for i, p in enumerate(params) if not 0 <= p <= 1]
+        if tex.fit and outside:
+            arg = definition.args[start + 1 + outside[0]]
+            what = "a constant colour" if tex.tile < 0 else "a fitted texture's rectangle"
+            errors.append(Diagnostic(arg.location, f"{what} needs four values in [0, 1]"))
 
 
 def _overhang_errors(rules: dict[str, Rule]) -> list[Diagnostic]:

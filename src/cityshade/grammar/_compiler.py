@@ -46,74 +46,96 @@ class CompiledGrammars:
 
 
 def _encode(rule: Rule, address_of) -> list[list[float]]:
-    op = OPERATORS[rule.operator].opcode
-    v = rule.values
-    name = rule.operator
-    if name in ("RepeatX", "RepeatY"):
-        rounding = v[2] if len(v) > 2 else 0
-        if isinstance(v[0], RandomSize):  # head.w + 2 flags rand(low, high): high in the next texel
-            return [[op, v[0].low, address_of(v[1]), rounding + 2], [v[0].high, 0, 0, 0]]
-        return [[op, v[0], address_of(v[1]), rounding]]
-    if name in ("SplitX", "SplitY"):
-        # A part is (size, rule): size < 0 absolute, > 0 floating; a tile's rule is stored as
-        # -(address + 1), and a split with a tile has -n in its head and the tile's size next.
-        # With rand sizes, n + RANDOM_PARTS in the head, each part's low in its pair and the highs
-        # in texels after the pairs; the sums are then made per scope by the evaluators.
-        policies, sizes, children = v[0::3], v[1::3], v[2::3]
-        low = [getattr(size, "low", size) for size in sizes]
-        parts = [
-            (size if policy == TILE else policy * size, -address_of(child) - 1 if policy == TILE else address_of(child))
-            for policy, size, child in zip(policies, low, children)
-        ]
-        rel = sum(size for policy, size in zip(policies, low) if policy == 1)
-        absolute = sum(size for policy, size in zip(policies, low) if policy < 0)
-        tiles = [size for policy, size in zip(policies, low) if policy == TILE]
-        random = any(isinstance(size, RandomSize) for size in sizes)
-        count = len(parts) + (limits.RANDOM_PARTS if random else 0)
-        head = [[op, -count if tiles else count, rel, absolute]] + ([[tiles[0], 0, 0, 0]] if tiles else [])
-        highs = _packed([], [getattr(size, "high", size) for size in sizes]) if random else []
-        return head + _pairs(parts) + highs
-    if name == "Color":  # a constant Mat whose head.w, above 1, is 1 + its label
-        label = v[3] if len(v) > 3 else 0
-        return [[op, 1, 0, 1 + label], [v[0], v[1], v[2], 1.0]]
-    if name == "Tint":
-        return [[op, address_of(v[3]), 0, 0], [v[0], v[1], v[2], 0]]
-    if name == "Overhang":  # its Split reads the margins and runs the rule in the enlarged part
-        return [[op, v[0], v[1], address_of(v[2])]]
-    if name == "Case":
-        # Each condition's postfix tokens, then (CASE, its rule): the first true one is taken,
-        # else the last rule (in the head).
-        tokens = []
-        for condition, child in zip(v[0:-1:2], v[1:-1:2]):
-            tokens += program(condition) + [(CASE, address_of(child))]
-        return [[op, len(tokens), address_of(v[-1]), 0]] + _pairs(tokens)
-    if name == "Rand":
-        weights = np.cumsum(v[1::2])
-        weights[-1] = 1.0
-        parts = [(float(a), address_of(child)) for a, child in zip(weights, v[2::2])]
-        return [[op, len(parts), v[0], 0]] + _pairs(parts)
-    if name == "RandUni":
-        refs = [address_of(c) for c in v[1:]]
-        return _packed([op, len(refs), v[0]], refs)
-    if name == "RandStack":
-        return [[op, address_of(v[0]), 0, 0]]
-    if name == "Layer":
-        refs = [address_of(c) for c in v]
-        return _packed([op, len(refs)], refs)
-    if name == "Skip":
-        return [[op, v[0], 0, 0]]
-    if name == "SkipMask":
-        return [[op, v[0].code, v[1], v[2]]]
-    if name == "Intrusion":
-        refs = [address_of(c) for c in v[1:]]
-        return [[op, v[0], refs[0], refs[1]], [refs[2], refs[3], refs[4], 0]]
+    """A rule's texels: its operator's opcode and values, laid out by that operator's encoder."""
+    return _ENCODERS[rule.operator](OPERATORS[rule.operator].opcode, rule.values, address_of)
+
+
+def _encode_repeat(op, v, address_of):
+    rounding = v[2] if len(v) > 2 else 0
+    if isinstance(v[0], RandomSize):  # head.w + 2 flags rand(low, high): high in the next texel
+        return [[op, v[0].low, address_of(v[1]), rounding + 2], [v[0].high, 0, 0, 0]]
+    return [[op, v[0], address_of(v[1]), rounding]]
+
+
+def _encode_split(op, v, address_of):
+    # A part is (size, rule): size < 0 absolute, > 0 floating; a tile's rule is stored as
+    # -(address + 1), and a split with a tile has -n in its head and the tile's size next.
+    # With rand sizes, n + RANDOM_PARTS in the head, each part's low in its pair and the highs
+    # in texels after the pairs; the sums are then made per scope by the evaluators.
+    policies, sizes, children = v[0::3], v[1::3], v[2::3]
+    low = [getattr(size, "low", size) for size in sizes]
+    parts = [
+        (size if policy == TILE else policy * size, -address_of(child) - 1 if policy == TILE else address_of(child))
+        for policy, size, child in zip(policies, low, children)
+    ]
+    rel = sum(size for policy, size in zip(policies, low) if policy == 1)
+    absolute = sum(size for policy, size in zip(policies, low) if policy < 0)
+    tiles = [size for policy, size in zip(policies, low) if policy == TILE]
+    random = any(isinstance(size, RandomSize) for size in sizes)
+    count = len(parts) + (limits.RANDOM_PARTS if random else 0)
+    head = [[op, -count if tiles else count, rel, absolute]] + ([[tiles[0], 0, 0, 0]] if tiles else [])
+    highs = _packed([], [getattr(size, "high", size) for size in sizes]) if random else []
+    return head + _pairs(parts) + highs
+
+
+def _encode_color(op, v, address_of):  # a constant Mat whose head.w, above 1, is 1 + its label
+    label = v[3] if len(v) > 3 else 0
+    return [[op, 1, 0, 1 + label], [v[0], v[1], v[2], 1.0]]
+
+
+def _encode_case(op, v, address_of):
+    # Each condition's postfix tokens, then (CASE, its rule): the first true one is taken,
+    # else the last rule (in the head).
+    tokens = []
+    for condition, child in zip(v[0:-1:2], v[1:-1:2]):
+        tokens += program(condition) + [(CASE, address_of(child))]
+    return [[op, len(tokens), address_of(v[-1]), 0]] + _pairs(tokens)
+
+
+def _encode_rand(op, v, address_of):
+    weights = np.cumsum(v[1::2])
+    weights[-1] = 1.0
+    parts = [(float(a), address_of(child)) for a, child in zip(weights, v[2::2])]
+    return [[op, len(parts), v[0], 0]] + _pairs(parts)
+
+
+def _encode_intrusion(op, v, address_of):
+    refs = [address_of(c) for c in v[1:]]
+    return [[op, v[0], refs[0], refs[1]], [refs[2], refs[3], refs[4], 0]]
+
+
+def _encode_mat(op, v, address_of):
     usage, tex, params = v[0], v[1], tuple(v[2:6])
-    if name == "Mat":
-        if tex.tile >= 0 and params == _UNIT_RECT:
-            return [[op, usage, tex.code, 0]]  # the common case: one texel
-        return [[op, usage, tex.code, 1], list(params)]
+    if tex.tile >= 0 and params == _UNIT_RECT:
+        return [[op, usage, tex.code, 0]]  # the common case: one texel
+    return [[op, usage, tex.code, 1], list(params)]
+
+
+def _encode_mat_alpha(op, v, address_of):
     alpha_tex: TexRef = v[6]
-    return [[op, usage, tex.code, alpha_tex.code], list(params), list(v[7:11])]
+    return [[op, v[0], v[1].code, alpha_tex.code], list(v[2:6]), list(v[7:11])]
+
+
+_ENCODERS = {
+    "RepeatX": _encode_repeat,
+    "RepeatY": _encode_repeat,
+    "SplitX": _encode_split,
+    "SplitY": _encode_split,
+    "Color": _encode_color,
+    "Tint": lambda op, v, address_of: [[op, address_of(v[3]), 0, 0], [v[0], v[1], v[2], 0]],
+    # an Overhang's Split reads the margins and runs the rule in the enlarged part
+    "Overhang": lambda op, v, address_of: [[op, v[0], v[1], address_of(v[2])]],
+    "Case": _encode_case,
+    "Rand": _encode_rand,
+    "RandUni": lambda op, v, address_of: _packed([op, len(v) - 1, v[0]], [address_of(c) for c in v[1:]]),
+    "RandStack": lambda op, v, address_of: [[op, address_of(v[0]), 0, 0]],
+    "Layer": lambda op, v, address_of: _packed([op, len(v)], [address_of(c) for c in v]),
+    "Skip": lambda op, v, address_of: [[op, v[0], 0, 0]],
+    "SkipMask": lambda op, v, address_of: [[op, v[0].code, v[1], v[2]]],
+    "Intrusion": _encode_intrusion,
+    "Mat": _encode_mat,
+    "MatAlpha": _encode_mat_alpha,
+}
 
 
 def _pairs(parts: list[tuple[float, int]]) -> list[list[float]]:

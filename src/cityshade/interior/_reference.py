@@ -291,9 +291,9 @@ def grammar_entry(
             continue  # too narrow for the grammar: a plain wall
         levels = np.floor((top - base) / storey + 0.5)
 
-        def evaluate(rays_at, at, through=-1):
+        def evaluate(rays_at, at, through=-1, width=width, base=base, top=top, side=side, levels=levels, level=level):
             """The grammar along rays `rays_at` (indices) at facade points `at` (u, v); `through`: seen
-            through that SkipMask's hole."""
+            through that SkipMask's hole (this face's sizes bound as defaults)."""
             uv = np.stack([width - at[:, 0], at[:, 1] - base], axis=1)
             seed = facade_seed_vector(mass.seed, int(side))
             building_attributes = (levels, mass.style, mass.use, mass.extent[1])
@@ -302,7 +302,7 @@ def grammar_entry(
                 building_attributes, building_seed=seed_vector(mass.seed), level=level, through=through,
             )  # fmt: skip
 
-        def rectangle(scope):  # a scope in grammar uv as facade coordinates (u0, v0, u1, v1), grammar_window
+        def rectangle(scope, width=width, base=base):  # a scope in grammar uv as facade coordinates (u0, v0, u1, v1), grammar_window
             lower, extent = scope[:, :2].astype(np.float64), scope[:, 2:].astype(np.float64)
             u0, v0 = width - lower[:, 0] - extent[:, 0], base + lower[:, 1]
             return np.stack([u0, v0, u0 + extent[:, 0], v0 + extent[:, 1]], axis=1)
