@@ -237,6 +237,7 @@ class MapData:
     trees: list[MapTree] = field(default_factory=list)
     lamps: list[Lamp] = field(default_factory=list)
     entrances: list[Entrance] = field(default_factory=list)
+    shops: list[tuple[float, float]] = field(default_factory=list)  # shops mapped as points (map metres)
     report: ReadReport = field(default_factory=ReadReport)
 
     @property

@@ -1,24 +1,20 @@
-"""MapData -> City: the guessed-out buildings, and around them the ground, trees and street lamps,
-with viewpoints framed from the data."""
+"""MapData -> City: the guessed-out buildings, and around them every feature's layer (ground,
+trees, street lamps, ...), with viewpoints framed from the data."""
 
 from __future__ import annotations
-
-import numpy as np
 
 from ..errors import CityshadeError
 from ..scene import City
 from ._cameras import aerial_camera, street_camera
-from ._ground import ground_mesh
-from ._lamps import lamp_lights, lamp_posts
 from ._model import MapData, to_scene
-from ._trees import map_trees
+from .features import city_layers
 
 MARGIN = 30.0  # metres of ground the aerial view keeps around the data
 
 
 def map_city(map_data: MapData) -> City:
     """The city a map describes. Fills the map's gaps first (`guess_missing`), then builds the
-    buildings (`building_masses`), the ground, trees and lamps, and the 'aerial' and 'street' views."""
+    buildings (`building_masses`), every feature's layer, and the 'aerial' and 'street' views."""
     from ._guess import guess_missing
     from ._masses import building_masses
 
@@ -35,8 +31,6 @@ def map_city(map_data: MapData) -> City:
     street = street_camera(map_data, [b.outline for b in drawn])
     if street is not None:
         viewpoints["street"] = street
-    lights = lamp_lights(map_data)
-    ground = np.concatenate([ground_mesh(map_data), lamp_posts(lights)])
     return City(
         map_data.name,
         0,
@@ -44,9 +38,7 @@ def map_city(map_data: MapData) -> City:
         [],
         bounds,
         viewpoints,
-        ground_mesh=ground,
-        trees=map_trees(map_data),
-        lamps=lights,
+        layers=city_layers(map_data),
         origin=map_data.origin,
         crs=map_data.crs,
     )

@@ -2,6 +2,7 @@
 
 from ._buildings import SHAPES, BuildingMass, box, cylinder, dome
 from ._camera import Camera, look_at, perspective
+from ._layers import Layer
 from ._city import (
     CITIES,
     GROUND_ASPHALT,
@@ -60,6 +61,7 @@ from ._doors import DOOR_CONSTANTS, DOOR_HEIGHT, DOOR_WIDTH, MAX_DOORS, door_hit
 from ._uses import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, lit_share, lit_shares
 
 __all__ = [
+    "Layer",
     "SHAPES",
     "BuildingMass",
     "MassTable",
