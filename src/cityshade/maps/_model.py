@@ -19,22 +19,10 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+from ..scene import ROOF_SHAPE_TABLE
+
 # Roof shapes of the Simple 3D Buildings scheme that cityshade builds (OpenStreetMap `roof:shape` values).
-ROOF_SHAPES = (
-    "flat",
-    "gabled",
-    "hipped",
-    "half-hipped",
-    "pyramidal",
-    "skillion",
-    "gambrel",
-    "mansard",
-    "dome",
-    "onion",
-    "round",
-    "cone",
-    "saltbox",
-)
+ROOF_SHAPES = tuple(ROOF_SHAPE_TABLE)
 
 # The attributes whose origin (tagged or guessed) a building record keeps.
 BUILDING_ATTRIBUTES = (

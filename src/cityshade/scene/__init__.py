@@ -55,12 +55,14 @@ from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
 from ._dome_faces import DOME_TAPER, DomeFaces, dome_faces
 from ._face_levels import LEVEL_CODES, face_levels, vertex_face_levels
 from ._raycast import intersect
-from ._roofs import Roof
+from ._roofs import ROOF_SHAPE_TABLE, Roof, RoofShape
 from ._records import BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, rotation_y
 from ._doors import DOOR_CONSTANTS, DOOR_HEIGHT, DOOR_WIDTH, MAX_DOORS, door_hit, door_on_edge
 from ._uses import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, lit_share, lit_shares
 
 __all__ = [
+    "ROOF_SHAPE_TABLE",
+    "RoofShape",
     "Layer",
     "SHAPES",
     "BuildingMass",
