@@ -77,8 +77,7 @@ def _text(info: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    data = load_map(args.file)
-    guess_missing(data)
+    data = guess_missing(load_map(args.file))
     info = summary(data)
     try:
         print(json.dumps(info, indent=2, ensure_ascii=False) if args.json else _text(info), file=sys.stdout)

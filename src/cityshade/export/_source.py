@@ -71,10 +71,10 @@ def _layout_metadata(city: City, index: int, mass) -> dict:
 
 
 def map_export_city(path: Path) -> ExportCity:
-    from ..maps import load_map, map_city
+    from ..maps import city_from_guessed, guess_missing, load_map
 
-    map_data = load_map(path)
-    city = map_city(map_data)
+    map_data = guess_missing(load_map(path))
+    city = city_from_guessed(map_data)
     city = city.with_layers(lambda layer: replace(layer, ground=clip_ground(layer.ground, city.bounds)))
     # map masses carry their building's index as their seed (maps.building_masses)
     metadata = [_map_metadata(map_data.buildings[mass.seed], map_data.buildings) for mass in city.masses]

@@ -1,5 +1,6 @@
-"""MapData -> City: the guessed-out buildings, and around them every feature's layer (ground,
-trees, street lamps, ...), with viewpoints framed from the data."""
+"""MapData -> City in stages that each return new data: read and repair (`load_map`, maps/_assemble.py),
+guess (`guess_missing`, on a copy), layers (`city_from_guessed`: the buildings' masses and every
+feature's layer, maps/features/, with viewpoints framed from the data)."""
 
 from __future__ import annotations
 
@@ -13,12 +14,18 @@ MARGIN = 30.0  # metres of ground the aerial view keeps around the data
 
 
 def map_city(map_data: MapData) -> City:
-    """The city a map describes. Fills the map's gaps first (`guess_missing`), then builds the
-    buildings (`building_masses`), every feature's layer, and the 'aerial' and 'street' views."""
+    """The city a map describes: its gaps filled (`guess_missing`), then laid out (`city_from_guessed`).
+    `map_data` is left as it was read."""
     from ._guess import guess_missing
+
+    return city_from_guessed(guess_missing(map_data))
+
+
+def city_from_guessed(map_data: MapData) -> City:
+    """The buildings (`building_masses`), every feature's layer, and the 'aerial' and 'street' views
+    of a map that guessing has filled."""
     from ._masses import building_masses
 
-    guess_missing(map_data)
     masses = building_masses(map_data)
     if not masses:
         raise CityshadeError(f"{map_data.source}: no building to draw", exit_code=2)
