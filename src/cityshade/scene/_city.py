@@ -29,6 +29,20 @@ MAP_GROUND_MATERIALS = {
     "GROUND_POST": GROUND_POST,
     "GROUND_BULB": GROUND_BULB,
 }
+# each ground material's dataset class (dataset/_classes.py) and linear base colour in exports
+GROUND_TABLE = {
+    GROUND_ASPHALT: ("road", (0.05, 0.05, 0.055)),
+    GROUND_PAVEMENT: ("pavement", (0.22, 0.21, 0.2)),
+    GROUND_GRASS: ("grass", (0.09, 0.2, 0.05)),
+    GROUND_WATER: ("water", (0.03, 0.08, 0.12)),
+    GROUND_MARKING: ("lane_marking", (0.8, 0.8, 0.78)),
+    GROUND_RAIL: ("rail", (0.18, 0.16, 0.14)),
+    GROUND_BALLAST: ("rail", (0.14, 0.12, 0.1)),
+    GROUND_LAND: ("bare_ground", (0.16, 0.15, 0.12)),
+    GROUND_SAND: ("bare_ground", (0.45, 0.4, 0.3)),
+    GROUND_POST: ("lamp", (0.1, 0.1, 0.1)),
+    GROUND_BULB: ("lamp", (1.0, 0.85, 0.6)),
+}
 
 
 @dataclass
