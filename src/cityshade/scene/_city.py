@@ -16,9 +16,17 @@ from ._mass_table import MassColumns, MassTable
 GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
 GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_PAVEMENT, "GROUND_GRASS": GROUND_GRASS}
 # and those of cities from maps (shaders/city/map_ground.glsl): water, paint, tracks, land, lamps
-GROUND_WATER, GROUND_MARKING, GROUND_RAIL, GROUND_BALLAST, GROUND_LAND, GROUND_SAND, GROUND_POST, GROUND_BULB = range(
-    3, 11
-)
+(
+    GROUND_WATER,
+    GROUND_MARKING,
+    GROUND_RAIL,
+    GROUND_BALLAST,
+    GROUND_LAND,
+    GROUND_SAND,
+    GROUND_POST,
+    GROUND_BULB,
+    GROUND_PLATFORM,
+) = range(3, 12)
 MAP_GROUND_MATERIALS = {
     "GROUND_WATER": GROUND_WATER,
     "GROUND_MARKING": GROUND_MARKING,
@@ -28,6 +36,7 @@ MAP_GROUND_MATERIALS = {
     "GROUND_SAND": GROUND_SAND,
     "GROUND_POST": GROUND_POST,
     "GROUND_BULB": GROUND_BULB,
+    "GROUND_PLATFORM": GROUND_PLATFORM,
 }
 # each ground material's dataset class (dataset/_classes.py) and linear base colour in exports
 GROUND_TABLE = {
@@ -42,6 +51,7 @@ GROUND_TABLE = {
     GROUND_SAND: ("bare_ground", (0.45, 0.4, 0.3)),
     GROUND_POST: ("lamp", (0.1, 0.1, 0.1)),
     GROUND_BULB: ("lamp", (1.0, 0.85, 0.6)),
+    GROUND_PLATFORM: ("pavement", (0.42, 0.41, 0.38)),
 }
 
 

@@ -14,13 +14,24 @@ from ._feature import Built, Feature, Surface
 from .buildings import Buildings, is_building
 from .entrances import Entrances
 from .lamps import Lamps
+from .platforms import Platforms
 from .land import Land
 from .rail import Rail
 from .streets import Streets
 from .trees import Trees
 from .water import Water
 
-FEATURES: tuple[Feature, ...] = (Buildings(), Streets(), Rail(), Land(), Water(), Trees(), Lamps(), Entrances())
+FEATURES: tuple[Feature, ...] = (
+    Buildings(),
+    Streets(),
+    Rail(),
+    Platforms(),
+    Land(),
+    Water(),
+    Trees(),
+    Lamps(),
+    Entrances(),
+)
 AREA_TAGS = {key: kind for feature in FEATURES for key, kind in feature.area_tags.items()}
 
 
