@@ -150,7 +150,10 @@ def _view_of(camera, index=0) -> View:
 @pytest.fixture(scope="module")
 def interior_sampler():
     city = make_city("interior")
-    city.trees = np.zeros(0, dtype=__import__("cityshade.trees", fromlist=["TREE_DTYPE"]).TREE_DTYPE)
+    from cityshade.scene import Layer
+    from cityshade.trees import TREE_DTYPE
+
+    city.layers = (Layer("trees", trees=np.zeros(0, TREE_DTYPE)),)
     source = Source("interior", city, Streets(np.zeros((0, 2, 2)), np.zeros(0)), [None] * len(city.masses))
     sampler = SampleRenderer(source, parse_config({"image": {"width": SIZE[0], "height": SIZE[1]}}))
     yield sampler

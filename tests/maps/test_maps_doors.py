@@ -25,7 +25,7 @@ DOOR_LABEL = assets.LABELS.index("door")
 
 def _map(path: Path = ENTRANCES):
     data = load_map(path)
-    guess_missing(data)
+    data = guess_missing(data)
     return data, {b.source_id: b for b in data.buildings}
 
 

@@ -39,7 +39,7 @@ def guessed(*buildings, trees=()) -> MapData:
     data = MapData(Path("test.osm"), (25.0, 60.0), "EPSG:32635", buildings=list(buildings), trees=list(trees))
     for i, b in enumerate(data.buildings):
         b.index = i
-    guess_missing(data)
+    data = guess_missing(data)
     return data
 
 
@@ -147,7 +147,7 @@ def test_every_attribute_is_tagged_or_guessed_and_tagged_values_are_kept():
 def test_tagged_and_guessed_counts_on_the_silent_map(silent_pbf):
     data = load_map(silent_pbf)
     tagged_levels = sum("levels" in b.tagged for b in data.buildings)
-    guess_missing(data)
+    data = guess_missing(data)
     count = len(data.buildings)
     assert sum("levels" in b.guessed for b in data.buildings) == count - tagged_levels
     assert sum("levels" in b.tagged for b in data.buildings) == tagged_levels
@@ -287,7 +287,7 @@ def test_info_counts_tagged_and_guessed_per_attribute(helsinki_pbf, capsys):
     counts = info["building_attributes"]
     for name in BUILDING_ATTRIBUTES:
         assert counts[name]["tagged"] + counts[name]["guessed"] == len(data.buildings), name
-    guess_missing(data)
+    data = guess_missing(data)
     assert counts["levels"]["tagged"] == sum("levels" in b.tagged for b in data.buildings)
     # Only the contradiction rules move a tagged value to the guesses.
     moved = sum(
@@ -320,7 +320,7 @@ def test_guessing_twice_changes_nothing():
     assert gabled.height - gabled.roof_height >= 6 * 2.5 and "roof_height" in gabled.guessed
     before = [[getattr(b, n) for n in NUMERIC + BUILDING_ATTRIBUTES] for b in data.buildings]
     repairs = dict(data.report.repaired)
-    guess_missing(data)
+    data = guess_missing(data)
     assert [[getattr(b, n) for n in NUMERIC + BUILDING_ATTRIBUTES] for b in data.buildings] == before
     assert dict(data.report.repaired) == repairs
 
@@ -342,3 +342,16 @@ def test_a_tiny_shed_gets_no_interior_and_a_house_keeps_its_rooms():
     shed, house = building_masses(data)
     assert shed.flags & FLAGS["FLAG_NO_INTERIOR"] and not shed.interior
     assert not house.flags & FLAGS["FLAG_NO_INTERIOR"] and house.interior
+
+
+def test_map_city_leaves_the_map_as_read():
+    """Guessing fills a copy: the map read stays as it was, so it can be laid out again or compared."""
+    import copy
+
+    from cityshade.maps import load_map, map_city
+
+    data = load_map(Path(__file__).parent / "data" / "maps" / "entrances.osm")
+    as_read = copy.deepcopy(data)
+    city = map_city(data)
+    assert len(city.masses) and data == as_read
+    assert all(building.height is None or "height" in building.tagged for building in data.buildings)

@@ -10,18 +10,11 @@ import pytest
 import shapely
 
 from cityshade.maps import Area, MapBuilding, MapData, MapTree, Road, to_scene
-from cityshade.maps._ground import (
-    BASE_DEPTH,
-    GROUND_LAND,
-    LAND_CELL,
-    GROUND_ASPHALT,
-    GROUND_GRASS,
-    GROUND_PAVEMENT,
-    GROUND_WATER,
-    ground_mesh,
-)
-from cityshade.maps._streets import street_surfaces
-from cityshade.maps._trees import MAX_FOREST_TREES, map_trees, model_size
+from cityshade.maps.features import city_layers
+from cityshade.maps.features.land import BASE_DEPTH, LAND_CELL
+from cityshade.maps.features.streets import street_surfaces
+from cityshade.maps.features.trees import MAX_FOREST_TREES, map_trees, model_size
+from cityshade.scene import GROUND_ASPHALT, GROUND_GRASS, GROUND_LAND, GROUND_PAVEMENT, GROUND_WATER
 
 HELSINKI = (24.9384, 60.1699)
 
@@ -32,6 +25,11 @@ def make_map(**records) -> MapData:
 
 def road(x0, y0, x1, y1, kind="residential", width=8.0, **kwargs) -> Road:
     return Road(f"way/{x0}{y0}{x1}{y1}{kind}", shapely.LineString([(x0, y0), (x1, y1)]), kind, width, **kwargs)
+
+
+def ground_mesh(map_data: MapData) -> np.ndarray:
+    """The ground triangles of every feature's layer, as the city draws them."""
+    return np.concatenate([layer.ground for layer in city_layers(map_data)])
 
 
 def faces(mesh: np.ndarray, material: int, y: float | None = 0.0) -> list[shapely.Polygon]:
@@ -145,17 +143,17 @@ def test_forest_is_filled_deterministically_and_capped():
 
 def test_railways_two_rails_a_gauge_apart_ballast_for_trains_none_in_tunnels():
     from cityshade.maps import Railway
-    from cityshade.maps._streets import RAIL_WIDTH
+    from cityshade.maps.features.rail import RAIL_WIDTH, tracks
 
     train = Railway("way/1", shapely.LineString([(0, 0), (100, 0)]), "rail", gauge=1.524)
     tram = Railway("way/2", shapely.LineString([(0, 30), (100, 30)]), "tram", gauge=1.0)
     metro = Railway("way/3", shapely.LineString([(0, 60), (100, 60)]), "subway", tunnel=True)
-    surfaces = street_surfaces(make_map(railways=[train, tram, metro]))
-    across = surfaces.rails.intersection(shapely.LineString([(50, -5), (50, 65)]))
+    ballast, rails = tracks([train, tram, metro])
+    across = rails.intersection(shapely.LineString([(50, -5), (50, 65)]))
     ys = sorted(p.centroid.y for p in shapely.get_parts(across))
     assert ys == pytest.approx([-0.762, 0.762, 29.5, 30.5], abs=1e-6)
     assert all(p.length == pytest.approx(RAIL_WIDTH) for p in shapely.get_parts(across))
-    assert surfaces.ballast.contains(shapely.Point(50, 0)) and not surfaces.ballast.intersects(shapely.Point(50, 30))
+    assert ballast.contains(shapely.Point(50, 0)) and not ballast.intersects(shapely.Point(50, 30))
 
 
 def test_the_shaders_get_the_ground_materials_from_python():
@@ -163,5 +161,5 @@ def test_the_shaders_get_the_ground_materials_from_python():
     from cityshade.scene import MAP_GROUND_MATERIALS
     from cityshade.shader_constants import CONSTANTS
 
-    assert len(MAP_GROUND_MATERIALS) == 8 and all(CONSTANTS[k] == v for k, v in MAP_GROUND_MATERIALS.items())
-    assert sorted({GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, *MAP_GROUND_MATERIALS.values()}) == list(range(11))
+    assert len(MAP_GROUND_MATERIALS) == 9 and all(CONSTANTS[k] == v for k, v in MAP_GROUND_MATERIALS.items())
+    assert sorted({GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, *MAP_GROUND_MATERIALS.values()}) == list(range(12))

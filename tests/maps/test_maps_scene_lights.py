@@ -70,7 +70,7 @@ def test_gpu_lamp_lists_match_the_twin_pixel_by_pixel(gl_context, square_city):
         renderer.release()
     rays = camera.pixel_rays(size)
     ground = camera.eye + rays * (-camera.eye[1] / rays[..., 1:2])  # the y = 0 surface under each pixel
-    lamps = square_city.lamps
+    lamps = square_city.lights
     grid = light_grid(lamps)
     near_post = np.min(np.hypot(ground[..., 0, None] - lamps[:, 0], ground[..., 2, None] - lamps[:, 2]), axis=-1) < 0.6
     offset = (ground[..., [0, 2]] - np.array(grid.origin)) / CELL
@@ -123,7 +123,7 @@ def test_building_lod_leaves_the_lamps_on_near_facades_as_they_are():
 
 def test_lit_roads_get_lamps_on_the_kerb_except_near_mapped_ones():
     from cityshade.maps import Road
-    from cityshade.maps._lamps import KERB_OFFSET, LIT_ROAD_SPACING, MAPPED_NEARBY, lit_road_lamps
+    from cityshade.maps.features.lamps import KERB_OFFSET, LIT_ROAD_SPACING, MAPPED_NEARBY, lit_road_lamps
 
     lit = Road("way/1", shapely.LineString([(0, 0), (350, 0)]), "residential", 8.0, lit=True)
     dark = Road("way/2", shapely.LineString([(0, 50), (350, 50)]), "residential", 8.0)

@@ -81,7 +81,7 @@ def _odd_masses() -> list[BuildingMass]:
 
 def _map_masses(name: str) -> list[BuildingMass]:
     data = load_map(MAPS / name)
-    guess_missing(data)
+    data = guess_missing(data)
     return building_masses(data)
 
 

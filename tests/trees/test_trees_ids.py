@@ -103,12 +103,12 @@ def test_a_city_of_trees_alone_renders(gl_context, culling, building_lod, output
     """A park without buildings (a city of trees and ground only): the frame and the id AOV are
     drawn, the tree shows where the AOV has its faces, and no pixel is a building's; with building
     LOD too (no grammar building to evaluate)."""
-    from cityshade.scene import GROUND_GRASS, City
+    from cityshade.scene import GROUND_GRASS, City, Layer
     from cityshade.trees import tree_instances
 
     trees = tree_instances([(0.0, 0.0, 0.0)], "oak", np.random.default_rng(0))
     lawn = (-100.0, -100.0, 100.0, 100.0)
-    city = City("park", 0, [], [(*lawn, GROUND_GRASS)], lawn, trees=trees)
+    city = City("park", 0, [], [(*lawn, GROUND_GRASS)], lawn, layers=(Layer("trees", trees=trees),))
     renderer = Renderer(
         (160, 90), RenderSettings(samples=0, culling=culling, building_lod=building_lod), ctx=gl_context
     )

@@ -26,7 +26,7 @@ from ..grammar import BUILDING_STYLES, compile_grammars, library_path, load, loa
 from ..interior import windows_straddling_rooms
 from ..maps import load_map, map_city
 from ..render import Renderer, RenderSettings, styles_with_relief
-from ..scene import Camera, City, box, make_city
+from ..scene import Camera, City, Layer, box, make_city
 from ..trees import TREE_DTYPE
 from ._harness import BenchResult, Timing, method_record, time_interleaved, timing_record
 from .osm import HELSINKI
@@ -102,7 +102,9 @@ def fig11_city(count: int) -> tuple[City, int]:
     """The grid city of city_masses as a City without trees; and its side in lots."""
     masses, side = city_masses(count)
     extent = side * PITCH
-    return City("fig. 11", 0, masses, [], (0.0, 0.0, extent, extent), trees=np.zeros(0, TREE_DTYPE)), side
+    return City(
+        "fig. 11", 0, masses, [], (0.0, 0.0, extent, extent), layers=(Layer("trees", trees=np.zeros(0, TREE_DTYPE)),)
+    ), side
 
 
 def fig11_settings(path: str, grammar: str) -> RenderSettings:

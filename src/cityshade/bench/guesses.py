@@ -62,11 +62,11 @@ def evaluate(map_data, folds: int = FOLDS, seed: int = SEED) -> dict:
         guessed = copy.deepcopy(map_data)
         for i in held:
             _hide(guessed.buildings[i])
-        guess_missing(guessed)
+        guessed = guess_missing(guessed)
         silent = copy.deepcopy(map_data)  # nothing tagged anywhere: the regional defaults alone
         for b in silent.buildings:
             _hide(b)
-        guess_missing(silent)
+        silent = guess_missing(silent)
         train_levels = [v for i, v in levels.items() if i not in held]
         train_heights = [v for i, v in heights.items() if i not in held]
         train_roofs = [v for i, v in roofs.items() if i not in held]
@@ -124,7 +124,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
     scores = evaluate(helsinki)
     many = tiled(helsinki, 20_000 if quick else 100_000)
     start, cpu = time.perf_counter(), time.process_time()
-    guess_missing(many)
+    many = guess_missing(many)
     seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     counts = scores.pop("counts")
     result = BenchResult("guesses", "cpu")

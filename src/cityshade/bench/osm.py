@@ -144,7 +144,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
             ["buildings", len(city.masses)],
             ["ground vertices", len(city.ground_mesh)],
             ["trees", len(city.trees)],
-            ["street lamps", len(city.lamps)],
+            ["street lamps", len(city.lights)],
             ["load + guess + meshes (s)", round(helsinki_seconds, 3)],
         ],
     )

@@ -1,9 +1,11 @@
 """`cityshade info FILE [--json]`: what a map holds, what the guessing model filled in, what was repaired.
 
-Buildings and parts, roof shapes, per attribute how many buildings had it tagged and how many got
-it guessed (`guess_missing` runs first, as it does before rendering), road and railway lengths by
-class, water and green areas (each kind's union, so overlapping polygons count once), trees,
-street lamps, doors (at mapped entrances or guessed) and shop fronts, and every repaired, skipped or fallen-back feature with its reason and one example.
+What each map feature says of itself (maps/features/, in their order; `guess_missing` runs first, as
+it does before rendering): buildings and parts, roof shapes, per attribute how many buildings had it
+tagged and how many got it guessed, road and railway lengths by class, green and water areas (each
+kind's union, so overlapping polygons count once), trees, street lamps, doors (at mapped entrances
+or guessed) and shop fronts; and every repaired, skipped or fallen-back feature with its reason and
+one example.
 """
 
 from __future__ import annotations
@@ -15,28 +17,9 @@ import sys
 from collections import Counter
 from pathlib import Path
 
-import shapely
-
-from ..maps import on_ground
 from ..maps import guess_missing
 from ..maps import load_map
-from ..maps import BUILDING_ATTRIBUTES, TREE_ATTRIBUTES, MapData
-
-GREEN = ("grass", "park", "meadow", "forest", "farmland")
-
-
-def _lengths_km(lines) -> dict[str, float]:
-    totals: Counter = Counter()
-    for line in lines:
-        totals[line.kind] += line.line.length / 1000.0
-    return {kind: round(km, 3) for kind, km in totals.most_common()}
-
-
-def _origin_counts(records, attributes) -> dict[str, dict[str, int]]:
-    return {
-        name: {"tagged": sum(name in r.tagged for r in records), "guessed": sum(name in r.guessed for r in records)}
-        for name in attributes
-    }
+from ..maps import FEATURES, MapData
 
 
 def _report(counter: Counter, examples: dict) -> list[dict]:
@@ -46,50 +29,13 @@ def _report(counter: Counter, examples: dict) -> list[dict]:
     ]
 
 
-def _doors(data: MapData) -> dict[str, int]:
-    """Door points of the drawn buildings whose walls reach the ground: at mapped entrances, or guessed
-    on the street side; and how many drawn buildings have shop fronts."""
-    drawn = [b for b in data.buildings if b.drawn]
-    grounded = [b for b in drawn if on_ground(b)]
-    return {
-        "entrances": len(data.entrances),
-        "from_entrances": sum(len(b.doors) for b in grounded if "doors" in b.tagged),
-        "guessed": sum(len(b.doors) for b in grounded if "doors" in b.guessed),
-        "buildings_with_shop_fronts": sum(b.shop_front for b in drawn),
-    }
-
-
 def summary(data: MapData) -> dict:
     """The numbers `info` prints, as a JSON-ready dict (guessing must already have run)."""
-    outlines = [b for b in data.buildings if not b.is_part]
-    parts = [b for b in data.buildings if b.is_part]
-    areas = {
-        kind: shapely.union_all([a.polygon for a in data.areas if a.kind == kind]).area
-        for kind in sorted({a.kind for a in data.areas})
-    }
+    info = {"file": str(data.source), "crs": data.crs, "origin_lon_lat": list(data.origin)}
+    for feature in FEATURES:
+        info.update(feature.summary(data))
     return {
-        "file": str(data.source),
-        "crs": data.crs,
-        "origin_lon_lat": list(data.origin),
-        "buildings": len(outlines),
-        "parts": len(parts),
-        "outlines_replaced_by_parts": sum(b.replaced_by_parts for b in outlines),
-        "outlines_cut_by_parts": sum(b.remainder is not None for b in outlines),
-        "roofs_without_walls": sum(not b.has_walls for b in data.buildings),
-        "roof_shapes": dict(Counter(b.roof_shape or "none" for b in data.buildings).most_common()),
-        "roof_shapes_tagged": dict(
-            Counter(b.roof_shape for b in data.buildings if "roof_shape" in b.tagged).most_common()
-        ),
-        "building_attributes": _origin_counts(data.buildings, BUILDING_ATTRIBUTES),
-        "roads_km": _lengths_km(data.roads),
-        "railways_km": _lengths_km(data.railways),
-        "area_m2": {kind: round(area, 1) for kind, area in areas.items()},
-        "water_m2": round(areas.get("water", 0.0), 1),
-        "green_m2": round(sum(areas.get(kind, 0.0) for kind in GREEN), 1),
-        "trees": len(data.trees),
-        "tree_attributes": _origin_counts(data.trees, TREE_ATTRIBUTES),
-        "street_lamps": len(data.lamps),
-        "doors": _doors(data),
+        **info,
         "repaired": _report(data.report.repaired, data.report.examples),
         "skipped": _report(data.report.skipped, data.report.examples),
         "fallbacks": _report(data.report.fallbacks, data.report.examples),
@@ -131,8 +77,7 @@ def _text(info: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    data = load_map(args.file)
-    guess_missing(data)
+    data = guess_missing(load_map(args.file))
     info = summary(data)
     try:
         print(json.dumps(info, indent=2, ensure_ascii=False) if args.json else _text(info), file=sys.stdout)

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..assets import LABELS
 from ..interior import FACE_NAMES
+from ..scene import GROUND_TABLE
 
 CLASSES = (
     "sky",
@@ -55,20 +56,8 @@ CLASS_COLOURS = np.array(
     np.uint8,
 )
 
-# ground materials (scene GROUND_* 0..2, maps' 3..10) -> class
-GROUND_CLASSES = (
-    "road",
-    "pavement",
-    "grass",
-    "water",
-    "lane_marking",
-    "rail",
-    "rail",
-    "bare_ground",
-    "bare_ground",
-    "lamp",
-    "lamp",
-)
+# ground materials (scene.GROUND_TABLE, by id) -> class
+GROUND_CLASSES = tuple(GROUND_TABLE[material][0] for material in range(len(GROUND_TABLE)))
 # facade grammar labels -> class ('room' is what shows through a window's glass, 'cornice' is relief)
 LABEL_CLASSES = {
     "wall": "wall",

@@ -35,10 +35,10 @@ def _mass_source_ids(map_data) -> list[str]:
 
 def load_source(map_path: Path | None = None, city: str | None = None) -> Source:
     if map_path is not None:
-        from ..maps import load_map, map_city
+        from ..maps import city_from_guessed, guess_missing, load_map
 
-        map_data = load_map(map_path)
-        layout = map_city(map_data)  # guesses what the map leaves out, then lays out the masses
+        map_data = guess_missing(load_map(map_path))  # what the map leaves out
+        layout = city_from_guessed(map_data)
         instances = _mass_source_ids(map_data)
         if len(instances) != len(layout.masses):
             raise RuntimeError(f"{map_path}: {len(instances)} source ids for {len(layout.masses)} building masses")

@@ -12,6 +12,7 @@ from ..grammar import BUILDING_STYLES
 from ..interior import pcg_hash
 from ..render import assign_facades, bay_mean
 from ..scene import (
+    GROUND_TABLE,
     SURFACE_DORMER,
     SURFACE_PLAIN_WALL,
     SURFACE_ROOF,
@@ -34,20 +35,7 @@ from ._bake import (
 from ._gltf import Document
 
 GROUND_Y = (0.0, 0.02, 0.04)  # the built-in city's asphalt plane, pavements and grass, stacked
-# linear base colours of the ground materials (ids of shaders/city/ground.glsl and map_ground.glsl)
-GROUND_COLOURS = {
-    0: (0.05, 0.05, 0.055),
-    1: (0.22, 0.21, 0.2),
-    2: (0.09, 0.2, 0.05),
-    3: (0.03, 0.08, 0.12),
-    4: (0.8, 0.8, 0.78),
-    5: (0.18, 0.16, 0.14),
-    6: (0.14, 0.12, 0.1),
-    7: (0.16, 0.15, 0.12),
-    8: (0.45, 0.4, 0.3),
-    9: (0.1, 0.1, 0.1),
-    10: (1.0, 0.85, 0.6),
-}
+GROUND_COLOURS = {material: colour for material, (_, colour) in GROUND_TABLE.items()}  # linear, by material id
 BARK_COLOUR = (0.12, 0.08, 0.05, 1.0)
 LEAF_COLOUR = (0.08, 0.18, 0.04, 1.0)
 

@@ -71,11 +71,11 @@ def _layout_metadata(city: City, index: int, mass) -> dict:
 
 
 def map_export_city(path: Path) -> ExportCity:
-    from ..maps import load_map, map_city
+    from ..maps import city_from_guessed, guess_missing, load_map
 
-    map_data = load_map(path)
-    city = map_city(map_data)
-    city.ground_mesh = clip_ground(city.ground_mesh, city.bounds)
+    map_data = guess_missing(load_map(path))
+    city = city_from_guessed(map_data)
+    city = city.with_layers(lambda layer: replace(layer, ground=clip_ground(layer.ground, city.bounds)))
     # map masses carry their building's index as their seed (maps.building_masses)
     metadata = [_map_metadata(map_data.buildings[mass.seed], map_data.buildings) for mass in city.masses]
     return ExportCity(city, metadata, city.origin, city.crs)
@@ -151,15 +151,16 @@ def crop(export: ExportCity, region, region_text: str) -> ExportCity:
             f"--region {region_text}: no building of {city.name} lies in it; "
             f"the data's buildings lie around lon,lat {export.origin[0]:.5f},{export.origin[1]:.5f}"
         )
-    ground = clip_ground(city.ground_mesh, box)
-    trees = city.trees
-    if trees is not None and len(trees):
-        trees = trees[_inside(trees["position"][:, [0, 2]].astype(np.float64), box)]
+
+    def crop_layer(layer):
+        trees = layer.trees
+        if trees is not None and len(trees):
+            trees = trees[_inside(trees["position"][:, [0, 2]].astype(np.float64), box)]
+        return replace(layer, ground=clip_ground(layer.ground, box), trees=trees)
+
     cropped = replace(
-        city,
+        city.with_layers(crop_layer),
         masses=[city.masses[i] for i in keep],
-        ground_mesh=ground,
-        trees=trees,
         bounds=box,
         ground=[],
         parks=[],

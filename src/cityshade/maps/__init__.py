@@ -22,11 +22,13 @@ from ._tiling import measure_load, tiled_extract
 from ._masses import building_masses, facade_style
 from ._cameras import aerial_camera, spot_camera, street_camera, street_segment
 from ._open import city_from_map
-from ._scene import map_city
-from ._streets import MAIN_ROADS, ROAD_LINKS
+from .features import FEATURES
+from ._scene import city_from_guessed, map_city
+from .features.streets import MAIN_ROADS, ROAD_LINKS
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
 
 __all__ = [
+    "FEATURES",
     "on_ground",
     "MAIN_ROADS",
     "ROAD_LINKS",
@@ -55,6 +57,7 @@ __all__ = [
     "street_segment",
     "city_from_map",
     "map_city",
+    "city_from_guessed",
     "sky_settings",
     "sky_clock",
     "sun_and_moon",

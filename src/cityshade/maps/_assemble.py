@@ -14,15 +14,13 @@ Every reader produces the same raw features, so every format shares one set of r
   no wall of the outline stands where a part's wall does; pieces thinner than SLIVER_WIDTH or under
   SLIVER_AREA are dropped (counted). An outline with neither is `replaced_by_parts`.
   `building=roof` (or `building:part=roof`) has no walls.
-- roads: `highway=*` lines; width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class.
-- areas: see AREA_TAGS; the coastline (land on its left) splits the data's bounds into land and
+- everything else is read by the map features (maps/features/, one module each, with the tags they
+  read and their defaults): roads, railways, trees, lamps, entrances and shops; polygons by the area
+  tags of the features (features.AREA_TAGS).
+- areas: the coastline (land on its left) splits the data's bounds into land and
   sea, and the sea faces become water areas. A coastline the extract cuts off inside the bounds is
   carried on straight from its last segment to the edge; where pieces still leave a face unclosed,
   the side of the nearest coastline decides the whole face.
-- trees: `natural=tree` points, and `natural=tree_row` lines planted every TREE_ROW_SPACING metres.
-- lamps: `highway=street_lamp` points (height from `height`, else 6 m).
-- entrances: `entrance=*` points within ENTRANCE_SNAP of a building's wall become its doors (the
-  main entrance first); shops mapped as points (`shop=*`) give the building they stand in shop fronts.
 """
 
 from __future__ import annotations
@@ -34,9 +32,10 @@ import numpy as np
 import pyproj
 import shapely
 
-from ._model import BUILDING_ATTRIBUTES, Area, Entrance, Lamp, MapBuilding, MapData, MapTree, Railway, ReadReport, Road
+from ._model import Area, MapBuilding, MapData, ReadReport
 from ._projection import LOCAL, LocalMetres, Projection, in_range
-from ._tags import building_attributes, length, number
+from .features import FEATURES, area_kind, is_building
+from .features.buildings import add_buildings
 
 MIN_AREA = 0.5  # square metres
 MAX_VERTICES = 4096
@@ -44,71 +43,6 @@ SIMPLIFY_TOLERANCE = 0.1  # metres
 PARTS_COVER = 0.9
 SLIVER_WIDTH = 1.0  # metres: a remainder of an outline beside its parts thinner than this is a sliver
 SLIVER_AREA = 4.0  # square metres: a smaller piece of that remainder is one too
-LANE_WIDTH = 3.0
-TREE_ROW_SPACING = 8.0
-LAMP_HEIGHT = 6.0
-ENTRANCE_SNAP = 0.5  # metres: an entrance this near a building's wall stands on it
-# Entrances in the order they get one of a building's few doors (cityshade.scene.MAX_DOORS); others after.
-ENTRANCE_ORDER = ("main", "yes", "staircase", "shop", "secondary", "home", "side", "service", "garage")
-# Carriageway width in metres by highway class when neither `width` nor `lanes` is tagged.
-ROAD_WIDTHS = {
-    "motorway": 14.0,
-    "trunk": 12.0,
-    "primary": 10.0,
-    "secondary": 9.0,
-    "tertiary": 8.0,
-    "unclassified": 6.0,
-    "residential": 6.5,
-    "service": 4.0,
-    "living_street": 5.0,
-    "pedestrian": 6.0,
-    "motorway_link": 5.0,
-    "trunk_link": 5.0,
-    "primary_link": 5.0,
-    "secondary_link": 5.0,
-    "tertiary_link": 5.0,
-    "track": 3.0,
-    "busway": 3.5,
-    "footway": 2.0,
-    "cycleway": 2.0,
-    "path": 1.5,
-    "steps": 2.0,
-    "bridleway": 2.0,
-    "corridor": 2.0,
-}
-DEFAULT_ROAD_WIDTH = 5.0
-NOT_ROADS = {"proposed", "construction", "abandoned", "razed", "disused", "platform", "elevator", "no"}
-RAILWAYS = {"rail", "tram", "light_rail", "subway", "narrow_gauge", "monorail", "funicular", "preserved"}
-# (key, value) -> area kind; the first matching key of a feature decides.
-AREA_TAGS = {
-    ("natural", "water"): "water",
-    ("waterway", "riverbank"): "water",
-    ("landuse", "reservoir"): "water",
-    ("landuse", "basin"): "water",
-    ("leisure", "swimming_pool"): "water",
-    ("leisure", "park"): "park",
-    ("leisure", "garden"): "park",
-    ("leisure", "playground"): "park",
-    ("landuse", "grass"): "grass",
-    ("landuse", "village_green"): "grass",
-    ("landuse", "recreation_ground"): "grass",
-    ("leisure", "pitch"): "grass",
-    ("landuse", "cemetery"): "grass",
-    ("natural", "grassland"): "meadow",
-    ("landuse", "meadow"): "meadow",
-    ("natural", "heath"): "meadow",
-    ("natural", "scrub"): "meadow",
-    ("landuse", "forest"): "forest",
-    ("natural", "wood"): "forest",
-    ("landuse", "farmland"): "farmland",
-    ("landuse", "orchard"): "farmland",
-    ("landuse", "allotments"): "farmland",
-    ("natural", "beach"): "sand",
-    ("natural", "sand"): "sand",
-    ("place", "square"): "pavement",
-    ("amenity", "parking"): "pavement",
-    ("highway", "pedestrian"): "pavement",
-}
 
 
 @dataclass
@@ -120,31 +54,6 @@ class Raw:
     tags: dict[str, str]
     fixed: dict = field(default_factory=dict)  # attributes a reader measured from geometry (CityJSON heights)
     parent: str | None = None  # a part's outline when the format names it (CityJSON); else found by position
-
-
-def is_building(tags: dict[str, str]) -> bool:
-    return tags.get("building", "no") != "no" or tags.get("building:part", "no") != "no"
-
-
-def point_kind(tags: dict[str, str]) -> str | None:
-    """What a tagged node is to the map (tree, street lamp, entrance, shop); None: not wanted."""
-    if tags.get("natural") == "tree":
-        return "natural"
-    if tags.get("highway") == "street_lamp":
-        return "highway"
-    if tags.get("entrance", "no") != "no":
-        return "entrance"
-    return "shop" if "shop" in tags else None
-
-
-def area_kind(tags: dict[str, str]) -> str | None:
-    if tags.get("highway") and tags.get("area") != "yes":
-        return None
-    for key, value in tags.items():
-        kind = AREA_TAGS.get((key, value))
-        if kind is not None:
-            return kind
-    return None
 
 
 def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -> MapData:
@@ -171,7 +80,7 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
             }
     raws = _finite(raws, report, geographic=False)  # points the projection cannot reach from the centre
     data = MapData(path, projection.origin, projection.crs, report=report)
-    coast, named_parents, shops = [], [], []
+    coast, named_parents = [], []
     for raw in raws:
         kind = shapely.get_type_id(raw.geometry)
         if kind in (3, 6):  # Polygon, MultiPolygon
@@ -187,9 +96,11 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
             else:
                 _add_line(data, raw)
         elif kind == 0:
-            _add_point(data, raw, shops)
+            for feature in FEATURES:
+                feature.read_point(raw.source_id, (raw.geometry.x, raw.geometry.y), raw.tags, data)
     _link_parts(data.buildings, named_parents, report)
-    _link_entrances(data, shops)
+    for feature in FEATURES:
+        feature.link(data)
     if coast:
         _add_sea(data, coast)
     return data
@@ -261,28 +172,7 @@ def _polygons(raw: Raw, report: ReadReport) -> list[shapely.Polygon]:
 
 
 def _add_buildings(data: MapData, raw: Raw) -> list[MapBuilding]:
-    tags = raw.tags
-    is_part = tags.get("building", "no") == "no"
-    kind = tags.get("building:part" if is_part else "building", "yes")
-    records = []
-    for outline in _polygons(raw, data.report):
-        building = MapBuilding(
-            index=len(data.buildings),
-            source_id=raw.source_id,
-            outline=outline,
-            kind=kind,
-            is_part=is_part,
-            has_walls=kind != "roof",
-            tags=tags,
-        )
-        building_attributes(building, tags, data.report)
-        for name, value in raw.fixed.items():
-            setattr(building, name, value)
-            if name in BUILDING_ATTRIBUTES:
-                building.tagged.add(name)
-        data.buildings.append(building)
-        records.append(building)
-    return records
+    return add_buildings(data, raw.source_id, _polygons(raw, data.report), raw.tags, raw.fixed)
 
 
 def _add_area(data: MapData, raw: Raw) -> None:
@@ -298,149 +188,9 @@ def _add_area(data: MapData, raw: Raw) -> None:
 def _add_line(data: MapData, raw: Raw) -> None:
     tags = raw.tags
     lines = [line for line in shapely.get_parts(raw.geometry) if line.length > 0.0]
-    highway, railway = tags.get("highway"), tags.get("railway")
-    if highway and highway not in NOT_ROADS and tags.get("area") != "yes":
-        for line in lines:
-            data.roads.append(_road(raw.source_id, line, tags, data.report))
-    elif railway in RAILWAYS:
-        gauge = number(tags.get("gauge", "").split(";")[0])  # millimetres
-        tagged_gauge = {"gauge": gauge / 1000.0} if gauge and 300.0 <= gauge <= 3000.0 else {}
-        for line in lines:
-            data.railways.append(
-                Railway(
-                    raw.source_id,
-                    line,
-                    railway,
-                    layer=_layer(tags),
-                    bridge=_yes(tags, "bridge"),
-                    tunnel=_yes(tags, "tunnel"),
-                    tags=tags,
-                    **tagged_gauge,
-                )
-            )
-    elif tags.get("natural") == "tree_row":
-        for line in lines:
-            count = max(2, int(round(line.length / TREE_ROW_SPACING)) + 1)
-            for i, point in enumerate(
-                shapely.line_interpolate_point(line, np.linspace(0.0, 1.0, count), normalized=True)
-            ):
-                tree = _tree(f"{raw.source_id}#{i}", (point.x, point.y), tags, data.report)
-                data.trees.append(tree)
-    elif not (highway or railway):
+    taken = any(feature.read_line(raw.source_id, lines, tags, data) for feature in FEATURES)
+    if not (taken or tags.get("highway") or tags.get("railway")):
         data.report.skip("feature", "a line that is no road, railway or tree row", raw.source_id)
-
-
-def _yes(tags: dict[str, str], key: str) -> bool:
-    return tags.get(key, "no") not in ("no", "false", "0")
-
-
-def _layer(tags: dict[str, str]) -> int:
-    try:
-        return max(-5, min(5, int(tags.get("layer", "0"))))
-    except ValueError:
-        return 0
-
-
-def _road(source_id: str, line, tags: dict[str, str], report: ReadReport) -> Road:
-    kind = tags["highway"]
-    lanes = number(tags.get("lanes", "").split(";")[0])
-    lanes = int(lanes) if lanes and 1 <= lanes <= 20 else None
-    width = length(tags["width"]) if "width" in tags else None
-    if "width" in tags and (width is None or not 0.5 <= width <= 100.0):
-        report.fallback("width", "not a width of 0.5..100 m", f"{source_id} width={tags['width'][:40]}")
-        width = None
-    if width is None:
-        width = lanes * LANE_WIDTH if lanes else ROAD_WIDTHS.get(kind, DEFAULT_ROAD_WIDTH)
-    return Road(
-        source_id,
-        line,
-        kind,
-        float(width),
-        lanes=lanes,
-        layer=_layer(tags),
-        bridge=_yes(tags, "bridge"),
-        tunnel=_yes(tags, "tunnel"),
-        lit=_yes(tags, "lit"),
-        oneway=tags.get("oneway", "no") in ("yes", "1", "true", "-1") or kind == "motorway",
-        sidewalk=tags.get("sidewalk"),
-        tags=tags,
-    )
-
-
-def _tree(source_id: str, position, tags: dict[str, str], report: ReadReport) -> MapTree:
-    tree = MapTree(source_id, (float(position[0]), float(position[1])))
-    for name, key, high in (("height", "height", 150.0), ("crown_diameter", "diameter_crown", 60.0)):
-        if key not in tags:
-            continue
-        value = length(tags[key])
-        if value is None or not 0.0 < value <= high:
-            report.fallback(key, f"not a length of 0..{high:g} m", f"{source_id} {key}={tags[key][:40]}")
-            continue
-        setattr(tree, name, value)
-        tree.tagged.add(name)
-    leaf = tags.get("leaf_type")
-    if leaf in ("broadleaved", "needleleaved"):
-        tree.leaf_type = leaf
-        tree.tagged.add("leaf_type")
-    elif leaf is not None:
-        report.fallback("leaf_type", "unknown value", f"{source_id} leaf_type={leaf[:40]}")
-    species = tags.get("species") or tags.get("taxon")
-    genus = tags.get("genus") or (species.split()[0] if species else None)
-    if genus:
-        tree.genus = genus.strip().capitalize()
-        tree.tagged.add("genus")
-    tree.species = species
-    return tree
-
-
-def _add_point(data: MapData, raw: Raw, shops: list) -> None:
-    point = (raw.geometry.x, raw.geometry.y)
-    tags = raw.tags
-    if tags.get("natural") == "tree":
-        data.trees.append(_tree(raw.source_id, point, tags, data.report))
-    elif tags.get("highway") == "street_lamp":
-        height = length(tags.get("height", ""))
-        data.lamps.append(
-            Lamp(
-                raw.source_id,
-                (float(point[0]), float(point[1])),
-                height=height if height and 1.0 <= height <= 30.0 else LAMP_HEIGHT,
-            )
-        )
-    if tags.get("entrance", "no") != "no":
-        data.entrances.append(Entrance(raw.source_id, (float(point[0]), float(point[1])), tags["entrance"]))
-    if "shop" in tags:
-        shops.append(raw.geometry)
-
-
-def _link_entrances(data: MapData, shops: list) -> None:
-    """Each entrance becomes a door of the buildings (and parts) whose wall it stands on, main entrances
-    first; entrances on no wall are counted. Buildings that hold a mapped shop get shop fronts."""
-    if not data.buildings:
-        return
-    outlines = np.array([b.outline for b in data.buildings], dtype=object)
-    tree = shapely.STRtree(outlines)
-    if data.entrances:
-        points = shapely.points([e.position for e in data.entrances])
-        entrance, building = tree.query(points, predicate="dwithin", distance=ENTRANCE_SNAP)
-        on_wall = shapely.distance(points[entrance], shapely.boundary(outlines[building])) <= ENTRANCE_SNAP
-        entrance, building = entrance[on_wall], building[on_wall]
-
-        def rank(i: int) -> tuple[int, int]:
-            kind = data.entrances[i].kind
-            return (ENTRANCE_ORDER.index(kind) if kind in ENTRANCE_ORDER else len(ENTRANCE_ORDER), i)
-
-        for i, b in sorted(zip(entrance.tolist(), building.tolist()), key=lambda pair: rank(pair[0])):
-            data.buildings[b].doors.append(data.entrances[i].position)
-            data.buildings[b].tagged.add("doors")
-        for i in sorted(set(range(len(data.entrances))) - set(entrance.tolist())):
-            data.report.skip(
-                "entrance", f"not on a building's wall (within {ENTRANCE_SNAP} m)", data.entrances[i].source_id
-            )
-    if shops:
-        _, building = tree.query(np.array(shops, dtype=object), predicate="within")
-        for b in set(building.tolist()):
-            data.buildings[b].shop_front = True
 
 
 def _link_parts(buildings: list[MapBuilding], named: list[tuple[MapBuilding, str]], report: ReadReport) -> None:

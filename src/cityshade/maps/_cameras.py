@@ -9,7 +9,7 @@ import shapely
 from ..errors import UsageError
 from ..scene import Camera
 from ._model import MapData, to_scene
-from ._streets import MAIN_ROADS, ROAD_LINKS
+from .features.streets import MAIN_ROADS, ROAD_LINKS
 
 AERIAL_FOV = 50.0
 AERIAL_ASPECT = 16 / 9  # the default image size; narrower images see a little less at the sides

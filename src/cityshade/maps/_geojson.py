@@ -23,7 +23,8 @@ import shapely
 
 from .._json import check_depth
 from ..errors import UsageError
-from ._assemble import Raw, area_kind, assemble, is_building, point_kind
+from ._assemble import Raw, assemble
+from .features import area_kind, is_building, point_kind
 from ._model import MapData, ReadReport
 from ._projection import LOCAL, in_range
 

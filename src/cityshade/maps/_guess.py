@@ -1,4 +1,4 @@
-"""`guess_missing(map_data)`: fill every attribute the map left out, and flag it as guessed.
+"""`guess_missing(map_data)`: a copy of the map with every attribute it left out filled and flagged as guessed.
 
 Kept apart from the readers so it can be replaced: it only reads the records' tagged values and
 outlines. Order: settle contradictory tags (`_defaults.resolve_contradictions`), estimate levels,
@@ -8,6 +8,7 @@ the regional defaults where the map tags nothing), then derive the rest from the
 
 from __future__ import annotations
 
+import copy
 import math
 import zlib
 
@@ -39,13 +40,15 @@ TREE_DEFAULTS = {  # leaf type -> (genus, height m, crown diameter / height)
 }
 
 
-def guess_missing(map_data: MapData) -> None:
-    """Fills every attribute of every building and tree that is still None, adding its name to `guessed`,
-    and gives buildings without a mapped entrance a door on the street side (`place_doors`).
+def guess_missing(read: MapData) -> MapData:
+    """A copy of the map with every attribute of every building and tree that was None filled (its name
+    added to `guessed`), and a door on the street side of buildings without a mapped entrance
+    (`place_doors`); `read` stays as it was read.
 
-    Contradictory tags are settled first by the documented rules and counted in `map_data.report`.
+    Contradictory tags are settled first by the documented rules and counted in the copy's report.
     Deterministic: the same map gives the same guesses.
     """
+    map_data = copy.deepcopy(read)  # shares nothing with `read`: a part's outline stays tied to its copy
     for building in map_data.buildings:
         resolve_contradictions(building, map_data.report)
     if map_data.buildings:
@@ -55,6 +58,7 @@ def guess_missing(map_data: MapData) -> None:
             _fill_building(building, estimates, shape, i, map_data.report)
     place_doors(map_data)
     _guess_trees(map_data.trees)
+    return map_data
 
 
 class OutlineShape:

@@ -19,22 +19,10 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+from ..scene import ROOF_SHAPE_TABLE
+
 # Roof shapes of the Simple 3D Buildings scheme that cityshade builds (OpenStreetMap `roof:shape` values).
-ROOF_SHAPES = (
-    "flat",
-    "gabled",
-    "hipped",
-    "half-hipped",
-    "pyramidal",
-    "skillion",
-    "gambrel",
-    "mansard",
-    "dome",
-    "onion",
-    "round",
-    "cone",
-    "saltbox",
-)
+ROOF_SHAPES = tuple(ROOF_SHAPE_TABLE)
 
 # The attributes whose origin (tagged or guessed) a building record keeps.
 BUILDING_ATTRIBUTES = (
@@ -237,6 +225,7 @@ class MapData:
     trees: list[MapTree] = field(default_factory=list)
     lamps: list[Lamp] = field(default_factory=list)
     entrances: list[Entrance] = field(default_factory=list)
+    shops: list[tuple[float, float]] = field(default_factory=list)  # shops mapped as points (map metres)
     report: ReadReport = field(default_factory=ReadReport)
 
     @property

@@ -23,7 +23,8 @@ import shapely
 
 from .._files import InputError, open_input_stream
 from ..errors import UsageError
-from ._assemble import RAILWAYS, Raw, area_kind, assemble, is_building, point_kind
+from ._assemble import Raw, assemble
+from .features import area_kind, is_building, point_kind, wanted_line
 from ._model import MapData, ReadReport
 
 PROLOG_BYTES = 65536
@@ -154,10 +155,6 @@ def _line_kind(tags) -> str:
     return next((key for key in LINE_KEYS if key in tags), "way")
 
 
-def _wanted_line(tags: dict[str, str]) -> bool:
-    return "highway" in tags or tags.get("railway") in RAILWAYS or tags.get("natural") in ("tree_row", "coastline")
-
-
 class _Collector:
     """Turns the stream of OSM objects into raw features and counts what cannot be used."""
 
@@ -186,7 +183,7 @@ class _Collector:
         tags = way.tags
         building = is_building(tags)
         polygon = building or (way.is_closed() and area_kind(dict(tags)) is not None)
-        if not polygon and not _wanted_line(tags):
+        if not polygon and not wanted_line(tags):
             return
         element = f"way/{way.id}"
         coords = _coordinates(way)
@@ -205,7 +202,7 @@ class _Collector:
                 self.report.skip(what, "way is not closed", element)
             else:
                 self.raws.append(Raw(element, shapely.polygons(coords), dict(tags)))
-            if building or not _wanted_line(tags):
+            if building or not wanted_line(tags):
                 return
         if way.is_closed() and tags.get("area") == "yes":
             return

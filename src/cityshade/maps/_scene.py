@@ -1,28 +1,31 @@
-"""MapData -> City: the guessed-out buildings, and around them the ground, trees and street lamps,
-with viewpoints framed from the data."""
+"""MapData -> City in stages that each return new data: read and repair (`load_map`, maps/_assemble.py),
+guess (`guess_missing`, on a copy), layers (`city_from_guessed`: the buildings' masses and every
+feature's layer, maps/features/, with viewpoints framed from the data)."""
 
 from __future__ import annotations
-
-import numpy as np
 
 from ..errors import CityshadeError
 from ..scene import City
 from ._cameras import aerial_camera, street_camera
-from ._ground import ground_mesh
-from ._lamps import lamp_lights, lamp_posts
 from ._model import MapData, to_scene
-from ._trees import map_trees
+from .features import city_layers
 
 MARGIN = 30.0  # metres of ground the aerial view keeps around the data
 
 
 def map_city(map_data: MapData) -> City:
-    """The city a map describes. Fills the map's gaps first (`guess_missing`), then builds the
-    buildings (`building_masses`), the ground, trees and lamps, and the 'aerial' and 'street' views."""
+    """The city a map describes: its gaps filled (`guess_missing`), then laid out (`city_from_guessed`).
+    `map_data` is left as it was read."""
     from ._guess import guess_missing
+
+    return city_from_guessed(guess_missing(map_data))
+
+
+def city_from_guessed(map_data: MapData) -> City:
+    """The buildings (`building_masses`), every feature's layer, and the 'aerial' and 'street' views
+    of a map that guessing has filled."""
     from ._masses import building_masses
 
-    guess_missing(map_data)
     masses = building_masses(map_data)
     if not masses:
         raise CityshadeError(f"{map_data.source}: no building to draw", exit_code=2)
@@ -35,8 +38,6 @@ def map_city(map_data: MapData) -> City:
     street = street_camera(map_data, [b.outline for b in drawn])
     if street is not None:
         viewpoints["street"] = street
-    lights = lamp_lights(map_data)
-    ground = np.concatenate([ground_mesh(map_data), lamp_posts(lights)])
     return City(
         map_data.name,
         0,
@@ -44,9 +45,7 @@ def map_city(map_data: MapData) -> City:
         [],
         bounds,
         viewpoints,
-        ground_mesh=ground,
-        trees=map_trees(map_data),
-        lamps=lights,
+        layers=city_layers(map_data),
         origin=map_data.origin,
         crs=map_data.crs,
     )

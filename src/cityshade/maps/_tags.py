@@ -103,6 +103,18 @@ def number(value: str) -> float | None:
     return float(match.group(1).replace(",", ".")) if match else None
 
 
+def yes(tags: dict[str, str], key: str) -> bool:
+    return tags.get(key, "no") not in ("no", "false", "0")
+
+
+def layer(tags: dict[str, str]) -> int:
+    """`layer=*` clamped to -5..5 (0 when not a whole number)."""
+    try:
+        return max(-5, min(5, int(tags.get("layer", "0"))))
+    except ValueError:
+        return 0
+
+
 def direction(value: str) -> float | None:
     """Degrees clockwise from north from `45`, `N`, `SSW`; None otherwise."""
     text = value.strip().upper()

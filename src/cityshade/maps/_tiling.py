@@ -17,7 +17,7 @@ from pathlib import Path
 import osmium
 
 from ..errors import CityshadeError
-from ._assemble import is_building
+from .features import is_building
 
 TILE_GAP = 0.0005  # degrees between copies, so no two tiles' buildings touch
 

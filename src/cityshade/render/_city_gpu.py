@@ -105,7 +105,7 @@ class CityGPU:
         self.ground_vbo = create_buffer(ctx, ground)
         self.ground_vertex_count = len(ground)
         self.placements = create_buffer(ctx, _at_least_one(placements(city.masses)))  # yaws and origins
-        self.street_lights = StreetLightsGPU(ctx, city.lamps)
+        self.street_lights = StreetLightsGPU(ctx, city.lights)
         self._vaos = VertexArrays(ctx)
         self._polygonised: PolygonisedGPU | None = None
 

@@ -21,7 +21,6 @@ the caller rebuilds the cache from the source or reports the line.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import hashlib
 import io
@@ -277,7 +276,7 @@ def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size:
         cells = np.concatenate(cells) if cells else np.zeros((0, 2), np.int64)
         order = np.lexsort((boxes["draw"][:, 2], cells[:, 1], cells[:, 0]))  # as CityGPU orders them
         rest = {
-            "city": dataclasses.replace(city, ground_mesh=ground[resident].reshape(-1, 4)),  # the tiles hold the rest
+            "city": city.keep_ground(np.repeat(resident, 3)),  # the tiles hold the rest
             "records": records,
             "boxes": boxes[order],
             "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),

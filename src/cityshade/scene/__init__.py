@@ -2,6 +2,7 @@
 
 from ._buildings import SHAPES, BuildingMass, box, cylinder, dome
 from ._camera import Camera, look_at, perspective
+from ._layers import Layer
 from ._city import (
     CITIES,
     GROUND_ASPHALT,
@@ -11,6 +12,8 @@ from ._city import (
     GROUND_LAND,
     GROUND_MARKING,
     GROUND_MATERIALS,
+    GROUND_PLATFORM,
+    GROUND_TABLE,
     GROUND_PAVEMENT,
     GROUND_POST,
     GROUND_RAIL,
@@ -54,12 +57,15 @@ from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
 from ._dome_faces import DOME_TAPER, DomeFaces, dome_faces
 from ._face_levels import LEVEL_CODES, face_levels, vertex_face_levels
 from ._raycast import intersect
-from ._roofs import Roof
+from ._roofs import ROOF_SHAPE_TABLE, Roof, RoofShape
 from ._records import BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, rotation_y
 from ._doors import DOOR_CONSTANTS, DOOR_HEIGHT, DOOR_WIDTH, MAX_DOORS, door_hit, door_on_edge
 from ._uses import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, lit_share, lit_shares
 
 __all__ = [
+    "ROOF_SHAPE_TABLE",
+    "RoofShape",
+    "Layer",
     "SHAPES",
     "BuildingMass",
     "MassTable",
@@ -113,6 +119,8 @@ __all__ = [
     "SHAPE_CODES",
     "SURFACE_CODES",
     "GROUND_MATERIALS",
+    "GROUND_PLATFORM",
+    "GROUND_TABLE",
     "MAP_GROUND_MATERIALS",
     "Roof",
     "GROUND_BALLAST",

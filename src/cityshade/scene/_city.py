@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -10,14 +10,23 @@ from .._values import check_seed
 from ..errors import UsageError
 from ._buildings import BuildingMass, box, cylinder, dome
 from ._camera import Camera
+from ._layers import Layer, no_ground
 from ._mass_table import MassColumns, MassTable
 
 GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
 GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_PAVEMENT, "GROUND_GRASS": GROUND_GRASS}
 # and those of cities from maps (shaders/city/map_ground.glsl): water, paint, tracks, land, lamps
-GROUND_WATER, GROUND_MARKING, GROUND_RAIL, GROUND_BALLAST, GROUND_LAND, GROUND_SAND, GROUND_POST, GROUND_BULB = range(
-    3, 11
-)
+(
+    GROUND_WATER,
+    GROUND_MARKING,
+    GROUND_RAIL,
+    GROUND_BALLAST,
+    GROUND_LAND,
+    GROUND_SAND,
+    GROUND_POST,
+    GROUND_BULB,
+    GROUND_PLATFORM,
+) = range(3, 12)
 MAP_GROUND_MATERIALS = {
     "GROUND_WATER": GROUND_WATER,
     "GROUND_MARKING": GROUND_MARKING,
@@ -27,6 +36,22 @@ MAP_GROUND_MATERIALS = {
     "GROUND_SAND": GROUND_SAND,
     "GROUND_POST": GROUND_POST,
     "GROUND_BULB": GROUND_BULB,
+    "GROUND_PLATFORM": GROUND_PLATFORM,
+}
+# each ground material's dataset class (dataset/_classes.py) and linear base colour in exports
+GROUND_TABLE = {
+    GROUND_ASPHALT: ("road", (0.05, 0.05, 0.055)),
+    GROUND_PAVEMENT: ("pavement", (0.22, 0.21, 0.2)),
+    GROUND_GRASS: ("grass", (0.09, 0.2, 0.05)),
+    GROUND_WATER: ("water", (0.03, 0.08, 0.12)),
+    GROUND_MARKING: ("lane_marking", (0.8, 0.8, 0.78)),
+    GROUND_RAIL: ("rail", (0.18, 0.16, 0.14)),
+    GROUND_BALLAST: ("rail", (0.14, 0.12, 0.1)),
+    GROUND_LAND: ("bare_ground", (0.16, 0.15, 0.12)),
+    GROUND_SAND: ("bare_ground", (0.45, 0.4, 0.3)),
+    GROUND_POST: ("lamp", (0.1, 0.1, 0.1)),
+    GROUND_BULB: ("lamp", (1.0, 0.85, 0.6)),
+    GROUND_PLATFORM: ("pavement", (0.42, 0.41, 0.38)),
 }
 
 
@@ -35,16 +60,14 @@ class City:
     name: str
     seed: int
     masses: MassTable  # given as any sequence of BuildingMass, kept as a MassTable
-    # ground rectangles (x0, z0, x1, z1, material) drawn over an asphalt plane
+    # ground rectangles (x0, z0, x1, z1, material) drawn over an asphalt plane (the built-in cities)
     ground: list[tuple[float, float, float, float, int]]
     bounds: tuple[float, float, float, float]
     viewpoints: dict[str, Camera] = field(default_factory=dict)
     parks: list[tuple[float, float, float, float]] = field(default_factory=list)
     streets: list[tuple[float, float, float, float]] = field(default_factory=list)
-    # cities from maps: ground triangles (N, 4: x, y, z, material) drawn over the ground plane
-    ground_mesh: np.ndarray | None = None
-    trees: np.ndarray | None = None  # tree records (trees.TREE_DTYPE) instead of groves and street rows
-    lamps: np.ndarray | None = None  # street lights (N, 4: x, y, z of the bulb, reach in metres)
+    # what maps bring besides buildings (streets, water, trees, lamps, ...), in drawing order
+    layers: tuple[Layer, ...] = ()
     origin: tuple[float, float] | None = None  # longitude, latitude of scene (0, 0)
     crs: str | None = None  # the projection from longitude/latitude to scene metres
 
@@ -56,6 +79,35 @@ class City:
         if name not in self.viewpoints:
             raise UsageError(f"unknown camera {name!r}; allowed: {', '.join(self.viewpoints)}")
         return self.viewpoints[name]
+
+    @property
+    def ground_mesh(self) -> np.ndarray | None:
+        """The layers' ground triangles one after another, or None where no layer brings any (the
+        built-in cities draw `ground`'s rectangles instead)."""
+        pieces = [layer.ground for layer in self.layers if len(layer.ground)]
+        return np.concatenate(pieces) if pieces else None
+
+    @property
+    def lights(self) -> np.ndarray:
+        """The layers' point lights one after another ((N, 4) float32)."""
+        return np.concatenate([no_ground()] + [layer.lights for layer in self.layers])
+
+    @property
+    def trees(self) -> np.ndarray | None:
+        """The layers' tree records, or None where no layer plants any (the built-in cities plant
+        their parks and streets, trees.city_trees)."""
+        planted = [layer.trees for layer in self.layers if layer.trees is not None]
+        return np.concatenate(planted) if planted else None
+
+    def with_layers(self, change) -> City:
+        """This city with each layer replaced by `change(layer)`."""
+        return replace(self, layers=tuple(change(layer) for layer in self.layers))
+
+    def keep_ground(self, rows: np.ndarray) -> City:
+        """This city with only the rows of `ground_mesh` that the mask `rows` keeps, each layer its own."""
+        masks = np.split(rows, np.cumsum([len(layer.ground) for layer in self.layers])[:-1])
+        layers = tuple(replace(layer, ground=layer.ground[mask]) for layer, mask in zip(self.layers, masks))
+        return replace(self, layers=layers)
 
 
 def _subdivide_block(rng, x0, z0, x1, z1, min_lot=12.0, max_lot=28.0):

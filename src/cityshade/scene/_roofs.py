@@ -6,7 +6,7 @@ Every roof is built in the building's object space (x, z metres, y up) from the 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
@@ -259,35 +259,12 @@ def exact_profile(polygon: shapely.Polygon) -> bool:
     return not polygon.interiors and polygon.area >= RECTANGULAR * (x1 - x0) * (z1 - z0)
 
 
-def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+def _ridged(polygon: shapely.Polygon, top: float, roof: Roof, shape: Ridged) -> tuple[Triangles, Triangles]:
     """The shapes with a ridge (or a single slope) across `roof.direction`, from profiles over the
     outline's extent across the ridge (v) and along it (u, for the hipped ends)."""
-    h = roof.height
     across, along, (v0, v1), (u0, u1) = ridge_frame(polygon, roof.direction)
-    half = (v1 - v0) / 2
-    mid = v0 + half
-    ends: list = []
-    if roof.shape == "skillion":
-        profile = [(v0, h), (v1, 0.0)]
-    elif roof.shape == "saltbox":  # a short steep back, a long front
-        profile = [(v0, 0.0), (v0 + SALTBOX_RIDGE * 2 * half, h), (v1, 0.0)]
-    elif roof.shape == "gambrel":
-        knee = GAMBREL_KNEE * half
-        profile = [(v0, 0.0), (v0 + knee, GAMBREL_RISE * h), (mid, h), (v1 - knee, GAMBREL_RISE * h), (v1, 0.0)]
-    elif roof.shape == "round":
-        profile = _arc(v0, v1, h)
-    elif roof.shape == "mansard":
-        knee = MANSARD_KNEE * half
-        low = MANSARD_RISE * h
-        profile = [(v0, 0.0), (v0 + knee, low), (mid, h), (v1 - knee, low), (v1, 0.0)]
-        ends = [(u0, 0.0), (u0 + knee, low), (u0 + half, h)], [(u1 - half, h), (u1 - knee, low), (u1, 0.0)]
-    else:  # gabled, hipped, half-hipped
-        profile = [(v0, 0.0), (mid, h), (v1, 0.0)]
-        if roof.shape == "hipped":
-            ends = [(u0, 0.0), (u0 + half, h)], [(u1 - half, h), (u1, 0.0)]
-        elif roof.shape == "half-hipped":  # a gable wall up to the hip, the hip at the pitch of the sides
-            low = (1.0 - HALF_HIP) * h
-            ends = [(u0, low), (u0 + HALF_HIP * half, h)], [(u1 - HALF_HIP * half, h), (u1, low)]
+    profile = shape.across(v0, v1, roof.height)
+    ends = shape.ends(u0, u1, (v1 - v0) / 2, roof.height)
     planes = _profile_planes(across, profile)
     if not ends:  # one plane per strip across the ridge
         cuts = [v for v, _ in profile]
@@ -302,10 +279,10 @@ def _ridged(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles
     return plane_roof(polygon, top, np.asarray(planes))
 
 
-def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+def _pointed(polygon: shapely.Polygon, top: float, roof: Roof, shape: Pointed) -> tuple[Triangles, Triangles]:
     """Pyramids, cones, domes and onions: the outline shrunk toward its centre ring by ring along a
     profile of (scale, height fraction) points; all but pyramids shaded smooth."""
-    profile = np.asarray(POINTED_PROFILES[roof.shape])
+    profile = np.asarray(shape.profile)
     ring = np.asarray(polygon.exterior.coords)
     centre = np.asarray(polygon.centroid.coords)[0]
     if not polygon.contains(shapely.Point(centre)):
@@ -321,7 +298,7 @@ def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangle
     )
     a0, b0, a1, b1 = grid[:-1, :-1], grid[:-1, 1:], grid[1:, :-1], grid[1:, 1:]
     first, second = np.cross(b1 - a0, b0 - a0), np.cross(a1 - a0, b1 - a0)  # area-weighted, outward
-    if roof.shape == "pyramidal":
+    if not shape.smooth:
         n0 = n1 = n2 = first
         m0 = m1 = m2 = second
     else:  # smooth up the profile, and around the ring where the outline turns gently
@@ -349,39 +326,9 @@ def _pointed(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangle
     return Triangles(tris[keep].reshape(-1, 3), normals), Triangles.empty()
 
 
-POINTED_PROFILES = {
-    "pyramidal": [(1.0, 0.0), (0.0, 1.0)],
-    "cone": [(1.0, 0.0), (0.0, 1.0)],
-    "dome": list(
-        zip(np.cos(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)), np.sin(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)))
-    ),
-    # a bulb wider than its drum, drawn in to a point
-    "onion": [
-        (1.0, 0.0),
-        (1.18, 0.1),
-        (1.25, 0.22),
-        (1.2, 0.34),
-        (1.0, 0.46),
-        (0.7, 0.58),
-        (0.4, 0.7),
-        (0.2, 0.8),
-        (0.08, 0.9),
-        (0.0, 1.0),
-    ],
-}
-
-
-# the skeleton roofs' height profiles: (share of the largest distance from the eaves, share of the rise)
-SKELETON_PROFILES = {
-    "hipped": [(0.0, 0.0), (1.0, 1.0)],
-    "gabled": [(0.0, 0.0), (1.0, 1.0)],
-    "mansard": [(0.0, 0.0), (MANSARD_KNEE, MANSARD_RISE), (1.0, 1.0)],
-    "gambrel": [(0.0, 0.0), (GAMBREL_KNEE, GAMBREL_RISE), (1.0, 1.0)],
-}
-GABLED = ("gabled", "gambrel")
-
-
-def _skeleton_roof(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles] | None:
+def _skeleton_roof(
+    polygon: shapely.Polygon, top: float, roof: Roof, shape: Ridged
+) -> tuple[Triangles, Triangles] | None:
     """Hipped, gabled, mansard and gambrel roofs over any outline, courtyards included: each outline
     edge's face of the straight skeleton, its height a profile of the distance from the eaves that
     reaches `roof.height` at the top (mansard and gambrel faces are cut where the pitch changes, the
@@ -391,10 +338,10 @@ def _skeleton_roof(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
     if tris is None or not len(tris):
         return None
     edges = ring_edges(polygon)
-    if roof.shape in GABLED:
+    if shape.gable_ends:
         tris = _gable_ends(tris, edges)
     deepest = tris[:, :, 2].max()
-    profile = np.array(SKELETON_PROFILES[roof.shape]) * np.array([deepest, roof.height])
+    profile = np.array(shape.skeleton) * np.array([deepest, roof.height])
     if len(profile) > 2:
         tris = _cut_at(tris, profile[1:-1, 0])
     tris = tris.copy()
@@ -528,6 +475,127 @@ def _parapet_roof(polygon: shapely.Polygon, top: float, parapet: float) -> Trian
     )
 
 
+class RoofShape:
+    """How one `roof:shape` is built over an outline (one class per kind of shape, one instance per
+    shape in ROOF_SHAPE_TABLE)."""
+
+    def build(self, polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
+        raise NotImplementedError
+
+
+class Flat(RoofShape):
+    def build(self, polygon, top, roof):
+        return (
+            _parapet_roof(polygon, top, roof.parapet) if roof.parapet > 0 else flat(polygon, top)
+        ), Triangles.empty()
+
+
+@dataclass(frozen=True)
+class Pointed(RoofShape):
+    """The outline drawn in ring by ring to a point; flat over a courtyard."""
+
+    profile: tuple  # (scale of the outline, share of the rise), eaves to apex
+    smooth: bool = True
+
+    def build(self, polygon, top, roof):
+        return _pointed(polygon, top, roof, self) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
+
+
+@dataclass(frozen=True)
+class Ridged(RoofShape):
+    """A ridge (or one slope) across the roof's direction. `skeleton`: the height profile over an
+    outline's straight skeleton, (share of the largest distance from the eaves, share of the rise),
+    for outlines the exact profiles do not fit; None: hipped's there. `gable_ends`: the skeleton's
+    ends closed by gable walls."""
+
+    skeleton: tuple | None = None
+    gable_ends: bool = False
+
+    def across(self, v0: float, v1: float, h: float) -> list[tuple[float, float]]:
+        """(v, height) points of the profile across the ridge."""
+        return [(v0, 0.0), (v0 + (v1 - v0) / 2, h), (v1, 0.0)]
+
+    def ends(self, u0: float, u1: float, half: float, h: float) -> tuple:
+        """(u, height) profiles of the two ends along the ridge; () for gable walls."""
+        return ()
+
+    def build(self, polygon, top, roof):
+        if polygon.interiors or (not exact_profile(polygon) and self.skeleton is not None):
+            mesh = _skeleton_roof(polygon, top, roof, self if self.skeleton is not None else ROOF_SHAPE_TABLE["hipped"])
+            if mesh is not None:
+                return mesh
+        return _ridged(polygon, top, roof, self)
+
+
+class Hipped(Ridged):
+    def ends(self, u0, u1, half, h):
+        return [(u0, 0.0), (u0 + half, h)], [(u1 - half, h), (u1, 0.0)]
+
+
+class HalfHipped(Ridged):
+    def ends(self, u0, u1, half, h):  # a gable wall up to the hip, the hip at the pitch of the sides
+        low = (1.0 - HALF_HIP) * h
+        return [(u0, low), (u0 + HALF_HIP * half, h)], [(u1 - HALF_HIP * half, h), (u1, low)]
+
+
+class Skillion(Ridged):
+    def across(self, v0, v1, h):
+        return [(v0, h), (v1, 0.0)]
+
+
+class Saltbox(Ridged):
+    def across(self, v0, v1, h):  # a short steep back, a long front
+        return [(v0, 0.0), (v0 + SALTBOX_RIDGE * (v1 - v0), h), (v1, 0.0)]
+
+
+class Gambrel(Ridged):
+    def across(self, v0, v1, h):
+        half = (v1 - v0) / 2
+        knee, mid = GAMBREL_KNEE * half, v0 + half
+        return [(v0, 0.0), (v0 + knee, GAMBREL_RISE * h), (mid, h), (v1 - knee, GAMBREL_RISE * h), (v1, 0.0)]
+
+
+class Mansard(Ridged):
+    def across(self, v0, v1, h):
+        half = (v1 - v0) / 2
+        knee, mid, low = MANSARD_KNEE * half, v0 + half, MANSARD_RISE * h
+        return [(v0, 0.0), (v0 + knee, low), (mid, h), (v1 - knee, low), (v1, 0.0)]
+
+    def ends(self, u0, u1, half, h):
+        knee, low = MANSARD_KNEE * half, MANSARD_RISE * h
+        return [(u0, 0.0), (u0 + knee, low), (u0 + half, h)], [(u1 - half, h), (u1 - knee, low), (u1, 0.0)]
+
+
+class Round(Ridged):
+    def across(self, v0, v1, h):
+        return _arc(v0, v1, h)
+
+
+STRAIGHT = ((0.0, 0.0), (1.0, 1.0))
+DOME_PROFILE = tuple(
+    zip(np.cos(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)), np.sin(np.linspace(0.0, np.pi / 2, DOME_RINGS + 1)))
+)
+# a bulb wider than its drum, drawn in to a point
+ONION_PROFILE = ((1.0, 0.0), (1.18, 0.1), (1.25, 0.22), (1.2, 0.34), (1.0, 0.46), (0.7, 0.58), (0.4, 0.7))
+ONION_PROFILE += ((0.2, 0.8), (0.08, 0.9), (0.0, 1.0))
+# every roof shape cityshade builds (maps.ROOF_SHAPES names them for the readers)
+ROOF_SHAPE_TABLE: dict[str, RoofShape] = {
+    "flat": Flat(),
+    "gabled": Ridged(skeleton=STRAIGHT, gable_ends=True),
+    "hipped": Hipped(skeleton=STRAIGHT),
+    "half-hipped": HalfHipped(),
+    "pyramidal": Pointed(((1.0, 0.0), (0.0, 1.0)), smooth=False),
+    "skillion": Skillion(),
+    "gambrel": Gambrel(skeleton=((0.0, 0.0), (GAMBREL_KNEE, GAMBREL_RISE), (1.0, 1.0)), gable_ends=True),
+    "mansard": Mansard(skeleton=((0.0, 0.0), (MANSARD_KNEE, MANSARD_RISE), (1.0, 1.0))),
+    "dome": Pointed(DOME_PROFILE),
+    "onion": Pointed(ONION_PROFILE),
+    "round": Round(),
+    "cone": Pointed(((1.0, 0.0), (0.0, 1.0))),
+    "saltbox": Saltbox(),
+}
+
+
 def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
     """(roof surfaces, wall pieces between the walls' top and the roof) over `polygon` at `top`.
 
@@ -535,15 +603,5 @@ def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
     gabled, mansard and gambrel roofs over other outlines, and any ridged roof over a courtyard
     (hipped where the shape has no skeleton form), follow the straight skeleton; other ridged shapes
     span the outline's extent across the ridge. Pointed shapes over a courtyard are flat."""
-    if roof.shape == "flat" or roof.height <= 0:
-        return (
-            _parapet_roof(polygon, top, roof.parapet) if roof.parapet > 0 else flat(polygon, top)
-        ), Triangles.empty()
-    if roof.shape in POINTED_PROFILES:
-        return _pointed(polygon, top, roof) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
-    if polygon.interiors or (not exact_profile(polygon) and roof.shape in SKELETON_PROFILES):
-        shape = roof.shape if roof.shape in SKELETON_PROFILES else "hipped"
-        mesh = _skeleton_roof(polygon, top, replace(roof, shape=shape))
-        if mesh is not None:
-            return mesh
-    return _ridged(polygon, top, roof)
+    shape = ROOF_SHAPE_TABLE["flat" if roof.height <= 0 else roof.shape]
+    return shape.build(polygon, top, roof)

@@ -1,7 +1,9 @@
-"""Streets, paths and tracks of a map as surfaces: carriageways joined at crossings (the union of
-the roads' buffered centrelines), pavements beside them, lane markings, rails on ballast, and
-bridge decks lifted by their layer. Tunnels are left out; nothing at ground level runs through a
-building. All geometry is in map metres (shapely, vectorised)."""
+"""Streets and paths (`highway=*` lines): the tags read with their defaults, and the roads as
+surfaces: carriageways joined at crossings (the union of the roads' buffered centrelines), pavements
+beside them, lane markings, and bridge decks lifted by their layer. Tunnels are left out; nothing
+at ground level runs through a building. All geometry is in map metres (shapely, vectorised).
+
+Width from `width`, else `lanes` x LANE_WIDTH, else ROAD_WIDTHS by class."""
 
 from __future__ import annotations
 
@@ -10,7 +12,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from ._model import MapData
+from ...scene import GROUND_ASPHALT, GROUND_MARKING, GROUND_PAVEMENT, Layer
+from .._ground import PAINT_LIFT, triangles, union_of
+from .._model import MapData, ReadReport, Road
+from .._tags import layer, length, number, yes
+from ._feature import Built, Feature, Surface
 
 # OpenStreetMap highway classes: the public road network by rank, and the ramps joining it
 MAIN_ROADS = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassified", "residential")
@@ -23,25 +29,46 @@ PAVEMENT_WIDTH = 2.5
 MARKING_WIDTH = 0.15
 DASH, GAP = 3.0, 6.0
 WIDTH_RANGE = (1.0, 30.0)
-BALLAST_WIDTH = 3.2
-RAIL_WIDTH = 0.08
 BRIDGE_STOREY = 5.0  # metres a bridge deck stands above the ground per layer
+CARRIAGEWAY_RANK, PAVEMENT_RANK = 10, 30
+LANE_WIDTH = 3.0
+# Carriageway width in metres by highway class when neither `width` nor `lanes` is tagged.
+ROAD_WIDTHS = {
+    "motorway": 14.0,
+    "trunk": 12.0,
+    "primary": 10.0,
+    "secondary": 9.0,
+    "tertiary": 8.0,
+    "unclassified": 6.0,
+    "residential": 6.5,
+    "service": 4.0,
+    "living_street": 5.0,
+    "pedestrian": 6.0,
+    "motorway_link": 5.0,
+    "trunk_link": 5.0,
+    "primary_link": 5.0,
+    "secondary_link": 5.0,
+    "tertiary_link": 5.0,
+    "track": 3.0,
+    "busway": 3.5,
+    "footway": 2.0,
+    "cycleway": 2.0,
+    "path": 1.5,
+    "steps": 2.0,
+    "bridleway": 2.0,
+    "corridor": 2.0,
+}
+DEFAULT_ROAD_WIDTH = 5.0
+NOT_ROADS = {"proposed", "construction", "abandoned", "razed", "disused", "platform", "elevator", "no"}
 
 
 @dataclass
 class StreetSurfaces:
     carriageway: shapely.Geometry
     pavement: shapely.Geometry
-    ballast: shapely.Geometry
     markings: shapely.Geometry
-    rails: shapely.Geometry
     bridges: list = field(default_factory=list)  # triangle arrays (see _ground.triangles), already lifted
     junctions: shapely.Geometry = field(default_factory=shapely.Polygon)
-
-
-def _union(geometries) -> shapely.Geometry:
-    geometries = [g for g in np.asarray(geometries, dtype=object).ravel() if g is not None and not g.is_empty]
-    return shapely.union_all(geometries) if geometries else shapely.Polygon()
 
 
 def dashes(lines, dash: float = DASH, gap: float = GAP) -> np.ndarray:
@@ -98,7 +125,7 @@ def junction_zones(roads) -> shapely.Geometry:
     reach = np.zeros(len(first))
     np.maximum.at(reach, inverse, widths)
     shared = roads_at >= 2
-    return _union(shapely.buffer(shapely.points(points[first][shared]), reach[shared] * 0.6 + 1.0, quad_segs=3))
+    return union_of(shapely.buffer(shapely.points(points[first][shared]), reach[shared] * 0.6 + 1.0, quad_segs=3))
 
 
 def paint_outside(junctions: shapely.Geometry, solid, dashed) -> np.ndarray:
@@ -110,19 +137,8 @@ def paint_outside(junctions: shapely.Geometry, solid, dashed) -> np.ndarray:
     return shapely.buffer(np.concatenate([solid, strokes]), MARKING_WIDTH / 2, cap_style="flat")
 
 
-def rail_strips(railways) -> np.ndarray:
-    """Two thin strips per railway, its gauge apart."""
-    if not railways:
-        return np.zeros(0, dtype=object)
-    lines = np.array([r.line for r in railways for _ in (0, 1)], dtype=object)
-    offsets = np.array([side * r.gauge / 2 for r in railways for side in (-1, 1)])
-    return shapely.buffer(shapely.offset_curve(lines, offsets), RAIL_WIDTH / 2, cap_style="flat")
-
-
 def street_surfaces(map_data: MapData) -> StreetSurfaces:
-    """The surfaces of every road and railway of the map (see the module docstring)."""
-    from ._ground import GROUND_ASPHALT, GROUND_BALLAST, GROUND_PAVEMENT, GROUND_RAIL, triangles
-
+    """The surfaces of every road of the map (see the module docstring)."""
     roads = [r for r in map_data.roads if not r.tunnel and r.kind not in SKIPPED]
     ground = [r for r in roads if not r.bridge]
     bridges = [r for r in roads if r.bridge]
@@ -138,8 +154,8 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
     driven = [r for r in ground if r.kind in DRIVEN]
     walked = [r for r in ground if r.kind not in DRIVEN]
     sided = [r for r in driven if r.kind in WITH_PAVEMENT and r.sidewalk not in ("no", "none", "separate")]
-    carriageway = _union(ribbons(driven))
-    pavement = _union(np.concatenate([ribbons(sided, PAVEMENT_WIDTH), ribbons(walked)]))
+    carriageway = union_of(ribbons(driven))
+    pavement = union_of(np.concatenate([ribbons(sided, PAVEMENT_WIDTH), ribbons(walked)]))
     # ground-level surfaces stop at walls: subtract the buildings they touch
     walls = [b.outline for b in map_data.buildings if b.drawn and b.has_walls and not (b.min_height or 0) > 0]
     if walls and not carriageway.is_empty:
@@ -148,33 +164,78 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
             tree.query(shapely.get_parts(shapely.union(carriageway, pavement)), predicate="intersects")[1]
         )
         if len(touched):
-            blocked = _union(np.asarray(walls, dtype=object)[touched])
+            blocked = union_of(np.asarray(walls, dtype=object)[touched])
             carriageway = shapely.difference(carriageway, blocked)
             pavement = shapely.difference(pavement, blocked)
     junctions = junction_zones(driven)
     solid, dashed = lane_lines(driven)
     markings = shapely.GeometryCollection(list(paint_outside(junctions, solid, dashed)))
 
-    railways = [r for r in map_data.railways if not r.tunnel]
-    on_ground = [r for r in railways if not r.bridge]
-    ballast = _union(
-        shapely.buffer(
-            np.array([r.line for r in on_ground if r.kind not in ("tram",)] + [shapely.LineString()], dtype=object)[
-                :-1
-            ],
-            BALLAST_WIDTH / 2,
-            quad_segs=2,
-        )
-    )
-    rails = shapely.GeometryCollection(list(rail_strips(on_ground)))  # overlaps at switches: same paint, no union
-
     decks = []
     for road in bridges:
         lift = BRIDGE_STOREY * max(road.layer, 1)
         deck = ribbons([road], cap="flat")[0]
         decks.append(triangles(deck, lift, GROUND_ASPHALT if road.kind in DRIVEN else GROUND_PAVEMENT))
-    for railway in (r for r in railways if r.bridge):
-        lift = BRIDGE_STOREY * max(railway.layer, 1)
-        decks.append(triangles(shapely.buffer(railway.line, BALLAST_WIDTH / 2, cap_style="flat"), lift, GROUND_BALLAST))
-        decks.append(triangles(shapely.GeometryCollection(list(rail_strips([railway]))), lift + 0.03, GROUND_RAIL))
-    return StreetSurfaces(carriageway, pavement, ballast, markings, rails, decks, junctions)
+    return StreetSurfaces(carriageway, pavement, markings, decks, junctions)
+
+
+def road(source_id: str, line, tags: dict[str, str], report: ReadReport) -> Road:
+    kind = tags["highway"]
+    lanes = number(tags.get("lanes", "").split(";")[0])
+    lanes = int(lanes) if lanes and 1 <= lanes <= 20 else None
+    width = length(tags["width"]) if "width" in tags else None
+    if "width" in tags and (width is None or not 0.5 <= width <= 100.0):
+        report.fallback("width", "not a width of 0.5..100 m", f"{source_id} width={tags['width'][:40]}")
+        width = None
+    if width is None:
+        width = lanes * LANE_WIDTH if lanes else ROAD_WIDTHS.get(kind, DEFAULT_ROAD_WIDTH)
+    return Road(
+        source_id,
+        line,
+        kind,
+        float(width),
+        lanes=lanes,
+        layer=layer(tags),
+        bridge=yes(tags, "bridge"),
+        tunnel=yes(tags, "tunnel"),
+        lit=yes(tags, "lit"),
+        oneway=tags.get("oneway", "no") in ("yes", "1", "true", "-1") or kind == "motorway",
+        sidewalk=tags.get("sidewalk"),
+        tags=tags,
+    )
+
+
+def lengths_km(lines) -> dict[str, float]:
+    """Kilometres of roads (or railways) by class, longest first."""
+    totals: dict[str, float] = {}
+    for line in lines:
+        totals[line.kind] = totals.get(line.kind, 0.0) + line.line.length / 1000.0
+    return {kind: round(km, 3) for kind, km in sorted(totals.items(), key=lambda item: -item[1])}
+
+
+class Streets(Feature):
+    name = "streets"
+
+    def wants_line(self, tags):
+        return "highway" in tags
+
+    def read_line(self, source_id, lines, tags, data):
+        highway = tags.get("highway")
+        if not highway or highway in NOT_ROADS or tags.get("area") == "yes":
+            return False
+        data.roads += [road(source_id, line, tags, data.report) for line in lines]
+        return True
+
+    def summary(self, data):
+        return {"roads_km": lengths_km(data.roads)}
+
+    def build(self, data):
+        streets = street_surfaces(data)
+        raised = [triangles(streets.markings, PAINT_LIFT, GROUND_MARKING), *streets.bridges]
+        return Built(
+            Layer(self.name, np.concatenate(raised)),
+            [
+                Surface(streets.carriageway, GROUND_ASPHALT, CARRIAGEWAY_RANK),
+                Surface(streets.pavement, GROUND_PAVEMENT, PAVEMENT_RANK),
+            ],
+        )

@@ -1,6 +1,6 @@
-"""Street lamps of a map: the mapped ones, and lamps along lit roads where the map has none;
-point lights (bulb position and reach) and their posts as small boxes in the ground mesh (a thin
-post, a lamp head that glows at night)."""
+"""Street lamps (`highway=street_lamp` points, height from `height`, 1..30 m, else LAMP_HEIGHT), and
+lamps along lit roads (`lit=yes`) where the map has none: point lights (bulb position and reach)
+and their posts as small boxes in the ground mesh (a thin post, a lamp head that glows at night)."""
 
 from __future__ import annotations
 
@@ -8,10 +8,13 @@ import numpy as np
 
 import shapely
 
-from ..scene import GROUND_BULB, GROUND_POST
-from ._model import Lamp, MapData, to_scene
-from ._streets import DRIVEN
+from ...scene import GROUND_BULB, GROUND_POST, Layer
+from .._model import Lamp, MapData, to_scene
+from .._tags import length
+from ._feature import Built, Feature
+from .streets import DRIVEN
 
+LAMP_HEIGHT = 6.0  # metres, when `height` is not tagged (or not 1..30 m)
 REACH_PER_METRE = 3.5  # a lamp lights the ground out to 3.5 times its height
 POST_HALF, HEAD_HALF, HEAD_DEPTH = 0.07, 0.25, 0.3
 LIT_ROAD_SPACING = 35.0  # metres between lamps placed along a lit road
@@ -95,3 +98,23 @@ def lamp_posts(lights: np.ndarray) -> np.ndarray:
     )
     head = boxes(np.c_[x - HEAD_HALF, bulb, z - HEAD_HALF], np.c_[x + HEAD_HALF, top, z + HEAD_HALF], GROUND_BULB)
     return np.concatenate([post, head])
+
+
+class Lamps(Feature):
+    name = "lamps"
+
+    def point_kind(self, tags):
+        return "highway" if tags.get("highway") == "street_lamp" else None
+
+    def read_point(self, source_id, point, tags, data):
+        if tags.get("highway") == "street_lamp" and tags.get("natural") != "tree":
+            height = length(tags.get("height", ""))
+            lamp_height = height if height and 1.0 <= height <= 30.0 else LAMP_HEIGHT
+            data.lamps.append(Lamp(source_id, (float(point[0]), float(point[1])), height=lamp_height))
+
+    def summary(self, data):
+        return {"street_lamps": len(data.lamps)}
+
+    def build(self, data):
+        lights = lamp_lights(data)
+        return Built(Layer(self.name, lamp_posts(lights), lights))

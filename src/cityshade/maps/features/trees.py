@@ -1,5 +1,9 @@
-"""Trees of a map as tree instances: each MapTree at its place and size with the generator's
-species closest to its genus or leaf type, and woods filled with trees (deterministic, capped)."""
+"""Trees (`natural=tree` points, and `natural=tree_row` lines planted every TREE_ROW_SPACING metres)
+as tree instances: each MapTree at its place and size with the generator's species closest to its
+genus or leaf type, and woods filled with trees (deterministic, capped).
+
+Read: `height` and `diameter_crown` (lengths up to 150 and 60 m), `leaf_type`, `genus` (else the
+first word of `species` or `taxon`); the guessing model fills the rest (maps/_guess.py)."""
 
 from __future__ import annotations
 
@@ -9,14 +13,18 @@ from functools import lru_cache
 import numpy as np
 import shapely
 
-from ..trees import SPECIES, SPECIES_ORDER, TREE_DTYPE, generate_tree, tree_instances
-from ._model import MapData, MapTree, to_scene
+from ...scene import Layer
+from ...trees import SPECIES, SPECIES_ORDER, TREE_DTYPE, generate_tree, tree_instances
+from .._model import TREE_ATTRIBUTES, MapData, MapTree, ReadReport, to_scene
+from .._tags import length
+from ._feature import Built, Feature
 
 NEEDLE_GENERA = ("pinus", "picea", "abies", "larix", "taxus", "juniperus", "thuja", "pseudotsuga", "tsuga", "cedrus")
 SLENDER_GENERA = ("populus", "betula", "salix", "alnus", "fraxinus")  # tall crowns: the poplar model
 FOREST_SPACING = 7.0  # metres between planted trees in a wood
 MAX_FOREST_TREES = 4000  # over all woods of a map: sparser planting beyond this
 SCALE_RANGE = (0.3, 2.5)
+TREE_ROW_SPACING = 8.0
 
 
 def species_of(tree: MapTree) -> str:
@@ -80,3 +88,67 @@ def map_trees(map_data: MapData, seed: int = 0) -> np.ndarray:
     records = tree_instances(np.c_[xz[:, 0], np.zeros(len(xz)), xz[:, 1]], species, np.random.default_rng(seed))
     records["scale"] *= np.array([_scale(t, s, seed) for t, s in zip(trees, species)])
     return records
+
+
+def tree(source_id: str, position, tags: dict[str, str], report: ReadReport) -> MapTree:
+    """A mapped tree with what its tags say (unreadable values counted as fallbacks)."""
+    tree = MapTree(source_id, (float(position[0]), float(position[1])))
+    for name, key, high in (("height", "height", 150.0), ("crown_diameter", "diameter_crown", 60.0)):
+        if key not in tags:
+            continue
+        value = length(tags[key])
+        if value is None or not 0.0 < value <= high:
+            report.fallback(key, f"not a length of 0..{high:g} m", f"{source_id} {key}={tags[key][:40]}")
+            continue
+        setattr(tree, name, value)
+        tree.tagged.add(name)
+    leaf = tags.get("leaf_type")
+    if leaf in ("broadleaved", "needleleaved"):
+        tree.leaf_type = leaf
+        tree.tagged.add("leaf_type")
+    elif leaf is not None:
+        report.fallback("leaf_type", "unknown value", f"{source_id} leaf_type={leaf[:40]}")
+    species = tags.get("species") or tags.get("taxon")
+    genus = tags.get("genus") or (species.split()[0] if species else None)
+    if genus:
+        tree.genus = genus.strip().capitalize()
+        tree.tagged.add("genus")
+    tree.species = species
+    return tree
+
+
+def origin_counts(records, attributes) -> dict[str, dict[str, int]]:
+    """Per attribute, how many records had it tagged and how many got it guessed."""
+    return {
+        name: {"tagged": sum(name in r.tagged for r in records), "guessed": sum(name in r.guessed for r in records)}
+        for name in attributes
+    }
+
+
+class Trees(Feature):
+    name = "trees"
+
+    def point_kind(self, tags):
+        return "natural" if tags.get("natural") == "tree" else None
+
+    def wants_line(self, tags):
+        return tags.get("natural") == "tree_row"
+
+    def read_point(self, source_id, point, tags, data):
+        if tags.get("natural") == "tree":
+            data.trees.append(tree(source_id, point, tags, data.report))
+
+    def read_line(self, source_id, lines, tags, data):
+        if tags.get("natural") != "tree_row":
+            return False
+        for line in lines:
+            count = max(2, int(round(line.length / TREE_ROW_SPACING)) + 1)
+            points = shapely.line_interpolate_point(line, np.linspace(0.0, 1.0, count), normalized=True)
+            data.trees += [tree(f"{source_id}#{i}", (p.x, p.y), tags, data.report) for i, p in enumerate(points)]
+        return True
+
+    def summary(self, data):
+        return {"trees": len(data.trees), "tree_attributes": origin_counts(data.trees, TREE_ATTRIBUTES)}
+
+    def build(self, data):
+        return Built(Layer(self.name, trees=map_trees(data)))
