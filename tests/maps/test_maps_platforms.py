@@ -13,7 +13,7 @@ from cityshade.dataset._classes import GROUND_CLASSES
 from cityshade.maps import guess_missing, load_map, map_city
 from cityshade.scene import GROUND_BALLAST, GROUND_PLATFORM
 
-STATION = Path(__file__).parent / "data" / "maps" / "platforms.osm"
+STATION = Path(__file__).parents[1] / "data" / "maps" / "platforms.osm"
 
 
 def test_platform_areas_are_read_and_counted_but_not_highway_platforms():
