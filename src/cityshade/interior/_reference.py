@@ -302,7 +302,8 @@ def grammar_entry(
                 building_attributes, building_seed=seed_vector(mass.seed), level=level, through=through,
             )  # fmt: skip
 
-        def rectangle(scope, width=width, base=base):  # a scope in grammar uv as facade coordinates (u0, v0, u1, v1), grammar_window
+        def rectangle(scope, width=width, base=base):
+            """A scope in grammar uv as facade coordinates (u0, v0, u1, v1), as grammar_window gives them."""
             lower, extent = scope[:, :2].astype(np.float64), scope[:, 2:].astype(np.float64)
             u0, v0 = width - lower[:, 0] - extent[:, 0], base + lower[:, 1]
             return np.stack([u0, v0, u0 + extent[:, 0], v0 + extent[:, 1]], axis=1)
