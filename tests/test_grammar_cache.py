@@ -232,7 +232,7 @@ def test_pages_hold_the_numpy_twins_evaluation(gl_context):
 
 def face_size(renderer, key: int) -> np.ndarray:
     """A resident page's face size, as the G-buffer wrote it with the key."""
-    pages = renderer.textures.grammar_pass.gbuffer.read(3).reshape(-1, 4)
+    pages = renderer.targets["grammar g-buffer"].read(3).reshape(-1, 4)
     match = pages[(pages[:, 0] == (key & 0xFFFFFFFF)) & (pages[:, 1] == (key >> 32))]
     return match[0, 2:4].view(np.float32).astype(np.float64)
 
