@@ -75,7 +75,7 @@ def visible_twin(
         half = np.float32(0.5) * np.linalg.norm(hi - lo, axis=1)
         distance = np.linalg.norm(centre - np.asarray(eye, np.float32), axis=1)
         return drawn & (half >= np.float32(OCCLUDER_SIZE) * distance)
-    if pyramid is not None:
+    if pyramid is not None and viewport is not None:
         in_front, first, last, nearest = box_pixels(view_projection, lo, hi, viewport)
         farthest = np.zeros(len(boxes), np.float32)
         for i in np.flatnonzero(drawn & in_front):

@@ -51,9 +51,9 @@ class FrameTargets:
         """Makes each target not yet made as declared at this size and samples (remaking a stale one).
         Targets not declared now are kept while the size and samples stay (the frame and the id AOV
         take turns), released when those change."""
-        for name, ((_, size, made_samples), made) in list(self._made.items()):
+        for name, ((_, size, made_samples), stale) in list(self._made.items()):
             if (size, made_samples) != (frame_size, samples):
-                made.release()
+                stale.release()
                 del self._made[name]
         for target in targets:
             key = (target, frame_size, samples)
