@@ -1,5 +1,5 @@
-"""Far trees as impostor cards (render/_impostors.py, shaders/trees/impostor.glsl): the atlas's
-layout, the card's shading against its numpy twin (trees/_impostors.py), the cross-fade from the
+"""Far trees as impostor cards (trees/_impostor_bake.py, shaders/trees/impostor.glsl): the atlas's
+layout, the card's shading against its numpy twin (trees/_impostor_atlas.py), the cross-fade from the
 mesh along a path, the cards in the shadow maps and the atlas's cache."""
 
 from dataclasses import replace
