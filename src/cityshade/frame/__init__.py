@@ -2,30 +2,25 @@
 declare, the frame's view and settings, what a frame hands every pass, and the culling any pass
 can use (docs/frame.md)."""
 
-from ._context import Frame, FrameCity, FrameView, ShadowMaps
-from ._culling import CHUNK_SIZE, BuildingChunks, boxes_visible, building_cells, chunk_vertices, frustum_planes
+from ._context import Frame, FrameView
+from ._culling import BuildingChunks, boxes_visible, building_cells, chunk_vertices, frustum_planes
 from ._daylight import Daylight
 from ._gpu_culling import (
     BOX_DTYPE,
     COMMAND_WORDS,
-    DEPTH_MARGIN,
     OCCLUDER_SIZE,
-    box_pixels,
     hiz_twin,
     run_cull,
     visible_twin,
 )
 from ._passes import Pass, declared_targets, run_passes
-from ._settings import CULLING, RenderSettings
+from ._settings import RenderSettings
 from ._state import GLState
 from ._targets import HDR, IDS, FrameTargets, Target
 
 __all__ = [
     "Frame",
-    "FrameCity",
     "FrameView",
-    "ShadowMaps",
-    "CHUNK_SIZE",
     "BuildingChunks",
     "boxes_visible",
     "building_cells",
@@ -34,16 +29,13 @@ __all__ = [
     "Daylight",
     "BOX_DTYPE",
     "COMMAND_WORDS",
-    "DEPTH_MARGIN",
     "OCCLUDER_SIZE",
-    "box_pixels",
     "hiz_twin",
     "run_cull",
     "visible_twin",
     "Pass",
     "declared_targets",
     "run_passes",
-    "CULLING",
     "RenderSettings",
     "GLState",
     "HDR",
