@@ -35,6 +35,7 @@ demo-osm: setup data
 lint: setup
 	$(BIN)/ruff check src tests examples scripts
 	$(BIN)/ruff format --check src tests examples scripts
+	$(BIN)/python -m mypy src/cityshade/frame src/cityshade/gl
 	@! git grep -nE '^(<<<<<<<|>>>>>>>)( |$$)' -- . || { echo "merge conflict markers left in the files above"; exit 1; }
 
 test: setup data

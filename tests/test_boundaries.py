@@ -83,11 +83,12 @@ LAYERS = (
     ("_values", "_files", "_json", "_budget", "_version"),  # plain Python: checks, files, JSON, budgets
     ("gl", "assets"),  # the GL toolkit; procedural textures in numpy
     ("scene",),  # the city model: cameras, masses and their meshes
-    ("grammar", "trees"),  # facade grammars and trees, over the scene
+    ("frame",),  # passes, their targets and GL state, the frame's view and settings, culling
+    ("grammar",),  # facade grammars and their deferred pass, over the scene
     ("relief",),  # relief maps, some rasterised from grammars
-    ("interior",),  # rooms and windows, cut by grammar and relief openings
+    ("interior", "trees"),  # rooms and windows, cut by grammar and relief openings; trees (impostors cached as reliefs)
     ("shader_constants", "maps"),  # every technique's constants for the shaders; map data to a scene with trees
-    ("render",),  # the frame: every technique's pass
+    ("render",),  # the city's frame: its passes in order, the renderer, the city on the GPU
     ("export", "dataset"),  # cities as files; labelled renders
     ("api",),  # render_image and render_city
     ("",),  # the package face

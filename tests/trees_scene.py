@@ -5,8 +5,8 @@ import numpy as np
 from PIL import Image
 
 from cityshade.gl import FRAME_BLOCK, RenderTarget
-from cityshade.render._daylight import Daylight
-from cityshade.render._trees import TreePass, TreeSettings
+from cityshade.frame import Daylight
+from cityshade.trees import TreePass, TreeSettings
 from cityshade.trees import tree_instances
 from render_checks import assert_finite
 

@@ -143,7 +143,7 @@ def test_pages_under_the_pixel_threshold_stay_per_pixel(gl_context):
         before = np.zeros(0, np.uint64)
         for camera in cameras:
             renderer.render(camera)
-            _, keys, counts = needed_pages(pass_.gbuffer.read(3))
+            _, keys, counts = needed_pages(renderer.targets["grammar g-buffer"].read(3))
             resident = np.isin(keys, pass_.cache.slot_keys)
             evaluated = resident & ~np.isin(keys, before)  # kept pages may have fallen under it since
             assert pass_.cache.stats["pixels_resident"] == counts[resident].sum()
@@ -232,7 +232,7 @@ def test_pages_hold_the_numpy_twins_evaluation(gl_context):
 
 def face_size(renderer, key: int) -> np.ndarray:
     """A resident page's face size, as the G-buffer wrote it with the key."""
-    pages = renderer.textures.grammar_pass.gbuffer.read(3).reshape(-1, 4)
+    pages = renderer.targets["grammar g-buffer"].read(3).reshape(-1, 4)
     match = pages[(pages[:, 0] == (key & 0xFFFFFFFF)) & (pages[:, 1] == (key >> 32))]
     return match[0, 2:4].view(np.float32).astype(np.float64)
 

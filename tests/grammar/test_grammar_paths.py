@@ -71,10 +71,10 @@ def test_ssao_only_darkens_and_at_most_by_its_strength(fig11, output_dir):
     renderer, camera = fig11
     renderer.set_settings(fig11_settings("deferred", "full"))
     renderer.render(camera)
-    lit = renderer.targets.resolved.read(0)[..., :3].astype(float)
+    lit = renderer.targets["resolved"].read(0)[..., :3].astype(float)
     on = renderer.targets.occluded.read(0)[..., :3].astype(float)
     width, height = SIZE
-    sky = np.frombuffer(renderer.targets.resolved.depth.read(), np.float32).reshape(height, width)[::-1] >= 1.0
+    sky = np.frombuffer(renderer.targets["resolved"].depth.read(), np.float32).reshape(height, width)[::-1] >= 1.0
     tone = np.hstack([lit, on]) / max(lit.max(), 1e-6)
     Image.fromarray((np.clip(tone, 0, 1) ** (1 / 2.2) * 255).round().astype(np.uint8)).save(
         output_dir / "grammar_ssao_off_on.png"

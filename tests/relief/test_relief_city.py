@@ -355,7 +355,7 @@ def test_deferred_openings_draw_what_evaluating_in_place_draws(gl_context, monke
         renderer = Renderer(size, RenderSettings(lights=0.6, animation_time=1.3, relief_range=switch), ctx=gl_context)
         renderer.set_city(city)
         frames[path] = render_finite(renderer, camera).astype(int)
-        ids = renderer.textures.grammar_pass.result.read(1)[..., 0]
+        ids = renderer.targets["grammar result"].read(1)[..., 0]
         renderer.release()
         found = (ids & OPENING_FOUND) != 0
         openings = found & ((ids >> 8 & 0xFF) > 0)

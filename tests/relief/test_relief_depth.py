@@ -155,7 +155,7 @@ def closeup_frames(gl_context):
         renderer = Renderer(CLOSEUP_SIZE, RenderSettings(depth_prepass=prepass), ctx=gl_context)
         renderer.set_city(city)
         image = renderer.render(city.camera("closeup")).astype(int)
-        frames[prepass] = image, np.frombuffer(renderer.targets.resolved.depth.read(), np.float32)
+        frames[prepass] = image, np.frombuffer(renderer.targets["resolved"].depth.read(), np.float32)
         renderer.release()
     return frames
 
@@ -182,19 +182,19 @@ def test_the_depth_prepass_changes_no_pixel(closeup_frames):
 
 def test_the_two_relief_programs_draw_what_one_would(gl_context, monkeypatch):
     """The buildings pass draws the buildings a relief may be traced on by the program that writes
-    the traced depth and the others by one that does not (FrameInputs.relief_parts): in the
+    the traced depth and the others by one that does not (render._buildings.relief_parts): in the
     close-up (single-sample, no prepass) depth and ids are those of one program drawing every
     building, and colour but for a pixel or two at an edge, by a few levels. (At 320x180 the first draws the relief-bay buildings in view, 18,884 pixels of
     them, the second the grammar buildings, all beyond the 22 m switch.)"""
-    from cityshade.render._frame import FrameInputs
+    from cityshade.render import _buildings
     from cityshade.scene import make_city
 
     city = make_city("default")
     camera = city.camera("closeup")
-    split = FrameInputs.relief_parts
+    split = _buildings.relief_parts
     frames = {}
     for parts in ("two", "one"):
-        monkeypatch.setattr(FrameInputs, "relief_parts", split if parts == "two" else lambda self: ({},))
+        monkeypatch.setattr(_buildings, "relief_parts", split if parts == "two" else lambda f: ({},))
         renderer = Renderer((320, 180), RenderSettings(depth_prepass=False, samples=0), ctx=gl_context)
         renderer.set_city(city)
         frames[parts] = renderer.render(camera), renderer.depth(), renderer.render_ids(camera)

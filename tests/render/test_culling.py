@@ -8,7 +8,7 @@ import pytest
 
 from cityshade.errors import UsageError
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._culling import boxes_visible, chunk_vertices, frustum_planes
+from cityshade.frame import boxes_visible, chunk_vertices, frustum_planes
 from cityshade.render._visibility import building_boxes, building_ranges
 from cityshade.scene import Camera, batch, make_city
 from render_checks import render_finite

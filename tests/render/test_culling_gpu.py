@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from cityshade.render import Renderer, RenderSettings, frame_passes
-from cityshade.render._visibility import hiz_twin, visible_twin
+from cityshade.frame import hiz_twin, visible_twin
 from cityshade.scene import Camera, make_city
 
 SIZE = (160, 96)
@@ -100,7 +100,7 @@ def test_depth_pyramid_equals_its_twin(single_sample):
     renderer.render(city.camera("street"))
     depth = renderer.depth()[::-1]  # GL's row order: bottom row first
     visibility = renderer.city.visibility
-    visibility.build_pyramid(renderer.targets.hdr.depth, 0)
+    visibility.build_pyramid(renderer.targets["hdr"].depth, 0)
     got = visibility.read_pyramid()
     # level 0: the depth buffer, up to the rounding of its 24-bit values to float (read-back and
     # shader fetch round differently); above it, the reduction exactly

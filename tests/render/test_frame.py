@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import fields
-
 import moderngl
 import numpy as np
 import pytest
 
-from cityshade.errors import ShaderError
+from cityshade.errors import ShaderError, UsageError
+from cityshade.frame import HDR, Pass, Target, declared_targets, run_passes
 from cityshade.gl import MAX_SAMPLERS, bind_textures, programs, sampler_units, set_uniforms
-from cityshade.render import FrameTargets, Renderer, RenderSettings, frame_passes
+from cityshade.render import Renderer, RenderSettings, frame_passes
 from cityshade.scene import make_city
 
 # Every Context method that creates a GL object.
@@ -113,14 +112,38 @@ def test_passes_set_the_state_they_rely_on(counted_renderer):
 )
 def test_every_pass_reads_targets_written_before_it(changes):
     passes = frame_passes(RenderSettings().with_(**changes))
-    targets = {f.name for f in fields(FrameTargets)} | {"shadow maps"}
-    written: set[str] = set()
-    for p in passes:
-        missing = [name for name in p.reads if name in targets and name not in written]
-        assert not missing, f"pass {p.name!r} reads {missing} before any pass writes them"
-        written.add(p.writes)
-    assert passes[-1].name == "tone map" and passes[-1].writes == "display"
+    declared_targets(passes)  # refuses a read of a target no earlier pass writes
+    assert passes[-1].name == "tone map" and passes[-1].writes.name == "display"
     assert len({p.name for p in passes}) == len(passes), "pass names are unique"
+
+
+def _nothing(f):
+    pass
+
+
+def test_a_pass_reading_a_target_no_earlier_pass_writes_is_refused():
+    glow = Target("glow", (("f1", 4),))
+    with pytest.raises(UsageError, match="pass 'bloom' reads target 'glow', which no earlier pass writes"):
+        declared_targets([Pass("bloom", _nothing, (glow,), HDR), Pass("glow", _nothing, (), glow)])
+    with pytest.raises(UsageError, match="pass 'bloom' reads target 'glow', which no earlier pass writes as declared"):
+        declared_targets([Pass("glow", _nothing, (), glow), Pass("bloom", _nothing, (Target("glow"),), HDR)])
+    with pytest.raises(UsageError, match="pass 'again' declares target 'glow' unlike an earlier pass"):
+        declared_targets([Pass("glow", _nothing, (), glow), Pass("again", _nothing, (), Target("glow"))])
+    assert declared_targets([Pass("glow", _nothing, (), glow), Pass("bloom", _nothing, (glow,), HDR)]) == [glow, HDR]
+
+
+def test_a_new_pass_with_its_own_target_runs_through_the_frame(counted_renderer):
+    """A pass and its target declared here, and nowhere else: the frame makes the target, binds and
+    clears it for the pass, and a later pass reads it."""
+    renderer, _ = counted_renderer
+    glow = Target("test glow", (("f1", 4),), divisor=2)
+    seen = []
+    passes = [
+        Pass("glow", _nothing, (), glow, clear=(1.0, 0.0, 0.0, 1.0)),
+        Pass("read glow", lambda f: seen.append(f.targets[glow.name].read()), (glow,), "nothing"),
+    ]
+    run_passes(renderer._inputs(renderer.city.city.camera("front")), [*frame_passes(renderer.settings), *passes])
+    assert seen[0].shape == (16, 24, 4) and (seen[0] == (255, 0, 0, 255)).all()
 
 
 def test_profile_times_every_pass(counted_renderer):

@@ -165,7 +165,7 @@ def test_a_target_frame_rate_draws_fewer_pixels_and_stretches_them(viewer):
     viewer.resolution = ResolutionScale(15.0, scale=0.5, settle=10_000)  # held at 0.5 for the check
     window = _frame(viewer)
     assert viewer.renderer.size == (80, 48)
-    drawn = viewer.renderer.targets.display.read()[..., :3]
+    drawn = viewer.renderer.targets["display"].read()[..., :3]
     expected = upscale_reference(drawn, (160, 96))
     differing = int(np.any(np.abs(window.astype(int) - expected[::-1]) > 1, axis=-1).sum())
     assert differing == 0, f"{differing} window pixels differ from the stretched frame"

@@ -11,8 +11,8 @@ from PIL import Image
 
 from cityshade.interior import FACE_NAMES
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._trees import TreePass
-from cityshade.render._tree_cells import TreeCells
+from cityshade.trees import TreePass
+from cityshade.trees._tree_cells import TreeCells
 from cityshade.scene import Camera, make_city
 from trees_scene import one_tree, render, render_ids
 

@@ -1,5 +1,5 @@
-"""Far trees as impostor cards (render/_impostors.py, shaders/trees/impostor.glsl): the atlas's
-layout, the card's shading against its numpy twin (trees/_impostors.py), the cross-fade from the
+"""Far trees as impostor cards (trees/_impostor_bake.py, shaders/trees/impostor.glsl): the atlas's
+layout, the card's shading against its numpy twin (trees/_impostor_atlas.py), the cross-fade from the
 mesh along a path, the cards in the shadow maps and the atlas's cache."""
 
 from dataclasses import replace
@@ -10,8 +10,8 @@ import pytest
 
 from cityshade.errors import UsageError
 from cityshade.gl import ProgramCache, RenderTarget
-from cityshade.render import TreeSettings
-from cityshade.render._daylight import Daylight
+from cityshade.frame import Daylight
+from cityshade.trees import TreeSettings
 from cityshade.render._shadows import CascadedShadows
 from cityshade.scene import Camera
 from cityshade import trees
@@ -182,7 +182,7 @@ def test_impostor_cards_cast_the_tree_s_shadow(gl_context, programs):
 def test_a_second_pass_reads_the_atlas_baked_by_the_first(gl_context, programs, monkeypatch):
     """The atlas is baked once: a pass made afterwards (its process memory emptied) reads the same
     arrays back from the cache on disk without drawing anything."""
-    from cityshade.render import _trees
+    from cityshade.trees import _tree_pass as _trees
 
     first = one_tree(gl_context, programs, "poplar", impostor_rows=ONLY_IMPOSTORS)
     atlas = first.impostor(next(iter(first.models))).atlas

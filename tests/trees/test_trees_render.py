@@ -11,12 +11,12 @@ import pytest
 
 from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, sampler_units, set_uniforms
 from cityshade.render._shadows import CascadedShadows
-from cityshade.render._trees import PARTS
+from cityshade.trees._tree_pass import PARTS
 from cityshade.scene import Camera
 from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas, vanish_alphas
-from cityshade.render._culling import boxes_visible, frustum_planes
+from cityshade.frame import boxes_visible, frustum_planes
 from trees_scene import SIZE, one_tree, render, save
-from cityshade.render._trees import INSTANCE_BYTES, TreePass
+from cityshade.trees._tree_pass import INSTANCE_BYTES, TreePass
 from cityshade.trees import tree_instances
 
 

@@ -221,7 +221,7 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
                 for path, value in timed.items():
                     ms[(view, grammar, path)], iqr[(view, grammar, path)] = value.ms()
                 # the last frame drawn (deferred)
-                write_png(renderer.targets.display.read()[..., :3].copy(), out_dir / f"facades_{view}_{grammar}.png")
+                write_png(renderer.targets["display"].read()[..., :3].copy(), out_dir / f"facades_{view}_{grammar}.png")
     finally:
         renderer.release()
 

@@ -42,7 +42,8 @@ from ..relief import (
     switch_distance,
     trace_view,
 )
-from ..render import Renderer, RenderSettings, boxes_visible, frustum_planes
+from ..frame import boxes_visible, frustum_planes
+from ..render import Renderer, RenderSettings
 from ..scene import Camera, make_city
 from ._harness import BenchResult, method_record, time_interleaved, timing_record
 
@@ -509,7 +510,7 @@ def _city_switch(result: BenchResult, ctx, quick: bool):
             timed = time_interleaved(
                 ctx, {m: (lambda i, r=r, camera=camera: r.draw(camera)) for m, r in renderers.items()}, FRAMES[quick]
             )
-            images = {m: r.targets.display.read()[..., :3].astype(int) for m, r in renderers.items()}
+            images = {m: r.targets["display"].read()[..., :3].astype(int) for m, r in renderers.items()}
             exact = images[EXACT_EVERYWHERE]
             for m in SWITCH_SWEEP:
                 differ = np.abs(images[m] - exact).max(axis=-1) > 2

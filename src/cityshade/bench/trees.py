@@ -15,7 +15,8 @@ from matplotlib.figure import Figure
 
 from .._files import write_figure
 from .._values import parse_time
-from ..render import Renderer, RenderSettings, frame_passes, run_passes
+from ..frame import run_passes
+from ..render import Renderer, RenderSettings, frame_passes
 from ..trees import EVERY_FRAME, PAPER_RATES, SCENE_TIME, park_scene
 from ._harness import BenchResult, method_record, time_interleaved, timing_record
 

@@ -22,7 +22,7 @@ BINDINGS: dict[str, tuple[str, ...]] = {
         "Buildings",  # common/buildings.glsl: every building's record (render/_city_gpu.py)
         "Draws",  # frame/cull.glsl: each building's draw (render/_visibility.py)
         "Commands",  # frame/cull.glsl, trees/cull.glsl: the indirect draws a cull writes
-        "Instances",  # trees/cull.glsl: the trees (render/_trees.py)
+        "Instances",  # trees/cull.glsl: the trees (trees/_tree_pass.py)
         "SampleFaces",  # grammar/lod_colours.glsl (render/_lod_colours.py)
         "ReliefBoxes",  # relief/trace.glsl (relief/_gpu.py)
         "StreetLamps",  # city/street_lights.glsl (render/_street_lights.py)

@@ -3,12 +3,14 @@ value or layout is written once (in Python) and never copied into a shader by ha
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from ._bindings import binding_defines
 from ._blocks import FRAME_BLOCK, SHADING_BLOCK
 from ._programs import GENERATED, PRELUDE
 
 
-def declare_constants(name: str, values: dict[str, object]):
+def declare_constants(name: str, values: Mapping[str, object]):
     """`#define NAME value` for each value, in a generated include that every program gets."""
     path = f"generated/{name}.glsl"
     lines = [f"// Generated from Python ({name}): do not edit."]

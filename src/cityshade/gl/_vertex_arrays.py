@@ -13,7 +13,10 @@ _ATTRIBUTE = re.compile(r"(\d*)([fiu])(\d?)")
 
 def _skip(fmt: str) -> str:
     """A moderngl format that skips an attribute's bytes: '3f' -> '12x', 'i4' -> '4x'."""
-    count, _, size = _ATTRIBUTE.fullmatch(fmt).groups()
+    match = _ATTRIBUTE.fullmatch(fmt)
+    if match is None:
+        raise ValueError(f"not an attribute format: {fmt!r}")
+    count, _, size = match.groups()
     return f"{int(count or 1) * int(size or 4)}x"
 
 

@@ -41,7 +41,7 @@ from ._city import (  # noqa: E402
     library_texture_with,
 )
 from ._fit import min_width  # noqa: E402
-from ._frame_pass import DeferredGrammarPass  # noqa: E402
+from ._frame_pass import DeferredGrammarPass, bind_grammar_results, grammar_passes  # noqa: E402
 from ._cga import CgaError, translate  # noqa: E402
 from ._gpu import FacadeRenderer, GrammarTextures, shader_defines  # noqa: E402
 from ._random import FACADE_INDICES, facade_seed_vector, seed_cells, seed_vector  # noqa: E402
@@ -63,6 +63,8 @@ __all__ = [
     "FacadeRenderer",
     "hole_cut",
     "DeferredGrammarPass",
+    "bind_grammar_results",
+    "grammar_passes",
     "GrammarTextures",
     "shader_defines",
     "Grammar",

@@ -128,9 +128,9 @@ class GrammarPageCache:
         s = f.view.settings
         source = (s.grammar_start, s.grammar_files)
         city = self._source[0]() if self._source else None
-        if city is not f.gpu.city or self._source[1] != source:
+        if city is not f.city or self._source[1] != source:
             self.flush()
-            self._source = (weakref.ref(f.gpu.city), source)
+            self._source = (weakref.ref(f.city), source)
 
     def update(self, f, grammar, requests: np.ndarray):
         """Keeps the pages frame `f` asks for (`requests`, the G-buffer's page attachment) and
@@ -180,10 +180,10 @@ class GrammarPageCache:
         data[:, :4] = records
         data[:, 4] = slots
         self.records.write(data)
-        program = f.gpu.programs.get("grammar/cache_page.glsl", {**shader_defines(), **cache_defines()})
+        program = f.programs.get("grammar/cache_page.glsl", {**shader_defines(), **cache_defines()})
         set_uniforms(program, u_cache_atlas_size=tuple(map(float, self.atlas_size)), u_cache_per_row=self.per_row)
         grammar.bind(program)
-        f.gpu.city.records.bind_to_storage_buffer(binding("Buildings"))
+        f.city.records.bind_to_storage_buffer(binding("Buildings"))
         self.records.bind_to_storage_buffer(binding("GrammarPageRecords"))
         self.atlas.use()
         self.vertex_arrays.get(id(program), program, []).render(moderngl.TRIANGLES, vertices=6, instances=len(records))

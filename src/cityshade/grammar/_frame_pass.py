@@ -15,7 +15,8 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gl import RenderTarget, bind_textures, binding, draw_fullscreen
+from ..frame import Frame, GLState, Pass, Target
+from ..gl import RenderTarget, bind_textures, binding, draw_fullscreen, set_uniforms
 from ._cache import GrammarPageCache, cache_defines
 from ._gpu import GrammarTextures, shader_defines
 
@@ -27,94 +28,125 @@ RGBA32F = 0x8814  # GL_RGBA32F: the opening's scope is read as an image (the bui
 
 
 class DeferredGrammarPass:
-    """Targets of the pass, remade when the frame size changes."""
+    """The pass's page cache, kept across frames and sizes (its targets are the frame's)."""
 
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
-        self.size = None
-        self.gbuffer = self.result = None
-        self.cache: GrammarPageCache | None = None  # kept across frames and sizes
+        self.cache: GrammarPageCache | None = None
 
-    def targets(self, size, cache_pages: int | None = None) -> tuple[RenderTarget, RenderTarget]:
-        """The G-buffer and result targets at `size`; with `cache_pages` (the atlas's page count)
-        the G-buffer has the page attachment and the cache exists."""
-        cached = cache_pages is not None
-        if self.gbuffer is None or size != self.size or cached != (len(self.gbuffer.colors) > len(G_BUFFER)):
-            self._release_targets()
-            self.gbuffer = RenderTarget(self.ctx, size, G_BUFFER + (PAGES if cached else ()))
-            self.result = RenderTarget(self.ctx, size, RESULT)
-            self.size = size
+    def keep_cache(self, cache_pages: int | None):
+        """The cache of `cache_pages` pages (the atlas's page count; None: no cache)."""
         if self.cache is not None and self.cache.pages != cache_pages:
             self.cache.release()
             self.cache = None
-        if cached and self.cache is None:
+        if cache_pages is not None and self.cache is None:
             self.cache = GrammarPageCache(self.ctx, cache_pages)
-        return self.gbuffer, self.result
 
-    def cached(self, f) -> bool:
+    def cached(self, f: Frame) -> bool:
         return f.view.settings.grammar_cache and self.cache is not None
 
-    def draw_gbuffer(self, f, grammar: GrammarTextures, set_uniforms):
-        """The cheap first step for frame `f` (render._frame.FrameInputs), into the bound G-buffer."""
+    def draw_gbuffer(self, f: Frame, grammar: GrammarTextures):
+        """The cheap first step, into the bound G-buffer."""
         cache = cache_defines() if self.cached(f) else {}
-        program = f.gpu.programs.get("grammar/city.glsl", {**shader_defines(), **cache, "GRAMMAR_CACHE": bool(cache)})
+        program = f.programs.get("grammar/city.glsl", {**shader_defines(), **cache, "GRAMMAR_CACHE": bool(cache)})
         set_uniforms(program, u_view_proj=f.view.view_projection)
         grammar.bind(program)
         f.draw_buildings(program)  # culled like the buildings pass
 
-    def update_cache(self, f, grammar: GrammarTextures):
+    def update_cache(self, f: Frame, grammar: GrammarTextures):
         """The pages the G-buffer asks for made resident, as many as the cache's budget allows."""
-        self.cache.update(f, grammar, self.gbuffer.read(len(G_BUFFER)))
+        self.cache.update(f, grammar, f.targets[GBUFFER.name].read(len(G_BUFFER)))
 
-    def evaluate(self, f, grammar: GrammarTextures, set_uniforms):
+    def evaluate(self, f: Frame, grammar: GrammarTextures):
         """The full-screen evaluation into the bound result target, reading the G-buffer."""
-        gbuffer = self.gbuffer
-        program = f.gpu.programs.get(
+        gbuffer = f.targets[GBUFFER.name]
+        program = f.programs.get(
             "grammar/deferred.glsl",
             {
                 **shader_defines(),
                 **(cache_defines() if self.cached(f) else {}),
                 "GRAMMAR_CACHE": self.cached(f),
                 "BUILDING_LOD": f.view.settings.building_lod,
-                "NO_SHADOWS": f.gpu.shadows is None,
+                "NO_SHADOWS": f.shadows is None,
                 "RELIEF_OFF": not f.view.settings.relief,
             },
         )
         set_uniforms(program, u_viewport=np.array(f.view.size, dtype=float))
-        f.gpu.city.relief.bind_openings(program)  # which terminals and holes the relief recesses
+        f.city.relief.bind_openings(program)  # which terminals and holes the relief recesses
         if f.view.settings.building_lod:
-            f.gpu.city.bind_lod_colours()  # which buildings' cheap colours are ready
+            f.city.bind_lod_colours()  # which buildings' cheap colours are ready
         if self.cached(f):
             self.cache.bind(program)
             bind_textures(program, {"u_page": gbuffer.colors[len(G_BUFFER)]})
-        if f.gpu.shadows is not None:
-            f.gpu.shadows.bind(program)  # the facades receive the cascaded shadows
+        if f.shadows is not None:
+            f.shadows.bind(program)  # the facades receive the cascaded shadows
         grammar.bind(program)
-        f.gpu.city.records.bind_to_storage_buffer(binding("Buildings"))  # the buildings' attributes for conditions
+        f.city.records.bind_to_storage_buffer(binding("Buildings"))  # the buildings' attributes for conditions
         bind_textures(
             program, dict(zip(("u_scope", "u_rule", "u_normal", "u_depth"), (*gbuffer.colors[:3], gbuffer.depth)))
         )
         draw_fullscreen(program)
 
-    def bind_results(self, program):
-        """The building pass's inputs: lit colour, the ids (glass, label, the relief's opening) and
-        the opening's scope. Nothing before the pass first ran (the id pass evaluates the grammar
-        itself)."""
-        if self.result is None:
-            return
-        color, ids, opening = self.result.colors
-        bind_textures(program, {"u_grammar_deferred_color": color, "u_grammar_deferred_ids": ids})
-        if "u_grammar_deferred_opening" in program:  # an image (shaders/relief/building.glsl)
-            opening.bind_to_image(binding("u_grammar_deferred_opening"), read=True, write=False, format=RGBA32F)
-
-    def _release_targets(self):
-        for target in (self.gbuffer, self.result):
-            if target is not None:
-                target.release()
-        self.gbuffer = self.result = None
-
     def release(self):
-        self._release_targets()
         if self.cache is not None:
             self.cache.release()
             self.cache = None
+
+
+GBUFFER = Target("grammar g-buffer", G_BUFFER)
+GBUFFER_CACHED = Target("grammar g-buffer", G_BUFFER + PAGES)
+EVALUATED = Target("grammar result", RESULT)
+NONE = (0.0, 0.0, 0.0, 0.0)
+
+
+def bind_grammar_results(f: Frame, program: moderngl.Program):
+    """The building pass's inputs: lit colour, the ids (glass, label, the relief's opening) and
+    the opening's scope. Nothing before the evaluation first ran (the id pass evaluates the grammar
+    itself)."""
+    result: RenderTarget | None = f.targets.get(EVALUATED.name)
+    if result is None:
+        return
+    color, ids, opening = result.colors
+    bind_textures(program, {"u_grammar_deferred_color": color, "u_grammar_deferred_ids": ids})
+    if "u_grammar_deferred_opening" in program:  # an image (shaders/relief/building.glsl)
+        opening.bind_to_image(binding("u_grammar_deferred_opening"), read=True, write=False, format=RGBA32F)
+
+
+def _grammar(f: Frame) -> tuple[DeferredGrammarPass, GrammarTextures]:
+    deferred, grammar = f.technique(DeferredGrammarPass), f.technique(GrammarTextures)
+    if deferred is None or grammar is None:
+        raise RuntimeError("a deferred grammar pass in a frame without the grammars' textures")
+    return deferred, grammar
+
+
+def grammar_gbuffer(f: Frame):
+    deferred, grammar = _grammar(f)
+    deferred.draw_gbuffer(f, grammar)
+
+
+def grammar_cache_update(f: Frame):
+    """The pages of the grammar cache this frame's G-buffer asks for (grammar._cache)."""
+    deferred, grammar = _grammar(f)
+    deferred.update_cache(f, grammar)
+
+
+def grammar_evaluation(f: Frame):
+    """Facade grammars evaluated once per pixel from the G-buffer (Krecklau §4)."""
+    deferred, grammar = _grammar(f)
+    deferred.evaluate(f, grammar)
+
+
+def grammar_passes(city: tuple[str, ...], cache: bool, shadows: tuple[str, ...]) -> list[Pass]:
+    """Krecklau §4: a G-buffer of the buildings (`city` names their inputs), then one full-screen
+    grammar evaluation per pixel, shadowed if `shadows` names the maps; with `cache`, between them,
+    the pages the G-buffer names evaluated once per texel into the cache's atlas."""
+    textures = ("grammar textures",)
+    gbuffer = GBUFFER_CACHED if cache else GBUFFER
+    passes = [Pass("grammar g-buffer", grammar_gbuffer, (*city, *textures), gbuffer, clear=NONE)]
+    off = GLState(depth_test=False)
+    if cache:
+        passes.append(Pass("grammar cache update", grammar_cache_update, (gbuffer, *textures), "grammar cache", off))
+    passes.append(
+        Pass("grammar evaluation", grammar_evaluation, (gbuffer, *textures, *shadows), EVALUATED, off, clear=NONE)
+    )
+    return passes

@@ -1,15 +1,13 @@
 """The frame: passes in order (see _frame.py and docs/frame.md), the Renderer that runs them, and their settings."""
 
+from ..frame import Daylight, RenderSettings
 from ._building_lod import bay_mean
-from ._culling import boxes_visible, frustum_planes
-from ._daylight import Daylight
 from ._facades import FACADE_KINDS, FacadeKind, GrammarFitWarning, assign_facades, choose_facade, styles_with_relief
-from ._frame import FrameTargets, GLState, Pass, frame_passes, id_passes, run_passes
+from ._frame import frame_passes, id_passes
 from ._guessed import guessed_aov
 from ._quality import QUALITY_STEPS, QualityStep, quality_status, with_quality_steps
 from ._renderer import Renderer
 from ._resolution import ResolutionScale
-from ._settings import RenderSettings
 from ._streaming import check_memory_budget, format_bytes
 from ._tile_cache import (
     TILE_SIZE,
@@ -20,13 +18,10 @@ from ._tile_cache import (
     source_identity,
     write_tiles,
 )
-from ._trees import TreePass, TreeSettings
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
     "bay_mean",
-    "boxes_visible",
-    "frustum_planes",
     "Daylight",
     "FACADE_KINDS",
     "FacadeKind",
@@ -34,13 +29,9 @@ __all__ = [
     "GrammarFitWarning",
     "choose_facade",
     "styles_with_relief",
-    "FrameTargets",
     "guessed_aov",
-    "GLState",
-    "Pass",
     "frame_passes",
     "id_passes",
-    "run_passes",
     "QUALITY_STEPS",
     "QualityStep",
     "quality_status",
@@ -57,8 +48,6 @@ __all__ = [
     "TILE_SIZE",
     "check_cache_folder",
     "source_identity",
-    "TreePass",
-    "TreeSettings",
     "upscale",
     "upscale_reference",
 ]

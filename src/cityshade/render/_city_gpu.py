@@ -19,10 +19,10 @@ from ..scene import BUILDING_DTYPE, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT
 from ..scene import City, batch, face_table, placements, shared_vertices
 from ..scene import GROUND_ASPHALT, GROUND_GRASS
 from ._building_lod import grammar_sample_faces
-from ._culling import BuildingChunks, chunk_vertices
+from ..frame import BuildingChunks, chunk_vertices
 from ._facades import assign_facades
 from ._lod_colours import LodColours
-from ._polygonised import PolygonisedGPU
+from ..interior import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
 from ._visibility import BuildingVisibility, building_boxes, building_bounds, building_ranges
 

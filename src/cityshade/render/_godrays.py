@@ -7,6 +7,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from ..frame import Target
 from ..gl import RenderTarget, bind_textures, draw_fullscreen, set_uniforms
 
 STRENGTH = 0.9
@@ -32,38 +33,25 @@ def half_size(size: tuple[int, int]) -> tuple[int, int]:
     return ((size[0] + 1) // 2, (size[1] + 1) // 2)
 
 
-class GodRayTargets:
-    """Two half-resolution HDR targets the blur steps take turns drawing into."""
+# the blur steps' two half-resolution targets, drawn into by turns: the last (of three) is GOD_RAYS
+GOD_RAY_STEPS = Target("god ray steps", divisor=2, linear=True)
+GOD_RAYS = Target("god rays", divisor=2, linear=True)
 
-    def __init__(self, ctx: moderngl.Context, size: tuple[int, int]):
-        self.targets = [RenderTarget(ctx, half_size(size), (("f2", 4),)) for _ in range(2)]
-        for target in self.targets:
-            target.colors[0].filter = (moderngl.LINEAR, moderngl.LINEAR)
-            target.colors[0].repeat_x = target.colors[0].repeat_y = False
 
-    @property
-    def image(self) -> moderngl.Texture:
-        """What the last step drew."""
-        return self.targets[len(SPACINGS) % 2].colors[0]
-
-    def draw(self, programs, hdr: moderngl.Texture, sun_screen):
-        """The bright part of `hdr`, blurred toward the sun, into `image`."""
-        bright = programs.get("post/godrays.glsl", {"BRIGHT_PASS": True})
-        self.targets[0].use()
-        bind_textures(bright, {"u_hdr": hdr})
-        set_uniforms(bright, u_bright=BRIGHT)
-        draw_fullscreen(bright)
-        blur = programs.get("post/godrays.glsl")
-        for step, spacing in enumerate(SPACINGS):
-            source, target = self.targets[step % 2], self.targets[(step + 1) % 2]
-            target.use()
-            bind_textures(blur, {"u_rays": source.colors[0]})
-            set_uniforms(blur, u_sun_screen=sun_screen, u_spacing=spacing, u_decay=DECAY)
-            draw_fullscreen(blur)
-
-    def release(self):
-        for target in self.targets:
-            target.release()
+def draw_god_rays(programs, hdr: moderngl.Texture, sun_screen, targets: tuple[RenderTarget, RenderTarget]):
+    """The bright part of `hdr`, blurred toward the sun, into the second of `targets`."""
+    bright = programs.get("post/godrays.glsl", {"BRIGHT_PASS": True})
+    targets[0].use()
+    bind_textures(bright, {"u_hdr": hdr})
+    set_uniforms(bright, u_bright=BRIGHT)
+    draw_fullscreen(bright)
+    blur = programs.get("post/godrays.glsl")
+    for step, spacing in enumerate(SPACINGS):
+        source, target = targets[step % 2], targets[(step + 1) % 2]
+        target.use()
+        bind_textures(blur, {"u_rays": source.colors[0]})
+        set_uniforms(blur, u_sun_screen=sun_screen, u_spacing=spacing, u_decay=DECAY)
+        draw_fullscreen(blur)
 
 
 def _bright_part(hdr: np.ndarray) -> np.ndarray:

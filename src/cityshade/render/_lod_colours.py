@@ -27,7 +27,7 @@ from ..gl import (
 )
 from ..grammar import GrammarTextures, seed_vector, shader_defines
 from ._building_lod import SAMPLE_GRID, unit_samples
-from ._culling import boxes_visible, frustum_planes
+from ..frame import boxes_visible, frustum_planes
 
 TILES = (32, 32)  # buildings per batch at most: tiles across and up (a 1024 x 512 target)
 NOT_READY = -1.0  # the glass share of a colour not evaluated yet (city/lod.glsl lod_colour_ready)

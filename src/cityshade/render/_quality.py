@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
-from ._settings import RenderSettings
-from ._trees import TreeSettings
+from ..frame import RenderSettings
+from ..trees import TreeSettings
 
 
 @dataclass(frozen=True)

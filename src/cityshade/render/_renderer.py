@@ -11,21 +11,19 @@ from .. import assets
 from .._budget import check_image_memory, release_freed_memory
 from .._values import check_size, check_type
 from ..errors import UsageError
+from ..frame import HDR, IDS, Daylight, Frame, FrameTargets, FrameView, RenderSettings, run_passes
 from ..gl import RenderTarget, create_context, describe_context, programs, upload_cubemap
+from ..grammar import DeferredGrammarPass, GrammarTextures
 from ..scene import Camera, City
+from ..trees import TreePass, city_trees
 from ._building_lod import lod_distances
 from ._city_gpu import CityGPU
-from ._daylight import Daylight
-from ._godrays import GodRayTargets
-from ._frame import FrameInputs, FrameResources, FrameTargets, FrameView, frame_passes, id_passes, run_passes
+from ._frame import DISPLAY, RESOLVED, frame_passes, id_passes, write_frame_blocks
 from ._night_sky import night_amount, night_sky
-from ._settings import RenderSettings
 from ._shadows import CascadedShadows
 from ._streaming import StreamedCityGPU
 from ._tile_cache import TileCache
 from ._textures import CityTextures
-from ._trees import TreePass
-from ..trees import city_trees
 
 ENV_SIZE = 128
 
@@ -60,7 +58,7 @@ class Renderer:
         self.frame_index = 0  # drives the shadow cascades' update rates
         self._env_key = None
         self.env = self.sky = None  # the sky's cube maps, with and without the discs (_sky_cubemap)
-        self.targets = FrameTargets()
+        self.targets = FrameTargets(self.ctx)  # made by the passes that run, from their declarations
         self.last_frame_seconds = float("nan")
         self.last_pass_seconds: dict[str, float] = {}  # by pass name, from draw(..., profile=True)
         self.last_lod_colours = 0  # building LOD colours the last frame evaluated before its passes
@@ -124,21 +122,10 @@ class Renderer:
             self.textures.release()
             self.textures = self._textures(settings)
             self._grammar_start = None  # the addresses may have moved
-        if settings.samples != self.settings.samples:
-            self._release_targets()
         self.settings = settings
 
     def resize(self, size: tuple[int, int]):
-        if tuple(size) != self.size:
-            self.size = tuple(size)
-            self._release_targets()
-
-    def _release_targets(self):
-        for name in ("hdr", "resolved", "occluded", "display", "ids", "god_rays"):  # the grammar's belong to its pass
-            target = getattr(self.targets, name)
-            if target is not None:
-                target.release()
-        self.targets = FrameTargets()
+        self.size = tuple(size)  # the targets follow when the next frame declares them
 
     def _daylight(self) -> Daylight:
         s = self.settings
@@ -164,7 +151,7 @@ class Renderer:
             if cube is not None:
                 cube.release()
 
-    def _inputs(self, camera: Camera, lod_budget: int | None = None) -> FrameInputs:
+    def _inputs(self, camera: Camera, lod_budget: int | None = None) -> Frame:
         """The frame's inputs for `camera`, with at most `lod_budget` cheap colours evaluated first
         (None: every one the view needs)."""
         check_type(camera, Camera, "camera", "give a Camera, e.g. city.camera('street')")
@@ -182,24 +169,27 @@ class Renderer:
         self._start_grammars()
         if self.settings.building_lod and lod_budget != 0:
             self._update_lod_colours(camera, lod_budget)
-        if self.settings.grammar_deferred:
-            pages = self.settings.grammar_cache_pages if self.settings.grammar_cache else None
-            self.targets.grammar_gbuffer, self.targets.grammar_result = self.textures.grammar_pass.targets(
-                self.size, pages
-            )
         s = self.settings
-        gpu = FrameResources(
+        if s.grammar_deferred:
+            self.textures.grammar_pass.keep_cache(s.grammar_cache_pages if s.grammar_cache else None)
+        t = self.textures
+        techniques = {CityTextures: t, GrammarTextures: t.grammar, DeferredGrammarPass: t.grammar_pass}
+        if s.trees and self.trees is not None:
+            techniques[TreePass] = self.trees
+        frame = Frame(
             self.ctx,
             self.programs,
+            FrameView(camera, s, daylight, self.size, self.frame_index - 1),
+            self.targets,
             self.city,
-            self.textures,
             self.env,
             self.sky,
-            self.targets,
             shadows=self.shadows if s.shadows else None,
-            trees=self.trees if s.trees else None,
+            room_textures=dict(u_rooms=t.rooms, u_room_atlas=t.atlas, u_sprites=t.sprites, u_curtain=t.curtain),
+            techniques=techniques,
         )
-        return FrameInputs(gpu, FrameView(camera, s, daylight, self.size, self.frame_index - 1))
+        write_frame_blocks(frame, t)
+        return frame
 
     def _update_lod_colours(self, camera: Camera, budget: int | None):
         """The cheap colours `camera`'s view needs (render/_lod_colours.py), timed into last_lod_seconds."""
@@ -237,29 +227,21 @@ class Renderer:
         Building LOD evaluates settings.building_lod_budget of the cheap colours the view needs per
         frame (the others stay at the finer level until a later frame), or with `still` all of them."""
         self._current()
-        t = self.targets
-        if t.hdr is None:
-            t.hdr = RenderTarget(self.ctx, self.size, (("f2", 4),), samples=self.settings.samples)
-            t.resolved = RenderTarget(self.ctx, self.size, (("f2", 4),))
-            t.display = RenderTarget(self.ctx, self.size, (("f1", 4),))
-        if self.settings.ssao and t.occluded is None:
-            t.occluded = RenderTarget(self.ctx, self.size, (("f2", 4),))
-        if self.settings.god_rays and t.god_rays is None:
-            t.god_rays = GodRayTargets(self.ctx, self.size)
         self.last_lod_colours, self.last_lod_seconds = 0, 0.0
         inputs = self._inputs(camera, None if still else self.settings.building_lod_budget)
         times = {} if profile else None
         start = time.perf_counter()
         run_passes(inputs, frame_passes(self.settings), times)
+        display = self.targets[DISPLAY.name]
         if framebuffer is not None:
-            self.ctx.copy_framebuffer(framebuffer, t.display.fbo)
+            self.ctx.copy_framebuffer(framebuffer, display.fbo)
         self.ctx.finish()
         self.last_frame_seconds = time.perf_counter() - start + self.last_lod_seconds
         if times is not None:
             self.last_pass_seconds = (
                 {"lod colours": self.last_lod_seconds, **times} if self.settings.building_lod else times
             )
-        return t.display
+        return display
 
     def render(self, camera: Camera) -> np.ndarray:
         """One frame as an HxWx3 uint8 sRGB array: a still, every building LOD colour its view needs evaluated."""
@@ -267,26 +249,25 @@ class Renderer:
 
     def read_hdr(self) -> np.ndarray:
         """The last frame's linear HDR colour before tone mapping, HxWx3 float32 (to check it is finite)."""
-        if self.targets.resolved is None:
+        resolved = self.targets.get(RESOLVED.name)
+        if resolved is None:
             raise RuntimeError("no frame drawn yet: call draw() or render() first")
         self._current()
-        return self.targets.resolved.read()[..., :3].astype(np.float32)
+        return resolved.read()[..., :3].astype(np.float32)
 
     def render_ids(self, camera: Camera, room_state: bool = False, windows: bool = False) -> np.ndarray:
         """The id AOV as HxWx4 uint32: face code, room id, building index + 1, grammar label (with
         `room_state`: the room seen, 1 | lit << 1 | texture variant << 2, 0 where none; with
         `windows`: the window a room is seen through, a key per window of the building, 0 where none)."""
         self._current()
-        if self.targets.ids is None:
-            self.targets.ids = RenderTarget(self.ctx, self.size, (("u4", 4),))
         run_passes(self._inputs(camera, lod_budget=0), id_passes(self.settings, room_state, windows))  # full detail
-        return self.targets.ids.read().copy()
+        return self.targets[IDS.name].read().copy()
 
     def depth(self, aov: bool = False) -> np.ndarray:
         """The depth buffer (HxW float32, 0 at `near` .. 1 at `far`, top row first) of the last frame,
         or with `aov` of the last id AOV. The frame's needs settings.samples == 0 (single-sample)."""
         self._current()
-        target = self.targets.ids if aov else self.targets.hdr
+        target = self.targets.get((IDS if aov else HDR).name)
         if target is None or target.samples:
             raise RuntimeError("no single-sample depth: draw first, with settings.samples = 0 for the frame")
         data = np.frombuffer(target.depth.read(), dtype=np.float32)
@@ -294,7 +275,7 @@ class Renderer:
 
     def release(self):
         self._current()
-        self._release_targets()
+        self.targets.release()
         if self.city is not None:
             self.city.release()
         self.textures.release()

@@ -21,10 +21,11 @@ from ..trees import (
     cascades_due,
     slowed_rates,
     split_distances,
+    TreePass,
     texture_matrix,
 )
+from ..frame import Frame
 from ..gl import RenderTarget, bind_textures, set_uniforms
-from ._trees import focal_rows
 
 SHADOW_BIAS = 0.0008  # texture-depth units, every cascade
 
@@ -122,28 +123,29 @@ class CascadedShadows:
             target.release()
 
 
-def shadow_pass(f):
+def shadow_pass(f: Frame):
     """The frame's first pass: redraws the cascades due on f.view.frame_index with their casters
-    (buildings as depth-only, trees through the tree pass); `f` is the frame's FrameInputs."""
-    if f.gpu.shadows is None:
+    (buildings as depth-only, trees through the tree pass)."""
+    shadows, trees = f.shadows, f.technique(TreePass)
+    if not isinstance(shadows, CascadedShadows):
         return
 
     def draw_casters(view_proj, sun, casters) -> int:
         calls = 0
         if "buildings" in casters:
-            program = f.gpu.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
+            program = f.programs.get("city/building.glsl", {"DEPTH_ONLY": True})
             set_uniforms(program, u_view_proj=view_proj)
             f.draw_buildings(program, view_proj)
             calls += 1
-        if f.gpu.trees is not None:
-            f.gpu.trees.prepare(f.view.camera.eye, view_proj, focal_rows(f.view))  # the cascade's casters, as seen
+        if trees is not None:
+            trees.prepare(f.view.camera.eye, view_proj, f.view.focal_rows)  # the cascade's casters, as seen
             if f.view.settings.culling == "gpu":
-                f.gpu.trees.cull(view_proj)  # the cascade's frustum
-            calls += f.gpu.trees.draw_shadow(view_proj, sun, casters)
+                trees.cull(view_proj)  # the cascade's frustum
+            calls += trees.draw_shadow(view_proj, sun, casters)
         return calls
 
     aspect = f.view.size[0] / f.view.size[1]
-    f.gpu.shadows.update(
+    shadows.update(
         f.view.frame_index,
         f.view.camera,
         aspect,

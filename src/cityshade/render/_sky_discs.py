@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import assets
-from ._daylight import Daylight
+from ..frame import Daylight
 from ._night_sky import MOON_RADIUS, moon_radiance, night_amount, night_dimming
 
 DISCS = 2  # the sun, the moon (SKY_DISCS)

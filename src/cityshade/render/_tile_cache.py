@@ -46,7 +46,7 @@ from ..errors import CityshadeError
 from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
 from ._city_gpu import CityBuildings, ground_vertices
-from ._culling import building_cells
+from ..frame import building_cells
 from ._facades import NARROW_FACES, GrammarFitWarning
 from ._visibility import BOX_DTYPE
 

@@ -1,5 +1,5 @@
-"""Procedural trees: species, generator, textures, placement, and the numpy twins of the fin
-extrusion, cascade scheduling, LOD fade and impostor shading used by the tree renderer."""
+"""Procedural trees: species, generator, textures, placement, the numpy twins of the fin
+extrusion, cascade scheduling, LOD fade and impostor shading, and the frame's tree pass."""
 
 from ._cascades import (
     SHADOW_CASTERS,
@@ -26,7 +26,7 @@ from ._generator import (
     generate_tree,
     skeleton,
 )
-from ._impostors import (
+from ._impostor_atlas import (
     BAKE_SUPERSAMPLE,
     FRAME_PIXELS,
     FRAMES,
@@ -48,8 +48,13 @@ from ._placement import SPECIES_ORDER, TREE_DTYPE, city_trees, park_trees, stree
 from ._scene import SCENE_TIME, park_scene
 from ._species import FIR, OAK, POPLAR, SPECIES, Species
 from ._textures import BarkTextures, LeafTextures, bark_textures, leaf_textures
+from ._tree_pass import TREE_ID_PASS, TreePass, TreeSettings, tree_pass
 
 __all__ = [
+    "TREE_ID_PASS",
+    "TreePass",
+    "TreeSettings",
+    "tree_pass",
     "SHADOW_CASTERS",
     "EVERY_FRAME",
     "PAPER_RATES",

@@ -17,7 +17,7 @@ def lod_alphas(distance, start: float, end: float, overlap: float = OVERLAP):
     """(near LOD alpha, far LOD alpha) at the given distances; the band is [start, end]. With
     `overlap` 0, one of the two is opaque at every distance: the far one fades in while the near
     one is whole, then the near one fades out (for a far level drawn behind the near one's
-    gaps, as the impostor card is: trees/_impostors.py)."""
+    gaps, as the impostor card is: trees/_impostor_atlas.py)."""
     t = np.clip((np.asarray(distance, float) - start) / (end - start), 0.0, 1.0)
     near = np.clip((1.0 - t) / (0.5 + overlap / 2), 0.0, 1.0)
     far = np.clip(t / (0.5 + overlap / 2), 0.0, 1.0)

@@ -1,4 +1,4 @@
-// GPU-driven visibility of the city's buildings (render/_visibility.py, whose numpy twin makes the
+// GPU-driven visibility of the city's buildings (render/_visibility.py; frame/_gpu_culling.py's numpy twin makes the
 // same decision): one invocation per building tests its bounding box against the view's frustum
 // planes (frame/cull_tests.glsl) and writes the building's DrawArraysIndirectCommand (count,
 // instanceCount 1 or 0, first, 0) for a multi-draw, COMMAND_WORDS apart (moderngl's render_indirect

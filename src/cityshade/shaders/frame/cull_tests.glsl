@@ -1,5 +1,5 @@
 // The box tests of the cull passes (frame/cull.glsl for buildings, trees/cull.glsl for tree
-// instances; render/_visibility.py holds their numpy twin): against the view's frustum planes and,
+// instances; frame/_gpu_culling.py holds their numpy twin): against the view's frustum planes and,
 // with HIZ, against the max-depth pyramid of frame/hiz.glsl.
 #ifndef FRAME_CULL_TESTS_GLSL
 #define FRAME_CULL_TESTS_GLSL

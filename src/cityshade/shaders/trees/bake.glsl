@@ -1,4 +1,4 @@
-// What the BAKE variants of the tree programs write into an impostor's views (render/_impostors.py):
+// What the BAKE variants of the tree programs write into an impostor's views (trees/_impostor_bake.py):
 // albedo and coverage, the model-space normal and the orthographic depth, and the foliage flag.
 #ifndef TREES_BAKE_GLSL
 #define TREES_BAKE_GLSL

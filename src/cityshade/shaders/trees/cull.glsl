@@ -1,4 +1,4 @@
-// Tree instances culled on the GPU (render/_trees.py; the numpy twin is render/_visibility.py's box
+// Tree instances culled on the GPU (trees/_tree_pass.py; the numpy twin is frame/_gpu_culling.py's box
 // test): one invocation per instance of one species at one LOD tests the box around its trunk base
 // (the model's height times the instance's scale, plus the wind's sway, every way; as
 // TreePass.instance_boxes) and writes, for each of the bucket's three meshes (trunks, leaves,

@@ -1,5 +1,5 @@
-// Far trees as impostor cards (render/_impostors.py bakes the atlas; the numpy twin and the
-// atlas's layout are trees/_impostors.py). One card per instance, a 4-vertex triangle strip, faces
+// Far trees as impostor cards (trees/_impostor_bake.py bakes the atlas; the numpy twin and the
+// atlas's layout are trees/_impostor_atlas.py). One card per instance, a 4-vertex triangle strip, faces
 // the atlas frame nearest to the direction toward the camera (in the shadow pass, toward the
 // sun), so it shows that frame's picture as it was taken. Each pixel is lit from the texel's
 // albedo, normal and foliage share: bark as lit_surface, foliage as the leaves' shade_leaf; the
@@ -23,7 +23,7 @@ out float v_fade;
 flat out vec3 v_depth_axis;  // world metres from the card plane at depth 0.5 to depth 0
 flat out mat3 v_eye_axes;    // right, up, toward the camera: the stored normals' axes, in the world
 
-// Inverse of hemi_octahedral_direction (trees/_impostors.py): y clamped to the upper hemisphere.
+// Inverse of hemi_octahedral_direction (trees/_impostor_atlas.py): y clamped to the upper hemisphere.
 vec2 hemi_octahedral(vec3 d) {
     d.y = max(d.y, 0.0);
     d /= max(abs(d.x) + d.y + abs(d.z), 1e-9);
@@ -36,7 +36,7 @@ vec3 hemi_octahedral_direction(vec2 uv) {
     return normalize(vec3(x, 1.0 - abs(x) - abs(z), z));
 }
 
-// (right, up, d) of a card facing direction d: the picture's axes (frame_basis in trees/_impostors.py).
+// (right, up, d) of a card facing direction d: the picture's axes (frame_basis in trees/_impostor_atlas.py).
 mat3 card_axes(vec3 d) {
     vec3 ref = abs(d.y) > 0.999 ? vec3(0.0, 0.0, -1.0) : vec3(0.0, 1.0, 0.0);
     vec3 right = normalize(cross(ref, d));
@@ -97,7 +97,7 @@ void main() {
 #include "shadow/csm.glsl"
 layout(location = 0) out vec4 out_color;
 
-// Inverse of octahedral_normal (trees/_impostors.py).
+// Inverse of octahedral_normal (trees/_impostor_atlas.py).
 vec3 octahedral_normal_decode(vec2 e) {
     vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
     float t = max(-n.z, 0.0);

@@ -4,7 +4,7 @@ cascades (§4.2-4.6).
 
 Each tree's LOD alphas come from its distance (`trees.lod_alphas`); a tree in the cross-fade
 band is drawn in both LODs with offset alphas that alpha to coverage turns into sample masks.
-The mesh gives way to the impostor (render/_impostors.py) the same way, over a band of the image
+The mesh gives way to the impostor (trees/_impostor_bake.py) the same way, over a band of the image
 rows the tree's height spans.
 """
 
@@ -16,29 +16,26 @@ import moderngl
 import numpy as np
 from moderngl import InvalidObject
 
-from ..trees import (
+from ..errors import UsageError
+from ..frame import BOX_DTYPE, COMMAND_WORDS, HDR, IDS, Frame, GLState, Pass, frustum_planes, run_cull
+from ..gl import VertexArrays, bind_textures, binding, create_buffer, grow_buffer, set_uniforms, upload_texture
+from ._cascades import light_basis
+from ._generator import (
     BRANCH_ATTRIBUTES,
     BRANCH_LAYOUT,
     CARD_ATTRIBUTES,
     CARD_LAYOUT,
     FROND_ATTRIBUTES,
     FROND_LAYOUT,
-    ImpostorAtlas,
-    SPECIES,
-    SPECIES_ORDER,
-    bark_textures,
     generate_tree,
-    leaf_textures,
-    light_basis,
-    lod_alphas,
-    vanish_alphas,
 )
-from ..errors import UsageError
-from ..gl import VertexArrays, bind_textures, binding, create_buffer, grow_buffer, set_uniforms, upload_texture
-from ._culling import frustum_planes
-from ._impostors import GPUImpostor, atlas_key, bake_atlas, bounding_sphere, cached_atlas
+from ._impostor_atlas import ImpostorAtlas
+from ._impostor_bake import GPUImpostor, atlas_key, bake_atlas, bounding_sphere, cached_atlas
+from ._lod import lod_alphas, vanish_alphas
+from ._placement import SPECIES_ORDER
+from ._species import SPECIES
+from ._textures import bark_textures, leaf_textures
 from ._tree_cells import TreeCells
-from ._visibility import BOX_DTYPE, COMMAND_WORDS, run_cull
 
 GL_SAMPLE_ALPHA_TO_COVERAGE = 0x809E
 # A tree whose height spans fewer image rows than this starts to become its impostor (measured:
@@ -496,25 +493,33 @@ class TreePass:
             tex.release()
 
 
-def focal_rows(view) -> float:
-    """The rows of the frame's image one metre spans at one metre's distance (a FrameView)."""
-    return view.size[1] / (2.0 * np.tan(np.radians(view.camera.fov_y) / 2.0))
-
-
-def draw_trees(f, ids: bool = False) -> int:
-    """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's; `f` is
-    the frame's FrameInputs."""
-    trees, view = f.gpu.trees, f.view
+def draw_trees(f: Frame, ids: bool = False) -> int:
+    """The frame's tree pass (after the ground, before the sky), or with `ids` the id AOV's."""
+    trees, view = f.technique(TreePass), f.view
     if trees is None:
         return 0
     # only the trees in view: a multi-draw's commands cost a software rasteriser even when culled
-    trees.prepare(view.camera.eye, view.view_projection, focal_rows(view))
+    trees.prepare(view.camera.eye, view.view_projection, view.focal_rows)
     if view.settings.culling == "gpu" and not ids:  # behind the buildings' hierarchical depth, when this frame built it
-        trees.cull(view.view_projection, f.gpu.city.visibility.pyramid if f.gpu.camera_draws is not None else None)
+        trees.cull(view.view_projection, f.depth_pyramid)
     return trees.draw(
         {"u_view_proj": view.view_projection},
         view.camera.view(),
-        None if ids else f.gpu.shadows,
+        None if ids else f.shadows,
         ids=ids,
-        env=f.gpu.env,
+        env=f.env,
     )
+
+
+def draw_tree_ids(f: Frame) -> int:
+    return draw_trees(f, ids=True)
+
+
+def tree_pass(shadows: tuple[str, ...]) -> Pass:
+    """Trunks, fins, leaf cards, fronds with alpha to coverage (TreePass.draw sets cull per part),
+    receiving the shadow maps if `shadows` names them."""
+    return Pass("trees", draw_trees, ("trees", "tree textures", "environment", *shadows), HDR, GLState(depth_func="<="))
+
+
+# trunks and fins FACE_TRUNK, leaf cards and fronds FACE_FOLIAGE, alpha-tested
+TREE_ID_PASS = Pass("tree ids", draw_tree_ids, ("trees", "tree textures"), IDS, GLState(depth_func="<="))

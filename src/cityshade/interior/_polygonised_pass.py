@@ -1,17 +1,20 @@
 """The polygonised-interiors baseline on the GPU (interior-mapping §3.1): one vertex buffer per
 layer (floors, ceilings, walls) for the whole city, culled by the same frustum chunks as the
-interior-mapped buildings, one draw call per layer."""
+interior-mapped buildings, one draw call per layer; and its passes of the frame, the rooms between
+the exterior walls and the window glass the buildings' program draws."""
 
 from __future__ import annotations
 
 import moderngl
 import numpy as np
 
+from ..frame import HDR, BuildingChunks, Frame, GLState, Pass, chunk_vertices
 from ..gl import VertexArrays, bind_textures, binding, create_buffer, set_uniforms
-from ..interior import POLYGONISED_LAYERS, polygonised_vertices
 from ..scene import GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, City, face_table
 from ..scene import placements
-from ._culling import BuildingChunks, chunk_vertices
+from ._polygonised import LAYERS as POLYGONISED_LAYERS, polygonised_vertices
+
+ROOM_TEXTURES = ("room textures", "facade texture", "sprites", "curtain", "environment")
 
 
 class PolygonisedGPU:
@@ -47,20 +50,49 @@ class PolygonisedGPU:
             faces.release()
 
 
-def draw_interior_depth(f):
+def draw_interior_depth(f: Frame):
     """The rooms' depth only (the baseline's own prepass): floors, ceilings and walls."""
-    program = f.gpu.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
+    program = f.programs.get("interior/polygonised.glsl", {"DEPTH_ONLY": True})
     set_uniforms(program, u_view_proj=f.view.view_projection)
     for layer in POLYGONISED_LAYERS:
-        f.gpu.city.polygonised().draw(program, layer, f.view.view_projection)
+        f.city.polygonised().draw(program, layer, f.view.view_projection)
 
 
-def draw_interior_layers(f):
+def draw_interior_layers(f: Frame):
     """Floors, ceilings, then walls: three draw calls, each layer its own texture kind (the frame's
     pass culls back faces: a floor and the ceiling below it share a plane)."""
-    program = f.gpu.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.view.settings.single_atlas})
+    program = f.programs.get("interior/polygonised.glsl", {"IM_SINGLE_ATLAS": f.view.settings.single_atlas})
     set_uniforms(program, u_view_proj=f.view.view_projection)
-    bind_textures(program, f.room_textures())
-    f.gpu.city.records.bind_to_storage_buffer(binding("Buildings"))
+    bind_textures(program, f.room_textures)
+    f.city.records.bind_to_storage_buffer(binding("Buildings"))
     for layer in POLYGONISED_LAYERS:
-        f.gpu.city.polygonised().draw(program, layer, f.view.view_projection)
+        f.city.polygonised().draw(program, layer, f.view.view_projection)
+
+
+def room_passes(depth_prepass: bool) -> list[Pass]:
+    """Real floors, ceilings and walls behind the exterior walls (a floor and the ceiling below it
+    share a plane: back faces culled); with `depth_prepass` their own z-cull first, so each visible
+    room pixel is shaded once."""
+    passes = []
+    room_depth = "<"
+    if depth_prepass:
+        passes.append(
+            Pass(
+                "room depth prepass",
+                draw_interior_depth,
+                ("room geometry",),
+                HDR,
+                GLState(colour_write=False, cull=True),
+            )
+        )
+        room_depth = "<="
+    passes.append(
+        Pass(
+            "rooms",
+            draw_interior_layers,
+            ("room geometry", *ROOM_TEXTURES),
+            HDR,
+            GLState(depth_func=room_depth, cull=True),
+        )
+    )
+    return passes

@@ -1,4 +1,4 @@
-"""Baking a tree species' impostor atlas (layout and twin: trees/_impostors.py) by drawing its full
+"""Baking a tree species' impostor atlas (layout and twin: trees/_impostor_atlas.py) by drawing its full
 mesh offscreen once per view, with the tree programs' BAKE variants; the atlas is cached on disk
 by a hash of everything it is made from (relief.cached_arrays), since baking takes a second or
 two on a software rasteriser."""
@@ -12,12 +12,12 @@ import numpy as np
 
 from ..gl import RenderTarget, create_buffer, set_uniforms, shader_source, upload_texture
 from ..relief import cached_arrays
-from ..trees import (
+from ._generator import TreeMesh
+from ._impostor_atlas import (
     BAKE_SUPERSAMPLE,
     FRAME_PIXELS,
     FRAMES,
     ImpostorAtlas,
-    TreeMesh,
     downsample_views,
     frame_basis,
     frame_direction,

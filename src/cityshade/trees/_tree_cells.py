@@ -1,5 +1,5 @@
 """A city's trees bucketed in square cells of the ground, so that the tree pass's per-tree work
-each frame and shadow cascade (distance, fade, frustum test, render/_trees.py) touches only the
+each frame and shadow cascade (distance, fade, frustum test, trees/_tree_pass.py) touches only the
 trees of cells that can hold one it draws: from the street, most of a city's trees are outside
 the view or too far to span a pixel."""
 
@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._culling import frustum_planes
+from ..frame import frustum_planes
 
 CELL_METRES = 64.0
 MARGIN_METRES = 1.0  # the cell tests are conservative by this much beyond rounding
