@@ -329,24 +329,31 @@ def test_compacting_the_arena_moves_face_rows_and_ground_with_their_vertices(
 
 def test_update_never_waits_for_a_slow_read(district_tiles):
     cache = district_tiles
+    reading, release = threading.Event(), threading.Event()
 
     def slow(index):
-        time.sleep(0.3)
+        reading.set()
+        release.wait(60)  # held until the frames below have run (a bound, so a fault fails, never hangs)
         return read_tile(cache, index)
 
     loaded = []
     streamer = TileStreamer(cache.tiles, cache.total_bytes, slow, lambda i, v: loaded.append(i), lambda i: None)
     try:
-        updates, start = 0, time.monotonic()
-        while not loaded and time.monotonic() - start < 30:
-            tick = time.monotonic()
+        streamer.update(0.0, 0.0)
+        assert reading.wait(60), "no tile read was started"
+        for _ in range(20):  # frames while the read is held: each returns without its tile
             streamer.update(0.0, 0.0)
-            assert time.monotonic() - tick < 0.1
-            updates += 1
-            time.sleep(0.005)
+        assert not loaded
+        release.set()
+        for _ in range(6000):
+            streamer.update(0.0, 0.0)
+            if loaded:
+                break
+            time.sleep(0.01)
     finally:
+        release.set()
         streamer.close()
-    assert loaded and updates > 10  # frames kept coming while the first tile was read
+    assert loaded  # the tile arrived once its read finished
 
 
 def test_arena_compacts_when_no_gap_is_wide_enough(gl_context):
