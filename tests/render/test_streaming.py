@@ -543,7 +543,7 @@ def test_files_the_manifest_names_outside_the_cache_are_refused_unsized(tagged_t
     secret = tmp_path / "secret.bin"
     secret.write_bytes(b"s" * 12345)
     for name in ("../secret.bin", str(secret), "tiles/../../secret.bin"):
-        _edit_manifest(tagged_tiles, lambda m: m["tiles"][0].update(file=name))
+        _edit_manifest(tagged_tiles, lambda m, name=name: m["tiles"][0].update(file=name))
         reason = _refused(tagged_tiles)
         assert "tile 0's file is not a name like tiles/00000.npz" in reason and "12345" not in reason
     _edit_manifest(tagged_tiles, lambda m: m["tiles"][0].update(file="tiles/00000.npz"))

@@ -351,7 +351,7 @@ def test_trees_prepared_from_their_cells_are_those_of_every_tree(ctx, programs, 
             assert 0 < drawn < len(trees) // 2, drawn
             for key, (_, count) in tree.instances.items():
                 most[key] = max(most.get(key, 1), count)
-        for key, (buffer, count) in tree.instances.items():  # grown to the most trees drawn, not to every tree
+        for key, (buffer, _count) in tree.instances.items():  # grown to the most trees drawn, not to every tree
             assert buffer.size <= 2 * most[key] * INSTANCE_BYTES < np.sum(trees["species"] == key[0]) * INSTANCE_BYTES
     finally:
         tree.release()

@@ -93,17 +93,26 @@ def _set(building: MapBuilding, name: str, value):
 
 
 def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineShape, i: int, report: ReadReport):
+    """Every missing attribute, in the order they depend on each other: the roof's shape and height,
+    the storeys and heights, the roof's geometry, the materials and colours."""
     defaults = defaults_for(building.kind, shape.area[i], building.is_part)
     small = defaults.small or (shape.area[i] < SMALL_FOOTPRINT and not building.is_part)  # small parts are turrets
     storey = float(estimates.storey[i])
     if small and "levels" not in building.tagged and "height" not in building.tagged:
         building.small_utility = True
+    _fill_roof(building, estimates, shape, i, storey)
+    pitched = building.roof_shape != "flat"
+    _fill_levels_and_heights(building, estimates, i, storey, small, defaults is HOUSE and not pitched, report)
+    _fill_roof_geometry(building, shape, i, pitched)
+    _fill_materials(building, defaults, pitched)
+
+
+def _fill_roof(building: MapBuilding, estimates: Estimates, shape: OutlineShape, i: int, storey: float):
     if building.roof_shape is None:
         roof = str(estimates.roof_shape[i])
         if roof == "flat" and (building.roof_height or building.roof_levels):
             roof = "gabled"  # a tagged roof height says the roof is not flat
         _set(building, "roof_shape", roof)
-    pitched = building.roof_shape != "flat"
     if building.roof_height is None and building.roof_levels is not None:
         _set(building, "roof_height", building.roof_levels * storey)
     if building.roof_height is None:
@@ -114,6 +123,11 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
             room = building.height - (building.min_height or 0.0) - storeys * LOWEST_STOREY
             roof_height = min(roof_height, max(room, 0.0))
         _set(building, "roof_height", roof_height)
+
+
+def _fill_levels_and_heights(
+    building: MapBuilding, estimates: Estimates, i: int, storey: float, small: bool, flat_house: bool, report
+):
     if building.min_level is None:
         min_level = float(round(building.min_height / storey)) if building.min_height else 0.0
         if building.levels is not None:
@@ -132,7 +146,7 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
             levels = building.min_level + max(1.0, float(round(walls / storey)))
         elif building.small_utility:
             levels = 1.0
-        elif defaults is HOUSE and not pitched:
+        elif flat_house:
             levels = 2.0  # a flat-roofed house has its second storey under the flat roof
         else:
             levels = max(1.0, float(estimates.levels[i]))
@@ -142,6 +156,9 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
         _set(building, "height", building.min_height + wall_height + building.roof_height)
     # Never a negative or empty volume: the roof fits between the bottom and the top.
     building.roof_height = min(building.roof_height, max(building.height - building.min_height, 0.0))
+
+
+def _fill_roof_geometry(building: MapBuilding, shape: OutlineShape, i: int, pitched: bool):
     if building.roof_levels is None:
         _set(building, "roof_levels", 1.0 if pitched and building.roof_height >= ATTIC else 0.0)
     if building.roof_angle is None:
@@ -154,6 +171,9 @@ def _fill_building(building: MapBuilding, estimates: Estimates, shape: OutlineSh
         # longest side unless the orientation says across
         facing = 0.0 if building.roof_orientation == "across" else 90.0
         _set(building, "roof_direction", float((shape.long_bearing[i] + facing) % 360.0))
+
+
+def _fill_materials(building: MapBuilding, defaults, pitched: bool):
     if building.building_material is None:
         _set(building, "building_material", defaults.material)
     if building.roof_material is None:

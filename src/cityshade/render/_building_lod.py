@@ -179,7 +179,10 @@ def grammar_colours(faces: np.ndarray, count: int) -> np.ndarray:
     buildings_per_chunk = max(1, CHUNK_POINTS // per)
     for first in range(0, len(index), buildings_per_chunk):  # the evaluation's work arrays grow with its points
         part = slice(first, first + buildings_per_chunk)
-        each = lambda a: np.repeat(a[part], per, axis=0)  # noqa: E731 (per point of the chunk's buildings)
+
+        def each(a, part=part):  # per point of the chunk's buildings
+            return np.repeat(a[part], per, axis=0)
+
         uv = (np.tile(unit, (len(index[part]), 1)) * each(size)).astype(np.float32)
         result = evaluate(
             compiled,

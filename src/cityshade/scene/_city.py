@@ -116,7 +116,7 @@ def _subdivide_block(rng, x0, z0, x1, z1, min_lot=12.0, max_lot=28.0):
     width, depth = x1 - x0, z1 - z0
     lot_depth = min(depth / 2, rng.uniform(14, 22))
     # front (z0) and back (z1) rows span the full width; sides fill the middle
-    for row, (za, zb, yaw_front) in enumerate(((z0, z0 + lot_depth, 0), (z1 - lot_depth, z1, 1))):
+    for za, zb in ((z0, z0 + lot_depth), (z1 - lot_depth, z1)):
         x = x0
         while x < x1 - 1e-6:
             w = min(rng.uniform(min_lot, max_lot), x1 - x)
