@@ -131,7 +131,7 @@ def interior_twin(renderer, masses, camera, size, bounds, lights=None, grammar=N
     from cityshade import assets
     from cityshade.interior import reference_ids
     from cityshade.relief import relief_atlas
-    from cityshade.render._city_gpu import GROUND_MARGIN
+    from cityshade.render.testing import GROUND_MARGIN
 
     s = renderer.settings
     params = interior_params(renderer, lights)

@@ -245,3 +245,47 @@ def test_import_cityshade_loads_no_heavy_library():
 
 def test_the_check_sees_a_heavy_import():
     assert heavy_modules_after("import cityshade, scipy.ndimage") == ["scipy"]
+
+
+# Tests check a package through its public names and its `testing` module (the numpy twins and the
+# parts checked one by one); the few private imports left reach a module to patch or a private class.
+TESTS = Path(__file__).resolve().parent
+MAX_PRIVATE_TEST_IMPORTS = 20
+
+
+def private_test_imports(tests: Path = TESTS) -> list[str]:
+    """`file:line: module` of each import in the tests that names a private module or name of cityshade."""
+    found = []
+    for path in sorted(tests.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] == "cityshade":
+                names = [*node.module.split("."), *(alias.name for alias in node.names)]
+            elif isinstance(node, ast.Import):
+                names = [
+                    part
+                    for alias in node.names
+                    if alias.name.startswith("cityshade.")
+                    for part in alias.name.split(".")
+                ]
+            else:
+                continue
+            if any(name.startswith("_") and name != "__version__" for name in names):
+                found.append(f"{path.relative_to(tests)}:{node.lineno}: {ast.unparse(node)}")
+    return found
+
+
+def test_tests_import_few_private_modules():
+    found = private_test_imports()
+    assert len(found) <= MAX_PRIVATE_TEST_IMPORTS, f"{len(found)} private imports in tests:\n" + "\n".join(found)
+
+
+def test_the_check_sees_a_private_import_in_a_test(tmp_path):
+    (tmp_path / "test_x.py").write_text(
+        "import cityshade.render._frame\nfrom cityshade.scene import _city\nfrom cityshade.grammar._gpu import x\n"
+        "from cityshade.grammar.testing import facade_view\nfrom cityshade import render\n"
+    )
+    assert [line.split(": ")[0] for line in private_test_imports(tmp_path)] == [
+        "test_x.py:1",
+        "test_x.py:2",
+        "test_x.py:3",
+    ]

@@ -26,8 +26,7 @@ from cityshade.grammar import (
     seed_vector,
 )
 from cityshade.maps import load_map, map_city
-from cityshade.scene import BuildingMass
-from cityshade.scene._meshes import SURFACE_ROOF, building_vertices
+from cityshade.scene import SURFACE_ROOF, BuildingMass, building_vertices
 from fuzzing import LARGE, SMALL, for_a_while
 
 # ------------------------------------------------------------------ grammar mutations

@@ -32,7 +32,7 @@ def _one_line(capsys) -> str:
 
 
 def test_a_render_larger_than_memory_names_the_size_that_fits(tmp_path, one_gib, capsys):
-    from cityshade.render._renderer import frame_bytes_per_pixel
+    from cityshade.render.testing import frame_bytes_per_pixel
 
     out = tmp_path / "city.png"
     assert main(["render", "--size", "16384x12288", "--out", str(out)]) == 2

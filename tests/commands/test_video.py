@@ -9,10 +9,9 @@ import imageio.v2 as imageio
 import numpy as np
 import pytest
 
-from cityshade.errors import UsageError
 from cityshade.commands.video import render_video
-from cityshade.scene import make_city
-from cityshade.scene._paths import PATHS
+from cityshade.errors import UsageError
+from cityshade.scene import PATHS, make_city
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 

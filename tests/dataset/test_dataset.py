@@ -28,9 +28,8 @@ from cityshade.dataset import (
 from cityshade.errors import UsageError
 from cityshade.interior import InteriorParams, reference_surfaces
 from cityshade.relief import relief_atlas
-from cityshade.render._city_gpu import GROUND_MARGIN
-from cityshade.scene import batch, make_city
-from cityshade.scene._raycast import intersect
+from cityshade.render.testing import GROUND_MARGIN
+from cityshade.scene import batch, intersect, make_city
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 

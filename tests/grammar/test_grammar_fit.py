@@ -9,8 +9,8 @@ import pytest
 from cityshade.assets import LABELS
 from cityshade.grammar import BUILDING_STYLES, library_min_widths, loads, min_width
 from cityshade.interior.testing import FACE_EXTERIOR
-from cityshade.render import Renderer, RenderSettings, assign_facades
-from cityshade.render._facades import NARROW_FACES, GrammarFitWarning
+from cityshade.render import GrammarFitWarning, Renderer, RenderSettings, assign_facades
+from cityshade.render.testing import NARROW_FACES
 from cityshade.scene import SURFACE_PLAIN_WALL, Camera, City, batch, box
 
 STYLE = {name: number for number, name in BUILDING_STYLES.items()}

@@ -14,7 +14,7 @@ from cityshade.interior import FACE_NAMES, InteriorParams, reference_ids
 from cityshade.interior.testing import FACE_CEILING, FACE_CURTAIN, FACE_FLOOR, FACE_FURNITURE, FACE_WALL_X, FACE_WALL_Z
 from cityshade.relief import relief_atlas
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._city_gpu import GROUND_MARGIN
+from cityshade.render.testing import GROUND_MARGIN
 from cityshade.scene import make_city
 from render_checks import id_edges, render_finite
 

@@ -8,12 +8,11 @@ import pytest
 import shapely
 from PIL import Image
 
-from cityshade.maps._masses import use_code
-from cityshade.maps._model import MapBuilding, ReadReport
-from cityshade.maps._tags import building_attributes
+from cityshade.maps import MapBuilding, ReadReport
+from cityshade.maps.testing import building_attributes, use_code
 from cityshade.render import Renderer, RenderSettings
-from render_checks import interior_twin
 from cityshade.scene import FLAGS, LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, Camera, City, box, lit_share, lit_shares
+from render_checks import interior_twin
 
 HOME, OFFICE, SHOP, MIXED = USES["home"], USES["office"], USES["shop"], USES["mixed"]
 MINUTES = np.arange(24 * 60) / 60.0

@@ -12,8 +12,7 @@ import shapely
 
 from cityshade.errors import CityshadeError
 from cityshade.maps import load_map, map_city
-from cityshade.scene import ROOF_PARTS, building_vertices, rotation_y
-from cityshade.scene._meshes import SURFACE_ROOF
+from cityshade.scene import ROOF_PARTS, SURFACE_ROOF, building_vertices, rotation_y
 
 EXAMPLE = Path(__file__).parents[2] / "examples" / "footprints.geojson"
 

@@ -200,7 +200,7 @@ def _blocks(count: int) -> str:
 
 
 def test_cityjson_reading_stays_within_its_documented_memory_factor(tmp_path):
-    from cityshade.maps._load import MAX_CITYJSON_BYTES
+    from cityshade.maps.testing import MAX_CITYJSON_BYTES
 
     path = tmp_path / "blocks.city.json"
     path.write_text(_blocks(600))

@@ -15,7 +15,7 @@ from PIL import Image
 from cityshade import assets
 from cityshade.interior import cast_masses
 from cityshade.maps import building_masses, facade_style, guess_missing, load_map, map_city, to_scene
-from cityshade.maps._masses import STYLE_BY_USE
+from cityshade.maps.testing import STYLE_BY_USE
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import Camera, door_hit, rotation_y
 

@@ -9,11 +9,9 @@ import numpy as np
 import pytest
 import shapely
 
-from cityshade.maps import building_masses, load_map
-from cityshade.maps._masses import building_mass
-from cityshade.maps._model import to_scene
-from cityshade.scene import building_vertices, rotation_y
-from cityshade.scene._meshes import SURFACE_WALL
+from cityshade.maps import building_masses, load_map, to_scene
+from cityshade.maps.testing import building_mass
+from cityshade.scene import SURFACE_WALL, building_vertices, rotation_y
 from render_checks import style_face_labels
 
 PARTS = Path(__file__).parents[1] / "data" / "maps" / "parts.osm"

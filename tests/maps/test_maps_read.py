@@ -10,7 +10,7 @@ import pytest
 import shapely
 
 from cityshade.maps import load_map
-from cityshade.maps._tags import colour, direction, length
+from cityshade.maps.testing import colour, direction, length
 
 DATA = Path(__file__).parents[1] / "data" / "maps"
 
@@ -505,7 +505,7 @@ def test_coastline_makes_the_sea_on_its_right(tmp_path):
     ],
 )
 def test_building_use(tags, use):
-    from cityshade.maps._tags import use_of
+    from cityshade.maps.testing import use_of
 
     assert use_of(tags) == use
 

@@ -436,7 +436,7 @@ def test_a_gzip_bomb_of_one_long_line_is_refused_at_the_line_cap(tmp_path):
 
 
 def test_a_gzip_bomb_is_refused_at_the_uncompressed_cap(tmp_path):
-    from cityshade.maps._osm import check_xml
+    from cityshade.maps.testing import check_xml
 
     bomb = _gzip_of(tmp_path / "bomb.osm.gz", XML_HEAD, b"<!-- padding -->\n" * 4096, 64)  # 4.25 MiB
     with pytest.raises(CityshadeError) as info:

@@ -11,9 +11,8 @@ import pytest
 import shapely
 
 from cityshade.maps import ROOF_SHAPES, MapBuilding, MapData, building_masses, facade_style
-from cityshade.scene import building_record, building_vertices, rotation_y
-from cityshade.scene._materials import ROOF_PART_SHEET, ROOF_PART_SURFACE
-from cityshade.scene._meshes import SURFACE_ROOF
+from cityshade.scene import SURFACE_ROOF, building_record, building_vertices, rotation_y
+from cityshade.scene.testing import ROOF_PART_SHEET, ROOF_PART_SURFACE
 
 WALL_TOP = 10.0
 RISE = 4.0
@@ -433,7 +432,7 @@ def test_roof_pattern_on_the_gpu_matches_its_numpy_twin(gl_context, part, materi
     import moderngl
 
     from cityshade.gl import ProgramCache, RenderTarget
-    from cityshade.scene._materials import roof_part_material, roof_pattern
+    from cityshade.scene.testing import roof_part_material, roof_pattern
 
     program = ProgramCache(gl_context).get("city/roof_probe.glsl")
     target = RenderTarget(gl_context, PROBE, colors=(("f4", 4),))
@@ -487,8 +486,8 @@ def test_a_guessed_direction_leaves_the_ridge_to_the_orientation():
 def test_flat_roofs_of_blocks_sit_inside_a_parapet():
     """A block of three storeys or more: the walls run on PARAPET above its flat roof, whose rim is
     PARAPET_THICKNESS wide with faces looking in; still closed, and the roof's volume is gone."""
-    from cityshade.maps._roofs import PARAPET
-    from cityshade.scene._roofs import PARAPET_THICKNESS
+    from cityshade.maps.testing import PARAPET
+    from cityshade.scene.testing import PARAPET_THICKNESS
 
     outline = shapely.box(0, 0, 20, 10)
     mass = one(levels=3)

@@ -157,9 +157,9 @@ def test_render_map_cli_bad_values_one_line_exit_2(helsinki_pbf, tmp_path, optio
 
 
 def test_video_and_viewer_take_a_map(helsinki_pbf, tmp_path):
+    from cityshade.commands.video import render_video
     from cityshade.maps import city_from_map, sky_clock
     from cityshade.render import RenderSettings
-    from cityshade.commands.video import render_video
     from cityshade.viewer import open_viewer
 
     city, camera, placed = city_from_map(helsinki_pbf, "street", "2025-06-21", "21:00")
@@ -221,7 +221,7 @@ def test_date_without_a_map_is_refused(tmp_path):
 
 
 def test_buildings_get_a_use_from_their_use_or_kind():
-    from cityshade.maps._masses import use_code
+    from cityshade.maps.testing import use_code
 
     cases = {
         ("retail", "yes"): "shop",

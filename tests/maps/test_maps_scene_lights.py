@@ -11,7 +11,7 @@ import shapely
 
 from cityshade.maps import Area, Lamp, MapBuilding, MapData, map_city
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._street_lights import CELL, lamps_reaching_cell, light_grid
+from cityshade.render.testing import CELL, lamps_reaching_cell, light_grid
 from cityshade.scene import Camera
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context

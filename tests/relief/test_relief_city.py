@@ -32,7 +32,7 @@ from cityshade.relief import (
 )
 from cityshade.relief.testing import MISS, SINGLE_FACADE
 from cityshade.render import Renderer, RenderSettings, assign_facades, choose_facade
-from cityshade.render._city_gpu import GROUND_MARGIN
+from cityshade.render.testing import GROUND_MARGIN
 from cityshade.scene import Camera, City, batch, box, default_city
 from render_checks import hit_edges, id_edges, interior_params, render_finite, style_min_width
 

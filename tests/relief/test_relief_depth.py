@@ -17,7 +17,7 @@ from cityshade.grammar import BUILDING_STYLES
 from cityshade.interior import reference_surfaces
 from cityshade.relief import relief_atlas
 from cityshade.render import Renderer, RenderSettings
-from cityshade.render._city_gpu import GROUND_MARGIN
+from cityshade.render.testing import GROUND_MARGIN
 from cityshade.scene import Camera, City, box
 from render_checks import grammar_facades, id_edges, interior_params
 

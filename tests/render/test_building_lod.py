@@ -199,8 +199,7 @@ def test_the_cheap_colours_on_the_gpu_match_the_numpy_reference(gl_context):
     keeps the exact alpha; and its mipmaps are box-filtered in 8 bits level by level). Evaluated
     lazily into the city's colours buffer, those buildings hold them, the city's other grammar
     buildings the not-ready marker and the buildings without a grammar zero."""
-    from cityshade.render._building_lod import grammar_colours
-    from cityshade.render._lod_colours import NOT_READY, grammar_colours_gpu
+    from cityshade.render.testing import NOT_READY, grammar_colours, grammar_colours_gpu
 
     renderer = Renderer((32, 24), RenderSettings(samples=0), ctx=gl_context)
     try:

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from cityshade.errors import UsageError
-from cityshade.render import Renderer, RenderSettings
 from cityshade.frame import boxes_visible, chunk_vertices, frustum_planes
-from cityshade.render._visibility import building_boxes, building_ranges
+from cityshade.render import Renderer, RenderSettings
+from cityshade.render.testing import building_boxes, building_ranges
 from cityshade.scene import Camera, batch, make_city
 from render_checks import render_finite
 

@@ -19,8 +19,8 @@ from cityshade._files import OUTPUT_MARKER, atomic_folder
 from cityshade.errors import UsageError
 from cityshade.export import FORMATS, check_output, crop, map_export_city, parse_region
 from cityshade.maps import load_map, map_city
-from cityshade.render import _tile_cache, open_tiles, write_tiles
-from cityshade.render._tile_cache import CacheProblem, read_tile
+from cityshade.render import CacheProblem, _tile_cache, open_tiles, write_tiles
+from cityshade.render.testing import read_tile
 from fuzzing import LARGE, SMALL, for_a_while
 
 TAGGED = Path(__file__).parents[1] / "data" / "maps" / "tagged.osm"

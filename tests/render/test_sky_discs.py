@@ -10,9 +10,8 @@ import pytest
 from PIL import Image
 
 from cityshade.render import Daylight, Renderer, RenderSettings
-from cityshade.render._sky_discs import sky_disc_uniforms, sky_discs_reference
-from cityshade.scene import Camera, City, box
-from cityshade.scene._city import GROUND_PAVEMENT
+from cityshade.render.testing import sky_disc_uniforms, sky_discs_reference
+from cityshade.scene import GROUND_PAVEMENT, Camera, City, box
 
 SIZE = (160, 120)
 FOV = 8.0  # degrees: a narrow lens, so each disc spans many pixels

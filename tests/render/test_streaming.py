@@ -16,15 +16,23 @@ import numpy as np
 import pytest
 
 from cityshade.commands import main
+from cityshade.commands.tile import streamed_tiles
 from cityshade.errors import CityshadeError, UsageError
 from cityshade.interior import FACE_CODES
 from cityshade.maps import load_map, map_city
-from cityshade.commands.tile import streamed_tiles
-from cityshade.render import Renderer, RenderSettings, open_tiles, write_tiles
-from cityshade.render._streaming import StreamedCityGPU, TileStreamer, _Arena
-from cityshade.render._city_gpu import ground_vertices
-from cityshade.render._tile_cache import GROUND_DTYPE, SLOT_UNIT, CacheProblem, ground_offset, read_tile, slot_bytes
-from cityshade.scene import FACE_DTYPE, GROUND_LAND, Camera, GPU_VERTEX_DTYPE, expand_face_table, make_city, placements
+from cityshade.render import CacheProblem, Renderer, RenderSettings, open_tiles, write_tiles
+from cityshade.render._streaming import _Arena
+from cityshade.render.testing import (
+    GROUND_DTYPE,
+    SLOT_UNIT,
+    StreamedCityGPU,
+    TileStreamer,
+    ground_offset,
+    ground_vertices,
+    read_tile,
+    slot_bytes,
+)
+from cityshade.scene import FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, Camera, expand_face_table, make_city, placements
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cityshade._values import parse_time
+from cityshade.frame import parse_time
 from cityshade.render import Daylight, Renderer, RenderSettings
-from cityshade.render._godrays import god_ray_uniforms, god_rays_reference
+from cityshade.render.testing import god_ray_uniforms, god_rays_reference
 from cityshade.scene import make_city
 from cityshade.trees import SCENE_TIME, park_scene
 from render_checks import render_finite

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 import shapely
 
-from cityshade.scene import BuildingMass
-from cityshade.scene._meshes import OUTLINE_TOLERANCE, SURFACE_ROOF, building_vertices, simplified_outline
+from cityshade.scene import SURFACE_ROOF, BuildingMass, building_vertices
+from cityshade.scene.testing import OUTLINE_TOLERANCE, simplified_outline
 
 
 def _wavy(n: int, radius: float) -> np.ndarray:

@@ -12,12 +12,18 @@ import pytest
 import shapely
 
 from cityshade.maps import load_map, map_city
-from cityshade.scene import building_vertices
-from cityshade.scene._dormers import DORMER_SPACING, DORMER_WIDTH, END_MARGIN
-from cityshade.scene._materials import ROOF_PART_SHEET
-from cityshade.scene._meshes import SURFACE_DORMER, SURFACE_ROOF, SURFACE_WALL
-from cityshade.scene._roof_units import CLEARANCE, HOUSING_ROOF, rooftop_units, unit_count
-from cityshade.scene._roofs import PARAPET_THICKNESS
+from cityshade.scene import SURFACE_DORMER, SURFACE_ROOF, SURFACE_WALL, building_vertices
+from cityshade.scene.testing import (
+    CLEARANCE,
+    DORMER_SPACING,
+    DORMER_WIDTH,
+    END_MARGIN,
+    HOUSING_ROOF,
+    PARAPET_THICKNESS,
+    ROOF_PART_SHEET,
+    rooftop_units,
+    unit_count,
+)
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
@@ -163,7 +169,7 @@ def test_dormer_windows_show_rooms_and_units_are_roof_in_the_id_pass(gl_context,
 def test_a_tagged_roof_material_without_a_colour_keeps_its_own_colour(masses):
     """roof:material=slate and no roof:colour: the roof is slate grey, not a guessed plaster colour."""
     from cityshade.scene import building_record
-    from cityshade.scene._materials import ROOF_MATERIALS, ROOF_SLATE, linear
+    from cityshade.scene.testing import ROOF_MATERIALS, ROOF_SLATE, linear
 
     record = building_record(masses[HIPPED])
     assert record["roof"][3] == ROOF_SLATE

@@ -56,7 +56,7 @@ def test_the_frame_redraws_each_cascade_at_its_rate(gl_context):
     """Inside the renderer's frames 0-4 (the camera moving; every rate skips a frame): the shadow pass redraws exactly the
     cascades `cascades_due` names, with draw calls for their casters; a cascade not due keeps its
     depth map and light matrix untouched, one redrawn takes the moved camera's matrix."""
-    from cityshade._values import parse_time
+    from cityshade.frame import parse_time
     from cityshade.render import Renderer, RenderSettings
     from cityshade.trees import SCENE_TIME, park_scene
 
@@ -97,7 +97,7 @@ def test_the_frame_redraws_each_cascade_at_its_rate(gl_context):
 def test_new_shadow_maps_are_drawn_whole_at_once(gl_context):
     """A new shadow resolution (the viewer's scale changed) makes new maps: the next frame draws
     every cascade with its casters, whichever are due, so no cascade goes without shadows."""
-    from cityshade._values import parse_time
+    from cityshade.frame import parse_time
     from cityshade.render import Renderer, RenderSettings
     from cityshade.trees import SCENE_TIME, park_scene
 

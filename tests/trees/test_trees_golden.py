@@ -13,7 +13,7 @@ import pytest
 from PIL import Image
 
 from cityshade.gl import ProgramCache
-from cityshade.render._shadows import CascadedShadows
+from cityshade.render.testing import CascadedShadows
 from cityshade.scene import Camera
 from golden_images import check_golden, check_golden_rejects
 from trees_scene import display, one_tree, render

@@ -11,9 +11,9 @@ from PIL import Image
 
 from cityshade.interior import FACE_NAMES
 from cityshade.render import Renderer, RenderSettings
-from cityshade.trees import TreePass
-from cityshade.trees._tree_cells import TreeCells
 from cityshade.scene import Camera, make_city
+from cityshade.trees import TreePass
+from cityshade.trees.testing import TreeCells
 from trees_scene import one_tree, render, render_ids
 
 FACE = {name: code for code, name in FACE_NAMES.items()}

@@ -8,14 +8,13 @@ import moderngl
 import numpy as np
 import pytest
 
-from cityshade.errors import UsageError
-from cityshade.gl import ProgramCache, RenderTarget
-from cityshade.frame import Daylight
-from cityshade.trees import TreeSettings
-from cityshade.render._shadows import CascadedShadows
-from cityshade.scene import Camera
 from cityshade import trees
-from cityshade.trees import EVERY_FRAME, FRAME_PIXELS, FRAMES, Light, impostor_twin
+from cityshade.errors import UsageError
+from cityshade.frame import Daylight
+from cityshade.gl import ProgramCache, RenderTarget
+from cityshade.render.testing import CascadedShadows
+from cityshade.scene import Camera
+from cityshade.trees import EVERY_FRAME, FRAME_PIXELS, FRAMES, Light, TreeSettings, impostor_twin
 from trees_scene import SIZE, one_tree, render, save, write_frame_block
 
 ONLY_IMPOSTORS = (1e6, 0.9e6)  # impostor_rows: every tree spans fewer rows, so is wholly its impostor

@@ -9,15 +9,13 @@ import moderngl
 import numpy as np
 import pytest
 
-from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, sampler_units, set_uniforms
-from cityshade.render._shadows import CascadedShadows
-from cityshade.trees._tree_pass import PARTS
-from cityshade.scene import Camera
-from cityshade.trees import OAK, extrude_fins, generate_tree, lod_alphas, vanish_alphas
 from cityshade.frame import boxes_visible, frustum_planes
+from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, sampler_units, set_uniforms
+from cityshade.render.testing import CascadedShadows
+from cityshade.scene import Camera
+from cityshade.trees import OAK, TreePass, extrude_fins, generate_tree, lod_alphas, tree_instances, vanish_alphas
+from cityshade.trees.testing import INSTANCE_BYTES, PARTS
 from trees_scene import SIZE, one_tree, render, save
-from cityshade.trees._tree_pass import INSTANCE_BYTES, TreePass
-from cityshade.trees import tree_instances
 
 
 @pytest.fixture(scope="module")

@@ -5,11 +5,10 @@ import pytest
 from PIL import Image
 
 from cityshade.commands import main
-from cityshade._values import parse_time
+from cityshade.frame import parse_time
 from cityshade.render import Daylight, Renderer, RenderSettings
-from cityshade.render._godrays import god_ray_uniforms
-from cityshade.scene import Camera, City, box
-from cityshade.scene._city import GROUND_PAVEMENT
+from cityshade.render.testing import god_ray_uniforms
+from cityshade.scene import GROUND_PAVEMENT, Camera, City, box
 from cityshade.trees import SCENE_TIME, city_trees, park_scene
 from render_checks import render_finite
 

@@ -2,6 +2,7 @@
 declare, the frame's view and settings, what a frame hands every pass, and the culling any pass
 can use (docs/frame.md)."""
 
+from .._values import parse_time  # "HH:MM" as the hours RenderSettings.time_of_day takes
 from ._context import Frame, FrameView
 from ._culling import BuildingChunks, boxes_visible, building_cells, chunk_vertices, frustum_planes
 from ._daylight import Daylight
@@ -37,6 +38,7 @@ __all__ = [
     "declared_targets",
     "run_passes",
     "RenderSettings",
+    "parse_time",
     "GLState",
     "HDR",
     "IDS",

@@ -1,0 +1,21 @@
+"""What the tests use of cityshade.maps's internals: its numpy twins and the parts they check one by one."""
+
+from ._load import MAX_CITYJSON_BYTES
+from ._masses import STYLE_BY_USE, building_mass, use_code
+from ._osm import check_xml
+from ._roofs import PARAPET
+from ._tags import building_attributes, colour, direction, length, use_of
+
+__all__ = [
+    "MAX_CITYJSON_BYTES",
+    "PARAPET",
+    "STYLE_BY_USE",
+    "building_attributes",
+    "building_mass",
+    "check_xml",
+    "colour",
+    "direction",
+    "length",
+    "use_code",
+    "use_of",
+]
