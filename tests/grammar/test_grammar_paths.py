@@ -72,7 +72,7 @@ def test_ssao_only_darkens_and_at_most_by_its_strength(fig11, output_dir):
     renderer.set_settings(fig11_settings("deferred", "full"))
     renderer.render(camera)
     lit = renderer.targets["resolved"].read(0)[..., :3].astype(float)
-    on = renderer.targets.occluded.read(0)[..., :3].astype(float)
+    on = renderer.targets["occluded"].read(0)[..., :3].astype(float)
     width, height = SIZE
     sky = np.frombuffer(renderer.targets["resolved"].depth.read(), np.float32).reshape(height, width)[::-1] >= 1.0
     tone = np.hstack([lit, on]) / max(lit.max(), 1e-6)

@@ -350,7 +350,7 @@ def test_map_city_leaves_the_map_as_read():
 
     from cityshade.maps import load_map, map_city
 
-    data = load_map(Path(__file__).parent / "data" / "maps" / "entrances.osm")
+    data = load_map(Path(__file__).parents[1] / "data" / "maps" / "entrances.osm")
     as_read = copy.deepcopy(data)
     city = map_city(data)
     assert len(city.masses) and data == as_read

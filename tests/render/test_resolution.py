@@ -170,7 +170,8 @@ def test_without_steps_the_scale_stops_at_its_minimum():
 
 
 def test_each_quality_step_changes_what_is_drawn_and_adds_to_the_ones_before():
-    from cityshade.render import QUALITY_STEPS, RenderSettings, TreeSettings, with_quality_steps
+    from cityshade.render import QUALITY_STEPS, RenderSettings, with_quality_steps
+    from cityshade.trees import TreeSettings
 
     full = (RenderSettings(), TreeSettings())
     assert with_quality_steps(*full, 0) == full
