@@ -1,4 +1,4 @@
-"""Structure-aware fuzzers for the map readers (OpenStreetMap XML, .osm.gz, CityJSON) and the CGA
+"""Structure-aware fuzzers for the map readers (OpenStreetMap XML, .osm.gz, .osm.pbf, CityJSON) and the CGA
 importer: whatever they are given, they load it or refuse it with one line (exit code 2), never a
 traceback, and reading CityJSON stays within its documented memory factor.
 
@@ -12,6 +12,7 @@ import json
 import tracemalloc
 from pathlib import Path
 
+import osmium
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -65,6 +66,52 @@ def osm_documents(draw) -> bytes:
 def check_osm(document: bytes, packed: bool, folder: Path) -> None:
     path = folder / ("fuzz.osm.gz" if packed else "fuzz.osm")
     path.write_bytes(gzip.compress(document) if packed else document)
+    loads_or_one_line(path)
+
+
+# ------------------------------------------------------------------ OpenStreetMap PBF
+
+location = st.tuples(st.floats(-200.0, 200.0, allow_nan=False), st.floats(-100.0, 100.0, allow_nan=False))
+
+
+@st.composite
+def pbf_files(draw) -> tuple[list, bytes | None]:
+    """Nodes, ways and relations as pyosmium writes them (out-of-range locations, ways to missing
+    nodes, relations to missing ways), and byte edits to make of the written file: (offset, byte)
+    pairs and a length to cut it to, or none."""
+    count = draw(st.integers(0, 10))
+    objects = [osmium.osm.mutable.Node(id=i, location=draw(location), tags=draw(tags)) for i in range(1, count + 1)]
+    for way in range(draw(st.integers(0, 4))):
+        refs = draw(st.lists(st.integers(1, count + 2), max_size=8))
+        if refs and draw(st.booleans()):
+            refs.append(refs[0])  # closed
+        objects.append(osmium.osm.mutable.Way(id=100 + way, nodes=refs, tags=draw(tags)))
+    for relation in range(draw(st.integers(0, 2))):
+        members = [("w", draw(st.integers(99, 104)), draw(st.sampled_from(["outer", "inner", "part"])))]
+        objects.append(
+            osmium.osm.mutable.Relation(id=200 + relation, members=members, tags={"type": "multipolygon", **draw(tags)})
+        )
+    edits = draw(st.lists(st.tuples(st.integers(0, 10**6), st.integers(0, 255)), max_size=4))
+    cut = draw(st.one_of(st.none(), st.integers(0, 10**6)))
+    return objects, (edits, cut)
+
+
+def check_pbf(drawn, folder: Path) -> None:
+    objects, (edits, cut) = drawn
+    path = folder / "fuzz.osm.pbf"
+    path.unlink(missing_ok=True)
+    writer = osmium.SimpleWriter(str(path))
+    try:
+        for thing in objects:
+            {"Node": writer.add_node, "Way": writer.add_way, "Relation": writer.add_relation}[type(thing).__name__](
+                thing
+            )
+    finally:
+        writer.close()
+    data = bytearray(path.read_bytes())
+    for offset, value in edits:  # a damaged blob: header, sizes or compressed data
+        data[offset % len(data)] = value
+    path.write_bytes(bytes(data[:cut]))
     loads_or_one_line(path)
 
 
@@ -225,6 +272,12 @@ def test_osm_xml_and_gzip_small(tmp_path_factory, document, packed):
 
 
 @SMALL
+@given(pbf_files())
+def test_osm_pbf_small(tmp_path_factory, drawn):
+    check_pbf(drawn, tmp_path_factory.mktemp("pbf"))
+
+
+@SMALL
 @given(cityjson_documents())
 def test_cityjson_small(tmp_path_factory, text):
     check_cityjson(text, tmp_path_factory.mktemp("cityjson"))
@@ -243,6 +296,12 @@ def test_cga_small(text):
 def test_osm_xml_and_gzip_long(tmp_path_factory):
     folder = tmp_path_factory.mktemp("osm")
     for_a_while(LARGE(given(osm_documents(), st.booleans())(lambda d, packed: check_osm(d, packed, folder))))
+
+
+@pytest.mark.fuzz
+def test_osm_pbf_long(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("pbf")
+    for_a_while(LARGE(given(pbf_files())(lambda drawn: check_pbf(drawn, folder))))
 
 
 @pytest.mark.fuzz
