@@ -16,14 +16,12 @@ __all__ = [
     "check_lights",
     "check_seed",
     "check_writable",
-    "parse_lights",
     "parse_memory_size",
     "parse_metres",
     "parse_size",
     "save_png",
 ]
 
-parse_lights = check_lights  # '0.4' -> 0.4; the command line and the API take the same values
 save_png = write_png  # a finished PNG or nothing
 
 
@@ -77,29 +75,3 @@ MAP_HELP = "a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or C
 def add_map_option(parser, *aliases: str):
     """--map FILE (and `aliases`): the map a command draws its city from."""
     parser.add_argument("--map", *aliases, dest="map", type=Path, default=None, metavar="FILE", help=MAP_HELP)
-
-
-def add_grammar_cache_option(parser, default: bool):
-    """--grammar-cache / --no-grammar-cache, for the commands that draw the city's frame."""
-    import argparse
-
-    parser.add_argument(
-        "--grammar-cache",
-        action=argparse.BooleanOptionalAction,
-        default=default,
-        help="shade grammar facades from a page cache of facades evaluated once per texel, evaluating "
-        "per pixel only where a page is not resident yet (docs/scale.md)",
-    )
-
-
-def add_building_lod_option(parser, default: bool):
-    """--building-lod / --no-building-lod, for the commands that draw the city's frame."""
-    import argparse
-
-    parser.add_argument(
-        "--building-lod",
-        action=argparse.BooleanOptionalAction,
-        default=default,
-        help="far facades drop relief, grammar and rooms for their own mean colour (dithered bands); "
-        "a grammar building's colour is evaluated once a view draws it far away (docs/frame.md)",
-    )

@@ -5,21 +5,15 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from .arguments import (
-    add_building_lod_option,
-    add_grammar_cache_option,
-    add_map_option,
-    check_seed,
-    check_writable,
-    parse_lights,
-    parse_size,
-    save_png,
-)
+from .arguments import add_map_option, check_seed, check_writable, parse_size, save_png
 from ..errors import UsageError
 from ..scene import CITIES
 from ..render import RenderSettings
 from ..render import format_bytes
+from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
+
+SETTINGS_FLAGS = ("lights", "time_of_day", "interior_mapping", "relief", "samples", "building_lod", "grammar_cache")
 
 
 def _trees_scene(args) -> int:
@@ -60,25 +54,7 @@ def register(subparsers):
     )
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
-    parser.add_argument(
-        "--lights",
-        default=None,
-        help="share of lit rooms, 0..1, for every building (default: by each building's use and --time)",
-    )
-    parser.add_argument("--time", default="19:10", help="time of day HH:MM (sun, sky, lit rooms)")
-    parser.add_argument("--no-interiors", action="store_true", help="reflective windows only")
-    parser.add_argument(
-        "--no-relief",
-        action="store_true",
-        help="flat facades: no relief bay, window-bay and grammar windows not recessed",
-    )
-    parser.add_argument(
-        "--samples",
-        type=int,
-        default=4,
-        choices=(0, 2, 4, 8),
-        help="MSAA samples (0: off; llvmpipe shades every sample, so 0 is about 4x faster there)",
-    )
+    add_settings_flags(parser, RenderSettings, SETTINGS_FLAGS)
     parser.add_argument(
         "--aov",
         choices=("guessed",),
@@ -86,8 +62,6 @@ def register(subparsers):
         help="with --map: tint walls whose height and roofs whose shape the map did not give "
         "(orange) apart from what it gave (blue)",
     )
-    add_building_lod_option(parser, RenderSettings.building_lod)
-    add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     add_streaming_arguments(parser)
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
     parser.add_argument(
@@ -104,7 +78,8 @@ def run(args) -> int:
     start = time.perf_counter()
 
     size = parse_size(args.size)
-    lights = None if args.lights is None else parse_lights(args.lights)
+    settings = settings_from_flags(args, RenderSettings)
+    del settings["time_of_day"]  # render_city takes the clock time as typed, as the map's sun does
     check_writable(args.out)
     if args.scene is not None:
         if args.scene not in SCENES:
@@ -126,24 +101,19 @@ def run(args) -> int:
             from ..maps import city_from_map
 
             made = tiles.city if tiles is not None else None
-            city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time, city=made)
+            city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time_of_day, city=made)
         before_render = time.perf_counter() - start
         image, info = render_city(
             city=city,
             seed=args.seed,
             camera=args.camera,
             size=size,
-            lights=lights,
-            time=args.time,
-            interior_mapping=not args.no_interiors,
-            relief=not args.no_relief,
-            samples=args.samples,
+            time=args.time_of_day,
             profile=args.profile,
             aov=args.aov,
-            building_lod=args.building_lod,
-            grammar_cache=args.grammar_cache,
             tiles=tiles,
             memory_budget=budget,
+            **settings,
             **sky,
         )
     save_png(image, args.out)

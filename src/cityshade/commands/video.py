@@ -15,6 +15,7 @@ from .arguments import add_map_option, check_writable, parse_size
 from .._values import parse_time
 from ..render import Renderer
 from ..render import RenderSettings
+from .settings_flags import add_settings_flags, settings_from_flags
 
 
 def render_video(
@@ -96,7 +97,9 @@ def register(subparsers):
     parser.add_argument("--frames", type=int, default=48)
     parser.add_argument("--fps", type=int, default=24)
     parser.add_argument("--size", default="640x360", help="WIDTHxHEIGHT")
-    parser.add_argument("--time", default="19:10", help="time of day at the start, HH:MM")
+    add_settings_flags(
+        parser, RenderSettings, ("time_of_day",), time_of_day={"help": "time of day at the start, HH:MM"}
+    )
     parser.add_argument("--until", default=None, help="time of day at the end, HH:MM (animates dusk)")
     parser.add_argument("--out", type=Path, default=Path("out/city.mp4"))
     parser.add_argument(
@@ -118,7 +121,7 @@ def _run(args) -> int:
     _check_mp4(args.out)
     size = parse_size(args.size)
     camera_path(args.path)
-    parse_time(args.time)
+    settings_from_flags(args, RenderSettings)  # a bad --time fails before the map is read
     if args.until:
         parse_time(args.until)
     check_writable(args.out)
@@ -129,7 +132,7 @@ def _run(args) -> int:
     if args.map is not None:
         from ..maps import city_from_map, sky_clock
 
-        city = city_from_map(args.map, "aerial", args.date, args.time)[0]
+        city = city_from_map(args.map, "aerial", args.date, args.time_of_day)[0]
         sky = sky_clock(city.origin, args.date)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers {args.workers}: give at least 1")
@@ -140,7 +143,7 @@ def _run(args) -> int:
         args.frames,
         args.fps,
         size,
-        args.time,
+        args.time_of_day,
         args.until,
         sky=sky,
         workers=args.workers,

@@ -6,11 +6,11 @@ from dataclasses import replace
 
 import moderngl_window as mglw
 
-from .._values import parse_time
 from ..render import RenderSettings
 from ..scene import make_city
 from ..viewer import DEFAULT_TARGET_FPS, HELP, open_viewer
-from .arguments import add_building_lod_option, add_grammar_cache_option, add_map_option
+from .arguments import add_map_option
+from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
 
 
@@ -20,15 +20,16 @@ def register(subparsers):
     add_map_option(parser)
     parser.add_argument("--camera", default="street", help="viewpoint name, or lon,lat,height,heading with --map")
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
-    parser.add_argument("--time", default="19:10", help="time of day HH:MM")
-    parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
-    parser.add_argument(
-        "--samples",
-        type=int,
-        default=0,
-        choices=(0, 2, 4, 8),
-        help="MSAA samples to start with (M toggles; off by default: llvmpipe shades every sample)",
+    add_settings_flags(
+        parser,
+        RenderSettings,
+        ("time_of_day", "samples", "building_lod", "grammar_cache"),
+        samples={
+            "default": 0,
+            "help": "MSAA samples to start with (M toggles; off by default: llvmpipe shades every sample)",
+        },
     )
+    parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
     parser.add_argument(
         "--target-fps",
         type=float,
@@ -39,19 +40,12 @@ def register(subparsers):
         "less often, far trees fading sooner, flat facades, no shadows) "
         f"(default {DEFAULT_TARGET_FPS:g}; 0: always full resolution and quality)",
     )
-    add_building_lod_option(parser, RenderSettings.building_lod)
-    add_grammar_cache_option(parser, RenderSettings.grammar_cache)
     add_streaming_arguments(parser)
     parser.set_defaults(run=_run)
 
 
 def _run(args) -> int:
-    settings = RenderSettings(
-        time_of_day=parse_time(args.time),
-        samples=args.samples,
-        grammar_cache=args.grammar_cache,
-        building_lod=args.building_lod,
-    )
+    settings = RenderSettings(**settings_from_flags(args, RenderSettings))
     from ..maps import require_map_for_date
 
     require_map_for_date(args.date, args.map or args.tiles)
@@ -62,7 +56,7 @@ def _run(args) -> int:
             from ..maps import city_from_map, sky_clock
 
             made = tiles.city if tiles is not None else None
-            city, camera, placed = city_from_map(args.map, camera, args.date, args.time, city=made)
+            city, camera, placed = city_from_map(args.map, camera, args.date, args.time_of_day, city=made)
             settings = replace(settings, **placed)
             sky = sky_clock(city.origin, args.date)
         viewer = open_viewer(

@@ -15,7 +15,7 @@ from ._gpu_culling import (
     visible_twin,
 )
 from ._passes import Pass, declared_targets, run_passes
-from ._settings import RenderSettings
+from ._settings import CommandFlag, RenderSettings
 from ._state import GLState
 from ._targets import HDR, IDS, FrameTargets, Target
 
@@ -37,6 +37,7 @@ __all__ = [
     "Pass",
     "declared_targets",
     "run_passes",
+    "CommandFlag",
     "RenderSettings",
     "parse_time",
     "GLState",
