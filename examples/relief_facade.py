@@ -18,8 +18,8 @@ from cityshade.api import render_city
 from cityshade.gl import ProgramCache, create_context
 from cityshade.maps import city_from_map
 from cityshade.relief import FacadeView, GpuFacade, facade_camera, paper_facade
-from cityshade.render._renderer import Renderer
 from cityshade.render import RenderSettings
+from cityshade.render._renderer import Renderer
 from cityshade.scene import Camera, City, box, default_city
 
 VIEWS = {  # name: renderer, azimuth, elevation, distance (m), target (fractions of the facade)

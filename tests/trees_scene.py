@@ -4,10 +4,9 @@ import moderngl
 import numpy as np
 from PIL import Image
 
-from cityshade.gl import FRAME_BLOCK, RenderTarget
 from cityshade.frame import Daylight
-from cityshade.trees import TreePass, TreeSettings
-from cityshade.trees import tree_instances
+from cityshade.gl import FRAME_BLOCK, RenderTarget
+from cityshade.trees import TreePass, TreeSettings, tree_instances
 from render_checks import assert_finite
 
 SIZE = (128, 128)

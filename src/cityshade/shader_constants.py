@@ -11,6 +11,8 @@ from .grammar import FACADE_GRAMMAR
 from .interior import FACE_CODES
 from .relief import FACADE_RELIEF, GLASS, MATERIALS, RELIEF_FACE_CODES
 from .scene import (
+    DOOR_CONSTANTS,
+    FACE_TABLE_CONSTANTS,
     FLAGS,
     GROUND_MATERIALS,
     LEVEL_CODES,
@@ -22,7 +24,6 @@ from .scene import (
     TINT_GAIN,
     USE_CODES,
 )
-from .scene import DOOR_CONSTANTS, FACE_TABLE_CONSTANTS
 
 CONSTANTS: dict[str, int | str] = {
     **FACE_CODES,  # id AOV faces: FACE_NONE ... FACE_GROUND, FACE_TRUNK, FACE_FOLIAGE

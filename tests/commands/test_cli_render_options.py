@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 from PIL import Image
 
-
 FOOTPRINTS = Path(__file__).parents[2] / "examples" / "footprints.geojson"
 SIZE = "96x54"
 pytestmark = [pytest.mark.slow, pytest.mark.gl]  # renders through the command line

@@ -14,10 +14,10 @@ import pytest
 
 from cityshade._files import open_input_stream, output_target, read_input_bytes, write_png
 from cityshade.commands import main
-from cityshade.export import check_output
-from cityshade.render import check_cache_folder
 from cityshade.errors import UsageError
+from cityshade.export import check_output
 from cityshade.grammar import library_path
+from cityshade.render import check_cache_folder
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 

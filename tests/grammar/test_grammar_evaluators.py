@@ -8,7 +8,6 @@ import pytest
 from cityshade.grammar import GrammarError, compile_grammars, loads
 from grammar_compare import compare, ctx  # noqa: F401  (ctx is a fixture)
 
-
 LEAVES = "A->Mat(Color, Rep:wall1, 0.0, 0.0, 1.0, 1.0)\nB->Mat(Color, Rep:wall3, 0.0, 0.0, 1.0, 1.0)\n"
 
 

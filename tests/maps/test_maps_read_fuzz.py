@@ -12,10 +12,10 @@ import random
 from pathlib import Path
 
 import pytest
-from fuzzing import loads_or_one_line
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from fuzzing import loads_or_one_line
 
 EXAMPLES = int(os.environ.get("CITYSHADE_FUZZ_EXAMPLES", "60"))
 DATA = Path(__file__).parents[1] / "data" / "maps"

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cityshade.render import Renderer, RenderSettings, frame_passes
 from cityshade.frame import hiz_twin, visible_twin
+from cityshade.render import Renderer, RenderSettings, frame_passes
 from cityshade.scene import Camera, make_city
 
 SIZE = (160, 96)

@@ -16,6 +16,7 @@ from cityshade.scene import (
     GPU_VERTEX_ATTRIBUTES,
     GPU_VERTEX_DTYPE,
     GPU_VERTEX_FORMAT,
+    _face_table,
     batch,
     box,
     default_city,
@@ -24,7 +25,6 @@ from cityshade.scene import (
     placements,
     shared_vertices,
 )
-from cityshade.scene import _face_table
 
 OUTPUTS = ("v_world", "v_local", "v_normal", "v_facade", "v_spacing", "v_face", "v_ids")
 OUTPUT_FIELDS = (  # the meshed record's words each output must carry

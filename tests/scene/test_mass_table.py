@@ -20,8 +20,8 @@ from cityshade.scene import (
     box,
     default_city,
     dome,
+    make_city,
 )
-from cityshade.scene import make_city
 
 MAPS = Path(__file__).parents[1] / "data" / "maps"
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cityshade.scene import CORNER_TURN, BuildingMass, SURFACE_ROOF, building_vertices, storeys, wall_faces
+from cityshade.scene import CORNER_TURN, SURFACE_ROOF, BuildingMass, building_vertices, storeys, wall_faces
 
 
 def _faces(ring, nominal=4.0, first_column=0):

@@ -2,7 +2,8 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from cityshade.gl import srgb_to_linear
 from cityshade.trees import SPECIES, bark_textures, generate_tree, leaf_textures

@@ -19,12 +19,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-
 from rich.console import Console
 from rich.table import Table
 
 from .._files import output_folder, write_text
-
 
 MIN_TIMED_FRAMES = 9  # per point, after warm-up: enough for a median and quartiles
 

@@ -21,13 +21,14 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .._files import write_figure
+from ..frame import boxes_visible, frustum_planes
 from ..gl import ProgramCache, RenderTarget, create_context, describe_context
 from ..relief import (
     FRAME_DTYPE,
     MAP_NAMES,
     PAPER_FACADES,
-    RENDERERS,
     PROFILE,
+    RENDERERS,
     DetailMaps,
     FacadeView,
     GpuFacade,
@@ -42,7 +43,6 @@ from ..relief import (
     switch_distance,
     trace_view,
 )
-from ..frame import boxes_visible, frustum_planes
 from ..render import Renderer, RenderSettings
 from ..scene import Camera, make_city
 from ._harness import BenchResult, method_record, time_interleaved, timing_record

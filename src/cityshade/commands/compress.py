@@ -11,15 +11,26 @@ from rich.console import Console
 from rich.progress import Progress
 
 from .._files import output_target
-from .arguments import check_seed, parse_metres
 from ..errors import CityshadeError, Finding, UsageError
-from ..relief import MAP_NAMES, compress, detail_matrices, digest
-from ..relief import MAX_TERMS, METHODS
-from ..relief import read_compressed, write_compressed
-from ..relief import grammar_maps
-from ..relief import check_facade_texels
-from ..relief import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, generate_facade
-from ..relief import DetailMaps, load_png_maps
+from ..relief import (
+    DEPTH_UNIT,
+    MAP_NAMES,
+    MAX_TERMS,
+    METHODS,
+    PAPER_FACADES,
+    PAPER_TEXEL,
+    DetailMaps,
+    check_facade_texels,
+    compress,
+    detail_matrices,
+    digest,
+    generate_facade,
+    grammar_maps,
+    load_png_maps,
+    read_compressed,
+    write_compressed,
+)
+from .arguments import check_seed, parse_metres
 
 
 def register(subparsers):

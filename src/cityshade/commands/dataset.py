@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .arguments import add_map_option
 from ..errors import UsageError
+from .arguments import add_map_option
 
 
 def register(subparsers):

@@ -5,8 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from .arguments import add_map_option
 from ..scene import CITIES
+from .arguments import add_map_option
 
 
 def register(subparsers):

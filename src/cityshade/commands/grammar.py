@@ -5,8 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..grammar import GrammarError
-from ..grammar import FACADE_INDICES
+from ..grammar import FACADE_INDICES, GrammarError
 
 
 def register(subparsers):
@@ -85,9 +84,8 @@ def _check(args) -> int:
 def _import(args) -> int:
     """Translates, lists what was not translated (FILE:LINE: what: instead) and checks the result."""
     from .._files import atomic_output, read_input_bytes
+    from ..grammar import CgaError, loads, translate
     from .arguments import check_writable
-    from ..grammar import loads
-    from ..grammar import CgaError, translate
 
     if args.out is not None:
         check_writable(args.out)
@@ -129,13 +127,11 @@ def _import(args) -> int:
 def _render(args) -> int:
     import numpy as np
 
-    from ..assets import LABEL_COLOURS, tile_array
-    from .arguments import check_writable, save_png
-    from ..grammar import compile_grammars, load
-    from ..scene import USES
-    from ..grammar import facade_seed_vector, seed_vector
     from .._budget import check_image_memory
-    from ..grammar import CPU_BYTES_PER_PIXEL, evaluate_facade
+    from ..assets import LABEL_COLOURS, tile_array
+    from ..grammar import CPU_BYTES_PER_PIXEL, compile_grammars, evaluate_facade, facade_seed_vector, load, seed_vector
+    from ..scene import USES
+    from .arguments import check_writable, save_png
 
     for path in (args.out, args.labels):
         if path is not None:

@@ -17,9 +17,7 @@ import sys
 from collections import Counter
 from pathlib import Path
 
-from ..maps import guess_missing
-from ..maps import load_map
-from ..maps import FEATURES, MapData
+from ..maps import FEATURES, MapData, guess_missing, load_map
 
 
 def _report(counter: Counter, examples: dict) -> list[dict]:

@@ -5,11 +5,10 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from .arguments import add_map_option, check_seed, check_writable, parse_size, save_png
 from ..errors import UsageError
+from ..render import RenderSettings, format_bytes
 from ..scene import CITIES
-from ..render import RenderSettings
-from ..render import format_bytes
+from .arguments import add_map_option, check_seed, check_writable, parse_size, save_png
 from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
 

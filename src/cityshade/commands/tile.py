@@ -10,18 +10,18 @@ import tempfile
 import time
 from pathlib import Path
 
-from .arguments import parse_memory_size
 from ..errors import UsageError
-from ..render import format_bytes
 from ..render import (
     TILE_SIZE,
     CacheProblem,
-    check_cache_folder,
     TileCache,
+    check_cache_folder,
+    format_bytes,
     open_tiles,
     source_identity,
     write_tiles,
 )
+from .arguments import parse_memory_size
 
 
 def _map_city(path: Path):

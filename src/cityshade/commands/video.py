@@ -9,12 +9,11 @@ import imageio.v2 as imageio
 from rich.progress import Progress
 
 from .._files import atomic_output, signals_deferred
+from .._values import parse_time
 from ..errors import UsageError
+from ..render import Renderer, RenderSettings
 from ..scene import PATHS, City, camera_path, make_city
 from .arguments import add_map_option, check_writable, parse_size
-from .._values import parse_time
-from ..render import Renderer
-from ..render import RenderSettings
 from .settings_flags import add_settings_flags, settings_from_flags
 
 

@@ -7,8 +7,8 @@ from ._config import DEFAULTS, DatasetConfig, load_config, parse_config
 from ._manifest import read_manifest
 from ._preview import write_preview
 from ._run import generate, render_frames
-from ._shards import write_shards
 from ._sample import SampleRenderer, extrinsics, intrinsics, linear_depth, normals_from_depth, sample_files
+from ._shards import write_shards
 from ._source import Source, load_source
 from ._views import KINDS, Streets, View, sample_view
 

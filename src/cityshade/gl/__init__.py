@@ -2,13 +2,13 @@
 context), vertex arrays, texture uploads with an explicit colour space, full-screen passes, render
 targets and timing."""
 
-from ._generated import declare_constants
 from ._bindings import binding
-from ._buffers import DrawBuffers, create_buffer, grow_buffer
 from ._blocks import FRAME_BLOCK, MAX_USES, SHADING_BLOCK, UniformBlock
+from ._buffers import DrawBuffers, create_buffer, grow_buffer
 from ._colour import linear_to_srgb, srgb_to_linear
 from ._context import create_context, describe_context
 from ._fullscreen import draw_fullscreen
+from ._generated import declare_constants
 from ._programs import ProgramCache, shader_source
 from ._pyramid import R32F, pyramid_levels, pyramid_texture
 from ._resources import draw_buffers, programs

@@ -32,6 +32,7 @@ def load_library() -> dict[str, Grammar]:
 
 
 # the city's facades need load_library above
+from ._cga import CgaError, translate  # noqa: E402
 from ._city import (  # noqa: E402
     BUILDING_STYLES,
     FACADE_GRAMMAR,
@@ -42,7 +43,6 @@ from ._city import (  # noqa: E402
 )
 from ._fit import min_width  # noqa: E402
 from ._frame_pass import DeferredGrammarPass, bind_grammar_results, grammar_passes  # noqa: E402
-from ._cga import CgaError, translate  # noqa: E402
 from ._gpu import FacadeRenderer, GrammarTextures, shader_defines  # noqa: E402
 from ._random import FACADE_INDICES, facade_seed_vector, seed_cells, seed_vector  # noqa: E402
 from ._reference import CPU_BYTES_PER_PIXEL, evaluate, evaluate_facade, hole_cut  # noqa: E402

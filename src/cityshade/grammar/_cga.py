@@ -494,8 +494,8 @@ class _Importer:
                 )
                 return "0"
         text = " ".join(words)
-        from ._syntax import parse_expression  # the cityshade parser decides what it reads
         from ._diagnostics import Location
+        from ._syntax import parse_expression  # the cityshade parser decides what it reads
 
         try:
             parse_expression(text, Location("<cga>", line, 1))

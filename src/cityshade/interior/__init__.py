@@ -3,7 +3,8 @@ polygonised-interiors baseline, its geometry and its passes of the frame."""
 
 from ._faces import FACE_CODES, FACE_NAMES, room_state
 from ._hash import pcg_hash
-from ._polygonised import LAYERS as POLYGONISED_LAYERS, polygonised_vertices, quad_counts, room_grid
+from ._polygonised import LAYERS as POLYGONISED_LAYERS
+from ._polygonised import polygonised_vertices, quad_counts, room_grid
 from ._polygonised_pass import ROOM_TEXTURES, PolygonisedGPU, room_passes
 from ._reference import GrammarFacades, InteriorParams, find_room, reference_ids, reference_surfaces, room_id, trace
 from ._solids import cast_masses

@@ -10,9 +10,9 @@ import numpy as np
 
 from ..frame import HDR, BuildingChunks, Frame, GLState, Pass, chunk_vertices
 from ..gl import VertexArrays, bind_textures, binding, create_buffer, set_uniforms
-from ..scene import GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, City, face_table
-from ..scene import placements
-from ._polygonised import LAYERS as POLYGONISED_LAYERS, polygonised_vertices
+from ..scene import GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT, City, face_table, placements
+from ._polygonised import LAYERS as POLYGONISED_LAYERS
+from ._polygonised import polygonised_vertices
 
 ROOM_TEXTURES = ("room textures", "facade texture", "sprites", "curtain", "environment")
 

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assets import LABELS, TileArray
-from ..grammar import CompiledGrammars, evaluate as evaluate_grammar, facade_seed_vector, seed_vector
+from ..grammar import CompiledGrammars, facade_seed_vector, seed_vector
+from ..grammar import evaluate as evaluate_grammar
 from ..relief import GLASS, PROFILE, RELIEF_SHAPES, DetailMaps, switch_distance, trace_reference
 from ..scene import SHAPES, USE_COUNT, USES, BuildingMass, door_hit, face_levels
 from ._faces import (

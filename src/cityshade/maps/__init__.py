@@ -1,5 +1,10 @@
 """Real cities from map data (OpenStreetMap, GeoJSON, CityJSON) as one model in local metres."""
 
+from ._cameras import aerial_camera, spot_camera, street_camera, street_segment
+from ._doors import on_ground
+from ._guess import guess_missing
+from ._load import load_map
+from ._masses import building_masses, facade_style
 from ._model import (
     AREA_KINDS,
     BUILDING_ATTRIBUTES,
@@ -15,17 +20,12 @@ from ._model import (
     Road,
     to_scene,
 )
-from ._doors import on_ground
-from ._guess import guess_missing
-from ._load import load_map
-from ._tiling import measure_load, tiled_extract
-from ._masses import building_masses, facade_style
-from ._cameras import aerial_camera, spot_camera, street_camera, street_segment
 from ._open import city_from_map
-from .features import FEATURES
 from ._scene import city_from_guessed, map_city
-from .features.streets import MAIN_ROADS, ROAD_LINKS
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
+from ._tiling import measure_load, tiled_extract
+from .features import FEATURES
+from .features.streets import MAIN_ROADS, ROAD_LINKS
 
 __all__ = [
     "FEATURES",

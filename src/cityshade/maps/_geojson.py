@@ -24,9 +24,9 @@ import shapely
 from .._json import check_depth
 from ..errors import UsageError
 from ._assemble import Raw, assemble
-from .features import area_kind, is_building, point_kind
 from ._model import MapData, ReadReport
 from ._projection import LOCAL, in_range
+from .features import area_kind, is_building, point_kind
 
 GEOGRAPHIC_SHARE = 0.5  # of coordinates inside lon/lat ranges for a file without `crs` to be lon/lat
 

@@ -15,6 +15,7 @@ import zlib
 import numpy as np
 import shapely
 
+from ..scene import roof_material
 from ._defaults import (
     DEFAULT_ROOF_ANGLE,
     HOUSE,
@@ -24,7 +25,6 @@ from ._defaults import (
     resolve_contradictions,
     settle_top,
 )
-from ..scene import roof_material
 from ._doors import place_doors
 from ._learn import Estimates, estimate
 from ._model import MapBuilding, MapData, MapTree, ReadReport

@@ -24,8 +24,8 @@ import shapely
 from .._files import InputError, open_input_stream
 from ..errors import UsageError
 from ._assemble import Raw, assemble
-from .features import area_kind, is_building, point_kind, wanted_line
 from ._model import MapData, ReadReport
+from .features import area_kind, is_building, point_kind, wanted_line
 
 PROLOG_BYTES = 65536
 SNIFF = 64

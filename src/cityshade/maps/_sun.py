@@ -9,8 +9,8 @@ from __future__ import annotations
 import datetime as dt
 import re
 
-from ..errors import UsageError
 from .._values import parse_time
+from ..errors import UsageError
 
 DEFAULT_DATE = "2025-06-21"  # the longest day: long low sun in the evening in northern cities
 

@@ -7,17 +7,17 @@ binary factorisations, bit packing, the .cfdm file format and a numpy reference 
 from ._boxes import free_boxes
 from ._cache import CACHE_ENV, cache_dir, cached_arrays, cached_compress, smallest_compression
 from ._city import FACADE_RELIEF, RELIEF_SHAPES, RELIEF_STYLES, CityRelief, relief_atlas, stack_bmf, switch_distance
-from ._grammar_source import PROFILE, StyleOpenings, grammar_maps, style_openings
 from ._compress import MAP_NAMES, CompressedFacade, compress, detail_matrices, digest
 from ._factor import MAX_TERMS, METHODS, Factors, factorize, greedy_biclique
 from ._format import VERSION, from_bytes, read_compressed, to_bytes, write_compressed
-from ._layout import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, FacadeLayout, generate_bay, generate_facade, paper_facade
-from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
 from ._gpu import RENDERERS, GpuFacade, decode_on_gpu, renderer_defines
+from ._grammar_source import PROFILE, StyleOpenings, grammar_maps, style_openings
+from ._layout import DEPTH_UNIT, PAPER_FACADES, PAPER_TEXEL, FacadeLayout, generate_bay, generate_facade, paper_facade
 from ._limits import check_facade_texels
+from ._maps import GLASS, MATERIALS, DetailMaps, load_png_maps, save_png_maps
+from ._mesh import relief_mesh
 from ._pack import pack_bits, unpack_bits
 from ._reference import RELIEF_FACE_CODES, Hits, trace_reference
-from ._mesh import relief_mesh
 from ._view import (
     FRAME_DTYPE,
     FacadeImages,

@@ -11,8 +11,7 @@ from typing import Callable
 import numpy as np
 
 from ..assets import LABELS, tile_array
-from ..grammar import compile_grammars, load
-from ..grammar import evaluate, hole_cut, seed_vector
+from ..grammar import compile_grammars, evaluate, hole_cut, load, seed_vector
 from ._layout import CORNICE, DEPTH_UNIT, DOOR_D, FRAME, FRAME_D, GLASS, GLASS_D, SILL, STONE, WALL, WALL_D, WOOD
 from ._maps import DetailMaps
 

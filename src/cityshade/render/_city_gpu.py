@@ -12,19 +12,28 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from ..frame import BuildingChunks, chunk_vertices
 from ..gl import VertexArrays, binding, create_buffer
 from ..grammar import FACADE_GRAMMAR, GrammarTextures
+from ..interior import PolygonisedGPU
 from ..relief import CityRelief
-from ..scene import BUILDING_DTYPE, GPU_VERTEX_ATTRIBUTES, GPU_VERTEX_FORMAT
-from ..scene import City, batch, face_table, placements, shared_vertices
-from ..scene import GROUND_ASPHALT, GROUND_GRASS
+from ..scene import (
+    BUILDING_DTYPE,
+    GPU_VERTEX_ATTRIBUTES,
+    GPU_VERTEX_FORMAT,
+    GROUND_ASPHALT,
+    GROUND_GRASS,
+    City,
+    batch,
+    face_table,
+    placements,
+    shared_vertices,
+)
 from ._building_lod import grammar_sample_faces
-from ..frame import BuildingChunks, chunk_vertices
 from ._facades import assign_facades
 from ._lod_colours import LodColours
-from ..interior import PolygonisedGPU
 from ._street_lights import StreetLightsGPU
-from ._visibility import BuildingVisibility, building_boxes, building_bounds, building_ranges
+from ._visibility import BuildingVisibility, building_bounds, building_boxes, building_ranges
 
 GROUND_FORMAT = "3f 1f"
 GROUND_ATTRIBUTES = ("in_position", "in_material")

@@ -15,6 +15,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from ..frame import boxes_visible, frustum_planes
 from ..gl import (
     RenderTarget,
     bind_textures,
@@ -27,7 +28,6 @@ from ..gl import (
 )
 from ..grammar import GrammarTextures, seed_vector, shader_defines
 from ._building_lod import SAMPLE_GRID, unit_samples
-from ..frame import boxes_visible, frustum_planes
 
 TILES = (32, 32)  # buildings per batch at most: tiles across and up (a 1024 x 512 target)
 NOT_READY = -1.0  # the glass share of a colour not evaluated yet (city/lod.glsl lod_colour_ready)

@@ -22,8 +22,8 @@ from ._frame import DISPLAY, RESOLVED, frame_passes, id_passes, write_frame_bloc
 from ._night_sky import night_amount, night_sky
 from ._shadows import CascadedShadows
 from ._streaming import StreamedCityGPU
-from ._tile_cache import TileCache
 from ._textures import CityTextures
+from ._tile_cache import TileCache
 
 ENV_SIZE = 128
 

@@ -14,18 +14,18 @@ from typing import Callable
 import moderngl
 import numpy as np
 
+from ..frame import Frame
+from ..gl import RenderTarget, bind_textures, set_uniforms
 from ..scene import Camera
 from ..trees import (
     PAPER_RATES,
+    TreePass,
     cascade_view_projection,
     cascades_due,
     slowed_rates,
     split_distances,
-    TreePass,
     texture_matrix,
 )
-from ..frame import Frame
-from ..gl import RenderTarget, bind_textures, set_uniforms
 
 SHADOW_BIAS = 0.0008  # texture-depth units, every cascade
 

@@ -43,10 +43,10 @@ import numpy as np
 from .._files import InputError, atomic_folder, check_replaceable_folder, read_input_bytes
 from .._version import __version__
 from ..errors import CityshadeError
+from ..frame import building_cells
 from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
 from ._city_gpu import CityBuildings, ground_vertices
-from ..frame import building_cells
 from ._facades import NARROW_FACES, GrammarFitWarning
 from ._visibility import BOX_DTYPE
 

@@ -1,8 +1,8 @@
 """What is drawn: cameras, building masses, city layouts and their meshes. No GL here."""
 
+from ._batch import batch
 from ._buildings import SHAPES, BuildingMass, box, cylinder, dome
 from ._camera import Camera, look_at, perspective
-from ._layers import Layer
 from ._city import (
     CITIES,
     GROUND_ASPHALT,
@@ -12,12 +12,12 @@ from ._city import (
     GROUND_LAND,
     GROUND_MARKING,
     GROUND_MATERIALS,
-    GROUND_PLATFORM,
-    GROUND_TABLE,
     GROUND_PAVEMENT,
+    GROUND_PLATFORM,
     GROUND_POST,
     GROUND_RAIL,
     GROUND_SAND,
+    GROUND_TABLE,
     GROUND_WATER,
     MAP_GROUND_MATERIALS,
     City,
@@ -25,9 +25,24 @@ from ._city import (
     grid_city,
     make_city,
 )
+from ._dome_faces import DOME_TAPER, DomeFaces, dome_faces
+from ._doors import DOOR_CONSTANTS, DOOR_HEIGHT, DOOR_WIDTH, MAX_DOORS, door_hit, door_on_edge
+from ._face_levels import LEVEL_CODES, face_levels, vertex_face_levels
+from ._face_table import (
+    FACE_DTYPE,
+    FACE_TABLE_CONSTANTS,
+    GPU_VERTEX_ATTRIBUTES,
+    GPU_VERTEX_DTYPE,
+    GPU_VERTEX_FORMAT,
+    PLACEMENT_DTYPE,
+    expand_face_table,
+    face_table,
+    placements,
+    shared_vertices,
+)
+from ._layers import Layer
 from ._mass_table import MASS_COLUMNS, MASS_POOLS, MassColumns, MassTable
 from ._materials import ROOF_PARTS, ROOF_PATTERNS, TINT_GAIN, roof_material
-from ._batch import batch
 from ._meshes import (
     SURFACE_CODES,
     SURFACE_DORMER,
@@ -40,27 +55,12 @@ from ._meshes import (
     building_vertices,
     world_positions,
 )
-from ._face_table import (
-    FACE_DTYPE,
-    FACE_TABLE_CONSTANTS,
-    PLACEMENT_DTYPE,
-    GPU_VERTEX_ATTRIBUTES,
-    GPU_VERTEX_DTYPE,
-    GPU_VERTEX_FORMAT,
-    expand_face_table,
-    face_table,
-    placements,
-    shared_vertices,
-)
 from ._paths import PATHS, camera_path
-from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
-from ._dome_faces import DOME_TAPER, DomeFaces, dome_faces
-from ._face_levels import LEVEL_CODES, face_levels, vertex_face_levels
 from ._raycast import intersect
-from ._roofs import ROOF_SHAPE_TABLE, Roof, RoofShape
 from ._records import BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, rotation_y
-from ._doors import DOOR_CONSTANTS, DOOR_HEIGHT, DOOR_WIDTH, MAX_DOORS, door_hit, door_on_edge
+from ._roofs import ROOF_SHAPE_TABLE, Roof, RoofShape
 from ._uses import LIT_SCHEDULE, USE_CODES, USE_COUNT, USES, lit_share, lit_shares
+from ._wall_faces import CORNER_TURN, WallFaces, storeys, wall_faces
 
 __all__ = [
     "ROOF_SHAPE_TABLE",

@@ -6,9 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._roofs import FLAT_ROOF, Roof
-from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, FLAG_SHOP_FRONT, SHAPES
 from ._face_levels import LEVEL_MASK, LEVEL_SHIFT
+from ._records import FLAG_CURTAINS, FLAG_FURNITURE, FLAG_NO_INTERIOR, FLAG_ROOM_VARIATION, FLAG_SHOP_FRONT, SHAPES
+from ._roofs import FLAT_ROOF, Roof
 from ._uses import USE_COUNT, USE_MIXED, USE_SHIFT
 
 

@@ -13,12 +13,12 @@ import numpy as np
 import shapely
 
 from ._buildings import BuildingMass
-from ._records import BUILDING_DTYPE, SHAPES
+from ._dome_faces import dome_faces
 from ._doors import door_record
 from ._extrusions import empty_rows, outline_rows, roof_rows, wall_rows
-from ._dome_faces import dome_faces
-from ._wall_faces import WallFaces, storeys, wall_faces
 from ._materials import linear, roof_material, wall_tint
+from ._records import BUILDING_DTYPE, SHAPES
+from ._wall_faces import WallFaces, storeys, wall_faces
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
 SURFACE_PLAIN_WALL = 2  # a wall face too narrow for its building's grammar (render/_facades.py)

@@ -2,9 +2,9 @@
 extrusion, cascade scheduling, LOD fade and impostor shading, and the frame's tree pass."""
 
 from ._cascades import (
-    SHADOW_CASTERS,
     EVERY_FRAME,
     PAPER_RATES,
+    SHADOW_CASTERS,
     CascadeRate,
     cascade_view_projection,
     cascades_due,

@@ -3,8 +3,7 @@ of buildings behind (back-lit leaves, god rays, long cascaded shadows; `cityshad
 
 from __future__ import annotations
 
-from ..scene import Camera, City, box
-from ..scene import GROUND_GRASS, GROUND_PAVEMENT
+from ..scene import GROUND_GRASS, GROUND_PAVEMENT, Camera, City, box
 
 SCENE_TIME = "18:20"  # low sun in the west (-x), about 10 degrees up
 

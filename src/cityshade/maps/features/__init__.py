@@ -14,8 +14,8 @@ from ._feature import Built, Feature, Surface
 from .buildings import Buildings, is_building
 from .entrances import Entrances
 from .lamps import Lamps
-from .platforms import Platforms
 from .land import Land
+from .platforms import Platforms
 from .rail import Rail
 from .streets import Streets
 from .trees import Trees

@@ -5,7 +5,6 @@ and their posts as small boxes in the ground mesh (a thin post, a lamp head that
 from __future__ import annotations
 
 import numpy as np
-
 import shapely
 
 from ...scene import GROUND_BULB, GROUND_POST, Layer
