@@ -391,3 +391,22 @@ def signals_deferred():
             signum = _deferred[0]
             _deferred.clear()
             _exit_for(signum)
+
+
+def inside_folder(folder: Path, name, what: str) -> Path:
+    """The real path of `name`, a relative path read from a file (a manifest's entry), inside
+    `folder`, as Python 3.12 tarfile's data filter confines members: an absolute path, one that
+    climbs out with '..' or one through a symbolic link leading out of `folder` raises UsageError,
+    one line starting with `what` (the file and the entry), never quoting or sizing what lies outside."""
+    base = os.path.realpath(folder)
+    if not isinstance(name, str) or not name or "\x00" in name:
+        raise UsageError(f"{what}: expected a file name relative to {folder}")
+    if os.path.isabs(name):
+        reason = "the path is absolute"
+    else:
+        real = os.path.realpath(os.path.join(base, name))
+        if real == base or real.startswith(base.rstrip(os.sep) + os.sep):
+            return Path(real)
+        climbs = os.path.normpath(name).split(os.sep)[0] == os.pardir
+        reason = f"the path {'climbs out of' if climbs else 'passes a symbolic link leading out of'} {folder}"
+    raise UsageError(f"{what}: {reason}; only files inside {folder} are used")

@@ -1,12 +1,15 @@
 """cityshade dataset through a local Ray runtime (one for the whole module: Ray starts slowly):
 byte-identical samples whatever the number of workers, exactly once when an actor is killed,
---resume, Helsinki read back through the manifest, and the command's one-line errors."""
+--resume, Helsinki read back through the manifest, the command's one-line errors, and a signal
+during a run (in a subprocess with its own runtime)."""
 
 from __future__ import annotations
 
 import json
 import os
 import signal
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
@@ -155,6 +158,52 @@ def test_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, extra, words
     err = capsys.readouterr().err.strip()
     assert code == 2 and words in err and "\n" not in err
     assert not out.exists()
+
+
+def test_more_workers_than_the_runtime_has_cpus_is_one_line_and_writes_nothing(ray_runtime, tmp_path):
+    """The module's runtime has 2 CPUs: a third actor would never start, and its batches never end."""
+    out = tmp_path / "ds"
+    with pytest.raises(UsageError, match=r"^--workers 3: .*give at most 2"):
+        generate(out, 2, parse_config(TINY), city="default", workers=3, progress=False)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_during_dataset_lists_every_finished_sample(tmp_path, signum):
+    """SIGTERM ends a run as Ctrl-C does, not with Ray's crash report: exit 143 (130 for SIGINT),
+    the manifest lists every sample whose files are complete, no temporary file is left."""
+    config = tmp_path / "tiny.toml"
+    config.write_text("[image]\nwidth = 48\nheight = 32\n[run]\nbatch = 1\n")
+    out = tmp_path / "ds"
+    env = {k: v for k, v in os.environ.items() if k != "RAY_LOGGER_LEVEL"}
+    env["PYTHONPATH"] = os.pathsep.join(sys.path)
+    argv = ["dataset", "--city", "default", "--samples", "200", "--out", str(out), "--config", str(config)]
+    process = subprocess.Popen(
+        [sys.executable, "-m", "cityshade", *argv], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env
+    )
+    try:
+        deadline = time.monotonic() + 240
+        while len(list(out.glob("samples/*.json"))) < 2 and process.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(list(out.glob("samples/*.json"))) >= 2, "the run never finished two samples"
+        process.send_signal(signum)
+        _, err = process.communicate(timeout=120)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.communicate()
+    assert process.returncode == (130 if signum == signal.SIGINT else 128 + signum), err.decode(errors="replace")
+    for words in (b"Traceback", b"SIGTERM received", b"logging.cc", b"Error"):
+        assert words not in err, err.decode(errors="replace")
+    finished = sorted(int(p.name.split(".")[0]) for p in out.glob("samples/*.json"))
+    rows = read_manifest(out)
+    assert [row["index"] for row in rows] == finished, "a finished sample is missing from the manifest"
+    assert len(finished) < 200, "the run finished before the signal"
+    for row in rows:
+        meta = json.loads((out / row["meta"]).read_text())
+        assert all((out / row[name]).is_file() for name in OUTPUTS)
+        assert (row["local_time"], row["sun_elevation"]) == (meta["local_time"], meta["sun"]["elevation"])
+    assert not list(out.glob("samples/.*")), "a temporary file is left"
 
 
 def test_unwritable_output_is_refused(tmp_path, capsys):

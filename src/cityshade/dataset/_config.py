@@ -1,18 +1,22 @@
 """The dataset's settings: a TOML file (read with tomllib) over documented defaults.
 
-Every key is checked: an unknown section, key or class, a wrong type or a range the wrong way
-round is one line naming the file, the key and the value.
+Every key is checked: an unknown section, key or class, a wrong type, a number that is not finite
+or a range the wrong way round is one line naming the file, the key and the value. The file is read
+as a capped regular file and its nesting is bounded before tomllib recurses into it (_limits.py).
 """
 
 from __future__ import annotations
 
 import datetime as dt
+import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from .._files import read_input_bytes
 from ..errors import UsageError
 from ._classes import CLASSES
+from ._limits import MAX_CONFIG_BYTES, MAX_IMAGE_SIDE, MAX_NESTING, data_nesting, shown, shown_key, toml_nesting
 
 # section -> key -> default; docs/datasets.md lists them with their meaning
 DEFAULTS: dict[str, dict] = {
@@ -68,12 +72,14 @@ class DatasetConfig:
 
 
 def _fail(where: str, key: str, value, what: str):
-    raise UsageError(f"{where}: {key} = {value!r}: {what}")
+    raise UsageError(f"{where}: {shown_key(key)} = {shown(value)}: {what}")
 
 
 def _number(where, key, value, low=None, high=None, integer=False):
     if isinstance(value, bool) or not isinstance(value, int if integer else (int, float)):
         _fail(where, key, value, "expected " + ("an integer" if integer else "a number"))
+    if isinstance(value, float) and not math.isfinite(value):
+        _fail(where, key, value, f"expected a finite number from {low} to {high}")
     if (low is not None and value < low) or (high is not None and value > high):
         _fail(where, key, value, f"expected a value from {low} to {high}")
     return value
@@ -113,7 +119,7 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
     """A DatasetConfig from a TOML document's tables; defaults for what is left out."""
     for section, table in data.items():
         if section not in DEFAULTS:
-            _fail(where, section, "[...]", f"unknown section; sections: {', '.join(DEFAULTS)}")
+            raise UsageError(f"{where}: [{shown_key(section)}]: unknown section; sections: {', '.join(DEFAULTS)}")
         if not isinstance(table, dict):
             _fail(where, section, table, "expected a table")
         for key in table:
@@ -126,8 +132,8 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
     if sum(shares.values()) <= 0:
         _fail(where, "views", shares, "at least one kind of view needs a share above 0")
     return DatasetConfig(
-        width=int(_number(where, "image.width", get("image", "width"), 8, 4096, integer=True)),
-        height=int(_number(where, "image.height", get("image", "height"), 8, 4096, integer=True)),
+        width=int(_number(where, "image.width", get("image", "width"), 8, MAX_IMAGE_SIDE, integer=True)),
+        height=int(_number(where, "image.height", get("image", "height"), 8, MAX_IMAGE_SIDE, integer=True)),
         fov=float(_number(where, "image.fov", get("image", "fov"), 5.0, 150.0)),
         **shares,
         pedestrian_height=float(
@@ -148,10 +154,22 @@ def load_config(path: Path | None) -> DatasetConfig:
     """The config in `path` (TOML), or the defaults without one."""
     if path is None:
         return parse_config({})
+    data = read_input_bytes(path, MAX_CONFIG_BYTES, "dataset config")
     try:
-        data = tomllib.loads(Path(path).read_text())
-    except OSError as exc:
-        raise UsageError(f"cannot read config {str(path)!r}: {exc.strerror}") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{path}: not valid TOML: not UTF-8 text (byte {exc.start})") from None
+    too_deep = UsageError(
+        f"{path}: arrays or tables nested more than {MAX_NESTING} levels deep; a config needs three (docs/datasets.md)"
+    )
+    if toml_nesting(text) > MAX_NESTING:
+        raise too_deep
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
         raise UsageError(f"{path}: not valid TOML: {exc}") from None
-    return parse_config(data, str(path))
+    except RecursionError:  # not reached after the check above; kept so that no input gives a traceback
+        raise too_deep from None
+    if data_nesting(document) > MAX_NESTING:  # dotted keys nest tables without brackets
+        raise too_deep
+    return parse_config(document, str(path))

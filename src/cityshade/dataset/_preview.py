@@ -1,10 +1,13 @@
 """A contact sheet of a dataset, for checking its labels by eye: per sample a row of the RGB, the
 classes over it, the depth (near bright, far dark) and the building instances over it; a legend
-of the class colours at the bottom."""
+of the class colours at the bottom. The samples' files are read as capped regular files inside the
+folder and decoded only after their headers say they are images or arrays of the sizes a dataset
+holds; anything else is one line naming the manifest row and the column."""
 
 from __future__ import annotations
 
 import io
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -12,7 +15,8 @@ from PIL import Image, ImageDraw
 
 from ..errors import UsageError
 from ._classes import CLASS_COLOURS, CLASSES, IGNORE
-from ._manifest import read_manifest
+from ._limits import MAX_IMAGE_SIDE
+from ._manifest import folder_file, read_manifest, read_sample_file, sample_error
 from ._sample import write_atomic
 
 LEGEND_ROW = 14
@@ -37,18 +41,72 @@ def _instance_colours(instance: np.ndarray) -> np.ndarray:
     return np.stack([(h >> np.uint64(s)) & np.uint64(255) for s in (0, 8, 16)], axis=-1).astype(np.float32)
 
 
+def _png(folder: Path, row: dict, column: str, mode: str) -> np.ndarray:
+    data = read_sample_file(folder, row, column)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            image = Image.open(io.BytesIO(data), formats=["PNG"])
+            if max(image.size) > MAX_IMAGE_SIDE or min(image.size) < 1:
+                raise sample_error(
+                    folder, row, column, f"{image.size[0]}x{image.size[1]} pixels, not a dataset's image"
+                )
+            if mode == "L" and image.mode != "L":
+                raise sample_error(folder, row, column, f"a {image.mode} image, not 8-bit classes")
+            return np.asarray(image.convert(mode))
+    except UsageError:
+        raise
+    except (OSError, ValueError, SyntaxError, EOFError, Image.DecompressionBombError, Image.DecompressionBombWarning):
+        raise sample_error(folder, row, column, "not a readable PNG image") from None
+
+
+def _npy(folder: Path, row: dict, column: str, kinds: str) -> np.ndarray:
+    """A 2-D array of dtype kind in `kinds`, its header checked before the array is allocated."""
+    data = read_sample_file(folder, row, column)
+    buffer = io.BytesIO(data)
+    fmt = np.lib.format
+    try:
+        version = fmt.read_magic(buffer)
+        header = {(1, 0): fmt.read_array_header_1_0, (2, 0): fmt.read_array_header_2_0}.get(version)
+        if header is None:
+            raise ValueError(version)
+        shape, _, dtype = header(buffer)
+        fits = (
+            dtype.kind in kinds
+            and len(shape) == 2
+            and 0 < min(shape)
+            and max(shape) <= MAX_IMAGE_SIDE
+            and shape[0] * shape[1] * dtype.itemsize <= len(data) - buffer.tell()
+        )
+        if not fits:
+            raise sample_error(folder, row, column, f"a {dtype} array of shape {shape}, not a dataset's image")
+        return np.load(io.BytesIO(data), allow_pickle=False)
+    except UsageError:
+        raise
+    except (OSError, ValueError, SyntaxError, EOFError, TypeError):
+        raise sample_error(folder, row, column, "not a readable .npy array") from None
+
+
 def sample_row(folder: Path, row: dict) -> np.ndarray:
-    rgb = np.asarray(Image.open(folder / row["rgb"]).convert("RGB"))
-    classes = np.asarray(Image.open(folder / row["class"]))
+    rgb = _png(folder, row, "rgb", "RGB")
+    classes = _png(folder, row, "class", "L")
+    instance = _npy(folder, row, "instance", "ui")
+    depth = _npy(folder, row, "depth", "f")
+    for column, array in (("class", classes), ("instance", instance), ("depth", depth)):
+        if array.shape[:2] != rgb.shape[:2]:
+            raise sample_error(
+                folder,
+                row,
+                column,
+                f"{array.shape[1]}x{array.shape[0]}, the RGB image is {rgb.shape[1]}x{rgb.shape[0]}",
+            )
     palette = np.zeros((256, 3), np.float32)
     palette[: len(CLASS_COLOURS)] = CLASS_COLOURS
-    instance = np.load(folder / row["instance"])
-    depth = np.load(folder / row["depth"])
     return np.concatenate(
         [
             rgb,
             _overlay(rgb, palette[classes], classes != IGNORE),
-            _depth_picture(depth),
+            _depth_picture(depth.astype(np.float32)),
             _overlay(rgb, _instance_colours(instance), instance > 0),
         ],
         axis=1,
@@ -60,7 +118,13 @@ def write_preview(folder: Path, out: Path | None = None, count: int = 8) -> Path
     rows = read_manifest(folder)[:count]
     if not rows:
         raise UsageError(f"{folder}: no complete sample to preview; run cityshade dataset --out {folder} first")
-    sheet = np.concatenate([sample_row(folder, row) for row in rows], axis=0)
+    pictures = [sample_row(folder, row) for row in rows]
+    for row, picture in zip(rows, pictures):
+        if picture.shape != pictures[0].shape:
+            width, height = picture.shape[1] // 4, picture.shape[0]
+            first = f"{pictures[0].shape[1] // 4}x{pictures[0].shape[0]}"
+            raise sample_error(folder, row, "rgb", f"{width}x{height} pixels, sample {rows[0]['index']} has {first}")
+    sheet = np.concatenate(pictures, axis=0)
     columns = 4
     per_column = -(-len(CLASSES) // columns)
     legend = Image.new("RGB", (sheet.shape[1], per_column * LEGEND_ROW + 4), (255, 255, 255))
@@ -73,8 +137,7 @@ def write_preview(folder: Path, out: Path | None = None, count: int = 8) -> Path
     picture = Image.new("RGB", (sheet.shape[1], sheet.shape[0] + legend.height))
     picture.paste(Image.fromarray(sheet), (0, 0))
     picture.paste(legend, (0, sheet.shape[0]))
-    out = out or folder / "preview.png"
     buffer = io.BytesIO()
     picture.save(buffer, format="PNG")
-    write_atomic(out, buffer.getvalue())
-    return out
+    write_atomic(out or folder_file(folder, "preview.png"), buffer.getvalue())
+    return out or Path(folder) / "preview.png"

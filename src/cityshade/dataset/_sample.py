@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from .._files import atomic_output
+from .._files import atomic_output, inside_folder
 from ..render import Daylight, Renderer, RenderSettings
 from ._classes import class_image, instance_image
 from ._config import DatasetConfig
@@ -97,6 +97,25 @@ def _npy(array: np.ndarray) -> bytes:
     buffer = io.BytesIO()
     np.save(buffer, array)
     return buffer.getvalue()
+
+
+def manifest_row(view: View, meta: dict) -> dict:
+    """A sample's manifest row, from its view and its camera JSON (as written, or as read back)."""
+    geo = meta["geographic"] or {}
+    return {
+        "index": view.index,
+        "kind": view.kind,
+        **sample_files(view.index),
+        "lon": geo.get("lon"),
+        "lat": geo.get("lat"),
+        "height_m": view.eye[1],
+        "heading_deg": view.heading,
+        "pitch_deg": view.pitch,
+        "date": view.date,
+        "local_time": meta["local_time"],
+        "sun_elevation": meta["sun"]["elevation"],
+        "sun_azimuth": meta["sun"]["azimuth"],
+    }
 
 
 def write_atomic(path: Path, data: bytes):
@@ -193,7 +212,7 @@ class SampleRenderer:
             ("class", _png(arrays["class"])),
             ("instance", _npy(arrays["instance"])),
         ):
-            write_atomic(out / files[name], data)
+            write_atomic(inside_folder(out, files[name], str(out / files[name])), data)
         _, when = self.sky(view)
         visible = np.unique(arrays["instance"])
         meta = {
@@ -212,22 +231,8 @@ class SampleRenderer:
             "instances": {str(int(i)): self.source.instances[int(i) - 1] for i in visible if i > 0},
             "files": {k: os.path.basename(v) for k, v in files.items()},
         }
-        write_atomic(out / files["meta"], json.dumps(meta, indent=1).encode())
-        geo = meta["geographic"] or {}
-        return {
-            "index": view.index,
-            "kind": view.kind,
-            **files,
-            "lon": geo.get("lon"),
-            "lat": geo.get("lat"),
-            "height_m": view.eye[1],
-            "heading_deg": view.heading,
-            "pitch_deg": view.pitch,
-            "date": view.date,
-            "local_time": when["local_time"],
-            "sun_elevation": when["sun"]["elevation"],
-            "sun_azimuth": when["sun"]["azimuth"],
-        }
+        write_atomic(inside_folder(out, files["meta"], str(out / files["meta"])), json.dumps(meta, indent=1).encode())
+        return manifest_row(view, meta)
 
     def release(self):
         self.renderer.release()

@@ -1,15 +1,17 @@
 """WebDataset tar shards of a dataset's complete samples: `shards/000000.tar`, ... each holding
 `per_shard` samples in index order, every file named `KEY.EXTENSION` with KEY the 7-digit sample
-index. The tars are reproducible (sorted members, mtime 0, uid/gid 0) and each is written atomically."""
+index. The tars are reproducible (sorted members, mtime 0, uid/gid 0) and each is written atomically.
+Only regular files inside the dataset folder go into them (_manifest.sample_path)."""
 
 from __future__ import annotations
 
 import io
+import os
 import tarfile
 from pathlib import Path
 
-from ._manifest import read_manifest
-from ._sample import SUFFIXES, write_atomic
+from ._manifest import FILES, folder_file, read_manifest, read_sample_file
+from ._sample import sample_files, write_atomic
 
 
 def _member(tar: tarfile.TarFile, name: str, data: bytes):
@@ -23,16 +25,18 @@ def write_shards(folder: Path, per_shard: int) -> list[Path]:
     earlier run with more shards are removed."""
     folder = Path(folder)
     rows = read_manifest(folder)
+    shards = folder_file(folder, "shards")
     paths = []
     for k in range(0, len(rows), per_shard):
         buffer = io.BytesIO()
         with tarfile.open(fileobj=buffer, mode="w", format=tarfile.USTAR_FORMAT) as tar:
             for row in rows[k : k + per_shard]:
-                for name in SUFFIXES:
-                    path = folder / row[name]
-                    _member(tar, path.name, path.read_bytes())
+                for name in FILES:
+                    _member(
+                        tar, os.path.basename(sample_files(row["index"])[name]), read_sample_file(folder, row, name)
+                    )
         paths.append(folder / "shards" / f"{k // per_shard:06d}.tar")
-        write_atomic(paths[-1], buffer.getvalue())
-    for stale in sorted((folder / "shards").glob("*.tar"))[len(paths) :]:
+        write_atomic(shards / paths[-1].name, buffer.getvalue())
+    for stale in sorted(shards.glob("*.tar"))[len(paths) :]:
         stale.unlink()
     return paths
