@@ -9,7 +9,7 @@ import numpy as np
 import shapely
 
 from cityshade.commands.info import summary
-from cityshade.dataset._classes import GROUND_CLASSES
+from cityshade.dataset.testing import GROUND_CLASSES
 from cityshade.maps import guess_missing, load_map, map_city
 from cityshade.scene import GROUND_BALLAST, GROUND_PLATFORM
 

@@ -17,11 +17,11 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
-from dataset_folders import make_folder, opened_files, record, row, write_rows
 
-from cityshade.cli import main
+from cityshade.commands import main
 from cityshade.dataset import load_config, parse_config, read_manifest, write_preview, write_shards
 from cityshade.errors import UsageError
+from dataset_folders import make_folder, opened_files, record, row, write_rows
 
 SECRET = b"cityshade-test-secret\n" * 360  # 7920 bytes: neither its text nor its size may show
 RESUME = ["dataset", "--city", "default", "--samples", "2", "--resume"]

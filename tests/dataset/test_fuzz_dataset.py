@@ -16,25 +16,22 @@ import os
 import sys
 import tarfile
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
-from dataset_folders import make_folder, npy, opened_files, record, write_rows
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 import cityshade
 from cityshade.dataset import DEFAULTS, load_config, sample_files, write_preview, write_shards
-from cityshade.dataset._manifest import COLUMNS, FILES, check_record, complete_rows
+from cityshade.dataset.testing import COLUMNS, FILES, check_record, complete_rows
 from cityshade.errors import UsageError
+from dataset_folders import make_folder, npy, opened_files, record, write_rows
+from fuzzing import LARGE, SMALL, for_a_while
 
-FUZZ_SECONDS = float(os.environ.get("CITYSHADE_FUZZ_SECONDS", "60"))
-SMALL = settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-LARGE = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 SECRET = b"cityshade-fuzz-secret\n" * 333  # 7326 bytes: neither its text nor its size may show
 
 # ------------------------------------------------------------------ configs
@@ -216,76 +213,92 @@ def damages(draw) -> tuple[int, list]:
 
 
 def _apply(folder: Path, secret: Path, outside: Path, rows: list[dict], step, draw_table):
+    """One damage to the folder: a sample's file or manifest entry, the manifest's table or bytes,
+    or dataset.json."""
     kind = step[0]
-    manifest = folder / "manifest.parquet"
     resolve = {"{secret}": str(secret), "{outside}": str(outside)}
     if kind in ("path", "link", "fifo", "content", "remove"):
-        (k, column) = step[1]
-        if kind == "path":
-            rows[k][column] = resolve.get(step[2], step[2])
-            draw_table(rows)
-            return
-        path = folder / sample_files(k)[column]  # the file itself, whatever the manifest says now
-        assert str(path).startswith(str(folder) + os.sep)
-        if path.is_symlink() or path.is_file():
-            path.unlink()
-        elif path.exists():
-            return
-        if kind == "link":
-            target = {
-                "dangling": str(folder / "nowhere"),
-                "itself": str(path),
-                "dataset.json": str(folder / "dataset.json"),
-            }
-            path.symlink_to(resolve.get(step[2], target.get(step[2], step[2])))
-        elif kind == "fifo":
-            os.mkfifo(path)
-        elif kind == "content":
-            content = step[2]
-            if content == "other sample":
-                other = folder / sample_files((k + 1) % len(rows))[FILES[(FILES.index(column) + 1) % len(FILES)]]
-                content = other.read_bytes() if other.is_file() and not other.is_symlink() else b""
-            elif content == "cut":
-                content = b"\x89PNG\r\n\x1a\n\x00\x00"
-            path.write_bytes(content)
+        _damage_sample(folder, resolve, rows, step, draw_table)
+    elif kind in ("type", "drop", "index"):
+        _damage_table(folder / "manifest.parquet", step)
+    elif kind == "manifest":
+        _damage_manifest_bytes(folder / "manifest.parquet", step)
+    else:
+        _damage_record(folder / "dataset.json", secret, step)
+
+
+def _damage_sample(folder: Path, resolve: dict, rows: list[dict], step, draw_table):
+    kind = step[0]
+    (k, column) = step[1]
+    if kind == "path":
+        rows[k][column] = resolve.get(step[2], step[2])
+        draw_table(rows)
         return
-    if kind in ("type", "drop", "index"):
-        if not manifest.is_file() or manifest.is_symlink():  # pyarrow would wait on a FIFO for ever
-            return
-        try:
-            table = pq.read_table(manifest)
-        except Exception:  # an earlier step broke the file: this one has nothing to work on
-            return
-        if kind == "drop":
-            if step[1] in table.column_names:
-                table = table.drop_columns([step[1]])
-        elif kind == "type":
-            if step[1] in table.column_names:
-                table = table.set_column(table.column_names.index(step[1]), step[1], step[2])
-        else:
-            table = table.set_column(table.column_names.index("index"), "index", pa.array(step[1], pa.int64()))
-        pq.write_table(table, manifest)
+    path = folder / sample_files(k)[column]  # the file itself, whatever the manifest says now
+    assert str(path).startswith(str(folder) + os.sep)
+    if path.is_symlink() or path.is_file():
+        path.unlink()
+    elif path.exists():
         return
-    if kind == "manifest":
-        how, at = step[1], step[2]
-        if not manifest.is_file() or manifest.is_symlink():
-            return
-        data = manifest.read_bytes()
-        if not data:
-            return
-        if how == "fifo":
-            manifest.unlink()
-            os.mkfifo(manifest)
-            return
-        data = {
-            "cut": data[: at % max(1, len(data))],
-            "flip": data[: at % len(data)] + bytes([data[at % len(data)] ^ 0x5A]) + data[at % len(data) + 1 :],
-            "empty": b"",
-            "append": data + b"PAR1" * 3,
-        }[how]
-        manifest.write_bytes(data)
+    if kind == "link":
+        target = {
+            "dangling": str(folder / "nowhere"),
+            "itself": str(path),
+            "dataset.json": str(folder / "dataset.json"),
+        }
+        path.symlink_to(resolve.get(step[2], target.get(step[2], step[2])))
+    elif kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "content":
+        content = step[2]
+        if content == "other sample":
+            other = folder / sample_files((k + 1) % len(rows))[FILES[(FILES.index(column) + 1) % len(FILES)]]
+            content = other.read_bytes() if other.is_file() and not other.is_symlink() else b""
+        elif content == "cut":
+            content = b"\x89PNG\r\n\x1a\n\x00\x00"
+        path.write_bytes(content)
+
+
+def _damage_table(manifest: Path, step):
+    kind = step[0]
+    if not manifest.is_file() or manifest.is_symlink():  # pyarrow would wait on a FIFO for ever
         return
-    path = folder / "dataset.json"
+    try:
+        table = pq.read_table(manifest)
+    except Exception:  # an earlier step broke the file: this one has nothing to work on
+        return
+    if kind == "drop":
+        if step[1] in table.column_names:
+            table = table.drop_columns([step[1]])
+    elif kind == "type":
+        if step[1] in table.column_names:
+            table = table.set_column(table.column_names.index(step[1]), step[1], step[2])
+    else:
+        table = table.set_column(table.column_names.index("index"), "index", pa.array(step[1], pa.int64()))
+    pq.write_table(table, manifest)
+
+
+def _damage_manifest_bytes(manifest: Path, step):
+    how, at = step[1], step[2]
+    if not manifest.is_file() or manifest.is_symlink():
+        return
+    data = manifest.read_bytes()
+    if not data:
+        return
+    if how == "fifo":
+        manifest.unlink()
+        os.mkfifo(manifest)
+        return
+    data = {
+        "cut": data[: at % max(1, len(data))],
+        "flip": data[: at % len(data)] + bytes([data[at % len(data)] ^ 0x5A]) + data[at % len(data) + 1 :],
+        "empty": b"",
+        "append": data + b"PAR1" * 3,
+    }[how]
+    manifest.write_bytes(data)
+
+
+def _damage_record(path: Path, secret: Path, step):
     how = step[1]
     if os.path.lexists(path):  # a file, a link or a FIFO an earlier step left
         path.unlink()
@@ -369,25 +382,18 @@ def test_damaged_dataset_folders_small(case, data):
 # ------------------------------------------------------------------ the long runs (make fuzz)
 
 
-def _for_a_while(test):
-    """Runs a hypothesis test (a fresh random batch each call) until FUZZ_SECONDS have passed."""
-    end = time.monotonic() + FUZZ_SECONDS
-    while time.monotonic() < end:
-        test()
-
-
 @pytest.mark.fuzz
 def test_hostile_configs_long():
     def run(data):
         with tempfile.TemporaryDirectory() as folder:
             check_config(data, Path(folder))
 
-    _for_a_while(LARGE(given(configs())(run)))
+    for_a_while(LARGE(given(configs())(run)))
 
 
 @pytest.mark.fuzz
 def test_damaged_dataset_folders_long():
-    _for_a_while(LARGE(given(damages(), st.data())(_run_folder)))
+    for_a_while(LARGE(given(damages(), st.data())(_run_folder)))
 
 
 def test_the_folder_generator_reaches_every_consumer():
