@@ -44,3 +44,13 @@ def check_depth(data: bytes | str, limit: int = MAX_DEPTH) -> None:
     """Raises ValueError (a phrase to put after the file's name) when `data` nests deeper than `limit`."""
     if nesting_depth(data) > limit:
         raise ValueError(f"arrays and objects nested more than {limit} levels deep")
+
+
+def value_depth(value) -> int:
+    """How deep lists and dicts nest in a parsed value (0 for a scalar), level by level rather than
+    by recursion: a document's keys can nest tables that its brackets do not show (TOML's dotted keys)."""
+    depth, level = 0, [value]
+    while level := [item for item in level if isinstance(item, (dict, list))]:
+        depth += 1
+        level = [child for item in level for child in (item.values() if isinstance(item, dict) else item)]
+    return depth

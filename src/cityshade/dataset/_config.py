@@ -14,9 +14,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .._files import read_input_bytes
+from .._json import value_depth
 from ..errors import UsageError
 from ._classes import CLASSES
-from ._limits import MAX_CONFIG_BYTES, MAX_IMAGE_SIDE, MAX_NESTING, data_nesting, shown, shown_key, toml_nesting
+from ._limits import MAX_CONFIG_BYTES, MAX_IMAGE_SIDE, MAX_NESTING, shown, shown_key, toml_nesting
 
 # section -> key -> default; docs/datasets.md lists them with their meaning
 DEFAULTS: dict[str, dict] = {
@@ -170,6 +171,6 @@ def load_config(path: Path | None) -> DatasetConfig:
         raise UsageError(f"{path}: not valid TOML: {exc}") from None
     except RecursionError:  # not reached after the check above; kept so that no input gives a traceback
         raise too_deep from None
-    if data_nesting(document) > MAX_NESTING:  # dotted keys nest tables without brackets
+    if value_depth(document) > MAX_NESTING:  # dotted keys nest tables without brackets
         raise too_deep
     return parse_config(document, str(path))

@@ -72,8 +72,6 @@ _TOML_STRINGS = {
     "'''": re.compile(r"(?:[^']|'(?!''))*'''", re.S),
 }
 _TOML_NEXT = re.compile(r"[\"'#\[\]{}]")
-_JSON_STRING = re.compile(r'(?:[^"\\]|\\.)*"', re.S)
-_JSON_NEXT = re.compile(r'["\[\]{}]')
 
 
 def toml_nesting(text: str) -> int:
@@ -101,43 +99,4 @@ def toml_nesting(text: str) -> int:
                 break
         else:
             depth = max(0, depth - 1)
-    return deepest
-
-
-def json_nesting(text: str) -> int:
-    """How deep arrays and objects nest in JSON text, in linear time, before json recurses into them."""
-    depth = deepest = i = 0
-    while (found := _JSON_NEXT.search(text, i)) is not None:
-        c, i = found.group(), found.end()
-        if c == '"':
-            end = _JSON_STRING.match(text, i)
-            if end is None:
-                break
-            i = end.end()
-        elif c in "[{":
-            depth += 1
-            deepest = max(deepest, depth)
-            if deepest > MAX_NESTING:
-                break
-        else:
-            depth = max(0, depth - 1)
-    return deepest
-
-
-def data_nesting(value) -> int:
-    """How deep a parsed document's tables and arrays nest (iteratively: dotted TOML keys nest
-    tables without brackets)."""
-    deepest, stack = 0, [(value, 0)]
-    while stack:
-        item, depth = stack.pop()
-        if isinstance(item, dict):
-            children = item.values()
-        elif isinstance(item, list):
-            children = item
-        else:
-            continue
-        deepest = max(deepest, depth + 1)
-        if deepest > MAX_NESTING:
-            return deepest
-        stack.extend((child, depth + 1) for child in children)
     return deepest

@@ -14,6 +14,7 @@ import os
 from pathlib import Path
 
 from .._files import InputError, inside_folder, read_input_bytes
+from .._json import nesting_depth
 from ..errors import UsageError
 from ._limits import (
     MAX_MANIFEST_BYTES,
@@ -22,7 +23,6 @@ from ._limits import (
     MAX_RECORD_BYTES,
     MAX_SAMPLE_FILE_BYTES,
     MAX_SAMPLES,
-    json_nesting,
     shown,
     shown_key,
 )
@@ -174,7 +174,7 @@ def read_record(folder: Path) -> dict | None:
         text = data.decode("utf-8")
     except UnicodeDecodeError:
         raise UsageError(f"{unreadable} (not UTF-8); choose another --out") from None
-    if json_nesting(text) > MAX_NESTING:
+    if nesting_depth(text) > MAX_NESTING:
         raise UsageError(f"{unreadable} (nested more than {MAX_NESTING} levels deep); choose another --out")
     try:
         record = json.loads(text)

@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from .._files import InputError, atomic_folder, check_replaceable_folder, read_input_bytes
+from .._json import nesting_depth
 from .._version import __version__
 from ..errors import CityshadeError
 from ..frame import building_cells
@@ -58,7 +59,7 @@ TILE_FOLDER = "tiles"
 KIND = "tile-cache"  # its marker's kind (_files.OUTPUT_MARKER)
 MANIFEST_LIMIT = 64 << 20  # bytes: about 200,000 tiles' entries
 MAX_BYTES = 1 << 40  # the most a city file or tile may have (a TiB): bounds the manifest's counts
-MANIFEST_NESTING = 5  # levels: the manifest, its tiles, a tile, its bounds, a bound
+MANIFEST_NESTING = 4  # lists and objects: the manifest, its tiles, a tile, its bounds
 SHA256 = re.compile("[0-9a-f]{64}")
 TILE_NAME = re.compile(rf"{TILE_FOLDER}/[0-9]{{5,9}}\.npz")  # the names write_tiles gives
 HASH_BLOCK = 1 << 20
@@ -331,32 +332,22 @@ def _read_checked(folder: Path, name: str, size: int, sha256: str) -> bytes:
     return data
 
 
-def _nesting(value) -> int:
-    """How deeply lists and objects nest in a parsed JSON value (counted level by level, not by recursion)."""
-    depth, level = 0, [value]
-    while level:
-        depth += 1
-        level = [v for x in level if isinstance(x, (dict, list)) for v in (x.values() if isinstance(x, dict) else x)]
-    return depth
-
-
 def _manifest(folder: Path) -> dict:
     if not folder.is_dir():
         raise CacheProblem(folder, "no such folder")
     if not (folder / MANIFEST).exists():
         raise CacheProblem(folder, f"no {MANIFEST}")
     try:
-        manifest = json.loads(read_input_bytes(_inside(folder, MANIFEST), MANIFEST_LIMIT, "tile manifest"))
+        data = read_input_bytes(_inside(folder, MANIFEST), MANIFEST_LIMIT, "tile manifest")
+        if nesting_depth(data) > MANIFEST_NESTING:  # measured before json.loads recurses into it
+            raise _damaged(folder, "nested too deeply")
+        manifest = json.loads(data)
     except InputError as exc:
         raise CacheProblem(folder, f"{MANIFEST}: {exc.reason}") from None
-    except RecursionError:
-        raise _damaged(folder, "nested too deeply") from None
     except (UnicodeDecodeError, ValueError) as exc:
         raise _damaged(folder, type(exc).__name__) from None
     if not isinstance(manifest, dict):
         raise _damaged(folder, "not an object")
-    if _nesting(manifest) > MANIFEST_NESTING:
-        raise _damaged(folder, "nested too deeply")
     return manifest
 
 
