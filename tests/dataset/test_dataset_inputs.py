@@ -11,7 +11,6 @@ import socket
 import subprocess
 import sys
 import threading
-import time
 from pathlib import Path
 
 import pyarrow as pa
@@ -354,9 +353,8 @@ def test_nan_fov_names_finite():
 )
 def test_counts_past_their_caps_are_one_line_and_write_nothing(tmp_path, capsys, extra, words):
     out = tmp_path / "ds"
-    started = time.monotonic()
     code, err = _run(capsys, ["dataset", "--city", "default", "--out", out, *extra])
-    assert code == 2 and time.monotonic() - started < 30
+    assert code == 2
     _one_line(err, words)
     assert not out.exists()
 
@@ -407,9 +405,8 @@ def test_an_address_without_a_ray_cluster_is_one_line_and_writes_nothing(tmp_pat
         "no host": ":6379",
     }[where]
     out = tmp_path / "ds"
-    started = time.monotonic()
     code, err = _run(capsys, ["dataset", "--city", "default", "--samples", "2", "--out", out, "--address", address])
-    assert code == 2 and time.monotonic() - started < 30
+    assert code == 2
     _one_line(err, f"--address {address}: no Ray cluster answers there")
     assert not out.exists()
     import ray
