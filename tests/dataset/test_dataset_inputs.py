@@ -421,3 +421,53 @@ def test_a_resumed_folder_with_an_unreachable_address_is_left_as_it_was(folder, 
     assert code == 2
     _one_line(err, "no Ray cluster answers there")
     assert _snapshot(folder) == before
+
+
+@pytest.fixture
+def grpc_like():
+    """127.0.0.1:PORT answering HTTP/2's preface with a SETTINGS frame, as Ray's GCS does."""
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+
+    def answer():
+        while True:
+            try:
+                connection, _ = server.accept()
+            except OSError:
+                return
+            with connection:
+                connection.sendall(bytes([0, 0, 0, 4, 0, 0, 0, 0, 0]))
+
+    threading.Thread(target=answer, daemon=True).start()
+    yield f"127.0.0.1:{server.getsockname()[1]}"
+    server.close()
+
+
+def test_a_failed_join_is_one_line_keeps_rays_log_off_and_writes_nothing(tmp_path, capfd, monkeypatch, grpc_like):
+    """Past the probe, ray.init itself fails (here a stand-in that connects nowhere): one line, its
+    C++ lines kept off stderr, the signal handlers from before it back, no dataset.json left."""
+    import signal
+
+    import ray
+
+    from cityshade.dataset import generate
+
+    def init(**options):
+        assert options["address"] == grpc_like and options["logging_level"] == "ERROR"
+        os.write(2, b"[2026-01-01 W 1 1] rpc_client.h:153: Failed to connect to GCS within 5 seconds.\n")
+        signal.signal(signal.SIGTERM, lambda *_: None)  # as ray.init installs its own
+        raise ConnectionError("Failed to connect to Ray cluster at 192.0.2.2:1")
+
+    monkeypatch.setattr(ray, "init", init)
+    monkeypatch.delenv("RAY_LOGGER_LEVEL", raising=False)
+    before = signal.getsignal(signal.SIGTERM)
+    out = tmp_path / "ds"
+    with pytest.raises(UsageError) as info:
+        generate(out, 2, parse_config({}), city="default", address=grpc_like, progress=False)
+    message = str(info.value)
+    assert message.startswith(f"--address {grpc_like}: Ray could not join the cluster there (Failed to connect")
+    assert "RAY_LOGGER_LEVEL=info" in message and "\n" not in message
+    assert "rpc_client" not in capfd.readouterr().err
+    assert signal.getsignal(signal.SIGTERM) is before
+    assert not out.exists()

@@ -178,20 +178,23 @@ def test_a_signal_during_dataset_lists_every_finished_sample(tmp_path, signum):
     env = {k: v for k, v in os.environ.items() if k != "RAY_LOGGER_LEVEL"}
     env["PYTHONPATH"] = os.pathsep.join(sys.path)
     argv = ["dataset", "--city", "default", "--samples", "200", "--out", str(out), "--config", str(config)]
-    process = subprocess.Popen(
-        [sys.executable, "-m", "cityshade", *argv], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env
-    )
+    log = tmp_path / "stderr"  # a file, not a pipe: Ray's processes may keep a pipe open after the kill
+    with open(log, "wb") as stderr:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "cityshade", *argv], stdout=subprocess.DEVNULL, stderr=stderr, env=env
+        )
     try:
         deadline = time.monotonic() + 240
         while len(list(out.glob("samples/*.json"))) < 2 and process.poll() is None and time.monotonic() < deadline:
             time.sleep(0.05)
         assert len(list(out.glob("samples/*.json"))) >= 2, "the run never finished two samples"
         process.send_signal(signum)
-        _, err = process.communicate(timeout=120)
+        process.wait(timeout=120)
     finally:
         if process.poll() is None:
             process.kill()
-            process.communicate()
+            process.wait()
+    err = log.read_bytes()
     assert process.returncode == (130 if signum == signal.SIGINT else 128 + signum), err.decode(errors="replace")
     for words in (b"Traceback", b"SIGTERM received", b"logging.cc", b"Error"):
         assert words not in err, err.decode(errors="replace")

@@ -271,9 +271,9 @@ def _damage_table(manifest: Path, step):
         if step[1] in table.column_names:
             table = table.drop_columns([step[1]])
     elif kind == "type":
-        if step[1] in table.column_names:
+        if step[1] in table.column_names and len(table) == len(step[2]):
             table = table.set_column(table.column_names.index(step[1]), step[1], step[2])
-    else:
+    elif "index" in table.column_names and len(table) == len(step[1]):
         table = table.set_column(table.column_names.index("index"), "index", pa.array(step[1], pa.int64()))
     pq.write_table(table, manifest)
 
