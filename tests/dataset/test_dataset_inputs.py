@@ -375,9 +375,8 @@ def _free_port() -> int:
         return probe.getsockname()[1]
 
 
-@pytest.fixture
-def not_ray():
-    """127.0.0.1:PORT where something answers, but not a Ray cluster (an HTTP/1 server's reply)."""
+def _answering(reply: bytes):
+    """127.0.0.1:PORT where a server sends `reply` to every connection, then closes it."""
     server = socket.socket()
     server.bind(("127.0.0.1", 0))
     server.listen(8)
@@ -389,11 +388,17 @@ def not_ray():
             except OSError:
                 return
             with connection:
-                connection.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+                connection.sendall(reply)
 
     threading.Thread(target=answer, daemon=True).start()
     yield f"127.0.0.1:{server.getsockname()[1]}"
     server.close()
+
+
+@pytest.fixture
+def not_ray():
+    """Something answers there, but not a Ray cluster (an HTTP/1 server's reply)."""
+    yield from _answering(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
 
 
 @pytest.mark.parametrize("where", ["free port", "not ray", "bad port", "no host"])
@@ -425,23 +430,8 @@ def test_a_resumed_folder_with_an_unreachable_address_is_left_as_it_was(folder, 
 
 @pytest.fixture
 def grpc_like():
-    """127.0.0.1:PORT answering HTTP/2's preface with a SETTINGS frame, as Ray's GCS does."""
-    server = socket.socket()
-    server.bind(("127.0.0.1", 0))
-    server.listen(8)
-
-    def answer():
-        while True:
-            try:
-                connection, _ = server.accept()
-            except OSError:
-                return
-            with connection:
-                connection.sendall(bytes([0, 0, 0, 4, 0, 0, 0, 0, 0]))
-
-    threading.Thread(target=answer, daemon=True).start()
-    yield f"127.0.0.1:{server.getsockname()[1]}"
-    server.close()
+    """Something answers HTTP/2's preface with a SETTINGS frame there, as Ray's GCS does."""
+    yield from _answering(bytes([0, 0, 0, 4, 0, 0, 0, 0, 0]))
 
 
 def test_a_failed_join_is_one_line_keeps_rays_log_off_and_writes_nothing(tmp_path, capfd, monkeypatch, grpc_like):
