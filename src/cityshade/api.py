@@ -12,6 +12,8 @@ from .errors import UsageError
 from .render import Renderer, RenderSettings, TileCache, guessed_aov
 from .scene import City, make_city
 
+AOVS = ("guessed", "class", "instance", "depth")  # what `aov` may name instead of the picture
+
 
 def render_city(
     city: str | City = "default",
@@ -32,12 +34,16 @@ def render_city(
     (its median time over `frames` frames after a first one that compiles and uploads). With
     `profile`, info["pass_ms"] holds each pass's median time, in the order the passes run;
     info["city_s"] the seconds the city took to mesh (or stream in) and upload.
-    aov="guessed" tints the buildings by what the map gave and what was guessed (render/_guessed.py).
+    aov="guessed" tints the buildings by what the map gave and what was guessed (render/_guessed.py);
+    the other AOVs return another array in the picture's place, from the same camera at the same size:
+    "class" HxW uint8 dataset class ids (info["classes"]: id -> name, dataset.CLASSES), "instance"
+    HxW uint16 building index + 1 (0: no building), "depth" HxW float32 camera-space z in metres
+    (+inf where nothing was drawn), all from the id AOV's pass (dataset.class_image, instance_image).
     `tiles` (a tile cache, render.open_tiles) draws its city instead, streamed with at most
     `memory_budget` bytes of tiles resident (None: all); the first frame waits for the tiles its
     view needs. Bad arguments raise UsageError with the message the command line prints."""
-    if aov not in (None, "guessed"):
-        raise UsageError(f"unknown aov {aov!r}; allowed: guessed")
+    if aov not in (None, *AOVS):
+        raise UsageError(f"unknown aov {aov!r}; allowed: {', '.join(AOVS)}")
     size, lights = check_size(size), check_lights(lights)
     seed = None if seed is None else check_seed(seed)
     if "samples" in settings:
@@ -72,6 +78,8 @@ def render_city(
                 passes.setdefault(name, []).append(seconds)
         if aov == "guessed":
             image = guessed_aov(image, renderer.render_ids(view), layout.masses)
+        elif aov is not None:
+            image = _aov_array(aov, renderer, view)
         info = {
             "frame_ms": statistics.median(times) * 1000 if times else float("nan"),
             "frames": frames,
@@ -82,6 +90,10 @@ def render_city(
             "pass_ms": {name: statistics.median(s) * 1000 for name, s in passes.items()},
             "city_s": city_seconds,
         }
+        if aov == "class":
+            from .dataset import CLASSES  # the dataset reads maps: loaded only when asked for
+
+            info["classes"] = {str(i): name for i, name in enumerate(CLASSES)}
         if tiles is not None:
             streamer = renderer.city.streamer
             info["tiles"] = {
@@ -92,6 +104,20 @@ def render_city(
     finally:
         renderer.release()
     return image, info
+
+
+def _aov_array(aov: str, renderer: Renderer, view) -> np.ndarray:
+    from .dataset import class_image, instance_image, linear_depth
+
+    ids = renderer.render_ids(view)
+    if aov == "class":
+        return class_image(ids)
+    if aov == "instance":
+        instances = instance_image(ids)
+        if instances.max(initial=0) > np.iinfo(np.uint16).max:
+            raise UsageError(f"--aov instance: {int(instances.max())} buildings do not fit a 16-bit PNG (65,535)")
+        return instances.astype(np.uint16)
+    return linear_depth(renderer.depth(aov=True), view.near, view.far)
 
 
 def render_image(city: str | City = "default", **kwargs) -> np.ndarray:

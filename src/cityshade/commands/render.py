@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from ..api import AOVS
 from ..errors import UsageError
 from ..render import RenderSettings, format_bytes
 from ..scene import CITIES
@@ -40,6 +41,51 @@ def print_profile(pass_ms: dict[str, float]):
     print(f"  {'frame total':<{width}}  {sum(pass_ms.values()):8.2f} ms")
 
 
+def check_aov_suffix(aov: str | None, out: Path):
+    """The AOV's file kind follows --out's suffix: fail before rendering when it cannot."""
+    allowed = {"depth": (".npz", ".exr")}.get(aov, (".png",))
+    if aov is not None and out.suffix.lower() not in allowed:
+        raise UsageError(f"--aov {aov} writes {' or '.join(allowed)}; --out {out} has another suffix")
+
+
+def write_aov(aov: str, image, out: Path, info: dict, instances: list | None):
+    """The AOV array to `out`, and for class and instance the JSON naming its values beside it
+    (OUT with the suffix .json)."""
+    import io
+    import json
+
+    import numpy as np
+
+    from .._files import write_bytes, write_png, write_text
+
+    if aov == "depth":
+        if out.suffix.lower() == ".exr":
+            write_exr_depth(image, out)
+        else:
+            buffer = io.BytesIO()
+            np.savez_compressed(buffer, depth=image)
+            write_bytes(out, buffer.getvalue())
+        return
+    write_png(image, out)
+    if aov == "class":
+        table = {"classes": info["classes"]}
+    else:
+        seen = (int(i) for i in np.unique(image) if i > 0)
+        table = {"instances": {str(i): instances[i - 1] if instances else None for i in seen}}
+    write_text(out.with_suffix(".json"), json.dumps(table, indent=1) + "\n")
+
+
+def write_exr_depth(depth, out: Path):
+    """A 32-bit float single-channel EXR, channel Z (OpenEXR's name for depth)."""
+    import OpenEXR
+
+    from .._files import atomic_output
+
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    with atomic_output(out) as tmp, OpenEXR.File(header, {"Z": depth}) as exr:
+        exr.write(str(tmp))
+
+
 def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
@@ -56,10 +102,13 @@ def register(subparsers):
     add_settings_flags(parser, RenderSettings, SETTINGS_FLAGS)
     parser.add_argument(
         "--aov",
-        choices=("guessed",),
+        choices=AOVS,
         default=None,
-        help="with --map: tint walls whose height and roofs whose shape the map did not give "
-        "(orange) apart from what it gave (blue)",
+        help="write this AOV to --out instead of the picture (same camera and size): class (8-bit PNG of "
+        "the dataset's class ids, OUT.json names them), instance (16-bit PNG of building index + 1, "
+        "OUT.json gives each one's map id), depth (camera z in metres: .npz array 'depth' or 32-bit "
+        ".exr channel Z, +inf on the sky), guessed (with --map: walls and roofs the map did not give "
+        "tinted orange, what it gave blue)",
     )
     add_streaming_arguments(parser)
     parser.add_argument("--out", type=Path, default=Path("out/city.png"), help="PNG to write")
@@ -73,6 +122,7 @@ def register(subparsers):
 
 def run(args) -> int:
     from ..api import render_city
+    from ..dataset import load_source
 
     start = time.perf_counter()
 
@@ -84,13 +134,14 @@ def run(args) -> int:
         if args.scene not in SCENES:
             raise UsageError(f"unknown scene {args.scene!r}; allowed: {', '.join(SCENES) or 'none'}")
         return SCENES[args.scene](args)
-    if args.aov is not None and args.map is None and args.tiles is None:
+    if args.aov == "guessed" and args.map is None and args.tiles is None:
         raise UsageError(f"--aov {args.aov} shows what a map gave and what was guessed; it needs --map FILE")
+    check_aov_suffix(args.aov, args.out)
     from ..maps import require_map_for_date
 
     require_map_for_date(args.date, args.map or args.tiles)
     city, sky = args.city, {}
-    builtin = None
+    builtin, instances = None, None
     if args.memory_budget is not None and args.map is None and args.tiles is None:
         from ..scene import make_city
 
@@ -100,6 +151,9 @@ def run(args) -> int:
             from ..maps import city_from_map
 
             made = tiles.city if tiles is not None else None
+            if args.aov == "instance" and made is None:
+                source = load_source(args.map)  # the map id of every building mass
+                made, instances = source.city, source.instances
             city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time_of_day, city=made)
         before_render = time.perf_counter() - start
         image, info = render_city(
@@ -115,7 +169,10 @@ def run(args) -> int:
             **settings,
             **sky,
         )
-    save_png(image, args.out)
+    if args.aov in (None, "guessed"):
+        save_png(image, args.out)
+    else:
+        write_aov(args.aov, image, args.out, info, instances)
     if args.profile:
         print_profile(info["pass_ms"])
     msaa = f"{info['samples']}x MSAA" if info["samples"] else "no MSAA"
