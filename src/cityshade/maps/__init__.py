@@ -1,6 +1,14 @@
 """Real cities from map data (OpenStreetMap, GeoJSON, CityJSON) as one model in local metres."""
 
-from ._cameras import aerial_camera, spot_camera, street_camera, street_segment
+from ._cameras import (
+    STREET_VIEWS,
+    aerial_camera,
+    framed_area,
+    spot_camera,
+    street_camera,
+    street_choice,
+    street_segment,
+)
 from ._doors import on_ground
 from ._guess import guess_missing
 from ._load import load_map
@@ -55,6 +63,9 @@ __all__ = [
     "spot_camera",
     "street_camera",
     "street_segment",
+    "street_choice",
+    "framed_area",
+    "STREET_VIEWS",
     "city_from_map",
     "map_city",
     "city_from_guessed",

@@ -56,10 +56,22 @@ class Raw:
     parent: str | None = None  # a part's outline when the format names it (CityJSON); else found by position
 
 
-def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -> MapData:
+def _declared_bounds(projection, declared) -> tuple[float, float, float, float] | None:
+    """The file's declared lon/lat extent in map metres (the box around its projected corners)."""
+    if declared is None:
+        return None
+    x0, y0, x1, y1 = declared
+    corners = projection.points(np.array([(x0, y0), (x0, y1), (x1, y1), (x1, y0)]))
+    if not np.isfinite(corners).all():
+        return None
+    return tuple(float(v) for v in (*corners.min(axis=0), *corners.max(axis=0)))
+
+
+def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None, declared=None) -> MapData:
     """Project `raws` about their centre and sort them into buildings, roads, areas, trees and lamps.
 
     `source_crs` None means longitude/latitude (WGS 84); "local" means metres kept as they are.
+    `declared`: the extent the file declares (OpenStreetMap's <bounds>), lon/lat (x0, y0, x1, y1).
     """
     raws = _finite(raws, report, geographic=source_crs is None)
     if not raws:
@@ -80,6 +92,7 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None) -
             }
     raws = _finite(raws, report, geographic=False)  # points the projection cannot reach from the centre
     data = MapData(path, projection.origin, projection.crs, report=report)
+    data.declared_bounds = _declared_bounds(projection, declared)
     coast, named_parents = [], []
     for raw in raws:
         kind = shapely.get_type_id(raw.geometry)

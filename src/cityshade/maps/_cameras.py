@@ -9,7 +9,7 @@ import shapely
 from ..errors import UsageError
 from ..scene import Camera
 from ._model import MapData, to_scene
-from .features.streets import MAIN_ROADS, ROAD_LINKS
+from .features.streets import MAIN_ROADS
 
 AERIAL_FOV = 50.0
 AERIAL_ASPECT = 16 / 9  # the default image size; narrower images see a little less at the sides
@@ -17,7 +17,15 @@ AERIAL_PITCH = 45.0  # degrees below the horizon
 AERIAL_HEADING = 0.0  # the first heading tried: the camera looks north
 STREET_FOV = 66.0
 EYE_HEIGHT = 1.7
-STREET_VIEWS = MAIN_ROADS + ("living_street", "pedestrian") + ROAD_LINKS  # where a street camera may stand
+# where a street camera stands: streets people walk first; other town roads only where a map has none;
+# never a motorway, a trunk road or a slip road
+STREET_VIEWS = (
+    ("residential", "tertiary", "living_street", "pedestrian"),
+    tuple(k for k in MAIN_ROADS if k not in ("motorway", "trunk", "residential", "tertiary")),
+)
+STREET_FACING = 30.0  # metres either side of a street within which its buildings face it
+AERIAL_MARGIN = 12.0  # metres of ground the aerial view keeps around the buildings
+FRAMED_SHARE = 0.98  # the aerial view frames this share of the buildings: a lone farm far out is left out
 FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
 
 
@@ -36,20 +44,45 @@ def _fits(corners: np.ndarray, eye: np.ndarray, forward: np.ndarray, fov: float,
     return bool(np.all(np.abs(ndc) <= 0.96))
 
 
-def aerial_camera(bounds: tuple[float, float, float, float], top: float, aspect: float = AERIAL_ASPECT) -> Camera:
-    """Looks at the middle of the scene rectangle `bounds` (x0, z0, x1, z1) from above, at AERIAL_PITCH,
-    from just far enough that the box up to height `top` lies in the frustum; of the headings
-    AERIAL_HEADING + k * 45 degrees, the one that can stand closest (the long side across the picture)."""
-    x0, z0, x1, z1 = bounds
-    corners = np.array([(x, y, z) for x in (x0, x1) for y in (0.0, top) for z in (z0, z1)], float)
-    centre = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2])
+def framed_area(map_data: MapData) -> shapely.Polygon:
+    """The ground (map metres) the aerial view frames: the convex hull of the buildings (all but the
+    outermost 1 - FRAMED_SHARE of them on each side), AERIAL_MARGIN around it, within the file's
+    declared extent when it has one; never the land use, water or roads around them, which may reach
+    far out of the extract. Without buildings, the declared extent or the data's bounds."""
+    outlines = np.asarray([b.outline for b in map_data.buildings if b.drawn], dtype=object)
+    if not len(outlines):
+        return shapely.box(*(map_data.declared_bounds or map_data.bounds()))
+    boxes = shapely.bounds(outlines)
+    cut = (1.0 - FRAMED_SHARE) / 2 if len(outlines) >= 50 else 0.0
+    low, high = np.quantile(boxes[:, :2], cut, axis=0), np.quantile(boxes[:, 2:], 1.0 - cut, axis=0)
+    kept = outlines[np.all((boxes[:, :2] >= low) & (boxes[:, 2:] <= high), axis=1)]
+    area = shapely.convex_hull(shapely.union_all(kept if len(kept) else outlines)).buffer(AERIAL_MARGIN, 2)
+    if map_data.declared_bounds is not None:
+        clipped = area.intersection(shapely.box(*map_data.declared_bounds))
+        area = clipped if clipped.area > 0 else area
+    return shapely.convex_hull(area)
+
+
+def aerial_camera(area_points: np.ndarray, top: float, aspect: float = AERIAL_ASPECT) -> Camera:
+    """Looks down at AERIAL_PITCH on the ground polygon `area_points` ((n, 2) scene x, z) from just far
+    enough that it, up to height `top`, lies in the frustum; of the headings AERIAL_HEADING + k * 45
+    degrees and of the aim points along each heading, the ones that let it stand closest."""
+    area_points = np.asarray(area_points, float)
+    corners = np.array([(x, y, z) for x, z in area_points for y in (0.0, top)], float)
+    x0, z0 = area_points.min(axis=0)
+    x1, z1 = area_points.max(axis=0)
+    middle = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2])
+    reach = max(x1 - x0, z1 - z0) / 2
     best = None
     for turn in range(8):
         forward = heading_vector(AERIAL_HEADING + 45.0 * turn, -AERIAL_PITCH)
-        distance = _fit_distance(corners, centre, forward, aspect)
-        if best is None or distance < best[0] - 1e-6:
-            best = (distance, forward)
-    distance, forward = best
+        ahead = np.array([forward[0], 0.0, forward[2]]) / np.hypot(forward[0], forward[2])
+        for shift in np.linspace(-0.4, 0.4, 9) * reach:  # the far side looks smaller: aim past the middle
+            centre = middle + ahead * shift
+            distance = _fit_distance(corners, centre, forward, aspect)
+            if best is None or distance < best[0] - 1e-6:
+                best = (distance, forward, centre)
+    distance, forward, centre = best
     eye = centre - forward * distance
     # the nearest ground is about half the distance away: a large near plane keeps roads apart from the
     # ground; the shadows reach the far side of the map
@@ -71,29 +104,40 @@ def _fit_distance(corners: np.ndarray, centre: np.ndarray, forward: np.ndarray, 
     return far
 
 
-def street_segment(map_data: MapData, outlines=()):
-    """(start, end) in map metres of the driven road segment that scores best on length times width,
-    discounted by distance from the middle of the map, whose eye point is inside none of `outlines`."""
-    x0, y0, x1, y1 = map_data.bounds()
+def street_choice(map_data: MapData, outlines=()):
+    """(road, start, end) in map metres of the street a street camera stands on, or None: of the
+    segments 25 m or longer on the first STREET_VIEWS tier the map has, the one with the most building
+    outlines within STREET_FACING metres, times its length (up to 150 m), discounted by distance from
+    the middle of the buildings; its eye point inside none of `outlines`."""
+    x0, y0, x1, y1 = framed_area(map_data).bounds
     centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
     radius = max(x1 - x0, y1 - y0, 1.0) / 2
-    candidates = []
-    for road in map_data.roads:
-        if road.kind not in STREET_VIEWS or road.tunnel or road.bridge:
-            continue
-        points = np.asarray(road.line.coords)[:, :2]
-        for a, b in zip(points[:-1], points[1:]):
-            length = float(np.linalg.norm(b - a))
-            if length >= 25.0:
+    tree = shapely.STRtree(list(outlines))
+    for tier in STREET_VIEWS:
+        candidates = []
+        for road in map_data.roads:
+            if road.kind not in tier or road.tunnel or road.bridge:
+                continue
+            points = np.asarray(road.line.coords)[:, :2]
+            for a, b in zip(points[:-1], points[1:]):
+                length = float(np.linalg.norm(b - a))
+                if length < 25.0:
+                    continue
+                facing = len(tree.query(shapely.LineString([a, b]), predicate="dwithin", distance=STREET_FACING))
                 distance = float(np.linalg.norm((a + b) / 2 - centre))
-                score = min(length, 200.0) * road.width / (1.0 + (distance / (0.35 * radius)) ** 2)
-                candidates.append((score, a, b))
-    candidates.sort(key=lambda c: -c[0])
-    inside = shapely.STRtree(list(outlines))
-    for _, a, b in candidates:
-        if not len(inside.query(shapely.Point(*_eye_point(a, b)), predicate="intersects")):
-            return a, b
+                score = min(length, 150.0) * (1 + facing) / (1.0 + (distance / (0.35 * radius)) ** 2)
+                candidates.append((score, road, a, b))
+        candidates.sort(key=lambda c: -c[0])
+        for _, road, a, b in candidates:
+            if not len(tree.query(shapely.Point(*_eye_point(a, b)), predicate="intersects")):
+                return road, a, b
     return None
+
+
+def street_segment(map_data: MapData, outlines=()):
+    """(start, end) in map metres of `street_choice`'s segment, or None."""
+    choice = street_choice(map_data, outlines)
+    return None if choice is None else choice[1:]
 
 
 def _eye_point(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -227,6 +227,7 @@ class MapData:
     entrances: list[Entrance] = field(default_factory=list)
     shops: list[tuple[float, float]] = field(default_factory=list)  # shops mapped as points (map metres)
     report: ReadReport = field(default_factory=ReadReport)
+    declared_bounds: tuple[float, float, float, float] | None = None  # the file's own extent (OSM <bounds>)
 
     @property
     def name(self) -> str:

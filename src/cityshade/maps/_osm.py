@@ -301,4 +301,6 @@ def read_osm(path: Path) -> MapData:
             "check that it is a complete .osm.pbf or .osm XML export"
         ) from None
     collector.finish()
-    return assemble(path, collector.raws, report)
+    box = processor.header.box()  # the extract's <bounds> (XML) or header bbox (PBF), when it says
+    declared = (box.bottom_left.lon, box.bottom_left.lat, box.top_right.lon, box.top_right.lat) if box.valid() else None
+    return assemble(path, collector.raws, report, declared=declared)

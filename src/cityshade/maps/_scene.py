@@ -4,13 +4,15 @@ feature's layer, maps/features/, with viewpoints framed from the data)."""
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..errors import CityshadeError
 from ..scene import City
-from ._cameras import aerial_camera, street_camera
+from ._cameras import FRAMED_SHARE, aerial_camera, framed_area, street_camera
 from ._model import MapData, to_scene
 from .features import city_layers
 
-MARGIN = 30.0  # metres of ground the aerial view keeps around the data
+MARGIN = 30.0  # metres of ground kept around the data
 
 
 def map_city(map_data: MapData) -> City:
@@ -33,8 +35,10 @@ def city_from_guessed(map_data: MapData) -> City:
     (sx0, sz0), (sx1, sz1) = to_scene([(x0, y1), (x1, y0)])  # north (max y) is -z
     bounds = (float(sx0 - MARGIN), float(sz0 - MARGIN), float(sx1 + MARGIN), float(sz1 + MARGIN))
     drawn = [b for b in map_data.buildings if b.drawn]
-    top = max((b.height or 0.0) for b in drawn) if drawn else 10.0
-    viewpoints = {"aerial": aerial_camera(bounds, top)}
+    heights = np.array([b.height or 0.0 for b in drawn]) if drawn else np.array([10.0])
+    tall = float(np.quantile(heights, FRAMED_SHARE)) if len(heights) >= 50 else float(heights.max())  # not a mast
+    area = to_scene(np.asarray(framed_area(map_data).exterior.coords)[:-1])
+    viewpoints = {"aerial": aerial_camera(area, tall)}
     street = street_camera(map_data, [b.outline for b in drawn])
     if street is not None:
         viewpoints["street"] = street
