@@ -58,8 +58,8 @@ def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7, disc: bo
     sun_flat = np.hypot(sun[0], sun[2]) + 1e-6
     towards = np.clip(((x * sun[0] + z * sun[2]) / (flat * sun_flat) + 1) * 0.5, 0, 1)
 
-    zenith = _mix((0.10, 0.24, 0.62), (0.012, 0.02, 0.07), dusk)
-    glow_side = _mix((0.14, 0.09, 0.2), (1.5, 0.5, 0.14), towards**3)
+    zenith = _mix((0.10, 0.24, 0.62), (0.025, 0.05, 0.14), dusk)  # twilight's zenith stays blue
+    glow_side = _mix((0.2, 0.18, 0.3), (1.5, 0.5, 0.14), towards**3)  # the earth's shadow, pink-grey
     horizon = _mix(np.broadcast_to(np.float32([0.55, 0.68, 0.85]), glow_side.shape), glow_side, dusk)
     up = np.clip(y, 0, 1)
     sky = _mix(horizon, zenith, up**0.45)
@@ -79,7 +79,7 @@ def sky_colour(direction, sun_direction=DEFAULT_SUN, dusk: float = 0.7, disc: bo
     cover = np.clip((cloud - 0.5) / 0.2, 0, 1) * np.clip(y / 0.15, 0, 1) * 0.75
     cloud_colour = _mix(
         np.broadcast_to(np.float32([0.95, 0.95, 0.98]), sky.shape),
-        _mix((0.12, 0.1, 0.16), (1.1, 0.5, 0.35), towards**2),
+        _mix((0.16, 0.15, 0.22), (1.1, 0.5, 0.35), towards**2),
         dusk,
     )
     sky = _mix(sky, cloud_colour, cover)

@@ -37,6 +37,11 @@ def _clock_sun(hours: float) -> tuple[float, np.ndarray]:
     return float(elevation), sun / np.linalg.norm(sun)
 
 
+# the light of the sky with the sun below the horizon, by its elevation (degrees): bright through civil
+# twilight (down to -6: a white night at 60 N in midsummer never leaves it), fading through nautical
+# (-12) and astronomical (-18) twilight to the night's; the exposure opens to keep a twilight readable
+TWILIGHT_SKY = ((-18.0, -12.0, -6.0, 0.0), (0.6, 0.75, 1.3, 2.0))
+TWILIGHT_EXPOSURE = ((-18.0, -12.0, -6.0, 0.0), (0.8, 1.0, 1.5, 1.5))
 MOONLIGHT = np.array([0.55, 0.65, 0.9]) * 0.08  # full moon radiance in the units of sun_color
 
 
@@ -69,9 +74,10 @@ class Daylight:
         above = _smoothstep(-3.0, 1.0, elevation)
         sun_color = above * ((1 - high) * np.array([1.0, 0.5, 0.22]) * 2.2 + high * np.array([1.0, 0.95, 0.86]) * 3.2)
         dusk = 1.0 - _smoothstep(-8.0, 25.0, elevation)
-        sky = (1 - dusk) * np.array([0.35, 0.45, 0.6]) + dusk * np.array([0.05, 0.06, 0.11])
+        twilight = float(np.interp(elevation, *TWILIGHT_SKY))
+        sky = (1 - dusk) * np.array([0.35, 0.45, 0.6]) + dusk * twilight * np.array([0.05, 0.06, 0.11])
         ground = sky * np.array([0.45, 0.4, 0.35])
-        exposure = 0.5 + 0.8 * dusk
+        exposure = 0.5 + dusk * float(np.interp(elevation, *TWILIGHT_EXPOSURE))
         if sun is not None:  # maps are mostly seen from above: pale roofs face a high sun squarely
             exposure -= 0.15 * high
         light, moon_direction = direction, None

@@ -5,6 +5,7 @@ from ._city_gpu import GROUND_MARGIN, ground_vertices
 from ._facades import NARROW_FACES
 from ._godrays import god_ray_uniforms, god_rays_reference
 from ._lod_colours import NOT_READY, grammar_colours_gpu
+from ._night_sky import night_amount
 from ._renderer import frame_bytes_per_pixel
 from ._shadows import CascadedShadows
 from ._sky_discs import sky_disc_uniforms, sky_discs_reference
@@ -27,6 +28,7 @@ __all__ = [
     "building_ranges",
     "frame_bytes_per_pixel",
     "god_ray_uniforms",
+    "night_amount",
     "god_rays_reference",
     "grammar_colours",
     "grammar_colours_gpu",
