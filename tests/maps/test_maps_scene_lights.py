@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import shapely
 
-from cityshade.maps import Area, Lamp, MapBuilding, MapData, map_city
+from cityshade.maps import Area, Lamp, MapBuilding, MapData, aerial_camera, map_city, to_scene
 from cityshade.render import Renderer, RenderSettings
 from cityshade.render.testing import CELL, lamps_reaching_cell, light_grid
 from cityshade.scene import Camera
@@ -92,7 +92,9 @@ def render(city, sun, camera, **settings):
 
 def test_lamps_light_the_night_near_them_and_not_the_day(square_city):
     dark = map_city(lamp_square(with_lamps=False))
-    camera = "aerial"
+    camera = "square"  # the aerial view frames the building in the corner; this one the square
+    over = aerial_camera(to_scene([(-100, -100), (100, -100), (100, 100), (-100, 100)]), 12.0)
+    square_city.viewpoints[camera] = dark.viewpoints[camera] = over
     lit_night, dark_night = render(square_city, NIGHT, camera).astype(float), render(dark, NIGHT, camera).astype(float)
     brighter = lit_night.mean(axis=-1) - dark_night.mean(axis=-1)
     assert (brighter > 20).mean() > 0.05  # pools of lamp light on the square
