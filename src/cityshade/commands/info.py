@@ -61,7 +61,9 @@ def _text(info: dict) -> str:
         + ", ".join(f"{k} {v:.0f}" for k, v in info["area_m2"].items())
         + ")"
     )
-    lines.append(f"trees: {info['trees']}  street lamps: {info['street_lamps']}")
+    lines.append(
+        f"trees: {info['trees']}  street lamps: {info['street_lamps']}, {info['street_lamps_guessed']} guessed"
+    )
     doors = info["doors"]
     lines.append(
         f"doors: {doors['from_entrances']} at mapped entrances ({doors['entrances']} entrances mapped), "

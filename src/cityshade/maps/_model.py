@@ -170,12 +170,13 @@ class MapTree:
 
 @dataclass
 class Lamp:
-    """A street lamp (`highway=street_lamp`, or one placed along a lit road)."""
+    """A street lamp (`highway=street_lamp`, one placed along a lit road, or one guessed)."""
 
     source_id: str
     position: tuple[float, float]
     height: float = 6.0
     from_lit_road: bool = False
+    guessed: bool = False  # placed where the map is silent (maps/features/lamps.py)
 
 
 @dataclass
