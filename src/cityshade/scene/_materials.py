@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
-# roof material -> (shading id in roof.glsl, sRGB colour)
+# roof material -> (shading id in roof.glsl, sRGB colour): colours as aerial imagery shows them at
+# noon, weathered (bitumen felt reads mid-grey from the air, not black)
 ROOF_MATERIALS = {
-    "roofing_felt": (0, (0.25, 0.25, 0.26)),
+    "roofing_felt": (0, (0.4, 0.4, 0.41)),
     "roof_tiles": (1, (0.62, 0.27, 0.18)),
     "metal": (2, (0.5, 0.52, 0.55)),
     "slate": (3, (0.28, 0.3, 0.33)),
@@ -36,6 +37,18 @@ ROOF_ALIASES = {
     "wood_shingles": "wood",
     "pebblestone": "gravel",
 }
+# The look of a flat roof whose material and colour the map does not give: chosen building by building
+# (by its seed) with these weights, offices, shops and industry more often under light membranes and
+# gravel ballast, homes under bitumen felt; (weight for homes and mixed use, weight for the others,
+# material, sRGB colour). Every guessed roof's brightness also varies by GUESSED_ROOF_SPREAD.
+GUESSED_FLAT_ROOFS = (
+    (0.40, 0.20, "roofing_felt", (0.36, 0.36, 0.37)),  # bitumen felt, dark grey
+    (0.25, 0.15, "roofing_felt", (0.5, 0.49, 0.47)),  # mineral-surfaced felt, lighter and warmer
+    (0.20, 0.30, "gravel", (0.58, 0.56, 0.52)),  # gravel ballast
+    (0.10, 0.30, "concrete", (0.74, 0.74, 0.72)),  # a light PVC or TPO membrane
+    (0.05, 0.05, "grass", (0.36, 0.46, 0.24)),  # a green roof (sedum)
+)
+GUESSED_ROOF_SPREAD = 0.12  # +- this share of its colour's brightness, building to building
 PLAIN_ROOF = (0, (0.6012, 0.5926, 0.5839))  # untagged roofs of the procedural district: a plain grey
 
 # wall material -> sRGB colour the facade is tinted with
@@ -64,6 +77,29 @@ def linear(colour) -> np.ndarray:
 def roof_material(name: str | None) -> tuple[int, tuple[float, float, float]]:
     """(shading id, sRGB colour) of a roof material name; none or an unknown one is plain grey."""
     return ROOF_MATERIALS.get(ROOF_ALIASES.get(name, name), PLAIN_ROOF)
+
+
+def _unit_hash(seed: int, salt: int) -> float:
+    """A repeatable number in [0, 1) for a building's seed (golden-ratio mixing of 32-bit integers)."""
+    h = (seed * 0x9E3779B1 + salt * 0x85EBCA77) & 0xFFFFFFFF
+    h ^= h >> 15
+    h = (h * 0x2C1B3C6D) & 0xFFFFFFFF
+    h ^= h >> 12
+    return (h & 0xFFFF) / 65536.0
+
+
+def guessed_roof(seed: int, home: bool, flat: bool, material: str | None, colour) -> tuple[str | None, tuple]:
+    """(material, sRGB colour) of a roof whose material and colour were guessed: a flat roof one of
+    GUESSED_FLAT_ROOFS (weights by use, `home` for homes and mixed use), a pitched one its guessed
+    material; the brightness varied by GUESSED_ROOF_SPREAD, both chosen by `seed`."""
+    if flat:
+        weights = np.array([row[0 if home else 1] for row in GUESSED_FLAT_ROOFS])
+        pick = int(np.searchsorted(np.cumsum(weights) / weights.sum(), _unit_hash(seed, 1), side="right"))
+        _, _, material, colour = GUESSED_FLAT_ROOFS[min(pick, len(GUESSED_FLAT_ROOFS) - 1)]
+    elif colour is None:
+        colour = roof_material(material)[1]
+    gain = 1.0 + GUESSED_ROOF_SPREAD * (2.0 * _unit_hash(seed, 2) - 1.0)
+    return material, tuple(float(min(c * gain, 1.0)) for c in colour)
 
 
 # building_tint (common/facade.glsl): the window bay's grey wall times the tint times this is the colour

@@ -16,8 +16,9 @@ from ._buildings import BuildingMass
 from ._dome_faces import dome_faces
 from ._doors import door_record
 from ._extrusions import empty_rows, outline_rows, roof_rows, wall_rows
-from ._materials import linear, roof_material, wall_tint
+from ._materials import guessed_roof, linear, roof_material, wall_tint
 from ._records import BUILDING_DTYPE, SHAPES
+from ._uses import USES
 from ._wall_faces import WallFaces, storeys, wall_faces
 
 SURFACE_WALL, SURFACE_ROOF = 0, 1
@@ -217,9 +218,12 @@ def building_records(masses: list[BuildingMass], rooms: np.ndarray | None = None
         if tints[key] is not None:
             rec["tint"][k] = tints[key]
         key = (m.roof.colour, m.roof.material)
+        if {"roof_material", "roof_colour"} <= m.guessed:  # the map is silent: varied building to building
+            home = m.use in (USES["home"], USES["mixed"])
+            key = guessed_roof(m.seed, home, m.roof.shape == "flat", m.roof.material, m.roof.colour)[::-1]
         if key not in roofs:
-            material, colour = roof_material(m.roof.material)
-            roofs[key] = (*linear(m.roof.colour if m.roof.colour is not None else colour), material)
+            material, colour = roof_material(key[1])
+            roofs[key] = (*linear(key[0] if key[0] is not None else colour), material)
         rec["roof"][k] = roofs[key]
         if m.doors:
             rec["doors"][k] = door_record(m.doors)
