@@ -32,25 +32,32 @@ vec3 map_emission(int material) {
     return material == GROUND_BULB ? LAMP_COLOR * BULB_RADIANCE * u_street_lights : vec3(0.0);
 }
 
-// Ripples: a few travelling sine waves; their slopes tilt the normal by a few degrees.
-vec3 water_normal(vec2 p) {
+// The colour of the light water scatters back from below its surface (a northern harbour's
+// blue-green), lit by the sky and the sun: water seen from above is dark, never black.
+const vec3 WATER_BODY = vec3(0.045, 0.085, 0.1);
+
+// Ripples: a few travelling sine waves; their slopes tilt the normal by a few degrees. A wave finer
+// than about two pixels (`footprint`: metres a pixel spans on the water) fades out before it aliases
+// into stripes and moire that crawl in motion.
+vec3 water_normal(vec2 p, float footprint) {
     vec2 slope = vec2(0.0);
     const vec2 dirs[4] = vec2[](vec2(0.8, 0.6), vec2(-0.5, 0.86), vec2(0.2, -0.98), vec2(-0.95, -0.3));
     const float freqs[4] = float[](0.9, 1.7, 2.9, 4.3);
     for (int i = 0; i < 4; ++i) {
         float phase = dot(dirs[i], p) * freqs[i] + u_time * (1.2 + 0.4 * float(i));
-        slope += dirs[i] * cos(phase) * 0.035 / (1.0 + float(i));
+        float resolved = 1.0 - smoothstep(0.25, 1.0, freqs[i] * footprint / 3.14159265);
+        slope += dirs[i] * cos(phase) * 0.035 / (1.0 + float(i)) * resolved;
     }
     return normalize(vec3(-slope.x, 1.0, -slope.y));
 }
 
 vec3 water_surface(vec3 world, float shadow) {
-    vec3 n = water_normal(world.xz);
+    vec3 n = water_normal(world.xz, length(fwidth(world.xz)));
     vec3 to_eye = normalize(u_camera - world);
     vec3 r = reflect(-to_eye, n);
     r.y = abs(r.y);  // ripples never reflect the ground below the horizon
     float f = fresnel(dot(n, to_eye), 0.02);
-    vec3 body = vec3(0.012, 0.035, 0.045) * (u_sky_ambient + u_sun_color * max(u_sun_dir.y, 0.0) * 0.3);
+    vec3 body = WATER_BODY * (u_sky_ambient + u_sun_color * max(u_sun_dir.y, 0.0) * 0.3);
     vec3 glint = u_sun_color * pow(max(dot(r, u_sun_dir), 0.0), 400.0) * 40.0 * shadow;
     return mix(body, environment(r), f) + glint * f;
 }
