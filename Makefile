@@ -9,7 +9,7 @@ EGL_PKGS := libegl1 libegl-mesa0 libgl1-mesa-dri
 BENCHES := interior facades relief trees scale lod
 # `ruff format --check` covers these paths; the rest of the tree joins them as it is next edited
 # (reformatting every file at once would collide with concurrent work on it).
-.PHONY: setup data demo demo-osm lint test test-slow fuzz bench bench-quick validate-export clean
+.PHONY: setup data demo demo-osm pictures lint test test-slow fuzz bench bench-quick validate-export clean
 
 setup: $(STAMP)
 
@@ -31,6 +31,13 @@ demo: setup
 demo-osm: setup data
 	$(BIN)/cityshade render --map data/Helsinki.osm.pbf --camera aerial --date 2025-06-21 --time 14:00 --samples 0 --out out/helsinki-aerial.png
 	$(BIN)/cityshade render --map data/Helsinki.osm.pbf --camera street --date 2025-06-21 --time 14:00 --samples 0 --out out/helsinki-street.png
+
+# The picture set in docs/pictures/: Helsinki, the silent town (© OpenStreetMap contributors, ODbL 1.0)
+# and the Simple 3D Buildings test file, from the street and the air, by day, at dusk and at night, with
+# a contact sheet and the figures that measure each known fault (figures.json; main's before them in
+# figures-before.json)
+pictures: setup data
+	$(BIN)/python -m cityshade.bench.pictures --out docs/pictures
 
 lint: setup
 	$(BIN)/ruff check src tests examples scripts

@@ -95,14 +95,26 @@ def shots() -> list[Shot]:
     return out
 
 
+def _street_stand(city) -> str:
+    """A map without a walked street (the S3DB file) is seen from eye height 25 m south of its
+    buildings, looking north at them: the viewpoint 'street' added to the city."""
+    from ..scene import Camera
+
+    x0, z0, x1, z1 = city.bounds
+    eye = ((x0 + x1) / 2, 1.7, z1 + 25.0)
+    city.viewpoints["street"] = Camera(eye, ((x0 + x1) / 2, 6.0, (z0 + z1) / 2), fov_y=66.0, near=0.3, far=1e6)
+    return "street"
+
+
 def render_shot(city, shot: Shot, size: tuple[int, int]) -> dict:
     """rgb, class and instance arrays of one shot of a map's city (the frame and its id AOV)."""
+    from .._values import parse_time
     from ..maps import city_from_map
     from ..render import Renderer, RenderSettings
 
+    if shot.camera == "street" and "street" not in city.viewpoints:
+        _street_stand(city)
     city, camera, sky = city_from_map(None, shot.camera, shot.date, shot.time, city=city)
-    from .._values import parse_time
-
     renderer = Renderer(size, RenderSettings(samples=0, time_of_day=parse_time(shot.time), **sky))
     try:
         renderer.set_city(city)
@@ -130,7 +142,7 @@ def contact_sheet(images: dict[str, np.ndarray], columns: int) -> np.ndarray:
     return np.asarray(sheet)
 
 
-def make_pictures(out: Path, size: tuple[int, int] = (480, 270), root: Path = Path(".")) -> dict:
+def make_pictures(out: Path, size: tuple[int, int] = (320, 180), root: Path = Path(".")) -> dict:
     """Renders every shot into `out` (NAME.png), the contact sheet (contact-sheet.png) and the
     figures (figures.json); returns the figures by shot name."""
     from .._files import write_png, write_text
@@ -152,3 +164,21 @@ def make_pictures(out: Path, size: tuple[int, int] = (480, 270), root: Path = Pa
     write_png(contact_sheet(images, columns=len(TIMES) * len(CAMERAS)), out / "contact-sheet.png")
     write_text(out / "figures.json", json.dumps(figures, indent=1) + "\n")
     return figures
+
+
+def main(argv: list[str] | None = None) -> int:
+    """`python -m cityshade.bench.pictures [--out docs/pictures] [--size 320x180]` (`make pictures`)."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description="the picture set: real maps from the street and the air")
+    parser.add_argument("--out", type=Path, default=Path("docs/pictures"))
+    parser.add_argument("--size", default="320x180", help="WIDTHxHEIGHT of each picture")
+    args = parser.parse_args(argv)
+    width, height = (int(v) for v in args.size.lower().split("x"))
+    make_pictures(args.out, (width, height))
+    print(f"wrote {args.out}/contact-sheet.png and {args.out}/figures.json")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -56,10 +56,13 @@ def _text(info: dict) -> str:
     lines.append(f"roads: {road_total:.2f} km  " + ", ".join(f"{k} {v:.2f}" for k, v in info["roads_km"].items()))
     if info["railways_km"]:
         lines.append("railways km: " + ", ".join(f"{k} {v:.2f}" for k, v in info["railways_km"].items()))
+    areas = info["area_m2"]
+    green = ", ".join(f"{k} {areas[k]:.0f}" for k in info["green_kinds"])
+    other = ", ".join(f"{k} {v:.0f}" for k, v in areas.items() if k not in info["green_kinds"] and k != "water")
     lines.append(
-        f"water: {info['water_m2']:.0f} m²  green: {info['green_m2']:.0f} m²  ("
-        + ", ".join(f"{k} {v:.0f}" for k, v in info["area_m2"].items())
-        + ")"
+        f"water: {info['water_m2']:.0f} m²  green: {info['green_m2']:.0f} m²"
+        + (f" ({green})" if green else "")
+        + (f"  other areas: {other}" if other else "")
     )
     lines.append(
         f"trees: {info['trees']}  street lamps: {info['street_lamps']}, {info['street_lamps_guessed']} guessed"

@@ -88,6 +88,7 @@ class Land(Feature):
         return {
             "area_m2": {kind: round(area, 1) for kind, area in areas.items()},
             "green_m2": round(sum(areas.get(kind, 0.0) for kind in GREEN), 1),
+            "green_kinds": [kind for kind in areas if kind in GREEN],  # the kinds `green_m2` sums
         }
 
     def build(self, data):

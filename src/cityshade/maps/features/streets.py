@@ -23,7 +23,11 @@ MAIN_ROADS = ("motorway", "trunk", "primary", "secondary", "tertiary", "unclassi
 ROAD_LINKS = ("motorway_link", "trunk_link", "primary_link", "secondary_link", "tertiary_link")
 DRIVEN = MAIN_ROADS + ("living_street", "service") + ROAD_LINKS + ("road", "busway")
 WITH_PAVEMENT = MAIN_ROADS + ROAD_LINKS + ("road",)  # not service roads
+NO_PAVEMENT = ("motorway", "trunk", "motorway_link", "trunk_link")  # pavements only where `sidewalk=*` says
 CENTRE_LINE = MAIN_ROADS + ROAD_LINKS[1:]  # a motorway ramp has edge lines only
+CENTRE_LINE_WIDTH = 6.0  # metres: a narrower carriageway has no centre line unless `lanes` is tagged
+UNMARKED = ("residential",)  # streets whose centre is not painted unless `lanes` is tagged
+DIVIDED_LANES = {"motorway": 2, "trunk": 2}  # lanes each way where `lanes` is not tagged
 SKIPPED = ("corridor", "elevator", "proposed", "construction", "platform", "raceway")  # indoors, not built, not a way
 PAVEMENT_WIDTH = 2.5
 MARKING_WIDTH = 0.15
@@ -89,12 +93,17 @@ def dashes(lines, dash: float = DASH, gap: float = GAP) -> np.ndarray:
 
 def lane_lines(roads) -> tuple[list, list]:
     """(solid lines, dashed lines): the centre line of two-way roads (solid on roads of four lanes or
-    more) and the dividers between lanes in the same direction."""
+    more) and the dividers between lanes in the same direction. Without a `lanes` tag, residential
+    streets and carriageways narrower than CENTRE_LINE_WIDTH are not painted, and motorways and trunk
+    roads have DIVIDED_LANES each way."""
     solid, dashed = [], []
     for road in roads:
         if road.kind not in CENTRE_LINE or road.width < 5.0:
             continue
-        lanes = road.lanes or (1 if road.oneway else 2)
+        if road.lanes is None and (road.kind in UNMARKED or road.width < CENTRE_LINE_WIDTH):
+            continue
+        each_way = DIVIDED_LANES.get(road.kind, 1)
+        lanes = road.lanes or (each_way if road.oneway else 2 * each_way)
         lane = road.width / lanes
         for k in range(1, lanes):
             offset = -road.width / 2 + k * lane
@@ -154,6 +163,7 @@ def street_surfaces(map_data: MapData) -> StreetSurfaces:
     driven = [r for r in ground if r.kind in DRIVEN]
     walked = [r for r in ground if r.kind not in DRIVEN]
     sided = [r for r in driven if r.kind in WITH_PAVEMENT and r.sidewalk not in ("no", "none", "separate")]
+    sided = [r for r in sided if r.kind not in NO_PAVEMENT or r.sidewalk is not None]
     carriageway = union_of(ribbons(driven))
     pavement = union_of(np.concatenate([ribbons(sided, PAVEMENT_WIDTH), ribbons(walked)]))
     # ground-level surfaces stop at walls: subtract the buildings they touch
