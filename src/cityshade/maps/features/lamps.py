@@ -88,10 +88,14 @@ def _away_from(points: np.ndarray, lamps: list[Lamp]) -> np.ndarray:
     return keep
 
 
+def _lit_kind(kind: str) -> bool:
+    return kind in DRIVEN or kind == "pedestrian"
+
+
 def lit_road_lamps(map_data: MapData) -> list[Lamp]:
-    """Lamps every LIT_ROAD_SPACING metres beside each lit driven road (`lit=yes`), on its right-hand
-    kerb, except within MAPPED_NEARBY metres of a lamp the map has."""
-    roads = [r for r in map_data.roads if r.lit and r.kind in DRIVEN and not r.tunnel and not r.bridge]
+    """Lamps every LIT_ROAD_SPACING metres beside each lit driven or pedestrian street (`lit=yes`),
+    on its right-hand kerb, except within MAPPED_NEARBY metres of a lamp the map has."""
+    roads = [r for r in map_data.roads if r.lit and _lit_kind(r.kind) and not r.tunnel and not r.bridge]
     points, _ = _kerb_points(roads, np.full(len(roads), LIT_ROAD_SPACING))
     points = points[_away_from(points, map_data.lamps)]
     return [
