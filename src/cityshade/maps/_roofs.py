@@ -19,6 +19,14 @@ DOME_RISE = {"dome": 1.0, "onion": 1.6}
 # Flat roofs of blocks (PARAPET_LEVELS storeys or more) end in a parapet this high; houses and sheds not.
 PARAPET = 0.5
 PARAPET_LEVELS = 3
+# Dormers: where the map says so (`roof:levels` tagged on a pitched roof, or `roof:dormers` yes or a
+# count), else by rule: of the residential buildings (DORMER_KINDS) whose guessed roof has a storey of
+# rooms and whose eaves run DORMER_EAVES metres or more, one in DORMER_SHARE (by the building's index:
+# neighbours differ, reruns agree); never on other buildings whose map is silent. The share is typical
+# of older northern European town houses; a guessed attic without dormers is lit by its gables.
+DORMER_KINDS = ("house", "detached", "semidetached_house", "terrace", "apartments", "residential")
+DORMER_EAVES = 10.0
+DORMER_SHARE = 0.3
 
 
 def _direction(building: MapBuilding, yaw: float) -> float:
@@ -49,6 +57,19 @@ def _run(shape: str, outline: shapely.Polygon, direction: float) -> float:
     if shape == "hipped" or outline.interiors:
         return min(width / 2, float(shapely.maximum_inscribed_circle(outline, 0.1).length))
     return width / 2
+
+
+def has_dormers(building: MapBuilding, outline: shapely.Polygon) -> bool:
+    """Whether `building`'s roof with rooms in it carries dormers (the rule above)."""
+    said = building.tags.get("roof:dormers", "").strip().lower()
+    if said:
+        return said not in ("no", "0", "none")
+    if "roof_levels" not in building.guessed:
+        return True
+    x0, _, x1, _ = outline.bounds  # object space: +x runs along the outline's longest side
+    if building.kind not in DORMER_KINDS or x1 - x0 < DORMER_EAVES:
+        return False
+    return (building.index * 2654435761 % 2**32) / 2**32 < DORMER_SHARE
 
 
 def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, height: float, storey: float) -> Roof:
@@ -89,4 +110,5 @@ def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, h
         building.roof_material,
         seed=building.index,
         attic_storey=storey if rooms else 0.0,
+        dormers=rooms and has_dormers(building, outline),
     )

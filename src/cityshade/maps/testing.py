@@ -3,12 +3,16 @@
 from ._load import MAX_CITYJSON_BYTES
 from ._masses import STYLE_BY_USE, building_mass, use_code
 from ._osm import check_xml
-from ._roofs import PARAPET
+from ._roofs import DORMER_EAVES, DORMER_KINDS, DORMER_SHARE, PARAPET, has_dormers
 from ._tags import building_attributes, colour, direction, length, use_of
 
 __all__ = [
     "MAX_CITYJSON_BYTES",
     "PARAPET",
+    "DORMER_EAVES",
+    "DORMER_KINDS",
+    "DORMER_SHARE",
+    "has_dormers",
     "STYLE_BY_USE",
     "building_attributes",
     "building_mass",

@@ -1,4 +1,5 @@
-"""Dormers on gabled and hipped roofs with rooms in them (Roof.attic_storey): boxes standing out of
+"""Dormers on gabled and hipped roofs with rooms in them (Roof.attic_storey) that have them
+(Roof.dormers: where the map says so, or by the rule in maps/_roofs.py): boxes standing out of
 the slopes that rise from the long eaves (outline and courtyards), evenly spaced, one per
 DORMER_SPACING metres, kept where the slope's own face holds the whole dormer. Each is a closed
 solid: its front a wall piece (with the window of the storey behind it, like a gable), its cheeks
@@ -101,8 +102,8 @@ def dormers(polygon: shapely.Polygon, top: float, roof: Roof, surface: Triangles
     """(roof triangles, wall triangles) of the dormers of `roof` over `polygon` at the walls' `top`,
     whose roof `surface` they stand out of: along every long eave where the roof rises from it, as
     many as fit in the face that rises from that eave (clear of hips, valleys and gables); none
-    where the roof has no rooms, is not gabled or hipped, or has too little rise for a window."""
-    if roof.attic_storey <= 0 or roof.shape not in DORMER_SHAPES:
+    where the roof has no rooms or no dormers, is not gabled or hipped, or has too little rise."""
+    if roof.attic_storey <= 0 or not roof.dormers or roof.shape not in DORMER_SHAPES:
         return Triangles.empty(), Triangles.empty()
     high = min(DORMER_TOP * roof.attic_storey, DORMER_ROOM * roof.height)
     if high < MIN_STOREY * roof.attic_storey:

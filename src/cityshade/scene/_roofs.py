@@ -30,6 +30,7 @@ class Roof:
     parapet: float = 0.0  # flat roofs: metres the walls rise above the roof as a PARAPET_THICKNESS rim
     seed: int = 0  # the building's: where its rooftop units go
     attic_storey: float = 0.0  # metres: a storey of rooms in the roof (roof:levels), lit by dormers; 0: none
+    dormers: bool = True  # whether that storey has dormers (maps/_roofs.py: where tagged, or by rule)
 
 
 FLAT_ROOF = Roof()
