@@ -139,7 +139,8 @@ def facade_style(building: MapBuilding) -> int:
     for use in (building.use, building.kind):
         if use in STYLE_BY_USE:
             return STYLE_BY_USE[use]
-    return int(building.index) % STYLES
+    whole = building.parent if building.is_part and building.parent is not None else building.index
+    return int(whole) % STYLES  # the parts of one building share the outline's
 
 
 def use_code(building: MapBuilding) -> int:
@@ -261,13 +262,24 @@ def building_mass(
     )
 
 
+def _in_its_outlines_colour(part: MapBuilding, outline: MapBuilding | None) -> MapBuilding:
+    """A building part whose wall colour and material the map does not give wears its outline's
+    (tagged or guessed once for the whole building), so one building's parts do not each get a colour
+    of their own; a part whose tags say otherwise keeps them."""
+    if outline is None or not part.is_part or not {"building_colour", "building_material"} <= part.guessed:
+        return part
+    return replace(part, building_colour=outline.building_colour, building_material=outline.building_material)
+
+
 def building_masses(map_data: MapData) -> list[BuildingMass]:
     """The masses of every drawn building and part (outlines replaced by their parts are skipped, those
     cut by them stand on their remainder and under their floating parts)."""
     masses = []
+    by_index = {b.index: b for b in map_data.buildings}
     for building in map_data.buildings:
         if not building.drawn:
             continue
+        building = _in_its_outlines_colour(building, by_index.get(building.parent))
         pieces = [(polygon, None) for polygon in _polygons(building.drawn_footprint)]
         for under, part in building.beneath_parts:
             pieces += [(polygon, heights(part)[0]) for polygon in _polygons(under)]
