@@ -1,5 +1,5 @@
 # cityshade: `make demo` renders the default city, `make test` runs the suite (`make test-slow`: the
-# command-line render checks that take minutes), `make lint` checks style.
+# checks that take minutes: command-line renders, Ray runs, whole scenes against their numpy twins), `make lint` checks style.
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
@@ -39,10 +39,10 @@ lint: setup
 	@! git grep -nE '^(<<<<<<<|>>>>>>>)( |$$)' -- . || { echo "merge conflict markers left in the files above"; exit 1; }
 
 test: setup data
-	$(BIN)/python -m pytest -n 2 -q -m "not slow and not fuzz"
+	$(BIN)/python -m pytest -n 2 --dist worksteal -q -m "not slow and not fuzz"
 
 test-slow: setup
-	$(BIN)/python -m pytest -n 2 -q -m slow
+	$(BIN)/python -m pytest -n 2 --dist worksteal -q -m slow
 
 # The fuzzers with a large budget: CITYSHADE_FUZZ_SECONDS per fuzzer (default 60; docs/robustness.md).
 fuzz: setup

@@ -56,6 +56,7 @@ def _check_complete(folder: Path, samples: int) -> list[dict]:
     return rows
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_same_seed_same_bytes_whatever_the_workers(ray_runtime, tmp_path):
     config = parse_config(TINY)
     generate(tmp_path / "one", 4, config, city="default", workers=1, seed=9, progress=False)
@@ -67,6 +68,7 @@ def test_same_seed_same_bytes_whatever_the_workers(ray_runtime, tmp_path):
     _check_complete(tmp_path / "two", 4)
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_killed_actor_leaves_every_sample_exactly_once(ray_runtime, tmp_path):
     out, samples = tmp_path / "killed", 8
     killed = []
@@ -100,6 +102,7 @@ def test_killed_actor_leaves_every_sample_exactly_once(ray_runtime, tmp_path):
     assert _files(out) == _files(clean), "a sample written around the kill differs from an undisturbed run"
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_resume_completes_and_refuses_other_settings(ray_runtime, tmp_path):
     out = tmp_path / "resumed"
     generate(out, 2, parse_config(TINY), city="default", seed=4, progress=False)
@@ -123,6 +126,7 @@ def test_resume_completes_and_refuses_other_settings(ray_runtime, tmp_path):
         generate(out, 3, parse_config(TINY), city="default", seed=4, progress=False)
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_helsinki_twenty_samples_read_back(ray_runtime, helsinki_pbf, tmp_path):
     """Central Helsinki (© OpenStreetMap contributors, ODbL 1.0): 20 tiny samples on 2 actors."""
     out = tmp_path / "helsinki"
@@ -160,6 +164,7 @@ def test_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, extra, words
     assert not out.exists()
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_more_workers_than_the_runtime_has_cpus_is_one_line_and_writes_nothing(ray_runtime, tmp_path):
     """The module's runtime has 2 CPUs: a third actor would never start, and its batches never end."""
     out = tmp_path / "ds"
@@ -168,6 +173,7 @@ def test_more_workers_than_the_runtime_has_cpus_is_one_line_and_writes_nothing(r
     assert not out.exists()
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
 def test_a_signal_during_dataset_lists_every_finished_sample(tmp_path, signum):
     """SIGTERM ends a run as Ctrl-C does, not with Ray's crash report: exit 143 (130 for SIGINT),
@@ -216,6 +222,7 @@ def test_unwritable_output_is_refused(tmp_path, capsys):
     assert code == 2 and "is not a directory" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output_dir):
     import tarfile
 
@@ -261,6 +268,7 @@ def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output
     preview.save(output_dir / "dataset_preview_tiny.png")
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_video_frames_on_actors_are_the_same_whatever_the_workers(ray_runtime, tmp_path):
     import imageio.v2 as imageio
 
