@@ -694,20 +694,21 @@ def test_the_viewer_refuses_a_budget_below_the_nearest_tile(district_tiles):
 
 def test_a_failed_write_leaves_the_old_cache_whole(tagged_tiles, monkeypatch):
     """An error (or a signal, which the command turns into one) half-way through writing tiles:
-    the folder still holds the old cache, and no temporary folder is left beside it."""
-    from cityshade.render import _tile_cache
+    the folder still holds the old cache, and beside it only the build's work folder is left
+    (for the next build to resume from: tests/render/test_tile_builds.py)."""
+    from cityshade.render import _tile_writer
 
     before = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
 
     def fail(*args):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(_tile_cache, "_tile_file", fail)
+    monkeypatch.setattr(_tile_writer, "mesh_tile", fail)
     with pytest.raises(KeyboardInterrupt):
         write_tiles(make_city("default"), tagged_tiles)
     after = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
     assert after == before
-    assert sorted(p.name for p in tagged_tiles.parent.iterdir()) == ["tiles"]
+    assert sorted(p.name for p in tagged_tiles.parent.iterdir()) == [".tiles.partial", "tiles"]
     open_tiles(tagged_tiles)
 
 
