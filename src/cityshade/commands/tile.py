@@ -4,8 +4,6 @@
 from __future__ import annotations
 
 import contextlib
-import functools
-import itertools
 import math
 import sys
 import tempfile
@@ -22,6 +20,7 @@ from ..render import (
     TileCache,
     check_cache_folder,
     format_bytes,
+    on_ray,
     open_tiles,
     run_here,
     source_identity,
@@ -139,30 +138,10 @@ def _runner(workers: int, address: str | None):
 
     started = start_ray(workers, address)
     try:
-        yield functools.partial(_on_ray, workers)
+        yield on_ray(workers)
     finally:
         if started:
             ray.shutdown()
-
-
-def _on_ray(workers: int, function, shared: tuple, jobs):
-    """Yields (key, function(*shared, *arguments)) for jobs (key, *arguments) run as Ray tasks, 2
-    per worker queued at most (the driver holds no more of the tiles' masses than that); `shared`
-    (the whole city's placements) is put in Ray's object store once. A task whose worker dies is
-    retried."""
-    import ray
-
-    task = ray.remote(num_cpus=1, max_retries=3)(function)
-    shared = [ray.put(value) for value in shared]
-    pending: dict = {}
-    jobs = iter(jobs)
-    while True:
-        for key, *arguments in itertools.islice(jobs, max(0, 2 * workers - len(pending))):
-            pending[task.remote(*shared, *arguments)] = key
-        if not pending:
-            return
-        ready, _ = ray.wait(list(pending), num_returns=1)
-        yield pending.pop(ready[0]), ray.get(ready[0])
 
 
 def add_streaming_arguments(parser):

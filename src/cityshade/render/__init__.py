@@ -14,9 +14,10 @@ from ._tile_cache import (
     CacheProblem,
     TileCache,
     open_tiles,
+    read_tile,
     source_identity,
 )
-from ._tile_writer import check_cache_folder, mesh_tile, run_here, write_tiles
+from ._tile_writer import check_cache_folder, mesh_tile, on_ray, run_here, write_tiles
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
@@ -46,6 +47,8 @@ __all__ = [
     "write_tiles",
     "mesh_tile",
     "run_here",
+    "on_ray",
+    "read_tile",
     "TILE_SIZE",
     "check_cache_folder",
     "source_identity",

@@ -16,8 +16,10 @@ their bytes do not depend on how many workers meshed them nor in which order the
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
+import itertools
 import json
 import os
 import pickle
@@ -63,6 +65,31 @@ def run_here(function: Callable, shared: tuple, jobs: Iterable[tuple]) -> Iterat
     """One job after another, in this process."""
     for key, *arguments in jobs:
         yield key, function(*shared, *arguments)
+
+
+def on_ray(workers: int) -> Runner:
+    """A runner of Ray tasks, `workers` at once, on the Ray runtime this process is connected to."""
+    return functools.partial(_on_ray, workers)
+
+
+def _on_ray(workers: int, function, shared: tuple, jobs):
+    """Yields (key, function(*shared, *arguments)) for jobs (key, *arguments) run as Ray tasks, 2
+    per worker queued at most (the driver holds no more of the tiles' masses than that); `shared`
+    (the whole city's placements) is put in Ray's object store once. A task whose worker dies is
+    retried."""
+    import ray
+
+    task = ray.remote(num_cpus=1, max_retries=3)(function)
+    shared = [ray.put(value) for value in shared]
+    pending: dict = {}
+    jobs = iter(jobs)
+    while True:
+        for key, *arguments in itertools.islice(jobs, max(0, 2 * workers - len(pending))):
+            pending[task.remote(*shared, *arguments)] = key
+        if not pending:
+            return
+        ready, _ = ray.wait(list(pending), num_returns=1)
+        yield pending.pop(ready[0]), ray.get(ready[0])
 
 
 @dataclass
