@@ -397,13 +397,15 @@ def read_tile(cache: TileCache, index: int) -> tuple[np.ndarray, np.ndarray, np.
         with zipfile.ZipFile(io.BytesIO(data)) as archive:
             for name, (rows, dtype) in _parts(tile).items():
                 with archive.open(f"{name}.npy") as member:  # the header first: nothing larger is allocated
-                    shape, _, stored = _NPY_HEADERS[np.lib.format.read_magic(member)](member)
-                    if stored != dtype.base or shape != (rows, *dtype.shape):
+                    shape, fortran, stored = _NPY_HEADERS[np.lib.format.read_magic(member)](member)
+                    if stored != dtype.base or shape != (rows, *dtype.shape) or fortran:
                         raise CacheProblem(
                             cache.folder, f"{tile.file} holds {name} of another layout or count than its tile's"
                         )
-                with archive.open(f"{name}.npy") as member:
-                    arrays[name] = np.lib.format.read_array(member, allow_pickle=False)
+                    array = np.empty(shape, dtype.base)  # then the data, read once into its array
+                    if member.readinto(memoryview(array.reshape(-1)).cast("B")) != array.nbytes:
+                        raise EOFError(f"{name}.npy is cut short")
+                    arrays[name] = array
     except (ValueError, KeyError, OSError, EOFError, NotImplementedError, zipfile.BadZipFile, zlib.error) as exc:
         raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({type(exc).__name__}: {exc})") from None
     vertices, faces, ground = arrays["vertices"], arrays["faces"], arrays["ground"]
