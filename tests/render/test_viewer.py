@@ -304,7 +304,14 @@ def _still(folder: Path, camera: str) -> tuple[np.ndarray, np.ndarray]:
         renderer.release()
 
 
-def test_view_screenshot_refuses_a_bad_frame_count(capsys):
-    assert main(["view", "--screenshot", "x.png", "--frames", "0"]) == 2
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--screenshot", "x.png", "--frames", "0"], "invalid --frames '0'"),
+        (["--frames", "3"], "--frames N counts the frames of a --screenshot FILE"),
+    ],
+)
+def test_view_screenshot_refuses_bad_frame_counts(capsys, args, message):
+    assert main(["view", *args]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("cityshade: error: invalid --frames '0'") and "\n" not in err
+    assert err.startswith(f"cityshade: error: {message}") and "\n" not in err

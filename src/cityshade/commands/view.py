@@ -15,6 +15,8 @@ from .arguments import add_map_option, check_writable, parse_size, save_png
 from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
 
+SCREENSHOT_FRAMES = 30
+
 
 def register(subparsers):
     parser = subparsers.add_parser("view", help="interactive viewer: " + HELP)
@@ -45,7 +47,11 @@ def register(subparsers):
         help="draw --frames frames, write the last one to FILE (PNG), report the frame rate and quit",
     )
     parser.add_argument(
-        "--frames", type=_frames, default=30, metavar="N", help="frames to draw for --screenshot (default 30)"
+        "--frames",
+        type=_frames,
+        default=None,
+        metavar="N",
+        help=f"frames to draw for --screenshot (default {SCREENSHOT_FRAMES})",
     )
     parser.add_argument(
         "--target-fps",
@@ -74,6 +80,8 @@ def _frames(text: str) -> int:
 def _run(args) -> int:
     if args.screenshot is not None:
         check_writable(args.screenshot)
+    elif args.frames is not None:
+        raise UsageError("--frames N counts the frames of a --screenshot FILE; give both, or neither")
     window = args.window or ("headless" if args.screenshot is not None else "pyglet")
     size = parse_size(args.size)
     settings = RenderSettings(**settings_from_flags(args, RenderSettings))
@@ -90,7 +98,7 @@ def _run(args) -> int:
             city, camera, placed = city_from_map(args.map, camera, args.date, args.time_of_day, city=made)
             settings = replace(settings, **placed)
             sky = sky_clock(city.origin, args.date)
-        frames = args.frames if args.screenshot is not None else None
+        frames = (args.frames or SCREENSHOT_FRAMES) if args.screenshot is not None else None
         viewer = open_viewer(
             city,
             camera,
@@ -112,6 +120,10 @@ def _run(args) -> int:
 
 
 def _report(path: Path, viewer):
+    if viewer.last_image is None:  # closed (Esc, the window's close button) before the last frame
+        raise UsageError(
+            f"the window was closed after {viewer.frames_drawn} of {viewer.stop_after} frames; {path} was not written"
+        )
     save_png(viewer.last_image, path)
     height, width = viewer.last_image.shape[:2]
     after_first = viewer.frames_drawn - 1
