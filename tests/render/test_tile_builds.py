@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from cityshade.commands import main
+from cityshade.errors import UsageError
 from cityshade.render import mesh_tile, run_here, write_tiles
 from cityshade.scene import make_city
 
@@ -130,6 +131,15 @@ def test_another_city_does_not_resume_a_stopped_build(district, tmp_path):
     with pytest.raises(KeyboardInterrupt):
         write_tiles(district, folder, tile_size=TILE, run=stops)
     assert write_tiles(make_city("grid"), folder, tile_size=TILE)["resumed"] == 0
+
+
+def test_a_folder_in_the_way_of_the_work_folder_is_never_removed(district, tmp_path):
+    mine = tmp_path / ".tiles.partial"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("not a build's")
+    with pytest.raises(UsageError, match="is in the way of the build's work folder"):
+        write_tiles(district, tmp_path / "tiles", tile_size=TILE)
+    assert (mine / "notes.txt").read_text() == "not a build's"
 
 
 def test_bad_worker_counts_are_one_line(capsys, tmp_path):

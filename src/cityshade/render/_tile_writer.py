@@ -34,6 +34,7 @@ from typing import Callable, Iterable, Iterator
 import numpy as np
 
 from .._files import atomic_folder, check_replaceable_folder
+from ..errors import UsageError
 from ..frame import building_cells
 from ..scene import BUILDING_DTYPE, GROUND_LAND, City, face_table, placements
 from ._building_lod import SAMPLE_FACE_DTYPE
@@ -195,6 +196,8 @@ class _Pieces:
 
     def __init__(self, folder: Path, plan: dict):
         self.folder = folder.parent / PARTIAL.format(folder.name)
+        if self.folder.exists() and not (self.folder / PLAN).is_file():  # never remove what a build did not make
+            raise UsageError(f"{self.folder} is in the way of the build's work folder; move it away or remove it")
         try:
             kept = json.loads((self.folder / PLAN).read_text()) == plan
         except (OSError, ValueError):
