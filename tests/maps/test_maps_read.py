@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import pickle
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 import shapely
 
 from cityshade.maps import load_map
-from cityshade.maps.testing import colour, direction, length
+from cityshade.maps.testing import colour, direction, length, osm_reader
 
 DATA = Path(__file__).parents[1] / "data" / "maps"
 
@@ -557,3 +558,24 @@ def test_a_building_way_that_is_also_a_relations_outer_ring_is_drawn_once(tmp_pa
     assert not _by_id(data, "way/110") and len(_by_id(data, "relation/200")) == 1
     key = ("building", "outer ring of a building relation, which is drawn instead")
     assert data.report.skipped[key] == 1 and data.report.examples[key] == "way/110"
+
+
+def test_a_file_too_large_for_memory_keeps_its_node_locations_on_disk(monkeypatch):
+    """With no memory to spare for the node location index, it goes to a sparse index in a
+    temporary file: the same map is read, and the file is gone afterwards."""
+    path = Path(__file__).parents[1] / "data" / "maps" / "tagged.osm"
+    in_memory = load_map(path)
+    chosen = []
+    choose = osm_reader._location_index
+
+    def recorded(*args):
+        chosen.append(choose(*args))
+        return chosen[-1]
+
+    monkeypatch.setattr(osm_reader, "_location_index", recorded)
+    monkeypatch.setattr(osm_reader, "INDEX_MEMORY_SHARE", 0.0)
+    on_disk = load_map(path)
+    assert len(chosen) == 1 and chosen[0].startswith("sparse_file_array,")
+    assert not Path(chosen[0].partition(",")[2]).parent.exists(), "the temporary index is removed"
+    assert pickle.dumps(on_disk.buildings) == pickle.dumps(in_memory.buildings) and in_memory.buildings
+    assert pickle.dumps(on_disk.roads) == pickle.dumps(in_memory.roads)

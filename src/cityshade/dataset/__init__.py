@@ -6,7 +6,8 @@ from ._classes import CLASS_COLOURS, CLASSES, IGNORE, class_image, instance_imag
 from ._config import DEFAULTS, DatasetConfig, load_config, parse_config
 from ._manifest import read_manifest
 from ._preview import write_preview
-from ._run import generate, render_frames
+from ._run import _start_ray as start_ray
+from ._run import check_address, generate, render_frames
 from ._sample import SampleRenderer, extrinsics, intrinsics, linear_depth, normals_from_depth, sample_files
 from ._shards import write_shards
 from ._source import Source, load_source
@@ -32,6 +33,8 @@ __all__ = [
     "write_preview",
     "write_shards",
     "generate",
+    "start_ray",
+    "check_address",
     "render_frames",
     "Source",
     "load_source",
