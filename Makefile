@@ -62,6 +62,7 @@ validate-export: setup data
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki.glb --texel 0.25
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-tiles --format 3dtiles --texel 0.25
 	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles
+	$(BIN)/python scripts/check-georeference.py out/export/helsinki-tiles data/Helsinki.osm.pbf
 
 clean:
 	rm -rf $(VENV) out bench-results

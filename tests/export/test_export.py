@@ -325,7 +325,8 @@ def test_faces_too_narrow_for_the_grammar_are_plain_walls_as_in_the_renderer(gl_
     assert {c.width for c in writer.canvases[0]} == {20.0}
     writer.write()
     names = [doc.gltf.materials[p.material].name for mesh in doc.gltf.meshes for p in mesh.primitives]
-    assert names.count("plain walls") == 1 and sum(n.startswith("facades") for n in names) == 2
+    # one primitive per material: both canvases lie on the one atlas page
+    assert sorted(names) == ["facades 0", "plain walls", "roofs"]
 
 
 def test_a_baked_dome_has_unit_normals_and_tangents(gl_context):
@@ -369,3 +370,84 @@ def test_texel_and_lod_out_of_range_are_one_line(option, value, allowed, fmt, tm
     err = _fails(["export", "--map", str(TAGGED), "--format", fmt, "--out", str(out), option, value], capsys)
     assert f"{option} {float(value) if option == '--texel' else value}" in err and allowed in err
     assert not list(tmp_path.iterdir())
+
+
+FAR_EAST = Path(__file__).parents[1] / "data" / "export" / "far_from_meridian.osm"
+
+
+def _osm_building_nodes(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """(lon, lat) of every node of the file's building ways, and each one's building height tag."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.parse(path).getroot()
+    nodes = {n.get("id"): (float(n.get("lon")), float(n.get("lat"))) for n in root.iter("node")}
+    points, heights = [], []
+    for way in root.iter("way"):
+        tags = {t.get("k"): t.get("v") for t in way.iter("tag")}
+        if "building" in tags:
+            refs = {nd.get("ref") for nd in way.iter("nd")}
+            points += [nodes[r] for r in sorted(refs)]
+            heights += [float(tags["height"])] * len(refs)
+    return np.asarray(points), np.asarray(heights)
+
+
+def test_tileset_vertices_lie_on_their_osm_nodes_far_from_the_central_meridian(tmp_path, capsys):
+    """Blocks spread over 4 x 2 km, 2.6 degrees east of their UTM zone's central meridian (grid
+    convergence 2.4 degrees, scale factor 0.99972): every corner of every block, at the ground and at
+    its roof, has an exported vertex within 0.5 m of pyproj's ECEF of its OSM node. Turning the scene
+    by one rotation at the origin put them up to 80 m off."""
+    import pyproj
+
+    from cityshade.export.testing import tileset_points
+
+    out = tmp_path / "tiles"
+    assert main(["export", "--map", str(FAR_EAST), "--out", str(out), "--format", "3dtiles", "--texel", "1"]) == 0
+    summary = _summary(capsys)
+    assert summary["buildings"] == 5
+    tileset = json.loads((out / "tileset.json").read_text())
+    assert tileset["asset"]["extras"]["grid_convergence_degrees"] == pytest.approx(2.44, abs=0.05)
+    exported = tileset_points(out)
+    lonlat, heights = _osm_building_nodes(FAR_EAST)
+    to_ecef = pyproj.Transformer.from_crs("EPSG:4979", "EPSG:4978", always_xy=True)
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(exported)
+    for h in (np.zeros(len(heights)), heights):
+        expected = np.column_stack(to_ecef.transform(lonlat[:, 0], lonlat[:, 1], h))
+        distance, _ = tree.query(expected)
+        assert len(distance) == 20 and distance.max() <= 0.5, f"{np.sort(distance)[-5:]} m"
+
+
+@pytest.mark.parametrize(
+    "extents",
+    [
+        [[1000.0, 30.0]],  # one face too wide for an 8192-texel side at 0.05 m
+        [[100.0, 30.0]] * 2000,  # 2.4 billion texels at 0.05 m: over the total
+    ],
+)
+def test_the_default_texel_is_the_finest_that_fits(extents):
+    from cityshade.export import ATLAS_LIMIT
+    from cityshade.export.testing import finest_texel
+
+    extents = np.asarray(extents)
+    texel = finest_texel(extents, 0.05)
+
+    def fits(t):
+        sides = np.ceil((extents + 2 * t) / t)
+        return sides.max() <= ATLAS_LIMIT and np.prod(sides, axis=1).sum() <= 1 << 28
+
+    assert texel > 0.05 and fits(texel)
+    step = 10 ** (np.floor(np.log10(texel)) - 2)  # its third significant digit
+    assert not fits(texel - step)
+    assert finest_texel(extents[:1] / 100, 0.05) == 0.05  # small facades: the finest allowed
+
+
+@pytest.mark.slow  # a bake at 0.05 m: a few seconds
+def test_export_without_texel_chooses_and_prints_it(tmp_path, capsys):
+    out = tmp_path / "far.glb"
+    one_block = ["--region", "29.599,69.709,29.602,69.712"]  # 23 x 11 x 22 m: small enough to bake at 0.05 m
+    assert main(["export", "--map", str(FAR_EAST), "--out", str(out), *one_block]) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out.strip().splitlines()[-1])
+    assert summary["texel"] == 0.05 and summary["buildings"] == 1
+    assert "--texel 0.05: the finest texel" in captured.err

@@ -13,7 +13,7 @@ from ._bake import (
     pack,
     wall_sides,
 )
-from ._export import FORMATS, check_output, city_document, export_city
+from ._export import FORMATS, check_output, city_document, default_texel, default_texel_note, export_city
 from ._source import ExportCity, crop, layout_export_city, map_export_city, parse_region
 
 __all__ = [
@@ -29,6 +29,8 @@ __all__ = [
     "canvases_of",
     "has_grammar",
     "city_document",
+    "default_texel",
+    "default_texel_note",
     "crop",
     "export_city",
     "layout_export_city",

@@ -124,6 +124,41 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
     return out
 
 
+def face_extents(walls: np.ndarray) -> np.ndarray:
+    """(faces, 2) metres each wall face spans in facade u and v, in wall_sides' order (the canvas
+    of a face at texel t is ceil(extent / t) + 2 texels a side: canvases_of's one-texel border)."""
+    sides = wall_sides(walls)
+    facade = walls["facade"][:, :2].astype(np.float64)
+    count = int(sides.max()) + 1 if len(sides) else 0
+    lo = np.full((count, 2), np.inf)
+    hi = np.full((count, 2), -np.inf)
+    np.minimum.at(lo, sides, facade)
+    np.maximum.at(hi, sides, facade)
+    return hi - lo
+
+
+def _fits(extents: np.ndarray, texel: float) -> bool:
+    sides = np.maximum(np.ceil((extents + 2 * texel) / texel), 1.0)  # as canvases_of
+    return bool(sides.max() <= ATLAS_LIMIT and np.prod(sides, axis=1).sum() <= MAX_TEXELS)
+
+
+def finest_texel(extents: np.ndarray, finest: float) -> float:
+    """The smallest texel size, no smaller than `finest` and rounded up to 3 significant digits,
+    at which faces of these extents fit the atlas limits (the side and the total of check_size)."""
+    if not len(extents) or _fits(extents, finest):
+        return finest
+    lo, hi = finest, finest * 2
+    while not _fits(extents, hi):
+        lo, hi = hi, hi * 2
+    for _ in range(40):  # fitting only gets easier as texels grow: bisect in log space
+        mid = float(np.sqrt(lo * hi))
+        lo, hi = (lo, mid) if _fits(extents, mid) else (mid, hi)
+    texel = largest_fitting_texel(hi, 1.0)
+    while not _fits(extents, texel):  # rounding up keeps it fitting; this guards the arithmetic
+        texel = largest_fitting_texel(texel, 1.001)
+    return texel
+
+
 def largest_fitting_texel(texel: float, ratio: float) -> float:
     """The smallest texel size (3 significant digits, rounded up) at least texel * ratio."""
     value = texel * ratio

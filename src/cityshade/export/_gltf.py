@@ -45,7 +45,8 @@ def png_bytes(image: np.ndarray) -> bytes:
 class Document:
     """Grows a GLTF2 and its binary blob; `finish()` returns the GLTF2 ready to save."""
 
-    def __init__(self, extras: dict):
+    def __init__(self, extras: dict, place=None):
+        self.place = place  # export._place.Placement for 3D Tiles content, None: the scene's frame
         self.gltf = gl.GLTF2(asset=gl.Asset(version="2.0", generator="cityshade export", extras=extras))
         self.gltf.scenes.append(gl.Scene(nodes=[], extras=extras))
         self.gltf.scene = 0
@@ -115,8 +116,21 @@ class Document:
         self.gltf.materials.append(material)
         return len(self.gltf.materials) - 1
 
-    def primitive(self, material: int, positions, normals, uv=None, tangents=None, colours=None) -> gl.Primitive:
-        """A triangle list (three vertices per triangle, no indices)."""
+    def world(self, points) -> np.ndarray:
+        """(n, 3) scene points in the document's frame: as they are, or placed on Earth (export._place)."""
+        points = np.asarray(points, np.float64).reshape(-1, 3)
+        return points if self.place is None else self.place.positions(points)
+
+    def turn(self, vectors) -> np.ndarray:
+        """Scene directions (normals, tangents' xyz) in the document's frame."""
+        vectors = np.asarray(vectors, np.float64).reshape(-1, 3)
+        return vectors if self.place is None else self.place.directions(vectors)
+
+    def primitive(
+        self, material: int, positions, normals, uv=None, tangents=None, colours=None, features=None, indices=None
+    ) -> gl.Primitive:
+        """Triangles: a vertex list, or vertices and indices; `features`: each vertex's row of the
+        building property table (EXT_mesh_features)."""
         attributes = gl.Attributes(
             POSITION=self.accessor(positions.astype(np.float32), bounds=True), NORMAL=self.accessor(unit(normals))
         )
@@ -126,28 +140,21 @@ class Document:
             attributes.TANGENT = self.accessor(tangents.astype(np.float32))
         if colours is not None:
             attributes.COLOR_0 = self.accessor(colours.astype(np.float32))
-        return gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES)
-
-    def indexed_primitive(self, material: int, positions, normals, indices) -> gl.Primitive:
-        attributes = gl.Attributes(
-            POSITION=self.accessor(positions.astype(np.float32), bounds=True), NORMAL=self.accessor(unit(normals))
-        )
-        return gl.Primitive(
-            attributes=attributes,
-            material=material,
-            mode=gl.TRIANGLES,
-            indices=self.accessor(indices.astype(np.uint32), target=gl.ELEMENT_ARRAY_BUFFER),
-        )
-
-    def feature(self, metadata: dict, primitives: list[gl.Primitive], vertices: list[int]) -> int:
-        """Makes the primitives one feature (EXT_mesh_features) whose row of the building property
-        table (EXT_structural_metadata) is `metadata`."""
-        row = len(self.features)
-        self.features.append(metadata)
-        for primitive, count in zip(primitives, vertices):
-            primitive.attributes._FEATURE_ID_0 = self.accessor(np.full(count, row, np.float32))
+        primitive = gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES)
+        if indices is not None:
+            small = len(positions) <= np.iinfo(np.uint16).max
+            indices = indices.astype(np.uint16 if small else np.uint32)
+            primitive.indices = self.accessor(indices, target=gl.ELEMENT_ARRAY_BUFFER)
+        if features is not None:
+            attributes._FEATURE_ID_0 = self.accessor(np.asarray(features, np.float32))
             primitive.extensions = {FEATURES: {"featureIds": [{"attribute": 0, "propertyTable": 0, "featureCount": 0}]}}
-        return row
+        return primitive
+
+    def feature_row(self, metadata: dict) -> int:
+        """A row of the building property table (EXT_structural_metadata): primitives select it
+        through their _FEATURE_ID_0."""
+        self.features.append(metadata)
+        return len(self.features) - 1
 
     def _property_table(self):
         rows = self.features
@@ -179,11 +186,18 @@ class Document:
         self.gltf.extensionsUsed += [FEATURES, METADATA]
 
     def node(
-        self, name: str, primitives: list[gl.Primitive], extras: dict | None = None, extensions: dict | None = None
+        self,
+        name: str,
+        primitives: list[gl.Primitive],
+        extras: dict | None = None,
+        extensions: dict | None = None,
+        translation=None,
     ) -> int:
-        """A mesh of the primitives and a root node showing it."""
+        """A mesh of the primitives and a root node showing it (at `translation`, its origin)."""
         self.gltf.meshes.append(gl.Mesh(name=name, primitives=primitives))
         node = gl.Node(name=name, mesh=len(self.gltf.meshes) - 1, extras=extras or {})
+        if translation is not None:
+            node.translation = [float(v) for v in translation]
         if extensions:
             node.extensions = extensions
         self.gltf.nodes.append(node)

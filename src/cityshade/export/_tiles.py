@@ -15,26 +15,14 @@ from .._files import atomic_folder
 from ..errors import UsageError
 from ..scene import building_vertices
 from ._gltf import glb_bytes
+from ._place import Placement
 
 LEAF_BUILDINGS = 48  # a tile with more buildings is split into four
 MAX_DEPTH = 8
 
 
-def enu_to_ecef(lon: float, lat: float, height: float = 0.0) -> list[float]:
-    """Column-major 4x4: east, north, up axes and the origin in EPSG:4978 metres."""
-    import pyproj
-
-    to_ecef = pyproj.Transformer.from_crs("EPSG:4979", "EPSG:4978", always_xy=True)
-    x, y, z = to_ecef.transform(lon, lat, height)
-    lam, phi = np.radians(lon), np.radians(lat)
-    east = [-np.sin(lam), np.cos(lam), 0.0]
-    north = [-np.sin(phi) * np.cos(lam), -np.sin(phi) * np.sin(lam), np.cos(phi)]
-    up = [np.cos(phi) * np.cos(lam), np.cos(phi) * np.sin(lam), np.sin(phi)]
-    return [float(v) for v in (*east, 0.0, *north, 0.0, *up, 0.0, x, y, z, 1.0)]
-
-
 def box(lo: np.ndarray, hi: np.ndarray) -> list[float]:
-    """A 3D Tiles box from scene-frame (x, y up, z south) bounds, in the tile frame (x east, y north, z up)."""
+    """A 3D Tiles box from glTF content bounds (x east, y up, z south), in the tile frame (x east, y north, z up)."""
     lo_t = np.array([lo[0], -hi[2], lo[1]])
     hi_t = np.array([hi[0], -lo[2], hi[1]])
     centre, half = (lo_t + hi_t) / 2, np.maximum((hi_t - lo_t) / 2, 0.01)
@@ -72,8 +60,9 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
         raise UsageError(
             "--format 3dtiles needs a map (--map FILE): a built-in city has no place on Earth; use --format glb"
         )
+    place = Placement(export.origin, export.crs)
     masses = list(export.city.masses)  # objects once: read by index below, tile by tile
-    bounds = [building_vertices(m, i)["position"] for i, m in enumerate(masses)]
+    bounds = [place.positions(building_vertices(m, i)["position"]) for i, m in enumerate(masses)]
     lo = np.array([b.min(axis=0) for b in bounds])
     hi = np.array([b.max(axis=0) for b in bounds])
     centres = (lo[:, [0, 2]] + hi[:, [0, 2]]) / 2
@@ -92,6 +81,7 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
             [export.metadata[i] for i in members],
             ground=False,
             trees=False,
+            place=place,
         )
         name = f"tiles/b{node.key}.glb"
         (folder / name).write_bytes(glb_bytes(gltf))
@@ -119,24 +109,31 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
     def fill(folder: Path):
         (folder / "tiles").mkdir()
         buildings = tile(tree, folder)
-        gltf, stats = city_document(export, texel, lod, [], [], ground=True, trees=True)
+        gltf, stats = city_document(export, texel, lod, [], [], ground=True, trees=True, place=place)
         (folder / "tiles/ground.glb").write_bytes(glb_bytes(gltf))
         stats_all.append(stats)
         ground = export.city.ground_mesh
         all_lo, all_hi = lo.min(axis=0), hi.max(axis=0)
         if ground is not None and len(ground):
-            all_lo = np.minimum(all_lo, ground[:, :3].min(axis=0))
-            all_hi = np.maximum(all_hi, ground[:, :3].max(axis=0))
+            placed = place.positions(ground[:, :3])
+            all_lo = np.minimum(all_lo, placed.min(axis=0))
+            all_hi = np.maximum(all_hi, placed.max(axis=0))
         root_error = max(buildings["geometricError"] * 2, float(np.linalg.norm((all_hi - all_lo)[[0, 2]])) / 10)
         tileset = {
             "asset": {
                 "version": "1.1",
                 "generator": "cityshade export",
-                "extras": {"attribution": "© OpenStreetMap contributors, ODbL 1.0"},
+                "extras": {
+                    "attribution": "© OpenStreetMap contributors, ODbL 1.0",
+                    "crs": export.crs,
+                    # at the origin, for reference: the content is placed point by point (export._place)
+                    "grid_convergence_degrees": round(float(np.degrees(place.convergence)), 6),
+                    "grid_scale_factor": round(place.scale, 8),
+                },
             },
             "geometricError": round(root_error * 2, 3),
             "root": {
-                "transform": enu_to_ecef(*export.origin),
+                "transform": place.transform,
                 "boundingVolume": {"box": box(all_lo, all_hi)},
                 "geometricError": round(root_error, 3),
                 "refine": "ADD",
@@ -157,5 +154,11 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
         triangles=ground.triangles + sum(s.triangles for s in leaves if s.leaf),
         atlas_pages=[list(p) for s in stats_all for p in s.atlas_sizes],
         atlas_texels=sum(s.atlas_texels for s in stats_all),
+        draw_calls=sum(s.draw_calls for s in stats_all),
+        draw_calls_per_tile={
+            "buildings_max": max(s.draw_calls for s in leaves),
+            "buildings_mean": round(float(np.mean([s.draw_calls for s in leaves])), 2),
+            "ground": ground.draw_calls,
+        },
     )
     return summary
