@@ -30,6 +30,17 @@ def register(subparsers):
         help="level of detail: 0 full; from 1 flat-topped prisms; each level doubles the texel",
     )
     parser.add_argument(
+        "--textures",
+        default="webp",
+        help="webp (EXT_texture_webp: lossy colour, lossless data maps; default) or png",
+    )
+    parser.add_argument(
+        "--geometry",
+        default="quantized",
+        help="quantized (KHR_mesh_quantization; default), draco (KHR_draco_mesh_compression: smallest) "
+        "or plain (32-bit floats)",
+    )
+    parser.add_argument(
         "--region",
         default=None,
         metavar="MINLON,MINLAT,MAXLON,MAXLAT",
@@ -47,6 +58,7 @@ def output_format(args) -> str:
 
 def run(args) -> int:
     from ..export import (
+        Encoding,
         check_output,
         crop,
         default_texel,
@@ -58,7 +70,8 @@ def run(args) -> int:
     )
 
     fmt = output_format(args)
-    check_output(args.out, fmt, args.texel, args.lod)  # before the map is read
+    encoding = Encoding(args.textures, args.geometry)
+    check_output(args.out, fmt, args.texel, args.lod, encoding)  # before the map is read
     region = parse_region(args.region) if args.region is not None else None
     export = map_export_city(args.map) if args.map is not None else layout_export_city(args.city)
     if region is not None:
@@ -67,6 +80,6 @@ def run(args) -> int:
     if texel is None:
         texel = default_texel(export, args.lod)
         print(default_texel_note(texel), file=sys.stderr, flush=True)
-    summary = export_city(export, args.out, fmt, texel, args.lod)
+    summary = export_city(export, args.out, fmt, texel, args.lod, encoding)
     print(json.dumps(summary))
     return 0

@@ -132,7 +132,9 @@ class BuildingWriter:
         self.stats.atlas_sizes += atlas.sizes
         pages = self._page_materials(atlas)
         image, _ = facade_texture()
-        bays = self.doc.material("window bays", base_texture=self.doc.texture(image[::-1, :, :3].copy(), repeat=True))
+        bays = self.doc.material(
+            "window bays", base_texture=self.doc.texture(image[::-1, :, :3].copy(), repeat=True, colour=True)
+        )
         roofs = self.doc.material("roofs", roughness=0.8, double_sided=True)
         plain_walls = self.doc.material("plain walls", roughness=0.9)
         every = Pieces()
@@ -150,14 +152,15 @@ class BuildingWriter:
         """A node whose origin is the middle of its base (where Blender puts an object's handle)."""
         lo, hi = pieces.bounds()
         origin = np.array([(lo[0] + hi[0]) / 2, lo[1], (lo[2] + hi[2]) / 2])
-        self.doc.node(name, pieces.primitives(self.doc, origin), extras=extras, translation=origin)
+        primitives, scale = pieces.primitives(self.doc, origin)
+        self.doc.node(name, primitives, extras=extras, translation=origin, scale=scale)
 
     def _page_materials(self, atlas: Atlas) -> list[int]:
         doc = self.doc
         return [
             doc.material(
                 f"facades {p}",
-                base_texture=doc.texture(atlas.base_colour[p], name=f"facade colour {p}"),
+                base_texture=doc.texture(atlas.base_colour[p], name=f"facade colour {p}", colour=True),
                 mr_texture=doc.texture(atlas.metallic_roughness[p]),
                 roughness=1.0,
                 normal_texture=doc.texture(atlas.normal[p]),
@@ -260,7 +263,8 @@ def add_ground(doc: Document, city, stats: Stats):
         stats.triangles += len(ground) // 3
         lo, hi = pieces.bounds()
         origin = np.array([(lo[0] + hi[0]) / 2, 0.0, (lo[2] + hi[2]) / 2])
-        doc.node("ground", pieces.primitives(doc, origin), extras={"kind": "ground"}, translation=origin)
+        primitives, scale = pieces.primitives(doc, origin)
+        doc.node("ground", primitives, extras={"kind": "ground"}, translation=origin, scale=scale)
 
 
 def _card_quads(cards: np.ndarray, indices: np.ndarray):

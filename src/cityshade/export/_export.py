@@ -10,7 +10,7 @@ from .._files import atomic_output, check_replaceable_folder, output_target
 from ..errors import UsageError
 from ._bake import ATLAS_LIMIT, MAX_TEXELS
 from ._content import BuildingWriter, Stats, add_ground, add_trees, finest_city_texel, simplified
-from ._gltf import Document, glb_bytes, gltf_text
+from ._gltf import DEFAULT_ENCODING, GEOMETRY, TEXTURES, Document, Encoding, glb_bytes, gltf_text
 from ._source import ExportCity
 
 FORMATS = ("glb", "gltf", "3dtiles")
@@ -51,6 +51,7 @@ def city_document(
     ground: bool = True,
     trees: bool = True,
     place=None,
+    encoding: Encoding = DEFAULT_ENCODING,
 ) -> tuple[object, Stats]:
     """(GLTF2, stats) of the city, or of some of its masses; lod >= 1 simplifies roofs, and each
     level doubles the texel size. With `place` (a 3D Tiles tile: _place.Placement) the content is
@@ -60,7 +61,7 @@ def city_document(
     if lod >= 1:
         masses = [simplified(m) for m in masses]
     stats = Stats()
-    doc = Document(frame_extras(export), place)
+    doc = Document(frame_extras(export), place, encoding)
     BuildingWriter(doc, masses, metadata, texel * 2**lod, stats, merged=place is not None).write()
     if ground:
         add_ground(doc, export.city, stats)
@@ -87,12 +88,16 @@ def default_texel_note(texel: float) -> str:
     )
 
 
-def check_output(out: Path, fmt: str, texel: float | None = None, lod: int = 0):
+def check_output(out: Path, fmt: str, texel: float | None = None, lod: int = 0, encoding: Encoding = DEFAULT_ENCODING):
     """Fails with one line before any work if the options are out of range or `out` cannot be
     written (a tileset replaces only an earlier tileset, _files.check_replaceable_folder); texel
     None: chosen later (default_texel)."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt!r}: unknown; use one of {', '.join(FORMATS)}")
+    if encoding.textures not in TEXTURES:
+        raise UsageError(f"--textures {encoding.textures!r}: unknown; use one of {', '.join(TEXTURES)}")
+    if encoding.geometry not in GEOMETRY:
+        raise UsageError(f"--geometry {encoding.geometry!r}: unknown; use one of {', '.join(GEOMETRY)}")
     if texel is None:
         pass
     elif isinstance(texel, bool) or not isinstance(texel, numbers.Real) or not 0 < texel <= MAX_TEXEL:
@@ -107,14 +112,21 @@ def check_output(out: Path, fmt: str, texel: float | None = None, lod: int = 0):
         output_target(out)
 
 
-def export_city(export: ExportCity, out: Path, fmt: str = "glb", texel: float | None = None, lod: int = 0) -> dict:
+def export_city(
+    export: ExportCity,
+    out: Path,
+    fmt: str = "glb",
+    texel: float | None = None,
+    lod: int = 0,
+    encoding: Encoding = DEFAULT_ENCODING,
+) -> dict:
     """Writes the export; returns what it wrote (counts, sizes, seconds). texel None: default_texel."""
-    check_output(out, fmt, texel, lod)
+    check_output(out, fmt, texel, lod, encoding)
     began = time.perf_counter()
     if texel is None:
         texel = default_texel(export, lod)
     try:
-        summary = _write(export, out, fmt, texel, lod)
+        summary = _write(export, out, fmt, texel, lod, encoding)
     except OSError as exc:  # the temporary file or directory beside `out` (nothing is left behind)
         raise UsageError(f"cannot write {str(out)!r}: {exc.strerror or exc}; choose another --out") from None
     summary.update(
@@ -124,16 +136,18 @@ def export_city(export: ExportCity, out: Path, fmt: str = "glb", texel: float | 
         bytes=size_of(out),
         texel=texel,
         lod=lod,
+        textures=encoding.textures,
+        geometry=encoding.geometry,
     )
     return summary
 
 
-def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int) -> dict:
+def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int, encoding: Encoding) -> dict:
     if fmt == "3dtiles":
         from ._tiles import write_tileset
 
-        return write_tileset(export, out, texel, lod)
-    gltf, stats = city_document(export, texel, lod)
+        return write_tileset(export, out, texel, lod, encoding)
+    gltf, stats = city_document(export, texel, lod, encoding=encoding)
     with atomic_output(out) as tmp:
         if fmt == "glb":
             tmp.write_bytes(glb_bytes(gltf))

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import json
+from dataclasses import dataclass
 
 import numpy as np
 import pygltflib as gl
@@ -27,6 +28,9 @@ BUILDING_PROPERTIES = {
 }
 NO_DATA = -1.0
 _COMPONENTS = {
+    np.dtype(np.int8): gl.BYTE,
+    np.dtype(np.uint8): gl.UNSIGNED_BYTE,
+    np.dtype(np.int16): gl.SHORT,
     np.dtype(np.float32): gl.FLOAT,
     np.dtype(np.uint32): gl.UNSIGNED_INT,
     np.dtype(np.uint16): gl.UNSIGNED_SHORT,
@@ -34,19 +38,50 @@ _COMPONENTS = {
 _TYPES = {1: gl.SCALAR, 2: gl.VEC2, 3: gl.VEC3, 4: gl.VEC4}
 
 
-def png_bytes(image: np.ndarray) -> bytes:
+TEXTURES = ("webp", "png")  # --textures: the first is the default
+# --geometry, the first the default: quantized (KHR_mesh_quantization: 16-bit positions scaled by
+# their node, 8-bit normals, tangents and colours), draco (smallest; the Khronos validator cannot
+# check it), plain (32-bit floats)
+GEOMETRY = ("quantized", "draco", "plain")
+QUANTIZED = "KHR_mesh_quantization"
+DRACO = "KHR_draco_mesh_compression"
+# Draco's quantization (bits over a primitive's extent): positions to under 1 cm in a 1 km tile,
+# atlas coordinates to 1/8 texel of an 8192-texel page, normals to about 0.1 degree
+POSITION_BITS, UV_BITS, NORMAL_BITS = 17, 16, 12
+WEBP = "EXT_texture_webp"
+WEBP_QUALITY = 90  # lossy base colour; the data maps (normal, roughness, emissive) are lossless
+
+
+@dataclass(frozen=True)
+class Encoding:
+    """How images and meshes are stored: --textures and --geometry."""
+
+    textures: str = TEXTURES[0]
+    geometry: str = GEOMETRY[0]
+
+
+DEFAULT_ENCODING = Encoding()
+
+
+def image_bytes(image: np.ndarray, encoding: str, lossy: bool) -> tuple[bytes, str]:
+    """(encoded bytes, MIME type) of an 8-bit image: PNG, or WebP (lossy for colour, else lossless)."""
     from PIL import Image
 
     out = io.BytesIO()
-    Image.fromarray(image).save(out, format="PNG", compress_level=1)
-    return out.getvalue()
+    if encoding == "png":
+        Image.fromarray(image).save(out, format="PNG", compress_level=1)
+        return out.getvalue(), "image/png"
+    options = {"quality": WEBP_QUALITY, "method": 4} if lossy else {"lossless": True, "quality": 50, "method": 2}
+    Image.fromarray(image).save(out, format="WEBP", **options)
+    return out.getvalue(), "image/webp"
 
 
 class Document:
     """Grows a GLTF2 and its binary blob; `finish()` returns the GLTF2 ready to save."""
 
-    def __init__(self, extras: dict, place=None):
+    def __init__(self, extras: dict, place=None, encoding: Encoding = DEFAULT_ENCODING):
         self.place = place  # export._place.Placement for 3D Tiles content, None: the scene's frame
+        self.textures, self.geometry = encoding.textures, encoding.geometry
         self.gltf = gl.GLTF2(asset=gl.Asset(version="2.0", generator="cityshade export", extras=extras))
         self.gltf.scenes.append(gl.Scene(nodes=[], extras=extras))
         self.gltf.scene = 0
@@ -62,22 +97,37 @@ class Document:
         self.blob.extend(data)
         return len(self.gltf.bufferViews) - 1
 
-    def accessor(self, array: np.ndarray, bounds: bool = False, target: int | None = gl.ARRAY_BUFFER) -> int:
-        """An accessor over a (n,) or (n, k) array of float32/uint32; bounds for POSITION."""
+    def accessor(
+        self,
+        array: np.ndarray,
+        bounds: bool = False,
+        target: int | None = gl.ARRAY_BUFFER,
+        width: int | None = None,
+        normalized: bool = False,
+    ) -> int:
+        """An accessor over a (n,) or (n, k) array (float32, 8/16/32-bit integers); bounds for
+        POSITION; `width` < k: the first `width` components of padded rows (byteStride k items)."""
         array = np.ascontiguousarray(array)
-        width = 1 if array.ndim == 1 else array.shape[1]
+        columns = 1 if array.ndim == 1 else array.shape[1]
+        width = columns if width is None else width
         view = self._view(array.tobytes(), target)
+        if width != columns:
+            self.gltf.bufferViews[view].byteStride = columns * array.itemsize
         accessor = gl.Accessor(
             bufferView=view, componentType=_COMPONENTS[array.dtype], count=len(array), type=_TYPES[width]
         )
+        if normalized:
+            accessor.normalized = True
         if bounds:
-            accessor.min = [float(v) for v in array.reshape(len(array), -1).min(axis=0)]
-            accessor.max = [float(v) for v in array.reshape(len(array), -1).max(axis=0)]
+            used = array.reshape(len(array), -1)[:, :width]
+            accessor.min = [v.item() for v in used.min(axis=0)]
+            accessor.max = [v.item() for v in used.max(axis=0)]
         self.gltf.accessors.append(accessor)
         return len(self.gltf.accessors) - 1
 
-    def texture(self, image: np.ndarray, repeat: bool = False, name: str | None = None) -> int:
-        """A PNG image in the buffer and a texture sampling it (linear, mipmapped)."""
+    def texture(self, image: np.ndarray, repeat: bool = False, name: str | None = None, colour: bool = False) -> int:
+        """An image in the buffer (self.textures: PNG, or WebP through EXT_texture_webp with no PNG
+        fallback) and a texture sampling it (linear, mipmapped); `colour` images may be lossy."""
         wrap = gl.REPEAT if repeat else gl.CLAMP_TO_EDGE
         key = (wrap,)
         if key not in self.samplers:
@@ -85,10 +135,20 @@ class Document:
                 gl.Sampler(magFilter=gl.LINEAR, minFilter=gl.LINEAR_MIPMAP_LINEAR, wrapS=wrap, wrapT=wrap)
             )
             self.samplers[key] = len(self.gltf.samplers) - 1
-        view = self._view(png_bytes(image))
-        self.gltf.images.append(gl.Image(bufferView=view, mimeType="image/png", name=name))
-        self.gltf.textures.append(gl.Texture(source=len(self.gltf.images) - 1, sampler=self.samplers[key]))
+        data, mime = image_bytes(image, self.textures, lossy=colour)
+        self.gltf.images.append(gl.Image(bufferView=self._view(data), mimeType=mime, name=name))
+        source = len(self.gltf.images) - 1
+        if self.textures == "png":
+            self.gltf.textures.append(gl.Texture(source=source, sampler=self.samplers[key]))
+        else:
+            self.gltf.textures.append(gl.Texture(sampler=self.samplers[key], extensions={WEBP: {"source": source}}))
+            self._require(WEBP)
         return len(self.gltf.textures) - 1
+
+    def _require(self, extension: str):
+        if extension not in self.gltf.extensionsUsed:
+            self.gltf.extensionsUsed.append(extension)
+            self.gltf.extensionsRequired.append(extension)
 
     def material(
         self,
@@ -127,28 +187,116 @@ class Document:
         return vectors if self.place is None else self.place.directions(vectors)
 
     def primitive(
-        self, material: int, positions, normals, uv=None, tangents=None, colours=None, features=None, indices=None
+        self,
+        material: int,
+        positions,
+        normals,
+        uv=None,
+        tangents=None,
+        colours=None,
+        features=None,
+        indices=None,
+        scale: float | None = None,
     ) -> gl.Primitive:
-        """Triangles: a vertex list, or vertices and indices; `features`: each vertex's row of the
-        building property table (EXT_mesh_features)."""
-        attributes = gl.Attributes(
-            POSITION=self.accessor(positions.astype(np.float32), bounds=True), NORMAL=self.accessor(unit(normals))
-        )
-        if uv is not None:
-            attributes.TEXCOORD_0 = self.accessor(uv.astype(np.float32))
-        if tangents is not None:
-            attributes.TANGENT = self.accessor(tangents.astype(np.float32))
-        if colours is not None:
-            attributes.COLOR_0 = self.accessor(colours.astype(np.float32))
-        primitive = gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES)
-        if indices is not None:
-            small = len(positions) <= np.iinfo(np.uint16).max
-            indices = indices.astype(np.uint16 if small else np.uint32)
-            primitive.indices = self.accessor(indices, target=gl.ELEMENT_ARRAY_BUFFER)
+        """Triangles: a vertex list, or vertices and indices, stored as self.geometry says
+        (quantized: positions in units of `scale` metres, the scale of the node that shows the
+        primitive; without a scale, plain); `features`: each vertex's row of the building property
+        table (EXT_mesh_features)."""
+        arrays = {
+            "POSITION": np.asarray(positions, np.float32),
+            "NORMAL": unit(normals),
+            "TEXCOORD_0": None if uv is None else np.asarray(uv, np.float32),
+            "TANGENT": None if tangents is None else np.asarray(tangents, np.float32),
+            "COLOR_0": None if colours is None else np.asarray(colours, np.float32),
+            "_FEATURE_ID_0": None if features is None else np.asarray(features, np.float32),
+        }
+        arrays = {k: v for k, v in arrays.items() if v is not None}
+        if self.geometry == "draco" and indices is not None:
+            primitive = self._draco(material, arrays, indices)
+        elif self.geometry == "quantized" and scale is not None:
+            primitive = self._plain(material, quantized(arrays, scale), indices)
+            self._require(QUANTIZED)
+        else:
+            primitive = self._plain(material, arrays, indices)
         if features is not None:
-            attributes._FEATURE_ID_0 = self.accessor(np.asarray(features, np.float32))
-            primitive.extensions = {FEATURES: {"featureIds": [{"attribute": 0, "propertyTable": 0, "featureCount": 0}]}}
+            primitive.extensions[FEATURES] = {"featureIds": [{"attribute": 0, "propertyTable": 0, "featureCount": 0}]}
+        primitive.extensions = primitive.extensions or None
         return primitive
+
+    def _plain(self, material: int, arrays: dict, indices) -> gl.Primitive:
+        attributes = gl.Attributes()
+        for name, array in arrays.items():
+            if isinstance(array, tuple):  # quantized: (padded array, components used, normalized)
+                setattr(
+                    attributes,
+                    name,
+                    self.accessor(array[0], bounds=name == "POSITION", width=array[1], normalized=array[2]),
+                )
+            else:
+                setattr(attributes, name, self.accessor(array, bounds=name == "POSITION"))
+        primitive = gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES, extensions={})
+        if indices is not None:
+            small = len(arrays["POSITION"]) <= np.iinfo(np.uint16).max
+            indices = np.asarray(indices).astype(np.uint16 if small else np.uint32)
+            primitive.indices = self.accessor(indices, target=gl.ELEMENT_ARRAY_BUFFER)
+        return primitive
+
+    def _draco(self, material: int, arrays: dict, indices) -> gl.Primitive:
+        """One Draco buffer for all of a primitive's attributes; its accessors hold no data
+        (KHR_draco_mesh_compression), their counts and bounds from the decoded mesh."""
+        import DracoPy
+
+        generic = {n: a.reshape(len(a), -1) for n, a in arrays.items() if n in ("TANGENT", "_FEATURE_ID_0")}
+        colours = arrays.get("COLOR_0")
+        buffer = DracoPy.encode(
+            points=arrays["POSITION"],
+            faces=np.asarray(indices, np.uint32).reshape(-1, 3),
+            quantization_bits=POSITION_BITS,
+            compression_level=7,
+            normals=arrays["NORMAL"].astype(np.float64),
+            normal_quantization_bits=NORMAL_BITS,
+            tex_coord=None if "TEXCOORD_0" not in arrays else arrays["TEXCOORD_0"].astype(np.float64),
+            tex_coord_quantization_bits=UV_BITS,
+            colors=None if colours is None else (np.clip(colours, 0, 1) * 255 + 0.5).astype(np.uint8),
+            generic_attributes=generic or None,
+        )
+        decoded = DracoPy.decode(buffer)
+        kinds = {0: "POSITION", 1: "NORMAL", 2: "COLOR_0", 3: "TEXCOORD_0"}
+        ids, data = {}, {}
+        for attribute in decoded.attributes:
+            name = attribute["name"] if attribute["attribute_type"] == 4 else kinds[attribute["attribute_type"]]
+            ids[name], data[name] = attribute["unique_id"], np.asarray(attribute["data"])
+        if set(ids) != set(arrays):
+            raise RuntimeError(f"Draco kept {sorted(ids)} of {sorted(arrays)}")
+        attributes = gl.Attributes()
+        for name, values in data.items():
+            accessor = gl.Accessor(
+                count=len(values), componentType=gl.FLOAT, type=_TYPES[values.reshape(len(values), -1).shape[1]]
+            )
+            if name == "COLOR_0":
+                accessor.componentType, accessor.normalized = gl.UNSIGNED_BYTE, True
+            if name == "POSITION":
+                accessor.min = [float(v) for v in values.min(axis=0)]
+                accessor.max = [float(v) for v in values.max(axis=0)]
+            self.gltf.accessors.append(accessor)
+            setattr(attributes, name, len(self.gltf.accessors) - 1)
+        small = len(decoded.points) <= np.iinfo(np.uint16).max
+        self.gltf.accessors.append(
+            gl.Accessor(
+                count=int(np.asarray(decoded.faces).size),
+                componentType=gl.UNSIGNED_SHORT if small else gl.UNSIGNED_INT,
+                type=gl.SCALAR,
+            )
+        )
+        self._require(DRACO)
+        extension = {"bufferView": self._view(buffer), "attributes": ids}
+        return gl.Primitive(
+            attributes=attributes,
+            material=material,
+            mode=gl.TRIANGLES,
+            indices=len(self.gltf.accessors) - 1,
+            extensions={DRACO: extension},
+        )
 
     def feature_row(self, metadata: dict) -> int:
         """A row of the building property table (EXT_structural_metadata): primitives select it
@@ -192,12 +340,16 @@ class Document:
         extras: dict | None = None,
         extensions: dict | None = None,
         translation=None,
+        scale: float | None = None,
     ) -> int:
-        """A mesh of the primitives and a root node showing it (at `translation`, its origin)."""
+        """A mesh of the primitives and a root node showing it (at `translation`, its origin;
+        `scale`: quantized positions' unit)."""
         self.gltf.meshes.append(gl.Mesh(name=name, primitives=primitives))
         node = gl.Node(name=name, mesh=len(self.gltf.meshes) - 1, extras=extras or {})
         if translation is not None:
             node.translation = [float(v) for v in translation]
+        if scale is not None and self.geometry == "quantized":
+            node.scale = [float(scale)] * 3
         if extensions:
             node.extensions = extensions
         self.gltf.nodes.append(node)
@@ -224,6 +376,27 @@ class Document:
         self.gltf.buffers = [gl.Buffer(byteLength=len(self.blob))]
         self.gltf.set_binary_blob(bytes(self.blob))
         return self.gltf
+
+
+def quantized(arrays: dict, scale: float) -> dict:
+    """KHR_mesh_quantization: positions as 16-bit integers in units of `scale` (the node's scale),
+    normals and tangents as normalized 8-bit, colours as normalized unsigned 8-bit; rows padded to
+    4 bytes. Atlas coordinates stay float (an 8192-texel page needs more than 16 bits to a texel
+    edge) and so do feature ids."""
+
+    def padded(values, dtype, width):
+        out = np.zeros((len(values), 4), dtype)
+        out[:, :width] = values
+        return out
+
+    out = dict(arrays)
+    out["POSITION"] = (padded(np.round(arrays["POSITION"] / scale), np.int16, 3), 3, False)
+    out["NORMAL"] = (padded(np.round(arrays["NORMAL"] * 127), np.int8, 3), 3, True)
+    if "TANGENT" in arrays:
+        out["TANGENT"] = (np.round(arrays["TANGENT"] * 127).astype(np.int8), 4, True)
+    if "COLOR_0" in arrays:
+        out["COLOR_0"] = ((np.clip(arrays["COLOR_0"], 0, 1) * 255 + 0.5).astype(np.uint8), 4, True)
+    return out
 
 
 def _text(value) -> str:

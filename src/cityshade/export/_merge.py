@@ -28,20 +28,26 @@ class Pieces:
         points = np.concatenate([p["positions"] for pieces in self.by_material.values() for p in pieces])
         return points.min(axis=0), points.max(axis=0)
 
-    def primitives(self, doc, origin: np.ndarray) -> list:
-        """One indexed primitive per material, positions relative to `origin`."""
-        out = []
+    def primitives(self, doc, origin: np.ndarray) -> tuple[list, float]:
+        """One indexed primitive per material, positions relative to `origin`; and the unit their
+        quantized positions count in (the node's scale): the farthest vertex at 32767 units."""
+        merged = {}
         for material, pieces in self.by_material.items():
             names = [n for n in ATTRIBUTES if n in pieces[0]]
-            merged = {
+            arrays = {
                 n: np.concatenate([np.asarray(p[n], np.float64).reshape(-1, WIDTHS[n]) for p in pieces]) for n in names
             }
-            merged["positions"] = merged["positions"] - origin
-            vertices, indices = weld(merged, names)
+            arrays["positions"] = arrays["positions"] - origin
+            merged[material] = (names, arrays)
+        reach = max(float(np.abs(arrays["positions"]).max(initial=0.0)) for _, arrays in merged.values())
+        scale = max(reach, 1e-3) / 32767.0
+        out = []
+        for material, (names, arrays) in merged.items():
+            vertices, indices = weld(arrays, names)
             if "features" in vertices:
                 vertices["features"] = vertices["features"][:, 0]
-            out.append(doc.primitive(material, **vertices, indices=indices))
-        return out
+            out.append(doc.primitive(material, **vertices, indices=indices, scale=scale))
+        return out, scale
 
 
 def weld(merged: dict[str, np.ndarray], names: list[str]) -> tuple[dict[str, np.ndarray], np.ndarray]:

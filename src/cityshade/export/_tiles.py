@@ -53,7 +53,7 @@ def _height(node: _Node) -> int:
     return 0 if not node.children else 1 + max(_height(c) for c in node.children)
 
 
-def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
+def write_tileset(export, out: Path, texel: float, lod: int, encoding) -> dict:
     from ._export import TILESET_KIND, city_document, summary_of
 
     if export.origin is None:
@@ -82,6 +82,7 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
             ground=False,
             trees=False,
             place=place,
+            encoding=encoding,
         )
         name = f"tiles/b{node.key}.glb"
         (folder / name).write_bytes(glb_bytes(gltf))
@@ -109,7 +110,7 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
     def fill(folder: Path):
         (folder / "tiles").mkdir()
         buildings = tile(tree, folder)
-        gltf, stats = city_document(export, texel, lod, [], [], ground=True, trees=True, place=place)
+        gltf, stats = city_document(export, texel, lod, [], [], ground=True, trees=True, place=place, encoding=encoding)
         (folder / "tiles/ground.glb").write_bytes(glb_bytes(gltf))
         stats_all.append(stats)
         ground = export.city.ground_mesh

@@ -14,6 +14,7 @@ from ._gltf import Document
 
 __all__ = ["BuildingWriter", "Document", "Stats", "check_size", "finest_texel", "tileset_points"]
 
+_DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5126: np.float32}
 Y_UP_TO_Z_UP = np.array([[1.0, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]])  # 3D Tiles' glTF rule
 
 
@@ -23,9 +24,33 @@ def _node_matrix(node) -> np.ndarray:
     m = np.eye(4)
     if node.translation:
         m[:3, 3] = node.translation
-    if node.rotation or (node.scale and node.scale != [1, 1, 1]):
-        raise ValueError("a rotated or scaled node: not read here")
+    if node.scale:
+        m[:3, :3] = np.diag(node.scale)
+    if node.rotation and node.rotation != [0, 0, 0, 1]:
+        raise ValueError("a rotated node: not read here")
     return m
+
+
+def _positions(gltf, blob: bytes, primitive) -> np.ndarray:
+    """A primitive's POSITION, from its accessor or its Draco buffer (decoded by DracoPy)."""
+    draco = (primitive.extensions or {}).get("KHR_draco_mesh_compression")
+    if draco is not None:
+        import DracoPy
+
+        view = gltf.bufferViews[draco["bufferView"]]
+        mesh = DracoPy.decode(blob[view.byteOffset : view.byteOffset + view.byteLength])
+        wanted = draco["attributes"]["POSITION"]
+        return next(np.asarray(a["data"]) for a in mesh.attributes if a["unique_id"] == wanted)
+    accessor = gltf.accessors[primitive.attributes.POSITION]
+    view = gltf.bufferViews[accessor.bufferView]
+    dtype = np.dtype(_DTYPES[accessor.componentType])
+    stride = view.byteStride or 3 * dtype.itemsize
+    start = view.byteOffset + (accessor.byteOffset or 0)
+    rows = np.frombuffer(blob, np.uint8, stride * accessor.count, start).reshape(accessor.count, stride)
+    xyz = rows[:, : 3 * dtype.itemsize].copy().view(dtype).reshape(-1, 3).astype(np.float64)
+    if accessor.normalized:  # KHR_mesh_quantization's normalized integers
+        xyz = np.maximum(xyz / np.iinfo(dtype).max, -1.0)
+    return xyz
 
 
 def _glb_points(path: Path, matrix: np.ndarray) -> np.ndarray:
@@ -40,10 +65,7 @@ def _glb_points(path: Path, matrix: np.ndarray) -> np.ndarray:
         m = parent @ _node_matrix(node)
         if node.mesh is not None and not (node.extensions or {}).get("EXT_mesh_gpu_instancing"):
             for primitive in gltf.meshes[node.mesh].primitives:
-                accessor = gltf.accessors[primitive.attributes.POSITION]
-                view = gltf.bufferViews[accessor.bufferView]
-                start = view.byteOffset + (accessor.byteOffset or 0)
-                xyz = np.frombuffer(blob, np.float32, accessor.count * 3, start).reshape(-1, 3).astype(np.float64)
+                xyz = _positions(gltf, blob, primitive).astype(np.float64)
                 out.append(xyz @ m[:3, :3].T + m[:3, 3])
         for child in node.children or []:
             visit(child, m)
