@@ -408,7 +408,10 @@ def test_tileset_vertices_lie_on_their_osm_nodes_far_from_the_central_meridian(t
     summary = _summary(capsys)
     assert summary["buildings"] == 5
     tileset = json.loads((out / "tileset.json").read_text())
-    assert tileset["asset"]["extras"]["grid_convergence_degrees"] == pytest.approx(2.44, abs=0.05)
+    properties = tileset["metadata"]["properties"]  # the tileset's metadata, in its schema's class
+    assert set(properties) == set(tileset["schema"]["classes"][tileset["metadata"]["class"]]["properties"])
+    assert properties["grid_convergence_degrees"] == pytest.approx(2.44, abs=0.05)
+    assert properties["grid_scale_factor"] == pytest.approx(0.99972, abs=2e-5)
     exported = tileset_points(out)
     lonlat, heights = _osm_building_nodes(FAR_EAST)
     to_ecef = pyproj.Transformer.from_crs("EPSG:4979", "EPSG:4978", always_xy=True)
@@ -454,3 +457,52 @@ def test_export_without_texel_chooses_and_prints_it(tmp_path, capsys):
     summary = json.loads(captured.out.strip().splitlines()[-1])
     assert summary["texel"] == 0.05 and summary["buildings"] == 1
     assert "--texel 0.05: the finest texel" in captured.err
+
+
+def test_lit_windows_follow_each_use_through_the_day():
+    """The share of lit rooms follows the renderer's schedule per use (scene.lit_share): an office
+    block is lit at noon and nearly dark at 23:00, a home the other way round."""
+    from cityshade.export.testing import lit_rooms
+    from cityshade.scene import USES, lit_share
+
+    def canvas(use):  # 100 x 60 rooms of 1 x 1 m, one texel each
+        return Canvas(
+            0, 0, 0.0, 0.0, 100, 60, 100.0, 60.0, 0, (0.0, 0.0), (0.0, 0.0), (1.0, 1.0), 1.0, values=(20, 0, use, 60)
+        )
+
+    for name in ("office", "home"):
+        for hours in (12.0, 23.0):
+            lit = lit_rooms(canvas(USES[name]), 1.0, hours).mean()
+            assert lit == pytest.approx(lit_share(USES[name], hours), abs=0.03), (name, hours)
+    assert (
+        lit_rooms(canvas(USES["office"]), 1.0, 12.0).mean()
+        > 0.7
+        > 0.1
+        > lit_rooms(canvas(USES["office"]), 1.0, 23.0).mean()
+    )
+
+
+def test_facades_glow_only_in_the_night_variant(tmp_path, capsys):
+    """The facade materials are the day's (no emissive map) with a night variant
+    (KHR_materials_variants) whose emissive map lights windows."""
+    import io
+
+    import pygltflib
+    from PIL import Image
+
+    out = tmp_path / "tagged.glb"
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--texel", "0.5"]) == 0
+    gltf = pygltflib.GLTF2.load(str(out))
+    assert [v["name"] for v in gltf.extensions["KHR_materials_variants"]["variants"]] == ["day", "night"]
+    facades = [p for m in gltf.meshes for p in m.primitives if gltf.materials[p.material].name.startswith("facades")]
+    assert facades
+    blob = gltf.binary_blob()
+    for primitive in facades:
+        day = gltf.materials[primitive.material]
+        mappings = {m["variants"][0]: m["material"] for m in primitive.extensions["KHR_materials_variants"]["mappings"]}
+        night = gltf.materials[mappings[1]]
+        assert mappings[0] == primitive.material and day.emissiveTexture is None
+        texture = gltf.textures[night.emissiveTexture.index]
+        view = gltf.bufferViews[gltf.images[texture.extensions["EXT_texture_webp"]["source"]].bufferView]
+        glow = np.asarray(Image.open(io.BytesIO(blob[view.byteOffset : view.byteOffset + view.byteLength])))
+        assert (glow.max(axis=-1) > 0).any()

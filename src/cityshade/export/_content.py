@@ -157,17 +157,19 @@ class BuildingWriter:
 
     def _page_materials(self, atlas: Atlas) -> list[int]:
         doc = self.doc
-        return [
-            doc.material(
-                f"facades {p}",
-                base_texture=doc.texture(atlas.base_colour[p], name=f"facade colour {p}", colour=True),
-                mr_texture=doc.texture(atlas.metallic_roughness[p]),
-                roughness=1.0,
-                normal_texture=doc.texture(atlas.normal[p]),
-                emissive_texture=doc.texture(atlas.emissive[p]),
-            )
-            for p in range(len(atlas.sizes))
-        ]
+        out = []
+        for p in range(len(atlas.sizes)):
+            maps = {
+                "base_texture": doc.texture(atlas.base_colour[p], name=f"facade colour {p}", colour=True),
+                "mr_texture": doc.texture(atlas.metallic_roughness[p]),
+                "roughness": 1.0,
+                "normal_texture": doc.texture(atlas.normal[p]),
+            }
+            day = doc.material(f"facades {p}", **maps)  # the default: no window glows in daylight
+            night = doc.material(f"facades {p} night", **maps, emissive_texture=doc.texture(atlas.emissive[p]))
+            doc.night_variant(day, night)
+            out.append(day)
+        return out
 
     def _building(self, i, mass, verts, atlas, pages, materials, pieces: Pieces) -> bool:
         """Adds building i's triangles to `pieces` (in the document's frame) and its property

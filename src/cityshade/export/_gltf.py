@@ -11,6 +11,8 @@ import numpy as np
 import pygltflib as gl
 
 INSTANCING = "EXT_mesh_gpu_instancing"
+VARIANTS = "KHR_materials_variants"  # the facades' day (default) and night materials
+VARIANT_NAMES = ("day", "night")
 FEATURES, METADATA = "EXT_mesh_features", "EXT_structural_metadata"
 # The building class of EXT_structural_metadata: property -> (type, from a metadata dict)
 BUILDING_PROPERTIES = {
@@ -27,6 +29,20 @@ BUILDING_PROPERTIES = {
     "guessed": "STRING",  # comma-separated attribute names
 }
 NO_DATA = -1.0
+SCHEMA_ID = "cityshade"
+
+
+def building_class() -> dict:
+    """The `building` class of the metadata schema (the glTF property tables' and the tileset's)."""
+    properties = {}
+    for name, kind in BUILDING_PROPERTIES.items():
+        if kind == "FLOAT32":
+            properties[name] = {"type": "SCALAR", "componentType": "FLOAT32", "noData": NO_DATA}
+        else:
+            properties[name] = {"type": "STRING"}
+    return {"properties": properties}
+
+
 _COMPONENTS = {
     np.dtype(np.int8): gl.BYTE,
     np.dtype(np.uint8): gl.UNSIGNED_BYTE,
@@ -88,6 +104,7 @@ class Document:
         self.blob = bytearray()
         self.samplers: dict[tuple, int] = {}
         self.features: list[dict] = []  # one metadata row per building (EXT_structural_metadata)
+        self.night: dict[int, int] = {}  # a day material -> its night variant
 
     def _view(self, data: bytes, target: int | None = None) -> int:
         self.blob.extend(b"\0" * (-len(self.blob) % 8))  # EXT_structural_metadata wants 8-byte alignment
@@ -176,6 +193,13 @@ class Document:
         self.gltf.materials.append(material)
         return len(self.gltf.materials) - 1
 
+    def night_variant(self, day: int, night: int):
+        """Primitives of material `day` (their default) get `night` as the variant "night"."""
+        self.night[day] = night
+        if VARIANTS not in self.gltf.extensionsUsed:
+            self.gltf.extensionsUsed.append(VARIANTS)
+            self.gltf.extensions[VARIANTS] = {"variants": [{"name": n} for n in VARIANT_NAMES]}
+
     def world(self, points) -> np.ndarray:
         """(n, 3) scene points in the document's frame: as they are, or placed on Earth (export._place)."""
         points = np.asarray(points, np.float64).reshape(-1, 3)
@@ -220,6 +244,9 @@ class Document:
             primitive = self._plain(material, arrays, indices)
         if features is not None:
             primitive.extensions[FEATURES] = {"featureIds": [{"attribute": 0, "propertyTable": 0, "featureCount": 0}]}
+        if material in self.night:
+            mappings = [{"material": material, "variants": [0]}, {"material": self.night[material], "variants": [1]}]
+            primitive.extensions[VARIANTS] = {"mappings": mappings}
         primitive.extensions = primitive.extensions or None
         return primitive
 
@@ -306,13 +333,12 @@ class Document:
 
     def _property_table(self):
         rows = self.features
-        properties, schema = {}, {}
+        properties = {}
         for name, kind in BUILDING_PROPERTIES.items():
             values = [row.get(name) for row in rows]
             if kind == "FLOAT32":
                 data = np.array([NO_DATA if v is None else float(v) for v in values], np.float32)
                 properties[name] = {"values": self._view(data.tobytes())}
-                schema[name] = {"type": "SCALAR", "componentType": "FLOAT32", "noData": NO_DATA}
                 continue
             texts = [_text(v) for v in values]
             encoded = [t.encode("utf-8") for t in texts]
@@ -322,9 +348,8 @@ class Document:
                 "stringOffsets": self._view(offsets.tobytes()),
                 "stringOffsetType": "UINT32",
             }
-            schema[name] = {"type": "STRING"}
         self.gltf.extensions[METADATA] = {
-            "schema": {"id": "cityshade", "classes": {"building": {"properties": schema}}},
+            "schema": {"id": SCHEMA_ID, "classes": {"building": building_class()}},
             "propertyTables": [{"class": "building", "count": len(rows), "properties": properties}],
         }
         for mesh in self.gltf.meshes:

@@ -14,11 +14,25 @@ import numpy as np
 from .._files import atomic_folder
 from ..errors import UsageError
 from ..scene import building_vertices
-from ._gltf import glb_bytes
+from ._gltf import SCHEMA_ID, building_class, glb_bytes
 from ._place import Placement
 
 LEAF_BUILDINGS = 48  # a tile with more buildings is split into four
 MAX_DEPTH = 8
+
+
+def tileset_schema() -> dict:
+    """3D Tiles 1.1 metadata schema: the tileset's own class and the buildings' (their property
+    tables are in the tiles' glTF, EXT_structural_metadata, with the same class)."""
+    string, real = {"type": "STRING"}, {"type": "SCALAR", "componentType": "FLOAT64"}
+    tileset = {
+        "attribution": string,
+        "crs": dict(string, description="the scene's projected grid (a UTM zone)"),
+        "buildings": {"type": "SCALAR", "componentType": "UINT32"},
+        "grid_convergence_degrees": dict(real, description="at the origin; content is placed point by point"),
+        "grid_scale_factor": dict(real, description="UTM point scale factor at the origin"),
+    }
+    return {"id": SCHEMA_ID, "classes": {"tileset": {"properties": tileset}, "building": building_class()}}
 
 
 def box(lo: np.ndarray, hi: np.ndarray) -> list[float]:
@@ -54,7 +68,7 @@ def _height(node: _Node) -> int:
 
 
 def write_tileset(export, out: Path, texel: float, lod: int, encoding) -> dict:
-    from ._export import TILESET_KIND, city_document, summary_of
+    from ._export import ATTRIBUTION, TILESET_KIND, city_document, summary_of
 
     if export.origin is None:
         raise UsageError(
@@ -121,16 +135,21 @@ def write_tileset(export, out: Path, texel: float, lod: int, encoding) -> dict:
             all_hi = np.maximum(all_hi, placed.max(axis=0))
         root_error = max(buildings["geometricError"] * 2, float(np.linalg.norm((all_hi - all_lo)[[0, 2]])) / 10)
         tileset = {
+            "schema": tileset_schema(),
+            "metadata": {
+                "class": "tileset",
+                "properties": {
+                    "attribution": ATTRIBUTION,
+                    "crs": export.crs,
+                    "buildings": len(masses),
+                    "grid_convergence_degrees": float(np.degrees(place.convergence)),
+                    "grid_scale_factor": place.scale,
+                },
+            },
             "asset": {
                 "version": "1.1",
                 "generator": "cityshade export",
-                "extras": {
-                    "attribution": "© OpenStreetMap contributors, ODbL 1.0",
-                    "crs": export.crs,
-                    # at the origin, for reference: the content is placed point by point (export._place)
-                    "grid_convergence_degrees": round(float(np.degrees(place.convergence)), 6),
-                    "grid_scale_factor": round(place.scale, 8),
-                },
+                "extras": {"attribution": ATTRIBUTION},
             },
             "geometricError": round(root_error * 2, 3),
             "root": {

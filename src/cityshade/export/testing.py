@@ -8,11 +8,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ._bake import check_size, finest_texel
+from ._bake import check_size, finest_texel, lit_rooms
 from ._content import BuildingWriter, Stats
 from ._gltf import Document
 
-__all__ = ["BuildingWriter", "Document", "Stats", "check_size", "finest_texel", "tileset_points"]
+__all__ = ["BuildingWriter", "Document", "Stats", "check_size", "finest_texel", "lit_rooms", "tileset_points"]
 
 _DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5126: np.float32}
 Y_UP_TO_Z_UP = np.array([[1.0, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]])  # 3D Tiles' glTF rule
