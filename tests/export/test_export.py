@@ -506,3 +506,20 @@ def test_facades_glow_only_in_the_night_variant(tmp_path, capsys):
         view = gltf.bufferViews[gltf.images[texture.extensions["EXT_texture_webp"]["source"]].bufferView]
         glow = np.asarray(Image.open(io.BytesIO(blob[view.byteOffset : view.byteOffset + view.byteLength])))
         assert (glow.max(axis=-1) > 0).any()
+
+
+def test_trees_as_nodes_are_read_by_trimesh_one_per_tree(tmp_path, capsys):
+    """--trees nodes: every tree a node showing its species' one mesh (core glTF), so readers
+    without EXT_mesh_gpu_instancing (trimesh) still place every tree."""
+    import trimesh
+
+    out = tmp_path / "trees.glb"
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--texel", "1", "--trees", "nodes"]) == 0
+    summary = _summary(capsys)
+    scene = trimesh.load(out, force="scene")
+    places = {
+        tuple(np.round(scene.graph[name][0][:3, 3], 3))
+        for name in scene.graph.nodes_geometry
+        if scene.graph[name][1].startswith("trees")
+    }
+    assert summary["tree_instances"] >= 2 and len(places) == summary["tree_instances"]

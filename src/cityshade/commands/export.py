@@ -41,6 +41,12 @@ def register(subparsers):
         "or plain (32-bit floats)",
     )
     parser.add_argument(
+        "--trees",
+        default="instanced",
+        help="instanced (EXT_mesh_gpu_instancing: CesiumJS, three.js, Blender; default) or nodes "
+        "(a node per tree sharing its species' mesh: every reader, trimesh included)",
+    )
+    parser.add_argument(
         "--region",
         default=None,
         metavar="MINLON,MINLAT,MAXLON,MAXLAT",
@@ -70,7 +76,7 @@ def run(args) -> int:
     )
 
     fmt = output_format(args)
-    encoding = Encoding(args.textures, args.geometry)
+    encoding = Encoding(args.textures, args.geometry, args.trees)
     check_output(args.out, fmt, args.texel, args.lod, encoding)  # before the map is read
     region = parse_region(args.region) if args.region is not None else None
     export = map_export_city(args.map) if args.map is not None else layout_export_city(args.city)

@@ -10,7 +10,7 @@ from .._files import atomic_output, check_replaceable_folder, output_target
 from ..errors import UsageError
 from ._bake import ATLAS_LIMIT, MAX_TEXELS
 from ._content import BuildingWriter, Stats, add_ground, add_trees, finest_city_texel, simplified
-from ._gltf import DEFAULT_ENCODING, GEOMETRY, TEXTURES, Document, Encoding, glb_bytes, gltf_text
+from ._gltf import DEFAULT_ENCODING, GEOMETRY, TEXTURES, TREES, Document, Encoding, glb_bytes, gltf_text
 from ._source import ExportCity
 
 FORMATS = ("glb", "gltf", "3dtiles")
@@ -98,6 +98,8 @@ def check_output(out: Path, fmt: str, texel: float | None = None, lod: int = 0, 
         raise UsageError(f"--textures {encoding.textures!r}: unknown; use one of {', '.join(TEXTURES)}")
     if encoding.geometry not in GEOMETRY:
         raise UsageError(f"--geometry {encoding.geometry!r}: unknown; use one of {', '.join(GEOMETRY)}")
+    if encoding.trees not in TREES:
+        raise UsageError(f"--trees {encoding.trees!r}: unknown; use one of {', '.join(TREES)}")
     if texel is None:
         pass
     elif isinstance(texel, bool) or not isinstance(texel, numbers.Real) or not 0 < texel <= MAX_TEXEL:
@@ -138,6 +140,7 @@ def export_city(
         lod=lod,
         textures=encoding.textures,
         geometry=encoding.geometry,
+        trees=encoding.trees,
     )
     return summary
 

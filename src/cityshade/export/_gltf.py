@@ -60,6 +60,7 @@ TEXTURES = ("webp", "png")  # --textures: the first is the default
 # check it), plain (32-bit floats)
 GEOMETRY = ("quantized", "draco", "plain")
 QUANTIZED = "KHR_mesh_quantization"
+TREES = ("instanced", "nodes")  # --trees: EXT_mesh_gpu_instancing (default), or a node per tree
 DRACO = "KHR_draco_mesh_compression"
 # Draco's quantization (bits over a primitive's extent): positions to under 1 cm in a 1 km tile,
 # atlas coordinates to 1/8 texel of an 8192-texel page, normals to about 0.1 degree
@@ -74,6 +75,7 @@ class Encoding:
 
     textures: str = TEXTURES[0]
     geometry: str = GEOMETRY[0]
+    trees: str = TREES[0]
 
 
 DEFAULT_ENCODING = Encoding()
@@ -97,7 +99,7 @@ class Document:
 
     def __init__(self, extras: dict, place=None, encoding: Encoding = DEFAULT_ENCODING):
         self.place = place  # export._place.Placement for 3D Tiles content, None: the scene's frame
-        self.textures, self.geometry = encoding.textures, encoding.geometry
+        self.textures, self.geometry, self.trees = encoding.textures, encoding.geometry, encoding.trees
         self.gltf = gl.GLTF2(asset=gl.Asset(version="2.0", generator="cityshade export", extras=extras))
         self.gltf.scenes.append(gl.Scene(nodes=[], extras=extras))
         self.gltf.scene = 0
@@ -382,7 +384,19 @@ class Document:
         return len(self.gltf.nodes) - 1
 
     def instanced(self, name: str, primitives, translations, rotations, scales, extras=None) -> int:
-        """A mesh drawn at many places through EXT_mesh_gpu_instancing."""
+        """A mesh drawn at many places: through EXT_mesh_gpu_instancing, or (self.trees "nodes")
+        as one node per place under a group node, all showing the one mesh (core glTF, which every
+        reader draws, one draw call per place)."""
+        if self.trees == "nodes":
+            self.gltf.meshes.append(gl.Mesh(name=name, primitives=primitives))
+            mesh = len(self.gltf.meshes) - 1
+            first = len(self.gltf.nodes)
+            for t, r, sc in zip(translations.tolist(), rotations.tolist(), scales.tolist()):
+                self.gltf.nodes.append(gl.Node(mesh=mesh, translation=t, rotation=r, scale=sc))
+            group = gl.Node(name=name, children=list(range(first, len(self.gltf.nodes))), extras=extras or {})
+            self.gltf.nodes.append(group)
+            self.gltf.scenes[0].nodes.append(len(self.gltf.nodes) - 1)
+            return len(self.gltf.nodes) - 1
         extension = {
             "attributes": {
                 "TRANSLATION": self.accessor(translations.astype(np.float32), target=None),
