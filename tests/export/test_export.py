@@ -194,6 +194,15 @@ def test_glb_round_trip_with_trimesh(tmp_path, capsys):
     assert _property_strings(gltf, "source_id") == [
         n.extras["source_id"] for n in gltf.nodes if n.name.startswith("building ")
     ]
+    for node in (n for n in gltf.nodes if n.name.startswith("building ")):
+        # its origin at the middle of its base: the quantized positions around it reach its size only
+        materials = [p.material for p in gltf.meshes[node.mesh].primitives]
+        assert len(set(materials)) == len(materials)  # one primitive per material
+        accessors = [gltf.accessors[p.attributes.POSITION] for p in gltf.meshes[node.mesh].primitives]
+        low = np.min([a.min for a in accessors], axis=0) * node.scale
+        high = np.max([a.max for a in accessors], axis=0) * node.scale
+        assert low[1] == pytest.approx(0.0, abs=0.01) and np.allclose(-low[[0, 2]], high[[0, 2]], atol=0.01)
+        assert np.all(high - low <= [120.0, node.extras["height"] + 1.0, 120.0])
 
 
 def _property_strings(gltf, name: str) -> list[str]:
@@ -232,6 +241,15 @@ def test_tileset_hierarchy_and_earth_position(tmp_path, capsys):
         return 1 + sum(walk(child, tile["geometricError"]) for child in children)
 
     assert walk(root, tileset["geometricError"]) == summary["tiles"] + 1
+    import pygltflib
+
+    counts = []
+    for tile in (out / "tiles").glob("b*.glb"):  # a building tile: one node, one primitive per material
+        gltf = pygltflib.GLTF2.load(str(tile))
+        materials = [p.material for p in gltf.meshes[0].primitives]
+        assert len(gltf.meshes) == 1 and len(set(materials)) == len(materials)
+        counts.append(len(materials))
+    assert summary["draw_calls_per_tile"]["buildings_max"] == max(counts)
     assert summary["buildings"] == 5  # two parts, the outline under the floating one, a courtyard block, a canopy
 
 
