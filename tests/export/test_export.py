@@ -541,3 +541,20 @@ def test_trees_as_nodes_are_read_by_trimesh_one_per_tree(tmp_path, capsys):
         if scene.graph[name][1].startswith("trees")
     }
     assert summary["tree_instances"] >= 2 and len(places) == summary["tree_instances"]
+
+
+def test_draco_geometry_and_png_textures_read_back_with_trimesh(tmp_path, capsys):
+    """--geometry draco --textures png: the Draco buffers decode (DracoPy, through trimesh) to the
+    scene's triangles, and the images are core PNG (no WebP extension required)."""
+    import pygltflib
+    import trimesh
+
+    out = tmp_path / "draco.glb"
+    args = ["--texel", "1", "--geometry", "draco", "--textures", "png"]
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), *args]) == 0
+    summary = _summary(capsys)
+    gltf = pygltflib.GLTF2.load(str(out))
+    assert gltf.extensionsRequired == ["KHR_draco_mesh_compression"]
+    assert {im.mimeType for im in gltf.images} == {"image/png"}
+    scene = trimesh.load(out, force="scene")
+    assert sum(len(scene.geometry[scene.graph[n][1]].faces) for n in scene.graph.nodes_geometry) == summary["triangles"]
