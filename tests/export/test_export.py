@@ -558,3 +558,18 @@ def test_draco_geometry_and_png_textures_read_back_with_trimesh(tmp_path, capsys
     assert {im.mimeType for im in gltf.images} == {"image/png"}
     scene = trimesh.load(out, force="scene")
     assert sum(len(scene.geometry[scene.graph[n][1]].faces) for n in scene.graph.nodes_geometry) == summary["triangles"]
+
+
+@pytest.mark.parametrize("geometry", ["quantized", "plain"])
+def test_indices_widen_past_65535_vertices(geometry):
+    import pygltflib
+
+    from cityshade.export import Encoding
+    from cityshade.export.testing import Document
+
+    doc = Document({}, encoding=Encoding(geometry=geometry))
+    for count, component in ((65535, pygltflib.UNSIGNED_SHORT), (65536, pygltflib.UNSIGNED_INT)):
+        positions = np.random.default_rng(1).uniform(-10, 10, (count, 3))
+        normals = np.tile([0.0, 1.0, 0.0], (count, 1))
+        primitive = doc.primitive(0, positions, normals, indices=np.arange(count // 3 * 3), scale=10 / 32767)
+        assert doc.gltf.accessors[primitive.indices].componentType == component

@@ -265,7 +265,9 @@ class Document:
                 setattr(attributes, name, self.accessor(array, bounds=name == "POSITION"))
         primitive = gl.Primitive(attributes=attributes, material=material, mode=gl.TRIANGLES, extensions={})
         if indices is not None:
-            small = len(arrays["POSITION"]) <= np.iinfo(np.uint16).max
+            positions = arrays["POSITION"]
+            count = len(positions[0] if isinstance(positions, tuple) else positions)
+            small = count <= np.iinfo(np.uint16).max  # the largest index 65534: 65535 restarts strips
             indices = np.asarray(indices).astype(np.uint16 if small else np.uint32)
             primitive.indices = self.accessor(indices, target=gl.ELEMENT_ARRAY_BUFFER)
         return primitive
