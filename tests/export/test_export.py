@@ -573,3 +573,17 @@ def test_indices_widen_past_65535_vertices(geometry):
         normals = np.tile([0.0, 1.0, 0.0], (count, 1))
         primitive = doc.primitive(0, positions, normals, indices=np.arange(count // 3 * 3), scale=10 / 32767)
         assert doc.gltf.accessors[primitive.indices].componentType == component
+
+
+@pytest.mark.parametrize(
+    "option, value, allowed",
+    [
+        ("--textures", "ktx2", "webp, png"),
+        ("--geometry", "meshopt", "quantized, draco, plain"),
+        ("--trees", "x", "instanced, nodes"),
+    ],
+)
+def test_unknown_encodings_are_one_line_before_the_map_is_read(option, value, allowed, tmp_path, capsys):
+    out = tmp_path / "city.glb"
+    err = _fails(["export", "--map", str(tmp_path / "absent.osm"), "--out", str(out), option, value], capsys)
+    assert option in err and allowed in err and not out.exists()
