@@ -54,14 +54,17 @@ bench: setup
 bench-quick: setup
 	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --quick --json bench-results/$$b-quick.json || exit 1; done
 
-# The Khronos glTF validator (npm gltf-validator, in ./node_modules) on exported Helsinki (GLB and
-# 3D Tiles; © OpenStreetMap contributors, ODbL 1.0) and the built-in district: fails on any error
+# The Khronos glTF validator (npm gltf-validator, in ./node_modules) on exported Helsinki (GLB at
+# texel 0.25 and at the default, and 3D Tiles; © OpenStreetMap contributors, ODbL 1.0) and the
+# built-in district: fails on any error; then the tileset against Helsinki's OSM nodes (0.5 m)
 validate-export: setup data
 	npm install --no-save --no-package-lock --no-audit --no-fund gltf-validator@2.0.0-dev.3.10
 	$(BIN)/cityshade export --city default --out out/export/default.glb --texel 0.25
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki.glb --texel 0.25
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-tiles --format 3dtiles --texel 0.25
-	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles
+	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-default.glb
+	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles out/export/helsinki-default.glb
+	$(BIN)/python scripts/check-georeference.py out/export/helsinki-tiles data/Helsinki.osm.pbf
 
 clean:
 	rm -rf $(VENV) out bench-results
