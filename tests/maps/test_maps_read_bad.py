@@ -372,7 +372,7 @@ def test_cityjson_with_broken_boundaries_skips_the_object(tmp_path):
             }
         )
     )
-    _refused(path, "nothing usable", "CityObject/a", "malformed geometry")
+    _refused(path, "nothing usable", "CityObject/a", "vertex index out of range")
 
 
 def test_cityjson_coordinates_that_overflow_are_skipped_without_a_warning(tmp_path):
@@ -389,7 +389,7 @@ def test_cityjson_coordinates_that_overflow_are_skipped_without_a_warning(tmp_pa
     path.write_text(json.dumps(document))
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)  # a warning would reach stderr before the one line
-        _refused(path, "nothing usable in the map: 1 building skipped")
+        _refused(path, "nothing usable in the map: 2 surface skipped, vertex not three finite numbers")
 
 
 def test_the_content_decides_the_format_not_the_name(tmp_path, silent_pbf):

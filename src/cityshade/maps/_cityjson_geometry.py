@@ -1,0 +1,242 @@
+"""One CityJSON geometry -> its polygons with their semantic surface type, checked and repaired.
+
+Every geometry type of CityJSON 1.0-2.0 is read: MultiSurface and CompositeSurface (a list of
+surfaces), Solid (shells of surfaces: the outer shell, inner shells are cavities and not drawn),
+MultiSolid and CompositeSolid (the outer shell of each solid) and GeometryInstance (a template's
+geometry placed by its 4x4 matrix at its reference vertex). Semantic values follow the boundaries'
+nesting one level above the rings; where they do not match the boundaries the faces are read
+without semantics and the repair is counted.
+
+A surface is its outer ring (inner rings are openings: LoD3 windows and doors are surfaces of their
+own); it is skipped and counted where an index is not a whole number, not a vertex of the file, its
+vertex is not finite, or the ring has no area in its own plane. Faces are returned with the file's
+vertex coordinates (x, y, height as given).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from ._model import ReadReport
+
+SURFACE_DEPTH = {"MultiSurface": 0, "CompositeSurface": 0, "Solid": 1, "MultiSolid": 2, "CompositeSolid": 2}
+MIN_FACE_AREA = 1e-4  # square metres: a ring with less area in its own plane is a line or a point
+
+
+@dataclass(frozen=True)
+class Face:
+    """One surface: its outer ring (n, 3) in the file's coordinates and its semantic type (None: not given)."""
+
+    ring: np.ndarray
+    semantic: str | None
+    normal: np.ndarray  # unit normal (Newell's), counter-clockwise rings face it
+
+
+@dataclass(frozen=True)
+class Templates:
+    """The file's `geometry-templates`: template geometries and their own vertices."""
+
+    geometries: list
+    vertices: np.ndarray
+
+
+NO_TEMPLATES = Templates([], np.zeros((0, 3)))
+
+
+def vertex_array(value) -> np.ndarray | None:
+    """(n, 3) float64 vertices; a vertex that is not three numbers becomes NaN (its faces are skipped).
+    None when `value` is not a list."""
+    if not isinstance(value, list):
+        return None
+    try:
+        array = np.asarray(value, dtype=np.float64)
+        if array.ndim == 2 and array.shape[1] == 3:
+            return array
+    except (TypeError, ValueError, OverflowError):
+        pass
+    out = np.full((len(value), 3), np.nan)
+    for i, vertex in enumerate(value):
+        try:
+            point = np.asarray(vertex, dtype=np.float64)
+        except (TypeError, ValueError, OverflowError):
+            continue
+        if point.shape == (3,):
+            out[i] = point
+    return out
+
+
+def _surfaces(boundaries, values, depth: int):
+    """(surface, semantic value) pairs of boundaries nested `depth` levels above the surfaces."""
+    if depth == 0:
+        values = values if isinstance(values, list) and len(values) == len(boundaries) else None
+        return [(s, values[i] if values else None) for i, s in enumerate(boundaries)], values is not None
+    out, matched = [], True
+    # a Solid's first shell is its outside; a MultiSolid's solids each have one
+    groups = boundaries[:1] if depth == 1 else [solid[0] for solid in boundaries if isinstance(solid, list) and solid]
+    if depth == 1:
+        group_values = [values[0]] if isinstance(values, list) and values else [None]
+    else:
+        group_values = (
+            [v[0] if isinstance(v, list) and v else None for v in values]
+            if isinstance(values, list) and len(values) == len(boundaries)
+            else [None] * len(groups)
+        )
+    for group, value in zip(groups, group_values):
+        if not isinstance(group, list):
+            continue
+        pairs, ok = _surfaces(group, value, 0)
+        out += pairs
+        matched &= ok or value is None
+    return out, matched
+
+
+def _ring(surface, vertices: np.ndarray, report: ReadReport, element: str) -> np.ndarray | None:
+    ring = surface[0] if isinstance(surface, list) and surface else None
+    try:
+        indices = np.asarray(ring, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        indices = np.zeros((0, 2))
+    if indices.ndim != 1 or len(indices) < 3 or not np.all(indices == np.floor(indices)):
+        report.skip("surface", "ring is not a list of at least 3 vertex indices", element)
+        return None
+    indices = indices.astype(np.int64)
+    if indices.min() < 0 or indices.max() >= len(vertices):
+        report.skip("surface", f"vertex index out of range (the file has {len(vertices)} vertices)", element)
+        return None
+    points = vertices[indices]
+    if not np.isfinite(points).all():
+        report.skip("surface", "vertex not three finite numbers", element)
+        return None
+    return points
+
+
+def newell_normal(points: np.ndarray) -> np.ndarray:
+    """The ring's area vector (Newell's method): its direction the normal, its length twice the area."""
+    a, b = points, np.roll(points, -1, axis=0)
+    return np.array(
+        [
+            np.sum((a[:, 1] - b[:, 1]) * (a[:, 2] + b[:, 2])),
+            np.sum((a[:, 2] - b[:, 2]) * (a[:, 0] + b[:, 0])),
+            np.sum((a[:, 0] - b[:, 0]) * (a[:, 1] + b[:, 1])),
+        ]
+    )
+
+
+def newell_normals(rings: list[np.ndarray]) -> np.ndarray:
+    """newell_normal of many rings at once."""
+    counts = np.array([len(r) for r in rings])
+    points = np.vstack(rings)
+    starts = np.cumsum(counts) - counts
+    nxt = np.arange(len(points)) + 1
+    nxt[starts + counts - 1] = starts
+    a, b = points, points[nxt]
+    terms = np.column_stack(
+        [
+            (a[:, 1] - b[:, 1]) * (a[:, 2] + b[:, 2]),
+            (a[:, 2] - b[:, 2]) * (a[:, 0] + b[:, 0]),
+            (a[:, 0] - b[:, 0]) * (a[:, 1] + b[:, 1]),
+        ]
+    )
+    return np.add.reduceat(terms, starts, axis=0)
+
+
+def _instance(geometry: dict, vertices: np.ndarray, templates: Templates):
+    """A GeometryInstance as (template geometry, its vertices placed in the file's coordinates)."""
+    template = geometry.get("template")
+    if not isinstance(template, int) or not 0 <= template < len(templates.geometries):
+        raise ValueError(f"template {str(template)[:20]} is not one of the file's {len(templates.geometries)}")
+    reference = geometry.get("boundaries")
+    if not (isinstance(reference, list) and len(reference) == 1 and isinstance(reference[0], int)):
+        raise ValueError("an instance's boundaries must be one vertex index")
+    if not 0 <= reference[0] < len(vertices):
+        raise ValueError("an instance's reference vertex is out of range")
+    matrix = np.asarray(geometry.get("transformationMatrix", np.eye(4).ravel()), dtype=np.float64).reshape(4, 4)
+    local = templates.vertices
+    placed = local @ matrix[:3, :3].T + matrix[:3, 3] + vertices[reference[0]]
+    inner = templates.geometries[template]
+    if not isinstance(inner, dict):
+        raise ValueError("the template is not a geometry")
+    return inner, placed
+
+
+def geometry_faces(
+    geometry: dict, vertices: np.ndarray, templates: Templates, report: ReadReport, element: str
+) -> list[Face]:
+    """The checked faces of one geometry object (see the module docstring). Raises ValueError
+    (with what is wrong) when the geometry as a whole cannot be read."""
+    if geometry.get("type") == "GeometryInstance":
+        try:
+            geometry, vertices = _instance(geometry, vertices, templates)
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise ValueError(f"geometry instance: {exc}") from None
+    kind = geometry.get("type")
+    if kind not in SURFACE_DEPTH:
+        raise ValueError(f"geometry type {str(kind)[:40]!r} has no surfaces")
+    boundaries = geometry.get("boundaries")
+    if not isinstance(boundaries, list):
+        raise ValueError("'boundaries' is not a list")
+    semantics = geometry.get("semantics") if isinstance(geometry.get("semantics"), dict) else {}
+    surfaces = semantics.get("surfaces") if isinstance(semantics.get("surfaces"), list) else []
+    names = [s.get("type") if isinstance(s, dict) and isinstance(s.get("type"), str) else None for s in surfaces]
+    pairs, matched = _surfaces(boundaries, semantics.get("values"), SURFACE_DEPTH[kind])
+    if semantics and not matched:
+        report.repair("geometry", "semantic values do not match the boundaries, read without semantics", element)
+        pairs = [(surface, None) for surface, _ in pairs]
+    rings, kinds = [], []
+    for surface, value in pairs:
+        ring = _ring(surface, vertices, report, element)
+        if ring is not None:
+            rings.append(ring)
+            kinds.append(names[value] if isinstance(value, int) and 0 <= value < len(names) else None)
+    if not rings:
+        return []
+    normals = newell_normals(rings)
+    length = np.linalg.norm(normals, axis=1)
+    faces = []
+    for ring, kind, normal, size in zip(rings, kinds, normals, length):
+        if size / 2.0 < MIN_FACE_AREA:
+            report.skip("surface", "degenerate (no area in its plane)", element)
+        else:
+            faces.append(Face(ring, kind, normal / size))
+    return faces
+
+
+PLANE_ANGLE = 0.02  # radians-ish: normals closer than this are one plane's
+PLANE_OFFSET = 0.02  # metres
+UPRIGHT = 0.01  # |normal z| under this: a vertical wall
+
+
+def merged_walls(faces: list[Face]) -> list[Face]:
+    """Vertical wall faces lying in one plane (a wall the file splits in triangles, as 3D BAG does)
+    merged into the polygons they make together, so that the wall is one face with whole windows;
+    every other face as it was."""
+    groups: dict[tuple, list[Face]] = {}
+    kept = []
+    for face in faces:
+        normal = face.normal
+        if face.semantic not in (None, "WallSurface") or abs(normal[2]) >= UPRIGHT:
+            kept.append(face)
+            continue
+        across = np.array([-normal[1], normal[0]]) / np.hypot(normal[0], normal[1])
+        offset = float(face.ring[:, :2].mean(axis=0) @ np.array([normal[0], normal[1]]))
+        key = (face.semantic, *np.round(normal[:2] / PLANE_ANGLE).astype(int), round(offset / PLANE_OFFSET))
+        groups.setdefault(key, []).append((face, across, normal[:2] * offset, normal[:2]))
+    for group in groups.values():
+        if len(group) == 1:
+            kept.append(group[0][0])
+            continue
+        _, across, foot, normal = group[0]
+        polygons = [shapely.Polygon(np.column_stack([f.ring[:, :2] @ across, f.ring[:, 2]])) for f, *_ in group]
+        union = shapely.union_all(shapely.make_valid(np.array(polygons, dtype=object)), grid_size=1e-4)
+        for part in shapely.get_parts(union):
+            if shapely.get_type_id(part) != 3 or part.area <= 0:
+                continue
+            uv = np.asarray(shapely.orient_polygons(part).exterior.coords)[:-1]
+            ring = np.column_stack([foot + uv[:, :1] * across, uv[:, 1]])
+            if np.dot(newell_normal(ring)[:2], normal) < 0:  # facing the way the faces did
+                ring = ring[::-1]
+            kept.append(Face(ring, group[0][0].semantic, group[0][0].normal))
+    return kept
