@@ -144,9 +144,10 @@ def parse_camera_spot(text: str) -> tuple[float, float, float, float] | None:
     return tuple(values)
 
 
-def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float, float, float]) -> Camera:
+def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float, float, float], ground=None) -> Camera:
     """A camera at a longitude/latitude `height` metres above the ground, facing `heading`; above
-    street level it tilts down so the ground ahead fills the lower half of the picture."""
+    street level it tilts down so the ground ahead fills the lower half of the picture. `ground`:
+    the ground's height at a scene (x, z) where it is not 0 (heights as given: CityJSON)."""
     from pyproj import Transformer
 
     lon, lat, height, heading = spot
@@ -155,7 +156,7 @@ def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float,
     east0, north0 = project.transform(*origin)
     x, z = to_scene([east - east0, north - north0])
     pitch = -min(45.0, float(np.degrees(np.arctan2(max(height - 20.0, 0.0), 300.0))))
-    eye = np.array([x, max(height, 0.3), z])
+    eye = np.array([x, max(height, 0.3) + (ground(x, z) if ground is not None else 0.0), z])
     return Camera(
         tuple(eye),
         tuple(eye + heading_vector(heading, pitch) * 50.0),

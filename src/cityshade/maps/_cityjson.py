@@ -258,7 +258,7 @@ class _Reader:
             if face.semantic != "ClosureSurface":  # closes a solid where nothing is built: not drawn
                 surfaces.setdefault(face.semantic or "unclassified", []).append(face.ring)
         points = np.vstack([f.ring for f in faces])
-        top, bottom = float(points[:, 2].max()), float(points[:, 2].min())
+        top, bottom = float(points[:, 2].max()), max(float(points[:, 2].min()), ground)  # merged walls: snapped
         tags = _tags(obj)
         tags.setdefault("building:part" if obj["type"] != "Building" else "building", "yes")
         if obj["type"] != "Building":

@@ -158,3 +158,13 @@ class CityObjects(Feature):
         materials = [object_material(o) for o in drawn for _ in o.faces]
         ground = np.concatenate([given_ground(data), _scene_triangles(rings, materials)])
         return Built(Layer(self.name, ground, trees=_trees(data)))
+
+
+def given_ground_height(city):
+    """For a city with ground under buildings drawn as given: the height at scene (x, z) of the nearest
+    corner of that ground (None for any other city, whose ground is at 0)."""
+    layer = next((layer for layer in city.layers if layer.name == CityObjects.name), None)
+    if layer is None or not len(layer.ground):
+        return None
+    tree = scipy.spatial.cKDTree(layer.ground[:, [0, 2]])
+    return lambda x, z: float(layer.ground[tree.query([x, z])[1], 1]) + GROUND_BELOW
