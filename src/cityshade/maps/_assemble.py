@@ -258,6 +258,8 @@ def _mark_replaced(buildings: list[MapBuilding], report: ReadReport) -> None:
             children.setdefault(part.parent, []).append(part)
     for index, parts in children.items():
         building = buildings[index]
+        if building.surfaces is not None:  # drawn as given beside its parts, which are drawn as given too
+            continue
         covering = shapely.union_all([p.outline for p in parts])
         uncovered = shapely.difference(building.outline, covering)
         if building.outline.area - uncovered.area >= PARTS_COVER * building.outline.area:

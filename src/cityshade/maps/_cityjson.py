@@ -36,7 +36,7 @@ import shapely
 from .._json import check_depth
 from ..errors import UsageError
 from ._assemble import Raw, assemble
-from ._cityjson_geometry import NO_TEMPLATES, Face, Templates, geometry_faces, merged_walls, vertex_array
+from ._cityjson_geometry import NO_TEMPLATES, Face, Templates, facing_out, geometry_faces, merged_walls, vertex_array
 from ._geojson import parse_json
 from ._model import MapData, ReadReport
 from ._projection import LOCAL
@@ -253,6 +253,7 @@ class _Reader:
         if footprint.is_empty:
             self.report.skip("building", "no face with an area seen from above", element)
             return
+        faces = facing_out(faces, footprint, self.report, element)
         surfaces: dict[str, list[np.ndarray]] = {}
         for face in faces:
             if face.semantic != "ClosureSurface":  # closes a solid where nothing is built: not drawn

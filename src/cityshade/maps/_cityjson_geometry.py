@@ -24,6 +24,7 @@ from ._model import ReadReport
 
 SURFACE_DEPTH = {"MultiSurface": 0, "CompositeSurface": 0, "Solid": 1, "MultiSolid": 2, "CompositeSolid": 2}
 MIN_FACE_AREA = 1e-4  # square metres: a ring with less area in its own plane is a line or a point
+PLANAR = 0.05  # metres: a corner further than this from its face's plane makes the face not planar
 
 
 @dataclass(frozen=True)
@@ -195,18 +196,57 @@ def geometry_faces(
         return []
     normals = newell_normals(rings)
     length = np.linalg.norm(normals, axis=1)
+    off = _off_plane(rings, normals / np.maximum(length, 1e-300)[:, None])
     faces = []
-    for ring, kind, normal, size in zip(rings, kinds, normals, length):
+    for ring, kind, normal, size, distance in zip(rings, kinds, normals, length, off):
         if size / 2.0 < MIN_FACE_AREA:
             report.skip("surface", "degenerate (no area in its plane)", element)
-        else:
-            faces.append(Face(ring, kind, normal / size))
+            continue
+        if distance > PLANAR:
+            report.repair(
+                "surface", f"not planar (a corner over {PLANAR:g} m off its plane): drawn in its plane", element
+            )
+        faces.append(Face(ring, kind, normal / size))
     return faces
+
+
+def _off_plane(rings: list[np.ndarray], normals: np.ndarray) -> np.ndarray:
+    """Per ring: the largest distance of a corner from the plane through its centroid."""
+    counts = np.array([len(r) for r in rings])
+    points = np.vstack(rings)
+    starts = np.cumsum(counts) - counts
+    which = np.repeat(np.arange(len(rings)), counts)
+    centre = np.add.reduceat(points, starts, axis=0) / counts[:, None]
+    distance = np.abs(np.sum((points - centre[which]) * normals[which], axis=1))
+    return np.maximum.reduceat(distance, starts)
 
 
 PLANE_ANGLE = 0.02  # radians-ish: normals closer than this are one plane's
 PLANE_OFFSET = 0.02  # metres
 UPRIGHT = 0.01  # |normal z| under this: a vertical wall
+
+
+FACING = {"RoofSurface": 1.0, "OuterCeilingSurface": -1.0, "GroundSurface": -1.0, "OuterFloorSurface": 1.0}
+
+
+def facing_out(faces: list[Face], footprint, report: ReadReport, element: str) -> list[Face]:
+    """The faces with rings that face the wrong way turned round (counted): roofs and floors facing
+    down, ground and ceilings facing up, walls facing into the footprint (the point a step in front
+    of the wall inside it, the point a step behind outside)."""
+    out = []
+    for face in faces:
+        sign = FACING.get(face.semantic)
+        inverted = sign is not None and face.normal[2] * sign < -0.1
+        if face.semantic == "WallSurface" and abs(face.normal[2]) < 0.7:
+            step = face.normal[:2] / np.linalg.norm(face.normal[:2]) * 0.3
+            centre = face.ring[:, :2].mean(axis=0)
+            front, back = shapely.points([centre + step, centre - step])
+            inverted = bool(footprint.contains(front) and not footprint.contains(back))
+        if inverted:
+            report.repair("surface", f"{face.semantic} facing the wrong way: turned", element)
+            face = Face(face.ring[::-1], face.semantic, -face.normal)
+        out.append(face)
+    return out
 
 
 def merged_walls(faces: list[Face]) -> list[Face]:
