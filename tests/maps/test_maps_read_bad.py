@@ -293,6 +293,9 @@ def test_cityjson_has_its_own_smaller_size_limit(tmp_path, monkeypatch):
     city = tmp_path / "big.city.json"
     city.write_text(json.dumps({"type": "CityJSON", "CityObjects": {}, "vertices": [[0, 0, 0]] * 20}))
     _refused(city, "bytes of CityJSON is above the 100-byte limit; split the file into tiles")
+    sequence = tmp_path / "big.city.jsonl"  # streamed: no cap on the file, one on each line
+    sequence.write_text('{"type":"CityJSON","version":"2.0","CityObjects":{},"vertices":[]}\n' + " " * 200 + "{}\n")
+    _refused(sequence, "a line of over 100 characters is no CityJSONSeq feature")
     assert len(load_map(_geojson(tmp_path, GOOD)).buildings) == 1  # GeoJSON keeps the 1 GiB limit
 
 
