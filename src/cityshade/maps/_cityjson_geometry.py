@@ -249,34 +249,59 @@ def facing_out(faces: list[Face], footprint, report: ReadReport, element: str) -
     return out
 
 
+def _signed_areas(points: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """Twice the signed area of 2D rings stored one after another."""
+    starts = np.cumsum(counts) - counts
+    nxt = np.arange(len(points)) + 1
+    nxt[starts + counts - 1] = starts
+    cross = points[:, 0] * points[nxt, 1] - points[nxt, 0] * points[:, 1]
+    return np.add.reduceat(cross, starts)
+
+
 def merged_walls(faces: list[Face]) -> list[Face]:
     """Vertical wall faces lying in one plane (a wall the file splits in triangles, as 3D BAG does)
     merged into the polygons they make together, so that the wall is one face with whole windows;
     every other face as it was."""
-    groups: dict[tuple, list[Face]] = {}
-    kept = []
-    for face in faces:
-        normal = face.normal
-        if face.semantic not in (None, "WallSurface") or abs(normal[2]) >= UPRIGHT:
-            kept.append(face)
-            continue
-        across = np.array([-normal[1], normal[0]]) / np.hypot(normal[0], normal[1])
-        offset = float(face.ring[:, :2].mean(axis=0) @ np.array([normal[0], normal[1]]))
-        key = (face.semantic, *np.round(normal[:2] / PLANE_ANGLE).astype(int), round(offset / PLANE_OFFSET))
-        groups.setdefault(key, []).append((face, across, normal[:2] * offset, normal[:2]))
-    for group in groups.values():
-        if len(group) == 1:
-            kept.append(group[0][0])
-            continue
-        _, across, foot, normal = group[0]
-        polygons = [shapely.Polygon(np.column_stack([f.ring[:, :2] @ across, f.ring[:, 2]])) for f, *_ in group]
-        union = shapely.union_all(shapely.make_valid(np.array(polygons, dtype=object)), grid_size=1e-4)
-        for part in shapely.get_parts(union):
+    normals = np.array([f.normal for f in faces])
+    wall = np.array([f.semantic in (None, "WallSurface") for f in faces]) & (np.abs(normals[:, 2]) < UPRIGHT)
+    if wall.sum() < 2:
+        return faces
+    index = np.flatnonzero(wall)
+    plan = normals[index, :2] / np.linalg.norm(normals[index, :2], axis=1)[:, None]
+    offset = np.array([faces[i].ring[:, :2].mean(axis=0) @ n for i, n in zip(index, plan)])
+    semantic = np.array([faces[i].semantic == "WallSurface" for i in index])
+    keys = np.column_stack([semantic, np.round(plan / PLANE_ANGLE), np.round(offset / PLANE_OFFSET)])
+    _, group, sizes = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    group = group.ravel()
+    kept = [f for i, f in enumerate(faces) if not wall[i]] + [faces[i] for i, g in zip(index, group) if sizes[g] == 1]
+    many = np.flatnonzero(sizes[group] > 1)
+    if not len(many):
+        return faces
+    first = {}
+    for k in many:  # each group's frame: its first face's
+        first.setdefault(group[k], k)
+    across = np.column_stack([-plan[:, 1], plan[:, 0]])
+    members = [faces[index[k]] for k in many]
+    frame = np.array([first[group[k]] for k in many])
+    counts = np.array([len(f.ring) for f in members])
+    rings = np.vstack([f.ring for f in members])
+    which = np.repeat(frame, counts)
+    uv = np.column_stack([np.sum(rings[:, :2] * across[which], axis=1), rings[:, 2]])
+    sign = np.sign(_signed_areas(uv, counts))
+    polygons = shapely.polygons(shapely.linearrings(uv, indices=np.repeat(np.arange(len(members)), counts)))
+    bad = ~shapely.is_valid(polygons)
+    polygons[bad] = shapely.make_valid(polygons[bad])
+    by_group: dict[int, list[int]] = {}
+    for j, k in enumerate(many):
+        by_group.setdefault(group[k], []).append(j)
+    for g, js in by_group.items():
+        k = first[g]
+        foot, direction = plan[k] * offset[k], across[k]
+        face = faces[index[k]]
+        for part in shapely.get_parts(shapely.union_all(polygons[js])):
             if shapely.get_type_id(part) != 3 or part.area <= 0:
                 continue
-            uv = np.asarray(shapely.orient_polygons(part).exterior.coords)[:-1]
-            ring = np.column_stack([foot + uv[:, :1] * across, uv[:, 1]])
-            if np.dot(newell_normal(ring)[:2], normal) < 0:  # facing the way the faces did
-                ring = ring[::-1]
-            kept.append(Face(ring, group[0][0].semantic, group[0][0].normal))
+            ring = np.asarray(shapely.orient_polygons(part).exterior.coords)[:-1]  # counter-clockwise in (u, z)
+            ring = ring if sign[js[0]] > 0 else ring[::-1]  # facing the way the faces did
+            kept.append(Face(np.column_stack([foot + ring[:, :1] * direction, ring[:, 1]]), face.semantic, face.normal))
     return kept
