@@ -271,6 +271,18 @@ def building_mass(
     )
 
 
+def _style_owner(map_data: MapData, building: MapBuilding) -> MapBuilding:
+    """Whose facade style a building takes: a CityJSON part its building's, unless its attributes give
+    its own use (or the data at hand does not hold its building)."""
+    parent = building.parent
+    if building.surfaces is None or not building.is_part or parent is None:
+        return building
+    if building.use in STYLE_BY_USE or building.kind in STYLE_BY_USE:
+        return building
+    held = 0 <= parent < len(map_data.buildings) and map_data.buildings[parent].index == parent
+    return map_data.buildings[parent] if held else building
+
+
 def building_masses(map_data: MapData) -> list[BuildingMass]:
     """The masses of every drawn building and part (outlines replaced by their parts are skipped, those
     cut by them stand on their remainder and under their floating parts)."""
@@ -281,10 +293,7 @@ def building_masses(map_data: MapData) -> list[BuildingMass]:
         pieces = [(polygon, None) for polygon in _polygons(building.drawn_footprint)]
         for under, part in building.beneath_parts:
             pieces += [(polygon, heights(part)[0]) for polygon in _polygons(under)]
-        owner = building
-        if building.surfaces is not None and building.is_part and building.parent is not None:
-            own = building.use in STYLE_BY_USE or building.kind in STYLE_BY_USE  # unless its attributes say
-            owner = building if own else map_data.buildings[building.parent]  # a part: its building's style
+        owner = _style_owner(map_data, building)
         for polygon, top in pieces:
             mass = building_mass(building, polygon, building.remainder is not None, top, facade_style(owner))
             if mass is not None:
