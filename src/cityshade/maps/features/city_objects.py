@@ -6,8 +6,9 @@ LandUse and PlantCover by their `class`/`function` (CLASS_MATERIALS, green by de
 water; Bridge, Tunnel, CityFurniture, GenericCityObject and anything else plain (concrete); TINRelief
 as bare land. SolitaryVegetationObjects are trees at their lowest point, as tall as their `height`
 attribute or their geometry. Under buildings drawn as given the ground follows their GroundSurfaces:
-a Delaunay surface through the buildings' lowest corners, GROUND_BELOW under them (so it never fights
-a face drawn as given), reaching the map's bounds at the heights of the nearest buildings. What
+a Delaunay surface through the buildings' GroundSurfaces (or lowest corners) and the corners of the
+ground objects (GROUND_TYPES), GROUND_BELOW under them (so it never fights a face drawn as given),
+reaching the map's bounds at the heights of the nearest corners. What
 `cityshade info` says: `city_objects` (type -> objects drawn) and `lod` (LoD -> buildings).
 """
 
@@ -44,6 +45,7 @@ TYPE_MATERIALS = {
     "PlantCover": GROUND_GRASS,
     "TINRelief": GROUND_LAND,
 }
+GROUND_TYPES = ("Road", "Railway", "TransportSquare", "Waterway", "WaterBody", "LandUse", "PlantCover", "TINRelief")
 PLAIN = GROUND_PLATFORM  # bridges, tunnels, furniture, generic objects: concrete
 # words in a LandUse or PlantCover class that say its ground is not green
 CLASS_MATERIALS = {
@@ -88,15 +90,14 @@ def _scene_triangles(rings: list[np.ndarray], materials: list[int]) -> np.ndarra
 
 def given_ground(data: MapData) -> np.ndarray:
     """The ground under buildings drawn as given (see the module docstring)."""
-    corners = [ring for b in data.buildings if b.surfaces for ring in b.surfaces.get("GroundSurface", [])]
-    if not corners:
-        corners = [
-            ring[ring[:, 2] <= ring[:, 2].min() + 0.01]
-            for b in data.buildings
-            if b.surfaces
-            for rings in b.surfaces.values()
-            for ring in rings
-        ]
+    corners = []
+    for b in data.buildings:
+        if b.surfaces:  # its GroundSurfaces, else its lowest corners
+            grounds = b.surfaces.get("GroundSurface")
+            rings = grounds or [ring[ring[:, 2] <= b.ground + 0.01] for rings in b.surfaces.values() for ring in rings]
+            corners += rings
+    # ground drawn as given (roads, land, water): the ground under the buildings runs below it too
+    corners += [ring for o in data.city_objects if o.type in GROUND_TYPES for _, ring in o.faces]
     if not corners:
         return np.zeros((0, 4), np.float32)
     points = np.vstack(corners)
