@@ -258,6 +258,34 @@ def _signed_areas(points: np.ndarray, counts: np.ndarray) -> np.ndarray:
     return np.add.reduceat(cross, starts)
 
 
+def _dissolved(rings: list[np.ndarray]) -> np.ndarray | None:
+    """The one ring round coplanar rings wound alike that share whole edges (each inner edge run once
+    each way), found by cancelling those edges; None where the rest is not one simple ring."""
+    edges = {}
+    for ring in rings:
+        points = [tuple(p) for p in ring.tolist()]
+        for a, b in zip(points, points[1:] + points[:1]):
+            if (b, a) in edges:
+                del edges[(b, a)]
+            else:
+                edges[(a, b)] = True
+    after = {}
+    for a, b in edges:
+        if a in after:
+            return None  # two boundary edges leave one corner: not a simple ring
+        after[a] = b
+    if len(after) < 3:
+        return None
+    start = next(iter(after))
+    out, point = [start], after[start]
+    while point != start and len(out) <= len(after):
+        out.append(point)
+        point = after.get(point)
+        if point is None:
+            return None
+    return np.array(out) if len(out) == len(after) else None
+
+
 def merged_walls(faces: list[Face]) -> list[Face]:
     """Vertical wall faces lying in one plane (a wall the file splits in triangles, as 3D BAG does)
     merged into the polygons they make together, so that the wall is one face with whole windows;
@@ -298,6 +326,10 @@ def merged_walls(faces: list[Face]) -> list[Face]:
         k = first[g]
         foot, direction = plan[k] * offset[k], across[k]
         face = faces[index[k]]
+        ring = _dissolved([members[j].ring for j in js])
+        if ring is not None:  # pieces sharing whole edges: their outline, no overlay needed
+            kept.append(Face(ring, face.semantic, face.normal))
+            continue
         for part in shapely.get_parts(shapely.union_all(polygons[js])):
             if shapely.get_type_id(part) != 3 or part.area <= 0:
                 continue

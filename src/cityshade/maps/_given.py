@@ -54,14 +54,17 @@ def given_mass(
     """The mass of a building with faces, on its scene-space footprint `polygon`; `frame` is
     building_mass's (yaw, low, to_local) for it."""
     yaw, low, to_local = frame
-    faces = []
-    for semantic, rings in building.surfaces.items():
-        for ring in rings:
-            scene = to_local(to_scene(ring[:, :2]), yaw) - low
-            local = np.column_stack([scene[:, 0], ring[:, 2], scene[:, 1]])
-            faces.append((_kind(semantic, ring), tuple(map(tuple, local.tolist()))))
-    if not faces:
+    rings = [(semantic, ring) for semantic, group in building.surfaces.items() for ring in group]
+    if not rings:
         return None
+    points = np.vstack([ring for _, ring in rings])  # every ring at once: to object space, heights kept
+    plan = to_local(to_scene(points[:, :2]), yaw) - low
+    local = np.column_stack([plan[:, 0], points[:, 2], plan[:, 1]]).tolist()
+    ends = np.cumsum([len(ring) for _, ring in rings]).tolist()
+    faces = [
+        (_kind(semantic, ring), tuple(map(tuple, local[end - len(ring) : end])))
+        for (semantic, ring), end in zip(rings, ends)
+    ]
     heights = np.concatenate([[p[1] for p in ring] for _, ring in faces])
     base, top = float(heights.min()), float(heights.max())
     if top - base <= 0.05:
