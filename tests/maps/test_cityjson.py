@@ -169,3 +169,13 @@ def test_info_json_reports_city_objects_and_lod(capsys):
     info = json.loads(capsys.readouterr().out)
     assert info["city_objects"] == EVERY_TYPE
     assert info["lod"] == {"2": 4, "2.2": 1}
+
+
+def test_info_lod_option_picks_the_level_and_refuses_a_bad_one(capsys):
+    from cityshade.commands import main
+
+    assert main(["info", str(DATA / "multi_lod.city.json"), "--lod", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["lod"] == {"1.3": 10}
+    assert main(["info", str(DATA / "multi_lod.city.json"), "--lod", "seven"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "give a CityJSON LoD such as 1, 2 or 2.2" in err
