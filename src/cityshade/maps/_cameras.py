@@ -19,6 +19,7 @@ STREET_FOV = 66.0
 EYE_HEIGHT = 1.7
 STREET_VIEWS = MAIN_ROADS + ("living_street", "pedestrian") + ROAD_LINKS  # where a street camera may stand
 STREET_BACK = 25.0  # metres from a building drawn as given that its street view stands
+EYE_CLEARANCE = 3.0  # metres from any building that eye keeps
 FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
 
 
@@ -168,7 +169,8 @@ def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float,
 
 def given_street_camera(map_data: MapData) -> Camera | None:
     """For buildings drawn as given (CityJSON, no streets read): at eye height on the ground beside the
-    building nearest the map's middle, STREET_BACK metres out from its outline, looking at it."""
+    building nearest the map's middle, STREET_BACK metres out from its outline, looking at it, from
+    the first of eight directions (away from the middle first) whose eye stands clear of every building."""
     given = [b for b in map_data.buildings if b.drawn and b.surfaces is not None]
     if not given:
         return None
@@ -177,9 +179,15 @@ def given_street_camera(map_data: MapData) -> Camera | None:
     building = min(given, key=lambda b: b.outline.distance(middle))
     centre = np.asarray(building.outline.centroid.coords[0])
     away = centre - np.asarray(middle.coords[0])
-    away = away / np.linalg.norm(away) if np.linalg.norm(away) > 1.0 else np.array([0.0, -1.0])  # else from the south
+    start = np.arctan2(away[1], away[0]) if np.linalg.norm(away) > 1.0 else -np.pi / 2  # else from the south
     radius = float(np.sqrt(building.outline.area / np.pi))
-    eye = centre + away * (radius + STREET_BACK)
+    tree = shapely.STRtree([b.outline for b in map_data.buildings if b.drawn])
+    eyes = [
+        centre + (radius + STREET_BACK) * np.array([np.cos(start + turn), np.sin(start + turn)])
+        for turn in np.radians(np.arange(0.0, 360.0, 45.0))
+    ]
+    clear = [e for e in eyes if not len(tree.query(shapely.Point(e).buffer(EYE_CLEARANCE), predicate="intersects"))]
+    eye = (clear or eyes)[0]
     (ex, ez), (tx, tz) = to_scene([eye, centre])
     ground = building.ground
     return Camera(
