@@ -179,3 +179,14 @@ def test_info_lod_option_picks_the_level_and_refuses_a_bad_one(capsys):
     assert main(["info", str(DATA / "multi_lod.city.json"), "--lod", "seven"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "give a CityJSON LoD such as 1, 2 or 2.2" in err
+
+
+def test_the_street_view_stands_on_the_ground_clear_of_every_building():
+    import shapely
+
+    data = load_map(DATA / "delft_subset.city.json")
+    street = map_city(data).viewpoints["street"]
+    eye = shapely.Point(street.position[0], -street.position[2])  # scene (x, z) -> map (x, y)
+    assert all(b.outline.distance(eye) >= 3.0 for b in data.buildings if b.drawn)
+    near = min((b for b in data.buildings if b.surfaces), key=lambda b: b.outline.distance(eye))
+    assert street.position[1] == pytest.approx(near.ground + 1.7, abs=1.0)  # eye height over the NAP ground
