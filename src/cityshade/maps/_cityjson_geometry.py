@@ -114,6 +114,26 @@ def _ring(surface, vertices: np.ndarray, report: ReadReport, element: str) -> np
     return points
 
 
+def _rings(pairs, vertices: np.ndarray, report: ReadReport, element: str) -> list:
+    """Every surface's outer ring as points (or None where it is skipped): all at once where every ring
+    is a plain list of at least three whole indices of the file's vertices, else one by one (_ring)."""
+    outer = [s[0] if isinstance(s, list) and s and isinstance(s[0], list) else None for s, _ in pairs]
+    try:
+        if not outer or any(r is None or len(r) < 3 for r in outer):
+            raise ValueError
+        numbers = np.array([i for r in outer for i in r], dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        return [_ring(surface, vertices, report, element) for surface, _ in pairs]
+    whole = numbers.ndim == 1 and np.all(numbers == np.floor(numbers))
+    if not whole or numbers.min() < 0 or numbers.max() >= len(vertices):
+        return [_ring(surface, vertices, report, element) for surface, _ in pairs]
+    points = vertices[numbers.astype(np.int64)]
+    if not np.isfinite(points).all():
+        return [_ring(surface, vertices, report, element) for surface, _ in pairs]
+    ends = np.cumsum([len(r) for r in outer])
+    return np.split(points, ends[:-1])
+
+
 def newell_normal(points: np.ndarray) -> np.ndarray:
     """The ring's area vector (Newell's method): its direction the normal, its length twice the area."""
     a, b = points, np.roll(points, -1, axis=0)
@@ -187,8 +207,7 @@ def geometry_faces(
         report.repair("geometry", "semantic values do not match the boundaries, read without semantics", element)
         pairs = [(surface, None) for surface, _ in pairs]
     rings, kinds = [], []
-    for surface, value in pairs:
-        ring = _ring(surface, vertices, report, element)
+    for (surface, value), ring in zip(pairs, _rings(pairs, vertices, report, element)):
         if ring is not None:
             rings.append(ring)
             kinds.append(names[value] if isinstance(value, int) and 0 <= value < len(names) else None)
