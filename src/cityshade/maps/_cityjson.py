@@ -23,10 +23,12 @@ plan part; heights stay as given), metres kept as they are where none is named.
 
 from __future__ import annotations
 
+import gc
 import json
 import re
 from collections import Counter
 from collections.abc import Iterable
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -300,8 +302,27 @@ def _document(path: Path, data, what: str = "CityJSON") -> dict:
     return data
 
 
+@contextmanager
+def _collector_paused():
+    """The cyclic garbage collector off while a file's objects are read: the parsed JSON and the faces
+    are millions of live objects that hold no cycles, and each full collection walks all of them
+    (reading a 5,000-building tile took a third longer with it on)."""
+    was_on = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_on:
+            gc.enable()
+
+
 def read_cityjson(path: Path, text: str, lod: str | None = None) -> MapData:
     """A CityJSON document (see the module docstring)."""
+    with _collector_paused():
+        return _read_document(path, text, lod)
+
+
+def _read_document(path: Path, text: str, lod: str | None) -> MapData:
     data = _document(path, parse_json(path, text))
     report = ReadReport()
     reader = _Reader(path, _header(path, data, report), lod, report)
@@ -312,6 +333,11 @@ def read_cityjson(path: Path, text: str, lod: str | None = None) -> MapData:
 
 def read_cityjson_seq(path: Path, lines: Iterable[str], lod: str | None = None) -> MapData:
     """A CityJSONSeq stream: a header line, then one CityJSONFeature per line."""
+    with _collector_paused():
+        return _read_sequence(path, lines, lod)
+
+
+def _read_sequence(path: Path, lines: Iterable[str], lod: str | None) -> MapData:
     lines = iter(lines)
     first = next(lines, "")
     data = _document(path, _line(path, 1, first))

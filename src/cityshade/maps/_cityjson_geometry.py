@@ -207,7 +207,7 @@ def geometry_faces(
         report.repair("geometry", "semantic values do not match the boundaries, read without semantics", element)
         pairs = [(surface, None) for surface, _ in pairs]
     rings, kinds = [], []
-    for (surface, value), ring in zip(pairs, _rings(pairs, vertices, report, element)):
+    for (_, value), ring in zip(pairs, _rings(pairs, vertices, report, element)):
         if ring is not None:
             rings.append(ring)
             kinds.append(names[value] if isinstance(value, int) and 0 <= value < len(names) else None)
