@@ -8,7 +8,7 @@ from pathlib import Path
 from ..errors import UsageError
 from ..render import RenderSettings, format_bytes
 from ..scene import CITIES
-from .arguments import add_map_option, check_seed, check_writable, parse_size, save_png
+from .arguments import add_cityjson_lod_option, add_map_option, check_seed, check_writable, parse_size, save_png
 from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
 
@@ -44,6 +44,7 @@ def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
     add_map_option(parser, "--footprints")
+    add_cityjson_lod_option(parser)
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=check_seed, default=None, help="layout seed, 0 to 2^31-1")
     parser.add_argument(
@@ -100,7 +101,9 @@ def run(args) -> int:
             from ..maps import city_from_map
 
             made = tiles.city if tiles is not None else None
-            city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time_of_day, city=made)
+            city, args.camera, sky = city_from_map(
+                args.map, args.camera, args.date, args.time_of_day, city=made, lod=args.lod
+            )
         before_render = time.perf_counter() - start
         image, info = render_city(
             city=city,

@@ -18,6 +18,8 @@ AERIAL_HEADING = 0.0  # the first heading tried: the camera looks north
 STREET_FOV = 66.0
 EYE_HEIGHT = 1.7
 STREET_VIEWS = MAIN_ROADS + ("living_street", "pedestrian") + ROAD_LINKS  # where a street camera may stand
+STREET_BACK = 25.0  # metres from a building drawn as given that its street view stands
+EYE_CLEARANCE = 3.0  # metres from any building that eye keeps
 FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
 
 
@@ -36,13 +38,16 @@ def _fits(corners: np.ndarray, eye: np.ndarray, forward: np.ndarray, fov: float,
     return bool(np.all(np.abs(ndc) <= 0.96))
 
 
-def aerial_camera(bounds: tuple[float, float, float, float], top: float, aspect: float = AERIAL_ASPECT) -> Camera:
+def aerial_camera(
+    bounds: tuple[float, float, float, float], top: float, aspect: float = AERIAL_ASPECT, bottom: float = 0.0
+) -> Camera:
     """Looks at the middle of the scene rectangle `bounds` (x0, z0, x1, z1) from above, at AERIAL_PITCH,
-    from just far enough that the box up to height `top` lies in the frustum; of the headings
-    AERIAL_HEADING + k * 45 degrees, the one that can stand closest (the long side across the picture)."""
+    from just far enough that the box from height `bottom` (the ground) up to `top` lies in the frustum;
+    of the headings AERIAL_HEADING + k * 45 degrees, the one that can stand closest (the long side
+    across the picture)."""
     x0, z0, x1, z1 = bounds
-    corners = np.array([(x, y, z) for x in (x0, x1) for y in (0.0, top) for z in (z0, z1)], float)
-    centre = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2])
+    corners = np.array([(x, y, z) for x in (x0, x1) for y in (bottom, top) for z in (z0, z1)], float)
+    centre = np.array([(x0 + x1) / 2, bottom, (z0 + z1) / 2])
     best = None
     for turn in range(8):
         forward = heading_vector(AERIAL_HEADING + 45.0 * turn, -AERIAL_PITCH)
@@ -140,9 +145,10 @@ def parse_camera_spot(text: str) -> tuple[float, float, float, float] | None:
     return tuple(values)
 
 
-def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float, float, float]) -> Camera:
+def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float, float, float], ground=None) -> Camera:
     """A camera at a longitude/latitude `height` metres above the ground, facing `heading`; above
-    street level it tilts down so the ground ahead fills the lower half of the picture."""
+    street level it tilts down so the ground ahead fills the lower half of the picture. `ground`:
+    the ground's height at a scene (x, z) where it is not 0 (heights as given: CityJSON)."""
     from pyproj import Transformer
 
     lon, lat, height, heading = spot
@@ -151,11 +157,43 @@ def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float,
     east0, north0 = project.transform(*origin)
     x, z = to_scene([east - east0, north - north0])
     pitch = -min(45.0, float(np.degrees(np.arctan2(max(height - 20.0, 0.0), 300.0))))
-    eye = np.array([x, max(height, 0.3), z])
+    eye = np.array([x, max(height, 0.3) + (ground(x, z) if ground is not None else 0.0), z])
     return Camera(
         tuple(eye),
         tuple(eye + heading_vector(heading, pitch) * 50.0),
         fov_y=STREET_FOV,
         near=max(0.3, height / 100),
+        far=FAR,
+    )
+
+
+def given_street_camera(map_data: MapData) -> Camera | None:
+    """For buildings drawn as given (CityJSON, no streets read): at eye height on the ground beside the
+    building nearest the map's middle, STREET_BACK metres out from its outline, looking at it, from
+    the first of eight directions (away from the middle first) whose eye stands clear of every building."""
+    given = [b for b in map_data.buildings if b.drawn and b.surfaces is not None]
+    if not given:
+        return None
+    x0, y0, x1, y1 = map_data.bounds()
+    middle = shapely.Point((x0 + x1) / 2, (y0 + y1) / 2)
+    building = min(given, key=lambda b: b.outline.distance(middle))
+    centre = np.asarray(building.outline.centroid.coords[0])
+    away = centre - np.asarray(middle.coords[0])
+    start = np.arctan2(away[1], away[0]) if np.linalg.norm(away) > 1.0 else -np.pi / 2  # else from the south
+    radius = float(np.sqrt(building.outline.area / np.pi))
+    tree = shapely.STRtree([b.outline for b in map_data.buildings if b.drawn])
+    eyes = [
+        centre + (radius + STREET_BACK) * np.array([np.cos(start + turn), np.sin(start + turn)])
+        for turn in np.radians(np.arange(0.0, 360.0, 45.0))
+    ]
+    clear = [e for e in eyes if not len(tree.query(shapely.Point(e).buffer(EYE_CLEARANCE), predicate="intersects"))]
+    eye = (clear or eyes)[0]
+    (ex, ez), (tx, tz) = to_scene([eye, centre])
+    ground = building.ground
+    return Camera(
+        (float(ex), ground + EYE_HEIGHT, float(ez)),
+        (float(tx), ground + EYE_HEIGHT + 0.35 * (building.height or 10.0), float(tz)),
+        fov_y=STREET_FOV,
+        near=0.3,
         far=FAR,
     )

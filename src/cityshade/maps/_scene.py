@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from ..errors import CityshadeError
 from ..scene import City
-from ._cameras import aerial_camera, street_camera
+from ._cameras import aerial_camera, given_street_camera, street_camera
 from ._model import MapData, to_scene
 from .features import city_layers
 
@@ -33,9 +33,9 @@ def city_from_guessed(map_data: MapData) -> City:
     (sx0, sz0), (sx1, sz1) = to_scene([(x0, y1), (x1, y0)])  # north (max y) is -z
     bounds = (float(sx0 - MARGIN), float(sz0 - MARGIN), float(sx1 + MARGIN), float(sz1 + MARGIN))
     drawn = [b for b in map_data.buildings if b.drawn]
-    top = max((b.height or 0.0) for b in drawn) if drawn else 10.0
-    viewpoints = {"aerial": aerial_camera(bounds, top)}
-    street = street_camera(map_data, [b.outline for b in drawn])
+    top = max(m.height for m in masses)  # heights as given: a CityJSON city stands where its file says
+    viewpoints = {"aerial": aerial_camera(bounds, top, bottom=map_data.ground_level)}
+    street = street_camera(map_data, [b.outline for b in drawn]) or given_street_camera(map_data)
     if street is not None:
         viewpoints["street"] = street
     return City(

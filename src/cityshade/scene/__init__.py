@@ -40,6 +40,7 @@ from ._face_table import (
     placements,
     shared_vertices,
 )
+from ._given import GIVEN_FLOOR, GIVEN_ROOF, GIVEN_WALL, plane_triangles
 from ._layers import Layer
 from ._mass_table import MASS_COLUMNS, MASS_POOLS, MassColumns, MassTable
 from ._materials import ROOF_PARTS, ROOF_PATTERNS, TINT_GAIN, roof_material
@@ -66,6 +67,10 @@ __all__ = [
     "ROOF_SHAPE_TABLE",
     "RoofShape",
     "Layer",
+    "GIVEN_FLOOR",
+    "GIVEN_ROOF",
+    "GIVEN_WALL",
+    "plane_triangles",
     "SHAPES",
     "BuildingMass",
     "MassTable",
