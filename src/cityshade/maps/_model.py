@@ -93,6 +93,9 @@ class MapBuilding:
     tags: dict[str, str] = field(default_factory=dict)
     tagged: set[str] = field(default_factory=set)
     guessed: set[str] = field(default_factory=set)
+    # For the sizes and roof the guessing model estimated ("levels", "height", "roof_shape"): the chance,
+    # 0..1, that the guess is right (levels within one storey, height within 3 m, roof flat or pitched).
+    confidence: dict[str, float] = field(default_factory=dict)
     # CityJSON only: the solid's faces by semantic type ("RoofSurface", "WallSurface", "GroundSurface", ...;
     # "unclassified" without semantics), each face's outer ring as (n, 3) map metres, z above the ground.
     surfaces: dict[str, list[np.ndarray]] | None = None
