@@ -37,11 +37,11 @@ def register(subparsers):
 
 
 def _run(args):
+    if args.map is not None and args.name != "guesses":
+        raise UsageError(f"--map {args.map}: only `bench guesses` measures a map of your choice")
     output_folder(args.out_dir)  # refused before minutes of measuring, not after
     if args.json is not None:
         output_target(args.json)
-    if args.map is not None and args.name != "guesses":
-        raise UsageError(f"--map {args.map}: only `bench guesses` measures a map of your choice")
     module = importlib.import_module(BENCHMARKS[args.name])
     extra = {"map_path": args.map} if args.map is not None else {}
     result = module.run(quick=args.quick, out_dir=args.out_dir, **extra)

@@ -205,18 +205,22 @@ def _ring_stats(n: int, i: np.ndarray, j: np.ndarray, log_area: np.ndarray):
 
 
 def _shared_walls(rings: np.ndarray, perimeter: np.ndarray) -> np.ndarray:
-    """Share of each outline's perimeter on edges whose two ends are nodes of another outline too (OSM
-    terraces share their party walls' nodes): a vertex test in numpy, no polygon overlay."""
+    """Share of each outline's perimeter on edges that another outline has too, between the same two
+    nodes (OSM terraces share their party walls' nodes): a test on node pairs in numpy, no overlay."""
     coords, owner = shapely.get_coordinates(rings, return_index=True)
-    cm = np.round(coords * 100.0).astype(np.int64)
-    keys = cm[:, 0] * (1 << 32) + cm[:, 1]  # one integer per node (centimetres; maps span far less than 20,000 km)
-    # Each (building, node) once: a ring repeats its first node at the end.
-    pairs = np.unique(np.column_stack([keys, owner]), axis=0)
-    node, owners = np.unique(pairs[:, 0], return_counts=True)
-    shared = np.isin(keys, node[owners > 1])
-    edge = (owner[1:] == owner[:-1]) & shared[1:] & shared[:-1]
-    lengths = np.hypot(*(coords[1:] - coords[:-1]).T)
-    return np.minimum(np.bincount(owner[1:][edge], lengths[edge], len(rings)) / perimeter, 1.0)
+    cm = np.round(coords * 100.0).astype(np.int64)  # centimetres
+    _, node = np.unique(cm[:, 0] * (1 << 32) + cm[:, 1], return_inverse=True)  # one dense id per node
+    node = node.ravel().astype(np.int64)
+    edge = owner[1:] == owner[:-1]  # consecutive nodes of one ring
+    low, high = np.minimum(node[:-1], node[1:])[edge], np.maximum(node[:-1], node[1:])[edge]
+    edge_key = low * (int(node.max()) + 1) + high
+    edge_owner = owner[1:][edge]
+    # Each (edge, building) once; an edge two buildings have is a party wall.
+    owned = np.unique(edge_key * len(rings) + edge_owner) // len(rings)
+    keys, owners = np.unique(owned, return_counts=True)
+    shared = np.isin(edge_key, keys[owners > 1])
+    lengths = np.hypot(*(coords[1:] - coords[:-1]).T)[edge]
+    return np.minimum(np.bincount(edge_owner[shared], lengths[shared], len(rings)) / perimeter, 1.0)
 
 
 def _nearest(boxes: np.ndarray, touching: np.ndarray) -> np.ndarray:

@@ -60,6 +60,7 @@ def guess_missing(read: MapData, prior: Prior | None = None, learn: bool = True)
         else:
             estimates = regional_defaults(map_data.buildings, form)
         for i, building in enumerate(map_data.buildings):
+            building.form = str(form.forms[i])
             _fill_building(building, estimates, form, i, map_data.report)
     place_doors(map_data)
     _guess_trees(map_data.trees)

@@ -96,6 +96,9 @@ class MapBuilding:
     # For the sizes and roof the guessing model estimated ("levels", "height", "roof_shape"): the chance,
     # 0..1, that the guess is right (levels within one storey, height within 3 m, roof flat or pitched).
     confidence: dict[str, float] = field(default_factory=dict)
+    # The form the guessing model recognised from the outline and its neighbours: row_house, terrace_house,
+    # semi_detached, shed, tower, or "" (none of them).
+    form: str = ""
     # CityJSON only: the solid's faces by semantic type ("RoofSurface", "WallSurface", "GroundSurface", ...;
     # "unclassified" without semantics), each face's outer ring as (n, 3) map metres, z above the ground.
     surfaces: dict[str, list[np.ndarray]] | None = None

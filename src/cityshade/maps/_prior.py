@@ -104,6 +104,8 @@ def training_rows(map_data: MapData, city: str, folds: int = FOLDS, seed: int = 
 
 def _fit(params: dict, rounds: int, x: np.ndarray, y: np.ndarray) -> lightgbm.Booster:
     use = np.isfinite(y)
+    if not use.any():
+        raise ValueError("no tagged buildings to train on (levels and roof:shape both needed)")
     x = x.copy()
     x[:, [FEATURES.index(name) for name in CITY_ONLY]] = np.nan
     data = lightgbm.Dataset(
