@@ -41,6 +41,7 @@ SHRINK = 8.0  # tagged buildings at which the map's own typical departure counts
 # The share of the prior's correction applied. Measured leave-one-city-out on its three cities, half of it
 # guesses better than all of it or none, on silent maps and as the start of the map's own trees alike.
 PRIOR_WEIGHT = 0.5
+ROOF_PRIOR_WEIGHT = 0.5  # the same for the prior's log odds of a flat roof
 LOCAL_PARAMS = {
     "objective": "l1",
     "learning_rate": 0.08,
@@ -256,7 +257,7 @@ def _roof_shapes(buildings, defaults, form: Form, prior: Prior):
     # roof; the prior moves them by PRIOR_WEIGHT of its own log odds.
     flat_votes = votes[:, flat]
     pitched_votes = votes.sum(axis=1) - flat_votes
-    logit = PRIOR_WEIGHT * _predict(prior.flat, form.values, raw=True)
+    logit = ROOF_PRIOR_WEIGHT * _predict(prior.flat, form.values, raw=True)
     logit = logit + np.log((flat_votes + 1.0) / (pitched_votes + 1.0))
     p_flat = 1.0 / (1.0 + np.exp(-logit))
     pitched_votes_only = votes.copy()
