@@ -137,3 +137,79 @@ def sample_view(index: int, seed: int, config: DatasetConfig, streets: Streets, 
         if not streets.inside_building((x, z)):
             break
     return View(index, kind, eye, heading, pitch, config.fov, near, day.isoformat() if has_date else None, hours)
+
+
+SEQUENCES = ("walk", "orbit")  # --path
+WALK_STEP = 2.0  # metres at most between consecutive walk views, so that neighbours overlap
+ORBIT_PITCH = 35.0  # degrees below the horizon, looking at the streets' centre
+
+
+def _key(point) -> tuple[float, float]:
+    return (round(float(point[0]), 3), round(float(point[1]), 3))
+
+
+def walk_route(streets: Streets) -> np.ndarray:
+    """(M, 2) points of a walk: from one end of the longest segment, at each junction on along the
+    straightest street not walked yet, until none is left."""
+    segments = streets.segments
+    ends: dict[tuple, list[tuple[int, int]]] = {}
+    for k, (a, b) in enumerate(segments):
+        ends.setdefault(_key(a), []).append((k, 1))
+        ends.setdefault(_key(b), []).append((k, 0))
+    lengths = np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1)
+    current = int(np.argmax(lengths))
+    used = {current}
+    route = [segments[current][0], segments[current][1]]
+    while True:
+        heading = (route[-1] - route[-2]) / max(np.linalg.norm(route[-1] - route[-2]), 1e-9)
+        options = []
+        for k, far in ends.get(_key(route[-1]), []):
+            if k in used or lengths[k] <= 0:
+                continue
+            step = (segments[k][far] - route[-1]) / lengths[k]
+            options.append((float(step @ heading), k, far))
+        if not options:
+            return np.asarray(route)
+        _, k, far = max(options)
+        used.add(k)
+        route.append(segments[k][far])
+
+
+def _along(route: np.ndarray, distance: float):
+    """(point, unit direction) at `distance` metres along a polyline."""
+    steps = np.linalg.norm(np.diff(route, axis=0), axis=1)
+    at = np.concatenate([[0.0], np.cumsum(steps)])
+    k = int(np.clip(np.searchsorted(at, distance, side="right") - 1, 0, len(steps) - 1))
+    direction = (route[k + 1] - route[k]) / max(steps[k], 1e-9)
+    return route[k] + direction * (distance - at[k]), direction
+
+
+def sequence_view(
+    index: int, frames: int, path: str, seed: int, config: DatasetConfig, streets: Streets, has_date: bool
+) -> View:
+    """View `index` of `frames` consecutive views: `walk` at pedestrian height beside the walk
+    route's carriageway, looking ahead, WALK_STEP metres apart at most; `orbit` once around the
+    streets' centre, looking down at it. Every frame has the same date and time (from the seed)."""
+    rng = np.random.default_rng([seed])
+    first, last = config.day_range
+    day = first + dt.timedelta(days=int(rng.integers(0, (last - first).days + 1)))
+    hours = float(rng.uniform(*config.hours))
+    date = day.isoformat() if has_date else None
+    if path == "walk":
+        route = walk_route(streets)
+        length = float(np.sum(np.linalg.norm(np.diff(route, axis=0), axis=1)))
+        step = min(length / max(frames - 1, 1), WALK_STEP)
+        point, direction = _along(route, index * step)
+        width = float(np.median(streets.widths))
+        x, z = point + np.array([-direction[1], direction[0]]) * (width / 2 + 1.0)  # the right-hand pavement
+        eye = (float(x), config.pedestrian_height, float(z))
+        return View(index, "walk", eye, _heading(direction), 0.0, config.fov, 0.3, date, hours)
+    points = streets.segments.reshape(-1, 2)
+    low, high = points.min(axis=0), points.max(axis=0)
+    centre, radius = (low + high) / 2, 0.6 * float(np.max(high - low))
+    angle = 2 * np.pi * index / frames
+    x, z = centre + radius * np.array([np.sin(angle), -np.cos(angle)])  # starts north of the centre, turns east
+    height = radius * np.tan(np.radians(ORBIT_PITCH))
+    heading = _heading(centre - np.array([x, z]))
+    eye = (float(x), float(height), float(z))
+    return View(index, "orbit", eye, heading, -ORBIT_PITCH, config.fov, max(0.5, height / 100.0), date, hours)
