@@ -8,6 +8,7 @@ as a capped regular file and its nesting is bounded before tomllib recurses into
 from __future__ import annotations
 
 import datetime as dt
+import importlib.util
 import math
 import tomllib
 from dataclasses import dataclass
@@ -153,6 +154,9 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
     }
     if sum(shares.values()) <= 0:
         _fail(where, "views", shares, "at least one kind of view needs a share above 0")
+    arrays = _choice(where, "output.arrays", get("output", "arrays"), FORMATS)
+    if arrays == "exr" and importlib.util.find_spec("OpenEXR") is None:
+        _fail(where, "output.arrays", arrays, "needs OpenEXR: pip install 'cityshade[exr]', or use npz")
     return DatasetConfig(
         width=int(_number(where, "image.width", get("image", "width"), 8, MAX_IMAGE_SIDE, integer=True)),
         height=int(_number(where, "image.height", get("image", "height"), 8, MAX_IMAGE_SIDE, integer=True)),
@@ -169,7 +173,7 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
         hours=_pair(where, "time.hours", get("time", "hours"), 0.0, 23.99),
         ignore=_classes(where, "classes.ignore", get("classes", "ignore")),
         batch=int(_number(where, "run.batch", get("run", "batch"), 1, 1024, integer=True)),
-        arrays=_choice(where, "output.arrays", get("output", "arrays"), FORMATS),
+        arrays=arrays,
         kitti_depth=_flag(where, "output.kitti_depth", get("output", "kitti_depth")),
         classes=_choice(where, "output.classes", get("output", "classes"), CLASS_SETS),
         panoptic=_flag(where, "output.panoptic", get("output", "panoptic")),
