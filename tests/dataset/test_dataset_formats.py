@@ -29,6 +29,7 @@ from cityshade.dataset import (
     ray_distance,
     read_manifest,
     sequence_view,
+    walk_camera,
     walk_route,
     write_gathered,
     write_sample,
@@ -295,3 +296,15 @@ def test_orbit_views_circle_the_streets_looking_at_the_centre():
         forward = np.array([np.sin(np.radians(view.heading)), -np.cos(np.radians(view.heading))])
         np.testing.assert_allclose(forward, (centre - eye) / np.linalg.norm(centre - eye), atol=1e-9)
         assert view.pitch == -35.0 and view.date is None
+
+
+def test_a_video_walk_goes_the_whole_route():
+    start, end = walk_camera(STREETS, 0.0), walk_camera(STREETS, 1.0)
+    np.testing.assert_allclose(start.eye, (0.0, 1.7, 6.0))
+    direction = np.array([60.0, 5.0]) / np.hypot(60.0, 5.0)
+    np.testing.assert_allclose(
+        np.take(end.eye, [0, 2]), np.array([160.0, 5.0]) + 6.0 * np.array([-direction[1], direction[0]])
+    )
+    middle = walk_camera(STREETS, 0.25)  # 40 m of 160 m: on the first street, looking east along it
+    assert middle.eye[0] == pytest.approx(0.25 * (100.0 + np.hypot(60.0, 5.0)))
+    assert middle.target[0] > middle.eye[0] and middle.target[2] == pytest.approx(middle.eye[2])

@@ -35,7 +35,7 @@ from ._sample import (
 )
 from ._shards import write_shards
 from ._source import Source, load_source
-from ._views import KINDS, SEQUENCES, Streets, View, sample_view, sequence_view, walk_route
+from ._views import KINDS, SEQUENCES, Streets, View, sample_view, sequence_view, walk_camera, walk_route
 
 __all__ = [
     "CITYSCAPES_LABEL_IDS",
@@ -56,6 +56,7 @@ __all__ = [
     "SEQUENCES",
     "sequence_view",
     "walk_route",
+    "walk_camera",
     "CLASS_COLOURS",
     "CLASSES",
     "IGNORE",

@@ -184,6 +184,26 @@ def _along(route: np.ndarray, distance: float):
     return route[k] + direction * (distance - at[k]), direction
 
 
+def walk_eye(streets: Streets, route: np.ndarray, distance: float, height: float):
+    """(eye, heading) `distance` metres along the walk route: on the right-hand pavement (half the
+    streets' median width and a metre off the centreline), looking along the street."""
+    point, direction = _along(route, distance)
+    width = float(np.median(streets.widths))
+    x, z = point + np.array([-direction[1], direction[0]]) * (width / 2 + 1.0)
+    return (float(x), height, float(z)), _heading(direction)
+
+
+def route_length(route: np.ndarray) -> float:
+    return float(np.sum(np.linalg.norm(np.diff(route, axis=0), axis=1)))
+
+
+def walk_camera(streets: Streets, t: float, height: float = 1.7, fov: float = 60.0) -> Camera:
+    """The camera a share `t` (0..1) of the way along the whole walk route (cityshade video --path walk)."""
+    route = walk_route(streets)
+    eye, heading = walk_eye(streets, route, t * route_length(route), height)
+    return View(0, "walk", eye, heading, 0.0, fov, 0.3, None, 12.0).camera()
+
+
 def sequence_view(
     index: int, frames: int, path: str, seed: int, config: DatasetConfig, streets: Streets, has_date: bool
 ) -> View:
@@ -197,13 +217,9 @@ def sequence_view(
     date = day.isoformat() if has_date else None
     if path == "walk":
         route = walk_route(streets)
-        length = float(np.sum(np.linalg.norm(np.diff(route, axis=0), axis=1)))
-        step = min(length / max(frames - 1, 1), WALK_STEP)
-        point, direction = _along(route, index * step)
-        width = float(np.median(streets.widths))
-        x, z = point + np.array([-direction[1], direction[0]]) * (width / 2 + 1.0)  # the right-hand pavement
-        eye = (float(x), config.pedestrian_height, float(z))
-        return View(index, "walk", eye, _heading(direction), 0.0, config.fov, 0.3, date, hours)
+        step = min(route_length(route) / max(frames - 1, 1), WALK_STEP)
+        eye, heading = walk_eye(streets, route, index * step, config.pedestrian_height)
+        return View(index, "walk", eye, heading, 0.0, config.fov, 0.3, date, hours)
     points = streets.segments.reshape(-1, 2)
     low, high = points.min(axis=0), points.max(axis=0)
     centre, radius = (low + high) / 2, 0.6 * float(np.max(high - low))
