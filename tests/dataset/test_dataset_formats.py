@@ -308,3 +308,21 @@ def test_a_video_walk_goes_the_whole_route():
     middle = walk_camera(STREETS, 0.25)  # 40 m of 160 m: on the first street, looking east along it
     assert middle.eye[0] == pytest.approx(0.25 * (100.0 + np.hypot(60.0, 5.0)))
     assert middle.target[0] > middle.eye[0] and middle.target[2] == pytest.approx(middle.eye[2])
+
+
+def test_samples_name_a_damaged_file_in_one_line(tmp_path):
+    import tarfile
+
+    (tmp_path / "samples").mkdir()
+    row = write_sample(tmp_path, _view(0), _arrays(0), CONFIG, SOURCE_IDS, WHEN, None)
+    write_manifest(tmp_path, [row])
+    (tmp_path / row["distance"]).write_bytes(b"PK\x03\x04 not a zip")
+    with pytest.raises(UsageError, match=r"row of sample 0, column distance: not a readable .npz archive; remove"):
+        Samples(tmp_path)[0]
+    shard = tmp_path / "bad.tar"
+    with tarfile.open(shard, "w") as tar:
+        for name in ("rgb", "meta"):
+            tar.add(tmp_path / row[name], arcname=row[name].rpartition("/")[2])
+        tar.add(tmp_path / row["distance"], arcname="0000000.class.png")  # not a PNG
+    with pytest.raises(UsageError, match=r"bad.tar: 0000000.class.png: not a readable PNG image$"):
+        Samples(shard)[0]

@@ -41,23 +41,41 @@ def _image(data: bytes) -> np.ndarray:
     return np.asarray(image)
 
 
+class SampleFileError(ValueError):
+    """A file of a sample that cannot be read: its name (the manifest's column) and why."""
+
+    def __init__(self, name: str, reason: str):
+        super().__init__(f"{name}: {reason}")
+        self.name, self.reason = name, reason
+
+
+def _decoded(name: str, file_name: str, data: bytes) -> np.ndarray:
+    if file_name.endswith(".png"):
+        try:
+            return _image(data)
+        except (OSError, ValueError, SyntaxError, EOFError, Image.DecompressionBombError):
+            raise ArrayFileError("not a readable PNG image") from None
+    array = decode(data, file_name, "ui" if name in INTEGER_ARRAYS else "f")
+    return array.astype(np.float32) if array.dtype == np.float16 else array  # normals, widened exactly
+
+
 def item_from_files(files: dict[str, tuple[str, bytes]]) -> tuple[dict, dict]:
-    """(item, camera JSON) from name -> (file name, bytes); raises ArrayFileError or ValueError."""
-    meta = json.loads(files["meta"][1])
-    item = {"index": int(meta["index"])}
+    """(item, camera JSON) from name -> (file name, bytes); raises SampleFileError."""
+    try:
+        meta = json.loads(files["meta"][1])
+        item = {
+            "index": int(meta["index"]),
+            "K": np.asarray(meta["K"], np.float64).reshape(3, 3),
+            "world_to_camera": np.asarray(meta["world_to_camera"], np.float64).reshape(4, 4),
+        }
+    except (ValueError, KeyError, TypeError, RecursionError):
+        raise SampleFileError("meta", "not a sample's camera JSON") from None
     for name, (file_name, data) in files.items():
-        if name == "meta":
-            continue
-        if file_name.endswith(".png"):
+        if name != "meta":
             try:
-                item[name] = _image(data)
-            except (OSError, ValueError, SyntaxError, EOFError, Image.DecompressionBombError):
-                raise ArrayFileError("not a readable PNG image") from None
-        else:
-            array = decode(data, file_name, "ui" if name in INTEGER_ARRAYS else "f")
-            item[name] = array.astype(np.float32) if array.dtype == np.float16 else array  # normals, widened exactly
-    item["K"] = np.asarray(meta["K"], np.float64)
-    item["world_to_camera"] = np.asarray(meta["world_to_camera"], np.float64)
+                item[name] = _decoded(name, file_name, data)
+            except ArrayFileError as exc:
+                raise SampleFileError(name, str(exc)) from None
     return item, meta
 
 
@@ -116,10 +134,11 @@ class Samples:
         files = self._files(i)
         try:
             return item_from_files(files)
-        except (ArrayFileError, ValueError, KeyError, TypeError) as exc:
+        except SampleFileError as exc:
             if self.folder is not None:
-                raise sample_error(self.folder, self.rows[i], "meta", f"unreadable sample ({exc})") from None
-            raise UsageError(f"{next(iter(self.members[i].values()))[0]}: unreadable sample {i} ({exc})") from None
+                raise sample_error(self.folder, self.rows[i], exc.name, exc.reason) from None
+            shard, member = self.members[i][exc.name]
+            raise UsageError(f"{shard}: {member.name}: {exc.reason}") from None
 
     def __getitem__(self, i: int) -> dict:
         """Sample i: `index`, `rgb` (HxWx3 uint8), `depth` and `distance` (HxW float32 metres),
