@@ -45,6 +45,7 @@ from cityshade.dataset.testing import (
     write_manifest,
 )
 from cityshade.errors import UsageError
+from cityshade.scene import PATHS, make_city
 
 W, H = 24, 16
 CONFIG = parse_config(
@@ -283,19 +284,18 @@ def test_walk_views_follow_a_street_close_together():
     }
 
 
-def test_orbit_views_circle_the_streets_looking_at_the_centre():
+def test_orbit_views_are_the_video_orbit_from_the_seed_time():
+    city = make_city("default")
     config = parse_config({})
-    views = [sequence_view(i, 8, "orbit", 0, config, STREETS, False) for i in range(8)]
-    centre = np.array([80.0, 30.0])
-    eyes = np.array([(v.eye[0], v.eye[2]) for v in views])
-    radii = np.linalg.norm(eyes - centre, axis=1)
-    assert np.allclose(radii, 0.6 * 160.0)
-    angles = np.degrees(np.arctan2(eyes[:, 0] - centre[0], centre[1] - eyes[:, 1])) % 360
-    np.testing.assert_allclose(np.diff(np.unwrap(np.radians(angles))), np.radians(45.0))
-    for view, eye in zip(views, eyes):
-        forward = np.array([np.sin(np.radians(view.heading)), -np.cos(np.radians(view.heading))])
-        np.testing.assert_allclose(forward, (centre - eye) / np.linalg.norm(centre - eye), atol=1e-9)
-        assert view.pitch == -35.0 and view.date is None
+    views = [sequence_view(i, 8, "orbit", 0, config, STREETS, False, city) for i in range(8)]
+    for k, view in enumerate(views):
+        expected = PATHS["orbit"](city, k / 8)
+        camera = view.camera()
+        np.testing.assert_allclose(camera.eye, expected.eye, atol=1e-9)
+        forward = np.subtract(camera.target, camera.eye)
+        towards = np.subtract(expected.target, expected.eye)
+        np.testing.assert_allclose(forward / np.linalg.norm(forward), towards / np.linalg.norm(towards), atol=1e-9)
+        assert view.kind == "orbit" and view.date is None and view.hours == views[0].hours
 
 
 def test_a_video_walk_goes_the_whole_route():

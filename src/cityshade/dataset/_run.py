@@ -336,7 +336,7 @@ def generate(
     done = complete_rows(out)
     samples_folder = folder_file(out, "samples")
     views = [
-        sequence_view(i, samples, path, seed, config, source.streets, source.has_date)
+        sequence_view(i, samples, path, seed, config, source.streets, source.has_date, source.city)
         if path is not None
         else sample_view(i, seed, config, source.streets, source.has_date)
         for i in range(samples)

@@ -16,7 +16,7 @@ import numpy as np
 import shapely
 
 from ..maps import MAIN_ROADS, ROAD_LINKS
-from ..scene import Camera, City
+from ..scene import PATHS, Camera, City
 from ._config import DatasetConfig
 
 KINDS = ("pedestrian", "vehicle", "aerial")
@@ -141,7 +141,6 @@ def sample_view(index: int, seed: int, config: DatasetConfig, streets: Streets, 
 
 SEQUENCES = ("walk", "orbit")  # --path
 WALK_STEP = 2.0  # metres at most between consecutive walk views, so that neighbours overlap
-ORBIT_PITCH = 35.0  # degrees below the horizon, looking at the streets' centre
 
 
 def _key(point) -> tuple[float, float]:
@@ -205,11 +204,19 @@ def walk_camera(streets: Streets, t: float, height: float = 1.7, fov: float = 60
 
 
 def sequence_view(
-    index: int, frames: int, path: str, seed: int, config: DatasetConfig, streets: Streets, has_date: bool
+    index: int,
+    frames: int,
+    path: str,
+    seed: int,
+    config: DatasetConfig,
+    streets: Streets,
+    has_date: bool,
+    city: City | None = None,
 ) -> View:
     """View `index` of `frames` consecutive views: `walk` at pedestrian height beside the walk
     route's carriageway, looking ahead, WALK_STEP metres apart at most; `orbit` once around the
-    streets' centre, looking down at it. Every frame has the same date and time (from the seed)."""
+    city's buildings as `cityshade video` circles them (scene's orbit path, `city` needed).
+    Every frame has the same date and time (from the seed)."""
     rng = np.random.default_rng([seed])
     first, last = config.day_range
     day = first + dt.timedelta(days=int(rng.integers(0, (last - first).days + 1)))
@@ -220,12 +227,9 @@ def sequence_view(
         step = min(route_length(route) / max(frames - 1, 1), WALK_STEP)
         eye, heading = walk_eye(streets, route, index * step, config.pedestrian_height)
         return View(index, "walk", eye, heading, 0.0, config.fov, 0.3, date, hours)
-    points = streets.segments.reshape(-1, 2)
-    low, high = points.min(axis=0), points.max(axis=0)
-    centre, radius = (low + high) / 2, 0.6 * float(np.max(high - low))
-    angle = 2 * np.pi * index / frames
-    x, z = centre + radius * np.array([np.sin(angle), -np.cos(angle)])  # starts north of the centre, turns east
-    height = radius * np.tan(np.radians(ORBIT_PITCH))
-    heading = _heading(centre - np.array([x, z]))
-    eye = (float(x), float(height), float(z))
-    return View(index, "orbit", eye, heading, -ORBIT_PITCH, config.fov, max(0.5, height / 100.0), date, hours)
+    camera = PATHS["orbit"](city, index / frames)
+    look = np.subtract(camera.target, camera.eye)
+    heading = _heading(look[[0, 2]])
+    pitch = float(np.degrees(np.arctan2(look[1], np.hypot(look[0], look[2]))))
+    eye = tuple(float(v) for v in camera.eye)
+    return View(index, "orbit", eye, heading, pitch, config.fov, camera.near, date, hours)
