@@ -326,3 +326,21 @@ def test_samples_name_a_damaged_file_in_one_line(tmp_path):
         tar.add(tmp_path / row["distance"], arcname="0000000.class.png")  # not a PNG
     with pytest.raises(UsageError, match=r"bad.tar: 0000000.class.png: not a readable PNG image$"):
         Samples(shard)[0]
+
+
+@pytest.mark.parametrize(
+    "extra, words",
+    [
+        (["--path", "walk"], "give --path walk|orbit with --frames N"),
+        (["--frames", "4"], "give --path walk|orbit with --frames N"),
+        (["--path", "walk", "--frames", "4", "--samples", "4"], "give --frames N with --path, not --samples"),
+    ],
+)
+def test_sequence_arguments_are_one_line(tmp_path, capsys, extra, words):
+    from cityshade.commands import main
+
+    out = tmp_path / "ds"
+    argv = ["dataset", "--city", "default", "--out", str(out), *extra]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1 and not out.exists()
