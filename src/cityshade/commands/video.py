@@ -48,8 +48,8 @@ def render_video(
     frames: int = 48,
     fps: int = 24,
     size: tuple[int, int] = (640, 360),
-    start_time: str = "19:10",
-    end_time: str | None = None,
+    start_time: str | float = "19:10",
+    end_time: str | float | None = None,
     progress: bool = True,
     sky=None,
     workers: int | None = None,
@@ -77,7 +77,7 @@ def render_video(
         if len(route.segments):
             move = lambda _, t: walk_camera(route, t)  # noqa: E731
     begin = parse_time(start_time)
-    finish = parse_time(end_time) if end_time else begin
+    finish = parse_time(end_time) if end_time is not None else begin
     base = RenderSettings(time_of_day=begin)
 
     def job(i: int):
