@@ -25,7 +25,7 @@ from cityshade.errors import UsageError
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 TINY = {"image": {"width": 48, "height": 32}, "run": {"batch": 1}}
-OUTPUTS = ("rgb", "depth", "normal", "class", "instance", "meta")
+OUTPUTS = ("rgb", "depth", "distance", "normal", "class", "instance", "meta")
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +49,7 @@ def _check_complete(folder: Path, samples: int) -> list[dict]:
         for name in OUTPUTS:
             assert (folder / row[name]).is_file(), row[name]
         Image.open(folder / row["rgb"]).verify()
-        assert np.load(folder / row["depth"]).dtype == np.float32
+        assert np.load(folder / row["depth"])["array"].dtype == np.float32
         assert json.loads((folder / row["meta"]).read_text())["index"] == row["index"]
     assert not [p for p in (folder / "samples").iterdir() if p.name.startswith(".")], "a temporary file is left"
     assert len(list((folder / "samples").iterdir())) == samples * len(OUTPUTS)
@@ -266,6 +266,33 @@ def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output
     preview = Image.open(out / "preview.png")
     assert preview.width == 4 * 48 and preview.height > 3 * 32
     preview.save(output_dir / "dataset_preview_tiny.png")
+
+
+@pytest.mark.slow  # starts Ray (make test-slow)
+def test_command_writes_a_walk_sequence_with_panoptic_and_cityscapes(ray_runtime, tmp_path, capsys):
+    """--path walk --frames 5 --panoptic --classes cityscapes: every frame's files, the
+    reconstruction tools' files over the five frames, and Samples reading them back."""
+    from cityshade.dataset import Samples
+
+    config = tmp_path / "tiny.toml"
+    config.write_text("[image]\nwidth = 48\nheight = 32\n[output]\nkitti_depth = true\n")
+    out = tmp_path / "walk"
+    argv = ["dataset", "--city", "default", "--path", "walk", "--frames", "5", "--out", str(out)]
+    code = main([*argv, "--config", str(config), "--panoptic", "--classes", "cityscapes"])
+    assert code == 0, capsys.readouterr().err
+    rows = read_manifest(out)
+    assert [row["kind"] for row in rows] == ["walk"] * 5
+    items = Samples(out)
+    eyes = np.array([items.meta(i)["eye"] for i in range(5)])
+    assert (np.linalg.norm(np.diff(eyes, axis=0), axis=1) <= 2.0 + 1e-9).all()
+    assert set(items[0]) >= {"label_ids", "train_ids", "kitti_depth", "distance"}
+    transforms = json.loads((out / "transforms.json").read_text())
+    assert [f["file_path"] for f in transforms["frames"]] == [row["rgb"] for row in rows]
+    assert (out / "colmap" / "images.txt").read_text().count(".rgb.png") == 5
+    panoptic = json.loads((out / "panoptic.json").read_text())
+    assert len(panoptic["annotations"]) == 5
+    assert all((out / "panoptic" / a["file_name"]).is_file() for a in panoptic["annotations"])
+    assert any(s["category_id"] == 100 for a in panoptic["annotations"] for s in a["segments_info"])
 
 
 @pytest.mark.slow  # starts Ray (make test-slow)

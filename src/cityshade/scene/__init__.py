@@ -56,7 +56,7 @@ from ._meshes import (
     building_vertices,
     world_positions,
 )
-from ._paths import PATHS, camera_path
+from ._paths import LOOPS, PATHS, camera_path
 from ._raycast import intersect
 from ._records import BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, rotation_y
 from ._roofs import ROOF_SHAPE_TABLE, Roof, RoofShape
@@ -106,6 +106,7 @@ __all__ = [
     "building_vertices",
     "BUILDING_DTYPE",
     "rotation_y",
+    "LOOPS",
     "PATHS",
     "camera_path",
     "intersect",

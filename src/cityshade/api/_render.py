@@ -7,19 +7,19 @@ from time import perf_counter
 
 import numpy as np
 
-from ._values import check_lights, check_samples, check_seed, check_size, parse_time
-from .errors import UsageError
-from .render import Renderer, RenderSettings, TileCache, guessed_aov
-from .scene import City, make_city
+from .._values import check_lights, check_samples, check_seed, check_size, parse_time
+from ..errors import UsageError
+from ..render import Renderer, RenderSettings, TileCache, guessed_aov
+from ..scene import Camera, City, make_city
 
 
 def render_city(
     city: str | City = "default",
     seed: int | None = None,
-    camera: str = "street",
+    camera: str | Camera = "street",
     size: tuple[int, int] = (1280, 720),
     lights: float | None = None,
-    time: str = "19:10",
+    time: str | float = "19:10",
     interior_mapping: bool = True,
     frames: int = 3,
     profile: bool = False,
@@ -35,7 +35,8 @@ def render_city(
     aov="guessed" tints the buildings by what the map gave and what was guessed (render/_guessed.py).
     `tiles` (a tile cache, render.open_tiles) draws its city instead, streamed with at most
     `memory_budget` bytes of tiles resident (None: all); the first frame waits for the tiles its
-    view needs. Bad arguments raise UsageError with the message the command line prints."""
+    view needs. `camera` is one of the city's viewpoints by name or a Camera; `time` is "HH:MM" or
+    hours. Bad arguments raise UsageError with the message the command line prints."""
     if aov not in (None, "guessed"):
         raise UsageError(f"unknown aov {aov!r}; allowed: guessed")
     size, lights = check_size(size), check_lights(lights)
@@ -51,7 +52,7 @@ def render_city(
         layout = tiles.city
     else:
         layout = city if isinstance(city, City) else make_city(city, seed)
-    view = layout.camera(camera)
+    view = camera if isinstance(camera, Camera) else layout.camera(camera)
     renderer = Renderer(
         size, RenderSettings(lights=lights, time_of_day=parse_time(time), interior_mapping=interior_mapping, **settings)
     )
