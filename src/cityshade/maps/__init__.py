@@ -3,7 +3,6 @@
 from ._cameras import aerial_camera, spot_camera, street_camera, street_segment
 from ._doors import on_ground
 from ._guess import guess_missing
-from ._learn import PRIOR_FILE, Prior, load_prior, prior_city
 from ._load import load_map
 from ._masses import building_masses, facade_style
 from ._model import (
@@ -22,7 +21,6 @@ from ._model import (
     to_scene,
 )
 from ._open import city_from_map
-from ._prior import hide_sizes, prior_bytes, train_prior
 from ._scene import city_from_guessed, map_city
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
 from ._tiling import measure_load, tiled_extract
@@ -49,13 +47,6 @@ __all__ = [
     "building_masses",
     "facade_style",
     "guess_missing",
-    "PRIOR_FILE",
-    "Prior",
-    "load_prior",
-    "prior_city",
-    "hide_sizes",
-    "prior_bytes",
-    "train_prior",
     "load_map",
     "to_scene",
     "measure_load",
