@@ -28,7 +28,8 @@ def test_quick_run_records_timing_and_methods(tmp_path, name):
     path = tmp_path / f"{name}.json"
     assert main(["bench", name, "--quick", "--out-dir", str(tmp_path / "out"), "--json", str(path)]) == 0
     data = json.loads(path.read_text())
-    assert data["ratios"] and all(np.isfinite(v) for v in data["ratios"].values() if isinstance(v, float))
+    assert data["ratios"] or data["tables"], "a benchmark reports numbers"
+    assert all(np.isfinite(v) for v in data["ratios"].values() if isinstance(v, float))
     assert data["notes"] or data["methods"], "every benchmark says how it measured"
     if name in STAGE_TIMED:
         assert not data["timing"], "stages are timed run by run, not frame by frame"
