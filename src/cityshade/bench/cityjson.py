@@ -116,6 +116,14 @@ def _timed(path: Path, repeats: int) -> tuple[float, int, int]:
     return statistics.median(times), data.drawn_types.get("Building", 0), len(city.masses)
 
 
+def _measured_row(rows: list, label: str, path: Path, repeats: int) -> float:
+    """Times loading `path`, adds its table row to `rows`, and returns the seconds."""
+    seconds, buildings, masses = _timed(path, repeats)
+    size = round(path.stat().st_size / 1e6, 2)
+    rows.append([label, buildings, masses, size, round(seconds, 2), round(buildings / seconds, 1)])
+    return seconds
+
+
 def run(quick: bool, out_dir: Path) -> BenchResult:
     if not TILE_SOURCE.is_file():
         raise CityshadeError(f"{TILE_SOURCE} is missing: the benchmark runs in cityshade's source tree", exit_code=2)
@@ -132,30 +140,10 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
         sequence = Path(folder) / "tile.city.jsonl"
         sequence.write_text("\n".join(sequence_lines(document)) + "\n")
         for label, path in (("3D BAG tile, document", tile), ("3D BAG tile, CityJSONSeq", sequence)):
-            seconds, buildings, masses = _timed(path, repeats)
-            rows.append(
-                [
-                    label,
-                    buildings,
-                    masses,
-                    round(path.stat().st_size / 1e6, 2),
-                    round(seconds, 2),
-                    round(buildings / seconds, 1),
-                ]
-            )
+            seconds = _measured_row(rows, label, path, repeats)
             result.ratios[f"{'seq' if path is sequence else 'document'}_tile_seconds"] = seconds
     for label, path in REAL.items():
-        seconds, buildings, masses = _timed(path, repeats)
-        rows.append(
-            [
-                label,
-                buildings,
-                masses,
-                round(path.stat().st_size / 1e6, 2),
-                round(seconds, 2),
-                round(buildings / seconds, 1),
-            ]
-        )
+        _measured_row(rows, label, path, repeats)
     result.add_table(
         f"Load and mesh ({wanted} tiled buildings of {TILE_SOURCE.name})",
         ["file", "buildings", "masses", "MB", "seconds", "buildings per second"],
