@@ -1,5 +1,5 @@
 # cityshade: `make demo` renders the default city, `make test` runs the suite (`make test-slow`: the
-# command-line render checks that take minutes), `make lint` checks style.
+# checks that take minutes: command-line renders, Ray runs, whole scenes against their numpy twins), `make lint` checks style.
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
@@ -46,10 +46,10 @@ lint: setup
 	@! git grep -nE '^(<<<<<<<|>>>>>>>)( |$$)' -- . || { echo "merge conflict markers left in the files above"; exit 1; }
 
 test: setup data
-	$(BIN)/python -m pytest -n 2 -q -m "not slow and not fuzz"
+	$(BIN)/python -m pytest -n 2 --dist worksteal -q -m "not slow and not fuzz"
 
 test-slow: setup
-	$(BIN)/python -m pytest -n 2 -q -m slow
+	$(BIN)/python -m pytest -n 2 --dist worksteal -q -m slow
 
 # The fuzzers with a large budget: CITYSHADE_FUZZ_SECONDS per fuzzer (default 60; docs/robustness.md).
 fuzz: setup
@@ -61,14 +61,17 @@ bench: setup
 bench-quick: setup
 	for b in $(BENCHES); do $(BIN)/cityshade bench $$b --quick --json bench-results/$$b-quick.json || exit 1; done
 
-# The Khronos glTF validator (npm gltf-validator, in ./node_modules) on exported Helsinki (GLB and
-# 3D Tiles; © OpenStreetMap contributors, ODbL 1.0) and the built-in district: fails on any error
+# The Khronos glTF validator (npm gltf-validator, in ./node_modules) on exported Helsinki (GLB at
+# texel 0.25 and at the default, and 3D Tiles; © OpenStreetMap contributors, ODbL 1.0) and the
+# built-in district: fails on any error; then the tileset against Helsinki's OSM nodes (0.5 m)
 validate-export: setup data
 	npm install --no-save --no-package-lock --no-audit --no-fund gltf-validator@2.0.0-dev.3.10
 	$(BIN)/cityshade export --city default --out out/export/default.glb --texel 0.25
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki.glb --texel 0.25
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-tiles --format 3dtiles --texel 0.25
-	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles
+	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-default.glb
+	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles out/export/helsinki-default.glb
+	$(BIN)/python scripts/check-georeference.py out/export/helsinki-tiles data/Helsinki.osm.pbf
 
 clean:
 	rm -rf $(VENV) out bench-results

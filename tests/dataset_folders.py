@@ -31,9 +31,9 @@ def png(array: np.ndarray) -> bytes:
     return buffer.getvalue()
 
 
-def npy(array: np.ndarray) -> bytes:
+def npz(array: np.ndarray) -> bytes:
     buffer = io.BytesIO()
-    np.save(buffer, array)
+    np.savez_compressed(buffer, array=array)
     return buffer.getvalue()
 
 
@@ -42,11 +42,23 @@ def sample_bytes(index: int, size=SIZE) -> dict[str, bytes]:
     rng = np.random.default_rng(index)
     return {
         "rgb": png(rng.integers(0, 255, (h, w, 3), dtype=np.uint8)),
-        "depth": npy(rng.uniform(1, 100, (h, w)).astype(np.float32)),
-        "normal": npy(np.zeros((h, w, 3), np.float32)),
+        "depth": npz(rng.uniform(1, 100, (h, w)).astype(np.float32)),
+        "distance": npz(rng.uniform(1, 100, (h, w)).astype(np.float32)),
+        "normal": npz(np.zeros((h, w, 3), np.float16)),
         "class": png(rng.integers(0, 17, (h, w), dtype=np.uint8)),
-        "instance": npy(rng.integers(0, 3, (h, w)).astype(np.uint32)),
-        "meta": json.dumps({"index": index, "eye": [0.0, 1.7, 0.0], "local_time": "12:00"}).encode(),
+        "instance": npz(rng.integers(0, 3, (h, w, 2)).astype(np.uint32)),
+        "meta": json.dumps(
+            {
+                "index": index,
+                "eye": [0.0, 1.7, 0.0],
+                "local_time": "12:00",
+                "width": w,
+                "height": h,
+                "K": [[5.0, 0.0, (w - 1) / 2], [0.0, 5.0, (h - 1) / 2], [0.0, 0.0, 1.0]],
+                "world_to_camera": np.identity(4).tolist(),
+                "files": {name: Path(path).name for name, path in sample_files(index).items()},
+            }
+        ).encode(),
     }
 
 

@@ -25,11 +25,19 @@ def check_size(size) -> tuple[int, int]:
     return width, height
 
 
-def parse_time(text: str) -> float:
-    """'HH:MM' -> hours as a float."""
-    match = re.fullmatch(r"(\d{1,2}):(\d{2})", text.strip()) if isinstance(text, str) else None
+def parse_time(value: str | float) -> float:
+    """A time of day, 'HH:MM' or hours (a number from 0 to under 24), as hours: the one type every
+    `time` of the API and the command line goes through."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if math.isfinite(value) and 0.0 <= value < 24.0:
+            return float(value)
+        match = None
+    else:
+        match = re.fullmatch(r"(\d{1,2}):(\d{2})", value.strip()) if isinstance(value, str) else None
     if not match or int(match.group(1)) > 23 or int(match.group(2)) > 59:
-        raise UsageError(f"invalid time {text!r}; use HH:MM from 00:00 to 23:59, e.g. 18:50")
+        raise UsageError(
+            f"invalid time {value!r}; use HH:MM from 00:00 to 23:59, e.g. 18:50, or hours from 0 to under 24, e.g. 18.83"
+        )
     return int(match.group(1)) + int(match.group(2)) / 60.0
 
 

@@ -28,6 +28,8 @@ MOVE_SPEED = 25.0  # metres per second
 LOOK_SPEED = 0.15  # degrees per pixel of mouse motion
 TIME_STEP = 0.25  # hours per key press
 DEFAULT_TARGET_FPS = 15.0
+MIN_NEAR = 0.3  # metres: the nearest near plane a camera flown down to the street gets
+STREET_SHADOWS = 160.0  # metres: below this reach the renderer's default (made for street views) is used
 
 TOGGLES = {"I": "interior_mapping", "P": "depth_prepass", "F": "furniture", "L": "lod", "C": "curtains"}
 KEY_NAMES = (
@@ -56,9 +58,13 @@ HELP = (
 
 
 class FlyCamera:
-    """Position + yaw/pitch, turned into a look-at Camera each frame."""
+    """Position + yaw/pitch, turned into a look-at Camera each frame with the start camera's lens:
+    its field of view and far plane, and its near plane and shadow reach scaled with the height
+    (an aerial view of a whole city starts kilometres away, far beyond a street view's 4 km far
+    plane; flown down to the street, a near plane of a hundred metres would cut the street away)."""
 
     def __init__(self, start: Camera):
+        self.start = start
         self.position = start.eye.copy()
         forward = start.forward
         self.yaw = math.degrees(math.atan2(forward[0], -forward[2]))
@@ -82,7 +88,17 @@ class FlyCamera:
         self.pitch = float(np.clip(self.pitch - dy * LOOK_SPEED, -89.0, 89.0))
 
     def camera(self) -> Camera:
-        return Camera(tuple(self.position), tuple(self.position + self.forward), fov_y=self.fov)
+        start = self.start
+        scale = max(float(self.position[1]), 1.0) / max(float(start.position[1]), 1.0)
+        reach = None if start.shadow_far is None else start.shadow_far * scale
+        return replace(
+            start,
+            position=tuple(self.position),
+            target=tuple(self.position + self.forward),
+            fov_y=self.fov,
+            near=max(start.near * scale, min(start.near, MIN_NEAR)),
+            shadow_far=reach if reach is not None and reach > STREET_SHADOWS else None,
+        )
 
 
 class CityViewer(mglw.WindowConfig):
@@ -99,6 +115,7 @@ class CityViewer(mglw.WindowConfig):
     target_fps: float | None = DEFAULT_TARGET_FPS  # None: always the window's full resolution
     tiles = None  # a tile cache to stream the city from (render.open_tiles), instead of `city`
     memory_budget: int | None = None  # bytes of tiles resident at most (None: all)
+    stop_after: int | None = None  # frames to draw before the window closes by itself (a screenshot)
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -110,10 +127,14 @@ class CityViewer(mglw.WindowConfig):
             city = self.city if isinstance(self.city, City) else make_city(self.city)
             self.renderer.set_city(city)
         self.fly = FlyCamera(city.camera(self.camera_name))
+        if self.stop_after is not None:  # a screenshot shows the view streamed in, as a still does
+            self.renderer.wait_for_tiles(self.fly.camera())
         self.held: set = set()
         self.frame_times: list[float] = []
         self.lights = self.renderer.settings.lights
-        self.last_image = None
+        self.last_image = None  # with stop_after: the last frame drawn, HxWx3 uint8, top row first
+        self.frames_drawn = 0
+        self.seconds_after_first = 0.0  # drawing the frames after the first (which compiles and uploads)
         self.resolution = ResolutionScale(self.target_fps, steps=len(QUALITY_STEPS)) if self.target_fps else None
         # what the keys choose; the frame-rate controller's quality steps are taken from these
         self.chosen = self.start_settings
@@ -126,10 +147,22 @@ class CityViewer(mglw.WindowConfig):
         up = ("E" in self.held) - ("Q" in self.held)
         self.fly.move(forward, right, up, min(frametime, 0.1))
         self.chosen = replace(self.chosen, animation_time=time)
-        self.frame_times = (self.frame_times + [self.draw_frame()])[-30:]
+        seconds = self.draw_frame()
+        self.frames_drawn += 1
+        self.seconds_after_first += seconds if self.frames_drawn > 1 else 0.0
+        self.frame_times = (self.frame_times + [seconds])[-30:]
         if self.resolution is not None:
             self.resolution.update(self.frame_times[-1])
         self.wnd.title = self.status()
+        if self.stop_after is not None and self.frames_drawn >= self.stop_after:
+            self.last_image = self.read_window()
+            self.wnd.close()
+
+    def read_window(self) -> np.ndarray:
+        """What the window shows now (its back buffer, before the swap), HxWx3 uint8, top row first."""
+        width, height = self.wnd.fbo.size
+        data = self.wnd.fbo.read(viewport=(0, 0, width, height), components=3)
+        return np.frombuffer(data, np.uint8).reshape(height, width, 3)[::-1].copy()
 
     def draw_frame(self) -> float:
         """Draws the view into the window, at the internal resolution the frame rate allows and
@@ -239,12 +272,14 @@ def open_viewer(
     target_fps: float | None = DEFAULT_TARGET_FPS,
     tiles=None,
     memory_budget: int | None = None,
+    stop_after: int | None = None,
 ) -> CityViewer:
     """Creates the viewer (window + renderer) without entering the main loop. `sky` (hours -> settings,
     e.g. `maps.sky_clock`) moves the sun and moon with the clock keys. `target_fps`: the frame rate
     the internal resolution is scaled to keep, quality steps taken below its smallest scale (None or 0:
     always full resolution and quality). `tiles` (a tile
-    cache) streams its city instead, at most `memory_budget` bytes of tiles resident, never waiting."""
+    cache) streams its city instead, at most `memory_budget` bytes of tiles resident, never waiting.
+    `stop_after`: the window closes itself after that many frames, keeping the last in `last_image`."""
     if tiles is not None:
         city = tiles.city
     start = (city if isinstance(city, City) else make_city(city)).camera(camera)  # fail early on bad names
@@ -255,6 +290,7 @@ def open_viewer(
     CityViewer.target_fps = target_fps or None
     CityViewer.city, CityViewer.camera_name = city, camera
     CityViewer.tiles, CityViewer.memory_budget = tiles, memory_budget
+    CityViewer.stop_after = stop_after
     CityViewer.sky = staticmethod(sky) if sky else None  # a plain function, not bound to the viewer
     CityViewer.start_settings = settings or RenderSettings()
     args = ["--window", window, "--size", f"{size[0]}x{size[1]}"]

@@ -46,9 +46,20 @@ def test_render_settings_refuse_a_share_of_lit_rooms_outside_0_to_1(lights):
     assert RenderSettings(lights="0.25").lights == 0.25  # the command line's text, as a number
 
 
-def test_render_image_refuses_a_time_that_is_not_text():
+def test_render_image_refuses_a_time_that_is_no_time_of_day():
     with pytest.raises(UsageError, match=r"^invalid time 1910; use HH:MM from 00:00 to 23:59"):
         cityshade.render_image("interior", camera="corner", size=(16, 12), time=1910)
+
+
+@pytest.mark.parametrize("bad", [24.0, -1, float("nan"), True, "25:00", "noon"])
+def test_one_time_type_throughout_the_api(bad):
+    """Every time takes "HH:MM" or hours, through one parser, with one message for anything else."""
+    assert RenderSettings(time_of_day="18:30").time_of_day == RenderSettings(time_of_day=18.5).time_of_day == 18.5
+    assert RenderSettings().with_(time_of_day="06:15").time_of_day == 6.25
+    with pytest.raises(UsageError, match=r"^invalid time .+; use HH:MM from 00:00 to 23:59, e\.g\. 18:50, or hours"):
+        RenderSettings(time_of_day=bad)
+    with pytest.raises(UsageError, match=r"^invalid time "):
+        cityshade.render_image("interior", camera="corner", size=(16, 12), time=bad)
 
 
 @pytest.mark.parametrize(

@@ -50,6 +50,8 @@ def test_a_signal_during_compress_exits_cleanly(tmp_path, signum):
             str(library_path("dusk.grammar")),
             "--facade",
             "60x60",
+            "--texel",
+            "0.05",  # 1200 x 1200 texels: factorising takes seconds, reaching it no more
             "--out",
             str(tmp_path / "f.cfdm"),
         ],

@@ -159,7 +159,7 @@ def interior_sampler():
     sampler.release()
 
 
-@pytest.mark.parametrize("name", ["front", "corner", "yawed"])
+@pytest.mark.parametrize("name", ["front", *(pytest.param(n, marks=pytest.mark.slow) for n in ("corner", "yawed"))])
 def test_window_and_depth_agree_with_numpy_twins(interior_sampler, name, output_dir):
     city = interior_sampler.source.city
     view = _view_of(city.viewpoints[name])

@@ -206,9 +206,9 @@ def test_a_damaged_manifest_is_one_line(folder, capsys, how, command):
     [
         ("rgb", b"not an image at all", "column rgb: not a readable PNG image"),
         ("class", b"\x89PNG\r\n\x1a\n truncated", "column class: not a readable PNG image"),
-        ("depth", b"\x93NUMPY garbage", "column depth: not a readable .npy array"),
+        ("depth", b"PK\x03\x04 garbage", "column depth: not a readable .npz archive"),
         ("instance", None, "column instance: a float32 array"),
-        ("depth", b"", "column depth: not a readable .npy array"),
+        ("depth", b"", "column depth: not a readable .npz archive"),
     ],
 )
 def test_a_damaged_sample_file_is_one_line_in_preview(folder, capsys, column, content, words):

@@ -25,7 +25,7 @@ from cityshade.errors import UsageError
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
 TINY = {"image": {"width": 48, "height": 32}, "run": {"batch": 1}}
-OUTPUTS = ("rgb", "depth", "normal", "class", "instance", "meta")
+OUTPUTS = ("rgb", "depth", "distance", "normal", "class", "instance", "meta")
 
 
 @pytest.fixture(scope="module")
@@ -49,13 +49,14 @@ def _check_complete(folder: Path, samples: int) -> list[dict]:
         for name in OUTPUTS:
             assert (folder / row[name]).is_file(), row[name]
         Image.open(folder / row["rgb"]).verify()
-        assert np.load(folder / row["depth"]).dtype == np.float32
+        assert np.load(folder / row["depth"])["array"].dtype == np.float32
         assert json.loads((folder / row["meta"]).read_text())["index"] == row["index"]
     assert not [p for p in (folder / "samples").iterdir() if p.name.startswith(".")], "a temporary file is left"
     assert len(list((folder / "samples").iterdir())) == samples * len(OUTPUTS)
     return rows
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_same_seed_same_bytes_whatever_the_workers(ray_runtime, tmp_path):
     config = parse_config(TINY)
     generate(tmp_path / "one", 4, config, city="default", workers=1, seed=9, progress=False)
@@ -67,6 +68,7 @@ def test_same_seed_same_bytes_whatever_the_workers(ray_runtime, tmp_path):
     _check_complete(tmp_path / "two", 4)
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_killed_actor_leaves_every_sample_exactly_once(ray_runtime, tmp_path):
     out, samples = tmp_path / "killed", 8
     killed = []
@@ -100,6 +102,7 @@ def test_killed_actor_leaves_every_sample_exactly_once(ray_runtime, tmp_path):
     assert _files(out) == _files(clean), "a sample written around the kill differs from an undisturbed run"
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_resume_completes_and_refuses_other_settings(ray_runtime, tmp_path):
     out = tmp_path / "resumed"
     generate(out, 2, parse_config(TINY), city="default", seed=4, progress=False)
@@ -123,6 +126,7 @@ def test_resume_completes_and_refuses_other_settings(ray_runtime, tmp_path):
         generate(out, 3, parse_config(TINY), city="default", seed=4, progress=False)
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_helsinki_twenty_samples_read_back(ray_runtime, helsinki_pbf, tmp_path):
     """Central Helsinki (© OpenStreetMap contributors, ODbL 1.0): 20 tiny samples on 2 actors."""
     out = tmp_path / "helsinki"
@@ -160,6 +164,7 @@ def test_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, extra, words
     assert not out.exists()
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_more_workers_than_the_runtime_has_cpus_is_one_line_and_writes_nothing(ray_runtime, tmp_path):
     """The module's runtime has 2 CPUs: a third actor would never start, and its batches never end."""
     out = tmp_path / "ds"
@@ -168,6 +173,7 @@ def test_more_workers_than_the_runtime_has_cpus_is_one_line_and_writes_nothing(r
     assert not out.exists()
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
 def test_a_signal_during_dataset_lists_every_finished_sample(tmp_path, signum):
     """SIGTERM ends a run as Ctrl-C does, not with Ray's crash report: exit 143 (130 for SIGINT),
@@ -216,6 +222,7 @@ def test_unwritable_output_is_refused(tmp_path, capsys):
     assert code == 2 and "is not a directory" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output_dir):
     import tarfile
 
@@ -261,6 +268,34 @@ def test_command_writes_shards_and_preview(ray_runtime, tmp_path, capsys, output
     preview.save(output_dir / "dataset_preview_tiny.png")
 
 
+@pytest.mark.slow  # starts Ray (make test-slow)
+def test_command_writes_a_walk_sequence_with_panoptic_and_cityscapes(ray_runtime, tmp_path, capsys):
+    """--path walk --frames 5 --panoptic --classes cityscapes: every frame's files, the
+    reconstruction tools' files over the five frames, and Samples reading them back."""
+    from cityshade.dataset import Samples
+
+    config = tmp_path / "tiny.toml"
+    config.write_text("[image]\nwidth = 48\nheight = 32\n[output]\nkitti_depth = true\n")
+    out = tmp_path / "walk"
+    argv = ["dataset", "--city", "default", "--path", "walk", "--frames", "5", "--out", str(out)]
+    code = main([*argv, "--config", str(config), "--panoptic", "--classes", "cityscapes"])
+    assert code == 0, capsys.readouterr().err
+    rows = read_manifest(out)
+    assert [row["kind"] for row in rows] == ["walk"] * 5
+    items = Samples(out)
+    eyes = np.array([items.meta(i)["eye"] for i in range(5)])
+    assert (np.linalg.norm(np.diff(eyes, axis=0), axis=1) <= 2.0 + 1e-9).all()
+    assert set(items[0]) >= {"label_ids", "train_ids", "kitti_depth", "distance"}
+    transforms = json.loads((out / "transforms.json").read_text())
+    assert [f["file_path"] for f in transforms["frames"]] == [row["rgb"] for row in rows]
+    assert (out / "colmap" / "images.txt").read_text().count(".rgb.png") == 5
+    panoptic = json.loads((out / "panoptic.json").read_text())
+    assert len(panoptic["annotations"]) == 5
+    assert all((out / "panoptic" / a["file_name"]).is_file() for a in panoptic["annotations"])
+    assert any(s["category_id"] == 100 for a in panoptic["annotations"] for s in a["segments_info"])
+
+
+@pytest.mark.slow  # starts Ray (make test-slow)
 def test_video_frames_on_actors_are_the_same_whatever_the_workers(ray_runtime, tmp_path):
     import imageio.v2 as imageio
 

@@ -29,7 +29,7 @@ import cityshade
 from cityshade.dataset import DEFAULTS, load_config, sample_files, write_preview, write_shards
 from cityshade.dataset.testing import COLUMNS, FILES, check_record, complete_rows
 from cityshade.errors import UsageError
-from dataset_folders import make_folder, npy, opened_files, record, write_rows
+from dataset_folders import make_folder, npz, opened_files, record, write_rows
 from fuzzing import LARGE, SMALL, for_a_while
 
 SECRET = b"cityshade-fuzz-secret\n" * 333  # 7326 bytes: neither its text nor its size may show
@@ -188,7 +188,7 @@ def damages(draw) -> tuple[int, list]:
                     st.just(
                         b"\x93NUMPY\x01\x00v\x00{'descr': '<f4', 'fortran_order': False, 'shape': (99999, 99999), }"
                     ),
-                    st.just(npy(np.zeros((3, 5), "complex64"))),
+                    st.just(npz(np.zeros((3, 5), "complex64"))),
                     st.just("other sample"),
                     st.just("cut"),
                 )

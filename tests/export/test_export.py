@@ -194,6 +194,15 @@ def test_glb_round_trip_with_trimesh(tmp_path, capsys):
     assert _property_strings(gltf, "source_id") == [
         n.extras["source_id"] for n in gltf.nodes if n.name.startswith("building ")
     ]
+    for node in (n for n in gltf.nodes if n.name.startswith("building ")):
+        # its origin at the middle of its base: the quantized positions around it reach its size only
+        materials = [p.material for p in gltf.meshes[node.mesh].primitives]
+        assert len(set(materials)) == len(materials)  # one primitive per material
+        accessors = [gltf.accessors[p.attributes.POSITION] for p in gltf.meshes[node.mesh].primitives]
+        low = np.min([a.min for a in accessors], axis=0) * node.scale
+        high = np.max([a.max for a in accessors], axis=0) * node.scale
+        assert low[1] == pytest.approx(0.0, abs=0.01) and np.allclose(-low[[0, 2]], high[[0, 2]], atol=0.01)
+        assert np.all(high - low <= [120.0, node.extras["height"] + 1.0, 120.0])
 
 
 def _property_strings(gltf, name: str) -> list[str]:
@@ -232,6 +241,15 @@ def test_tileset_hierarchy_and_earth_position(tmp_path, capsys):
         return 1 + sum(walk(child, tile["geometricError"]) for child in children)
 
     assert walk(root, tileset["geometricError"]) == summary["tiles"] + 1
+    import pygltflib
+
+    counts = []
+    for tile in (out / "tiles").glob("b*.glb"):  # a building tile: one node, one primitive per material
+        gltf = pygltflib.GLTF2.load(str(tile))
+        materials = [p.material for p in gltf.meshes[0].primitives]
+        assert len(gltf.meshes) == 1 and len(set(materials)) == len(materials)
+        counts.append(len(materials))
+    assert summary["draw_calls_per_tile"]["buildings_max"] == max(counts)
     assert summary["buildings"] == 5  # two parts, the outline under the floating one, a courtyard block, a canopy
 
 
@@ -305,8 +323,10 @@ def test_region_keeps_what_lies_inside_as_gltf(tmp_path, capsys):
     assert _summary(capsys)["buildings"] == 1
     gltf = pygltflib.GLTF2.load(str(out))
     assert [n.name for n in gltf.nodes] == ["building way/400", "ground"]
-    ground = gltf.accessors[gltf.meshes[gltf.nodes[1].mesh].primitives[0].attributes.POSITION]
-    assert ground.count > 0 and ground.max[0] - ground.min[0] <= 17.7 + 1e-3  # cut to the region's 17.7 m width
+    node = gltf.nodes[1]
+    ground = gltf.accessors[gltf.meshes[node.mesh].primitives[0].attributes.POSITION]
+    width = (ground.max[0] - ground.min[0]) * (node.scale or [1.0])[0]  # quantized: in units of the node's scale
+    assert ground.count > 0 and width <= 17.7 + 1e-3  # cut to the region's 17.7 m width
 
 
 def test_faces_too_narrow_for_the_grammar_are_plain_walls_as_in_the_renderer(gl_context):
@@ -325,16 +345,18 @@ def test_faces_too_narrow_for_the_grammar_are_plain_walls_as_in_the_renderer(gl_
     assert {c.width for c in writer.canvases[0]} == {20.0}
     writer.write()
     names = [doc.gltf.materials[p.material].name for mesh in doc.gltf.meshes for p in mesh.primitives]
-    assert names.count("plain walls") == 1 and sum(n.startswith("facades") for n in names) == 2
+    # one primitive per material: both canvases lie on the one atlas page
+    assert sorted(names) == ["facades 0", "plain walls", "roofs"]
 
 
 def test_a_baked_dome_has_unit_normals_and_tangents(gl_context):
     """A dome's rings lean inwards: their tangents along the ring (glTF requires unit vectors) are
     normalised, not the horizontal part of the normal turned."""
+    from cityshade.export import Encoding
     from cityshade.export.testing import BuildingWriter, Document, Stats
     from cityshade.scene import dome
 
-    doc = Document({})
+    doc = Document({}, encoding=Encoding(geometry="plain"))  # accessors read as they are
     writer = BuildingWriter(doc, [dome((0.0, 0.0), 30.0, style=4)], [{"source_id": "way/1"}], 0.5, Stats())
     assert len(writer.canvases[0]) >= 3  # baked ring by ring
     writer.write()
@@ -369,3 +391,199 @@ def test_texel_and_lod_out_of_range_are_one_line(option, value, allowed, fmt, tm
     err = _fails(["export", "--map", str(TAGGED), "--format", fmt, "--out", str(out), option, value], capsys)
     assert f"{option} {float(value) if option == '--texel' else value}" in err and allowed in err
     assert not list(tmp_path.iterdir())
+
+
+FAR_EAST = Path(__file__).parents[1] / "data" / "export" / "far_from_meridian.osm"
+
+
+def _osm_building_nodes(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """(lon, lat) of every node of the file's building ways, and each one's building height tag."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.parse(path).getroot()
+    nodes = {n.get("id"): (float(n.get("lon")), float(n.get("lat"))) for n in root.iter("node")}
+    points, heights = [], []
+    for way in root.iter("way"):
+        tags = {t.get("k"): t.get("v") for t in way.iter("tag")}
+        if "building" in tags:
+            refs = {nd.get("ref") for nd in way.iter("nd")}
+            points += [nodes[r] for r in sorted(refs)]
+            heights += [float(tags["height"])] * len(refs)
+    return np.asarray(points), np.asarray(heights)
+
+
+def test_tileset_vertices_lie_on_their_osm_nodes_far_from_the_central_meridian(tmp_path, capsys):
+    """Blocks spread over 4 x 2 km, 2.6 degrees east of their UTM zone's central meridian (grid
+    convergence 2.4 degrees, scale factor 0.99972): every corner of every block, at the ground and at
+    its roof, has an exported vertex within 0.5 m of pyproj's ECEF of its OSM node. Turning the scene
+    by one rotation at the origin put them up to 80 m off."""
+    import pyproj
+
+    from cityshade.export.testing import tileset_points
+
+    out = tmp_path / "tiles"
+    assert main(["export", "--map", str(FAR_EAST), "--out", str(out), "--format", "3dtiles", "--texel", "1"]) == 0
+    summary = _summary(capsys)
+    assert summary["buildings"] == 5
+    tileset = json.loads((out / "tileset.json").read_text())
+    properties = tileset["metadata"]["properties"]  # the tileset's metadata, in its schema's class
+    assert set(properties) == set(tileset["schema"]["classes"][tileset["metadata"]["class"]]["properties"])
+    assert properties["grid_convergence_degrees"] == pytest.approx(2.44, abs=0.05)
+    assert properties["grid_scale_factor"] == pytest.approx(0.99972, abs=2e-5)
+    exported = tileset_points(out)
+    lonlat, heights = _osm_building_nodes(FAR_EAST)
+    to_ecef = pyproj.Transformer.from_crs("EPSG:4979", "EPSG:4978", always_xy=True)
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(exported)
+    for h in (np.zeros(len(heights)), heights):
+        expected = np.column_stack(to_ecef.transform(lonlat[:, 0], lonlat[:, 1], h))
+        distance, _ = tree.query(expected)
+        assert len(distance) == 20 and distance.max() <= 0.5, f"{np.sort(distance)[-5:]} m"
+
+
+@pytest.mark.parametrize(
+    "extents",
+    [
+        [[1000.0, 30.0]],  # one face too wide for an 8192-texel side at 0.05 m
+        [[100.0, 30.0]] * 2000,  # 2.4 billion texels at 0.05 m: over the total
+    ],
+)
+def test_the_default_texel_is_the_finest_that_fits(extents):
+    from cityshade.export import ATLAS_LIMIT
+    from cityshade.export.testing import finest_texel
+
+    extents = np.asarray(extents)
+    texel = finest_texel(extents, 0.05)
+
+    def fits(t):
+        sides = np.ceil((extents + 2 * t) / t)
+        return sides.max() <= ATLAS_LIMIT and np.prod(sides, axis=1).sum() <= 1 << 28
+
+    assert texel > 0.05 and fits(texel)
+    step = 10 ** (np.floor(np.log10(texel)) - 2)  # its third significant digit
+    assert not fits(texel - step)
+    assert finest_texel(extents[:1] / 100, 0.05) == 0.05  # small facades: the finest allowed
+
+
+@pytest.mark.slow  # a bake at 0.05 m: a few seconds
+def test_export_without_texel_chooses_and_prints_it(tmp_path, capsys):
+    out = tmp_path / "far.glb"
+    one_block = ["--region", "29.599,69.709,29.602,69.712"]  # 23 x 11 x 22 m: small enough to bake at 0.05 m
+    assert main(["export", "--map", str(FAR_EAST), "--out", str(out), *one_block]) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out.strip().splitlines()[-1])
+    assert summary["texel"] == 0.05 and summary["buildings"] == 1
+    assert "--texel 0.05: the finest texel" in captured.err
+
+
+def test_lit_windows_follow_each_use_through_the_day():
+    """The share of lit rooms follows the renderer's schedule per use (scene.lit_share): an office
+    block is lit at noon and nearly dark at 23:00, a home the other way round."""
+    from cityshade.export.testing import lit_rooms
+    from cityshade.scene import USES, lit_share
+
+    def canvas(use):  # 100 x 60 rooms of 1 x 1 m, one texel each
+        return Canvas(
+            0, 0, 0.0, 0.0, 100, 60, 100.0, 60.0, 0, (0.0, 0.0), (0.0, 0.0), (1.0, 1.0), 1.0, values=(20, 0, use, 60)
+        )
+
+    for name in ("office", "home"):
+        for hours in (12.0, 23.0):
+            lit = lit_rooms(canvas(USES[name]), 1.0, hours).mean()
+            assert lit == pytest.approx(lit_share(USES[name], hours), abs=0.03), (name, hours)
+    assert (
+        lit_rooms(canvas(USES["office"]), 1.0, 12.0).mean()
+        > 0.7
+        > 0.1
+        > lit_rooms(canvas(USES["office"]), 1.0, 23.0).mean()
+    )
+
+
+def test_facades_glow_only_in_the_night_variant(tmp_path, capsys):
+    """The facade materials are the day's (no emissive map) with a night variant
+    (KHR_materials_variants) whose emissive map lights windows."""
+    import io
+
+    import pygltflib
+    from PIL import Image
+
+    out = tmp_path / "tagged.glb"
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--texel", "0.5"]) == 0
+    gltf = pygltflib.GLTF2.load(str(out))
+    assert [v["name"] for v in gltf.extensions["KHR_materials_variants"]["variants"]] == ["day", "night"]
+    facades = [p for m in gltf.meshes for p in m.primitives if gltf.materials[p.material].name.startswith("facades")]
+    assert facades
+    blob = gltf.binary_blob()
+    for primitive in facades:
+        day = gltf.materials[primitive.material]
+        mappings = {m["variants"][0]: m["material"] for m in primitive.extensions["KHR_materials_variants"]["mappings"]}
+        night = gltf.materials[mappings[1]]
+        assert mappings[0] == primitive.material and day.emissiveTexture is None
+        texture = gltf.textures[night.emissiveTexture.index]
+        view = gltf.bufferViews[gltf.images[texture.extensions["EXT_texture_webp"]["source"]].bufferView]
+        glow = np.asarray(Image.open(io.BytesIO(blob[view.byteOffset : view.byteOffset + view.byteLength])))
+        assert (glow.max(axis=-1) > 0).any()
+
+
+def test_trees_as_nodes_are_read_by_trimesh_one_per_tree(tmp_path, capsys):
+    """--trees nodes: every tree a node showing its species' one mesh (core glTF), so readers
+    without EXT_mesh_gpu_instancing (trimesh) still place every tree."""
+    import trimesh
+
+    out = tmp_path / "trees.glb"
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), "--texel", "1", "--trees", "nodes"]) == 0
+    summary = _summary(capsys)
+    scene = trimesh.load(out, force="scene")
+    places = {
+        tuple(np.round(scene.graph[name][0][:3, 3], 3))
+        for name in scene.graph.nodes_geometry
+        if scene.graph[name][1].startswith("trees")
+    }
+    assert summary["tree_instances"] >= 2 and len(places) == summary["tree_instances"]
+
+
+def test_draco_geometry_and_png_textures_read_back_with_trimesh(tmp_path, capsys):
+    """--geometry draco --textures png: the Draco buffers decode (DracoPy, through trimesh) to the
+    scene's triangles, and the images are core PNG (no WebP extension required)."""
+    import pygltflib
+    import trimesh
+
+    out = tmp_path / "draco.glb"
+    args = ["--texel", "1", "--geometry", "draco", "--textures", "png"]
+    assert main(["export", "--map", str(TAGGED), "--out", str(out), *args]) == 0
+    summary = _summary(capsys)
+    gltf = pygltflib.GLTF2.load(str(out))
+    assert gltf.extensionsRequired == ["KHR_draco_mesh_compression"]
+    assert {im.mimeType for im in gltf.images} == {"image/png"}
+    scene = trimesh.load(out, force="scene")
+    assert sum(len(scene.geometry[scene.graph[n][1]].faces) for n in scene.graph.nodes_geometry) == summary["triangles"]
+
+
+@pytest.mark.parametrize("geometry", ["quantized", "plain"])
+def test_indices_widen_past_65535_vertices(geometry):
+    import pygltflib
+
+    from cityshade.export import Encoding
+    from cityshade.export.testing import Document
+
+    doc = Document({}, encoding=Encoding(geometry=geometry))
+    for count, component in ((65535, pygltflib.UNSIGNED_SHORT), (65536, pygltflib.UNSIGNED_INT)):
+        positions = np.random.default_rng(1).uniform(-10, 10, (count, 3))
+        normals = np.tile([0.0, 1.0, 0.0], (count, 1))
+        primitive = doc.primitive(0, positions, normals, indices=np.arange(count // 3 * 3), scale=10 / 32767)
+        assert doc.gltf.accessors[primitive.indices].componentType == component
+
+
+@pytest.mark.parametrize(
+    "option, value, allowed",
+    [
+        ("--textures", "ktx2", "webp, png"),
+        ("--geometry", "meshopt", "quantized, draco, plain"),
+        ("--trees", "x", "instanced, nodes"),
+    ],
+)
+def test_unknown_encodings_are_one_line_before_the_map_is_read(option, value, allowed, tmp_path, capsys):
+    out = tmp_path / "city.glb"
+    err = _fails(["export", "--map", str(tmp_path / "absent.osm"), "--out", str(out), option, value], capsys)
+    assert option in err and allowed in err and not out.exists()

@@ -79,6 +79,7 @@ def _check(name: str, building: int, gpu, gpu_labels, windows, ref, ref_labels):
     assert windows.windows > 10 and windows.straddling == 0
 
 
+@pytest.mark.slow  # a whole scene against its numpy twin (make test-slow)
 def test_interior_scene_dome_with_a_grammar_matches_its_twin(gl_context):
     scene = _grammar_domes(make_city("interior"), BRICK)
     _check("interior dome", 3, *_compare(gl_context, scene, scene.camera("dome")))

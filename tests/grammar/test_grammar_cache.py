@@ -106,12 +106,15 @@ def test_cached_frames_equal_uncached_along_a_street(gl_context):
         RenderSettings.grammar_cache_min_pixels,
         pytest.param(
             0,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="every page cached: 1-2 8x8 blocks of obliquely seen window frames and awnings differ "
-                "by 12.7-14.3/255 on average (the limit is 12): a page filters its tiles at a whole mip level, "
-                "the per-pixel path at the pixel's own (docs/scale.md); the global parts of the tolerance hold",
-            ),
+            marks=[
+                pytest.mark.slow,
+                pytest.mark.xfail(
+                    strict=True,
+                    reason="every page cached: 1-2 8x8 blocks of obliquely seen window frames and awnings differ "
+                    "by 12.7-14.3/255 on average (the limit is 12): a page filters its tiles at a whole mip level, "
+                    "the per-pixel path at the pixel's own (docs/scale.md); the global parts of the tolerance hold",
+                ),
+            ],
         ),
     ],
 )

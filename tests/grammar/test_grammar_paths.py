@@ -27,6 +27,7 @@ def fig11(gl_context):
     renderer.release()
 
 
+@pytest.mark.slow  # test_city_frame_paths_agree checks the same in a city (make test-slow)
 def test_forward_and_deferred_agree(fig11, output_dir):
     renderer, camera = fig11
     images = {}

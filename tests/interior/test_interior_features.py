@@ -26,6 +26,7 @@ def _render(ctx, **settings) -> tuple[np.ndarray, np.ndarray]:
         r.release()
 
 
+@pytest.mark.slow  # minutes on two cores (make test-slow)
 def test_single_atlas_matches_four_textures(gl_context, output_dir):
     four, ids = _render(gl_context)
     atlas, _ = _render(gl_context, single_atlas=True)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import pickle
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 import shapely
 
 from cityshade.maps import load_map
-from cityshade.maps.testing import colour, direction, length
+from cityshade.maps.testing import colour, direction, length, osm_reader
 
 DATA = Path(__file__).parents[1] / "data" / "maps"
 
@@ -306,12 +307,13 @@ def test_cityjson_heights_from_geometry_and_semantic_surfaces(tmp_path):
     assert (house.height, house.min_height, house.roof_height) == (9.0, 0.0, 3.0)
     assert house.footprint_area == pytest.approx(80.0) and house.roof_colour == pytest.approx((1.0, 0.0, 0.0))
     assert len(house.surfaces["RoofSurface"]) == 2 and len(house.surfaces["WallSurface"]) == 4
-    assert max(ring[:, 2].max() for ring in house.surfaces["RoofSurface"]) == pytest.approx(9.0)
+    assert max(ring[:, 2].max() for ring in house.surfaces["RoofSurface"]) == pytest.approx(11.0)  # as given
+    assert house.ground == 2.0 and data.ground_level == 2.0
     assert shed.is_part and shed.parent == house.index and (shed.height, shed.min_height) == (2.0, 0.0)
     assert shed.footprint_area == pytest.approx(16.0) and shed.surfaces["unclassified"]
     assert {"height", "min_height", "roof_height"} <= house.tagged
     assert data.crs == "local"
-    assert ("CityObject", "type 'SolitaryVegetationObject' is not a Building or BuildingPart") in data.report.skipped
+    assert data.drawn_types == {"Building": 1, "BuildingPart": 1}  # the tree has no geometry to draw
 
 
 def test_cityjson_reference_system_is_projected(tmp_path):
@@ -557,3 +559,24 @@ def test_a_building_way_that_is_also_a_relations_outer_ring_is_drawn_once(tmp_pa
     assert not _by_id(data, "way/110") and len(_by_id(data, "relation/200")) == 1
     key = ("building", "outer ring of a building relation, which is drawn instead")
     assert data.report.skipped[key] == 1 and data.report.examples[key] == "way/110"
+
+
+def test_a_file_too_large_for_memory_keeps_its_node_locations_on_disk(monkeypatch):
+    """With no memory to spare for the node location index, it goes to a sparse index in a
+    temporary file: the same map is read, and the file is gone afterwards."""
+    path = Path(__file__).parents[1] / "data" / "maps" / "tagged.osm"
+    in_memory = load_map(path)
+    chosen = []
+    choose = osm_reader._location_index
+
+    def recorded(*args):
+        chosen.append(choose(*args))
+        return chosen[-1]
+
+    monkeypatch.setattr(osm_reader, "_location_index", recorded)
+    monkeypatch.setattr(osm_reader, "INDEX_MEMORY_SHARE", 0.0)
+    on_disk = load_map(path)
+    assert len(chosen) == 1 and chosen[0].startswith("sparse_file_array,")
+    assert not Path(chosen[0].partition(",")[2]).parent.exists(), "the temporary index is removed"
+    assert pickle.dumps(on_disk.buildings) == pickle.dumps(in_memory.buildings) and in_memory.buildings
+    assert pickle.dumps(on_disk.roads) == pickle.dumps(in_memory.roads)

@@ -293,6 +293,9 @@ def test_cityjson_has_its_own_smaller_size_limit(tmp_path, monkeypatch):
     city = tmp_path / "big.city.json"
     city.write_text(json.dumps({"type": "CityJSON", "CityObjects": {}, "vertices": [[0, 0, 0]] * 20}))
     _refused(city, "bytes of CityJSON is above the 100-byte limit; split the file into tiles")
+    sequence = tmp_path / "big.city.jsonl"  # streamed: no cap on the file, one on each line
+    sequence.write_text('{"type":"CityJSON","version":"2.0","CityObjects":{},"vertices":[]}\n' + " " * 200 + "{}\n")
+    _refused(sequence, "a line of over 100 characters is no CityJSONSeq feature")
     assert len(load_map(_geojson(tmp_path, GOOD)).buildings) == 1  # GeoJSON keeps the 1 GiB limit
 
 
@@ -372,7 +375,7 @@ def test_cityjson_with_broken_boundaries_skips_the_object(tmp_path):
             }
         )
     )
-    _refused(path, "nothing usable", "CityObject/a", "malformed geometry")
+    _refused(path, "nothing usable", "CityObject/a", "vertex index out of range")
 
 
 def test_cityjson_coordinates_that_overflow_are_skipped_without_a_warning(tmp_path):
@@ -389,7 +392,7 @@ def test_cityjson_coordinates_that_overflow_are_skipped_without_a_warning(tmp_pa
     path.write_text(json.dumps(document))
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)  # a warning would reach stderr before the one line
-        _refused(path, "nothing usable in the map: 1 building skipped")
+        _refused(path, "nothing usable in the map: 2 surface skipped, vertex not three finite numbers")
 
 
 def test_the_content_decides_the_format_not_the_name(tmp_path, silent_pbf):

@@ -143,6 +143,23 @@ def test_roof_angle_sets_the_height_from_the_half_width():
     assert mass.wall_top == pytest.approx(25.0)
 
 
+@pytest.mark.parametrize(
+    ("shape", "rise"),
+    [
+        ("gabled", math.tan(math.radians(30.0)) * 5),  # the default 30 degrees over half the 10 m width
+        ("skillion", math.tan(math.radians(30.0)) * 10),  # one slope over the whole width
+        ("hipped", math.tan(math.radians(30.0)) * 5),
+        ("cone", math.tan(math.radians(60.0)) * 5),  # a steep spire over the half of the shorter side
+        ("pyramidal", math.tan(math.radians(45.0)) * 5),
+        ("dome", 5.0),  # as high as its radius
+        ("onion", 1.6 * 5),
+    ],
+)
+def test_untagged_roofs_rise_by_their_shapes_pitch(shape, rise):
+    mass = one(roof_shape=shape, roof_height=None, height=30.0)
+    assert mass.roof.height == pytest.approx(rise)
+
+
 def test_roof_levels_set_the_height_from_the_storey():
     mass = one(roof_shape="hipped", roof_height=None, roof_levels=1.0, height=15.0, kind="apartments")
     assert mass.roof.height == pytest.approx(3.0)

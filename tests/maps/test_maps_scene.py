@@ -118,6 +118,7 @@ def run_cli(*args) -> tuple[int, str]:
     return done.returncode, done.stdout + done.stderr
 
 
+@pytest.mark.slow  # two command-line renders of Helsinki (make test-slow)
 def test_render_map_cli_aerial_and_spot_camera(helsinki_pbf, tmp_path):
     for camera in ("aerial", "24.9449,60.1699,1.7,90"):
         out = tmp_path / "h.png"
@@ -157,6 +158,7 @@ def test_render_map_cli_bad_values_one_line_exit_2(helsinki_pbf, tmp_path, optio
     assert not out.exists()
 
 
+@pytest.mark.slow  # a video and a viewer of Helsinki (make test-slow)
 def test_video_and_viewer_take_a_map(helsinki_pbf, tmp_path):
     from cityshade.commands.video import render_video
     from cityshade.maps import city_from_map, sky_clock

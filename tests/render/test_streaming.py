@@ -608,28 +608,53 @@ def test_a_city_whose_boxes_name_other_tiles_is_one_line(change, reason, tagged_
     assert f"city.pickle {reason}" in _refused(tagged_tiles)
 
 
-def test_a_tile_header_larger_than_its_tile_is_refused_before_allocating(tagged_tiles):
-    """A faces.npy of a header alone claiming 10**12 rows (and the bytes its rows would take in
-    another member): refused from the header, before 10**12 rows are allocated."""
+def _tile_with_faces(folder: Path, write_faces):
+    """Tile 0 rewritten with its vertices and ground and a faces.npy that `write_faces(archive,
+    faces)` writes (`faces`: its rows as they were), the manifest made to match the file."""
     import io
     import zipfile
 
-    vertices, faces, ground = read_tile(open_tiles(tagged_tiles), 0)
+    vertices, faces, ground = read_tile(open_tiles(folder), 0)
     stream = io.BytesIO()
     with zipfile.ZipFile(stream, "w") as archive:
         for name, array in (("vertices", vertices), ("ground", ground)):
             with archive.open(f"{name}.npy", "w") as member:
                 np.lib.format.write_array(member, array)
-        with archive.open("faces.npy", "w") as member:
-            header = {"descr": np.lib.format.dtype_to_descr(faces.dtype), "fortran_order": False, "shape": (10**12,)}
-            np.lib.format.write_array_header_1_0(member, header)
-        archive.writestr("padding", bytes(faces.nbytes))
+        write_faces(archive, faces)
     data = stream.getvalue()
-    (tagged_tiles / "tiles" / "00000.npz").write_bytes(data)
-    _edit_manifest(
-        tagged_tiles, lambda m: m["tiles"][0].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest())
-    )
+    (folder / "tiles" / "00000.npz").write_bytes(data)
+    _edit_manifest(folder, lambda m: m["tiles"][0].update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest()))
+
+
+def _faces_header(member, faces: np.ndarray, shape: tuple):
+    header = {"descr": np.lib.format.dtype_to_descr(faces.dtype), "fortran_order": False, "shape": shape}
+    np.lib.format.write_array_header_1_0(member, header)
+
+
+def test_a_tile_header_larger_than_its_tile_is_refused_before_allocating(tagged_tiles):
+    """A faces.npy of a header alone claiming 10**12 rows (and the bytes its rows would take in
+    another member): refused from the header, before 10**12 rows are allocated."""
+
+    def huge(archive, faces):
+        with archive.open("faces.npy", "w") as member:
+            _faces_header(member, faces, (10**12,))
+        archive.writestr("padding", bytes(faces.nbytes))
+
+    _tile_with_faces(tagged_tiles, huge)
     assert "tiles/00000.npz holds faces of another layout or count than its tile's" in _refused(tagged_tiles, 0)
+
+
+def test_a_tile_member_cut_short_after_its_header_is_one_line(tagged_tiles):
+    """A faces.npy whose header is its tile's but whose rows stop half-way (the manifest made to
+    match the file): refused, not read as a shorter table."""
+
+    def cut_short(archive, faces):
+        with archive.open("faces.npy", "w") as member:
+            _faces_header(member, faces, faces.shape)
+            member.write(faces.tobytes()[: faces.nbytes // 2])
+
+    _tile_with_faces(tagged_tiles, cut_short)
+    assert "tiles/00000.npz cannot be read (EOFError: faces.npy is cut short)" in _refused(tagged_tiles, 0)
 
 
 class _Payload:
@@ -694,20 +719,21 @@ def test_the_viewer_refuses_a_budget_below_the_nearest_tile(district_tiles):
 
 def test_a_failed_write_leaves_the_old_cache_whole(tagged_tiles, monkeypatch):
     """An error (or a signal, which the command turns into one) half-way through writing tiles:
-    the folder still holds the old cache, and no temporary folder is left beside it."""
-    from cityshade.render import _tile_cache
+    the folder still holds the old cache, and beside it only the build's work folder is left
+    (for the next build to resume from: tests/render/test_tile_builds.py)."""
+    from cityshade.render import _tile_writer
 
     before = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
 
     def fail(*args):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(_tile_cache, "_tile_file", fail)
+    monkeypatch.setattr(_tile_writer, "mesh_tile", fail)
     with pytest.raises(KeyboardInterrupt):
         write_tiles(make_city("default"), tagged_tiles)
     after = {p.relative_to(tagged_tiles): p.read_bytes() for p in tagged_tiles.rglob("*") if p.is_file()}
     assert after == before
-    assert sorted(p.name for p in tagged_tiles.parent.iterdir()) == ["tiles"]
+    assert sorted(p.name for p in tagged_tiles.parent.iterdir()) == [".tiles.partial", "tiles"]
     open_tiles(tagged_tiles)
 
 

@@ -2,13 +2,20 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from moderngl_window.context.base.keys import BaseKeys
+from PIL import Image
 
+from cityshade.commands import main
 from cityshade.errors import UsageError
-from cityshade.render import RenderSettings, upscale_reference
-from cityshade.viewer import KEY_NAMES, open_viewer
+from cityshade.interior import FACE_CODES
+from cityshade.maps import city_from_map
+from cityshade.render import Renderer, RenderSettings, open_tiles, upscale_reference
+from cityshade.scene import Camera
+from cityshade.viewer import KEY_NAMES, FlyCamera, open_viewer
 
 pytestmark = pytest.mark.gl  # renders or opens a context of its own, not only through gl_context
 
@@ -221,3 +228,90 @@ def test_quality_steps_engage_when_too_slow_show_in_the_title_and_release_to_the
     differing = int(np.any(after != before, axis=-1).sum())
     assert differing == 0, f"{differing} pixels differ at full quality after the steps were released"
     viewer.resolution = None
+
+
+# -- the viewer on a tile cache, through `cityshade view --screenshot` ----------------------------
+
+MAPS = Path(__file__).parents[1] / "data" / "maps"
+SHOT = (96, 64)
+NOON = "12:00"
+EYE_HEIGHT = "24.9385,60.1701,2,90"  # 2 m above the ground west of the tagged map's buildings, facing east
+COLOUR_TOLERANCE = 12  # of 255: the viewer's camera, rebuilt from yaw and pitch, moves edges by a hair
+
+
+def test_fly_camera_keeps_the_start_cameras_lens():
+    """A whole city's aerial view starts kilometres away with a far plane to match: the viewer draws
+    through that lens (a street view's 4 km far plane drew nothing but the cleared frame), with the
+    near plane and shadow reach following the height as it flies down."""
+    start = Camera((-4500.0, 4500.0, 8.0), (-6.0, 0.0, 8.0), fov_y=50.0, near=159.0, far=1e6, shadow_far=12700.0)
+    fly = FlyCamera(start)
+    kept = fly.camera()
+    assert (kept.near, kept.far, kept.fov_y, kept.shadow_far) == (159.0, 1e6, 50.0, 12700.0)
+    assert np.allclose(kept.eye, start.eye) and np.allclose(kept.forward, start.forward)
+    fly.position = np.array([0.0, 2.0, 0.0])
+    low = fly.camera()
+    assert low.far == 1e6 and low.near == pytest.approx(0.3) and low.shadow_far is None
+    fly.position = np.array([0.0, 450.0, 0.0])
+    assert fly.camera().near == pytest.approx(15.9) and fly.camera().shadow_far == pytest.approx(1270.0)
+
+
+@pytest.fixture(scope="module")
+def tagged_cache(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("tagged") / "tiles"
+    assert main(["tile", str(MAPS / "tagged.osm"), "--out", str(folder)]) == 0
+    return folder
+
+
+@pytest.mark.slow  # three contexts' shaders compiled: about 10 s of CPU
+def test_view_screenshot_of_tiles_draws_the_city_and_the_sky_as_render_does(tagged_cache, tmp_path, capsys):
+    """`view --tiles DIR --screenshot` draws the streamed city as `render --tiles` of the same view
+    (render_city's still, in process):
+    the pixels that show buildings and those that show the sky (from the still's id AOV) are there,
+    and the two pictures agree within a small tolerance (the viewer's camera is rebuilt from yaw and
+    pitch, so a few edge pixels may fall the other way)."""
+    size, camera = f"{SHOT[0]}x{SHOT[1]}", EYE_HEIGHT
+    shot = tmp_path / "view.png"
+    view = ["view", "--tiles", str(tagged_cache), "--size", size, "--camera", camera, "--time", NOON]
+    assert main([*view, "--screenshot", str(shot), "--frames", "3", "--target-fps", "0"]) == 0
+    out = capsys.readouterr().out
+    assert f"wrote {shot} ({size}): frame 3 of a headless window" in out and " fps after the first" in out
+    assert "tiles 3/3" in out
+    viewed = np.asarray(Image.open(shot).convert("RGB")).astype(int)
+    rendered, ids = _still(tagged_cache, camera)
+    buildings, sky = ids[..., 2] > 0, ids[..., 0] == FACE_CODES["FACE_NONE"]
+    assert sky.sum() > 0.1 * sky.size, "the view across the ground shows the sky"
+    assert np.all(viewed[sky][:, 2] > viewed[sky][:, 0]), "the sky is blue"
+    assert buildings.sum() > 0.01 * buildings.size, "the view shows buildings"
+    off = np.abs(viewed - rendered).max(axis=-1)
+    differing = int(np.count_nonzero(off > COLOUR_TOLERANCE))
+    assert differing <= 0.005 * off.size, f"{differing} of {off.size} pixels differ by more than {COLOUR_TOLERANCE}"
+    for name, where in (("building", buildings), ("sky", sky)):
+        bad = int(np.count_nonzero(off[where] > COLOUR_TOLERANCE))
+        assert bad <= 0.01 * where.sum(), f"{bad} of {where.sum()} {name} pixels differ by more than {COLOUR_TOLERANCE}"
+
+
+def _still(folder: Path, camera: str) -> tuple[np.ndarray, np.ndarray]:
+    """The picture and the id AOV of the cache's `camera` as `render --tiles --samples 0` draws it."""
+    tiles = open_tiles(folder)
+    city, name, sky = city_from_map(None, camera, None, NOON, city=tiles.city)
+    renderer = Renderer(SHOT, RenderSettings(samples=0, time_of_day=12.0, **sky))
+    try:
+        renderer.set_tiles(tiles)
+        view = city.camera(name)
+        renderer.wait_for_tiles(view)
+        return renderer.render(view).astype(int), renderer.render_ids(view)
+    finally:
+        renderer.release()
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--screenshot", "x.png", "--frames", "0"], "invalid --frames '0'"),
+        (["--frames", "3"], "--frames N counts the frames of a --screenshot FILE"),
+    ],
+)
+def test_view_screenshot_refuses_bad_frame_counts(capsys, args, message):
+    assert main(["view", *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"cityshade: error: {message}") and "\n" not in err

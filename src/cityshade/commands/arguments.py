@@ -4,6 +4,7 @@ themselves live in `_values` (shared with the Python API) and `_files` (the one 
 
 from __future__ import annotations
 
+import argparse
 import re
 from pathlib import Path
 
@@ -75,3 +76,22 @@ MAP_HELP = "a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or C
 def add_map_option(parser, *aliases: str):
     """--map FILE (and `aliases`): the map a command draws its city from."""
     parser.add_argument("--map", *aliases, dest="map", type=Path, default=None, metavar="FILE", help=MAP_HELP)
+
+
+def cityjson_lod(text: str) -> str:
+    """A CityJSON level of detail as `--lod` takes it: '2' (the highest of 2.x) or '2.2'."""
+    if not re.fullmatch(r"[0-4](\.[0-3])?", text.strip()):
+        raise argparse.ArgumentTypeError(f"{text!r}: give a CityJSON LoD such as 1, 2 or 2.2 (0 to 4)")
+    return text.strip()
+
+
+def add_cityjson_lod_option(parser):
+    """--lod N: which CityJSON level of detail a map's objects are drawn at (default: each one's highest)."""
+    parser.add_argument(
+        "--lod",
+        type=cityjson_lod,
+        default=None,
+        metavar="N",
+        help="CityJSON maps: draw each object's geometry of this LoD (2 picks the highest 2.x); "
+        "default: each object's highest",
+    )

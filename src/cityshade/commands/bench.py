@@ -20,6 +20,7 @@ BENCHMARKS = {
     "dataset": "cityshade.bench.dataset",
     "scale": "cityshade.bench.scale",
     "lod": "cityshade.bench.lod",
+    "cityjson": "cityshade.bench.cityjson",
 }
 
 

@@ -29,6 +29,17 @@ def register(subparsers):
         help="also write WebDataset tar shards of SAMPLES samples each to DIR/shards/",
     )
     parser.add_argument(
+        "--classes",
+        choices=("native", "cityscapes"),
+        default=None,
+        help="cityscapes: also Cityscapes labelIds/trainIds images (config output.classes)",
+    )
+    parser.add_argument(
+        "--panoptic", action="store_true", help="also COCO panoptic PNGs in DIR/panoptic/ and DIR/panoptic.json"
+    )
+    parser.add_argument("--path", default=None, choices=("walk", "orbit"), help="consecutive views along a path")
+    parser.add_argument("--frames", type=int, default=None, metavar="N", help="with --path: the number of views")
+    parser.add_argument(
         "--preview",
         type=Path,
         default=None,
@@ -39,8 +50,16 @@ def register(subparsers):
 
 
 def run(args) -> int:
+    from dataclasses import replace
+
     from ..dataset import load_config
 
+    if (args.path is None) != (args.frames is None):
+        raise UsageError("give --path walk|orbit with --frames N")
+    if args.path is not None:
+        if args.samples is not None:
+            raise UsageError("give --frames N with --path, not --samples")
+        args.samples = args.frames
     generating = args.samples is not None or args.out is not None or args.map is not None or args.city is not None
     if generating:
         if (args.map is None) == (args.city is None):
@@ -50,10 +69,23 @@ def run(args) -> int:
         if args.shards is not None and args.shards < 1:
             raise UsageError(f"--shards {args.shards}: give the number of samples per shard, at least 1")
         config = load_config(args.config)
+        if args.classes is not None:
+            config = replace(config, classes=args.classes)
+        if args.panoptic:
+            config = replace(config, panoptic=True)
         from ..dataset import generate
 
         rows = generate(
-            args.out, args.samples, config, args.map, args.city, args.workers, args.address, args.seed, args.resume
+            args.out,
+            args.samples,
+            config,
+            args.map,
+            args.city,
+            args.workers,
+            args.address,
+            args.seed,
+            args.resume,
+            path=args.path,
         )
         print(f"wrote {args.out}: {len(rows)} samples listed in {args.out / 'manifest.parquet'}")
         if args.shards is not None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 from ..scene import CITIES
@@ -16,12 +17,34 @@ def register(subparsers):
     source.add_argument("--city", choices=tuple(CITIES), help="a built-in city layout")
     parser.add_argument("--out", type=Path, required=True, help="the .glb/.gltf file, or the tileset's directory")
     parser.add_argument("--format", default=None, help="glb, gltf or 3dtiles (default: from --out's suffix, else glb)")
-    parser.add_argument("--texel", type=float, default=0.05, help="metres per facade atlas texel (default 0.05)")
+    parser.add_argument(
+        "--texel",
+        type=float,
+        default=None,
+        help="metres per facade atlas texel (default: the finest, no finer than 0.05, that fits the atlas limit)",
+    )
     parser.add_argument(
         "--lod",
         type=int,
         default=0,
         help="level of detail: 0 full; from 1 flat-topped prisms; each level doubles the texel",
+    )
+    parser.add_argument(
+        "--textures",
+        default="webp",
+        help="webp (EXT_texture_webp: lossy colour, lossless data maps; default) or png",
+    )
+    parser.add_argument(
+        "--geometry",
+        default="quantized",
+        help="quantized (KHR_mesh_quantization; default), draco (KHR_draco_mesh_compression: smallest) "
+        "or plain (32-bit floats)",
+    )
+    parser.add_argument(
+        "--trees",
+        default="instanced",
+        help="instanced (EXT_mesh_gpu_instancing: CesiumJS, three.js, Blender; default) or nodes "
+        "(a node per tree sharing its species' mesh: every reader, trimesh included)",
     )
     parser.add_argument(
         "--region",
@@ -40,14 +63,29 @@ def output_format(args) -> str:
 
 
 def run(args) -> int:
-    from ..export import check_output, crop, export_city, layout_export_city, map_export_city, parse_region
+    from ..export import (
+        Encoding,
+        check_output,
+        crop,
+        default_texel,
+        default_texel_note,
+        export_city,
+        layout_export_city,
+        map_export_city,
+        parse_region,
+    )
 
     fmt = output_format(args)
-    check_output(args.out, fmt, args.texel, args.lod)  # before the map is read
+    encoding = Encoding(args.textures, args.geometry, args.trees)
+    check_output(args.out, fmt, args.texel, args.lod, encoding)  # before the map is read
     region = parse_region(args.region) if args.region is not None else None
     export = map_export_city(args.map) if args.map is not None else layout_export_city(args.city)
     if region is not None:
         export = crop(export, region, args.region)
-    summary = export_city(export, args.out, fmt, args.texel, args.lod)
+    texel = args.texel
+    if texel is None:
+        texel = default_texel(export, args.lod)
+        print(default_texel_note(texel), file=sys.stderr, flush=True)
+    summary = export_city(export, args.out, fmt, texel, args.lod, encoding)
     print(json.dumps(summary))
     return 0

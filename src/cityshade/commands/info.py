@@ -18,6 +18,7 @@ from collections import Counter
 from pathlib import Path
 
 from ..maps import FEATURES, MapData, guess_missing, load_map
+from .arguments import add_cityjson_lod_option
 
 
 def _report(counter: Counter, examples: dict) -> list[dict]:
@@ -72,6 +73,11 @@ def _text(info: dict) -> str:
         f"doors: {doors['from_entrances']} at mapped entrances ({doors['entrances']} entrances mapped), "
         f"{doors['guessed']} guessed on the street side; shop fronts: {doors['buildings_with_shop_fronts']}"
     )
+    if "city_objects" in info:
+        lines.append(
+            "city objects drawn: " + (", ".join(f"{k} {v}" for k, v in info["city_objects"].items()) or "none")
+        )
+        lines.append("buildings by LoD: " + (", ".join(f"LoD {k} {v}" for k, v in info["lod"].items()) or "none"))
     for section in ("repaired", "skipped", "fallbacks"):
         for entry in info[section]:
             example = f" (e.g. {entry['example']})" if entry["example"] else ""
@@ -80,7 +86,7 @@ def _text(info: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    data = guess_missing(load_map(args.file))
+    data = guess_missing(load_map(args.file, args.lod))
     info = summary(data)
     try:
         print(json.dumps(info, indent=2, ensure_ascii=False) if args.json else _text(info), file=sys.stdout)
@@ -96,4 +102,5 @@ def register(subparsers) -> None:
     )
     parser.add_argument("file", type=Path, metavar="FILE", help=".osm.pbf, .osm, .geojson, .json or .city.json")
     parser.add_argument("--json", action="store_true", help="print the same as JSON")
+    add_cityjson_lod_option(parser)
     parser.set_defaults(run=run)

@@ -9,7 +9,7 @@ from ..api import AOVS
 from ..errors import UsageError
 from ..render import RenderSettings, format_bytes
 from ..scene import CITIES
-from .arguments import add_map_option, check_seed, check_writable, parse_size, save_png
+from .arguments import add_cityjson_lod_option, add_map_option, check_seed, check_writable, parse_size, save_png
 from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
 
@@ -90,6 +90,7 @@ def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
     add_map_option(parser, "--footprints")
+    add_cityjson_lod_option(parser)
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=check_seed, default=None, help="layout seed, 0 to 2^31-1")
     parser.add_argument(
@@ -154,7 +155,9 @@ def run(args) -> int:
             if args.aov == "instance" and made is None:
                 source = load_source(args.map)  # the map id of every building mass
                 made, instances = source.city, source.instances
-            city, args.camera, sky = city_from_map(args.map, args.camera, args.date, args.time_of_day, city=made)
+            city, args.camera, sky = city_from_map(
+                args.map, args.camera, args.date, args.time_of_day, city=made, lod=args.lod
+            )
         before_render = time.perf_counter() - start
         image, info = render_city(
             city=city,

@@ -10,6 +10,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from rich.console import Console
+from rich.progress import Progress
+
 from ..errors import UsageError
 from ..render import (
     TILE_SIZE,
@@ -17,11 +20,15 @@ from ..render import (
     TileCache,
     check_cache_folder,
     format_bytes,
+    on_ray,
     open_tiles,
+    run_here,
     source_identity,
     write_tiles,
 )
 from .arguments import parse_memory_size
+
+MAX_WORKERS = 4096  # Ray tasks at once
 
 
 def _map_city(path: Path):
@@ -64,19 +71,77 @@ def register(subparsers):
         metavar="METRES",
         help=f"side of the square tiles (default {TILE_SIZE:g})",
     )
+    parser.add_argument(
+        "--workers",
+        type=_workers,
+        default=1,
+        metavar="K",
+        help="mesh tiles in K Ray tasks at once (default 1: in this process, no Ray); this process "
+        "writes every file, and a build that was stopped resumes from the tiles it finished",
+    )
+    parser.add_argument(
+        "--address",
+        default=None,
+        metavar="A",
+        help="run the tasks on the Ray cluster at A (host:port or auto) instead of a local runtime",
+    )
     parser.set_defaults(run=run)
+
+
+def _workers(text: str) -> int:
+    try:
+        workers = int(text)
+    except ValueError:
+        workers = 0
+    if not 1 <= workers <= MAX_WORKERS:
+        raise UsageError(f"invalid --workers {text!r}; give a whole number from 1 to {MAX_WORKERS}")
+    return workers
 
 
 def run(args) -> int:
     start = time.perf_counter()
     check_cache_folder(args.out)  # before the map is read
+    if args.address is not None:
+        from ..dataset import check_address
+
+        check_address(args.address)
     source = _identity(args.file)
-    summary = write_tiles(_map_city(args.file), args.out, source, args.tile_size)
+    city = _map_city(args.file)
+    with _runner(args.workers, args.address) as runner, Progress(console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(f"meshing tiles of {args.out.name}", total=None)
+        summary = write_tiles(
+            city,
+            args.out,
+            source,
+            args.tile_size,
+            runner,
+            lambda done, total: bar.update(task, completed=done, total=total),
+        )
+    resumed = f", {summary['resumed']} of them kept from the build that was stopped" if summary["resumed"] else ""
     print(
         f"wrote {args.out}: {summary['tiles']} tiles, {summary['buildings']} buildings, "
-        f"{format_bytes(summary['bytes'])} in {time.perf_counter() - start:.1f} s"
+        f"{format_bytes(summary['bytes'])} in {time.perf_counter() - start:.1f} s{resumed}"
     )
     return 0
+
+
+@contextlib.contextmanager
+def _runner(workers: int, address: str | None):
+    """run_here for one local worker; else Ray tasks, `workers` at once, on a local runtime started
+    here (and stopped after) or on the cluster at `address`."""
+    if workers == 1 and address is None:
+        yield run_here
+        return
+    import ray
+
+    from ..dataset import start_ray
+
+    started = start_ray(workers, address)
+    try:
+        yield on_ray(workers)
+    finally:
+        if started:
+            ray.shutdown()
 
 
 def add_streaming_arguments(parser):

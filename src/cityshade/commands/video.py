@@ -12,9 +12,33 @@ from .._files import atomic_output, signals_deferred
 from .._values import parse_time
 from ..errors import UsageError
 from ..render import Renderer, RenderSettings
-from ..scene import PATHS, City, camera_path, make_city
+from ..scene import LOOPS, PATHS, City, camera_path, make_city
 from .arguments import add_map_option, check_writable, parse_size
 from .settings_flags import add_settings_flags, settings_from_flags
+
+# H.264 quality (x264's constant rate factor): 0 lossless, 51 worst; 23 is x264's own default,
+# transparent for rendered cities, and the bitrate follows the size and the motion (docs/video.md)
+DEFAULT_CRF = 23
+
+
+def check_crf(crf) -> int:
+    if isinstance(crf, bool) or not isinstance(crf, int) or not 0 <= crf <= 51:
+        raise UsageError(f"invalid --crf {crf!r}; give x264's quality from 0 (lossless) to 51, e.g. {DEFAULT_CRF}")
+    return crf
+
+
+def video_writer(path: Path, fps: int, crf: int = DEFAULT_CRF):
+    """imageio's writer of an H.264 MP4 at quality `crf` (yuv420p, the index at the front for the web)."""
+    return imageio.get_writer(
+        path,
+        fps=fps,
+        codec="libx264",
+        quality=None,  # the quality is the CRF, not imageio's bitrate scale
+        pixelformat="yuv420p",
+        output_params=["-crf", str(check_crf(crf)), "-preset", "medium", "-movflags", "+faststart"],
+        macro_block_size=1,
+        ffmpeg_log_level="error",
+    )
 
 
 def render_video(
@@ -24,31 +48,45 @@ def render_video(
     frames: int = 48,
     fps: int = 24,
     size: tuple[int, int] = (640, 360),
-    start_time: str = "19:10",
-    end_time: str | None = None,
+    start_time: str | float = "19:10",
+    end_time: str | float | None = None,
     progress: bool = True,
     sky=None,
     workers: int | None = None,
     map_path: Path | None = None,
+    crf: int = DEFAULT_CRF,
+    streets=None,
 ) -> Path:
     """Renders `frames` frames along a camera path into an H.264 MP4 (written whole or not at all).
     With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up.
     `sky` (hours -> settings, e.g. `maps.sky_clock`) places the sun and moon for each frame's time.
     With `workers`, Ray actors render the frames (cityshade.dataset.render_frames); they load the
-    city themselves: from `map_path` when `city` came from that map, else by the name `city`."""
+    city themselves: from `map_path` when `city` came from that map, else by the name `city`.
+    `crf` is x264's quality (lower is better and larger). The walk follows the route over `streets`
+    (cityshade.dataset.Streets: the map's roads or the city's streets) from one end to the other."""
     if frames < 1 or fps < 1:
         raise UsageError(f"frames and fps must be at least 1 (got {frames} frames at {fps} fps)")
     _check_mp4(Path(out))
+    crf = check_crf(crf)
     layout = city if isinstance(city, City) else make_city(city)
     move = camera_path(path)
+    if path == "walk":
+        from ..dataset import Streets, walk_camera
+
+        route = streets if streets is not None else Streets.from_city(layout)
+        if len(route.segments):
+            move = lambda _, t: walk_camera(route, t)  # noqa: E731
     begin = parse_time(start_time)
-    finish = parse_time(end_time) if end_time else begin
+    finish = parse_time(end_time) if end_time is not None else begin
     base = RenderSettings(time_of_day=begin)
 
     def job(i: int):
         t = i / max(frames - 1, 1)
         hours = begin + (finish - begin) * t
-        return move(layout, t), replace(base, time_of_day=hours, animation_time=i / fps, **(sky(hours) if sky else {}))
+        along = i / frames if path in LOOPS else t  # a loop's last frame is one step before its first
+        return move(layout, along), replace(
+            base, time_of_day=hours, animation_time=i / fps, **(sky(hours) if sky else {})
+        )
 
     renderer = None
     if workers:
@@ -71,9 +109,7 @@ def render_video(
     try:
         with (
             atomic_output(out) as tmp,
-            imageio.get_writer(
-                tmp, fps=fps, codec="libx264", quality=8, macro_block_size=1, ffmpeg_log_level="error"
-            ) as writer,
+            video_writer(tmp, fps, crf) as writer,
             Progress(disable=not progress) as bar,
         ):
             task = bar.add_task(f"rendering {out.name}", total=frames)
@@ -102,6 +138,12 @@ def register(subparsers):
     parser.add_argument("--until", default=None, help="time of day at the end, HH:MM (animates dusk)")
     parser.add_argument("--out", type=Path, default=Path("out/city.mp4"))
     parser.add_argument(
+        "--crf",
+        type=int,
+        default=DEFAULT_CRF,
+        help=f"H.264 quality, 0 (lossless) to 51; lower is better and larger (default {DEFAULT_CRF})",
+    )
+    parser.add_argument(
         "--workers",
         type=int,
         default=None,
@@ -118,6 +160,7 @@ def _check_mp4(path: Path):
 
 def _run(args) -> int:
     _check_mp4(args.out)
+    check_crf(args.crf)
     size = parse_size(args.size)
     camera_path(args.path)
     settings_from_flags(args, RenderSettings)  # a bad --time fails before the map is read
@@ -127,11 +170,17 @@ def _run(args) -> int:
     from ..maps import require_map_for_date
 
     require_map_for_date(args.date, args.map)
-    city, sky = args.city, None
+    city, sky, streets = args.city, None, None
     if args.map is not None:
         from ..maps import city_from_map, sky_clock
 
-        city = city_from_map(args.map, "aerial", args.date, args.time_of_day)[0]
+        if args.path == "walk":  # the map's roads too, for the route
+            from ..dataset import load_source
+
+            source = load_source(args.map)
+            city, streets = source.city, source.streets
+        else:
+            city = city_from_map(args.map, "aerial", args.date, args.time_of_day)[0]
         sky = sky_clock(city.origin, args.date)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers {args.workers}: give at least 1")
@@ -147,6 +196,8 @@ def _run(args) -> int:
         sky=sky,
         workers=args.workers,
         map_path=args.map,
+        crf=args.crf,
+        streets=streets,
     )
     print(f"wrote {args.out} ({args.frames} frames, {size[0]}x{size[1]}, {args.fps} fps)")
     return 0

@@ -3,15 +3,19 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import moderngl_window as mglw
 
+from ..errors import UsageError
 from ..render import RenderSettings
 from ..scene import make_city
 from ..viewer import DEFAULT_TARGET_FPS, HELP, open_viewer
-from .arguments import add_map_option
+from .arguments import add_map_option, check_writable, parse_size, save_png
 from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
+
+SCREENSHOT_FRAMES = 30
 
 
 def register(subparsers):
@@ -29,7 +33,26 @@ def register(subparsers):
             "help": "MSAA samples to start with (M toggles; off by default: llvmpipe shades every sample)",
         },
     )
-    parser.add_argument("--window", default="pyglet", help="moderngl-window backend: pyglet, glfw, headless...")
+    parser.add_argument(
+        "--window",
+        default=None,
+        help="moderngl-window backend: pyglet, glfw, headless... (default pyglet; with --screenshot, headless)",
+    )
+    parser.add_argument("--size", default="1280x720", help="the window's WIDTHxHEIGHT in pixels (default 1280x720)")
+    parser.add_argument(
+        "--screenshot",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="draw --frames frames, write the last one to FILE (PNG), report the frame rate and quit",
+    )
+    parser.add_argument(
+        "--frames",
+        type=_frames,
+        default=None,
+        metavar="N",
+        help=f"frames to draw for --screenshot (default {SCREENSHOT_FRAMES})",
+    )
     parser.add_argument(
         "--target-fps",
         type=float,
@@ -44,7 +67,23 @@ def register(subparsers):
     parser.set_defaults(run=_run)
 
 
+def _frames(text: str) -> int:
+    try:
+        frames = int(text)
+    except ValueError:
+        frames = 0
+    if not 1 <= frames <= 100_000:
+        raise UsageError(f"invalid --frames {text!r}; give a whole number from 1 to 100000")
+    return frames
+
+
 def _run(args) -> int:
+    if args.screenshot is not None:
+        check_writable(args.screenshot)
+    elif args.frames is not None:
+        raise UsageError("--frames N counts the frames of a --screenshot FILE; give both, or neither")
+    window = args.window or ("headless" if args.screenshot is not None else "pyglet")
+    size = parse_size(args.size)
     settings = RenderSettings(**settings_from_flags(args, RenderSettings))
     from ..maps import require_map_for_date
 
@@ -59,9 +98,35 @@ def _run(args) -> int:
             city, camera, placed = city_from_map(args.map, camera, args.date, args.time_of_day, city=made)
             settings = replace(settings, **placed)
             sky = sky_clock(city.origin, args.date)
+        frames = (args.frames or SCREENSHOT_FRAMES) if args.screenshot is not None else None
         viewer = open_viewer(
-            city, camera, settings, args.window, sky=sky, target_fps=args.target_fps, tiles=tiles, memory_budget=budget
+            city,
+            camera,
+            settings,
+            window,
+            size,
+            sky=sky,
+            target_fps=args.target_fps,
+            tiles=tiles,
+            memory_budget=budget,
+            stop_after=frames,
         )
-        print(HELP)
+        if frames is None:
+            print(HELP)
         mglw.run_window_config_instance(viewer)
+    if frames is not None:
+        _report(args.screenshot, viewer)
     return 0
+
+
+def _report(path: Path, viewer):
+    if viewer.last_image is None:  # closed (Esc, the window's close button) before the last frame
+        raise UsageError(
+            f"the window was closed after {viewer.frames_drawn} of {viewer.stop_after} frames; {path} was not written"
+        )
+    save_png(viewer.last_image, path)
+    height, width = viewer.last_image.shape[:2]
+    after_first = viewer.frames_drawn - 1
+    rate = f", {after_first / viewer.seconds_after_first:.1f} fps after the first" if after_first else ""
+    print(f"wrote {path} ({width}x{height}): frame {viewer.frames_drawn} of a {viewer.wnd.name} window{rate}")
+    print(f"its title: {viewer.status()}")

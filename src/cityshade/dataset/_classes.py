@@ -110,5 +110,66 @@ def class_image(ids: np.ndarray, ignore=()) -> np.ndarray:
 
 
 def instance_image(ids: np.ndarray) -> np.ndarray:
-    """HxW uint32: building index + 1 on buildings and roofs, 0 elsewhere (on trees in front of one too)."""
+    """HxW uint32: mass index + 1 on buildings and roofs, 0 elsewhere (on trees in front of one too)."""
     return np.where(on_building(ids[..., 0]), ids[..., 2], 0).astype(np.uint32)
+
+
+def building_instances(masses: np.ndarray, mass_building: np.ndarray, mass_part: np.ndarray) -> np.ndarray:
+    """HxWx2 uint32 from an instance_image: channel 0 the building number, channel 1 the part
+    number within it (both 1-based, 0 where no building is)."""
+    out = np.zeros((*masses.shape, 2), np.uint32)
+    hit = (masses > 0) & (masses <= len(mass_building))
+    out[hit, 0] = mass_building[masses[hit] - 1]
+    out[hit, 1] = mass_part[masses[hit] - 1]
+    return out
+
+
+# Cityscapes (cityscapesScripts' labels.py): native class -> (labelId, trainId). Facades, windows,
+# doors, shop fronts, balconies and roofs are all `building` (Cityscapes' `wall` is a free-standing
+# wall); trunks and foliage `vegetation`; lamp posts `pole`; lane paint `road`; bare ground and grass
+# `terrain`; water has no Cityscapes class and is `unlabeled`, as are ignored classes.
+CITYSCAPES_LABELS = {
+    "unlabeled": (0, 255),
+    "road": (7, 0),
+    "sidewalk": (8, 1),
+    "rail track": (10, 255),
+    "building": (11, 2),
+    "pole": (17, 5),
+    "vegetation": (21, 8),
+    "terrain": (22, 9),
+    "sky": (23, 10),
+}
+CITYSCAPES_OF = {
+    "sky": "sky",
+    "road": "road",
+    "pavement": "sidewalk",
+    "lane_marking": "road",
+    "grass": "terrain",
+    "water": "unlabeled",
+    "wall": "building",
+    "window": "building",
+    "door": "building",
+    "shop_front": "building",
+    "balcony_relief": "building",
+    "roof": "building",
+    "tree_trunk": "vegetation",
+    "lamp": "pole",
+    "rail": "rail track",
+    "bare_ground": "terrain",
+    "foliage": "vegetation",
+}
+
+
+def _cityscapes_table(column: int) -> np.ndarray:
+    table = np.full(256, CITYSCAPES_LABELS["unlabeled"][column], np.uint8)  # IGNORE -> unlabeled
+    for index, name in enumerate(CLASSES):
+        table[index] = CITYSCAPES_LABELS[CITYSCAPES_OF[name]][column]
+    return table
+
+
+CITYSCAPES_LABEL_IDS, CITYSCAPES_TRAIN_IDS = _cityscapes_table(0), _cityscapes_table(1)
+
+
+def cityscapes_images(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(labelIds, trainIds) uint8 images of a native class image."""
+    return CITYSCAPES_LABEL_IDS[classes], CITYSCAPES_TRAIN_IDS[classes]

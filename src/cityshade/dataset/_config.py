@@ -8,6 +8,7 @@ as a capped regular file and its nesting is bounded before tomllib recurses into
 from __future__ import annotations
 
 import datetime as dt
+import importlib.util
 import math
 import tomllib
 from dataclasses import dataclass
@@ -16,6 +17,7 @@ from pathlib import Path
 from .._files import read_input_bytes
 from .._json import value_depth
 from ..errors import UsageError
+from ._arrays import FORMATS
 from ._classes import CLASSES
 from ._limits import MAX_CONFIG_BYTES, MAX_IMAGE_SIDE, MAX_NESTING, shown, shown_key, toml_nesting
 
@@ -34,8 +36,12 @@ DEFAULTS: dict[str, dict] = {
     },
     "time": {"dates": ["2025-03-01", "2025-10-31"], "hours": [8.0, 18.0]},
     "classes": {"ignore": []},  # classes written as IGNORE (255) in the class image
+    # float arrays as "npz" or "exr"; KITTI 16-bit depth PNGs; the class images ("native" or also
+    # "cityscapes" labelIds/trainIds); COCO panoptic PNGs and panoptic.json
+    "output": {"arrays": "npz", "kitti_depth": False, "classes": "native", "panoptic": False},
     "run": {"batch": 4},
 }
+CLASS_SETS = ("native", "cityscapes")
 
 
 @dataclass(frozen=True)
@@ -57,6 +63,10 @@ class DatasetConfig:
     hours: tuple[float, float]
     ignore: tuple[str, ...]
     batch: int
+    arrays: str = "npz"
+    kitti_depth: bool = False
+    classes: str = "native"
+    panoptic: bool = False
 
     def settings(self) -> dict:
         """The settings that decide the images, as 'section.key' -> value (for --resume checks)."""
@@ -107,6 +117,18 @@ def _dates(where, key, value):
     return tuple(value)
 
 
+def _choice(where, key, value, allowed):
+    if value not in allowed or not isinstance(value, str):
+        _fail(where, key, value, f"expected one of {', '.join(allowed)}")
+    return value
+
+
+def _flag(where, key, value):
+    if not isinstance(value, bool):
+        _fail(where, key, value, "expected true or false")
+    return value
+
+
 def _classes(where, key, value):
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         _fail(where, key, value, "expected a list of class names")
@@ -132,6 +154,9 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
     }
     if sum(shares.values()) <= 0:
         _fail(where, "views", shares, "at least one kind of view needs a share above 0")
+    arrays = _choice(where, "output.arrays", get("output", "arrays"), FORMATS)
+    if arrays == "exr" and importlib.util.find_spec("OpenEXR") is None:
+        _fail(where, "output.arrays", arrays, "needs OpenEXR: pip install 'cityshade[exr]', or use npz")
     return DatasetConfig(
         width=int(_number(where, "image.width", get("image", "width"), 8, MAX_IMAGE_SIDE, integer=True)),
         height=int(_number(where, "image.height", get("image", "height"), 8, MAX_IMAGE_SIDE, integer=True)),
@@ -148,6 +173,10 @@ def parse_config(data: dict, where: str = "config") -> DatasetConfig:
         hours=_pair(where, "time.hours", get("time", "hours"), 0.0, 23.99),
         ignore=_classes(where, "classes.ignore", get("classes", "ignore")),
         batch=int(_number(where, "run.batch", get("run", "batch"), 1, 1024, integer=True)),
+        arrays=arrays,
+        kitti_depth=_flag(where, "output.kitti_depth", get("output", "kitti_depth")),
+        classes=_choice(where, "output.classes", get("output", "classes"), CLASS_SETS),
+        panoptic=_flag(where, "output.panoptic", get("output", "panoptic")),
     )
 
 

@@ -79,6 +79,25 @@ def read_sample_file(folder: Path, row: dict, column: str) -> bytes:
         raise sample_error(folder, row, column, exc.reason) from None
 
 
+def extra_files_of(row: dict, meta: bytes) -> dict[str, str]:
+    """The optional files (KITTI depth, Cityscapes ids) a sample's camera JSON lists beside the
+    manifest's: name -> path relative to the folder ({} for JSON that lists none)."""
+    try:
+        files = json.loads(meta).get("files", {})
+    except (ValueError, AttributeError, RecursionError):
+        return {}
+    if not isinstance(files, dict):
+        return {}
+    return {
+        name: f"samples/{name_on_disk}"
+        for name, name_on_disk in files.items()
+        if name not in FILES
+        and isinstance(name_on_disk, str)
+        and name_on_disk.startswith(f"{row['index']:07d}.")
+        and "/" not in name_on_disk
+    }
+
+
 def _column_fits(kind: str, arrow_type) -> bool:
     import pyarrow as pa
 
@@ -111,7 +130,7 @@ def _read_table(path: Path):
         missing = [name for name in COLUMNS if name not in names]
         if missing:
             raise UsageError(f"{path}: no column {', '.join(missing)}; not a manifest of cityshade dataset; {REDO}")
-        table = reader.read(columns=list(COLUMNS))
+        table = reader.read(columns=list(COLUMNS), use_threads=False)  # no pool threads left at exit
     except (pa.ArrowException, OSError, ValueError, TypeError, IndexError, KeyError, MemoryError) as exc:
         raise UsageError(f"{path}: not a readable Parquet manifest ({type(exc).__name__}); {REDO}") from None
     for name, kind in COLUMNS.items():

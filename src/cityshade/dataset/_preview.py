@@ -14,6 +14,7 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from ..errors import UsageError
+from ._arrays import ArrayFileError, decode
 from ._classes import CLASS_COLOURS, CLASSES, IGNORE
 from ._limits import MAX_IMAGE_SIDE
 from ._manifest import folder_file, read_manifest, read_sample_file, sample_error
@@ -60,38 +61,22 @@ def _png(folder: Path, row: dict, column: str, mode: str) -> np.ndarray:
         raise sample_error(folder, row, column, "not a readable PNG image") from None
 
 
-def _npy(folder: Path, row: dict, column: str, kinds: str) -> np.ndarray:
-    """A 2-D array of dtype kind in `kinds`, its header checked before the array is allocated."""
+def _array(folder: Path, row: dict, column: str, kinds: str) -> np.ndarray:
+    """A sample's array file (.npz, .exr or an older dataset's .npy), its header checked before the
+    array is allocated; an image's first channel (an instance image's building numbers)."""
     data = read_sample_file(folder, row, column)
-    buffer = io.BytesIO(data)
-    fmt = np.lib.format
     try:
-        version = fmt.read_magic(buffer)
-        header = {(1, 0): fmt.read_array_header_1_0, (2, 0): fmt.read_array_header_2_0}.get(version)
-        if header is None:
-            raise ValueError(version)
-        shape, _, dtype = header(buffer)
-        fits = (
-            dtype.kind in kinds
-            and len(shape) == 2
-            and 0 < min(shape)
-            and max(shape) <= MAX_IMAGE_SIDE
-            and shape[0] * shape[1] * dtype.itemsize <= len(data) - buffer.tell()
-        )
-        if not fits:
-            raise sample_error(folder, row, column, f"a {dtype} array of shape {shape}, not a dataset's image")
-        return np.load(io.BytesIO(data), allow_pickle=False)
-    except UsageError:
-        raise
-    except (OSError, ValueError, SyntaxError, EOFError, TypeError):
-        raise sample_error(folder, row, column, "not a readable .npy array") from None
+        array = decode(data, row[column], kinds)
+    except ArrayFileError as exc:
+        raise sample_error(folder, row, column, str(exc)) from None
+    return array[..., 0] if array.ndim == 3 else array
 
 
 def sample_row(folder: Path, row: dict) -> np.ndarray:
     rgb = _png(folder, row, "rgb", "RGB")
     classes = _png(folder, row, "class", "L")
-    instance = _npy(folder, row, "instance", "ui")
-    depth = _npy(folder, row, "depth", "f")
+    instance = _array(folder, row, "instance", "ui")
+    depth = _array(folder, row, "depth", "f")
     for column, array in (("class", classes), ("instance", instance), ("depth", depth)):
         if array.shape[:2] != rgb.shape[:2]:
             raise sample_error(

@@ -30,10 +30,12 @@ from pathlib import Path
 from .._files import read_input_bytes, signals_deferred
 from ..errors import CityshadeError, UsageError
 from ._config import DatasetConfig
+from ._gather import write_gathered
 from ._limits import MAX_SAMPLE_FILE_BYTES, MAX_SAMPLES, MAX_SEED, WORKERS_PER_CORE, local_cores, max_local_workers
 from ._manifest import FILES, check_record, complete_rows, folder_file, read_manifest, write_manifest, write_record
+from ._progress import progress as show_progress
 from ._sample import manifest_row, sample_files
-from ._views import sample_view
+from ._views import SEQUENCES, sample_view, sequence_view
 
 MANIFEST_EVERY = 2.0  # seconds between manifest rewrites while samples arrive
 PROBE_SECONDS = 5.0  # for an address to answer
@@ -277,21 +279,21 @@ def _stop_actors(actors, processes):
         time.sleep(0.05)
 
 
-def _add_finished(out: Path, views, done: dict, since_ns: int):
+def _add_finished(out: Path, views, done: dict, since_ns: int, arrays: str):
     """Adds to `done` the samples of `views` whose rows never came back (a run stopped by a signal
     or an error) but whose files an actor of this run finished: six regular files, the camera
     JSON (written last) written since `since_ns` and describing this view."""
     for view in views:
         if view.index in done:
             continue
-        files = sample_files(view.index)
+        files = sample_files(view.index, arrays)
         try:
             info = {name: os.lstat(out / files[name]) for name in FILES}
             if not all(stat.S_ISREG(i.st_mode) for i in info.values()) or info["meta"].st_mtime_ns < since_ns:
                 continue
             meta = json.loads(read_input_bytes(out / files["meta"], MAX_SAMPLE_FILE_BYTES, "sample file"))
             if meta["index"] == view.index and meta["eye"] == list(view.eye):
-                done[view.index] = manifest_row(view, meta)
+                done[view.index] = manifest_row(view, meta, arrays)
         except (OSError, CityshadeError, ValueError, KeyError, TypeError, RecursionError):
             continue
 
@@ -308,9 +310,11 @@ def generate(
     resume: bool = False,
     progress: bool = True,
     on_workers=None,
+    path: str | None = None,
 ) -> list[dict]:
     """Renders samples 0..samples-1 into `out`; returns the manifest's rows. `on_workers(pids)` is
-    called once the actors run (to watch or stop them). Checks everything before it writes anything."""
+    called once the actors run (to watch or stop them). With `path` (walk or orbit) the samples are
+    consecutive views along it (_views.sequence_view). Checks everything before it writes anything."""
     from ._source import load_source
 
     out = Path(out)
@@ -320,14 +324,24 @@ def generate(
     check_output(out)
     if address is not None:
         check_address(address)
+    if path is not None and path not in SEQUENCES:
+        raise UsageError(f"--path {path}: unknown path; allowed: {', '.join(SEQUENCES)}")
     record = {"source": str(map_path) if map_path is not None else f"city:{city}", "seed": seed, **config.settings()}
+    if path is not None:  # a sequence's views depend on its length too
+        record.update(path=path, frames=samples)
     check_record(out, record, resume)
     source = load_source(map_path, city)
     if not len(source.streets.segments):
         raise UsageError(f"{record['source']} has no streets to stand on; use --city default or a map with roads")
     done = complete_rows(out)
     samples_folder = folder_file(out, "samples")
-    views = [sample_view(i, seed, config, source.streets, source.has_date) for i in range(samples) if i not in done]
+    views = [
+        sequence_view(i, samples, path, seed, config, source.streets, source.has_date, source.city)
+        if path is not None
+        else sample_view(i, seed, config, source.streets, source.has_date)
+        for i in range(samples)
+        if i not in done
+    ]
     batches = [views[k : k + config.batch] for k in range(0, len(views), config.batch)]
     started = _start_ray(workers, address) if batches else False
     try:
@@ -341,7 +355,7 @@ def generate(
                 _render(out, batches, samples, done, config, map_path, city, workers, address, progress, on_workers)
         finally:  # also after an error, Ctrl-C or SIGTERM: what is complete is listed, no temporary file stays
             with signals_deferred():
-                _add_finished(out, views, done, since_ns)
+                _add_finished(out, views, done, since_ns, config.arrays)
                 write_manifest(out, list(done.values()))
                 _remove_temporaries(out)
     finally:
@@ -349,6 +363,7 @@ def generate(
             import ray
 
             ray.shutdown()
+    write_gathered(out, config)
     return read_manifest(out)
 
 
@@ -409,7 +424,6 @@ def _render(
     """Deals `batches` to the actors (Ray runs); adds each returned manifest row to `done` as it arrives."""
     import ray
     from ray.util import ActorPool
-    from rich.progress import Progress
 
     threads = max(1, local_cores() // workers) if address is None else 1
     actors = [_worker_class().remote(map_path, city, config, str(out.resolve()), threads) for _ in range(workers)]
@@ -418,11 +432,10 @@ def _render(
         if on_workers is not None:
             on_workers([pid for _, pid in ray.get(processes)])
         last = time.monotonic()
-        with Progress(disable=not progress, transient=True) as bar:
-            task = bar.add_task(f"dataset {out.name}", total=samples, completed=len(done))
+        with show_progress(f"dataset {out.name}", samples, len(done), progress) as advance:
             for rows in ActorPool(actors).map_unordered(lambda actor, batch: actor.write.remote(batch), batches):
                 done.update({row["index"]: row for row in rows})
-                bar.advance(task, len(rows))
+                advance(len(rows))
                 if time.monotonic() - last > MANIFEST_EVERY:
                     write_manifest(out, list(done.values()))
                     last = time.monotonic()

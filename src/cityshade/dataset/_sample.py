@@ -2,9 +2,12 @@
 
 Depth is the camera-space z (metres along the optical axis, OpenCV's depth) of the frame's depth
 buffer, linearised exactly: z = 2 n f / (f + n - (2 d - 1)(f - n)) for the perspective projection
-of scene.perspective; +inf where nothing was drawn (the sky). Normals are estimated from that depth
-(back-projected points, cross product of the smaller-step neighbours), unit vectors in the OpenCV
-camera frame (x right, y down, z forward), zero on the sky.
+of scene.perspective; +inf where nothing was drawn (the sky). The ray distance (metres from the
+camera's centre to the surface) is z times the length of the pixel's ray at z = 1. Normals are
+estimated from that depth (back-projected points, cross product of the smaller-step neighbours),
+unit vectors in the OpenCV camera frame (x right, y down, z forward), zero on the sky, stored as
+float16 (steps of 0.0005 at most: under 0.06 degrees). Arrays are compressed (.npz or EXR, the
+config's output.arrays; instances always .npz).
 """
 
 from __future__ import annotations
@@ -19,25 +22,42 @@ from PIL import Image
 
 from .._files import atomic_output, inside_folder
 from ..render import Daylight, Renderer, RenderSettings
-from ._classes import class_image, instance_image
+from ._arrays import encode, encode_npz, encode_png16, kitti_depth
+from ._classes import building_instances, cityscapes_images, class_image, instance_image
 from ._config import DatasetConfig
+from ._panoptic import panoptic
 from ._source import Source
 from ._views import View
 
 GL_TO_CV = np.diag([1.0, -1.0, -1.0])  # OpenGL camera (y up, looks down -z) -> OpenCV (y down, looks down +z)
+# every sample's files (the manifest's columns), {arrays} the config's output.arrays; the meta JSON
+# is written last: it marks a complete sample
 SUFFIXES = {
     "rgb": "rgb.png",
-    "depth": "depth.npy",
-    "normal": "normal.npy",
+    "depth": "depth.{arrays}",
+    "distance": "distance.{arrays}",
+    "normal": "normal.{arrays}",
     "class": "class.png",
-    "instance": "instance.npy",
+    "instance": "instance.npz",
     "meta": "json",
-}  # the meta JSON is written last: it marks a complete sample
+}
+# the files the config's output section adds
+EXTRA_SUFFIXES = {"kitti_depth": "depth.png", "label_ids": "labelIds.png", "train_ids": "trainIds.png"}
 
 
-def sample_files(index: int) -> dict[str, str]:
+def sample_files(index: int, arrays: str = "npz") -> dict[str, str]:
     """Output name -> file name (relative to the dataset folder) of sample `index`."""
-    return {name: f"samples/{index:07d}.{suffix}" for name, suffix in SUFFIXES.items()}
+    return {name: f"samples/{index:07d}.{suffix.format(arrays=arrays)}" for name, suffix in SUFFIXES.items()}
+
+
+def extra_files(index: int, config: DatasetConfig) -> dict[str, str]:
+    """The optional files of sample `index` that `config` asks for (relative to the dataset folder)."""
+    wanted = {"kitti_depth": config.kitti_depth, "label_ids": config.classes == "cityscapes"}
+    wanted["train_ids"] = wanted["label_ids"]
+    files = {name: f"samples/{index:07d}.{suffix}" for name, suffix in EXTRA_SUFFIXES.items() if wanted[name]}
+    if config.panoptic:
+        files["panoptic"] = f"panoptic/{index:07d}.png"
+    return files
 
 
 def linear_depth(buffer: np.ndarray, near: float, far: float) -> np.ndarray:
@@ -61,6 +81,14 @@ def extrinsics(view: View) -> np.ndarray:
     out[:3, :3] = GL_TO_CV @ m[:3, :3]
     out[:3, 3] = GL_TO_CV @ m[:3, 3]
     return out
+
+
+def ray_distance(z: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """HxW float32 distance from the camera centre along each pixel's ray, from z-depth and K."""
+    h, w = z.shape
+    u, v = np.meshgrid(np.arange(w, dtype=np.float64), np.arange(h, dtype=np.float64))
+    stretch = np.sqrt(((u - k[0, 2]) / k[0, 0]) ** 2 + ((v - k[1, 2]) / k[1, 1]) ** 2 + 1.0)
+    return (z.astype(np.float64) * stretch).astype(np.float32)
 
 
 def normals_from_depth(z: np.ndarray, k: np.ndarray) -> np.ndarray:
@@ -93,19 +121,13 @@ def _png(image: np.ndarray) -> bytes:
     return buffer.getvalue()
 
 
-def _npy(array: np.ndarray) -> bytes:
-    buffer = io.BytesIO()
-    np.save(buffer, array)
-    return buffer.getvalue()
-
-
-def manifest_row(view: View, meta: dict) -> dict:
+def manifest_row(view: View, meta: dict, arrays: str = "npz") -> dict:
     """A sample's manifest row, from its view and its camera JSON (as written, or as read back)."""
     geo = meta["geographic"] or {}
     return {
         "index": view.index,
         "kind": view.kind,
-        **sample_files(view.index),
+        **sample_files(view.index, arrays),
         "lon": geo.get("lon"),
         "lat": geo.get("lat"),
         "height_m": view.eye[1],
@@ -193,46 +215,73 @@ class SampleRenderer:
         frame_z = linear_depth(r.depth(), camera.near, camera.far)
         ids = r.render_ids(camera)
         k = intrinsics(view.fov, self.config.width, self.config.height)
+        masses = instance_image(ids)
         arrays.update(
             depth=frame_z,
+            distance=ray_distance(frame_z, k),
             normal=normals_from_depth(frame_z, k),
             **{"class": class_image(ids, self.config.ignore)},
-            instance=instance_image(ids),
+            instance=building_instances(masses, self.source.mass_building, self.source.mass_part),
         )
         return arrays
 
     def write(self, view: View, out: Path) -> dict:
         """Renders `view` and writes its files (each atomically, the JSON last); returns its manifest row."""
-        arrays = self.render(view)
-        files = sample_files(view.index)
-        for name, data in (
-            ("rgb", _png(arrays["rgb"])),
-            ("depth", _npy(arrays["depth"])),
-            ("normal", _npy(arrays["normal"])),
-            ("class", _png(arrays["class"])),
-            ("instance", _npy(arrays["instance"])),
-        ):
-            write_atomic(inside_folder(out, files[name], str(out / files[name])), data)
-        _, when = self.sky(view)
-        visible = np.unique(arrays["instance"])
-        meta = {
-            "index": view.index,
-            "kind": view.kind,
-            "width": self.config.width,
-            "height": self.config.height,
-            "K": intrinsics(view.fov, self.config.width, self.config.height).tolist(),
-            "world_to_camera": extrinsics(view).tolist(),
-            "convention": "OpenCV (x right, y down, z forward); world: scene metres, x east, y up, z south",
-            "eye": list(view.eye),
-            "fov_y_deg": view.fov,
-            "near": view.near,
-            "geographic": self.geographic(view),
-            **when,
-            "instances": {str(int(i)): self.source.instances[int(i) - 1] for i in visible if i > 0},
-            "files": {k: os.path.basename(v) for k, v in files.items()},
-        }
-        write_atomic(inside_folder(out, files["meta"], str(out / files["meta"])), json.dumps(meta, indent=1).encode())
-        return manifest_row(view, meta)
+        arrays, when = self.render(view), self.sky(view)[1]
+        return write_sample(out, view, arrays, self.config, self.source.instances, when, self.geographic(view))
 
     def release(self):
         self.renderer.release()
+
+
+def encoded_files(arrays: dict, config: DatasetConfig) -> dict[str, bytes]:
+    """A sample's arrays (SampleRenderer.render) as the bytes of its files, by output name."""
+    data = {
+        "rgb": _png(arrays["rgb"]),
+        "depth": encode(arrays["depth"], config.arrays),
+        "distance": encode(arrays["distance"], config.arrays),
+        "normal": encode(arrays["normal"].astype(np.float16), config.arrays),  # unit vectors: 0.001 is enough
+        "class": _png(arrays["class"]),
+        "instance": encode_npz(arrays["instance"]),
+    }
+    if config.kitti_depth:
+        data["kitti_depth"] = encode_png16(kitti_depth(arrays["depth"]))
+    if config.classes == "cityscapes":
+        data["label_ids"], data["train_ids"] = (_png(image) for image in cityscapes_images(arrays["class"]))
+    return data
+
+
+def write_sample(
+    out: Path, view: View, arrays: dict, config: DatasetConfig, instances: list, when: dict, geographic: dict | None
+) -> dict:
+    """Writes a rendered view's files (each atomically, the camera JSON last) into the dataset
+    folder `out`; `instances` are the source ids by building number - 1. Returns the manifest row."""
+    files = {**sample_files(view.index, config.arrays), **extra_files(view.index, config)}
+    data = encoded_files(arrays, config)
+    panoptic_info = None
+    if config.panoptic:
+        picture, panoptic_info = panoptic(arrays["class"], arrays["instance"][..., 0])
+        data["panoptic"] = _png(picture)
+    for name, content in data.items():
+        write_atomic(inside_folder(out, files[name], str(out / files[name])), content)
+    visible = np.unique(arrays["instance"][..., 0])
+    meta = {
+        "index": view.index,
+        "kind": view.kind,
+        "width": config.width,
+        "height": config.height,
+        "K": intrinsics(view.fov, config.width, config.height).tolist(),
+        "world_to_camera": extrinsics(view).tolist(),
+        "convention": "OpenCV (x right, y down, z forward); world: scene metres, x east, y up, z south",
+        "eye": list(view.eye),
+        "fov_y_deg": view.fov,
+        "near": view.near,
+        "geographic": geographic,
+        **when,
+        "instances": {str(int(i)): instances[int(i) - 1] for i in visible if i > 0},
+        "files": {k: os.path.basename(v) if v.startswith("samples/") else v for k, v in files.items()},
+    }
+    if panoptic_info is not None:
+        meta["panoptic_segments"] = panoptic_info
+    write_atomic(inside_folder(out, files["meta"], str(out / files["meta"])), json.dumps(meta, indent=1).encode())
+    return manifest_row(view, meta, config.arrays)

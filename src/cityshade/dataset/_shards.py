@@ -1,5 +1,6 @@
 """WebDataset tar shards of a dataset's complete samples: `shards/000000.tar`, ... each holding
-`per_shard` samples in index order, every file named `KEY.EXTENSION` with KEY the 7-digit sample
+`per_shard` samples in index order (the manifest's files and the optional ones each sample's JSON
+lists), every file named `KEY.EXTENSION` with KEY the 7-digit sample
 index. The tars are reproducible (sorted members, mtime 0, uid/gid 0) and each is written atomically.
 Only regular files inside the dataset folder go into them (_manifest.sample_path)."""
 
@@ -10,8 +11,8 @@ import os
 import tarfile
 from pathlib import Path
 
-from ._manifest import FILES, folder_file, read_manifest, read_sample_file
-from ._sample import sample_files, write_atomic
+from ._manifest import FILES, extra_files_of, folder_file, read_manifest, read_sample_file
+from ._sample import write_atomic
 
 
 def _member(tar: tarfile.TarFile, name: str, data: bytes):
@@ -32,9 +33,11 @@ def write_shards(folder: Path, per_shard: int) -> list[Path]:
         with tarfile.open(fileobj=buffer, mode="w", format=tarfile.USTAR_FORMAT) as tar:
             for row in rows[k : k + per_shard]:
                 for name in FILES:
-                    _member(
-                        tar, os.path.basename(sample_files(row["index"])[name]), read_sample_file(folder, row, name)
-                    )
+                    data = read_sample_file(folder, row, name)
+                    _member(tar, os.path.basename(row[name]), data)
+                extras = extra_files_of(row, data)  # the camera JSON, the last of FILES
+                for name, path in sorted(extras.items()):
+                    _member(tar, os.path.basename(path), read_sample_file(folder, {**row, name: path}, name))
         paths.append(folder / "shards" / f"{k // per_shard:06d}.tar")
         write_atomic(shards / paths[-1].name, buffer.getvalue())
     for stale in sorted(shards.glob("*.tar"))[len(paths) :]:

@@ -16,7 +16,7 @@ import numpy as np
 import shapely
 
 from ..maps import MAIN_ROADS, ROAD_LINKS
-from ..scene import Camera, City
+from ..scene import PATHS, Camera, City
 from ._config import DatasetConfig
 
 KINDS = ("pedestrian", "vehicle", "aerial")
@@ -137,3 +137,99 @@ def sample_view(index: int, seed: int, config: DatasetConfig, streets: Streets, 
         if not streets.inside_building((x, z)):
             break
     return View(index, kind, eye, heading, pitch, config.fov, near, day.isoformat() if has_date else None, hours)
+
+
+SEQUENCES = ("walk", "orbit")  # --path
+WALK_STEP = 2.0  # metres at most between consecutive walk views, so that neighbours overlap
+
+
+def _key(point) -> tuple[float, float]:
+    return (round(float(point[0]), 3), round(float(point[1]), 3))
+
+
+def walk_route(streets: Streets) -> np.ndarray:
+    """(M, 2) points of a walk: from one end of the longest segment, at each junction on along the
+    straightest street not walked yet, until none is left."""
+    segments = streets.segments
+    ends: dict[tuple, list[tuple[int, int]]] = {}
+    for k, (a, b) in enumerate(segments):
+        ends.setdefault(_key(a), []).append((k, 1))
+        ends.setdefault(_key(b), []).append((k, 0))
+    lengths = np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1)
+    current = int(np.argmax(lengths))
+    used = {current}
+    route = [segments[current][0], segments[current][1]]
+    while True:
+        heading = (route[-1] - route[-2]) / max(np.linalg.norm(route[-1] - route[-2]), 1e-9)
+        options = []
+        for k, far in ends.get(_key(route[-1]), []):
+            if k in used or lengths[k] <= 0:
+                continue
+            step = (segments[k][far] - route[-1]) / lengths[k]
+            options.append((float(step @ heading), k, far))
+        if not options:
+            return np.asarray(route)
+        _, k, far = max(options)
+        used.add(k)
+        route.append(segments[k][far])
+
+
+def _along(route: np.ndarray, distance: float):
+    """(point, unit direction) at `distance` metres along a polyline."""
+    steps = np.linalg.norm(np.diff(route, axis=0), axis=1)
+    at = np.concatenate([[0.0], np.cumsum(steps)])
+    k = int(np.clip(np.searchsorted(at, distance, side="right") - 1, 0, len(steps) - 1))
+    direction = (route[k + 1] - route[k]) / max(steps[k], 1e-9)
+    return route[k] + direction * (distance - at[k]), direction
+
+
+def walk_eye(streets: Streets, route: np.ndarray, distance: float, height: float):
+    """(eye, heading) `distance` metres along the walk route: on the right-hand pavement (half the
+    streets' median width and a metre off the centreline), looking along the street."""
+    point, direction = _along(route, distance)
+    width = float(np.median(streets.widths))
+    x, z = point + np.array([-direction[1], direction[0]]) * (width / 2 + 1.0)
+    return (float(x), height, float(z)), _heading(direction)
+
+
+def route_length(route: np.ndarray) -> float:
+    return float(np.sum(np.linalg.norm(np.diff(route, axis=0), axis=1)))
+
+
+def walk_camera(streets: Streets, t: float, height: float = 1.7, fov: float = 60.0) -> Camera:
+    """The camera a share `t` (0..1) of the way along the whole walk route (cityshade video --path walk)."""
+    route = walk_route(streets)
+    eye, heading = walk_eye(streets, route, t * route_length(route), height)
+    return View(0, "walk", eye, heading, 0.0, fov, 0.3, None, 12.0).camera()
+
+
+def sequence_view(
+    index: int,
+    frames: int,
+    path: str,
+    seed: int,
+    config: DatasetConfig,
+    streets: Streets,
+    has_date: bool,
+    city: City | None = None,
+) -> View:
+    """View `index` of `frames` consecutive views: `walk` at pedestrian height beside the walk
+    route's carriageway, looking ahead, WALK_STEP metres apart at most; `orbit` once around the
+    city's buildings as `cityshade video` circles them (scene's orbit path, `city` needed).
+    Every frame has the same date and time (from the seed)."""
+    rng = np.random.default_rng([seed])
+    first, last = config.day_range
+    day = first + dt.timedelta(days=int(rng.integers(0, (last - first).days + 1)))
+    hours = float(rng.uniform(*config.hours))
+    date = day.isoformat() if has_date else None
+    if path == "walk":
+        route = walk_route(streets)
+        step = min(route_length(route) / max(frames - 1, 1), WALK_STEP)
+        eye, heading = walk_eye(streets, route, index * step, config.pedestrian_height)
+        return View(index, "walk", eye, heading, 0.0, config.fov, 0.3, date, hours)
+    camera = PATHS["orbit"](city, index / frames)
+    look = np.subtract(camera.target, camera.eye)
+    heading = _heading(look[[0, 2]])
+    pitch = float(np.degrees(np.arctan2(look[1], np.hypot(look[0], look[2]))))
+    eye = tuple(float(v) for v in camera.eye)
+    return View(index, "orbit", eye, heading, pitch, config.fov, camera.near, date, hours)

@@ -13,7 +13,8 @@ from ._bake import (
     pack,
     wall_sides,
 )
-from ._export import FORMATS, check_output, city_document, export_city
+from ._export import FORMATS, check_output, city_document, default_texel, default_texel_note, export_city
+from ._gltf import GEOMETRY, TEXTURES, Encoding
 from ._source import ExportCity, crop, layout_export_city, map_export_city, parse_region
 
 __all__ = [
@@ -22,6 +23,9 @@ __all__ = [
     "FORMATS",
     "Atlas",
     "Canvas",
+    "Encoding",
+    "GEOMETRY",
+    "TEXTURES",
     "ExportCity",
     "GpuBaker",
     "bake_atlas",
@@ -29,6 +33,8 @@ __all__ = [
     "canvases_of",
     "has_grammar",
     "city_document",
+    "default_texel",
+    "default_texel_note",
     "crop",
     "export_city",
     "layout_export_city",

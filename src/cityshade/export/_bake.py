@@ -5,8 +5,9 @@ The renderer evaluates a building's grammar per pixel in the true size of the wa
 of a dome is one face), so each face gets a canvas of its own, evaluated with the same scope, seed
 and building values. A canvas covers the face's facade coordinates plus one texel of border (so
 filtering never reads a neighbour), at `texel` metres per texel. Canvases are packed into atlas
-pages; each page gives a base colour, a metallic-roughness, a normal and an emissive (lit windows)
-image.
+pages; each page gives a base colour, a metallic-roughness, a normal and an emissive image: the
+windows lit at NIGHT_HOUR, by each building's use as the renderer's clock lights them
+(scene.lit_share); by day none glows.
 """
 
 from __future__ import annotations
@@ -26,13 +27,13 @@ from ..grammar import (
     seed_cells,
     seed_vector,
 )
-from ..scene import SHAPES, face_levels
+from ..scene import SHAPES, face_levels, lit_share
 
 PAGE = 2048  # texels: the side of an ordinary atlas page
 ATLAS_LIMIT = 8192  # texels: the largest texture side every desktop and web GPU of the last decade loads
 MAX_TEXELS = 1 << 28  # all pages together (about 1 GiB of RGBA): more would not fit in memory
 STRIP = 512  # rows baked per GPU pass (bounds the render target's memory)
-LIT_SHARE = 0.35  # share of rooms lit at a building's lights = 1
+NIGHT_HOUR = 21.0  # the night variant's clock: homes and mixed blocks mostly lit, offices nearly dark
 LIT_COLOUR = np.array([255, 196, 120], np.uint8)
 
 
@@ -124,6 +125,41 @@ def canvases_of(index: int, mass, walls: np.ndarray, texel: float) -> list[Canva
     return out
 
 
+def face_extents(walls: np.ndarray) -> np.ndarray:
+    """(faces, 2) metres each wall face spans in facade u and v, in wall_sides' order (the canvas
+    of a face at texel t is ceil(extent / t) + 2 texels a side: canvases_of's one-texel border)."""
+    sides = wall_sides(walls)
+    facade = walls["facade"][:, :2].astype(np.float64)
+    count = int(sides.max()) + 1 if len(sides) else 0
+    lo = np.full((count, 2), np.inf)
+    hi = np.full((count, 2), -np.inf)
+    np.minimum.at(lo, sides, facade)
+    np.maximum.at(hi, sides, facade)
+    return hi - lo
+
+
+def _fits(extents: np.ndarray, texel: float) -> bool:
+    sides = np.maximum(np.ceil((extents + 2 * texel) / texel), 1.0)  # as canvases_of
+    return bool(sides.max() <= ATLAS_LIMIT and np.prod(sides, axis=1).sum() <= MAX_TEXELS)
+
+
+def finest_texel(extents: np.ndarray, finest: float) -> float:
+    """The smallest texel size, no smaller than `finest` and rounded up to 3 significant digits,
+    at which faces of these extents fit the atlas limits (the side and the total of check_size)."""
+    if not len(extents) or _fits(extents, finest):
+        return finest
+    lo, hi = finest, finest * 2
+    while not _fits(extents, hi):
+        lo, hi = hi, hi * 2
+    for _ in range(40):  # fitting only gets easier as texels grow: bisect in log space
+        mid = float(np.sqrt(lo * hi))
+        lo, hi = (lo, mid) if _fits(extents, mid) else (mid, hi)
+    texel = largest_fitting_texel(hi, 1.0)
+    while not _fits(extents, texel):  # rounding up keeps it fitting; this guards the arithmetic
+        texel = largest_fitting_texel(texel, 1.001)
+    return texel
+
+
 def largest_fitting_texel(texel: float, ratio: float) -> float:
     """The smallest texel size (3 significant digits, rounded up) at least texel * ratio."""
     value = texel * ratio
@@ -181,14 +217,16 @@ def texel_grid(canvas: Canvas, texel: float) -> np.ndarray:
     return np.stack(np.meshgrid(u, v), axis=-1)
 
 
-def lit_rooms(canvas: Canvas, texel: float) -> np.ndarray:
-    """(rows, cols) bool: texels in rooms whose light is on (a hash of building, side, bay and storey)."""
+def lit_rooms(canvas: Canvas, texel: float, hours: float = NIGHT_HOUR) -> np.ndarray:
+    """(rows, cols) bool: texels in rooms whose light is on at `hours`: a hash of building, side, bay
+    and storey below the share of its use lit then times the building's own `lights`."""
     grid = texel_grid(canvas, texel)
     room = np.floor(grid / np.asarray(canvas.room)).astype(np.int64)
     key = (canvas.building * FACADE_INDICES + canvas.side) * 1_000_003 + room[..., 0] * 7919 + room[..., 1] * 104_729
     h = seed_cells(key.ravel() & 0x7FFFFFFF)
     value = (h[:, 0] * 2048 + h[:, 1]) / float(1 << 22)
-    return (value < LIT_SHARE * canvas.lights).reshape(room.shape[:2])
+    share = lit_share(int(canvas.values[2]), hours) * canvas.lights
+    return (value < share).reshape(room.shape[:2])
 
 
 def bake_reference(canvas: Canvas, texel: float, tiles) -> dict[str, np.ndarray]:

@@ -29,10 +29,13 @@ from ._bake import (
     bake_atlas,
     canvases_of,
     check_size,
+    face_extents,
+    finest_texel,
     has_grammar,
     wall_sides,
 )
 from ._gltf import Document
+from ._merge import Pieces
 
 GROUND_Y = (0.0, 0.02, 0.04)  # the built-in city's asphalt plane, pavements and grass, stacked
 GROUND_COLOURS = {material: colour for material, (_, colour) in GROUND_TABLE.items()}  # linear, by material id
@@ -48,6 +51,7 @@ class Stats:
     facade_area: float = 0.0  # square metres of wall
     atlas_sizes: list = field(default_factory=list)  # (cols, rows) per page
     leaf: bool = False  # a 3D Tiles leaf: full detail
+    draw_calls: int = 0  # primitives (an instanced mesh's primitive is one draw call for all its instances)
 
     @property
     def atlas_texels(self) -> int:
@@ -80,25 +84,45 @@ def _triangle_area(positions: np.ndarray) -> float:
     return float(0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
 
 
-class BuildingWriter:
-    """Bakes the facades of a set of masses and adds one node per building to a document."""
+def grammar_walls(masses):
+    """(records, vertices per mass, {mass index: its grammar walls}) as the renderer has them:
+    grammar buildings tinted to their style's wall colour, faces too narrow for their grammar marked
+    plain walls (with the renderer's counted warning); grammar walls are neither roofs, plain walls
+    nor dormer fronts."""
+    vertices = [building_vertices(m, i) for i, m in enumerate(masses)]
+    records = building_records(masses)
+    every = np.concatenate(vertices)
+    assign_facades(records, masses, every)
+    vertices = np.split(every, np.cumsum([len(v) for v in vertices])[:-1])
+    walls = {}
+    for i, (mass, verts) in enumerate(zip(masses, vertices)):
+        mine = verts[verts["ids"][:, 1] == SURFACE_WALL]
+        if has_grammar(mass) and len(mine):
+            walls[i] = mine
+    return records, vertices, walls
 
-    def __init__(self, doc: Document, masses, metadata, texel: float, stats: Stats):
+
+def finest_city_texel(masses, finest: float) -> float:
+    """The finest texel (no finer than `finest`) at which these masses' facades fit the atlas."""
+    if not masses:
+        return finest
+    walls = grammar_walls(masses)[2].values()
+    return finest_texel(np.concatenate([face_extents(w) for w in walls] or [np.zeros((0, 2))]), finest)
+
+
+class BuildingWriter:
+    """Bakes the facades of a set of masses and adds them to a document: one node per building with
+    its origin at its base (one primitive per material), or with `merged` (a 3D Tiles tile) one node
+    for all, one primitive per material; buildings stay apart as features either way."""
+
+    def __init__(self, doc: Document, masses, metadata, texel: float, stats: Stats, merged: bool = False):
         self.doc, self.masses, self.metadata, self.texel, self.stats = doc, masses, metadata, texel, stats
+        self.merged = merged
         self.vertices, self.canvases = [], {}
         if not masses:
             return
-        vertices = [building_vertices(m, i) for i, m in enumerate(masses)]
-        # as the renderer: grammar buildings tinted to their style's wall colour, faces too narrow for
-        # their grammar marked plain walls (with the renderer's counted warning)
-        self.records = building_records(masses)
-        every = np.concatenate(vertices)
-        assign_facades(self.records, masses, every)
-        self.vertices = np.split(every, np.cumsum([len(v) for v in vertices])[:-1])
-        for i, (mass, verts) in enumerate(zip(masses, self.vertices)):
-            walls = verts[verts["ids"][:, 1] == SURFACE_WALL]  # not roofs, plain walls nor dormer fronts
-            if has_grammar(mass) and len(walls):
-                self.canvases[i] = canvases_of(i, mass, walls, texel)
+        self.records, self.vertices, walls = grammar_walls(masses)
+        self.canvases = {i: canvases_of(i, masses[i], w, texel) for i, w in walls.items()}
         check_size([c for cs in self.canvases.values() for c in cs], texel)
 
     def write(self):
@@ -108,32 +132,69 @@ class BuildingWriter:
         self.stats.atlas_sizes += atlas.sizes
         pages = self._page_materials(atlas)
         image, _ = facade_texture()
-        bays = self.doc.material("window bays", base_texture=self.doc.texture(image[::-1, :, :3].copy(), repeat=True))
+        bays = self.doc.material(
+            "window bays", base_texture=self.doc.texture(image[::-1, :, :3].copy(), repeat=True, colour=True)
+        )
         roofs = self.doc.material("roofs", roughness=0.8, double_sided=True)
         plain_walls = self.doc.material("plain walls", roughness=0.9)
+        every = Pieces()
         for i, (mass, verts) in enumerate(zip(self.masses, self.vertices)):
-            self._building(i, mass, verts, atlas, pages, (bays, roofs, plain_walls))
+            pieces = every if self.merged else Pieces()
+            if not self._building(i, mass, verts, atlas, pages, (bays, roofs, plain_walls), pieces):
+                continue
+            if not self.merged:
+                metadata = self.doc.features[-1]
+                self._node(f"building {metadata['source_id']}", pieces, metadata)
+        if self.merged and every:
+            self._node("buildings", every, {"kind": "buildings"})
+
+    def _node(self, name: str, pieces: Pieces, extras: dict):
+        """A node whose origin is the middle of its base (where Blender puts an object's handle)."""
+        lo, hi = pieces.bounds()
+        origin = np.array([(lo[0] + hi[0]) / 2, lo[1], (lo[2] + hi[2]) / 2])
+        primitives, scale = pieces.primitives(self.doc, origin)
+        self.doc.node(name, primitives, extras=extras, translation=origin, scale=scale)
 
     def _page_materials(self, atlas: Atlas) -> list[int]:
         doc = self.doc
-        return [
-            doc.material(
-                f"facades {p}",
-                base_texture=doc.texture(atlas.base_colour[p], name=f"facade colour {p}"),
-                mr_texture=doc.texture(atlas.metallic_roughness[p]),
-                roughness=1.0,
-                normal_texture=doc.texture(atlas.normal[p]),
-                emissive_texture=doc.texture(atlas.emissive[p]),
-            )
-            for p in range(len(atlas.sizes))
-        ]
+        out = []
+        for p in range(len(atlas.sizes)):
+            maps = {
+                "base_texture": doc.texture(atlas.base_colour[p], name=f"facade colour {p}", colour=True),
+                "mr_texture": doc.texture(atlas.metallic_roughness[p]),
+                "roughness": 1.0,
+                "normal_texture": doc.texture(atlas.normal[p]),
+            }
+            day = doc.material(f"facades {p}", **maps)  # the default: no window glows in daylight
+            night = doc.material(f"facades {p} night", **maps, emissive_texture=doc.texture(atlas.emissive[p]))
+            doc.night_variant(day, night)
+            out.append(day)
+        return out
 
-    def _building(self, i, mass, verts, atlas, pages, materials):
+    def _building(self, i, mass, verts, atlas, pages, materials, pieces: Pieces) -> bool:
+        """Adds building i's triangles to `pieces` (in the document's frame) and its property
+        table row; False when it has none."""
+        if not len(verts):
+            return False
+        doc = self.doc
+        row = doc.feature_row(
+            dict(self.metadata[i], facade=BUILDING_STYLES[mass.style] if i in self.canvases else "window bays")
+        )
         bays, roofs, plain_walls = materials
         rot = rotation_y(mass.yaw)
-        roof = verts["ids"][:, 1] == SURFACE_ROOF
         record = self.records[i]
-        primitives = []
+
+        def add(material, part, normals, **arrays):
+            n = len(part)
+            pieces.add(
+                material,
+                positions=doc.world(part["position"]),
+                normals=doc.turn(normals),
+                features=np.full(n, row, np.float64),
+                **arrays,
+            )
+
+        roof = verts["ids"][:, 1] == SURFACE_ROOF
         walls = verts[~roof]
         if len(walls):
             self.stats.facade_area += _triangle_area(walls["position"].astype(np.float64))
@@ -145,60 +206,28 @@ class BuildingWriter:
                 normals = walls["normal"] @ rot.T
                 sides = wall_sides(walls)
                 n = walls["normal"]
-                tangents = np.column_stack([-n[:, 2], np.zeros(len(n)), n[:, 0]]) @ rot.T  # along mesh u
-                tangents /= np.linalg.norm(tangents, axis=1, keepdims=True)  # a dome's tilted rings: shorter
-                tangents = np.column_stack([tangents, -np.ones(len(n))])  # bitangent = cross(n, t) * -1 = up
+                along = np.column_stack([-n[:, 2], np.zeros(len(n)), n[:, 0]]) @ rot.T  # along mesh u
+                along = doc.turn(along)
+                along /= np.linalg.norm(along, axis=1, keepdims=True)  # a dome's tilted rings: shorter
+                tangents = np.column_stack([along, -np.ones(len(n))])  # bitangent = cross(n, t) * -1 = up
                 for side, canvas in enumerate(self.canvases[i]):
                     sel = sides == side
                     uv = atlas_uv(canvas, walls["facade"][sel], atlas.sizes[canvas.page], self.texel)
-                    primitives.append(
-                        self.doc.primitive(
-                            pages[canvas.page], walls["position"][sel], normals[sel], uv, tangents=tangents[sel]
-                        )
-                    )
+                    add(pages[canvas.page], walls[sel], normals[sel], uv=uv, tangents=tangents[sel])
                 if len(plain):
                     colour = np.append(np.minimum(bay_mean()[:3] * bay_tint(record), 1.0), 1.0)
-                    primitives.append(
-                        self.doc.primitive(
-                            plain_walls,
-                            plain["position"],
-                            plain["normal"] @ rot.T,
-                            colours=np.tile(colour, (len(plain), 1)),
-                        )
-                    )
+                    add(plain_walls, plain, plain["normal"] @ rot.T, colours=np.tile(colour, (len(plain), 1)))
             if len(bay_walls):
                 facade = bay_walls["facade"]
                 uv = np.column_stack([facade[:, 0] / facade[:, 2], -facade[:, 1] / mass.room_size[1]])
-                tint = bay_tint(record)
-                primitives.append(
-                    self.doc.primitive(
-                        bays,
-                        bay_walls["position"],
-                        bay_walls["normal"] @ rot.T,
-                        uv,
-                        colours=np.tile(np.append(tint, 1.0), (len(bay_walls), 1)),
-                    )
-                )
+                colours = np.tile(np.append(bay_tint(record), 1.0), (len(bay_walls), 1))
+                add(bays, bay_walls, bay_walls["normal"] @ rot.T, uv=uv, colours=colours)
         if roof.any():
             colour = np.append(record["roof"][:3], 1.0)
-            primitives.append(
-                self.doc.primitive(
-                    roofs,
-                    verts["position"][roof],
-                    verts["normal"][roof] @ rot.T,
-                    colours=np.tile(colour, (int(roof.sum()), 1)),
-                )
-            )
-        if not primitives:
-            return
+            add(roofs, verts[roof], verts["normal"][roof] @ rot.T, colours=np.tile(colour, (int(roof.sum()), 1)))
         self.stats.buildings += 1
         self.stats.triangles += len(verts) // 3
-        style = BUILDING_STYLES[mass.style] if i in self.canvases else "window bays"
-        metadata = dict(self.metadata[i], facade=style)
-        self.doc.feature(
-            metadata, primitives, [self.doc.gltf.accessors[p.attributes.POSITION].count for p in primitives]
-        )
-        self.doc.node(f"building {metadata['source_id']}", primitives, extras=metadata)
+        return True
 
 
 def ground_triangles(city) -> np.ndarray:
@@ -225,16 +254,19 @@ def ground_triangles(city) -> np.ndarray:
 
 def add_ground(doc: Document, city, stats: Stats):
     ground = ground_triangles(city)
-    primitives = []
+    pieces = Pieces()
     for material in np.unique(ground[:, 3]).astype(int):
         rows = ground[:, 3] == material
         colour = (*GROUND_COLOURS.get(int(material), (0.2, 0.2, 0.2)), 1.0)
         index = doc.material(f"ground {material}", colour=colour, double_sided=True)
-        up = np.tile([0.0, 1.0, 0.0], (int(rows.sum()), 1))
-        primitives.append(doc.primitive(index, ground[rows, :3], up))
-    if primitives:
+        up = doc.turn(np.tile([0.0, 1.0, 0.0], (int(rows.sum()), 1)))
+        pieces.add(index, positions=doc.world(ground[rows, :3]), normals=up)
+    if pieces:
         stats.triangles += len(ground) // 3
-        doc.node("ground", primitives, extras={"kind": "ground"})
+        lo, hi = pieces.bounds()
+        origin = np.array([(lo[0] + hi[0]) / 2, 0.0, (lo[2] + hi[2]) / 2])
+        primitives, scale = pieces.primitives(doc, origin)
+        doc.node("ground", primitives, extras={"kind": "ground"}, translation=origin, scale=scale)
 
 
 def _card_quads(cards: np.ndarray, indices: np.ndarray):
@@ -263,16 +295,16 @@ def add_trees(doc: Document, trees, stats: Stats, seed: int = 0):
         ]
         if len(mesh.frond_indices):
             parts.append((leaves, mesh.fronds[:, 0:3], mesh.fronds[:, 3:6], mesh.frond_indices))
-        primitives = [doc.indexed_primitive(m, p, n, i) for m, p, n, i in parts if len(i)]
+        primitives = [doc.primitive(m, p, n, indices=i) for m, p, n, i in parts if len(i)]
         stats.triangles += sum(len(i) // 3 for *_, i in parts)
         mine = trees[trees["species"] == index]
-        yaw = mine["yaw"].astype(np.float64)
+        yaw = mine["yaw"].astype(np.float64) + (0.0 if doc.place is None else -doc.place.convergence)
         rotations = np.column_stack([np.zeros(len(yaw)), np.sin(yaw / 2), np.zeros(len(yaw)), np.cos(yaw / 2)])
         scales = np.repeat(mine["scale"][:, None], 3, axis=1)
         doc.instanced(
             f"trees {name}",
             primitives,
-            mine["position"],
+            doc.world(mine["position"]),
             rotations,
             scales,
             extras={"kind": "trees", "species": name, "count": len(mine)},

@@ -8,8 +8,9 @@ from pathlib import Path
 
 from .._files import atomic_output, check_replaceable_folder, output_target
 from ..errors import UsageError
-from ._content import BuildingWriter, Stats, add_ground, add_trees, simplified
-from ._gltf import Document, glb_bytes, gltf_text
+from ._bake import ATLAS_LIMIT, MAX_TEXELS
+from ._content import BuildingWriter, Stats, add_ground, add_trees, finest_city_texel, simplified
+from ._gltf import DEFAULT_ENCODING, GEOMETRY, TEXTURES, TREES, Document, Encoding, glb_bytes, gltf_text
 from ._source import ExportCity
 
 FORMATS = ("glb", "gltf", "3dtiles")
@@ -18,6 +19,7 @@ TILESET_KIND = "3dtiles"  # a tileset folder's marker kind (_files.OUTPUT_MARKER
 # finite, plain size (a texel of 100 m already leaves most walls one texel wide).
 MAX_TEXEL = 100.0
 MAX_LOD = 16
+FINEST_TEXEL = 0.05  # metres: the default texel where the atlas allows it (a brick course is ~0.075 m)
 ATTRIBUTION = "© OpenStreetMap contributors, ODbL 1.0"
 
 
@@ -41,30 +43,66 @@ def city_trees(city):
 
 
 def city_document(
-    export: ExportCity, texel: float, lod: int, masses=None, metadata=None, ground: bool = True, trees: bool = True
+    export: ExportCity,
+    texel: float,
+    lod: int,
+    masses=None,
+    metadata=None,
+    ground: bool = True,
+    trees: bool = True,
+    place=None,
+    encoding: Encoding = DEFAULT_ENCODING,
 ) -> tuple[object, Stats]:
     """(GLTF2, stats) of the city, or of some of its masses; lod >= 1 simplifies roofs, and each
-    level doubles the texel size."""
+    level doubles the texel size. With `place` (a 3D Tiles tile: _place.Placement) the content is
+    in the tileset's frame and the buildings merged into one primitive per material."""
     masses = export.city.masses if masses is None else masses
     metadata = export.metadata if metadata is None else metadata
     if lod >= 1:
         masses = [simplified(m) for m in masses]
     stats = Stats()
-    doc = Document(frame_extras(export))
-    BuildingWriter(doc, masses, metadata, texel * 2**lod, stats).write()
+    doc = Document(frame_extras(export), place, encoding)
+    BuildingWriter(doc, masses, metadata, texel * 2**lod, stats, merged=place is not None).write()
     if ground:
         add_ground(doc, export.city, stats)
     if trees:
         add_trees(doc, city_trees(export.city), stats)
-    return doc.finish(), stats
+    gltf = doc.finish()
+    stats.draw_calls = sum(len(mesh.primitives) for mesh in gltf.meshes)
+    return gltf, stats
 
 
-def check_output(out: Path, fmt: str, texel: float = 0.05, lod: int = 0):
+def default_texel(export: ExportCity, lod: int = 0) -> float:
+    """The finest texel, no finer than FINEST_TEXEL, at which the city's facades fit the atlas
+    limits (check_size) at this level of detail; a tileset's coarser levels then fit too (each a
+    subset of the buildings at twice the texel)."""
+    masses = export.city.masses if lod == 0 else [simplified(m) for m in export.city.masses]
+    return finest_city_texel(masses, FINEST_TEXEL * 2**lod) / 2**lod
+
+
+def default_texel_note(texel: float) -> str:
+    """The line the command prints when it chose the texel."""
+    return (
+        f"--texel {texel:g}: the finest texel (no finer than {FINEST_TEXEL:g} m) at which the facade "
+        f"atlas fits its limits ({MAX_TEXELS:,} texels, sides of {ATLAS_LIMIT})"
+    )
+
+
+def check_output(out: Path, fmt: str, texel: float | None = None, lod: int = 0, encoding: Encoding = DEFAULT_ENCODING):
     """Fails with one line before any work if the options are out of range or `out` cannot be
-    written (a tileset replaces only an earlier tileset, _files.check_replaceable_folder)."""
+    written (a tileset replaces only an earlier tileset, _files.check_replaceable_folder); texel
+    None: chosen later (default_texel)."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt!r}: unknown; use one of {', '.join(FORMATS)}")
-    if isinstance(texel, bool) or not isinstance(texel, numbers.Real) or not 0 < texel <= MAX_TEXEL:
+    if encoding.textures not in TEXTURES:
+        raise UsageError(f"--textures {encoding.textures!r}: unknown; use one of {', '.join(TEXTURES)}")
+    if encoding.geometry not in GEOMETRY:
+        raise UsageError(f"--geometry {encoding.geometry!r}: unknown; use one of {', '.join(GEOMETRY)}")
+    if encoding.trees not in TREES:
+        raise UsageError(f"--trees {encoding.trees!r}: unknown; use one of {', '.join(TREES)}")
+    if texel is None:
+        pass
+    elif isinstance(texel, bool) or not isinstance(texel, numbers.Real) or not 0 < texel <= MAX_TEXEL:
         raise UsageError(f"--texel {texel}: give metres per texel, more than 0 and at most {MAX_TEXEL:g}")
     if isinstance(lod, bool) or not isinstance(lod, numbers.Integral) or not 0 <= lod <= MAX_LOD:
         raise UsageError(f"--lod {lod}: give a level from 0 (full detail) to {MAX_LOD}")
@@ -76,12 +114,21 @@ def check_output(out: Path, fmt: str, texel: float = 0.05, lod: int = 0):
         output_target(out)
 
 
-def export_city(export: ExportCity, out: Path, fmt: str = "glb", texel: float = 0.05, lod: int = 0) -> dict:
-    """Writes the export; returns what it wrote (counts, sizes, seconds)."""
-    check_output(out, fmt, texel, lod)
+def export_city(
+    export: ExportCity,
+    out: Path,
+    fmt: str = "glb",
+    texel: float | None = None,
+    lod: int = 0,
+    encoding: Encoding = DEFAULT_ENCODING,
+) -> dict:
+    """Writes the export; returns what it wrote (counts, sizes, seconds). texel None: default_texel."""
+    check_output(out, fmt, texel, lod, encoding)
     began = time.perf_counter()
+    if texel is None:
+        texel = default_texel(export, lod)
     try:
-        summary = _write(export, out, fmt, texel, lod)
+        summary = _write(export, out, fmt, texel, lod, encoding)
     except OSError as exc:  # the temporary file or directory beside `out` (nothing is left behind)
         raise UsageError(f"cannot write {str(out)!r}: {exc.strerror or exc}; choose another --out") from None
     summary.update(
@@ -91,16 +138,19 @@ def export_city(export: ExportCity, out: Path, fmt: str = "glb", texel: float = 
         bytes=size_of(out),
         texel=texel,
         lod=lod,
+        textures=encoding.textures,
+        geometry=encoding.geometry,
+        trees=encoding.trees,
     )
     return summary
 
 
-def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int) -> dict:
+def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int, encoding: Encoding) -> dict:
     if fmt == "3dtiles":
         from ._tiles import write_tileset
 
-        return write_tileset(export, out, texel, lod)
-    gltf, stats = city_document(export, texel, lod)
+        return write_tileset(export, out, texel, lod, encoding)
+    gltf, stats = city_document(export, texel, lod, encoding=encoding)
     with atomic_output(out) as tmp:
         if fmt == "glb":
             tmp.write_bytes(glb_bytes(gltf))
@@ -117,6 +167,7 @@ def summary_of(stats: Stats) -> dict:
         "facade_m2": round(stats.facade_area, 1),
         "atlas_pages": [list(s) for s in stats.atlas_sizes],
         "atlas_texels": stats.atlas_texels,
+        "draw_calls": stats.draw_calls,
     }
 
 

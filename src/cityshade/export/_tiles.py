@@ -14,27 +14,29 @@ import numpy as np
 from .._files import atomic_folder
 from ..errors import UsageError
 from ..scene import building_vertices
-from ._gltf import glb_bytes
+from ._gltf import SCHEMA_ID, building_class, glb_bytes
+from ._place import Placement
 
 LEAF_BUILDINGS = 48  # a tile with more buildings is split into four
 MAX_DEPTH = 8
 
 
-def enu_to_ecef(lon: float, lat: float, height: float = 0.0) -> list[float]:
-    """Column-major 4x4: east, north, up axes and the origin in EPSG:4978 metres."""
-    import pyproj
-
-    to_ecef = pyproj.Transformer.from_crs("EPSG:4979", "EPSG:4978", always_xy=True)
-    x, y, z = to_ecef.transform(lon, lat, height)
-    lam, phi = np.radians(lon), np.radians(lat)
-    east = [-np.sin(lam), np.cos(lam), 0.0]
-    north = [-np.sin(phi) * np.cos(lam), -np.sin(phi) * np.sin(lam), np.cos(phi)]
-    up = [np.cos(phi) * np.cos(lam), np.cos(phi) * np.sin(lam), np.sin(phi)]
-    return [float(v) for v in (*east, 0.0, *north, 0.0, *up, 0.0, x, y, z, 1.0)]
+def tileset_schema() -> dict:
+    """3D Tiles 1.1 metadata schema: the tileset's own class and the buildings' (their property
+    tables are in the tiles' glTF, EXT_structural_metadata, with the same class)."""
+    string, real = {"type": "STRING"}, {"type": "SCALAR", "componentType": "FLOAT64"}
+    tileset = {
+        "attribution": string,
+        "crs": dict(string, description="the scene's projected grid (a UTM zone)"),
+        "buildings": {"type": "SCALAR", "componentType": "UINT32"},
+        "grid_convergence_degrees": dict(real, description="at the origin; content is placed point by point"),
+        "grid_scale_factor": dict(real, description="UTM point scale factor at the origin"),
+    }
+    return {"id": SCHEMA_ID, "classes": {"tileset": {"properties": tileset}, "building": building_class()}}
 
 
 def box(lo: np.ndarray, hi: np.ndarray) -> list[float]:
-    """A 3D Tiles box from scene-frame (x, y up, z south) bounds, in the tile frame (x east, y north, z up)."""
+    """A 3D Tiles box from glTF content bounds (x east, y up, z south), in the tile frame (x east, y north, z up)."""
     lo_t = np.array([lo[0], -hi[2], lo[1]])
     hi_t = np.array([hi[0], -lo[2], hi[1]])
     centre, half = (lo_t + hi_t) / 2, np.maximum((hi_t - lo_t) / 2, 0.01)
@@ -65,15 +67,16 @@ def _height(node: _Node) -> int:
     return 0 if not node.children else 1 + max(_height(c) for c in node.children)
 
 
-def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
-    from ._export import TILESET_KIND, city_document, summary_of
+def write_tileset(export, out: Path, texel: float, lod: int, encoding) -> dict:
+    from ._export import ATTRIBUTION, TILESET_KIND, city_document, summary_of
 
     if export.origin is None:
         raise UsageError(
             "--format 3dtiles needs a map (--map FILE): a built-in city has no place on Earth; use --format glb"
         )
+    place = Placement(export.origin, export.crs)
     masses = list(export.city.masses)  # objects once: read by index below, tile by tile
-    bounds = [building_vertices(m, i)["position"] for i, m in enumerate(masses)]
+    bounds = [place.positions(building_vertices(m, i)["position"]) for i, m in enumerate(masses)]
     lo = np.array([b.min(axis=0) for b in bounds])
     hi = np.array([b.max(axis=0) for b in bounds])
     centres = (lo[:, [0, 2]] + hi[:, [0, 2]]) / 2
@@ -92,6 +95,8 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
             [export.metadata[i] for i in members],
             ground=False,
             trees=False,
+            place=place,
+            encoding=encoding,
         )
         name = f"tiles/b{node.key}.glb"
         (folder / name).write_bytes(glb_bytes(gltf))
@@ -119,24 +124,36 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
     def fill(folder: Path):
         (folder / "tiles").mkdir()
         buildings = tile(tree, folder)
-        gltf, stats = city_document(export, texel, lod, [], [], ground=True, trees=True)
+        gltf, stats = city_document(export, texel, lod, [], [], ground=True, trees=True, place=place, encoding=encoding)
         (folder / "tiles/ground.glb").write_bytes(glb_bytes(gltf))
         stats_all.append(stats)
         ground = export.city.ground_mesh
         all_lo, all_hi = lo.min(axis=0), hi.max(axis=0)
         if ground is not None and len(ground):
-            all_lo = np.minimum(all_lo, ground[:, :3].min(axis=0))
-            all_hi = np.maximum(all_hi, ground[:, :3].max(axis=0))
+            placed = place.positions(ground[:, :3])
+            all_lo = np.minimum(all_lo, placed.min(axis=0))
+            all_hi = np.maximum(all_hi, placed.max(axis=0))
         root_error = max(buildings["geometricError"] * 2, float(np.linalg.norm((all_hi - all_lo)[[0, 2]])) / 10)
         tileset = {
+            "schema": tileset_schema(),
+            "metadata": {
+                "class": "tileset",
+                "properties": {
+                    "attribution": ATTRIBUTION,
+                    "crs": export.crs,
+                    "buildings": len(masses),
+                    "grid_convergence_degrees": float(np.degrees(place.convergence)),
+                    "grid_scale_factor": place.scale,
+                },
+            },
             "asset": {
                 "version": "1.1",
                 "generator": "cityshade export",
-                "extras": {"attribution": "© OpenStreetMap contributors, ODbL 1.0"},
+                "extras": {"attribution": ATTRIBUTION},
             },
             "geometricError": round(root_error * 2, 3),
             "root": {
-                "transform": enu_to_ecef(*export.origin),
+                "transform": place.transform,
                 "boundingVolume": {"box": box(all_lo, all_hi)},
                 "geometricError": round(root_error, 3),
                 "refine": "ADD",
@@ -157,5 +174,11 @@ def write_tileset(export, out: Path, texel: float, lod: int) -> dict:
         triangles=ground.triangles + sum(s.triangles for s in leaves if s.leaf),
         atlas_pages=[list(p) for s in stats_all for p in s.atlas_sizes],
         atlas_texels=sum(s.atlas_texels for s in stats_all),
+        draw_calls=sum(s.draw_calls for s in stats_all),
+        draw_calls_per_tile={
+            "buildings_max": max(s.draw_calls for s in leaves),
+            "buildings_mean": round(float(np.mean([s.draw_calls for s in leaves])), 2),
+            "ground": ground.draw_calls,
+        },
     )
     return summary

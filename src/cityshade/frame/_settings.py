@@ -89,7 +89,7 @@ class RenderSettings:
             parse=check_lights,
         ),
     )
-    # hours (19:10, dusk)
+    # hours (19:10, dusk); "HH:MM" is taken too (_values.parse_time)
     time_of_day: float = field(
         default=19.17,
         metadata=flag("--time", "time of day HH:MM (sun, sky, lit rooms)", parse=parse_time, typed_default="19:10"),
@@ -121,6 +121,7 @@ class RenderSettings:
 
     def __post_init__(self):
         object.__setattr__(self, "lights", check_lights(self.lights))  # frozen: the checked number
+        object.__setattr__(self, "time_of_day", parse_time(self.time_of_day))  # "HH:MM" or hours
         if not 16 <= self.shadow_resolution <= 8192:
             raise UsageError(f"shadow_resolution {self.shadow_resolution!r}: give texels per side, 16 to 8192")
         if self.shadow_refresh < 1:

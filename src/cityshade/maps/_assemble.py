@@ -32,7 +32,7 @@ import numpy as np
 import pyproj
 import shapely
 
-from ._model import Area, MapBuilding, MapData, ReadReport
+from ._model import Area, CityObject, MapBuilding, MapData, ReadReport
 from ._projection import LOCAL, LocalMetres, Projection, in_range
 from .features import FEATURES, area_kind, is_building
 from .features.buildings import add_buildings
@@ -85,18 +85,16 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None, d
         projected = projection.geometries(geometries)
     for raw, geometry in zip(raws, projected):
         raw.geometry = geometry
-        if raw.fixed.get("surfaces") is not None:  # CityJSON's semantic surfaces: plan to map metres, z kept
-            raw.fixed["surfaces"] = {
-                kind: [np.column_stack([projection.points(ring[:, :2]), ring[:, 2]]) for ring in rings]
-                for kind, rings in raw.fixed["surfaces"].items()
-            }
+    _project_faces(raws, projection)
     raws = _finite(raws, report, geographic=False)  # points the projection cannot reach from the centre
     data = MapData(path, projection.origin, projection.crs, report=report)
     data.declared_bounds = _declared_bounds(projection, declared)
     coast, named_parents = [], []
     for raw in raws:
         kind = shapely.get_type_id(raw.geometry)
-        if kind in (3, 6):  # Polygon, MultiPolygon
+        if "city_object" in raw.fixed:
+            _add_city_object(data, raw, projection)
+        elif kind in (3, 6):  # Polygon, MultiPolygon
             if is_building(raw.tags):
                 records = _add_buildings(data, raw)
                 if raw.parent is not None:
@@ -117,6 +115,37 @@ def assemble(path: Path, raws: list[Raw], report: ReadReport, source_crs=None, d
     if coast:
         _add_sea(data, coast)
     return data
+
+
+def _project_faces(raws: list[Raw], projection) -> None:
+    """CityJSON's faces (buildings' `surfaces`, other objects' `faces`), all in one call: plan to map
+    metres, heights as given."""
+    rings = [ring for raw in raws for rings in (raw.fixed.get("surfaces") or {}).values() for ring in rings]
+    rings += [face.ring for raw in raws for face in raw.fixed.get("faces", ())]
+    if not rings:
+        return
+    points = np.vstack(rings)
+    with np.errstate(invalid="ignore", over="ignore"):
+        plan = projection.points(points[:, :2])
+    projected = iter(np.split(np.column_stack([plan, points[:, 2]]), np.cumsum([len(r) for r in rings])[:-1]))
+    for raw in raws:
+        if raw.fixed.get("surfaces") is not None:
+            raw.fixed["surfaces"] = {
+                kind: [next(projected) for _ in rings] for kind, rings in raw.fixed["surfaces"].items()
+            }
+    for raw in raws:
+        if "faces" in raw.fixed:
+            raw.fixed["faces"] = [(face.semantic, next(projected)) for face in raw.fixed["faces"]]
+
+
+def _add_city_object(data: MapData, raw: Raw, projection) -> None:
+    """A CityJSON object that is no building, its faces projected (maps/_cityjson.py)."""
+    kind, cls, lod, attributes = raw.fixed["city_object"]
+    faces = [(semantic, ring) for semantic, ring in raw.fixed["faces"] if np.isfinite(ring).all()]
+    if not faces:
+        data.report.skip(kind, "no face the projection can reach", raw.source_id)
+        return
+    data.city_objects.append(CityObject(raw.source_id, kind, cls, faces, lod, attributes))
 
 
 def _projection(centre: tuple[float, float], source_crs, report: ReadReport):
@@ -185,7 +214,10 @@ def _polygons(raw: Raw, report: ReadReport) -> list[shapely.Polygon]:
 
 
 def _add_buildings(data: MapData, raw: Raw) -> list[MapBuilding]:
-    return add_buildings(data, raw.source_id, _polygons(raw, data.report), raw.tags, raw.fixed)
+    polygons = _polygons(raw, data.report)
+    if raw.fixed.get("surfaces") is not None and len(polygons) > 1:  # one record draws all its given faces
+        polygons = [max(polygons, key=lambda p: p.area)]
+    return add_buildings(data, raw.source_id, polygons, raw.tags, raw.fixed)
 
 
 def _add_area(data: MapData, raw: Raw) -> None:
@@ -239,6 +271,8 @@ def _mark_replaced(buildings: list[MapBuilding], report: ReadReport) -> None:
             children.setdefault(part.parent, []).append(part)
     for index, parts in children.items():
         building = buildings[index]
+        if building.surfaces is not None:  # drawn as given beside its parts, which are drawn as given too
+            continue
         covering = shapely.union_all([p.outline for p in parts])
         uncovered = shapely.difference(building.outline, covering)
         if building.outline.area - uncovered.area >= PARTS_COVER * building.outline.area:

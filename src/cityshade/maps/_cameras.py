@@ -26,6 +26,8 @@ STREET_VIEWS = (
 STREET_FACING = 30.0  # metres either side of a street within which its buildings face it
 AERIAL_MARGIN = 12.0  # metres of ground the aerial view keeps around the buildings
 FRAMED_SHARE = 0.98  # the aerial view frames this share of the buildings: a lone farm far out is left out
+STREET_BACK = 25.0  # metres from a building drawn as given that its street view stands
+EYE_CLEARANCE = 3.0  # metres from any building that eye keeps
 FAR = 1_000_000.0  # the ground reaches the horizon; the depth buffer's precision is set by `near`
 
 
@@ -63,15 +65,18 @@ def framed_area(map_data: MapData) -> shapely.Polygon:
     return shapely.convex_hull(area)
 
 
-def aerial_camera(area_points: np.ndarray, top: float, aspect: float = AERIAL_ASPECT) -> Camera:
+def aerial_camera(
+    area_points: np.ndarray, top: float, aspect: float = AERIAL_ASPECT, bottom: float = 0.0
+) -> Camera:
     """Looks down at AERIAL_PITCH on the ground polygon `area_points` ((n, 2) scene x, z) from just far
-    enough that it, up to height `top`, lies in the frustum; of the headings AERIAL_HEADING + k * 45
-    degrees and of the aim points along each heading, the ones that let it stand closest."""
+    enough that it, from height `bottom` (the ground) up to `top`, lies in the frustum; of the headings
+    AERIAL_HEADING + k * 45 degrees and of the aim points along each heading, the ones that let it
+    stand closest."""
     area_points = np.asarray(area_points, float)
-    corners = np.array([(x, y, z) for x, z in area_points for y in (0.0, top)], float)
+    corners = np.array([(x, y, z) for x, z in area_points for y in (bottom, top)], float)
     x0, z0 = area_points.min(axis=0)
     x1, z1 = area_points.max(axis=0)
-    middle = np.array([(x0 + x1) / 2, 0.0, (z0 + z1) / 2])
+    middle = np.array([(x0 + x1) / 2, bottom, (z0 + z1) / 2])
     reach = max(x1 - x0, z1 - z0) / 2
     best = None
     for turn in range(8):
@@ -184,9 +189,10 @@ def parse_camera_spot(text: str) -> tuple[float, float, float, float] | None:
     return tuple(values)
 
 
-def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float, float, float]) -> Camera:
+def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float, float, float], ground=None) -> Camera:
     """A camera at a longitude/latitude `height` metres above the ground, facing `heading`; above
-    street level it tilts down so the ground ahead fills the lower half of the picture."""
+    street level it tilts down so the ground ahead fills the lower half of the picture. `ground`:
+    the ground's height at a scene (x, z) where it is not 0 (heights as given: CityJSON)."""
     from pyproj import Transformer
 
     lon, lat, height, heading = spot
@@ -195,11 +201,43 @@ def spot_camera(origin: tuple[float, float], crs: str, spot: tuple[float, float,
     east0, north0 = project.transform(*origin)
     x, z = to_scene([east - east0, north - north0])
     pitch = -min(45.0, float(np.degrees(np.arctan2(max(height - 20.0, 0.0), 300.0))))
-    eye = np.array([x, max(height, 0.3), z])
+    eye = np.array([x, max(height, 0.3) + (ground(x, z) if ground is not None else 0.0), z])
     return Camera(
         tuple(eye),
         tuple(eye + heading_vector(heading, pitch) * 50.0),
         fov_y=STREET_FOV,
         near=max(0.3, height / 100),
+        far=FAR,
+    )
+
+
+def given_street_camera(map_data: MapData) -> Camera | None:
+    """For buildings drawn as given (CityJSON, no streets read): at eye height on the ground beside the
+    building nearest the map's middle, STREET_BACK metres out from its outline, looking at it, from
+    the first of eight directions (away from the middle first) whose eye stands clear of every building."""
+    given = [b for b in map_data.buildings if b.drawn and b.surfaces is not None]
+    if not given:
+        return None
+    x0, y0, x1, y1 = map_data.bounds()
+    middle = shapely.Point((x0 + x1) / 2, (y0 + y1) / 2)
+    building = min(given, key=lambda b: b.outline.distance(middle))
+    centre = np.asarray(building.outline.centroid.coords[0])
+    away = centre - np.asarray(middle.coords[0])
+    start = np.arctan2(away[1], away[0]) if np.linalg.norm(away) > 1.0 else -np.pi / 2  # else from the south
+    radius = float(np.sqrt(building.outline.area / np.pi))
+    tree = shapely.STRtree([b.outline for b in map_data.buildings if b.drawn])
+    eyes = [
+        centre + (radius + STREET_BACK) * np.array([np.cos(start + turn), np.sin(start + turn)])
+        for turn in np.radians(np.arange(0.0, 360.0, 45.0))
+    ]
+    clear = [e for e in eyes if not len(tree.query(shapely.Point(e).buffer(EYE_CLEARANCE), predicate="intersects"))]
+    eye = (clear or eyes)[0]
+    (ex, ez), (tx, tz) = to_scene([eye, centre])
+    ground = building.ground
+    return Camera(
+        (float(ex), ground + EYE_HEIGHT, float(ez)),
+        (float(tx), ground + EYE_HEIGHT + 0.35 * (building.height or 10.0), float(tz)),
+        fov_y=STREET_FOV,
+        near=0.3,
         far=FAR,
     )

@@ -20,7 +20,7 @@ MAX_JSON_BYTES = 1 << 30  # 1 GiB of JSON is millions of buildings; more is a mi
 # so 256 MiB keeps the peak near 6 GiB. Larger files are a region: split them into tiles.
 MAX_CITYJSON_BYTES = 256 << 20
 SNIFF_BYTES = 4096
-FORMATS = ".osm.pbf, .pbf, .osm (or .osm.gz, .osm.bz2), .geojson, .json, .city.json"
+FORMATS = ".osm.pbf, .pbf, .osm (or .osm.gz, .osm.bz2), .geojson, .json, .city.json, .city.jsonl"
 
 
 def _checked(path: Path) -> int:
@@ -45,10 +45,15 @@ def _format(path: Path) -> str:
     with open(path, "rb") as stream:
         head = stream.read(SNIFF_BYTES)
     text = head.lstrip(b"\xef\xbb\xbf \t\r\n")
-    if text.startswith(b"{"):
-        return "cityjson" if b'"CityJSON"' in head or path.name.lower().endswith(".city.json") else "geojson"
     name = path.name.lower()
+    if text.startswith(b"{"):
+        if b'"CityJSONFeature"' in head or name.endswith(".jsonl"):
+            return "cityjsonseq"
+        if b'"CityJSON"' in head or b'"CityObjects"' in head or name.endswith(".city.json"):
+            return "cityjson"
+        return "geojson"
     for ending, kind in (
+        (".city.jsonl", "cityjsonseq"),
         (".pbf", "osm"),
         (".osm", "osm"),
         (".city.json", "cityjson"),
@@ -75,8 +80,26 @@ def read_json_text(path: Path, size: int, kind: str = "geojson") -> str:
         raise UsageError(f"{path}: byte {exc.start}: not UTF-8 text") from None
 
 
-def load_map(path: Path | str) -> MapData:
-    """The map at `path` (OpenStreetMap .osm.pbf/.osm, GeoJSON, CityJSON) in local metres."""
+def _json_lines(path: Path):
+    """A CityJSONSeq file's lines, one at a time (a line over MAX_CITYJSON_BYTES is refused)."""
+    try:
+        with open(path, encoding="utf-8-sig") as stream:
+            while line := stream.readline(MAX_CITYJSON_BYTES + 1):
+                if len(line) > MAX_CITYJSON_BYTES:
+                    raise UsageError(
+                        f"{path}: a line of over {MAX_CITYJSON_BYTES:,} characters is no CityJSONSeq feature; "
+                        "write one building with its parts per line"
+                    )
+                yield line
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot read the map ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{path}: byte {exc.start} of a line: not UTF-8 text") from None
+
+
+def load_map(path: Path | str, lod: str | None = None) -> MapData:
+    """The map at `path` (OpenStreetMap .osm.pbf/.osm, GeoJSON, CityJSON, CityJSONSeq) in local metres.
+    `lod`: the CityJSON level of detail to draw ("2", "1.2"; None: each object's highest)."""
     path = Path(path)
     size = _checked(path)
     try:
@@ -88,7 +111,11 @@ def load_map(path: Path | str) -> MapData:
     elif kind == "cityjson":
         from ._cityjson import read_cityjson
 
-        data = read_cityjson(path, read_json_text(path, size, kind))
+        data = read_cityjson(path, read_json_text(path, size, kind), lod)
+    elif kind == "cityjsonseq":
+        from ._cityjson import read_cityjson_seq
+
+        data = read_cityjson_seq(path, _json_lines(path), lod)
     else:
         from ._geojson import read_geojson
 

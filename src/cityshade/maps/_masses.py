@@ -21,6 +21,7 @@ import shapely
 from ..scene import LEVEL_CODES, USES, BuildingMass, Roof
 from ._defaults import defaults_for
 from ._doors import mass_doors
+from ._given import given_mass
 from ._model import MapBuilding, MapData, to_scene
 from ._roofs import building_roof
 
@@ -203,11 +204,17 @@ def _fits_pitched_roof(polygon: shapely.Polygon) -> bool:
 
 
 def building_mass(
-    building: MapBuilding, polygon: shapely.Polygon, cut: bool = False, top: float | None = None
+    building: MapBuilding,
+    polygon: shapely.Polygon,
+    cut: bool = False,
+    top: float | None = None,
+    style: int | None = None,
 ) -> BuildingMass | None:
     """One building (or part) standing on one scene-space polygon; None if it has no volume. `cut`: the
     polygon is a piece of an outline beside its parts (a pitched roof that no longer fits becomes flat);
-    `top`: a piece under a floating part, ending flat at that height."""
+    `top`: a piece under a floating part, ending flat at that height; `style`: its facade style (its
+    building's, for a part), else its own."""
+    style = facade_style(building) if style is None else style
     base, height, floor = heights(building)
     if top is not None:
         height = min(height, top)
@@ -230,6 +237,9 @@ def building_mass(
         else ()
     )
     roof = building_roof(building, local, yaw, height - base, floor)
+    if building.surfaces is not None:  # faces as given: the roof's material, not its shape
+        flat = Roof(colour=roof.colour, material=roof.material, seed=roof.seed)
+        return given_mass(building, polygon, (yaw, low, _to_local), style, use_code(building), flat)
     if top is not None:
         roof = Roof(colour=roof.colour, material=roof.material, seed=roof.seed)  # flat, no parapet
     elif cut and roof.height > 0 and not _fits_pitched_roof(polygon):
@@ -245,7 +255,7 @@ def building_mass(
         yaw=yaw,
         floor_height=floor,
         seed=building.index,
-        style=facade_style(building),
+        style=style,
         use=use_code(building),
         shop_front=building.shop_front,
         holes=holes,
@@ -271,6 +281,18 @@ def _in_its_outlines_colour(part: MapBuilding, outline: MapBuilding | None) -> M
     return replace(part, building_colour=outline.building_colour, building_material=outline.building_material)
 
 
+def _style_owner(map_data: MapData, building: MapBuilding) -> MapBuilding:
+    """Whose facade style a building takes: a CityJSON part its building's, unless its attributes give
+    its own use (or the data at hand does not hold its building)."""
+    parent = building.parent
+    if building.surfaces is None or not building.is_part or parent is None:
+        return building
+    if building.use in STYLE_BY_USE or building.kind in STYLE_BY_USE:
+        return building
+    held = 0 <= parent < len(map_data.buildings) and map_data.buildings[parent].index == parent
+    return map_data.buildings[parent] if held else building
+
+
 def building_masses(map_data: MapData) -> list[BuildingMass]:
     """The masses of every drawn building and part (outlines replaced by their parts are skipped, those
     cut by them stand on their remainder and under their floating parts)."""
@@ -283,8 +305,9 @@ def building_masses(map_data: MapData) -> list[BuildingMass]:
         pieces = [(polygon, None) for polygon in _polygons(building.drawn_footprint)]
         for under, part in building.beneath_parts:
             pieces += [(polygon, heights(part)[0]) for polygon in _polygons(under)]
+        owner = _style_owner(map_data, building)
         for polygon, top in pieces:
-            mass = building_mass(building, polygon, cut=building.remainder is not None, top=top)
+            mass = building_mass(building, polygon, building.remainder is not None, top, facade_style(owner))
             if mass is not None:
                 masses.append(mass)
     return masses

@@ -93,9 +93,12 @@ class MapBuilding:
     tags: dict[str, str] = field(default_factory=dict)
     tagged: set[str] = field(default_factory=set)
     guessed: set[str] = field(default_factory=set)
-    # CityJSON only: the solid's faces by semantic type ("RoofSurface", "WallSurface", "GroundSurface", ...;
-    # "unclassified" without semantics), each face's outer ring as (n, 3) map metres, z above the ground.
+    # CityJSON only: the faces as given by semantic type ("RoofSurface", "WallSurface", "GroundSurface", ...;
+    # "unclassified" without semantics), each face's outer ring as (n, 3) map metres, z the height as given
+    # (above the file's vertical datum); `ground`: the height as given of the building's lowest point.
     surfaces: dict[str, list[np.ndarray]] | None = None
+    ground: float = 0.0
+    lod: str | None = None  # the CityJSON level of detail drawn
 
     @property
     def footprint_area(self) -> float:
@@ -189,6 +192,19 @@ class Entrance:
 
 
 @dataclass
+class CityObject:
+    """A CityJSON city object that is no building (Road, LandUse, PlantCover, WaterBody, Bridge, ...),
+    drawn as given: its faces' outer rings (n, 3) in map metres with heights as given."""
+
+    source_id: str
+    type: str
+    kind: str | None  # its `class`, `function` or `usage` attribute, when given
+    faces: list[tuple[str | None, np.ndarray]]  # (semantic surface type or None, ring)
+    lod: str | None = None
+    attributes: dict = field(default_factory=dict)
+
+
+@dataclass
 class ReadReport:
     """What a reader repaired, skipped or fell back on, counted by (what, why)."""
 
@@ -229,6 +245,11 @@ class MapData:
     shops: list[tuple[float, float]] = field(default_factory=list)  # shops mapped as points (map metres)
     report: ReadReport = field(default_factory=ReadReport)
     declared_bounds: tuple[float, float, float, float] | None = None  # the file's own extent (OSM <bounds>)
+    # CityJSON: the city objects that are no buildings, what was drawn (type -> objects) and the lowest
+    # ground as given, where the land plane lies (heights are kept as the file gives them)
+    city_objects: list[CityObject] = field(default_factory=list)
+    drawn_types: Counter = field(default_factory=Counter)
+    ground_level: float = 0.0
 
     @property
     def name(self) -> str:
@@ -239,6 +260,10 @@ class MapData:
         geometries = (
             [b.outline for b in self.buildings] + [r.line for r in self.roads] + [a.polygon for a in self.areas]
         )
+        rings = [ring[:, :2] for obj in self.city_objects for _, ring in obj.faces]
+        if rings:
+            points = np.vstack(rings)
+            geometries.append(shapely.multipoints([points.min(axis=0), points.max(axis=0)]))
         if not geometries:
             return (0.0, 0.0, 0.0, 0.0)
         return tuple(float(v) for v in shapely.total_bounds(geometries))

@@ -8,6 +8,7 @@ from ..errors import UsageError
 from ..scene import City
 from ._cameras import parse_camera_spot, spot_camera
 from ._scene import map_city
+from .features.city_objects import given_ground_height
 
 
 def city_from_map(
@@ -16,21 +17,23 @@ def city_from_map(
     date: str | None = None,
     time: str = "19:10",
     city: City | None = None,
+    lod: str | None = None,
 ) -> tuple[City, str, dict]:
     """(city, camera name, render settings) for `cityshade render/view/video --map FILE`.
 
     `camera` is a viewpoint name or 'lon,lat,height,heading' (added to the city's viewpoints under
     that text). The settings place the sun and moon over the map at `date` and `time` (local clock
-    time). `city`: the map's city made already (a tile cache's); `path` is then not read."""
+    time). `city`: the map's city made already (a tile cache's); `path` is then not read. `lod`: the
+    CityJSON level of detail to draw (load_map)."""
     from . import load_map
     from ._sun import sky_settings
 
     spot = parse_camera_spot(camera)
     sky_settings(date, time)  # bad values fail before the map is read
     if city is None:
-        city = map_city(load_map(path))
+        city = map_city(load_map(path, lod))
     if spot is not None:
-        city.viewpoints[camera] = spot_camera(city.origin, city.crs, spot)
+        city.viewpoints[camera] = spot_camera(city.origin, city.crs, spot, given_ground_height(city))
     elif camera == "street" and "street" not in city.viewpoints:
         camera = "aerial"  # a map without a driven road
     elif camera not in city.viewpoints:

@@ -13,7 +13,10 @@ and external entities) is refused outright, so nothing is expanded and no local 
 
 from __future__ import annotations
 
+import contextlib
+import os
 import re
+import tempfile
 import zlib
 from pathlib import Path
 
@@ -28,6 +31,12 @@ from ._model import MapData, ReadReport
 from .features import area_kind, is_building, point_kind, wanted_line
 
 PROLOG_BYTES = 65536
+# Node locations are kept in memory (libosmium's flex_mem index) unless the index would take more
+# than this share of the memory available: then in a sparse index in a temporary file on disk. A
+# PBF holds about 10 bytes per node and the sparse index 16 (id and location), so a file is taken
+# to need 1.6 times its size of index.
+INDEX_BYTES_PER_FILE_BYTE = 1.6
+INDEX_MEMORY_SHARE = 0.25
 SNIFF = 64
 _WKB = osmium.geom.WKBFactory()
 SCAN_BYTES = 1 << 24
@@ -277,6 +286,23 @@ def _where(path: Path, kind: str, message: str) -> str:
     return str(path)
 
 
+def _available_memory() -> int:
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError):
+        return 1 << 62  # unknown: in memory
+
+
+def _location_index(path: Path, stack: contextlib.ExitStack) -> str:
+    """libosmium's node location index for `path`: in memory, or in a temporary file on disk for a
+    file whose index would not fit the memory available (INDEX_MEMORY_SHARE of it)."""
+    wanted = path.stat().st_size * INDEX_BYTES_PER_FILE_BYTE
+    if wanted <= INDEX_MEMORY_SHARE * _available_memory():
+        return "flex_mem"
+    folder = stack.enter_context(tempfile.TemporaryDirectory(prefix="cityshade-nodes-"))
+    return f"sparse_file_array,{Path(folder) / 'locations.idx'}"
+
+
 def read_osm(path: Path) -> MapData:
     """MapData of an OpenStreetMap extract (.osm.pbf, or .osm XML, also gzip or bzip2 compressed)."""
     kind = osm_format(path) or "pbf"  # not recognisably anything: let libosmium say what is wrong
@@ -287,13 +313,14 @@ def read_osm(path: Path) -> MapData:
     collector = _Collector(report)
     dispatch = {"n": collector.node, "w": collector.way, "r": collector.relation, "a": collector.area}
     try:
-        # the format by content, not by name (libosmium would go by the file's extension)
-        source = osmium.io.File(str(path), kind)
-        processor = osmium.FileProcessor(source).with_areas().with_locations()
-        if not xml:  # PBF writers sort and deduplicate nodes; skipping untagged ones saves half the time
-            processor.with_filter(osmium.filter.EmptyTagFilter())
-        for item in processor:
-            dispatch[item.type_str()](item)
+        with contextlib.ExitStack() as stack:
+            # the format by content, not by name (libosmium would go by the file's extension)
+            source = osmium.io.File(str(path), kind)
+            processor = osmium.FileProcessor(source).with_areas().with_locations(_location_index(path, stack))
+            if not xml:  # PBF writers sort and deduplicate nodes; skipping untagged ones saves half the time
+                processor.with_filter(osmium.filter.EmptyTagFilter())
+            for item in processor:
+                dispatch[item.type_str()](item)
     except (RuntimeError, ValueError, osmium.InvalidLocationError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise UsageError(

@@ -5,17 +5,13 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import shapely
 
-from ..scene import Roof
+from ..scene import ROOF_SHAPE_TABLE, Roof
 from ._defaults import DEFAULT_ROOF_ANGLE, defaults_for
 from ._model import ROOF_SHAPES, MapBuilding
 
 MIN_WALL = 0.5  # metres of wall a roof always leaves under itself (a building that is all roof has none)
-# where nothing gives a height: the pitch of a ridged or pointed roof, the rise of a dome over its radius
-DEFAULT_PITCH = {"cone": 60.0, "pyramidal": 45.0}
-DOME_RISE = {"dome": 1.0, "onion": 1.6}
 # Flat roofs of blocks (PARAPET_LEVELS storeys or more) end in a parapet this high; houses and sheds not.
 PARAPET = 0.5
 PARAPET_LEVELS = 3
@@ -42,21 +38,6 @@ def _direction(building: MapBuilding, yaw: float) -> float:
         return math.atan2(s * wx + c * wz, c * wx - s * wz)
     # the ridge runs along the longest side (+x) unless the map says across
     return 0.0 if building.roof_orientation == "across" else math.pi / 2
-
-
-def _run(shape: str, outline: shapely.Polygon, direction: float) -> float:
-    """The horizontal distance over which a roof of this shape rises to its top."""
-    points = np.asarray(outline.exterior.coords)
-    across = points @ np.array([math.cos(direction), math.sin(direction)])
-    width = float(across.max() - across.min())
-    x0, z0, x1, z1 = outline.bounds
-    if shape == "skillion":
-        return width
-    if shape in ("pyramidal", "cone", "dome", "onion"):
-        return min(x1 - x0, z1 - z0) / 2
-    if shape == "hipped" or outline.interiors:
-        return min(width / 2, float(shapely.maximum_inscribed_circle(outline, 0.1).length))
-    return width / 2
 
 
 def has_dormers(building: MapBuilding, outline: shapely.Polygon) -> bool:
@@ -87,17 +68,16 @@ def building_roof(building: MapBuilding, outline: shapely.Polygon, yaw: float, h
     if shape == "flat":
         return flat
     direction = _direction(building, yaw)
-    run = _run(shape, outline, direction)
+    kind = ROOF_SHAPE_TABLE[shape]
+    run = kind.run(outline, direction)
     if building.roof_height is not None:
         rise = building.roof_height
     elif building.roof_levels is not None:
         rise = building.roof_levels * defaults_for(building.kind).storey
     elif building.roof_angle is not None:
         rise = math.tan(math.radians(min(building.roof_angle, 89.0))) * run
-    elif shape in DOME_RISE:
-        rise = DOME_RISE[shape] * run
     else:
-        rise = math.tan(math.radians(DEFAULT_PITCH.get(shape, DEFAULT_ROOF_ANGLE))) * run
+        rise = kind.default_rise(run, DEFAULT_ROOF_ANGLE)
     rise = min(rise, height - (MIN_WALL if building.has_walls else 0.0))
     if rise <= 0:
         return flat

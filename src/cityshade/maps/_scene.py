@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import CityshadeError
 from ..scene import City
-from ._cameras import FRAMED_SHARE, aerial_camera, framed_area, street_camera
+from ._cameras import FRAMED_SHARE, aerial_camera, framed_area, given_street_camera, street_camera
 from ._model import MapData, to_scene
 from .features import city_layers
 
@@ -35,11 +35,12 @@ def city_from_guessed(map_data: MapData) -> City:
     (sx0, sz0), (sx1, sz1) = to_scene([(x0, y1), (x1, y0)])  # north (max y) is -z
     bounds = (float(sx0 - MARGIN), float(sz0 - MARGIN), float(sx1 + MARGIN), float(sz1 + MARGIN))
     drawn = [b for b in map_data.buildings if b.drawn]
-    heights = np.array([b.height or 0.0 for b in drawn]) if drawn else np.array([10.0])
-    tall = float(np.quantile(heights, FRAMED_SHARE)) if len(heights) >= 50 else float(heights.max())  # not a mast
+    # heights as given: a CityJSON city stands where its file says; the tallest 2% left out (a mast)
+    heights = np.array([m.height for m in masses]) if masses else np.array([10.0])
+    tall = float(np.quantile(heights, FRAMED_SHARE)) if len(heights) >= 50 else float(heights.max())
     area = to_scene(np.asarray(framed_area(map_data).exterior.coords)[:-1])
-    viewpoints = {"aerial": aerial_camera(area, tall)}
-    street = street_camera(map_data, [b.outline for b in drawn])
+    viewpoints = {"aerial": aerial_camera(area, tall, bottom=map_data.ground_level)}
+    street = street_camera(map_data, [b.outline for b in drawn]) or given_street_camera(map_data)
     if street is not None:
         viewpoints["street"] = street
     return City(

@@ -1,5 +1,6 @@
 """What the tests use of cityshade.maps's internals: its numpy twins and the parts they check one by one."""
 
+from . import _osm as osm_reader
 from ._load import MAX_CITYJSON_BYTES
 from ._masses import STYLE_BY_USE, building_mass, use_code
 from ._osm import check_xml
@@ -17,6 +18,7 @@ __all__ = [
     "building_attributes",
     "building_mass",
     "check_xml",
+    "osm_reader",
     "colour",
     "direction",
     "length",

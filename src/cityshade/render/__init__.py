@@ -13,11 +13,11 @@ from ._tile_cache import (
     TILE_SIZE,
     CacheProblem,
     TileCache,
-    check_cache_folder,
     open_tiles,
+    read_tile,
     source_identity,
-    write_tiles,
 )
+from ._tile_writer import check_cache_folder, mesh_tile, on_ray, run_here, write_tiles
 from ._upscale import upscale, upscale_reference
 
 __all__ = [
@@ -45,6 +45,10 @@ __all__ = [
     "TileCache",
     "open_tiles",
     "write_tiles",
+    "mesh_tile",
+    "run_here",
+    "on_ray",
+    "read_tile",
     "TILE_SIZE",
     "check_cache_folder",
     "source_identity",

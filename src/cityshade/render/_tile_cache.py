@@ -9,8 +9,8 @@ facades assigned; the cull pass's boxes in the whole city's order, each box's fi
 within its tile) and `tiles/NNNNN.npz` (each tile's vertices as the GPU holds them, its buildings
 one after another in box order; its own face table, scene/_face_table.py, the vertices' rows
 counted from the tile's first; its ground triangles). A tile is the buildings whose masses stand
-in one square of `tile_size` metres and the ground of that square (_groups); the city is meshed
-tile by tile, so cutting it never holds more than one tile's vertices.
+in one square of `tile_size` metres and the ground of that square; render/_tile_writer.py meshes
+the city tile by tile, so cutting it never holds more than one tile's vertices.
 The folder also carries cityshade's output marker (_files.atomic_folder), so that only a cache is
 ever replaced by one.
 
@@ -30,25 +30,18 @@ import os
 import pickle
 import re
 import stat
-import time
-import warnings
 import zipfile
 import zlib
-from collections import Counter
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .._files import InputError, atomic_folder, check_replaceable_folder, read_input_bytes
+from .._files import InputError, read_input_bytes
 from .._json import nesting_depth
 from .._version import __version__
 from ..errors import CityshadeError
-from ..frame import building_cells
-from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, GROUND_LAND, City, face_table, placements
-from ._building_lod import SAMPLE_FACE_DTYPE
-from ._city_gpu import CityBuildings, ground_vertices
-from ._facades import NARROW_FACES, GrammarFitWarning
+from ..scene import BUILDING_DTYPE, FACE_DTYPE, GPU_VERTEX_DTYPE, City
 from ._visibility import BOX_DTYPE
 
 FORMAT = 2  # 2: each tile holds its own face table (1: one table for the city, in city.pickle)
@@ -176,134 +169,6 @@ def _layouts() -> dict:
         "ground": str(GROUND_DTYPE.descr),
         "record": str(BUILDING_DTYPE.descr),
     }
-
-
-def _split(cell: np.ndarray, cells: int) -> list[np.ndarray]:
-    """The indices of `cell` in each of `cells` cells, ascending."""
-    order = np.argsort(cell, kind="stable")
-    return np.split(order, np.cumsum(np.bincount(cell, minlength=cells))[:-1])
-
-
-def _groups(masses: list, ground: np.ndarray, tile_size: float) -> tuple[list, list]:
-    """Per tile (square cells with buildings, in (x, z) order): the buildings whose masses stand in
-    it and the ground triangles whose centres lie in it, of those no wider than a tile. No tile
-    holds the ground of cells without buildings, the wider triangles, nor the land under a map
-    (GROUND_LAND, reaching the horizon): a tile away must not leave a hole down to the sky below
-    the horizon."""
-    position = np.array([m.position for m in masses], np.float64).reshape(-1, 2)
-    corners = ground.reshape(-1, 3, 4)[:, :, [0, 2]].astype(np.float64)
-    small = np.all(np.ptp(corners, axis=1) <= tile_size, axis=1) & (ground.reshape(-1, 3, 4)[:, 0, 3] != GROUND_LAND)
-    keys = np.floor(np.concatenate([position, corners[small].mean(axis=1)]) / tile_size).astype(np.int64)
-    cells, cell = np.unique(keys.reshape(-1, 2), axis=0, return_inverse=True)
-    cell = cell.ravel()
-    built = np.flatnonzero(np.bincount(cell[: len(position)], minlength=len(cells)))
-    triangles = np.flatnonzero(small)
-    buildings = _split(cell[: len(position)], len(cells))
-    tile_ground = _split(cell[len(position) :], len(cells))
-    return [buildings[k] for k in built], [triangles[tile_ground[k]] for k in built]
-
-
-def _mesh_tile(masses: list, index: np.ndarray):
-    """Meshes masses[index]: (vertices, boxes, chunk cell per box, CityBuildings with local indices).
-    Boxes are in the whole city's order (chunk cell, then building), their first vertex counted
-    within the tile; vertices and boxes carry the buildings' indices in the whole city."""
-    meshed = CityBuildings.of([masses[i] for i in index])
-    boxes = meshed.boxes()
-    local = boxes["draw"][:, 2].astype(np.int64)
-    cells = building_cells(meshed.vertices)[local]
-    order = np.lexsort((index[local], cells[:, 1], cells[:, 0]))
-    boxes, cells, local = boxes[order], cells[order], local[order]
-    count, first = boxes["draw"][:, 0].astype(np.int64), boxes["draw"][:, 1].astype(np.int64)
-    before = np.cumsum(count) - count
-    vertices = meshed.vertices[np.repeat(first - before, count) + np.arange(count.sum())]
-    vertices["ids"][:, 0] = index[vertices["ids"][:, 0]]
-    boxes["draw"][:, 1], boxes["draw"][:, 2] = before, index[local]
-    return vertices, boxes, cells, meshed
-
-
-def _bounds(boxes: np.ndarray, ground: np.ndarray) -> tuple[float, float, float, float]:
-    """x0, z0, x1, z1 of the buildings' boxes and the ground triangles' corners."""
-    x = np.r_[boxes["lo"][:, 0], boxes["hi"][:, 0], ground[:, 0]]
-    z = np.r_[boxes["lo"][:, 2], boxes["hi"][:, 2], ground[:, 2]]
-    return float(x.min()), float(z.min()), float(x.max()), float(z.max())
-
-
-def check_cache_folder(folder: Path):
-    """Fails with one line before any work if `folder` cannot take a cache (it holds something else)."""
-    check_replaceable_folder(folder, KIND)
-
-
-def _tile_file(folder: Path, name: str, vertices: np.ndarray, faces: np.ndarray, ground: np.ndarray) -> tuple[int, str]:
-    stream = io.BytesIO()
-    np.savez(stream, vertices=vertices, faces=faces, ground=ground)
-    data = stream.getvalue()
-    (folder / name).write_bytes(data)
-    return len(data), _sha256(data)
-
-
-def write_tiles(city: City, folder: Path, source: dict | None = None, tile_size: float = TILE_SIZE) -> dict:
-    """Meshes the city tile by tile (so at most one tile's vertices are in memory) and writes the
-    cache folder whole (or leaves the old one); returns {"tiles", "buildings", "bytes", "seconds"}."""
-    start = time.perf_counter()
-    masses = list(city.masses)  # mass objects while meshing: the city keeps columns
-    records = np.zeros(len(masses), BUILDING_DTYPE)
-    placement = placements(masses)
-    facades, lod_faces, tiles, boxes, cells, box_tile = Counter(), [], [], [], [], []
-    ground = ground_vertices(city).reshape(-1, 3, 4)
-    resident = np.ones(len(ground), bool)  # the ground no tile holds
-    with atomic_folder(folder, KIND) as tmp, warnings.catch_warnings():
-        warnings.simplefilter("ignore", GrammarFitWarning)  # one warning for the city, below
-        (tmp / TILE_FOLDER).mkdir()
-        for index, triangles in zip(*_groups(masses, ground, tile_size)):
-            vertices, tile_boxes, tile_cells, meshed = _mesh_tile(masses, index)
-            records[index] = meshed.records
-            facades.update(meshed.facades)
-            sample_faces = meshed.lod_faces.copy()
-            sample_faces["building"] = index[sample_faces["building"]]  # the tile's building -> the city's
-            lod_faces.append(sample_faces)
-            if not len(tile_boxes):
-                continue
-            vertices, faces = face_table(vertices, placement)
-            tile_ground = ground[triangles].reshape(-1, 4)
-            resident[triangles] = False
-            name = f"{TILE_FOLDER}/{len(tiles):05d}.npz"
-            size, digest = _tile_file(tmp, name, vertices, faces, tile_ground)
-            box_tile.append(np.full(len(tile_boxes), len(tiles)))
-            counts = len(tile_boxes), len(vertices), len(faces), len(tile_ground)
-            tiles.append(Tile(name, _bounds(tile_boxes, tile_ground), *counts, size, digest))
-            boxes.append(tile_boxes)
-            cells.append(tile_cells)
-        boxes = np.concatenate(boxes) if boxes else np.zeros(0, BOX_DTYPE)
-        cells = np.concatenate(cells) if cells else np.zeros((0, 2), np.int64)
-        order = np.lexsort((boxes["draw"][:, 2], cells[:, 1], cells[:, 0]))  # as CityGPU orders them
-        rest = {
-            "city": city.keep_ground(np.repeat(resident, 3)),  # the tiles hold the rest
-            "records": records,
-            "boxes": boxes[order],
-            "box_tile": np.concatenate(box_tile)[order] if box_tile else np.zeros(0, np.int64),
-            "facades": dict(facades),
-            "lod_faces": _by_building(lod_faces),
-        }
-        data = pickle.dumps(rest, protocol=pickle.HIGHEST_PROTOCOL)
-        (tmp / CITY_FILE).write_bytes(data)
-        manifest = {
-            **_layouts(),
-            "source": source,
-            "tile_size": tile_size,
-            "buildings": len(masses),
-            "city": {"file": CITY_FILE, "bytes": len(data), "sha256": _sha256(data)},
-            "tiles": [{**asdict(t), "resident_bytes": t.resident_bytes} for t in tiles],
-        }
-        text = json.dumps(manifest, indent=1)
-        (tmp / MANIFEST).write_text(text)
-    if facades.get(NARROW_FACES):
-        warnings.warn(
-            f"{facades[NARROW_FACES]} wall faces are narrower than their building's grammar fits: drawn as plain walls",
-            GrammarFitWarning,
-            stacklevel=2,
-        )
-    written = sum(t.bytes for t in tiles) + len(data) + len(text)
-    return {"tiles": len(tiles), "buildings": len(masses), "bytes": written, "seconds": time.perf_counter() - start}
 
 
 def _damaged(folder: Path, what: str) -> CacheProblem:
@@ -487,14 +352,6 @@ def _check_rest(folder: Path, rest, tiles: list[Tile]):
         raise CacheProblem(folder, f"{CITY_FILE} has boxes of vertices or buildings its tiles do not hold")
 
 
-def _by_building(faces: list[np.ndarray]) -> np.ndarray:
-    """The tiles' sample faces as one array in building order, as grammar_sample_faces makes it."""
-    if not faces:
-        return np.zeros(0, SAMPLE_FACE_DTYPE)
-    faces = np.concatenate(faces)
-    return faces[np.argsort(faces["building"], kind="stable")]
-
-
 class _ForeignObject(pickle.UnpicklingError):
     pass
 
@@ -540,13 +397,15 @@ def read_tile(cache: TileCache, index: int) -> tuple[np.ndarray, np.ndarray, np.
         with zipfile.ZipFile(io.BytesIO(data)) as archive:
             for name, (rows, dtype) in _parts(tile).items():
                 with archive.open(f"{name}.npy") as member:  # the header first: nothing larger is allocated
-                    shape, _, stored = _NPY_HEADERS[np.lib.format.read_magic(member)](member)
-                    if stored != dtype.base or shape != (rows, *dtype.shape):
+                    shape, fortran, stored = _NPY_HEADERS[np.lib.format.read_magic(member)](member)
+                    if stored != dtype.base or shape != (rows, *dtype.shape) or fortran:
                         raise CacheProblem(
                             cache.folder, f"{tile.file} holds {name} of another layout or count than its tile's"
                         )
-                with archive.open(f"{name}.npy") as member:
-                    arrays[name] = np.lib.format.read_array(member, allow_pickle=False)
+                    array = np.empty(shape, dtype.base)  # then the data, read once into its array
+                    if member.readinto(memoryview(array.reshape(-1)).cast("B")) != array.nbytes:
+                        raise EOFError(f"{name}.npy is cut short")
+                    arrays[name] = array
     except (ValueError, KeyError, OSError, EOFError, NotImplementedError, zipfile.BadZipFile, zlib.error) as exc:
         raise CacheProblem(cache.folder, f"{tile.file} cannot be read ({type(exc).__name__}: {exc})") from None
     vertices, faces, ground = arrays["vertices"], arrays["faces"], arrays["ground"]

@@ -40,6 +40,7 @@ from ._face_table import (
     placements,
     shared_vertices,
 )
+from ._given import GIVEN_FLOOR, GIVEN_ROOF, GIVEN_WALL, plane_triangles
 from ._layers import Layer
 from ._mass_table import MASS_COLUMNS, MASS_POOLS, MassColumns, MassTable
 from ._materials import ROOF_PARTS, ROOF_PATTERNS, TINT_GAIN, roof_material
@@ -55,7 +56,7 @@ from ._meshes import (
     building_vertices,
     world_positions,
 )
-from ._paths import PATHS, camera_path
+from ._paths import LOOPS, PATHS, camera_path
 from ._raycast import intersect
 from ._records import BUILDING_DTYPE, FLAG_CURTAINS, FLAG_FURNITURE, FLAG_ROOM_VARIATION, FLAGS, SHAPE_CODES, rotation_y
 from ._roofs import ROOF_SHAPE_TABLE, Roof, RoofShape
@@ -66,6 +67,10 @@ __all__ = [
     "ROOF_SHAPE_TABLE",
     "RoofShape",
     "Layer",
+    "GIVEN_FLOOR",
+    "GIVEN_ROOF",
+    "GIVEN_WALL",
+    "plane_triangles",
     "SHAPES",
     "BuildingMass",
     "MassTable",
@@ -101,6 +106,7 @@ __all__ = [
     "building_vertices",
     "BUILDING_DTYPE",
     "rotation_y",
+    "LOOPS",
     "PATHS",
     "camera_path",
     "intersect",

@@ -18,8 +18,10 @@ import shapely
 
 from ._buildings import BuildingMass, room_sizes
 from ._extrusions import dormer_rows, gable_rows, roof_rows, wall_quads, wall_rows
+from ._given import given_mass_rows
 from ._meshes import (
     SURFACE_DORMER,
+    SURFACE_PLAIN_WALL,
     SURFACE_ROOF,
     SURFACE_WALL,
     VERTEX_DTYPE,
@@ -34,7 +36,7 @@ from ._rooftop import roof_with_rooftop
 from ._wall_faces import ring_faces
 
 PLAIN_OUTLINE = 64  # simplified_outline returns outlines of up to this many corners as they are
-SECTIONS = ("walls", "gables", "dormers", "roof", "underside")  # a mass's rows, in this order
+SECTIONS = ("walls", "gables", "dormers", "roof", "underside", "plain")  # a mass's rows, in this order
 
 
 class _Sections:
@@ -56,6 +58,7 @@ class _Sections:
         section = key % len(SECTIONS)
         surface = np.where(section >= SECTIONS.index("roof"), SURFACE_ROOF, SURFACE_WALL)
         surface[section == SECTIONS.index("dormers")] = SURFACE_DORMER
+        surface[section == SECTIONS.index("plain")] = SURFACE_PLAIN_WALL
         return rows, surface, key // len(SECTIONS)
 
 
@@ -70,13 +73,16 @@ def batch(masses: list[BuildingMass]) -> tuple[np.ndarray, np.ndarray]:
         np.array([m.room_width for m in masses]),
         np.array([m.floor_height for m in masses]),
     )
-    prisms = np.flatnonzero([m.shape == "prism" for m in masses])
+    prisms = np.flatnonzero([m.shape == "prism" and not m.given for m in masses])
     points, counts = _outlines([masses[i] for i in prisms])
     plain = counts >= 3
     points = points[np.repeat(plain, counts)]
     _prism_rows(masses, rooms, prisms[plain], points, counts[plain], sections)
-    for i in sorted(set(range(len(masses))) - set(prisms[plain].tolist())):  # cylinders, domes, collapsed outlines
-        walls, fronts, roof = mass_rows(masses[i])
+    given = np.flatnonzero([bool(m.given) for m in masses])
+    for section, (rows, owner) in zip(("walls", "roof", "plain"), given_mass_rows([masses[i] for i in given])):
+        sections.add(section, given[owner], rows)
+    for i in sorted(set(range(len(masses))) - set(prisms[plain].tolist()) - set(given.tolist())):  # cylinders, domes
+        walls, fronts, roof, _ = mass_rows(masses[i])
         sections.add("walls", np.full(len(walls[0]), i), walls)
         sections.add("dormers", np.full(len(fronts[0]), i), fronts)
         sections.add("roof", np.full(len(roof[0]), i), roof)

@@ -51,6 +51,9 @@ class BuildingMass:
     # doors: (x, z, outward normal x, z) on the outline (scene/_doors.py); "doors" in `guessed` when placed without data
     doors: tuple[tuple[float, float, float, float], ...] = ()
     guessed: frozenset[str] = frozenset()  # map attributes the data did not give ("height", "roof_shape", ...)
+    # faces as given (CityJSON): (GIVEN_* kind, ring of (x, y, z) in object space) each, drawn instead of
+    # the footprint's walls and roof (scene/_given.py)
+    given: tuple[tuple[int, tuple[tuple[float, float, float], ...]], ...] = ()
 
     def __post_init__(self):
         if self.shape not in SHAPES:
@@ -59,7 +62,8 @@ class BuildingMass:
             raise ValueError(f"building height must be positive, got {self.height}")
         if self.use not in range(USE_COUNT):
             raise ValueError(f"unknown building use code {self.use!r}; allowed: 0..{USE_COUNT - 1} (scene/_uses.py)")
-        if not 0 <= self.base <= self.wall_top or (self.walls and self.base == self.wall_top):
+        below = self.base < 0 and not self.given  # faces as given keep their heights: below sea level too
+        if below or self.base > self.wall_top or (self.walls and self.base == self.wall_top):
             raise ValueError(f"building walls must run upward from base {self.base} to {self.wall_top}")
         if not isinstance(self.first_level, (int, np.integer)) or self.first_level not in range(LEVEL_MASK + 1):
             raise ValueError(

@@ -41,7 +41,15 @@ NUMBERS = {  # field -> dtype of its column
     "first_level": np.integer,
     "walls": np.bool_,
 }
-MASS_POOLS = ("holes", "roof", "wall_colour", "wall_material", "doors", "guessed")  # objects: index into a pool
+MASS_POOLS = (
+    "holes",
+    "roof",
+    "wall_colour",
+    "wall_material",
+    "doors",
+    "guessed",
+    "given",
+)  # objects: index into a pool
 MASS_COLUMNS = {  # every column: dtype and shape past the first axis
     "shape": (np.uint8, ()),
     "position": (np.float64, (2,)),

@@ -16,6 +16,7 @@ from ._buildings import BuildingMass
 from ._dome_faces import dome_faces
 from ._doors import door_record
 from ._extrusions import empty_rows, outline_rows, roof_rows, wall_rows
+from ._given import given_rows
 from ._materials import guessed_roof, linear, roof_material, wall_tint
 from ._records import BUILDING_DTYPE, SHAPES
 from ._uses import USES
@@ -158,10 +159,13 @@ def _dome_triangles(mass: BuildingMass):
 
 
 def mass_rows(mass: BuildingMass):
-    """(wall rows, dormer front rows, roof rows) of one mass in its object space (_extrusions.py rows)."""
+    """(wall rows, dormer front rows, roof rows, plain wall rows) of one mass in its object space
+    (_extrusions.py rows); plain walls only on faces as given (_given.py)."""
+    if mass.given:
+        return given_rows(mass)
     if mass.shape == "dome":
-        return _dome_triangles(mass)
-    return _prism_triangles(mass, smooth=mass.shape == "cylinder")
+        return (*_dome_triangles(mass), empty_rows())
+    return (*_prism_triangles(mass, smooth=mass.shape == "cylinder"), empty_rows())
 
 
 def vertex_records(
@@ -194,7 +198,9 @@ def building_vertices(mass: BuildingMass, index: int) -> np.ndarray:
     """The triangles of one mass as VERTEX_DTYPE records (world and object space)."""
     parts = mass_rows(mass)
     rows = tuple(np.concatenate(part) for part in zip(*parts))
-    surface = np.repeat([SURFACE_WALL, SURFACE_DORMER, SURFACE_ROOF], [len(part[0]) for part in parts])
+    surface = np.repeat(
+        [SURFACE_WALL, SURFACE_DORMER, SURFACE_ROOF, SURFACE_PLAIN_WALL], [len(part[0]) for part in parts]
+    )
     return vertex_records(
         rows, surface, index, np.cos(mass.yaw), np.sin(mass.yaw), np.asarray(mass.position, np.float64)
     )

@@ -6,6 +6,7 @@ Every roof is built in the building's object space (x, z metres, y up) from the 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -476,12 +477,31 @@ def _parapet_roof(polygon: shapely.Polygon, top: float, parapet: float) -> Trian
     )
 
 
+def width_across(outline: shapely.Polygon, direction: float) -> float:
+    """The outline's extent along `direction` (radians from +x toward +z): across a ridge."""
+    across = np.asarray(outline.exterior.coords) @ np.array([math.cos(direction), math.sin(direction)])
+    return float(across.max() - across.min())
+
+
 class RoofShape:
     """How one `roof:shape` is built over an outline (one class per kind of shape, one instance per
-    shape in ROOF_SHAPE_TABLE)."""
+    shape in ROOF_SHAPE_TABLE), and how far it rises where the map gives no height."""
 
     def build(self, polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Triangles, Triangles]:
         raise NotImplementedError
+
+    def run(self, outline: shapely.Polygon, direction: float) -> float:
+        """The horizontal distance over which the roof rises to its top when its main face looks
+        toward `direction`: half the width across the ridge, or the largest inscribed radius where
+        a courtyard keeps the ridge from spanning the outline."""
+        half = width_across(outline, direction) / 2
+        if outline.interiors:
+            return min(half, float(shapely.maximum_inscribed_circle(outline, 0.1).length))
+        return half
+
+    def default_rise(self, run: float, pitch: float) -> float:
+        """The rise over `run` where no tag gives one, `pitch` degrees being the map's default."""
+        return math.tan(math.radians(pitch)) * run
 
 
 class Flat(RoofShape):
@@ -497,9 +517,21 @@ class Pointed(RoofShape):
 
     profile: tuple  # (scale of the outline, share of the rise), eaves to apex
     smooth: bool = True
+    # where no tag gives a height: the pitch in degrees (None: the map's), or a dome's rise over its radius
+    pitch: float | None = None
+    rise_over_radius: float | None = None
 
     def build(self, polygon, top, roof):
         return _pointed(polygon, top, roof, self) if not polygon.interiors else (flat(polygon, top), Triangles.empty())
+
+    def run(self, outline, direction):
+        x0, z0, x1, z1 = outline.bounds
+        return min(x1 - x0, z1 - z0) / 2
+
+    def default_rise(self, run, pitch):
+        if self.rise_over_radius is not None:
+            return self.rise_over_radius * run
+        return super().default_rise(run, self.pitch if self.pitch is not None else pitch)
 
 
 @dataclass(frozen=True)
@@ -532,6 +564,10 @@ class Hipped(Ridged):
     def ends(self, u0, u1, half, h):
         return [(u0, 0.0), (u0 + half, h)], [(u1 - half, h), (u1, 0.0)]
 
+    def run(self, outline, direction):  # the hips bound the rise from every side
+        half = width_across(outline, direction) / 2
+        return min(half, float(shapely.maximum_inscribed_circle(outline, 0.1).length))
+
 
 class HalfHipped(Ridged):
     def ends(self, u0, u1, half, h):  # a gable wall up to the hip, the hip at the pitch of the sides
@@ -542,6 +578,9 @@ class HalfHipped(Ridged):
 class Skillion(Ridged):
     def across(self, v0, v1, h):
         return [(v0, h), (v1, 0.0)]
+
+    def run(self, outline, direction):  # one slope over the whole width
+        return width_across(outline, direction)
 
 
 class Saltbox(Ridged):
@@ -585,14 +624,14 @@ ROOF_SHAPE_TABLE: dict[str, RoofShape] = {
     "gabled": Ridged(skeleton=STRAIGHT, gable_ends=True),
     "hipped": Hipped(skeleton=STRAIGHT),
     "half-hipped": HalfHipped(),
-    "pyramidal": Pointed(((1.0, 0.0), (0.0, 1.0)), smooth=False),
+    "pyramidal": Pointed(((1.0, 0.0), (0.0, 1.0)), smooth=False, pitch=45.0),
     "skillion": Skillion(),
     "gambrel": Gambrel(skeleton=((0.0, 0.0), (GAMBREL_KNEE, GAMBREL_RISE), (1.0, 1.0)), gable_ends=True),
     "mansard": Mansard(skeleton=((0.0, 0.0), (MANSARD_KNEE, MANSARD_RISE), (1.0, 1.0))),
-    "dome": Pointed(DOME_PROFILE),
-    "onion": Pointed(ONION_PROFILE),
+    "dome": Pointed(DOME_PROFILE, rise_over_radius=1.0),
+    "onion": Pointed(ONION_PROFILE, rise_over_radius=1.6),
     "round": Round(),
-    "cone": Pointed(((1.0, 0.0), (0.0, 1.0))),
+    "cone": Pointed(((1.0, 0.0), (0.0, 1.0)), pitch=60.0),
     "saltbox": Saltbox(),
 }
 

@@ -12,6 +12,7 @@ from .._ground import cut_surfaces
 from .._model import MapData
 from ._feature import Built, Feature, Surface
 from .buildings import Buildings, is_building
+from .city_objects import CityObjects
 from .entrances import Entrances
 from .lamps import Lamps
 from .land import Land
@@ -27,6 +28,7 @@ FEATURES: tuple[Feature, ...] = (
     Rail(),
     Platforms(),
     Land(),
+    CityObjects(),
     Water(),
     Trees(),
     Lamps(),

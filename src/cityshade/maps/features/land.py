@@ -98,4 +98,4 @@ class Land(Feature):
                 by_surface.setdefault(SURFACES[area.kind], []).append(area.polygon)
         ranked = sorted(by_surface.items(), key=lambda item: item[0][1])
         surfaces = [Surface(union_of(polygons), material, rank) for (material, rank), polygons in ranked]
-        return Built(Layer(self.name, land_plane(data.bounds())), surfaces)
+        return Built(Layer(self.name, land_plane(data.bounds(), data.ground_level - BASE_DEPTH)), surfaces)

@@ -80,12 +80,17 @@ def forest_trees(map_data: MapData) -> list[MapTree]:
 
 def map_trees(map_data: MapData, seed: int = 0) -> np.ndarray:
     """Tree instance records (trees.TREE_DTYPE) for the map's trees and woods."""
-    trees = list(map_data.trees) + forest_trees(map_data)
+    return tree_records(list(map_data.trees) + forest_trees(map_data), None, seed)
+
+
+def tree_records(trees: list[MapTree], ground: np.ndarray | None, seed: int = 0) -> np.ndarray:
+    """Tree instance records for `trees` standing at heights `ground` (None: 0)."""
     if not trees:
         return np.zeros(0, TREE_DTYPE)
     species = [species_of(t) for t in trees]
     xz = to_scene(np.array([t.position for t in trees], float))
-    records = tree_instances(np.c_[xz[:, 0], np.zeros(len(xz)), xz[:, 1]], species, np.random.default_rng(seed))
+    y = np.zeros(len(xz)) if ground is None else ground
+    records = tree_instances(np.c_[xz[:, 0], y, xz[:, 1]], species, np.random.default_rng(seed))
     records["scale"] *= np.array([_scale(t, s, seed) for t, s in zip(trees, species)])
     return records
 

@@ -7,10 +7,10 @@ from time import perf_counter
 
 import numpy as np
 
-from ._values import check_lights, check_samples, check_seed, check_size, parse_time
-from .errors import UsageError
-from .render import Renderer, RenderSettings, TileCache, guessed_aov
-from .scene import City, make_city
+from .._values import check_lights, check_samples, check_seed, check_size, parse_time
+from ..errors import UsageError
+from ..render import Renderer, RenderSettings, TileCache, guessed_aov
+from ..scene import Camera, City, make_city
 
 AOVS = ("guessed", "class", "instance", "depth")  # what `aov` may name instead of the picture
 
@@ -18,10 +18,10 @@ AOVS = ("guessed", "class", "instance", "depth")  # what `aov` may name instead 
 def render_city(
     city: str | City = "default",
     seed: int | None = None,
-    camera: str = "street",
+    camera: str | Camera = "street",
     size: tuple[int, int] = (1280, 720),
     lights: float | None = None,
-    time: str = "19:10",
+    time: str | float = "19:10",
     interior_mapping: bool = True,
     frames: int = 3,
     profile: bool = False,
@@ -41,7 +41,8 @@ def render_city(
     (+inf where nothing was drawn), all from the id AOV's pass (dataset.class_image, instance_image).
     `tiles` (a tile cache, render.open_tiles) draws its city instead, streamed with at most
     `memory_budget` bytes of tiles resident (None: all); the first frame waits for the tiles its
-    view needs. Bad arguments raise UsageError with the message the command line prints."""
+    view needs. `camera` is one of the city's viewpoints by name or a Camera; `time` is "HH:MM" or
+    hours. Bad arguments raise UsageError with the message the command line prints."""
     if aov not in (None, *AOVS):
         raise UsageError(f"unknown aov {aov!r}; allowed: {', '.join(AOVS)}")
     size, lights = check_size(size), check_lights(lights)
@@ -57,7 +58,7 @@ def render_city(
         layout = tiles.city
     else:
         layout = city if isinstance(city, City) else make_city(city, seed)
-    view = layout.camera(camera)
+    view = camera if isinstance(camera, Camera) else layout.camera(camera)
     renderer = Renderer(
         size, RenderSettings(lights=lights, time_of_day=parse_time(time), interior_mapping=interior_mapping, **settings)
     )
@@ -91,7 +92,7 @@ def render_city(
             "city_s": city_seconds,
         }
         if aov == "class":
-            from .dataset import CLASSES  # the dataset reads maps: loaded only when asked for
+            from ..dataset import CLASSES  # the dataset reads maps: loaded only when asked for
 
             info["classes"] = {str(i): name for i, name in enumerate(CLASSES)}
         if tiles is not None:
@@ -107,7 +108,7 @@ def render_city(
 
 
 def _aov_array(aov: str, renderer: Renderer, view) -> np.ndarray:
-    from .dataset import class_image, instance_image, linear_depth
+    from ..dataset import class_image, instance_image, linear_depth
 
     ids = renderer.render_ids(view)
     if aov == "class":
