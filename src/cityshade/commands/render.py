@@ -48,9 +48,10 @@ def check_aov_suffix(aov: str | None, out: Path):
         raise UsageError(f"--aov {aov} writes {' or '.join(allowed)}; --out {out} has another suffix")
 
 
-def write_aov(aov: str, image, out: Path, info: dict, instances: list | None):
+def write_aov(aov: str, image, out: Path, info: dict, source=None):
     """The AOV array to `out`, and for class and instance the JSON naming its values beside it
-    (OUT with the suffix .json)."""
+    (OUT with the suffix .json). An instance image of a map's `source` (dataset.Source) numbers its
+    buildings, not their masses: the parts of one building share its number and map id."""
     import io
     import json
 
@@ -66,12 +67,16 @@ def write_aov(aov: str, image, out: Path, info: dict, instances: list | None):
             np.savez_compressed(buffer, depth=image)
             write_bytes(out, buffer.getvalue())
         return
+    if aov == "instance" and source is not None:
+        from ..dataset import building_instances
+
+        image = building_instances(image, source.mass_building, source.mass_part)[..., 0].astype(np.uint16)
     write_png(image, out)
     if aov == "class":
         table = {"classes": info["classes"]}
     else:
         seen = (int(i) for i in np.unique(image) if i > 0)
-        table = {"instances": {str(i): instances[i - 1] if instances else None for i in seen}}
+        table = {"instances": {str(i): source.instances[i - 1] if source else None for i in seen}}
     write_text(out.with_suffix(".json"), json.dumps(table, indent=1) + "\n")
 
 
@@ -142,7 +147,7 @@ def run(args) -> int:
 
     require_map_for_date(args.date, args.map or args.tiles)
     city, sky = args.city, {}
-    builtin, instances = None, None
+    builtin, source = None, None
     if args.memory_budget is not None and args.map is None and args.tiles is None:
         from ..scene import make_city
 
@@ -154,7 +159,7 @@ def run(args) -> int:
             made = tiles.city if tiles is not None else None
             if args.aov == "instance" and made is None:
                 source = load_source(args.map)  # the map id of every building mass
-                made, instances = source.city, source.instances
+                made = source.city
             city, args.camera, sky = city_from_map(
                 args.map, args.camera, args.date, args.time_of_day, city=made, lod=args.lod
             )
@@ -175,7 +180,7 @@ def run(args) -> int:
     if args.aov in (None, "guessed"):
         save_png(image, args.out)
     else:
-        write_aov(args.aov, image, args.out, info, instances)
+        write_aov(args.aov, image, args.out, info, source)
     if args.profile:
         print_profile(info["pass_ms"])
     msaa = f"{info['samples']}x MSAA" if info["samples"] else "no MSAA"
