@@ -172,10 +172,10 @@ def check_size(canvases: list[Canvas], texel: float):
     if not canvases:
         return
     widest = max(max(c.cols, c.rows) for c in canvases)
-    if widest > ATLAS_LIMIT:
+    if widest > ATLAS_LIMIT:  # a canvas is ceil(extent / texel) + 2 margin texels a side
         raise UsageError(
             f"--texel {texel:g}: a facade needs a {widest}-texel atlas side, over the "
-            f"{ATLAS_LIMIT}-texel GPU limit; use --texel {largest_fitting_texel(texel, widest / ATLAS_LIMIT):g} or more"
+            f"{ATLAS_LIMIT}-texel GPU limit; use --texel {largest_fitting_texel(texel, (widest - 2) / (ATLAS_LIMIT - 2)):g} or more"
         )
     total = sum(c.cols * c.rows for c in canvases)
     if total > MAX_TEXELS:
