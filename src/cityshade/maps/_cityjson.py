@@ -283,7 +283,11 @@ class _Reader:
 
 def _outline(faces: list[Face]) -> shapely.Geometry:
     """The faces' union seen from above."""
-    polygons = shapely.make_valid(np.array([shapely.Polygon(f.ring[:, :2]) for f in faces], dtype=object))
+    plan = np.vstack([f.ring[:, :2] for f in faces])
+    which = np.repeat(np.arange(len(faces)), [len(f.ring) for f in faces])
+    polygons = shapely.polygons(shapely.linearrings(plan, indices=which))
+    bad = ~shapely.is_valid(polygons)  # seen from above, walls are lines and many roofs self-touch
+    polygons[bad] = shapely.make_valid(polygons[bad])
     polygons = [p for p in shapely.get_parts(polygons) if shapely.get_type_id(p) in (3, 6) and p.area > 0.0]
     return shapely.union_all(polygons) if polygons else shapely.Polygon()
 
