@@ -208,12 +208,14 @@ class _Reader:
             found = self.faces(name, obj, vertices)
             if found is not None:
                 read[name] = found
+        buildings = [name for name in read if objects[name]["type"] in BUILDING_TYPES]
+        merged = dict(zip(buildings, merged_walls([read[name][0] for name in buildings])))
         for name, obj in objects.items():
             if not isinstance(obj, dict) or not isinstance(obj.get("type"), str):
                 continue
             self._missing_links(name, obj, objects)
             if obj["type"] in BUILDING_TYPES:
-                self._building(name, obj, objects, read)
+                self._building(name, obj, objects, read, merged)
             elif name in read:
                 self._city_object(name, obj, read[name])
 
@@ -231,7 +233,7 @@ class _Reader:
         plan = shapely.multipoints(np.vstack([f.ring[:, :2] for f in faces]))  # walls alone have no outline
         self.raws.append(Raw(f"CityObject/{name}", plan, {}, fixed))
 
-    def _building(self, name: str, obj: dict, objects: dict, read: dict) -> None:
+    def _building(self, name: str, obj: dict, objects: dict, read: dict, merged: dict) -> None:
         children = [c for c in _listed(obj.get("children")) if isinstance(c, str) and c in objects]
         parents = [p for p in _listed(obj.get("parents")) if isinstance(p, str) and isinstance(objects.get(p), dict)]
         drawn_parts = [c for c in children if c in read]
@@ -246,8 +248,8 @@ class _Reader:
             elif not children and name not in read and not _listed(obj.get("geometry")):
                 self.report.skip("building", "no geometry and no parts with geometry", f"CityObject/{name}")
             return
-        faces, lod = read[name]
-        self._add_building(name, obj, merged_walls(faces), lod, min(lows), parents)
+        lod = read[name][1]
+        self._add_building(name, obj, merged[name], lod, min(lows), parents)
 
     def _add_building(self, name, obj, faces: list[Face], lod, ground: float, parents: list[str]) -> None:
         element = f"CityObject/{name}"
@@ -281,7 +283,11 @@ class _Reader:
 
 def _outline(faces: list[Face]) -> shapely.Geometry:
     """The faces' union seen from above."""
-    polygons = shapely.make_valid(np.array([shapely.Polygon(f.ring[:, :2]) for f in faces], dtype=object))
+    plan = np.vstack([f.ring[:, :2] for f in faces])
+    which = np.repeat(np.arange(len(faces)), [len(f.ring) for f in faces])
+    polygons = shapely.polygons(shapely.linearrings(plan, indices=which))
+    bad = ~shapely.is_valid(polygons)  # seen from above, walls are lines and many roofs self-touch
+    polygons[bad] = shapely.make_valid(polygons[bad])
     polygons = [p for p in shapely.get_parts(polygons) if shapely.get_type_id(p) in (3, 6) and p.area > 0.0]
     return shapely.union_all(polygons) if polygons else shapely.Polygon()
 

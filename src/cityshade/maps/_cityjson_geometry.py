@@ -252,16 +252,19 @@ def facing_out(faces: list[Face], footprint, report: ReadReport, element: str) -
     """The faces with rings that face the wrong way turned round (counted): roofs and floors facing
     down, ground and ceilings facing up, walls facing into the footprint (the point a step in front
     of the wall inside it, the point a step behind outside)."""
+    normals = np.array([f.normal for f in faces])
+    inverted = np.array([normal[2] * FACING.get(f.semantic, 0.0) < -0.1 for f, normal in zip(faces, normals)])
+    walls = np.flatnonzero([f.semantic == "WallSurface" for f in faces] & (np.abs(normals[:, 2]) < 0.7))
+    if len(walls):  # every wall's two test points at once
+        plan = normals[walls, :2]
+        step = plan / np.linalg.norm(plan, axis=1)[:, None] * 0.3
+        centre = np.array([faces[i].ring[:, :2].mean(axis=0) for i in walls])
+        front = shapely.contains_xy(footprint, *(centre + step).T)
+        back = shapely.contains_xy(footprint, *(centre - step).T)
+        inverted[walls] = front & ~back
     out = []
-    for face in faces:
-        sign = FACING.get(face.semantic)
-        inverted = sign is not None and face.normal[2] * sign < -0.1
-        if face.semantic == "WallSurface" and abs(face.normal[2]) < 0.7:
-            step = face.normal[:2] / np.linalg.norm(face.normal[:2]) * 0.3
-            centre = face.ring[:, :2].mean(axis=0)
-            front, back = shapely.points([centre + step, centre - step])
-            inverted = bool(footprint.contains(front) and not footprint.contains(back))
-        if inverted:
+    for face, turn in zip(faces, inverted):
+        if turn:
             report.repair("surface", f"{face.semantic} facing the wrong way: turned", element)
             face = Face(face.ring[::-1], face.semantic, -face.normal)
         out.append(face)
@@ -305,54 +308,80 @@ def _dissolved(rings: list[np.ndarray]) -> np.ndarray | None:
     return np.array(out) if len(out) == len(after) else None
 
 
-def merged_walls(faces: list[Face]) -> list[Face]:
-    """Vertical wall faces lying in one plane (a wall the file splits in triangles, as 3D BAG does)
-    merged into the polygons they make together, so that the wall is one face with whole windows;
-    every other face as it was."""
+def merged_walls(buildings: list[list[Face]]) -> list[list[Face]]:
+    """Per building: vertical wall faces lying in one plane (a wall the file splits in triangles, as
+    3D BAG does) merged into the polygons they make together, so that the wall is one face with whole
+    windows; every other face as it was. All buildings' faces are grouped in one pass."""
+    faces = [face for building in buildings for face in building]
+    if not faces:
+        return [list(b) for b in buildings]
+    owner = np.repeat(np.arange(len(buildings)), [len(b) for b in buildings])
     normals = np.array([f.normal for f in faces])
     wall = np.array([f.semantic in (None, "WallSurface") for f in faces]) & (np.abs(normals[:, 2]) < UPRIGHT)
-    if wall.sum() < 2:
-        return faces
     index = np.flatnonzero(wall)
     plan = normals[index, :2] / np.linalg.norm(normals[index, :2], axis=1)[:, None]
-    offset = np.array([faces[i].ring[:, :2].mean(axis=0) @ n for i, n in zip(index, plan)])
+    counts = np.array([len(faces[i].ring) for i in index], dtype=np.int64)
+    starts = np.cumsum(counts) - counts
+    points = np.vstack([faces[i].ring for i in index]) if len(index) else np.zeros((0, 3))
+    centre = np.add.reduceat(points[:, :2], starts, axis=0) / counts[:, None] if len(index) else np.zeros((0, 2))
+    offset = np.sum(centre * plan, axis=1)
     semantic = np.array([faces[i].semantic == "WallSurface" for i in index])
-    keys = np.column_stack([semantic, np.round(plan / PLANE_ANGLE), np.round(offset / PLANE_OFFSET)])
+    keys = np.column_stack([owner[index], semantic, np.round(plan / PLANE_ANGLE), np.round(offset / PLANE_OFFSET)])
     _, group, sizes = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
     group = group.ravel()
-    kept = [f for i, f in enumerate(faces) if not wall[i]] + [faces[i] for i, g in zip(index, group) if sizes[g] == 1]
-    many = np.flatnonzero(sizes[group] > 1)
-    if not len(many):
-        return faces
-    first = {}
-    for k in many:  # each group's frame: its first face's
-        first.setdefault(group[k], k)
+    alone = np.ones(len(faces), dtype=bool)
+    alone[index[sizes[group] > 1]] = False
+    out = [[] for _ in buildings]
+    for i in np.flatnonzero(~wall):
+        out[owner[i]].append(faces[i])
+    for i in np.flatnonzero(wall & alone):
+        out[owner[i]].append(faces[i])
+    members: dict[int, list[int]] = {}  # group -> its faces' places in `index`, in file order
+    for k in np.flatnonzero(sizes[group] > 1):
+        members.setdefault(group[k], []).append(k)
+    unjoined = []
+    for g, ks in members.items():
+        face = faces[index[ks[0]]]
+        ring = _dissolved([faces[index[k]].ring for k in ks])
+        if ring is not None:  # pieces sharing whole edges: their outline, no overlay needed
+            out[owner[index[ks[0]]]].append(Face(ring, face.semantic, face.normal))
+        else:
+            out[owner[index[ks[0]]]].append(None)  # its place, filled by the overlay below
+            unjoined.append(g)
+    if unjoined:
+        overlaid = _overlaid([members[g] for g in unjoined], faces, index, plan, offset, points, counts, starts)
+        filled = iter(overlaid)
+        out = [[part for face in b for part in (next(filled) if face is None else [face])] for b in out]
+    merged = set(owner[index[[ks[0] for ks in members.values()]]]) if members else set()
+    return [out[b] if b in merged else list(faces_of) for b, faces_of in enumerate(buildings)]
+
+
+def _overlaid(groups: list[list[int]], faces, index, plan, offset, points, counts, starts) -> list[list[Face]]:
+    """The union of each group's coplanar wall pieces (in their plane's (u, z)), as faces facing the
+    way the pieces did: the wall pieces that do not share whole edges."""
+    ks = np.concatenate(groups)
+    frame = np.repeat([g[0] for g in groups], [len(g) for g in groups])  # each group's frame: its first face's
     across = np.column_stack([-plan[:, 1], plan[:, 0]])
-    members = [faces[index[k]] for k in many]
-    frame = np.array([first[group[k]] for k in many])
-    counts = np.array([len(f.ring) for f in members])
-    rings = np.vstack([f.ring for f in members])
-    which = np.repeat(frame, counts)
+    which = np.concatenate([np.full(counts[k], f) for k, f in zip(ks, frame)])
+    rings = np.vstack([points[starts[k] : starts[k] + counts[k]] for k in ks])
     uv = np.column_stack([np.sum(rings[:, :2] * across[which], axis=1), rings[:, 2]])
-    sign = np.sign(_signed_areas(uv, counts))
-    polygons = shapely.polygons(shapely.linearrings(uv, indices=np.repeat(np.arange(len(members)), counts)))
+    sign = np.sign(_signed_areas(uv, counts[ks]))
+    polygons = shapely.polygons(shapely.linearrings(uv, indices=np.repeat(np.arange(len(ks)), counts[ks])))
     bad = ~shapely.is_valid(polygons)
     polygons[bad] = shapely.make_valid(polygons[bad])
-    by_group: dict[int, list[int]] = {}
-    for j, k in enumerate(many):
-        by_group.setdefault(group[k], []).append(j)
-    for g, js in by_group.items():
-        k = first[g]
+    out, at = [], 0
+    for members in groups:
+        k, face = members[0], faces[index[members[0]]]
         foot, direction = plan[k] * offset[k], across[k]
-        face = faces[index[k]]
-        ring = _dissolved([members[j].ring for j in js])
-        if ring is not None:  # pieces sharing whole edges: their outline, no overlay needed
-            kept.append(Face(ring, face.semantic, face.normal))
-            continue
-        for part in shapely.get_parts(shapely.union_all(polygons[js])):
+        parts = []
+        for part in shapely.get_parts(shapely.union_all(polygons[at : at + len(members)])):
             if shapely.get_type_id(part) != 3 or part.area <= 0:
                 continue
             ring = np.asarray(shapely.orient_polygons(part).exterior.coords)[:-1]  # counter-clockwise in (u, z)
-            ring = ring if sign[js[0]] > 0 else ring[::-1]  # facing the way the faces did
-            kept.append(Face(np.column_stack([foot + ring[:, :1] * direction, ring[:, 1]]), face.semantic, face.normal))
-    return kept
+            ring = ring if sign[at] > 0 else ring[::-1]  # facing the way the faces did
+            parts.append(
+                Face(np.column_stack([foot + ring[:, :1] * direction, ring[:, 1]]), face.semantic, face.normal)
+            )
+        out.append(parts)
+        at += len(members)
+    return out

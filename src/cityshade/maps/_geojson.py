@@ -15,6 +15,7 @@ Numbers too long for a float (thousands of digits) read as infinity and drop the
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,7 @@ from ._projection import LOCAL, in_range
 from .features import area_kind, is_building, point_kind
 
 GEOGRAPHIC_SHARE = 0.5  # of coordinates inside lon/lat ranges for a file without `crs` to be lon/lat
+LONG_INTEGER = re.compile(r"\d{16}")  # digits past a float's precision: such integers are read as floats
 
 
 def parse_json(path: Path, text: str):
@@ -37,8 +39,12 @@ def parse_json(path: Path, text: str):
         check_depth(text)
     except ValueError as exc:
         raise UsageError(f"{path}: JSON nested too deeply to be a map ({exc}; maps nest ten at most)") from None
+    # the per-number hook only where a long integer may occur: it costs a Python call per number
+    parse_int = (
+        (lambda digits: float(digits) if len(digits) > 15 else int(digits)) if LONG_INTEGER.search(text) else None
+    )
     try:
-        return json.loads(text, parse_int=lambda digits: float(digits) if len(digits) > 15 else int(digits))
+        return json.loads(text, parse_int=parse_int)
     except json.JSONDecodeError as exc:
         raise UsageError(f"{path}:{exc.lineno}:{exc.colno}: error: invalid JSON: {exc.msg}") from None
 
