@@ -100,6 +100,12 @@ def test_cached_frames_equal_uncached_along_a_street(gl_context):
     assert frames[-1]["requested"] > 50, frames  # the street's facades need many pages
 
 
+# A fixed Helsinki street view, where the tolerance was measured (the default street view moves
+# with the camera rules; on the walked street chosen today two 8x8 blocks differ by up to 15.1/255
+# at the default threshold: the whole-mip filtering of docs/scale.md).
+HELSINKI_STREET = Camera((153.917, 1.7, -45.531), (93.944, 7.7, -43.725))
+
+
 @pytest.mark.parametrize(
     "min_pixels",
     [
@@ -123,9 +129,9 @@ def test_cached_frames_equal_uncached_in_helsinki(gl_context, helsinki_pbf, min_
     (threshold 0) one or two blocks break it (the expected failure)."""
     from cityshade.maps import city_from_map
 
-    city, street, sky = city_from_map(helsinki_pbf, "street", "2025-06-21", "21:00")
+    city, _, sky = city_from_map(helsinki_pbf, "street", "2025-06-21", "21:00")
     settings = RenderSettings(samples=0, grammar_cache_min_pixels=min_pixels, **sky)
-    frames = compare_along(city, walk(city.camera(street), 3), settings, gl_context)
+    frames = compare_along(city, walk(HELSINKI_STREET, 3), settings, gl_context)
     assert_equal_within_tolerance(frames)
 
 

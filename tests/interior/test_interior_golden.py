@@ -33,7 +33,9 @@ SWITCHED = {  # feature -> the settings that change it
     "animation time": {"animation_time": 1.3},
 }
 ROOMS = ("interior mapping", "curtains", "room variation")
-GUARDS = {"front": (*ROOMS, "furniture"), "corner": ROOMS, "cylinder": ROOMS, "dome": ROOMS}
+# Room variation in the corner view changes about 2.5% of its room pixels by more than 16/255 at
+# this dusk, below the block tolerance; the front, cylinder and dome views guard it.
+GUARDS = {"front": (*ROOMS, "furniture"), "corner": ROOMS[:2], "cylinder": ROOMS, "dome": ROOMS}
 
 
 @pytest.fixture(scope="module")
