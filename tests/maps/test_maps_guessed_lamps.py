@@ -20,7 +20,9 @@ def street(y: float, kind: str, **tags) -> Road:
 
 def houses(y: float) -> list[MapBuilding]:
     """A row of 10 m houses every 25 m along a street at `y` (and past its ends), 8 m back from it."""
-    return [MapBuilding(i, f"way/{i}", shapely.box(x, y + 8, x + 10, y + 18)) for i, x in enumerate(range(-50, 450, 25))]
+    return [
+        MapBuilding(i, f"way/{i}", shapely.box(x, y + 8, x + 10, y + 18)) for i, x in enumerate(range(-50, 450, 25))
+    ]
 
 
 def town(*roads: Road, lamps=()) -> MapData:

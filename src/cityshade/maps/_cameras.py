@@ -65,9 +65,7 @@ def framed_area(map_data: MapData) -> shapely.Polygon:
     return shapely.convex_hull(area)
 
 
-def aerial_camera(
-    area_points: np.ndarray, top: float, aspect: float = AERIAL_ASPECT, bottom: float = 0.0
-) -> Camera:
+def aerial_camera(area_points: np.ndarray, top: float, aspect: float = AERIAL_ASPECT, bottom: float = 0.0) -> Camera:
     """Looks down at AERIAL_PITCH on the ground polygon `area_points` ((n, 2) scene x, z) from just far
     enough that it, from height `bottom` (the ground) up to `top`, lies in the frustum; of the headings
     AERIAL_HEADING + k * 45 degrees and of the aim points along each heading, the ones that let it
