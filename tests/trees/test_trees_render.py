@@ -8,6 +8,7 @@ from dataclasses import replace
 import moderngl
 import numpy as np
 import pytest
+import shapely
 
 from cityshade.frame import boxes_visible, frustum_planes
 from cityshade.gl import FRAME_BLOCK, ProgramCache, RenderTarget, sampler_units, set_uniforms
@@ -15,7 +16,7 @@ from cityshade.render.testing import CascadedShadows
 from cityshade.scene import Camera
 from cityshade.trees import OAK, TreePass, extrude_fins, generate_tree, lod_alphas, tree_instances, vanish_alphas
 from cityshade.trees.testing import INSTANCE_BYTES, PARTS
-from trees_scene import SIZE, one_tree, render, save
+from trees_scene import SIZE, one_tree, render, render_ids, save
 
 
 @pytest.fixture(scope="module")
@@ -238,6 +239,37 @@ def test_single_tree_picture(ctx, programs, species, output_dir):
     assert 0.05 < 1 - sky.mean() < 0.8  # the tree is there and fits the frame
     tree.release()
     shadows.release()
+
+
+def crown_fill(ids: np.ndarray) -> float:
+    """The share of the crown's convex hull, seen from the side, that the tree covers (rows wider
+    than three times the trunk's width only, so the bare trunk below does not count)."""
+    covered = ids[..., 0] > 0
+    rows = np.flatnonzero(covered.any(axis=1))
+    widths = np.array([np.ptp(np.flatnonzero(covered[r])) + 1 for r in rows])
+    crown = np.zeros_like(covered)
+    wide = rows[widths > 3 * np.percentile(widths, 5)]
+    crown[wide] = covered[wide]
+    ys, xs = np.nonzero(crown)
+    hull = shapely.MultiPoint(np.column_stack([xs, ys]).astype(float)).convex_hull
+    gy, gx = np.mgrid[0 : crown.shape[0], 0 : crown.shape[1]]
+    inside = shapely.contains_xy(hull, gx.ravel(), gy.ravel()).reshape(crown.shape) | crown
+    return float(crown.sum() / inside.sum())
+
+
+def test_every_species_has_a_dense_crown(ctx, programs):
+    """A conifer's crown reads as a dense layered cone, not a skeleton of bare boughs: from the side
+    its silhouette fills most of its hull, as the broadleaves' do (the fir of one bough level
+    filled 0.45; oak 0.91, poplar 0.80)."""
+    fills = {}
+    for species in ("oak", "fir", "poplar"):
+        tree = one_tree(ctx, programs, species)
+        height = tree.models[next(iter(tree.models))].height
+        camera = Camera((0, height * 0.5, height * 1.25), (0, height * 0.5, 0), fov_y=50, near=0.1, far=300)
+        fills[species] = crown_fill(render_ids(ctx, tree, camera)[0])
+        tree.release()
+    print("crown fill from the side:", {k: round(v, 3) for k, v in fills.items()})
+    assert min(fills.values()) > 0.6, fills
 
 
 def test_wind_sways_the_crown_and_not_the_trunk_base(ctx, programs):
