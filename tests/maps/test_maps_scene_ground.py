@@ -121,14 +121,15 @@ def test_map_trees_size_and_species():
         MapTree("node/2", (5.0, 0.0), crown_diameter=8.0, genus="Tilia"),
         MapTree("node/3", (10.0, 0.0), leaf_type="needleleaved"),
         MapTree("node/4", (15.0, 0.0), genus="Betula"),
+        MapTree("node/5", (20.0, 0.0), genus="Pinus"),
     ]
     records = map_trees(make_map(trees=trees))
     from cityshade.trees import SPECIES_ORDER
 
-    assert [SPECIES_ORDER[s] for s in records["species"]] == ["fir", "oak", "fir", "poplar"]
-    jitter = records["scale"] / np.array([20.0 / model_size("fir", 0)[0], 8.0 / model_size("oak", 0)[1], 1.0, 1.0])
+    assert [SPECIES_ORDER[s] for s in records["species"]] == ["fir", "oak", "fir", "poplar", "pine"]
+    jitter = records["scale"] / np.array([20.0 / model_size("fir", 0)[0], 8.0 / model_size("oak", 0)[1], 1, 1, 1])
     assert np.all((jitter > 0.84) & (jitter < 1.16))  # the instances' own 0.85..1.15 size variation
-    assert np.allclose(records["position"], [(0, 0, 0), (5, 0, 0), (10, 0, 0), (15, 0, 0)])
+    assert np.allclose(records["position"], [(0, 0, 0), (5, 0, 0), (10, 0, 0), (15, 0, 0), (20, 0, 0)])
 
 
 def test_forest_is_filled_deterministically_and_capped():

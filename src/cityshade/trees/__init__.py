@@ -46,7 +46,7 @@ from ._impostor_atlas import (
 from ._lod import lod_alphas, vanish_alphas
 from ._placement import SPECIES_ORDER, TREE_DTYPE, city_trees, park_trees, street_trees, tree_instances
 from ._scene import SCENE_TIME, park_scene
-from ._species import FIR, OAK, POPLAR, SPECIES, Species
+from ._species import FIR, OAK, PINE, POPLAR, SPECIES, Species
 from ._textures import BarkTextures, LeafTextures, bark_textures, leaf_textures
 from ._tree_pass import TREE_ID_PASS, TreePass, TreeSettings, tree_pass
 
@@ -104,6 +104,7 @@ __all__ = [
     "park_scene",
     "FIR",
     "OAK",
+    "PINE",
     "POPLAR",
     "SPECIES",
     "Species",

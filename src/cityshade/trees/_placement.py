@@ -42,7 +42,7 @@ def park_trees(rect, seed: int, spacing: float = 9.0) -> np.ndarray:
     keep = np.linalg.norm((grid - centre) / (np.array([x1 - x0, z1 - z0]) / 2), axis=1) > 0.45
     grid = grid[keep]
     positions = np.column_stack([grid[:, 0], np.zeros(len(grid)), grid[:, 1]])
-    species = rng.choice(SPECIES_ORDER, size=len(grid), p=(0.5, 0.3, 0.2))
+    species = rng.choice(SPECIES_ORDER, size=len(grid), p=(0.5, 0.3, 0.2, 0.0))  # no pines in the generator's parks
     return tree_instances(positions, species, rng)
 
 

@@ -84,4 +84,24 @@ POPLAR = Species(
     relief_depth=0.025,
 )
 
-SPECIES = {s.name: s for s in (OAK, FIR, POPLAR)}
+PINE = Species(  # a Scots pine: a tall bare trunk under a high, open crown of upturned boughs
+    name="pine",
+    trunk_length=15.0,
+    trunk_radius=0.28,
+    children=(22, 6),
+    spread=(1.2, 0.8),
+    length_ratio=(0.28, 0.5),
+    branch_start=0.55,
+    cone=0.6,
+    tropism=0.06,
+    gnarl=0.12,
+    leaves_per_branch=6,
+    leaf_size=0.5,
+    leaf_cell=2,
+    fronds=True,
+    bark_layer=1,
+    bark_tile=0.6,
+    relief_depth=0.03,
+)
+
+SPECIES = {s.name: s for s in (OAK, FIR, POPLAR, PINE)}  # the order numbers the instance records' species

@@ -28,8 +28,11 @@ TREE_ROW_SPACING = 8.0
 
 
 def species_of(tree: MapTree) -> str:
-    """The generator's species for a tree: fir for conifers, poplar for slender broadleaves, else oak."""
+    """The generator's species for a tree: pine for Pinus, fir for the other conifers (and for a
+    needle-leaved tree of no genus), poplar for slender broadleaves, else oak."""
     genus = (tree.genus or "").strip().lower()
+    if genus == "pinus":
+        return "pine"
     if genus in NEEDLE_GENERA or (not genus and (tree.leaf_type or "") == "needleleaved"):
         return "fir"
     if genus in SLENDER_GENERA:
