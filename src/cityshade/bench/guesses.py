@@ -135,8 +135,9 @@ def tiled(map_data, count: int):
     buildings = []
     for k in range(copies):
         shift = np.array([(k % across) * (x1 - x0 + 50.0), (k // across) * (y1 - y0 + 50.0)])
+        offset = k * len(source)
         for b, outline in zip(source, shapely.transform(outlines, lambda c, shift=shift: c + shift)):
-            parent = None if b.parent is None else b.parent + k * len(source)
+            parent = None if b.parent is None else b.parent + offset
             buildings.append(
                 dataclasses.replace(
                     b,
@@ -146,9 +147,13 @@ def tiled(map_data, count: int):
                     tagged=set(b.tagged),
                     guessed=set(b.guessed),
                     confidence={},
+                    beneath_parts=[(under, part.index + offset) for under, part in b.beneath_parts],
                 )
             )
-    return dataclasses.replace(map_data, buildings=buildings[:count], trees=[], report=ReadReport())
+    buildings = buildings[:count]
+    for b in buildings:  # the copies' parts, where the copy kept them
+        b.beneath_parts = [(under, buildings[i]) for under, i in b.beneath_parts if i < count]
+    return dataclasses.replace(map_data, buildings=buildings, trees=[], report=ReadReport())
 
 
 def _prior_for(map_data):
