@@ -53,3 +53,22 @@ def test_tiling_repeats_the_buildings_side_by_side():
     assert len(many.buildings) == 25 and [b.index for b in many.buildings] == list(range(25))
     assert many.buildings[11].levels == data.buildings[0].levels
     assert not many.buildings[11].outline.intersects(data.buildings[0].outline)
+
+
+def test_flat_and_pitched_are_scored_and_the_confidence_is_kept_beside_the_truth():
+    data = _street()
+    for b in data.buildings[:10:2]:
+        b.roof_shape = "flat"  # every other roof flat: a shape can be wrong while flat-or-pitched is right
+    scores = evaluate(data, folds=5, seed=1)
+    assert set(scores) == {"model", "model_silent", "defaults", "median", "constant_10m", "calibration", "counts"}
+    assert scores["constant_10m"]["flat_vs_pitched_accuracy"] == 0.5
+    assert scores["median"]["flat_vs_pitched_accuracy"] == pytest.approx(scores["median"]["roof_shape_accuracy"])
+    pairs = scores["calibration"]["levels"]
+    assert len(pairs) == 10 and all(0.0 <= c <= 1.0 and isinstance(right, bool) for c, right in pairs)
+
+
+def test_only_bench_guesses_takes_a_map(capsys):
+    from cityshade.commands import main
+
+    assert main(["bench", "trees", "--map", "street.osm"]) == 2
+    assert "only `bench guesses` measures a map" in capsys.readouterr().err

@@ -7,7 +7,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cityshade.scene import CORNER_TURN, SURFACE_ROOF, BuildingMass, building_vertices, storeys, wall_faces
+from cityshade.scene import (
+    CORNER_TURN,
+    SURFACE_DORMER,
+    SURFACE_ROOF,
+    SURFACE_WALL,
+    BuildingMass,
+    Roof,
+    building_vertices,
+    storeys,
+    wall_faces,
+)
 
 
 def _faces(ring, nominal=4.0, first_column=0):
@@ -100,3 +110,34 @@ def test_a_polygon_tower_mesh_runs_its_windows_round_without_restarting():
     assert np.allclose(walls["face"][:, 0], perimeter, rtol=1e-6)
     assert walls["facade"][:, 0].max() == pytest.approx(perimeter, rel=1e-6)
     assert np.allclose(walls["facade"][:, 2], perimeter / round(perimeter / 4.0), rtol=1e-6)
+
+
+def test_every_gable_and_dormer_front_has_rooms_of_its_own():
+    """An L-shaped block under a gabled roof with rooms in it: its two gable ends (14 m: 3 bays,
+    9 m: 2 bays) and its dormer fronts each own a run of room columns, one per bay, that no other
+    wall piece and no wall below uses (a shared run gave two gables' windows one key and a gable's
+    middle bay a dormer's room)."""
+    outline = ((0.0, 0.0), (30.0, 0.0), (30.0, 14.0), (9.0, 14.0), (9.0, 25.0), (0.0, 25.0))
+    roof = Roof("gabled", 6.0, attic_storey=3.0)
+    mass = BuildingMass("prism", (0.0, 0.0), outline, 18.0, room_width=4.5, floor_height=3.0, roof=roof)
+    tris = building_vertices(mass, 0).reshape(-1, 3)
+    surface, span_top = tris["ids"][:, 0, 1], tris["face"][:, 0, 2]
+    fronts = tris[surface == SURFACE_DORMER]
+    gables = tris[(surface == SURFACE_WALL) & (span_top == mass.height)]
+    walls = tris[(surface == SURFACE_WALL) & (span_top == mass.wall_top)]
+    runs = {}  # each wall piece (a gable: its plane; a dormer front: also its middle) -> its bays' room columns
+    for tri in np.concatenate([gables, fronts]):
+        local, row = tri["local"].astype(np.float64), tri[0]
+        normal = np.round(row["normal"].astype(np.float64), 3)
+        across = local @ (-normal[2], 0.0, normal[0])
+        middle = round(float(across.min() + across.max()) / 2, 1) if row["ids"][1] == SURFACE_DORMER else None
+        plane = (row["ids"][1], *normal, round(float(np.dot(normal, local[0])), 2), middle)
+        bays = round(float(row["face"][0] / row["facade"][2]))
+        first, last = int(row["ids"][2]), int(row["ids"][3])
+        assert last == first + bays - 1  # a column per bay
+        assert runs.setdefault(plane, (first, last)) == (first, last)  # the same on all of the piece's triangles
+    gable_bays = sorted(last - first + 1 for (kind, *_), (first, last) in runs.items() if kind == SURFACE_WALL)
+    assert gable_bays == [2, 3] and len(runs) == 2 + len(np.unique(fronts["ids"][:, 0, 2])) > 3
+    columns = [c for first, last in runs.values() for c in range(first, last + 1)]
+    assert len(columns) == len(set(columns))  # no two pieces share a room
+    assert min(columns) > walls["ids"][..., 2:].max()  # nor a wall below

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from .._files import output_folder, output_target
 from ..bench import write
+from ..errors import UsageError
 
 # benchmark name -> module with run(quick: bool) -> BenchResult
 BENCHMARKS = {
@@ -30,14 +31,20 @@ def register(subparsers):
     parser.add_argument("--quick", action="store_true", help="smaller scenes and fewer frames (under a minute)")
     parser.add_argument("--json", type=Path, default=None, metavar="PATH", help="also write the JSON here")
     parser.add_argument("--out-dir", type=Path, default=Path("bench-results"), help="folder for JSON, Markdown, plots")
+    parser.add_argument(
+        "--map", type=Path, default=None, metavar="FILE", help="guesses: the map whose tagged buildings to measure"
+    )
     parser.set_defaults(run=_run)
 
 
 def _run(args):
+    if args.map is not None and args.name != "guesses":
+        raise UsageError(f"--map {args.map}: only `bench guesses` measures a map of your choice")
     output_folder(args.out_dir)  # refused before minutes of measuring, not after
     if args.json is not None:
         output_target(args.json)
     module = importlib.import_module(BENCHMARKS[args.name])
-    result = module.run(quick=args.quick, out_dir=args.out_dir)
+    extra = {"map_path": args.map} if args.map is not None else {}
+    result = module.run(quick=args.quick, out_dir=args.out_dir, **extra)
     write(result, args.out_dir, args.json)
     return 0

@@ -53,6 +53,13 @@ def _text(info: dict) -> str:
         "building attributes (tagged / guessed):",
     ]
     lines += [f"  {name:18s} {c['tagged']:7d} / {c['guessed']:d}" for name, c in info["building_attributes"].items()]
+    confidence = info["guess_confidence"]
+    lines.append(
+        "guess confidence (mean, guessed): "
+        + ", ".join(f"{k} {v['mean']:.2f} ({v['guessed']})" for k, v in confidence.items() if v["guessed"])
+    )
+    if info["guess_forms"]:
+        lines.append("forms recognised: " + ", ".join(f"{k} {v}" for k, v in info["guess_forms"].items()))
     road_total = sum(info["roads_km"].values())
     lines.append(f"roads: {road_total:.2f} km  " + ", ".join(f"{k} {v:.2f}" for k, v in info["roads_km"].items()))
     if info["railways_km"]:

@@ -11,6 +11,7 @@ from ._cameras import (
 )
 from ._doors import on_ground
 from ._guess import guess_missing
+from ._learn import PRIOR_FILE, Prior, load_prior, prior_city
 from ._load import load_map
 from ._masses import building_masses, facade_style
 from ._model import (
@@ -29,6 +30,7 @@ from ._model import (
     to_scene,
 )
 from ._open import city_from_map
+from ._prior import hide_sizes, prior_bytes, train_prior
 from ._scene import city_from_guessed, map_city
 from ._sun import require_map_for_date, sky_clock, sky_settings, sun_and_moon
 from ._tiling import measure_load, tiled_extract
@@ -55,6 +57,13 @@ __all__ = [
     "building_masses",
     "facade_style",
     "guess_missing",
+    "PRIOR_FILE",
+    "Prior",
+    "load_prior",
+    "prior_city",
+    "hide_sizes",
+    "prior_bytes",
+    "train_prior",
     "load_map",
     "to_scene",
     "measure_load",

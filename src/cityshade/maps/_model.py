@@ -93,6 +93,12 @@ class MapBuilding:
     tags: dict[str, str] = field(default_factory=dict)
     tagged: set[str] = field(default_factory=set)
     guessed: set[str] = field(default_factory=set)
+    # For the sizes and roof the guessing model estimated ("levels", "height", "roof_shape"): the chance,
+    # 0..1, that the guess is right (levels within one storey, height within 3 m, roof flat or pitched).
+    confidence: dict[str, float] = field(default_factory=dict)
+    # The form the guessing model recognised from the outline and its neighbours: row_house, terrace_house,
+    # semi_detached, shed, tower, or "" (none of them).
+    form: str = ""
     # CityJSON only: the faces as given by semantic type ("RoofSurface", "WallSurface", "GroundSurface", ...;
     # "unclassified" without semantics), each face's outer ring as (n, 3) map metres, z the height as given
     # (above the file's vertical datum); `ground`: the height as given of the building's lowest point.

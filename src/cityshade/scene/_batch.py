@@ -199,8 +199,9 @@ def _prism_rows(
     # pitched and pointed roofs and parapets, mass by mass
     for k in np.flatnonzero(~flat_top):
         roof, gables, fronts = roof_with_rooftop(polygons[k], top[k], chosen[k].roof)
-        sections.add("gables", np.full(len(gables.positions), index[k]), gable_rows(gables, chosen[k], column[k]))
-        sections.add("dormers", np.full(len(fronts.positions), index[k]), dormer_rows(fronts, chosen[k], column[k]))
+        gable, after_gables = gable_rows(gables, chosen[k], column[k])
+        sections.add("gables", np.full(len(gables.positions), index[k]), gable)
+        sections.add("dormers", np.full(len(fronts.positions), index[k]), dormer_rows(fronts, chosen[k], after_gables))
         sections.add(
             "roof", np.full(len(roof.positions), index[k]), roof_rows(roof.positions, roof.normals, roof.roof_parts())
         )

@@ -61,27 +61,38 @@ def wall_rows(positions, normals, faces: WallFaces, edge: np.ndarray, along: np.
     return positions, normals, facade, face, faces.columns[edge]
 
 
-def _piece_rows(walls: Triangles, mass, columns: np.ndarray):
+def _piece_rows(walls: Triangles, mass, first_column: int):
     """Wall pieces above the walls' top: each a face of its edge's length, its storeys carrying on
-    those of the wall below, its rooms in room column `columns` (one per row)."""
+    those of the wall below; every piece (Triangles.piece) its own run of room columns, one per bay,
+    from `first_column` on, so that no two pieces share a room or a window's key. Returns (rows, the
+    column after the last piece's)."""
     length = walls.edge_length
-    bay = length / np.maximum(1, np.round(length / mass.room_width))
-    faces = WallFaces(np.zeros(len(length)), length, bay, bay, np.repeat(columns[:, None], 2, axis=1))
+    bays = np.maximum(1, np.round(length / mass.room_width)).astype(np.int64)
+    piece = walls.piece.astype(np.int64)
+    piece_bays = np.zeros(piece.max() + 1 if len(piece) else 0, np.int64)
+    np.maximum.at(piece_bays, piece, bays)
+    first = first_column + (np.cumsum(piece_bays) - piece_bays)[piece]
+    faces = WallFaces(
+        np.zeros(len(length)), length, length / bays, length / bays, np.stack([first, first + bays - 1], 1)
+    )
     storey, _ = storeys(mass.base, mass.wall_top, mass.floor_height)
-    return wall_rows(
+    rows = wall_rows(
         walls.positions, walls.normals, faces, np.arange(len(length)), walls.along, (mass.base, mass.height), storey
     )
+    return rows, first_column + int(piece_bays.sum())
 
 
 def gable_rows(walls: Triangles, mass, first_column: int):
-    """Gables: wall pieces up to the ridge, their rooms in a column of their own."""
-    return _piece_rows(walls, mass, np.full(len(walls.positions), first_column, dtype=np.int64))
+    """Gables: wall pieces up to the ridge, each gable's rooms in columns of its own after the walls'
+    (`first_column`); returns (rows, the column after the gables')."""
+    return _piece_rows(walls, mass, first_column)
 
 
 def dormer_rows(fronts: Triangles, mass, first_column: int):
     """Dormer fronts (_dormers.py): one bay each, the storey of rooms in the roof behind it; every
-    dormer's room in a column of its own after the gables' (`first_column`)."""
-    return _piece_rows(fronts, mass, first_column + 1 + fronts.piece.astype(np.int64))
+    dormer's room in a column of its own after the gables' (`first_column`, gable_rows)."""
+    rows, _ = _piece_rows(fronts, mass, first_column)
+    return rows
 
 
 def empty_rows():
@@ -118,8 +129,9 @@ def outline_rows(mass, outline: np.ndarray):
     for ring in [outline, *holes] if mass.walls else []:
         rows, column = ring_wall_rows(ring, mass, mass.base, top, column)
         walls.append(rows)
+    gable, column = gable_rows(gables, mass, column)
     return (
-        join_rows([*walls, gable_rows(gables, mass, column)]),
+        join_rows([*walls, gable]),
         dormer_rows(fronts, mass, column),
         roof_rows(roof.positions, roof.normals, roof.roof_parts()),
     )

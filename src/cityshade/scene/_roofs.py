@@ -52,7 +52,7 @@ PARAPET_THICKNESS = 0.25  # metres
 class Triangles:
     """Unindexed triangles (3 rows each) in object space: positions and unit normals; wall
     triangles also know where they stand on their outline edge (metres from its start, its length)
-    and may say which piece they belong to (a dormer's number), roof triangles may say what part of
+    and which piece they belong to (a gable's or a dormer's number), roof triangles may say what part of
     the roof they are (ROOF_PART_*, None: all the surface)."""
 
     positions: np.ndarray  # (n, 3)
@@ -68,23 +68,31 @@ class Triangles:
 
     @staticmethod
     def join(parts: list[Triangles]) -> Triangles:
-        """The triangles of `parts` one after another (their pieces' numbers are not kept)."""
+        """The triangles of `parts` one after another (wall pieces numbered on: each part's after the last's)."""
         parts = [p for p in parts if len(p.positions)]
         if not parts:
             return Triangles.empty()
         walls = all(p.along is not None for p in parts)
         marked = any(p.part is not None for p in parts)
+        pieced = all(p.piece is not None for p in parts)
         return Triangles(
             np.concatenate([p.positions for p in parts]),
             np.concatenate([p.normals for p in parts]),
             np.concatenate([p.along for p in parts]) if walls else None,
             np.concatenate([p.edge_length for p in parts]) if walls else None,
             np.concatenate([p.roof_parts() for p in parts]) if marked else None,
+            _pieces_after_each_other([p.piece for p in parts]) if pieced else None,
         )
 
     def roof_parts(self) -> np.ndarray:
         """Each row's ROOF_PART_* code."""
         return self.part if self.part is not None else np.full(len(self.positions), ROOF_PART_SURFACE, np.int64)
+
+
+def _pieces_after_each_other(pieces: list[np.ndarray]) -> np.ndarray:
+    """Pieces' numbers of parts joined: each part's shifted past the numbers of the parts before it."""
+    shifts = np.cumsum([0] + [int(p.max()) + 1 for p in pieces[:-1]])
+    return np.concatenate([p.astype(np.int64) + shift for p, shift in zip(pieces, shifts)])
 
 
 def polygon_triangles(polygon: shapely.Polygon) -> np.ndarray:
@@ -223,7 +231,7 @@ def _walls_under(planes: np.ndarray, ring: np.ndarray, top: float) -> Triangles:
         [a[edge, 0, None] + along * e[:, 0, None], top + tris[..., 1], a[edge, 1, None] + along * e[:, 1, None]], axis=2
     ).reshape(-1, 3)
     normals = np.repeat(np.column_stack([e[:, 1], np.zeros(len(e)), -e[:, 0]]), 3, axis=0)
-    return Triangles(positions, normals, along.ravel(), np.repeat(length[edge], 3))
+    return Triangles(positions, normals, along.ravel(), np.repeat(length[edge], 3), piece=np.repeat(edge, 3))
 
 
 def _profile_planes(axis: np.ndarray, points) -> list[np.ndarray]:
@@ -411,7 +419,13 @@ def _gable_walls(tris: np.ndarray, edges) -> Triangles:
     normal = np.column_stack([e[edge, 1], np.zeros(len(edge)), -e[edge, 0]])
     inward = np.einsum("ij,ij->i", np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), normal) < 0
     tris[inward], along[inward] = tris[inward][:, ::-1], along[inward][:, ::-1]
-    return Triangles(tris.reshape(-1, 3), np.repeat(normal, 3, axis=0), along.ravel(), np.repeat(length[edge], 3))
+    return Triangles(
+        tris.reshape(-1, 3),
+        np.repeat(normal, 3, axis=0),
+        along.ravel(),
+        np.repeat(length[edge], 3),
+        piece=np.repeat(edge, 3),
+    )
 
 
 def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:

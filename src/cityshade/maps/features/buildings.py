@@ -12,6 +12,8 @@ from .._tags import building_attributes
 from ._feature import Feature
 from .trees import origin_counts
 
+CONFIDENT = ("levels", "height", "roof_shape")  # the guessed values that carry a confidence
+
 
 def is_building(tags: dict[str, str]) -> bool:
     return tags.get("building", "no") != "no" or tags.get("building:part", "no") != "no"
@@ -57,4 +59,20 @@ class Buildings(Feature):
             "roof_shapes": dict(Counter(b.roof_shape or "none" for b in data.buildings).most_common()),
             "roof_shapes_tagged": dict(tagged_roofs.most_common()),
             "building_attributes": origin_counts(data.buildings, BUILDING_ATTRIBUTES),
+            "guess_confidence": confidence_summary(data.buildings),
+            "guess_forms": dict(Counter(b.form for b in data.buildings if b.form).most_common()),
         }
+
+
+def confidence_summary(buildings: list[MapBuilding]) -> dict[str, dict]:
+    """Per value the guessing model estimates: how many got a confidence, its mean, and how many are
+    below one half (levels within one storey, height within 3 m, roof flat or pitched)."""
+    summary = {}
+    for name in CONFIDENT:
+        values = [b.confidence[name] for b in buildings if name in b.confidence]
+        summary[name] = {
+            "guessed": len(values),
+            "mean": round(sum(values) / len(values), 4) if values else None,
+            "below_half": sum(v < 0.5 for v in values),
+        }
+    return summary
