@@ -223,7 +223,10 @@ def _fill_materials(building: MapBuilding, defaults, pitched: bool):
     if building.building_material is None:
         _set(building, "building_material", defaults.material)
     if building.roof_material is None:
-        _set(building, "roof_material", defaults.roof_material if pitched else "roofing_felt")
+        # felt covers flat roofs: a pitched roof on a type whose roof is flat by default (a block of
+        # flats guessed gabled) takes the Nordic pitched cover, a house's sheet metal
+        pitched_cover = defaults.roof_material if defaults.roof_shape != "flat" else HOUSE.roof_material
+        _set(building, "roof_material", pitched_cover if pitched else "roofing_felt")
     if building.building_colour is None:
         _set(building, "building_colour", _palette(building.building_material, building.source_id))
     if building.roof_colour is None:
