@@ -58,16 +58,15 @@ def framed_area(map_data: MapData) -> shapely.Polygon:
     cut = (1.0 - FRAMED_SHARE) / 2 if len(outlines) >= 50 else 0.0
     low, high = np.quantile(boxes[:, :2], cut, axis=0), np.quantile(boxes[:, 2:], 1.0 - cut, axis=0)
     kept = outlines[np.all((boxes[:, :2] >= low) & (boxes[:, 2:] <= high), axis=1)]
-    area = shapely.convex_hull(shapely.union_all(kept if len(kept) else outlines)).buffer(AERIAL_MARGIN, 2)
+    # the hull of the outlines together: the hull of their union, without the union's cost
+    area = shapely.convex_hull(shapely.geometrycollections(kept if len(kept) else outlines)).buffer(AERIAL_MARGIN, 2)
     if map_data.declared_bounds is not None:
         clipped = area.intersection(shapely.box(*map_data.declared_bounds))
         area = clipped if clipped.area > 0 else area
     return shapely.convex_hull(area)
 
 
-def aerial_camera(
-    area_points: np.ndarray, top: float, aspect: float = AERIAL_ASPECT, bottom: float = 0.0
-) -> Camera:
+def aerial_camera(area_points: np.ndarray, top: float, aspect: float = AERIAL_ASPECT, bottom: float = 0.0) -> Camera:
     """Looks down at AERIAL_PITCH on the ground polygon `area_points` ((n, 2) scene x, z) from just far
     enough that it, from height `bottom` (the ground) up to `top`, lies in the frustum; of the headings
     AERIAL_HEADING + k * 45 degrees and of the aim points along each heading, the ones that let it

@@ -31,7 +31,8 @@ from ._meshes import (
     vertex_records,
 )
 from ._records import BUILDING_DTYPE
-from ._roofs import flat_rows, upward
+from ._roof_units import rooftop_units
+from ._roofs import Triangles, flat_rows, parapet_roofs, triangulated
 from ._rooftop import roof_with_rooftop
 from ._wall_faces import ring_faces
 
@@ -184,9 +185,8 @@ def _prism_rows(
     flat_top = np.array([(m.roof.shape == "flat" or m.roof.height <= 0) and m.roof.parapet <= 0 for m in chosen])
     underside = ~walled | (base > 0)
     needed = np.flatnonzero(flat_top | underside)
-    coords, which = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygons[needed]), return_index=True)
-    tris, kept = upward(coords.reshape(-1, 4, 2)[:, :3])
-    owner = needed[which[::4][kept]]
+    tris, owner = triangulated(polygons[needed])
+    owner = needed[owner]
     up = flat_top[owner]
     sections.add("roof", np.repeat(index[owner[up]], 3), roof_rows(*flat_rows(tris[up], top[owner[up]])))
     down = underside[owner]
@@ -196,8 +196,21 @@ def _prism_rows(
         roof_rows(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False)),
     )
 
-    # pitched and pointed roofs and parapets, mass by mass
-    for k in np.flatnonzero(~flat_top):
+    # flat roofs inside parapets at once, their rooftop units roof piece by roof piece
+    rimmed = np.flatnonzero(np.array([m.roof.shape == "flat" or m.roof.height <= 0 for m in chosen]) & ~flat_top)
+    inside = parapet_roofs(polygons[rimmed], top[rimmed], np.array([chosen[k].roof.parapet for k in rimmed]))
+    sections.add("roof", index[rimmed[inside.owner]], roof_rows(inside.rows.positions, inside.rows.normals))
+    units = [
+        rooftop_units(piece, top[k] - chosen[k].roof.parapet, chosen[k].roof.seed)
+        for piece, k in zip(inside.pieces, rimmed[inside.piece_owner])
+    ]
+    if units:
+        owner = np.repeat(rimmed[inside.piece_owner], [len(u.positions) for u in units])
+        units = Triangles.join(units)
+        sections.add("roof", index[owner], roof_rows(units.positions, units.normals, units.roof_parts()))
+
+    # pitched and pointed roofs, mass by mass
+    for k in np.setdiff1d(np.flatnonzero(~flat_top), rimmed):
         roof, gables, fronts = roof_with_rooftop(polygons[k], top[k], chosen[k].roof)
         sections.add("gables", np.full(len(gables.positions), index[k]), gable_rows(gables, chosen[k], column[k]))
         sections.add("dormers", np.full(len(fronts.positions), index[k]), dormer_rows(fronts, chosen[k], column[k]))
