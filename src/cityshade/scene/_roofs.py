@@ -543,6 +543,10 @@ class RoofShape:
         """The rise over `run` where no tag gives one, `pitch` degrees being the map's default."""
         return math.tan(math.radians(pitch)) * run
 
+    def follows_skeleton(self, polygon: shapely.Polygon) -> bool:
+        """Whether `build` starts from the outline's straight skeleton."""
+        return False
+
 
 class Flat(RoofShape):
     def build(self, polygon, top, roof):
@@ -592,8 +596,11 @@ class Ridged(RoofShape):
         """(u, height) profiles of the two ends along the ridge; () for gable walls."""
         return ()
 
+    def follows_skeleton(self, polygon):
+        return bool(polygon.interiors) or (not exact_profile(polygon) and self.skeleton is not None)
+
     def build(self, polygon, top, roof):
-        if polygon.interiors or (not exact_profile(polygon) and self.skeleton is not None):
+        if self.follows_skeleton(polygon):
             mesh = _skeleton_roof(polygon, top, roof, self if self.skeleton is not None else ROOF_SHAPE_TABLE["hipped"])
             if mesh is not None:
                 return mesh
@@ -683,5 +690,13 @@ def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
     gabled, mansard and gambrel roofs over other outlines, and any ridged roof over a courtyard
     (hipped where the shape has no skeleton form), follow the straight skeleton; other ridged shapes
     span the outline's extent across the ridge. Pointed shapes over a courtyard are flat."""
-    shape = ROOF_SHAPE_TABLE["flat" if roof.height <= 0 else roof.shape]
-    return shape.build(polygon, top, roof)
+    return _shape_of(roof).build(polygon, top, roof)
+
+
+def follows_skeleton(polygon: shapely.Polygon, roof: Roof) -> bool:
+    """Whether roof_triangles builds `roof` over `polygon` from the outline's straight skeleton."""
+    return _shape_of(roof).follows_skeleton(polygon)
+
+
+def _shape_of(roof: Roof) -> RoofShape:
+    return ROOF_SHAPE_TABLE["flat" if roof.height <= 0 else roof.shape]
