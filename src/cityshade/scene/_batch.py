@@ -48,7 +48,9 @@ class _Sections:
         self.chunks = []  # (sort key per row, rows: _extrusions.py)
 
     def add(self, section: str, building: np.ndarray, rows):
+        """`rows` kept as the vertex records store them (float32, int32): half the bytes to hold and sort."""
         if len(building):
+            rows = (*(np.asarray(r, np.float32) for r in rows[:4]), np.asarray(rows[4], np.int32))
             self.chunks.append((np.asarray(building, np.int64) * len(SECTIONS) + SECTIONS.index(section), rows))
 
     def ordered(self):
