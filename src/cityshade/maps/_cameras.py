@@ -37,9 +37,13 @@ def heading_vector(heading: float, pitch: float = 0.0) -> np.ndarray:
     return np.array([np.sin(h) * np.cos(p), np.sin(p), -np.cos(h) * np.cos(p)])
 
 
-def _fits(corners: np.ndarray, eye: np.ndarray, forward: np.ndarray, fov: float, aspect: float) -> bool:
+def _clip(corners: np.ndarray, eye: np.ndarray, forward: np.ndarray, fov: float, aspect: float) -> np.ndarray:
+    """Clip coordinates (n, 4) of `corners` seen from `eye` looking along `forward`."""
     camera = Camera(tuple(eye), tuple(eye + forward), fov_y=fov, near=0.5, far=FAR)
-    clip = np.c_[corners, np.ones(len(corners))] @ camera.view_projection(aspect).T
+    return np.c_[corners, np.ones(len(corners))] @ camera.view_projection(aspect).T
+
+
+def _fits(clip: np.ndarray) -> bool:
     if np.any(clip[:, 3] <= 0):
         return False
     ndc = clip[:, :2] / clip[:, 3:4]
@@ -58,7 +62,8 @@ def framed_area(map_data: MapData) -> shapely.Polygon:
     cut = (1.0 - FRAMED_SHARE) / 2 if len(outlines) >= 50 else 0.0
     low, high = np.quantile(boxes[:, :2], cut, axis=0), np.quantile(boxes[:, 2:], 1.0 - cut, axis=0)
     kept = outlines[np.all((boxes[:, :2] >= low) & (boxes[:, 2:] <= high), axis=1)]
-    area = shapely.convex_hull(shapely.union_all(kept if len(kept) else outlines)).buffer(AERIAL_MARGIN, 2)
+    # the hull of the outlines together: the hull of their union, without the union's cost
+    area = shapely.convex_hull(shapely.geometrycollections(kept if len(kept) else outlines)).buffer(AERIAL_MARGIN, 2)
     if map_data.declared_bounds is not None:
         clipped = area.intersection(shapely.box(*map_data.declared_bounds))
         area = clipped if clipped.area > 0 else area
@@ -95,15 +100,21 @@ def aerial_camera(area_points: np.ndarray, top: float, aspect: float = AERIAL_AS
 
 
 def _fit_distance(corners: np.ndarray, centre: np.ndarray, forward: np.ndarray, aspect: float) -> float:
-    """The smallest distance from `centre` back along `forward` at which every corner is in view (bisection)."""
+    """The smallest distance from `centre` back along `forward` at which every corner is in view
+    (bisection). The clip coordinates move linearly with the distance (the view turns with the
+    direction only), so two cameras give them at every distance."""
+    at_centre = _clip(corners, centre, forward, AERIAL_FOV, aspect)
+    per_metre = _clip(corners, centre - forward, forward, AERIAL_FOV, aspect) - at_centre
+
+    def fits(distance):
+        return _fits(at_centre + distance * per_metre)
+
     near, far = 0.0, 1.0
-    while not _fits(corners, centre - forward * far, forward, AERIAL_FOV, aspect):
+    while not fits(far):
         near, far = far, far * 1.5
     for _ in range(30):
         middle = (near + far) / 2
-        near, far = (
-            (near, middle) if _fits(corners, centre - forward * middle, forward, AERIAL_FOV, aspect) else (middle, far)
-        )
+        near, far = (near, middle) if fits(middle) else (middle, far)
     return far
 
 

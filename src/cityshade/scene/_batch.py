@@ -31,8 +31,10 @@ from ._meshes import (
     vertex_records,
 )
 from ._records import BUILDING_DTYPE
-from ._roofs import flat_rows, upward
+from ._roof_units import rooftop_units
+from ._roofs import Triangles, flat_rows, follows_skeleton, parapet_roofs, triangulated
 from ._rooftop import roof_with_rooftop
+from ._skeleton import skeletons_ahead
 from ._wall_faces import ring_faces
 
 PLAIN_OUTLINE = 64  # simplified_outline returns outlines of up to this many corners as they are
@@ -46,7 +48,9 @@ class _Sections:
         self.chunks = []  # (sort key per row, rows: _extrusions.py)
 
     def add(self, section: str, building: np.ndarray, rows):
+        """`rows` kept as the vertex records store them (float32, int32): half the bytes to hold and sort."""
         if len(building):
+            rows = (*(np.asarray(r, np.float32) for r in rows[:4]), np.asarray(rows[4], np.int32))
             self.chunks.append((np.asarray(building, np.int64) * len(SECTIONS) + SECTIONS.index(section), rows))
 
     def ordered(self):
@@ -153,58 +157,76 @@ def _prism_rows(
     polygons = shapely.orient_polygons(polygons)  # courtyards clockwise: their walls face in
 
     top = np.array([m.wall_top for m in chosen])
-    base = np.array([m.base for m in chosen])
-    walled = np.array([m.walls for m in chosen])
+    ahead = [polygons[k] for k, m in enumerate(chosen) if follows_skeleton(polygons[k], m.roof)]
+    with skeletons_ahead(ahead):  # CGAL on other cores while the rest is meshed
+        base = np.array([m.base for m in chosen])
+        walled = np.array([m.walls for m in chosen])
 
-    # walls: each outline's edges, then its courtyards' (as oriented), mass by mass
-    a, b, owner, rank = [points], [points[_ring_next(counts)]], [ring], [np.zeros(len(points))]
-    if len(hole_owner):
-        courtyards, of = shapely.get_rings(
-            polygons[hole_owner[np.r_[0, np.flatnonzero(np.diff(hole_owner)) + 1]]], return_index=True
-        )
-        courtyards = courtyards[np.r_[1, np.diff(of)] == 0]  # each polygon's first ring is its outline
-        coords, which = shapely.get_coordinates(courtyards, return_index=True)
-        open_ring = np.r_[which[1:] == which[:-1], False]  # the closing point repeats the first
-        coords, which = coords[open_ring], which[open_ring]
-        ring_counts = np.bincount(which, minlength=len(courtyards))
-        a.append(coords)
-        b.append(coords[_ring_next(ring_counts)])
-        owner.append(hole_owner[which])
-        rank.append(1.0 + which)
-    a, b, owner, rank = (np.concatenate(x) for x in (a, b, owner, rank))
-    order = np.lexsort((rank, owner))  # stable within a ring: its edges in order
-    a, b, owner, rank = a[order], b[order], owner[order], rank[order]
-    on_walls = walled[owner]
-    a, b, owner, rank = a[on_walls], b[on_walls], owner[on_walls], rank[on_walls]
-    storey = _storeys(base, top, np.array([m.floor_height for m in chosen]))
-    walls, column = _wall_rows(a, b, owner, rank, np.array([m.room_width for m in chosen]), base, top, storey)
-    sections.add("walls", np.repeat(index[owner[np.linalg.norm(b - a, axis=1) > 1e-9]], 6), walls)
+        # walls: each outline's edges, then its courtyards' (as oriented), mass by mass
+        a, b, owner, rank = [points], [points[_ring_next(counts)]], [ring], [np.zeros(len(points))]
+        if len(hole_owner):
+            courtyards, of = shapely.get_rings(
+                polygons[hole_owner[np.r_[0, np.flatnonzero(np.diff(hole_owner)) + 1]]], return_index=True
+            )
+            courtyards = courtyards[np.r_[1, np.diff(of)] == 0]  # each polygon's first ring is its outline
+            coords, which = shapely.get_coordinates(courtyards, return_index=True)
+            open_ring = np.r_[which[1:] == which[:-1], False]  # the closing point repeats the first
+            coords, which = coords[open_ring], which[open_ring]
+            ring_counts = np.bincount(which, minlength=len(courtyards))
+            a.append(coords)
+            b.append(coords[_ring_next(ring_counts)])
+            owner.append(hole_owner[which])
+            rank.append(1.0 + which)
+        a, b, owner, rank = (np.concatenate(x) for x in (a, b, owner, rank))
+        order = np.lexsort((rank, owner))  # stable within a ring: its edges in order
+        a, b, owner, rank = a[order], b[order], owner[order], rank[order]
+        on_walls = walled[owner]
+        a, b, owner, rank = a[on_walls], b[on_walls], owner[on_walls], rank[on_walls]
+        storey = _storeys(base, top, np.array([m.floor_height for m in chosen]))
+        walls, column = _wall_rows(a, b, owner, rank, np.array([m.room_width for m in chosen]), base, top, storey)
+        sections.add("walls", np.repeat(index[owner[np.linalg.norm(b - a, axis=1) > 1e-9]], 6), walls)
 
-    # flat roofs and undersides: one triangulation of every polygon that needs one
-    flat_top = np.array([(m.roof.shape == "flat" or m.roof.height <= 0) and m.roof.parapet <= 0 for m in chosen])
-    underside = ~walled | (base > 0)
-    needed = np.flatnonzero(flat_top | underside)
-    coords, which = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygons[needed]), return_index=True)
-    tris, kept = upward(coords.reshape(-1, 4, 2)[:, :3])
-    owner = needed[which[::4][kept]]
-    up = flat_top[owner]
-    sections.add("roof", np.repeat(index[owner[up]], 3), roof_rows(*flat_rows(tris[up], top[owner[up]])))
-    down = underside[owner]
-    sections.add(
-        "underside",
-        np.repeat(index[owner[down]], 3),
-        roof_rows(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False)),
-    )
-
-    # pitched and pointed roofs and parapets, mass by mass
-    for k in np.flatnonzero(~flat_top):
-        roof, gables, fronts = roof_with_rooftop(polygons[k], top[k], chosen[k].roof)
-        gable, after_gables = gable_rows(gables, chosen[k], column[k])
-        sections.add("gables", np.full(len(gables.positions), index[k]), gable)
-        sections.add("dormers", np.full(len(fronts.positions), index[k]), dormer_rows(fronts, chosen[k], after_gables))
+        # flat roofs and undersides: one triangulation of every polygon that needs one
+        flat_top = np.array([(m.roof.shape == "flat" or m.roof.height <= 0) and m.roof.parapet <= 0 for m in chosen])
+        underside = ~walled | (base > 0)
+        needed = np.flatnonzero(flat_top | underside)
+        tris, owner = triangulated(polygons[needed])
+        owner = needed[owner]
+        up = flat_top[owner]
+        sections.add("roof", np.repeat(index[owner[up]], 3), roof_rows(*flat_rows(tris[up], top[owner[up]])))
+        down = underside[owner]
         sections.add(
-            "roof", np.full(len(roof.positions), index[k]), roof_rows(roof.positions, roof.normals, roof.roof_parts())
+            "underside",
+            np.repeat(index[owner[down]], 3),
+            roof_rows(*flat_rows(tris[down], np.where(walled, base, top)[owner[down]], up=False)),
         )
+
+        # flat roofs inside parapets at once, their rooftop units roof piece by roof piece
+        rimmed = np.flatnonzero(np.array([m.roof.shape == "flat" or m.roof.height <= 0 for m in chosen]) & ~flat_top)
+        inside = parapet_roofs(polygons[rimmed], top[rimmed], np.array([chosen[k].roof.parapet for k in rimmed]))
+        sections.add("roof", index[rimmed[inside.owner]], roof_rows(inside.rows.positions, inside.rows.normals))
+        units = [
+            rooftop_units(piece, top[k] - chosen[k].roof.parapet, chosen[k].roof.seed)
+            for piece, k in zip(inside.pieces, rimmed[inside.piece_owner])
+        ]
+        if units:
+            owner = np.repeat(rimmed[inside.piece_owner], [len(u.positions) for u in units])
+            units = Triangles.join(units)
+            sections.add("roof", index[owner], roof_rows(units.positions, units.normals, units.roof_parts()))
+
+        # pitched and pointed roofs, mass by mass
+        for k in np.setdiff1d(np.flatnonzero(~flat_top), rimmed):
+            roof, gables, fronts = roof_with_rooftop(polygons[k], top[k], chosen[k].roof)
+            gable, after_gables = gable_rows(gables, chosen[k], column[k])
+            sections.add("gables", np.full(len(gables.positions), index[k]), gable)
+            sections.add(
+                "dormers", np.full(len(fronts.positions), index[k]), dormer_rows(fronts, chosen[k], after_gables)
+            )
+            sections.add(
+                "roof",
+                np.full(len(roof.positions), index[k]),
+                roof_rows(roof.positions, roof.normals, roof.roof_parts()),
+            )
 
 
 def _storeys(base: np.ndarray, top: np.ndarray, floor_height: np.ndarray) -> np.ndarray:

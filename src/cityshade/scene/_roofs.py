@@ -456,39 +456,79 @@ def _gable_ends(tris: np.ndarray, edges) -> np.ndarray:
     return tris
 
 
-def _inward_faces(polygon: shapely.Polygon, low: float, high: float) -> Triangles:
-    """Upright quads on every ring of `polygon` from `low` to `high`, facing into the polygon."""
-    oriented = shapely.orient_polygons(polygon)  # exterior counter-clockwise, holes clockwise
-    rings = [np.asarray(r.coords)[::-1] for r in (oriented.exterior, *oriented.interiors)]  # reversed: inward
-    a = np.concatenate([r[:-1] for r in rings])
-    b = np.concatenate([r[1:] for r in rings])
+def _inward_faces(polygons: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[np.ndarray, Triangles]:
+    """(owner per row, rows): upright quads on every ring of each of `polygons` from its `low` to its
+    `high` height, facing into the polygon, polygon after polygon."""
+    oriented = shapely.orient_polygons(polygons)  # exterior counter-clockwise, holes clockwise
+    rings, ring_owner = shapely.get_rings(oriented, return_index=True)
+    coords, ring = shapely.get_coordinates(rings, return_index=True)
+    counts = np.bincount(ring, minlength=len(rings))
+    end = np.cumsum(counts)[ring]
+    coords = coords[2 * end - counts[ring] - 1 - np.arange(len(coords))]  # each ring reversed: inward
+    edge = ring[:-1] == ring[1:]  # a point and the next one on its ring
+    a, b, owner = coords[:-1][edge], coords[1:][edge], ring_owner[ring[:-1][edge]]
     d = b - a
     keep = np.hypot(d[:, 0], d[:, 1]) > EPS
-    a, b, d = a[keep], b[keep], d[keep]
+    a, b, d, owner = a[keep], b[keep], d[keep], owner[keep]
     normal = np.column_stack([d[:, 1], np.zeros(len(d)), -d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
     corners = np.stack([a, b, b, a], axis=1)[:, [0, 2, 1, 0, 3, 2]]  # counter-clockwise seen from the front
-    heights = np.array([low, low, high, high])[[0, 2, 1, 0, 3, 2]]
-    positions = np.column_stack([corners[..., 0].ravel(), np.tile(heights, len(a)), corners[..., 1].ravel()])
-    return Triangles(positions, np.repeat(normal, 6, axis=0))
+    heights = np.stack([low[owner], low[owner], high[owner], high[owner]], axis=1)[:, [0, 2, 1, 0, 3, 2]]
+    positions = np.column_stack([corners[..., 0].ravel(), heights.ravel(), corners[..., 1].ravel()])
+    return np.repeat(owner, 6), Triangles(positions, np.repeat(normal, 6, axis=0))
 
 
-def inside_parapet(polygon: shapely.Polygon) -> list[shapely.Polygon]:
-    """The pieces of a flat roof inside a parapet rim around `polygon` (none: too narrow for one)."""
-    inner = polygon.buffer(-PARAPET_THICKNESS, join_style="mitre")
-    return [p for p in shapely.get_parts(inner) if isinstance(p, shapely.Polygon) and not p.is_empty]
+def triangulated(polygons: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(upward triangles (n, 3, 2) as polygon_triangles makes them, the polygon each covers) of
+    all `polygons` in one triangulation call."""
+    coords, which = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygons), return_index=True)
+    tris, kept = upward(coords.reshape(-1, 4, 2)[:, :3])
+    return tris, which[::4][kept]
+
+
+def _flat_of(polygons: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, Triangles]:
+    """(owner per row, rows) of `polygons` as horizontal surfaces facing up, each at its height y."""
+    tris, owner = triangulated(polygons)
+    return np.repeat(owner, 3), Triangles(*flat_rows(tris, y[owner]))
+
+
+@dataclass
+class ParapetRoofs:
+    """Flat roofs inside parapets, many at once: every roof's rows (owner by owner, in the order
+    _parapet_roof joins them) and the pieces of roof inside the rims, where rooftop units stand."""
+
+    owner: np.ndarray  # per row: which of the given polygons
+    rows: Triangles
+    pieces: np.ndarray  # (m,) polygons
+    piece_owner: np.ndarray  # (m,)
+
+
+def parapet_roofs(polygons: np.ndarray, top: np.ndarray, parapet: np.ndarray) -> ParapetRoofs:
+    """Flat roofs `parapet` metres below `top` inside a rim PARAPET_THICKNESS wide around each of
+    `polygons`: the rim's top (its coping), the roof, the rim's inner faces; just the flat roof where
+    no roof is left inside. Shapely's array functions over every outline at once."""
+    inner = shapely.buffer(polygons, -PARAPET_THICKNESS, join_style="mitre")
+    pieces, piece_owner = shapely.get_parts(inner, return_index=True)
+    real = (shapely.get_type_id(pieces) == shapely.GeometryType.POLYGON) & ~shapely.is_empty(pieces)
+    pieces, piece_owner = pieces[real], piece_owner[real]
+    low = top - parapet
+    rimmed = np.zeros(len(polygons), bool)
+    rimmed[piece_owner] = True
+    outer = polygons.copy()  # the rim, or the whole roof where none is left inside
+    if len(pieces):
+        inside = shapely.multipolygons(pieces, indices=np.cumsum(rimmed)[piece_owner] - 1)
+        outer[rimmed] = shapely.difference(polygons[rimmed], inside)
+    outer_owner, outer_rows = _flat_of(outer, top)
+    roof_owner, roof = _flat_of(pieces, low[piece_owner])
+    faces_owner, faces = _inward_faces(pieces, low[piece_owner], top[piece_owner])
+    owner = np.concatenate([outer_owner, piece_owner[roof_owner], piece_owner[faces_owner]])
+    order = np.argsort(owner, kind="stable")  # each roof's rows together, in the order above
+    rows = Triangles.join([outer_rows, roof, faces])
+    return ParapetRoofs(owner[order], Triangles(rows.positions[order], rows.normals[order]), pieces, piece_owner)
 
 
 def _parapet_roof(polygon: shapely.Polygon, top: float, parapet: float) -> Triangles:
-    """A flat roof `parapet` metres below `top` inside a rim PARAPET_THICKNESS wide: the rim's top
-    (its coping), its inner faces and the roof; just the flat roof where no roof is left inside."""
-    parts = inside_parapet(polygon)
-    if not parts:
-        return flat(polygon, top)
-    rim = shapely.difference(polygon, shapely.MultiPolygon(parts))
-    low = top - parapet
-    return Triangles.join(
-        [flat(rim, top), *(flat(p, low) for p in parts), *(_inward_faces(p, low, top) for p in parts)]
-    )
+    """parapet_roofs of one outline."""
+    return parapet_roofs(np.array([polygon]), np.array([top]), np.array([parapet])).rows
 
 
 def width_across(outline: shapely.Polygon, direction: float) -> float:
@@ -516,6 +556,10 @@ class RoofShape:
     def default_rise(self, run: float, pitch: float) -> float:
         """The rise over `run` where no tag gives one, `pitch` degrees being the map's default."""
         return math.tan(math.radians(pitch)) * run
+
+    def follows_skeleton(self, polygon: shapely.Polygon) -> bool:
+        """Whether `build` starts from the outline's straight skeleton."""
+        return False
 
 
 class Flat(RoofShape):
@@ -566,8 +610,11 @@ class Ridged(RoofShape):
         """(u, height) profiles of the two ends along the ridge; () for gable walls."""
         return ()
 
+    def follows_skeleton(self, polygon):
+        return bool(polygon.interiors) or (not exact_profile(polygon) and self.skeleton is not None)
+
     def build(self, polygon, top, roof):
-        if polygon.interiors or (not exact_profile(polygon) and self.skeleton is not None):
+        if self.follows_skeleton(polygon):
             mesh = _skeleton_roof(polygon, top, roof, self if self.skeleton is not None else ROOF_SHAPE_TABLE["hipped"])
             if mesh is not None:
                 return mesh
@@ -657,5 +704,13 @@ def roof_triangles(polygon: shapely.Polygon, top: float, roof: Roof) -> tuple[Tr
     gabled, mansard and gambrel roofs over other outlines, and any ridged roof over a courtyard
     (hipped where the shape has no skeleton form), follow the straight skeleton; other ridged shapes
     span the outline's extent across the ridge. Pointed shapes over a courtyard are flat."""
-    shape = ROOF_SHAPE_TABLE["flat" if roof.height <= 0 else roof.shape]
-    return shape.build(polygon, top, roof)
+    return _shape_of(roof).build(polygon, top, roof)
+
+
+def follows_skeleton(polygon: shapely.Polygon, roof: Roof) -> bool:
+    """Whether roof_triangles builds `roof` over `polygon` from the outline's straight skeleton."""
+    return _shape_of(roof).follows_skeleton(polygon)
+
+
+def _shape_of(roof: Roof) -> RoofShape:
+    return ROOF_SHAPE_TABLE["flat" if roof.height <= 0 else roof.shape]
