@@ -2,7 +2,7 @@
 
 from . import _osm as osm_reader
 from ._load import MAX_CITYJSON_BYTES
-from ._masses import STYLE_BY_USE, building_mass, use_code
+from ._masses import STYLE_BY_USE, building_mass, heights, use_code
 from ._osm import check_xml
 from ._roofs import DORMER_EAVES, DORMER_KINDS, DORMER_SHARE, PARAPET, has_dormers
 from ._tags import building_attributes, colour, direction, length, use_of
@@ -17,6 +17,7 @@ __all__ = [
     "STYLE_BY_USE",
     "building_attributes",
     "building_mass",
+    "heights",
     "check_xml",
     "osm_reader",
     "colour",
