@@ -5,6 +5,16 @@ detail (`terrain_mesh`), and ground laid on it (`draped`, `raised`)."""
 from ._drape import draped, raised, subdivided
 from ._grid import Terrain
 from ._mesh import terrain_mesh
+from ._normals import face_normals
 from ._read import TerrainWarning, read_terrain
 
-__all__ = ["Terrain", "TerrainWarning", "draped", "raised", "read_terrain", "subdivided", "terrain_mesh"]
+__all__ = [
+    "Terrain",
+    "TerrainWarning",
+    "draped",
+    "face_normals",
+    "raised",
+    "read_terrain",
+    "subdivided",
+    "terrain_mesh",
+]
