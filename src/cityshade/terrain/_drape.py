@@ -13,6 +13,9 @@ import numpy as np
 from ._grid import Terrain
 
 MAX_ROUNDS = 40  # halvings of one edge at most (a 1,000 km edge down to a millimetre)
+# the default step, in grid cells: a chord two cells long sags a few centimetres under a smooth hill,
+# far less than the BASE_DEPTH the terrain mesh lies below the ground, at a quarter of the triangles
+STEP_CELLS = 2.0
 
 
 def subdivided(vertices: np.ndarray, step: float) -> np.ndarray:
@@ -40,11 +43,11 @@ def subdivided(vertices: np.ndarray, step: float) -> np.ndarray:
 
 
 def draped(vertices: np.ndarray, terrain: Terrain, step: float | None = None) -> np.ndarray:
-    """(N*3, k) scene vertices (x, y, z, ...) split to `step` (default: the terrain's spacing) and
+    """(N*3, k) scene vertices (x, y, z, ...) split to `step` (default: STEP_CELLS grid cells) and
     raised by the ground height under each: y becomes a height over the terrain."""
     if not len(vertices):
         return vertices
-    out = subdivided(vertices, terrain.spacing if step is None else step)
+    out = subdivided(vertices, STEP_CELLS * terrain.spacing if step is None else step)
     out[:, 1] += terrain.scene_height_at(out[:, 0], out[:, 2]).astype(out.dtype)
     return out
 

@@ -36,7 +36,9 @@ from ._grid import Terrain
 
 READ_MARGIN = 500.0  # metres of terrain read around the map's extent
 MAX_READ = 4096  # samples a side read from the file at most (finer rasters are read decimated)
-MAX_SAMPLES = 2048  # samples a side of the terrain grid at most
+# samples a side of the terrain grid at most: the grid is drawn (its finest level under the data) and
+# the ground is split along it, so it bounds the triangles terrain adds (bench osm measures them)
+MAX_SAMPLES = 384
 MIN_SPACING = 0.5  # metres: no finer grid than this, whatever the file's resolution
 PLAUSIBLE = (-1000.0, 9000.0)  # metres: heights ground can have (the Dead Sea shore to above Everest)
 FILL_SEARCH = 64  # samples the inverse-distance fill reaches across a hole

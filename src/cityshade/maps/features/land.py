@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ...scene import GROUND_GRASS, GROUND_LAND, GROUND_PAVEMENT, GROUND_SAND, Layer
+from ...scene import GROUND_GRASS, GROUND_LAND, GROUND_PAVEMENT, GROUND_SAND, GROUND_TERRAIN, Layer
 from ...terrain import raised
 from .._ground import triangles, union_of
 from .._model import to_scene
@@ -61,8 +61,8 @@ def land_plane(bounds: tuple[float, float, float, float], y: float = -BASE_DEPTH
     triangle hundreds of kilometres wide too coarsely to keep it BASE_DEPTH below the map's
     surfaces (from the air, whole views lost their streets and water to it); beyond, where it
     meets nothing, a few large triangles reach the horizon. With a `terrain` the land leaves out
-    the terrain's own grid (its lines run along the grid's edges) and follows the terrain's height,
-    the grid's edge carried on beyond it."""
+    the terrain's own grid (its lines run along the grid's edges), follows the terrain's height (the
+    grid's edge carried on beyond it) and is the terrain's ground, so no edge shows where the grid ends."""
     x0, y0, x1, y1 = bounds
     x0, y0, x1, y1 = x0 - LAND_MARGIN, y0 - LAND_MARGIN, x1 + LAND_MARGIN, y1 + LAND_MARGIN
     cell = max(LAND_CELL, max(x1 - x0, y1 - y0) / LAND_CELLS)
@@ -78,10 +78,11 @@ def land_plane(bounds: tuple[float, float, float, float], y: float = -BASE_DEPTH
     grid = np.stack([a, c, b, a, b, d], axis=1).reshape(-1, 2)  # counter-clockwise seen from above (map y north)
     scene = to_scene(grid)
     inner = np.empty((len(scene), 4), np.float32)
-    inner[:, 0], inner[:, 1], inner[:, 2], inner[:, 3] = scene[:, 0], y, scene[:, 1], GROUND_LAND
+    material = GROUND_LAND if terrain is None else GROUND_TERRAIN
+    inner[:, 0], inner[:, 1], inner[:, 2], inner[:, 3] = scene[:, 0], y, scene[:, 1], material
     cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
     outer = shapely.box(cx - HORIZON, cy - HORIZON, cx + HORIZON, cy + HORIZON).difference(shapely.box(x0, y0, x1, y1))
-    land = np.concatenate([inner, triangles(outer, y, GROUND_LAND)])
+    land = np.concatenate([inner, triangles(outer, y, material)])
     return land if terrain is None else raised(land, terrain)
 
 
