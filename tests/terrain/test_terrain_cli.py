@@ -41,3 +41,17 @@ def test_help_says_camera_heights_are_above_the_ground(capsys):
         main(["render", "--help"])
     text = " ".join(capsys.readouterr().out.split())
     assert "--terrain FILE" in text and "metres above the ground" in text
+
+
+def test_info_describes_the_terrain(tmp_path, capsys):
+    import json
+
+    from cityshade.maps import load_map
+    from cityshade.terrain.testing import dem_over
+
+    data = load_map(TAGGED)
+    dem = dem_over(tmp_path / "slope.tif", data.crs, data.origin, data.bounds(), lambda x, y: 100.0 + 0.1 * y)
+    assert main(["info", str(TAGGED), "--terrain", str(dem), "--json"]) == 0
+    terrain = json.loads(capsys.readouterr().out)["terrain"]
+    west, south, east, north = data.bounds()
+    assert terrain["lowest_m"] < 100.0 + 0.1 * south and terrain["highest_m"] > 100.0 + 0.1 * north
