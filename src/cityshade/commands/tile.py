@@ -178,6 +178,7 @@ def streamed_tiles(args, city=None):
         yield None, None
         return
     budget = None if args.memory_budget is None else parse_memory_size(args.memory_budget)
+    terrain = getattr(args, "terrain", None)  # commands without --terrain stream flat maps
     with contextlib.ExitStack() as stack:
         start = time.perf_counter()
         if args.map is None and args.tiles is not None:
@@ -187,11 +188,11 @@ def streamed_tiles(args, city=None):
                 raise UsageError(f"{problem}; make it again with `cityshade tile SOURCE --out {args.tiles}`") from None
             how = "read"
         else:
-            source = _identity(args.map, args.terrain) if args.map is not None else None
+            source = _identity(args.map, terrain) if args.map is not None else None
             folder = args.tiles
             if folder is None:
                 folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="cityshade-tiles-"))) / "tiles"
-            cache, how = _open_or_make(folder, args.map, source, city, args.terrain)
+            cache, how = _open_or_make(folder, args.map, source, city, terrain)
         print(f"tile cache {how} in {time.perf_counter() - start:.1f} s: {_describe(cache, budget)}")
         yield cache, budget
 
