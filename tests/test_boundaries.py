@@ -81,7 +81,7 @@ def test_the_check_sees_a_private_import(tmp_path):
 LAYERS = (
     ("errors",),  # the one error type every part raises
     ("_values", "_files", "_json", "_budget", "_version"),  # plain Python: checks, files, JSON, budgets
-    ("gl", "assets"),  # the GL toolkit; procedural textures in numpy
+    ("gl", "assets", "terrain"),  # the GL toolkit; procedural textures in numpy; the ground's relief from a DEM
     ("scene",),  # the city model: cameras, masses and their meshes
     ("frame",),  # passes, their targets and GL state, the frame's view and settings, culling
     ("grammar",),  # facade grammars and their deferred pass, over the scene

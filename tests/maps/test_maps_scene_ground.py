@@ -162,5 +162,5 @@ def test_the_shaders_get_the_ground_materials_from_python():
     from cityshade.scene import MAP_GROUND_MATERIALS
     from cityshade.shader_constants import CONSTANTS
 
-    assert len(MAP_GROUND_MATERIALS) == 9 and all(CONSTANTS[k] == v for k, v in MAP_GROUND_MATERIALS.items())
-    assert sorted({GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, *MAP_GROUND_MATERIALS.values()}) == list(range(12))
+    assert len(MAP_GROUND_MATERIALS) == 10 and all(CONSTANTS[k] == v for k, v in MAP_GROUND_MATERIALS.items())
+    assert sorted({GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS, *MAP_GROUND_MATERIALS.values()}) == list(range(13))

@@ -29,6 +29,7 @@ from ._harness import MIN_TIMED_FRAMES, BenchResult
 HELSINKI = Path(__file__).resolve().parents[3] / "data" / "Helsinki.osm.pbf"
 FULL_BUILDINGS, QUICK_BUILDINGS = 100_000, 10_000
 STREET_TIME = "12:00"
+TERRAIN_SAMPLES = 2000  # pixels a side of the bench's synthetic DEM
 
 _MEASURE = """
 import json, os, resource, sys, time
@@ -140,6 +141,57 @@ def _street_frames(size, samples: int, frames: int) -> tuple[list[float], list[f
             renderer.release()
 
 
+def hillside(x, y):
+    """The bench's synthetic relief under Helsinki (map metres): a slope climbing about 120 m from the
+    harbour to the north with ridges and valleys across it."""
+    import numpy as np
+
+    return 2.0 + 0.065 * (y + 900.0) + 18.0 * np.sin(x / 160.0) * np.cos(y / 210.0)
+
+
+def terrain_frames(size, frames: int, folder: Path) -> dict:
+    """Helsinki flat and on a TERRAIN_SAMPLES-a-side synthetic DEM (written with rasterio into
+    `folder`): the DEM window's read time and the median street and aerial frame times of both,
+    the four views drawn in turn."""
+    from ..maps import sky_settings
+    from ..terrain import read_terrain
+    from ..terrain.testing import dem_over
+
+    data = load_map(HELSINKI)
+    dem = dem_over(folder / "hillside.tif", data.crs, data.origin, data.bounds(), hillside, samples=TERRAIN_SAMPLES)
+    reads = []
+    for _ in range(3):
+        start = time.perf_counter()
+        terrain = read_terrain(dem, data.crs, data.origin, data.bounds())
+        reads.append(time.perf_counter() - start)
+    cities = {"flat": map_city(data), "terrain": map_city(load_map(HELSINKI, terrain=dem))}
+    settings = RenderSettings(samples=0, time_of_day=12.0).with_(**sky_settings(None, STREET_TIME, data.origin))
+    renderers = {name: Renderer(size, settings) for name in cities}
+    times = {(name, view): [] for name in cities for view in ("street", "aerial")}
+    try:
+        for name, renderer in renderers.items():
+            renderer.set_city(cities[name])
+            for view in ("street", "aerial"):
+                renderer.draw(cities[name].camera(view))  # compile and upload
+        for _ in range(frames):
+            for (name, view), seconds in times.items():
+                renderers[name].draw(cities[name].camera(view))
+                seconds.append(renderers[name].last_frame_seconds)
+    finally:
+        for renderer in renderers.values():
+            renderer.release()
+    median = {key: statistics.median(seconds) for key, seconds in times.items()}
+    return {
+        "read_seconds": statistics.median(reads),
+        "samples": terrain.shape,
+        "spacing": terrain.spacing,
+        "ground_vertices": {name: len(city.ground_mesh) for name, city in cities.items()},
+        "median": median,
+        "street_ratio": median[("terrain", "street")] / median[("flat", "street")],
+        "aerial_ratio": median[("terrain", "aerial")] / median[("flat", "aerial")],
+    }
+
+
 def run(quick: bool, out_dir: Path) -> BenchResult:
     if not HELSINKI.is_file():
         raise CityshadeError(f"{HELSINKI} is missing: run `make data` to fetch the OpenStreetMap extracts", exit_code=2)
@@ -167,6 +219,8 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
 
     street, district, device = _street_frames(size, 0, frames)
     ratio = statistics.median(street) / statistics.median(district)
+    with tempfile.TemporaryDirectory() as folder:
+        relief = terrain_frames(size, frames, Path(folder))
 
     result = OsmResult(
         device,
@@ -187,6 +241,10 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
             "on a local runtime started before the clock, same city, same process (the bytes checked equal)",
             "helsinki_street_over_district_street": "median frame time, Helsinki street view "
             "over the built-in district's",
+            "terrain_street_over_flat": f"median frame time, Helsinki street view on a {TERRAIN_SAMPLES}x"
+            f"{TERRAIN_SAMPLES} synthetic DEM (bench.osm.hillside) over the same view flat, drawn in turn",
+            "terrain_aerial_over_flat": "the same for the aerial view",
+            "terrain_read_seconds": "read_terrain of that DEM under the map (window, reprojection, fill), median of 3",
         },
         timing={"samples_per_point": frames, "interleaved": True},
     )
@@ -229,8 +287,25 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
             ["district street", round(1000 * statistics.median(district), 1)],
         ],
     )
+    result.add_table(
+        f"Terrain ({TERRAIN_SAMPLES}x{TERRAIN_SAMPLES} DEM, grid {relief['samples'][0]}x{relief['samples'][1]} "
+        f"at {relief['spacing']:.1f} m, {frames} frames each in turn)",
+        ["view", "flat ms", "terrain ms"],
+        [
+            [
+                view,
+                round(1000 * relief["median"][("flat", view)], 1),
+                round(1000 * relief["median"][("terrain", view)], 1),
+            ]
+            for view in ("street", "aerial")
+        ]
+        + [["ground vertices", relief["ground_vertices"]["flat"], relief["ground_vertices"]["terrain"]]],
+    )
     result.ratios.update(
         {
+            "terrain_street_over_flat": relief["street_ratio"],
+            "terrain_aerial_over_flat": relief["aerial_ratio"],
+            "terrain_read_seconds": relief["read_seconds"],
             "helsinki_load_seconds": helsinki_seconds,
             "load_100k_seconds": seconds_100k,
             "peak_gb_100k": peak_100k / 1e9,
@@ -251,6 +326,9 @@ def run(quick: bool, out_dir: Path) -> BenchResult:
             "tile_100k_seconds": "<= 120",
             "tile_workers_2_over_1": ">= 1.7",
             "helsinki_street_over_district_street": "<= 1.2",
+            "terrain_street_over_flat": "<= 1.15",
+            "terrain_aerial_over_flat": "<= 1.25",
+            "terrain_read_seconds": "<= 2",
         }
     )
     if scale != 1:

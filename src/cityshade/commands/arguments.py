@@ -13,6 +13,7 @@ from .._values import check_count, check_lights, check_seed, parse_size
 from ..errors import UsageError
 
 __all__ = [
+    "add_terrain_option",
     "check_count",
     "check_lights",
     "check_seed",
@@ -76,6 +77,17 @@ MAP_HELP = "a real city from a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or C
 def add_map_option(parser, *aliases: str):
     """--map FILE (and `aliases`): the map a command draws its city from."""
     parser.add_argument("--map", *aliases, dest="map", type=Path, default=None, metavar="FILE", help=MAP_HELP)
+
+
+TERRAIN_HELP = (
+    "the ground's relief under --map: a DEM (GeoTIFF or any raster GDAL reads) in any CRS, read only over "
+    "the map and reprojected to it; buildings stand on it, streets and land lie on it"
+)
+
+
+def add_terrain_option(parser):
+    """--terrain FILE: the DEM a map's city stands on (terrain.read_terrain)."""
+    parser.add_argument("--terrain", type=Path, default=None, metavar="FILE", help=TERRAIN_HELP)
 
 
 def cityjson_lod(text: str) -> str:

@@ -5,12 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import UsageError
-from .arguments import add_map_option
+from .arguments import add_map_option, add_terrain_option
 
 
 def register(subparsers):
     parser = subparsers.add_parser("dataset", help="labelled renders (RGB, depth, normals, classes, instances) on Ray")
     add_map_option(parser)
+    add_terrain_option(parser)
     parser.add_argument("--city", default=None, metavar="NAME", help="a built-in city with streets: default")
     parser.add_argument("--samples", type=int, default=None, metavar="N", help="number of samples")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR", help="dataset folder")
@@ -86,6 +87,7 @@ def run(args) -> int:
             args.seed,
             args.resume,
             path=args.path,
+            terrain=args.terrain,
         )
         print(f"wrote {args.out}: {len(rows)} samples listed in {args.out / 'manifest.parquet'}")
         if args.shards is not None:

@@ -7,13 +7,14 @@ import sys
 from pathlib import Path
 
 from ..scene import CITIES
-from .arguments import add_map_option
+from .arguments import add_map_option, add_terrain_option
 
 
 def register(subparsers):
     parser = subparsers.add_parser("export", help="export a city as glTF (GLB) or a 3D Tiles tileset")
     source = parser.add_mutually_exclusive_group(required=True)
     add_map_option(source)
+    add_terrain_option(parser)
     source.add_argument("--city", choices=tuple(CITIES), help="a built-in city layout")
     parser.add_argument("--out", type=Path, required=True, help="the .glb/.gltf file, or the tileset's directory")
     parser.add_argument("--format", default=None, help="glb, gltf or 3dtiles (default: from --out's suffix, else glb)")
@@ -79,7 +80,7 @@ def run(args) -> int:
     encoding = Encoding(args.textures, args.geometry, args.trees)
     check_output(args.out, fmt, args.texel, args.lod, encoding)  # before the map is read
     region = parse_region(args.region) if args.region is not None else None
-    export = map_export_city(args.map) if args.map is not None else layout_export_city(args.city)
+    export = map_export_city(args.map, args.terrain) if args.map is not None else layout_export_city(args.city)
     if region is not None:
         export = crop(export, region, args.region)
     texel = args.texel

@@ -18,7 +18,7 @@ from collections import Counter
 from pathlib import Path
 
 from ..maps import FEATURES, MapData, guess_missing, load_map
-from .arguments import add_cityjson_lod_option
+from .arguments import add_cityjson_lod_option, add_terrain_option
 
 
 def _report(counter: Counter, examples: dict) -> list[dict]:
@@ -93,7 +93,7 @@ def _text(info: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    data = guess_missing(load_map(args.file, args.lod))
+    data = guess_missing(load_map(args.file, args.lod, args.terrain))
     info = summary(data)
     try:
         print(json.dumps(info, indent=2, ensure_ascii=False) if args.json else _text(info), file=sys.stdout)
@@ -109,5 +109,6 @@ def register(subparsers) -> None:
     )
     parser.add_argument("file", type=Path, metavar="FILE", help=".osm.pbf, .osm, .geojson, .json or .city.json")
     parser.add_argument("--json", action="store_true", help="print the same as JSON")
+    add_terrain_option(parser)
     add_cityjson_lod_option(parser)
     parser.set_defaults(run=run)

@@ -9,7 +9,15 @@ from ..api import AOVS
 from ..errors import UsageError
 from ..render import RenderSettings, format_bytes
 from ..scene import CITIES
-from .arguments import add_cityjson_lod_option, add_map_option, check_seed, check_writable, parse_size, save_png
+from .arguments import (
+    add_cityjson_lod_option,
+    add_map_option,
+    add_terrain_option,
+    check_seed,
+    check_writable,
+    parse_size,
+    save_png,
+)
 from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
 
@@ -95,13 +103,15 @@ def register(subparsers):
     parser = subparsers.add_parser("render", help="render a city to a PNG")
     parser.add_argument("--city", default="default", help=f"city layout: {', '.join(CITIES)}")
     add_map_option(parser, "--footprints")
+    add_terrain_option(parser)
     add_cityjson_lod_option(parser)
     parser.add_argument("--scene", default=None, help="a technique's own scene instead of a city")
     parser.add_argument("--seed", type=check_seed, default=None, help="layout seed, 0 to 2^31-1")
     parser.add_argument(
         "--camera",
         default="street",
-        help="named viewpoint of the city, or lon,lat,height,heading for a city from --map",
+        help="named viewpoint of the city, or lon,lat,height,heading for a city from --map "
+        "(HEIGHT in metres above the ground there: the terrain's with --terrain)",
     )
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT in pixels")
@@ -158,10 +168,10 @@ def run(args) -> int:
 
             made = tiles.city if tiles is not None else None
             if args.aov == "instance" and made is None:
-                source = load_source(args.map)  # the map id of every building mass
+                source = load_source(args.map, terrain=args.terrain)  # the map id of every building mass
                 made = source.city
             city, args.camera, sky = city_from_map(
-                args.map, args.camera, args.date, args.time_of_day, city=made, lod=args.lod
+                args.map, args.camera, args.date, args.time_of_day, city=made, lod=args.lod, terrain=args.terrain
             )
         before_render = time.perf_counter() - start
         image, info = render_city(

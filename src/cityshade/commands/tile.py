@@ -26,23 +26,25 @@ from ..render import (
     source_identity,
     write_tiles,
 )
-from .arguments import parse_memory_size
+from .arguments import add_terrain_option, parse_memory_size
 
 MAX_WORKERS = 4096  # Ray tasks at once
 
 
-def _map_city(path: Path):
+def _map_city(path: Path, terrain: Path | None = None):
     from ..maps import load_map, map_city
 
-    return map_city(load_map(path))
+    return map_city(load_map(path, terrain=terrain))
 
 
-def _identity(path: Path) -> dict:
-    """The source's identity; a file that cannot be read fails as the map reader says."""
+def _identity(path: Path, terrain: Path | None = None) -> dict:
+    """The source's identity (and its terrain's: another DEM is another city); a file that cannot be
+    read fails as the map or DEM reader says."""
     try:
-        return source_identity(path)
+        identity = source_identity(path)
+        return identity if terrain is None else {**identity, "terrain": source_identity(terrain)}
     except OSError:
-        _map_city(path)  # raises load_map's one-line error
+        _map_city(path, terrain)  # raises load_map's one-line error
         raise
 
 
@@ -64,6 +66,7 @@ def register(subparsers):
         "file", type=Path, metavar="FILE", help="a map: OpenStreetMap (.osm.pbf, .osm), GeoJSON or CityJSON"
     )
     parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="the cache folder (replaced whole)")
+    add_terrain_option(parser)
     parser.add_argument(
         "--tile-size",
         type=_tile_size,
@@ -105,8 +108,8 @@ def run(args) -> int:
         from ..dataset import check_address
 
         check_address(args.address)
-    source = _identity(args.file)
-    city = _map_city(args.file)
+    source = _identity(args.file, args.terrain)
+    city = _map_city(args.file, args.terrain)
     with _runner(args.workers, args.address) as runner, Progress(console=Console(stderr=True), transient=True) as bar:
         task = bar.add_task(f"meshing tiles of {args.out.name}", total=None)
         summary = write_tiles(
@@ -175,6 +178,7 @@ def streamed_tiles(args, city=None):
         yield None, None
         return
     budget = None if args.memory_budget is None else parse_memory_size(args.memory_budget)
+    terrain = getattr(args, "terrain", None)  # commands without --terrain stream flat maps
     with contextlib.ExitStack() as stack:
         start = time.perf_counter()
         if args.map is None and args.tiles is not None:
@@ -184,23 +188,23 @@ def streamed_tiles(args, city=None):
                 raise UsageError(f"{problem}; make it again with `cityshade tile SOURCE --out {args.tiles}`") from None
             how = "read"
         else:
-            source = _identity(args.map) if args.map is not None else None
+            source = _identity(args.map, terrain) if args.map is not None else None
             folder = args.tiles
             if folder is None:
                 folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="cityshade-tiles-"))) / "tiles"
-            cache, how = _open_or_make(folder, args.map, source, city)
+            cache, how = _open_or_make(folder, args.map, source, city, terrain)
         print(f"tile cache {how} in {time.perf_counter() - start:.1f} s: {_describe(cache, budget)}")
         yield cache, budget
 
 
-def _open_or_make(folder: Path, path: Path | None, source: dict | None, city) -> tuple[TileCache, str]:
+def _open_or_make(folder: Path, path: Path | None, source: dict | None, city, terrain=None) -> tuple[TileCache, str]:
     check_cache_folder(folder)  # a folder of something else is refused, not replaced
     if folder.exists() and path is not None:
         try:
             return open_tiles(folder, source), "read"
         except CacheProblem as problem:
             _notice(f"{problem}; making it again from {path}")
-    write_tiles(_map_city(path) if path is not None else city, folder, source)
+    write_tiles(_map_city(path, terrain) if path is not None else city, folder, source)
     return open_tiles(folder, source), "made"
 
 

@@ -13,7 +13,7 @@ from .._values import parse_time
 from ..errors import UsageError
 from ..render import Renderer, RenderSettings
 from ..scene import LOOPS, PATHS, City, camera_path, make_city
-from .arguments import add_map_option, check_writable, parse_size
+from .arguments import add_map_option, add_terrain_option, check_writable, parse_size
 from .settings_flags import add_settings_flags, settings_from_flags
 
 # H.264 quality (x264's constant rate factor): 0 lossless, 51 worst; 23 is x264's own default,
@@ -56,12 +56,13 @@ def render_video(
     map_path: Path | None = None,
     crf: int = DEFAULT_CRF,
     streets=None,
+    terrain: Path | None = None,
 ) -> Path:
     """Renders `frames` frames along a camera path into an H.264 MP4 (written whole or not at all).
     With `end_time`, the time of day runs from start to end: the sky darkens and rooms light up.
     `sky` (hours -> settings, e.g. `maps.sky_clock`) places the sun and moon for each frame's time.
     With `workers`, Ray actors render the frames (cityshade.dataset.render_frames); they load the
-    city themselves: from `map_path` when `city` came from that map, else by the name `city`.
+    city themselves: from `map_path` (on `terrain`) when `city` came from that map, else by the name `city`.
     `crf` is x264's quality (lower is better and larger). The walk follows the route over `streets`
     (cityshade.dataset.Streets: the map's roads or the city's streets) from one end to the other."""
     if frames < 1 or fps < 1:
@@ -93,7 +94,12 @@ def render_video(
         from ..dataset import render_frames
 
         pictures = render_frames(
-            (job(i) for i in range(frames)), size, map_path, None if map_path else layout.name, workers
+            (job(i) for i in range(frames)),
+            size,
+            map_path,
+            None if map_path else layout.name,
+            workers,
+            terrain=terrain,
         )
     else:
         renderer = Renderer(size, base)
@@ -127,6 +133,7 @@ def register(subparsers):
     parser = subparsers.add_parser("video", help="render a camera path to MP4")
     parser.add_argument("--city", default="default")
     add_map_option(parser)
+    add_terrain_option(parser)
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     parser.add_argument("--path", default="orbit", help=f"camera path: {', '.join(PATHS)}")
     parser.add_argument("--frames", type=int, default=48)
@@ -177,10 +184,10 @@ def _run(args) -> int:
         if args.path == "walk":  # the map's roads too, for the route
             from ..dataset import load_source
 
-            source = load_source(args.map)
+            source = load_source(args.map, terrain=args.terrain)
             city, streets = source.city, source.streets
         else:
-            city = city_from_map(args.map, "aerial", args.date, args.time_of_day)[0]
+            city = city_from_map(args.map, "aerial", args.date, args.time_of_day, terrain=args.terrain)[0]
         sky = sky_clock(city.origin, args.date)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers {args.workers}: give at least 1")
@@ -196,6 +203,7 @@ def _run(args) -> int:
         sky=sky,
         workers=args.workers,
         map_path=args.map,
+        terrain=args.terrain,
         crf=args.crf,
         streets=streets,
     )

@@ -11,7 +11,7 @@ from ..errors import UsageError
 from ..render import RenderSettings
 from ..scene import make_city
 from ..viewer import DEFAULT_TARGET_FPS, HELP, open_viewer
-from .arguments import add_map_option, check_writable, parse_size, save_png
+from .arguments import add_map_option, add_terrain_option, check_writable, parse_size, save_png
 from .settings_flags import add_settings_flags, settings_from_flags
 from .tile import add_streaming_arguments, streamed_tiles
 
@@ -22,7 +22,12 @@ def register(subparsers):
     parser = subparsers.add_parser("view", help="interactive viewer: " + HELP)
     parser.add_argument("--city", default="default")
     add_map_option(parser)
-    parser.add_argument("--camera", default="street", help="viewpoint name, or lon,lat,height,heading with --map")
+    add_terrain_option(parser)
+    parser.add_argument(
+        "--camera",
+        default="street",
+        help="viewpoint name, or lon,lat,height,heading with --map (HEIGHT metres above the ground there)",
+    )
     parser.add_argument("--date", default=None, help="date YYYY-MM-DD: with --map, the sun and moon over the map")
     add_settings_flags(
         parser,
@@ -95,7 +100,9 @@ def _run(args) -> int:
             from ..maps import city_from_map, sky_clock
 
             made = tiles.city if tiles is not None else None
-            city, camera, placed = city_from_map(args.map, camera, args.date, args.time_of_day, city=made)
+            city, camera, placed = city_from_map(
+                args.map, camera, args.date, args.time_of_day, city=made, terrain=args.terrain
+            )
             settings = replace(settings, **placed)
             sky = sky_clock(city.origin, args.date)
         frames = (args.frames or SCREENSHOT_FRAMES) if args.screenshot is not None else None

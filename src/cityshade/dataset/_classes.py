@@ -31,6 +31,7 @@ CLASSES = (
     "rail",
     "bare_ground",
     "foliage",
+    "terrain",
 )
 IGNORE = 255  # the class image's value for classes a config ignores
 CLASS_COLOURS = np.array(
@@ -52,6 +53,7 @@ CLASS_COLOURS = np.array(
         (120, 90, 160),
         (150, 120, 70),
         (20, 110, 30),
+        (140, 150, 80),
     ],
     np.uint8,
 )
@@ -157,6 +159,7 @@ CITYSCAPES_OF = {
     "rail": "rail track",
     "bare_ground": "terrain",
     "foliage": "vegetation",
+    "terrain": "terrain",
 }
 
 

@@ -208,13 +208,13 @@ def _worker_class():
     class DatasetWorker:
         """One renderer and the loaded city; renders batches of views into `out`."""
 
-        def __init__(self, map_path, city, config: DatasetConfig, out: str, threads: int):
+        def __init__(self, map_path, city, config: DatasetConfig, out: str, threads: int, terrain=None):
             os.environ["LP_NUM_THREADS"] = str(threads)  # llvmpipe reads it when the context is made
             from ._sample import SampleRenderer
             from ._source import load_source
 
             # loaded here, not sent: a restarted actor needs nothing the driver may have let go
-            self.renderer = SampleRenderer(load_source(map_path, city), config)
+            self.renderer = SampleRenderer(load_source(map_path, city, terrain), config)
             self.out = Path(out)
 
         def pid(self) -> int:
@@ -311,10 +311,12 @@ def generate(
     progress: bool = True,
     on_workers=None,
     path: str | None = None,
+    terrain: Path | None = None,
 ) -> list[dict]:
     """Renders samples 0..samples-1 into `out`; returns the manifest's rows. `on_workers(pids)` is
     called once the actors run (to watch or stop them). With `path` (walk or orbit) the samples are
-    consecutive views along it (_views.sequence_view). Checks everything before it writes anything."""
+    consecutive views along it (_views.sequence_view); `terrain`: the DEM under the map. Checks
+    everything before it writes anything."""
     from ._source import load_source
 
     out = Path(out)
@@ -327,10 +329,12 @@ def generate(
     if path is not None and path not in SEQUENCES:
         raise UsageError(f"--path {path}: unknown path; allowed: {', '.join(SEQUENCES)}")
     record = {"source": str(map_path) if map_path is not None else f"city:{city}", "seed": seed, **config.settings()}
+    if terrain is not None:  # another ground, other pictures
+        record["terrain"] = str(terrain)
     if path is not None:  # a sequence's views depend on its length too
         record.update(path=path, frames=samples)
     check_record(out, record, resume)
-    source = load_source(map_path, city)
+    source = load_source(map_path, city, terrain)
     if not len(source.streets.segments):
         raise UsageError(f"{record['source']} has no streets to stand on; use --city default or a map with roads")
     done = complete_rows(out)
@@ -352,7 +356,9 @@ def generate(
         since_ns = time.time_ns() - 1_000_000_000  # file times lag the clock by up to a tick
         try:
             if batches:
-                _render(out, batches, samples, done, config, map_path, city, workers, address, progress, on_workers)
+                _render(
+                    out, batches, samples, done, config, map_path, city, workers, address, progress, on_workers, terrain
+                )
         finally:  # also after an error, Ctrl-C or SIGTERM: what is complete is listed, no temporary file stays
             with signals_deferred():
                 _add_finished(out, views, done, since_ns, config.arrays)
@@ -375,6 +381,7 @@ def render_frames(
     workers: int = 1,
     address: str | None = None,
     batch: int = 4,
+    terrain: Path | None = None,
 ):
     """Yields the RGB frames of `jobs` (camera, RenderSettings) in order, rendered by `workers` actors
     (`cityshade video --workers`); each frame draws every shadow cascade, so any actor gives the same one."""
@@ -394,7 +401,7 @@ def render_frames(
     try:
         check_cluster_workers(workers, address)
         threads = max(1, local_cores() // workers) if address is None else 1
-        actors = [_worker_class().remote(map_path, city, config, "", threads) for _ in range(workers)]
+        actors = [_worker_class().remote(map_path, city, config, "", threads, terrain) for _ in range(workers)]
         waiting, next_index = {}, 0
         for frames in ActorPool(actors).map_unordered(lambda actor, part: actor.frames.remote(part), batches):
             waiting.update(frames)
@@ -420,13 +427,16 @@ def _render(
     address,
     progress: bool,
     on_workers,
+    terrain=None,
 ):
     """Deals `batches` to the actors (Ray runs); adds each returned manifest row to `done` as it arrives."""
     import ray
     from ray.util import ActorPool
 
     threads = max(1, local_cores() // workers) if address is None else 1
-    actors = [_worker_class().remote(map_path, city, config, str(out.resolve()), threads) for _ in range(workers)]
+    actors = [
+        _worker_class().remote(map_path, city, config, str(out.resolve()), threads, terrain) for _ in range(workers)
+    ]
     processes = [actor.process.remote() for actor in actors]
     try:
         if on_workers is not None:

@@ -51,11 +51,11 @@ def building_tables(counts: list[int]) -> tuple[np.ndarray, np.ndarray]:
     return buildings, parts
 
 
-def load_source(map_path: Path | None = None, city: str | None = None) -> Source:
+def load_source(map_path: Path | None = None, city: str | None = None, terrain: Path | None = None) -> Source:
     if map_path is not None:
         from ..maps import city_from_guessed, guess_missing, load_map
 
-        map_data = guess_missing(load_map(map_path))  # what the map leaves out
+        map_data = guess_missing(load_map(map_path, terrain=terrain))  # what the map leaves out
         layout = city_from_guessed(map_data)
         counts = _masses_per_building(map_data)
         buildings, parts = building_tables([n for _, n in counts])

@@ -13,6 +13,7 @@ from ..interior import pcg_hash
 from ..render import assign_facades, bay_mean
 from ..scene import (
     GROUND_TABLE,
+    GROUND_TERRAIN,
     SURFACE_DORMER,
     SURFACE_PLAIN_WALL,
     SURFACE_ROOF,
@@ -23,6 +24,7 @@ from ..scene import (
     building_vertices,
     rotation_y,
 )
+from ..terrain import face_normals
 from ._bake import (
     Atlas,
     atlas_uv,
@@ -252,21 +254,40 @@ def ground_triangles(city) -> np.ndarray:
     return np.asarray(out, np.float32)
 
 
-def add_ground(doc: Document, city, stats: Stats):
-    ground = ground_triangles(city)
+def _ground_node(doc: Document, ground: np.ndarray, name: str, extras: dict, normals=None):
+    """One node of ground triangles, a primitive per material; `normals` per vertex (default: up)."""
     pieces = Pieces()
     for material in np.unique(ground[:, 3]).astype(int):
         rows = ground[:, 3] == material
         colour = (*GROUND_COLOURS.get(int(material), (0.2, 0.2, 0.2)), 1.0)
         index = doc.material(f"ground {material}", colour=colour, double_sided=True)
-        up = doc.turn(np.tile([0.0, 1.0, 0.0], (int(rows.sum()), 1)))
-        pieces.add(index, positions=doc.world(ground[rows, :3]), normals=up)
+        up = np.tile([0.0, 1.0, 0.0], (int(rows.sum()), 1)) if normals is None else normals[rows]
+        pieces.add(index, positions=doc.world(ground[rows, :3]), normals=doc.turn(up))
     if pieces:
-        stats.triangles += len(ground) // 3
         lo, hi = pieces.bounds()
         origin = np.array([(lo[0] + hi[0]) / 2, 0.0, (lo[2] + hi[2]) / 2])
         primitives, scale = pieces.primitives(doc, origin)
-        doc.node("ground", primitives, extras={"kind": "ground"}, translation=origin, scale=scale)
+        doc.node(name, primitives, extras=extras, translation=origin, scale=scale)
+
+
+def add_ground(doc: Document, city, stats: Stats):
+    """The ground (streets, water, land, ...) and, apart, a DEM's terrain with its face normals and
+    its relief in the extras."""
+    ground = ground_triangles(city)
+    relief = ground[:, 3] == GROUND_TERRAIN
+    stats.triangles += len(ground) // 3
+    _ground_node(doc, ground[~relief], "ground", {"kind": "ground"})
+    if relief.any():
+        terrain = ground[relief]
+        normals = np.repeat(face_normals(terrain), 3, axis=0)
+        extras = {
+            "kind": "terrain",
+            "triangles": len(terrain) // 3,
+            "lowest_m": round(float(terrain[:, 1].min()), 3),
+            "highest_m": round(float(terrain[:, 1].max()), 3),
+            "heights": "metres above the vertical datum of the DEM (the mesh lies 0.3 m below the ground on it)",
+        }
+        _ground_node(doc, terrain, "terrain", extras, normals)
 
 
 def _card_quads(cards: np.ndarray, indices: np.ndarray):

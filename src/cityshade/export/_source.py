@@ -70,10 +70,10 @@ def _layout_metadata(city: City, index: int, mass) -> dict:
     }
 
 
-def map_export_city(path: Path) -> ExportCity:
+def map_export_city(path: Path, terrain: Path | None = None) -> ExportCity:
     from ..maps import city_from_guessed, guess_missing, load_map
 
-    map_data = guess_missing(load_map(path))
+    map_data = guess_missing(load_map(path, terrain=terrain))
     city = city_from_guessed(map_data)
     city = city.with_layers(lambda layer: replace(layer, ground=clip_ground(layer.ground, city.bounds)))
     # map masses carry their building's index as their seed (maps.building_masses)

@@ -11,6 +11,7 @@ import stat
 from pathlib import Path
 
 from ..errors import UsageError
+from ..terrain import read_terrain
 from ._model import MapData
 from ._osm import osm_format, read_osm
 
@@ -97,9 +98,10 @@ def _json_lines(path: Path):
         raise UsageError(f"{path}: byte {exc.start} of a line: not UTF-8 text") from None
 
 
-def load_map(path: Path | str, lod: str | None = None) -> MapData:
+def load_map(path: Path | str, lod: str | None = None, terrain: Path | str | None = None) -> MapData:
     """The map at `path` (OpenStreetMap .osm.pbf/.osm, GeoJSON, CityJSON, CityJSONSeq) in local metres.
-    `lod`: the CityJSON level of detail to draw ("2", "1.2"; None: each object's highest)."""
+    `lod`: the CityJSON level of detail to draw ("2", "1.2"; None: each object's highest). `terrain`:
+    a DEM file read under the map (terrain.read_terrain; the DEM's repairs counted in the report)."""
     path = Path(path)
     size = _checked(path)
     try:
@@ -122,6 +124,10 @@ def load_map(path: Path | str, lod: str | None = None) -> MapData:
         data = read_geojson(path, read_json_text(path, size))
     if not (data.buildings or data.roads or data.areas or data.trees or data.lamps or data.railways):
         raise UsageError(f"{path}: nothing usable in the map{_commonest_skip(data)}")
+    if terrain is not None:
+        data.terrain = read_terrain(terrain, data.crs, data.origin, data.bounds())
+        for why, count in data.terrain.counts.items() if data.terrain is not None else ():
+            data.report.repaired[("terrain samples", why)] += count
     return data
 
 

@@ -306,8 +306,21 @@ def building_masses(map_data: MapData) -> list[BuildingMass]:
         for under, part in building.beneath_parts:
             pieces += [(polygon, heights(part)[0]) for polygon in _polygons(under)]
         owner = _style_owner(map_data, building)
+        ground = seat(map_data, building, by_index)
         for polygon, top in pieces:
             mass = building_mass(building, polygon, building.remainder is not None, top, facade_style(owner))
             if mass is not None:
-                masses.append(mass)
+                masses.append(
+                    mass if ground == 0.0 else replace(mass, base=mass.base + ground, height=mass.height + ground)
+                )
     return masses
+
+
+def seat(map_data: MapData, building: MapBuilding, by_index: dict[int, MapBuilding]) -> float:
+    """The ground a building stands on: the lowest terrain along its outline (a part's: its
+    building's, so the parts of one building share one base); its walls reach down to it on the
+    downhill side and min_height counts from it. 0 without terrain, and for faces as given."""
+    if map_data.terrain is None or building.surfaces is not None:
+        return 0.0
+    root = by_index.get(building.parent, building) if building.is_part else building
+    return map_data.terrain.lowest_on(root.outline)

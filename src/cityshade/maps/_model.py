@@ -20,6 +20,7 @@ import numpy as np
 import shapely
 
 from ..scene import ROOF_SHAPE_TABLE
+from ..terrain import Terrain
 
 # Roof shapes of the Simple 3D Buildings scheme that cityshade builds (OpenStreetMap `roof:shape` values).
 ROOF_SHAPES = tuple(ROOF_SHAPE_TABLE)
@@ -256,6 +257,7 @@ class MapData:
     city_objects: list[CityObject] = field(default_factory=list)
     drawn_types: Counter = field(default_factory=Counter)
     ground_level: float = 0.0
+    terrain: Terrain | None = None  # the ground's relief (--terrain); None: the map is flat
 
     @property
     def name(self) -> str:

@@ -18,20 +18,21 @@ def city_from_map(
     time: str = "19:10",
     city: City | None = None,
     lod: str | None = None,
+    terrain: Path | None = None,
 ) -> tuple[City, str, dict]:
     """(city, camera name, render settings) for `cityshade render/view/video --map FILE`.
 
     `camera` is a viewpoint name or 'lon,lat,height,heading' (added to the city's viewpoints under
     that text). The settings place the sun and moon over the map at `date` and `time` (local clock
     time). `city`: the map's city made already (a tile cache's); `path` is then not read. `lod`: the
-    CityJSON level of detail to draw (load_map)."""
+    CityJSON level of detail to draw, `terrain` the DEM under the map (load_map)."""
     from . import load_map
     from ._sun import sky_settings
 
     spot = parse_camera_spot(camera)
     sky_settings(date, time)  # bad values fail before the map is read
     if city is None:
-        city = map_city(load_map(path, lod))
+        city = map_city(load_map(path, lod, terrain))
     if spot is not None:
         city.viewpoints[camera] = spot_camera(city.origin, city.crs, spot, given_ground_height(city))
     elif camera == "street" and "street" not in city.viewpoints:

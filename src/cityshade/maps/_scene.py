@@ -4,10 +4,13 @@ feature's layer, maps/features/, with viewpoints framed from the data)."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
+import shapely
 
 from ..errors import CityshadeError
-from ..scene import City
+from ..scene import Camera, City
 from ._cameras import FRAMED_SHARE, aerial_camera, framed_area, given_street_camera, street_camera
 from ._model import MapData, to_scene
 from .features import city_layers
@@ -38,11 +41,13 @@ def city_from_guessed(map_data: MapData) -> City:
     # heights as given: a CityJSON city stands where its file says; the tallest 2% left out (a mast)
     heights = np.array([m.height for m in masses]) if masses else np.array([10.0])
     tall = float(np.quantile(heights, FRAMED_SHARE)) if len(heights) >= 50 else float(heights.max())
-    area = to_scene(np.asarray(framed_area(map_data).exterior.coords)[:-1])
-    viewpoints = {"aerial": aerial_camera(area, tall, bottom=map_data.ground_level)}
+    framed = framed_area(map_data)
+    area = to_scene(np.asarray(framed.exterior.coords)[:-1])
+    low, high = _relief_under(map_data, framed)
+    viewpoints = {"aerial": aerial_camera(area, tall + high, bottom=low)}
     street = street_camera(map_data, [b.outline for b in drawn]) or given_street_camera(map_data)
     if street is not None:
-        viewpoints["street"] = street
+        viewpoints["street"] = _on_terrain(street, map_data)
     return City(
         map_data.name,
         0,
@@ -54,3 +59,23 @@ def city_from_guessed(map_data: MapData) -> City:
         origin=map_data.origin,
         crs=map_data.crs,
     )
+
+
+def _relief_under(map_data: MapData, area: shapely.Polygon) -> tuple[float, float]:
+    """The lowest and highest ground under a map-metre area: the terrain's, else the map's own level."""
+    if map_data.terrain is None:
+        return map_data.ground_level, map_data.ground_level
+    x0, y0, x1, y1 = area.bounds
+    x, y = np.meshgrid(np.linspace(x0, x1, 64), np.linspace(y0, y1, 64))
+    inside = shapely.contains_xy(area, x, y)
+    heights = map_data.terrain.height_at(x[inside], y[inside]) if inside.any() else np.zeros(1)
+    return float(heights.min()), float(heights.max())
+
+
+def _on_terrain(camera: Camera, map_data: MapData) -> Camera:
+    """A street-level camera lifted by the terrain's height under its eye (it stays EYE_HEIGHT above it)."""
+    if map_data.terrain is None:
+        return camera
+    lift = float(map_data.terrain.scene_height_at(camera.eye[0], camera.eye[2]))
+    up = np.array([0.0, lift, 0.0])
+    return replace(camera, position=tuple(camera.eye + up), target=tuple(np.asarray(camera.target) + up))

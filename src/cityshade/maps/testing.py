@@ -4,7 +4,7 @@ from . import _osm as osm_reader
 from ._form import FEATURES as FORM_FEATURES
 from ._form import urban_form
 from ._load import MAX_CITYJSON_BYTES
-from ._masses import STYLE_BY_USE, building_mass, use_code
+from ._masses import STYLE_BY_USE, building_mass, heights, use_code
 from ._osm import check_xml
 from ._prior import training_rows
 from ._roofs import DORMER_EAVES, DORMER_KINDS, DORMER_SHARE, PARAPET, has_dormers
@@ -23,6 +23,7 @@ __all__ = [
     "STYLE_BY_USE",
     "building_attributes",
     "building_mass",
+    "heights",
     "check_xml",
     "osm_reader",
     "colour",

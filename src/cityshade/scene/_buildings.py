@@ -58,12 +58,11 @@ class BuildingMass:
     def __post_init__(self):
         if self.shape not in SHAPES:
             raise ValueError(f"unknown building shape {self.shape!r}; allowed: {', '.join(SHAPES)}")
-        if self.height <= 0:
-            raise ValueError(f"building height must be positive, got {self.height}")
+        if self.height <= min(self.base, 0.0):  # heights over a terrain or as given may lie below sea level
+            raise ValueError(f"building height must be above its base, got {self.height} over {self.base}")
         if self.use not in range(USE_COUNT):
             raise ValueError(f"unknown building use code {self.use!r}; allowed: 0..{USE_COUNT - 1} (scene/_uses.py)")
-        below = self.base < 0 and not self.given  # faces as given keep their heights: below sea level too
-        if below or self.base > self.wall_top or (self.walls and self.base == self.wall_top):
+        if self.base > self.wall_top or (self.walls and self.base == self.wall_top):
             raise ValueError(f"building walls must run upward from base {self.base} to {self.wall_top}")
         if not isinstance(self.first_level, (int, np.integer)) or self.first_level not in range(LEVEL_MASK + 1):
             raise ValueError(

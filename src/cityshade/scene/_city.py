@@ -15,7 +15,7 @@ from ._mass_table import MassColumns, MassTable
 
 GROUND_ASPHALT, GROUND_PAVEMENT, GROUND_GRASS = 0, 1, 2
 GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_PAVEMENT, "GROUND_GRASS": GROUND_GRASS}
-# and those of cities from maps (shaders/city/map_ground.glsl): water, paint, tracks, land, lamps
+# and those of cities from maps (shaders/city/map_ground.glsl): water, paint, tracks, land, lamps, a DEM's relief
 (
     GROUND_WATER,
     GROUND_MARKING,
@@ -26,7 +26,8 @@ GROUND_MATERIALS = {"GROUND_ASPHALT": GROUND_ASPHALT, "GROUND_PAVEMENT": GROUND_
     GROUND_POST,
     GROUND_BULB,
     GROUND_PLATFORM,
-) = range(3, 12)
+    GROUND_TERRAIN,
+) = range(3, 13)
 MAP_GROUND_MATERIALS = {
     "GROUND_WATER": GROUND_WATER,
     "GROUND_MARKING": GROUND_MARKING,
@@ -37,6 +38,7 @@ MAP_GROUND_MATERIALS = {
     "GROUND_POST": GROUND_POST,
     "GROUND_BULB": GROUND_BULB,
     "GROUND_PLATFORM": GROUND_PLATFORM,
+    "GROUND_TERRAIN": GROUND_TERRAIN,
 }
 # each ground material's dataset class (dataset/_classes.py) and linear base colour in exports
 GROUND_TABLE = {
@@ -52,6 +54,7 @@ GROUND_TABLE = {
     GROUND_POST: ("lamp", (0.1, 0.1, 0.1)),
     GROUND_BULB: ("lamp", (1.0, 0.85, 0.6)),
     GROUND_PLATFORM: ("pavement", (0.42, 0.41, 0.38)),
+    GROUND_TERRAIN: ("terrain", (0.13, 0.15, 0.07)),
 }
 
 

@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...scene import Layer
+from .._draping import draping
 from .._ground import cut_surfaces
 from .._model import MapData
 from ._feature import Built, Feature, Surface
@@ -19,10 +20,12 @@ from .land import Land
 from .platforms import Platforms
 from .rail import Rail
 from .streets import Streets
+from .terrain import Relief
 from .trees import Trees
 from .water import Water
 
 FEATURES: tuple[Feature, ...] = (
+    Relief(),
     Buildings(),
     Streets(),
     Rail(),
@@ -58,14 +61,21 @@ def wanted_line(tags: dict[str, str]) -> bool:
 
 
 def city_layers(data: MapData) -> tuple[Layer, ...]:
-    """Every feature's layer, its flat surfaces cut in rank order before its own ground."""
+    """Every feature's layer, its flat surfaces cut in rank order before its own ground, all of it laid
+    on the map's terrain where it has one (maps/_draping.py)."""
     built = [feature.build(data) for feature in FEATURES]
     claims = [(i, surface) for i, b in enumerate(built) for surface in b.surfaces]
     cut = cut_surfaces([surface for _, surface in claims])
+    on_terrain = draping(data)
     layers = []
     for i, b in enumerate(built):
-        own = [triangles for (owner, _), triangles in zip(claims, cut) if owner == i]
-        layers.append(replace(b.layer, ground=np.concatenate([*own, b.layer.ground])))
+        own = np.concatenate(
+            [np.zeros((0, 4), np.float32)] + [triangles for (owner, _), triangles in zip(claims, cut) if owner == i]
+        )
+        layer = b.layer
+        if on_terrain is not None:
+            own, layer = on_terrain.ground(own), on_terrain.layer(layer)
+        layers.append(replace(layer, ground=np.concatenate([own, layer.ground])))
     return tuple(layers)
 
 

@@ -33,6 +33,8 @@ from ...scene import (
 )
 from .._model import MapData, MapTree
 from ._feature import Built, Feature
+from .land import BASE_DEPTH
+from .terrain import Relief
 from .trees import tree_records
 
 TYPE_MATERIALS = {
@@ -162,10 +164,27 @@ class CityObjects(Feature):
 
 
 def given_ground_height(city):
-    """For a city with ground under buildings drawn as given: the height at scene (x, z) of the nearest
-    corner of that ground (None for any other city, whose ground is at 0)."""
-    layer = next((layer for layer in city.layers if layer.name == CityObjects.name), None)
-    if layer is None or not len(layer.ground):
-        return None
-    tree = scipy.spatial.cKDTree(layer.ground[:, [0, 2]])
-    return lambda x, z: float(layer.ground[tree.query([x, z])[1], 1]) + GROUND_BELOW
+    """For a city with ground under buildings drawn as given or a terrain (--terrain): the height at
+    scene (x, z) of that ground, from its nearest corners (None for any other city, whose ground is at 0)."""
+    for name, below in ((Relief.name, BASE_DEPTH), (CityObjects.name, GROUND_BELOW)):
+        layer = next((layer for layer in city.layers if layer.name == name and len(layer.ground)), None)
+        if layer is not None:
+            return _nearest_height(layer.ground, below)
+    return None
+
+
+def _nearest_height(ground: np.ndarray, below: float):
+    """Height at scene (x, z) of a ground mesh's nearest corners (inverse-distance weighted), lifted by
+    `below`; corners of upright triangles (a terrain's skirts, walls) left out."""
+    corners = ground.reshape(-1, 3, 4)
+    u, v = corners[:, 1, [0, 2]] - corners[:, 0, [0, 2]], corners[:, 2, [0, 2]] - corners[:, 0, [0, 2]]
+    lying = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) > 1e-6
+    ground = corners[lying].reshape(-1, 4) if lying.any() else ground
+    tree = scipy.spatial.cKDTree(ground[:, [0, 2]])
+
+    def height(x, z):
+        distance, index = tree.query([x, z], k=8)
+        weights = 1.0 / np.maximum(distance, 1e-6)
+        return float((ground[index, 1] * weights).sum() / weights.sum()) + below
+
+    return height

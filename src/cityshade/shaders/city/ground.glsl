@@ -23,6 +23,7 @@ void main() {}
 #include "common/hash.glsl"
 #include "shadow/csm.glsl"
 #include "city/map_ground.glsl"
+#include "city/ground_normal.glsl"
 in vec3 v_world;
 flat in int v_material;
 #if defined ID_PASS
@@ -51,6 +52,7 @@ void main() {
     float shadow = shadow_factor(v_world);
     vec3 albedo, color;
     vec3 n = vec3(0.0, 1.0, 0.0);
+    vec3 face = ground_face_normal(v_world);  // here, where every pixel of the quad takes derivatives
     if (v_material == GROUND_PAVEMENT) {
         vec2 slab = fract(v_world.xz / 1.5);
         float joint = step(0.04, slab.x) * step(0.04, slab.y);
@@ -61,7 +63,7 @@ void main() {
         albedo = vec3(0.085, 0.085, 0.09) * (0.85 + 0.3 * grain(v_world.xz * 8.0));
     } else {
         albedo = map_albedo(v_material, v_world, grain(v_world.xz * 4.0));
-        n = map_normal(v_material, v_world);
+        n = v_material == GROUND_TERRAIN ? face : map_normal(v_material, v_world);  // a DEM's slopes
     }
     color = v_material == GROUND_WATER ? water_surface(v_world, shadow)
                                        : lit_surface(albedo, n, shadow) + albedo * street_light(v_world, n);

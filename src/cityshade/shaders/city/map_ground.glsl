@@ -17,6 +17,7 @@ vec3 map_albedo(int material, vec3 world, float noise) {
     if (material == GROUND_BALLAST) return vec3(0.25, 0.23, 0.21) * (0.75 + 0.5 * noise);
     if (material == GROUND_PLATFORM) return vec3(0.5, 0.49, 0.46) * (0.92 + 0.16 * noise);  // concrete slabs
     if (material == GROUND_SAND) return vec3(0.52, 0.47, 0.36) * (0.9 + 0.2 * noise);
+    if (material == GROUND_TERRAIN) return vec3(0.19, 0.21, 0.11) * (0.8 + 0.4 * noise);  // a DEM's open ground
     if (material == GROUND_POST || material == GROUND_BULB) return vec3(0.09, 0.09, 0.1);
     return vec3(0.13, 0.14, 0.11) * (0.85 + 0.3 * noise);  // land: worn paving, soil and weeds
 }
