@@ -15,7 +15,7 @@ from ..errors import UsageError
 
 PAGE_FILES = ("index.html", "viewer.js")  # the page, in the package's export/viewer/
 CESIUM_PREFIX = "/cesium/"  # where the page reads CesiumJS from (its Build/Cesium folder)
-CESIUM_NPM = "cesium@1.136"  # the version the page is tested with
+CESIUM_NPM = "cesium@1.136.0"  # the version the page is tested with
 DEFAULT_CESIUM = Path("node_modules/cesium/Build/Cesium")  # after `npm install cesium` here
 CONTENT_TYPES = {
     ".glb": "model/gltf-binary",
