@@ -14,7 +14,7 @@ BENCHES := interior facades relief trees scale lod
 setup: $(STAMP)
 
 $(STAMP): pyproject.toml
-	@bash scripts/ensure-egl.sh $(EGL_PKGS)
+	@bash scripts/ensure-debian.sh "headless OpenGL" $(EGL_PKGS)
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install -q --upgrade pip
 	$(BIN)/pip install -q -e '.[test]'
@@ -65,13 +65,15 @@ bench-quick: setup
 # texel 0.25 and at the default, and 3D Tiles; © OpenStreetMap contributors, ODbL 1.0) and the
 # built-in district: fails on any error; then the tileset against Helsinki's OSM nodes (0.5 m)
 validate-export: setup data
-	npm install --no-save --no-package-lock --no-audit --no-fund gltf-validator@2.0.0-dev.3.10
+	@bash scripts/ensure-debian.sh "the tileset page's check" chromium
+	npm install --no-save --no-package-lock --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 cesium@1.136.0 puppeteer-core@24.43.1
 	$(BIN)/cityshade export --city default --out out/export/default.glb --texel 0.25
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki.glb --texel 0.25
-	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-tiles --format 3dtiles --texel 0.25
+	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-tiles --format 3dtiles --texel 0.25 --viewer
 	$(BIN)/cityshade export --map data/Helsinki.osm.pbf --out out/export/helsinki-default.glb
 	node scripts/validate-gltf.mjs out/export/default.glb out/export/helsinki.glb out/export/helsinki-tiles out/export/helsinki-default.glb
 	$(BIN)/python scripts/check-georeference.py out/export/helsinki-tiles data/Helsinki.osm.pbf
+	$(BIN)/python scripts/check-viewer.py out/export/helsinki-tiles out/export/viewer
 
 clean:
 	rm -rf $(VENV) out bench-results

@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "cityshade.commands.compress",
     "cityshade.commands.info",
     "cityshade.commands.export",
+    "cityshade.commands.serve",
     "cityshade.commands.dataset",
 )
 

@@ -53,6 +53,11 @@ def register(subparsers):
         metavar="MINLON,MINLAT,MAXLON,MAXLAT",
         help="export only the buildings, ground and trees inside this box (maps only)",
     )
+    parser.add_argument(
+        "--viewer",
+        action="store_true",
+        help="with --format 3dtiles: write a CesiumJS page (index.html) beside the tileset; see `cityshade serve`",
+    )
     parser.set_defaults(run=run)
 
 
@@ -78,7 +83,7 @@ def run(args) -> int:
 
     fmt = output_format(args)
     encoding = Encoding(args.textures, args.geometry, args.trees)
-    check_output(args.out, fmt, args.texel, args.lod, encoding)  # before the map is read
+    check_output(args.out, fmt, args.texel, args.lod, encoding, args.viewer)  # before the map is read
     region = parse_region(args.region) if args.region is not None else None
     export = map_export_city(args.map, args.terrain) if args.map is not None else layout_export_city(args.city)
     if region is not None:
@@ -87,6 +92,6 @@ def run(args) -> int:
     if texel is None:
         texel = default_texel(export, args.lod)
         print(default_texel_note(texel), file=sys.stderr, flush=True)
-    summary = export_city(export, args.out, fmt, texel, args.lod, encoding)
+    summary = export_city(export, args.out, fmt, texel, args.lod, encoding, args.viewer)
     print(json.dumps(summary))
     return 0

@@ -15,6 +15,7 @@ from ._bake import (
 )
 from ._export import FORMATS, check_output, city_document, default_texel, default_texel_note, export_city
 from ._gltf import GEOMETRY, TEXTURES, Encoding
+from ._serve import tileset_server, write_page
 from ._source import ExportCity, crop, layout_export_city, map_export_city, parse_region
 
 __all__ = [
@@ -41,5 +42,7 @@ __all__ = [
     "map_export_city",
     "pack",
     "parse_region",
+    "tileset_server",
     "wall_sides",
+    "write_page",
 ]

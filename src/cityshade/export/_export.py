@@ -88,12 +88,21 @@ def default_texel_note(texel: float) -> str:
     )
 
 
-def check_output(out: Path, fmt: str, texel: float | None = None, lod: int = 0, encoding: Encoding = DEFAULT_ENCODING):
+def check_output(
+    out: Path,
+    fmt: str,
+    texel: float | None = None,
+    lod: int = 0,
+    encoding: Encoding = DEFAULT_ENCODING,
+    viewer: bool = False,
+):
     """Fails with one line before any work if the options are out of range or `out` cannot be
     written (a tileset replaces only an earlier tileset, _files.check_replaceable_folder); texel
     None: chosen later (default_texel)."""
     if fmt not in FORMATS:
         raise UsageError(f"--format {fmt!r}: unknown; use one of {', '.join(FORMATS)}")
+    if viewer and fmt != "3dtiles":
+        raise UsageError(f"--viewer writes a CesiumJS page beside a tileset; add --format 3dtiles (not {fmt})")
     if encoding.textures not in TEXTURES:
         raise UsageError(f"--textures {encoding.textures!r}: unknown; use one of {', '.join(TEXTURES)}")
     if encoding.geometry not in GEOMETRY:
@@ -121,14 +130,16 @@ def export_city(
     texel: float | None = None,
     lod: int = 0,
     encoding: Encoding = DEFAULT_ENCODING,
+    viewer: bool = False,
 ) -> dict:
-    """Writes the export; returns what it wrote (counts, sizes, seconds). texel None: default_texel."""
-    check_output(out, fmt, texel, lod, encoding)
+    """Writes the export; returns what it wrote (counts, sizes, seconds). texel None: default_texel.
+    viewer: a tileset gets its CesiumJS page beside it (index.html, _serve.write_page)."""
+    check_output(out, fmt, texel, lod, encoding, viewer)
     began = time.perf_counter()
     if texel is None:
         texel = default_texel(export, lod)
     try:
-        summary = _write(export, out, fmt, texel, lod, encoding)
+        summary = _write(export, out, fmt, texel, lod, encoding, viewer)
     except OSError as exc:  # the temporary file or directory beside `out` (nothing is left behind)
         raise UsageError(f"cannot write {str(out)!r}: {exc.strerror or exc}; choose another --out") from None
     summary.update(
@@ -145,11 +156,11 @@ def export_city(
     return summary
 
 
-def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int, encoding: Encoding) -> dict:
+def _write(export: ExportCity, out: Path, fmt: str, texel: float, lod: int, encoding: Encoding, viewer: bool) -> dict:
     if fmt == "3dtiles":
         from ._tiles import write_tileset
 
-        return write_tileset(export, out, texel, lod, encoding)
+        return write_tileset(export, out, texel, lod, encoding, viewer)
     gltf, stats = city_document(export, texel, lod, encoding=encoding)
     with atomic_output(out) as tmp:
         if fmt == "glb":

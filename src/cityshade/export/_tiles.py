@@ -16,6 +16,7 @@ from ..errors import UsageError
 from ..scene import building_vertices
 from ._gltf import SCHEMA_ID, building_class, glb_bytes
 from ._place import Placement
+from ._serve import write_page
 
 LEAF_BUILDINGS = 48  # a tile with more buildings is split into four
 MAX_DEPTH = 8
@@ -67,7 +68,7 @@ def _height(node: _Node) -> int:
     return 0 if not node.children else 1 + max(_height(c) for c in node.children)
 
 
-def write_tileset(export, out: Path, texel: float, lod: int, encoding) -> dict:
+def write_tileset(export, out: Path, texel: float, lod: int, encoding, viewer: bool = False) -> dict:
     from ._export import ATTRIBUTION, TILESET_KIND, city_document, summary_of
 
     if export.origin is None:
@@ -162,6 +163,8 @@ def write_tileset(export, out: Path, texel: float, lod: int, encoding) -> dict:
             },
         }
         (folder / "tileset.json").write_text(json.dumps(tileset, indent=1), encoding="utf-8")
+        if viewer:
+            write_page(folder)
 
     with atomic_folder(out, TILESET_KIND) as folder:
         fill(folder)
