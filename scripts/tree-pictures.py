@@ -1,5 +1,5 @@
 """The pictures of docs/trees.md: the park toward the low sun, silhouette fins on and off, alpha
-test and alpha to coverage, and the three species.
+test and alpha to coverage, and the four species.
 
     python scripts/tree-pictures.py --out docs/images
 
@@ -16,8 +16,9 @@ import numpy as np
 from PIL import Image
 
 from cityshade.gl import create_context
-from cityshade.render import Renderer, RenderSettings, parse_time
-from cityshade.scene import GROUND_GRASS, Camera, City
+from cityshade.frame import parse_time
+from cityshade.render import Renderer, RenderSettings
+from cityshade.scene import GROUND_GRASS, Camera, City, Layer
 from cityshade.trees import SCENE_TIME, SPECIES_ORDER, city_trees, park_scene, tree_instances
 
 LAWN = (-300.0, -300.0, 300.0, 300.0)
@@ -28,7 +29,7 @@ def one_tree(species: str) -> City:
     """A lawn with one tree of `species` at the origin, unturned and at its model's size."""
     trees = tree_instances([(0.0, 0.0, 0.0)], species, np.random.default_rng(0))
     trees["yaw"], trees["scale"] = 0.0, 1.0
-    return City(species, 0, [], [(*LAWN, GROUND_GRASS)], LAWN, trees=trees)
+    return City(species, 0, [], [(*LAWN, GROUND_GRASS)], LAWN, layers=(Layer("trees", trees=trees),))
 
 
 def side_by_side(*images: np.ndarray, scale: int = 1) -> Image.Image:
@@ -72,7 +73,7 @@ def fins(ctx, out: Path):
 
 def single_trees(ctx, a2c_out: Path, species_out: Path):
     """An oak's crown with alpha test (left) and alpha to coverage (right), 4x MSAA, enlarged 2x;
-    then the three species, each framed by its height."""
+    then the four species, each framed by its height."""
     renderer = Renderer((PANEL, PANEL), RenderSettings(time_of_day=16.0, samples=4, god_rays=False), ctx=ctx)
     try:
         renderer.set_city(one_tree("oak"))
