@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from cityshade.gl import create_context
 from cityshade.frame import parse_time
+from cityshade.gl import create_context
 from cityshade.render import Renderer, RenderSettings
 from cityshade.scene import GROUND_GRASS, Camera, City, Layer
 from cityshade.trees import SCENE_TIME, SPECIES_ORDER, city_trees, park_scene, tree_instances
