@@ -274,6 +274,22 @@ def _open_input(path: Path, what: str):
     return handle
 
 
+def checked_input_size(path: Path, what: str, formats: str) -> int:
+    """The size of `path`, a readable non-empty regular file; else a UsageError naming the file,
+    why, and the `formats` of a `what` (a map, a DEM) to give instead."""
+    try:
+        info = path.stat()
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot read the {what} ({exc.strerror or exc})") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise UsageError(f"{path}: is a directory; give a {what} file ({formats})")
+    if not stat.S_ISREG(info.st_mode):
+        raise UsageError(f"{path}: not a regular file (a device, FIFO or socket); give a {what} file ({formats})")
+    if info.st_size == 0:
+        raise UsageError(f"{path}: the file is empty; give a {what} file ({formats})")
+    return info.st_size
+
+
 def read_input_bytes(path: Path, limit: int, what: str = "file") -> bytes:
     """The bytes of a regular file of at most `limit` bytes; raises InputError otherwise, naming
     the file and never quoting its content."""

@@ -7,9 +7,9 @@ a UsageError (exit code 2) that names the file and the commonest reason features
 
 from __future__ import annotations
 
-import stat
 from pathlib import Path
 
+from .._files import checked_input_size
 from ..errors import UsageError
 from ..terrain import read_terrain
 from ._model import MapData
@@ -22,21 +22,6 @@ MAX_JSON_BYTES = 1 << 30  # 1 GiB of JSON is millions of buildings; more is a mi
 MAX_CITYJSON_BYTES = 256 << 20
 SNIFF_BYTES = 4096
 FORMATS = ".osm.pbf, .pbf, .osm (or .osm.gz, .osm.bz2), .geojson, .json, .city.json, .city.jsonl"
-
-
-def _checked(path: Path) -> int:
-    """The size of `path`, a readable regular file."""
-    try:
-        info = path.stat()
-    except OSError as exc:
-        raise UsageError(f"{path}: cannot read the map ({exc.strerror or exc})") from None
-    if stat.S_ISDIR(info.st_mode):
-        raise UsageError(f"{path}: is a directory; give a map file ({FORMATS})")
-    if not stat.S_ISREG(info.st_mode):
-        raise UsageError(f"{path}: not a regular file (a device, FIFO or socket); give a map file ({FORMATS})")
-    if info.st_size == 0:
-        raise UsageError(f"{path}: the file is empty; give a map file ({FORMATS})")
-    return info.st_size
 
 
 def _format(path: Path) -> str:
@@ -103,7 +88,7 @@ def load_map(path: Path | str, lod: str | None = None, terrain: Path | str | Non
     `lod`: the CityJSON level of detail to draw ("2", "1.2"; None: each object's highest). `terrain`:
     a DEM file read under the map (terrain.read_terrain; the DEM's repairs counted in the report)."""
     path = Path(path)
-    size = _checked(path)
+    size = checked_input_size(path, "map", FORMATS)
     try:
         kind = _format(path)
     except OSError as exc:  # e.g. no permission to read it

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import logging
 import math
-import stat
 import warnings
 from contextlib import contextmanager
 from pathlib import Path
@@ -31,6 +30,7 @@ from affine import Affine
 from rasterio.enums import Resampling
 from scipy import ndimage
 
+from .._files import checked_input_size
 from ..errors import UsageError
 from ._grid import Terrain
 
@@ -55,19 +55,6 @@ METRES_PER_UNIT = {
 
 class TerrainWarning(UserWarning):
     """A DEM that leaves the map flat (it does not reach the map, or holds no height there)."""
-
-
-def _checked(path: Path):
-    try:
-        info = path.stat()
-    except OSError as exc:
-        raise UsageError(f"{path}: cannot read the DEM ({exc.strerror or exc})") from None
-    if stat.S_ISDIR(info.st_mode):
-        raise UsageError(f"{path}: is a directory; give a DEM file ({FORMATS})")
-    if not stat.S_ISREG(info.st_mode):
-        raise UsageError(f"{path}: not a regular file (a device, FIFO or socket); give a DEM file ({FORMATS})")
-    if info.st_size == 0:
-        raise UsageError(f"{path}: the file is empty; give a DEM file ({FORMATS})")
 
 
 @contextmanager
@@ -208,7 +195,7 @@ def read_terrain(
     (0, 0)) its working projection, `bounds` its extent (west, south, east, north map metres).
     None, with a TerrainWarning, when the DEM does not reach the map or holds no height there."""
     path = Path(path)
-    _checked(path)
+    checked_input_size(path, "DEM", FORMATS)
     dst_crs = _map_crs(crs)
     ox, oy = pyproj.Transformer.from_crs("EPSG:4326", pyproj.CRS.from_user_input(crs), always_xy=True).transform(
         *origin
